@@ -1,0 +1,114 @@
+// The core's C++ API, used by the host (never by plugins, which see only plugin.h/sdk.hpp).
+//
+// A Cloth owns the SoA state of one scene in one precision and the force pipeline built
+// for it: only the stages the scene and the integrator need. It hands integrators a
+// clothlab_system whose callbacks evaluate accelerations and vector updates.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace clothlab {
+
+enum class Precision { Float32, Float64 };
+const char* to_string(Precision precision);
+
+using Vec3 = std::array<double, 3>;
+
+struct SpringFamily {
+  double ks = 0.0;
+  double kd = 0.0;
+};
+
+// An owned, validated copy of a scenario's clothlab_scene.
+struct Scene {
+  uint32_t rows = 1;
+  uint32_t cols = 1;
+  double width = 1.0;
+  double height = 1.0;
+  Vec3 origin{0, 0, 0};
+  Vec3 col_axis{1, 0, 0};
+  Vec3 row_axis{0, -1, 0};
+  double total_mass = 1.0;
+  SpringFamily structural, shear, flexion;
+  Vec3 gravity{0, -9.81, 0};
+  Vec3 wind_direction{1, 0, 0};
+  double wind_strength = 0.0;
+  std::vector<uint32_t> pinned;
+
+  bool has_wind() const { return wind_strength != 0.0; }
+};
+
+// Copies and validates; throws std::invalid_argument naming the bad field and value.
+Scene scene_from_abi(const clothlab_scene& scene);
+
+struct SpringCounts {
+  uint64_t structural = 0;
+  uint64_t shear = 0;
+  uint64_t flexion = 0;
+  uint64_t total() const { return structural + shear + flexion; }
+};
+SpringCounts count_springs(uint32_t rows, uint32_t cols);
+
+struct PipelineOptions {
+  bool velocity_forces = true;  // false: no damping stage (integrator ignores v)
+  int threads = 0;              // 0: all hardware threads
+};
+
+// Cumulative counters since construction (or reset_counters), for the run summary.
+struct StageCounters {
+  uint64_t force_evals = 0;
+  uint64_t springs_evaluated = 0;   // Hooke terms computed
+  uint64_t springs_damped = 0;      // damping terms computed
+  uint64_t normals_computed = 0;    // triangle normals for wind
+  uint64_t particles_integrated = 0;  // active particle updates by vector helpers
+  double internal_forces_s = 0.0;   // wall time in spring forces
+  double external_forces_s = 0.0;   // wall time in gravity + wind
+};
+
+class Cloth {
+ public:
+  Cloth(const Scene& scene, Precision precision, PipelineOptions options);
+  ~Cloth();
+  Cloth(const Cloth&) = delete;
+  Cloth& operator=(const Cloth&) = delete;
+
+  // The table handed to integrator plugins; valid for the Cloth's lifetime.
+  const clothlab_system& system() const;
+
+  const Scene& scene() const;
+  Precision precision() const;
+  uint32_t particle_count() const;
+  const SpringCounts& springs() const;
+  int threads() const;
+
+  const StageCounters& counters() const;
+  void reset_counters();
+
+  // State as doubles, particle-major: out[3 * i + k].
+  void positions(std::vector<double>& out) const;
+  void velocities(std::vector<double>& out) const;
+  void set_state(const std::vector<double>& x, const std::vector<double>& v);
+  bool state_is_finite() const;
+
+  // Energy of the current state (J): kinetic, spring potential, gravitational potential
+  // relative to the initial layout.
+  struct Energy {
+    double kinetic = 0, spring = 0, gravity = 0;
+    double total() const { return kinetic + spring + gravity; }
+  };
+  Energy energy() const;
+  // Largest ratio of current length to rest length over all springs.
+  double max_stretch() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace clothlab

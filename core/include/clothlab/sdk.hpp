@@ -1,0 +1,335 @@
+// ClothLab C++ SDK: header-only, on top of the C ABI in plugin.h.
+//
+// A plugin author writes an ordinary C++ class; the SDK builds the C descriptor and the
+// trampolines around it. Every exception thrown inside the plugin is caught here and
+// returned to the host as a status code plus message, so nothing C++ crosses the ABI.
+//
+//   struct MyIntegrator {
+//     static constexpr const char* id = "mine";   // also name, version, description
+//     static constexpr uint32_t order = 2, evals_per_step = 2;
+//     static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
+//     static constexpr std::array<clothlab_param_spec, 0> params{};
+//     explicit MyIntegrator(const clothlab::sdk::Params&);
+//     template <class Real> void prepare(clothlab::sdk::System<Real>&);
+//     template <class Real> void step(clothlab::sdk::System<Real>&, double t, double dt);
+//   };
+//   CLOTHLAB_PLUGIN_ENTRY("my-plugin", "1.0.0",
+//                         clothlab::sdk::integrators<MyIntegrator>,
+//                         clothlab::sdk::scenarios<>)
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace clothlab::sdk {
+
+// An error with a status code; thrown inside a plugin, returned across the ABI.
+class Error : public std::runtime_error {
+ public:
+  Error(clothlab_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  clothlab_status status() const noexcept { return status_; }
+
+ private:
+  clothlab_status status_;
+};
+
+inline void write_message(clothlab_message* out, std::string_view text) noexcept {
+  if (out == nullptr) return;
+  const size_t n = text.size() < CLOTHLAB_MESSAGE_CAPACITY - 1 ? text.size()
+                                                                : CLOTHLAB_MESSAGE_CAPACITY - 1;
+  std::memcpy(out->text, text.data(), n);
+  out->text[n] = '\0';
+}
+
+// Runs `body`, converting any exception into a status and message.
+template <class Body>
+clothlab_status guarded(clothlab_message* error, Body&& body) noexcept {
+  try {
+    body();
+    return CLOTHLAB_OK;
+  } catch (const Error& e) {
+    write_message(error, e.what());
+    return e.status();
+  } catch (const std::bad_alloc&) {
+    write_message(error, "out of memory");
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  } catch (const std::exception& e) {
+    write_message(error, e.what());
+    return CLOTHLAB_ERROR_INTERNAL;
+  } catch (...) {
+    write_message(error, "unknown exception");
+    return CLOTHLAB_ERROR_INTERNAL;
+  }
+}
+
+// ------------------------------------------------------------------ parameters
+
+constexpr clothlab_param_spec real_param(const char* name, double fallback, double min_value,
+                                         double max_value, const char* unit,
+                                         const char* help) {
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_REAL, name, help, unit,
+          {fallback, 0.0, 0.0},        min_value,           max_value};
+}
+
+constexpr clothlab_param_spec int_param(const char* name, double fallback, double min_value,
+                                        double max_value, const char* help) {
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_INT, name, help, "",
+          {fallback, 0.0, 0.0},        min_value,          max_value};
+}
+
+constexpr clothlab_param_spec bool_param(const char* name, bool fallback, const char* help) {
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_BOOL, name, help, "",
+          {fallback ? 1.0 : 0.0, 0.0, 0.0}, 0.0, 1.0};
+}
+
+constexpr clothlab_param_spec vec3_param(const char* name, std::array<double, 3> fallback,
+                                         double min_value, double max_value, const char* unit,
+                                         const char* help) {
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_VEC3,
+          name,                        help,
+          unit,                        {fallback[0], fallback[1], fallback[2]},
+          min_value,                   max_value};
+}
+
+// Validated, typed access to the values the host passed to `create`.
+class Params {
+ public:
+  Params(std::span<const clothlab_param_spec> specs, const clothlab_param_value* values,
+         uint32_t count)
+      : specs_(specs), values_(values) {
+    if (count != specs.size())
+      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                  "expected " + std::to_string(specs.size()) + " parameter values, got " +
+                      std::to_string(count));
+    if (count > 0 && values == nullptr)
+      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "parameter values are null");
+    for (size_t i = 0; i < specs.size(); ++i) validate(specs[i], values[i]);
+  }
+
+  double real(std::string_view name) const { return find(name, CLOTHLAB_PARAM_REAL).v[0]; }
+  long integer(std::string_view name) const {
+    return static_cast<long>(find(name, CLOTHLAB_PARAM_INT).v[0]);
+  }
+  bool flag(std::string_view name) const { return find(name, CLOTHLAB_PARAM_BOOL).v[0] != 0.0; }
+  std::array<double, 3> vec3(std::string_view name) const {
+    const auto& value = find(name, CLOTHLAB_PARAM_VEC3);
+    return {value.v[0], value.v[1], value.v[2]};
+  }
+
+ private:
+  static void validate(const clothlab_param_spec& spec, const clothlab_param_value& value) {
+    const int components = spec.type == CLOTHLAB_PARAM_VEC3 ? 3 : 1;
+    for (int k = 0; k < components; ++k) {
+      const double x = value.v[k];
+      const bool integral = spec.type != CLOTHLAB_PARAM_INT && spec.type != CLOTHLAB_PARAM_BOOL
+                                ? true
+                                : std::floor(x) == x;
+      if (!std::isfinite(x) || !integral || x < spec.min_value || x > spec.max_value) {
+        char text[256];
+        std::snprintf(text, sizeof text, "parameter %s = %.17g is outside [%.17g, %.17g]%s",
+                      spec.name, x, spec.min_value, spec.max_value,
+                      integral ? "" : " or not an integer");
+        throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, text);
+      }
+    }
+  }
+
+  const clothlab_param_value& find(std::string_view name, uint32_t type) const {
+    for (size_t i = 0; i < specs_.size(); ++i)
+      if (name == specs_[i].name && specs_[i].type == type) return values_[i];
+    throw Error(CLOTHLAB_ERROR_INTERNAL, "plugin reads undeclared parameter " + std::string(name));
+  }
+
+  std::span<const clothlab_param_spec> specs_;
+  const clothlab_param_value* values_;
+};
+
+// ---------------------------------------------------------------------- system
+
+// Typed view of a clothlab_system. Vectors are Real arrays of 3 * stride elements.
+template <class Real>
+class System {
+ public:
+  explicit System(const clothlab_system& raw) : raw_(&raw) {}
+
+  uint32_t particle_count() const { return raw_->particle_count; }
+  uint32_t stride() const { return raw_->stride; }
+  Real* x() const { return static_cast<Real*>(raw_->x); }
+  Real* v() const { return static_cast<Real*>(raw_->v); }
+  const Real* inverse_mass() const { return static_cast<const Real*>(raw_->inverse_mass); }
+  std::span<const clothlab_range> active() const { return {raw_->active, raw_->active_count}; }
+  const clothlab_system& raw() const { return *raw_; }
+
+  // a = M^-1 F(t, x, v); pass v = nullptr when the integrator ignores damping forces.
+  void acceleration(double t, const Real* x, const Real* v, Real* a) const {
+    const clothlab_status status = raw_->eval_acceleration(raw_->context, t, x, v, a);
+    if (status != CLOTHLAB_OK)
+      throw Error(status, status == CLOTHLAB_ERROR_NUMERICAL ? "non-finite acceleration"
+                                                               : "acceleration evaluation failed");
+  }
+  void axpy(Real* y, double alpha, const Real* x) const { raw_->axpy(raw_->context, y, alpha, x); }
+  // out = base + sum c_i * v_i
+  template <size_t N>
+  void lincomb(Real* out, const Real* base, const std::array<double, N>& coefficients,
+               const std::array<const Real*, N>& vectors) const {
+    std::array<const void*, N> untyped{};
+    for (size_t i = 0; i < N; ++i) untyped[i] = vectors[i];
+    raw_->lincomb(raw_->context, out, base, static_cast<uint32_t>(N), coefficients.data(),
+                  untyped.data());
+  }
+  void copy(Real* dst, const Real* src) const { raw_->copy(raw_->context, dst, src); }
+  Real* alloc_vector() const {
+    void* p = raw_->alloc_vector(raw_->context);
+    if (p == nullptr) throw std::bad_alloc();
+    return static_cast<Real*>(p);
+  }
+
+ private:
+  const clothlab_system* raw_;
+};
+
+constexpr uint32_t both_precisions = (1u << CLOTHLAB_FLOAT32) | (1u << CLOTHLAB_FLOAT64);
+
+// Calls body(System<float>&) or body(System<double>&) for the system's precision.
+template <class Body>
+void with_precision(const clothlab_system& raw, Body&& body) {
+  if (raw.precision == CLOTHLAB_FLOAT32) {
+    System<float> system(raw);
+    body(system);
+  } else if (raw.precision == CLOTHLAB_FLOAT64) {
+    System<double> system(raw);
+    body(system);
+  } else {
+    throw Error(CLOTHLAB_ERROR_UNSUPPORTED, "unknown precision " + std::to_string(raw.precision));
+  }
+}
+
+// ------------------------------------------------------------ descriptor glue
+
+template <class Impl>
+const clothlab_integrator* integrator_descriptor() {
+  static const clothlab_integrator descriptor = {
+      sizeof(clothlab_integrator),
+      Impl::flags,
+      Impl::id,
+      Impl::name,
+      Impl::version,
+      Impl::description,
+      Impl::order,
+      Impl::evals_per_step,
+      both_precisions,
+      static_cast<uint32_t>(Impl::params.size()),
+      Impl::params.data(),
+      [](const clothlab_param_value* values, uint32_t count, void** out,
+         clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          if (out == nullptr) throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "out_instance is null");
+          *out = new Impl(Params(Impl::params, values, count));
+        });
+      },
+      [](void* instance, const clothlab_system* raw, clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          with_precision(*raw, [&](auto& system) { static_cast<Impl*>(instance)->prepare(system); });
+        });
+      },
+      [](void* instance, const clothlab_system* raw, double t, double dt,
+         clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          if (!std::isfinite(dt) || dt < 0.0)
+            throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "dt must be finite and >= 0");
+          with_precision(*raw,
+                         [&](auto& system) { static_cast<Impl*>(instance)->step(system, t, dt); });
+        });
+      },
+      [](void* instance) { delete static_cast<Impl*>(instance); },
+  };
+  return &descriptor;
+}
+
+template <class Impl>
+const clothlab_scenario* scenario_descriptor() {
+  static const clothlab_scenario descriptor = {
+      sizeof(clothlab_scenario),
+      0,
+      Impl::id,
+      Impl::name,
+      Impl::version,
+      Impl::description,
+      static_cast<uint32_t>(Impl::params.size()),
+      0,
+      Impl::params.data(),
+      [](const clothlab_param_value* values, uint32_t count, void** out,
+         clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          if (out == nullptr) throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "out_instance is null");
+          *out = new Impl(Params(Impl::params, values, count));
+        });
+      },
+      [](void* instance, clothlab_scene* scene, clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          if (scene == nullptr || scene->struct_size < sizeof(clothlab_scene))
+            throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "scene buffer too small");
+          static_cast<const Impl*>(instance)->describe(*scene);
+        });
+      },
+      [](void* instance) { delete static_cast<Impl*>(instance); },
+  };
+  return &descriptor;
+}
+
+template <class... Impl>
+struct integrators {
+  static constexpr uint32_t count = sizeof...(Impl);
+  static const clothlab_integrator* const* list() {
+    static const clothlab_integrator* const items[count + 1] = {integrator_descriptor<Impl>()...,
+                                                                nullptr};
+    return count ? items : nullptr;
+  }
+};
+
+template <class... Impl>
+struct scenarios {
+  static constexpr uint32_t count = sizeof...(Impl);
+  static const clothlab_scenario* const* list() {
+    static const clothlab_scenario* const items[count + 1] = {scenario_descriptor<Impl>()...,
+                                                              nullptr};
+    return count ? items : nullptr;
+  }
+};
+
+template <class Integrators, class Scenarios>
+const clothlab_plugin_descriptor* plugin_descriptor(const char* library_name,
+                                                    const char* library_version) {
+  static const clothlab_plugin_descriptor descriptor = {
+      {CLOTHLAB_ABI_VERSION_MAJOR, CLOTHLAB_ABI_VERSION_MINOR},
+      sizeof(clothlab_plugin_descriptor),
+      Integrators::count,
+      Scenarios::count,
+      0,
+      library_name,
+      library_version,
+      Integrators::list(),
+      Scenarios::list(),
+  };
+  return &descriptor;
+}
+
+}  // namespace clothlab::sdk
+
+// Defines the library's one exported symbol.
+#define CLOTHLAB_PLUGIN_ENTRY(LIBRARY_NAME, LIBRARY_VERSION, INTEGRATORS, SCENARIOS)          \
+  extern "C" CLOTHLAB_EXPORT const clothlab_plugin_descriptor* clothlab_plugin_entry(void) { \
+    return clothlab::sdk::plugin_descriptor<INTEGRATORS, SCENARIOS>(LIBRARY_NAME,             \
+                                                                     LIBRARY_VERSION);         \
+  }
