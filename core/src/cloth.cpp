@@ -1,0 +1,39 @@
+#include <clothlab/core/cloth.hpp>
+
+#include "engine.hpp"
+
+namespace clothlab {
+
+struct Cloth::Impl {
+  Scene scene;
+  Precision precision;
+  SpringCounts springs;
+  std::unique_ptr<detail::Engine> engine;
+};
+
+Cloth::Cloth(const Scene& scene, Precision precision, PipelineOptions options)
+    : impl_(std::make_unique<Impl>(Impl{scene, precision, count_springs(scene.rows, scene.cols),
+                                        detail::make_engine(scene, precision, options)})) {}
+
+Cloth::~Cloth() = default;
+
+const clothlab_system& Cloth::system() const { return impl_->engine->system(); }
+const Scene& Cloth::scene() const { return impl_->scene; }
+Precision Cloth::precision() const { return impl_->precision; }
+uint32_t Cloth::particle_count() const { return impl_->engine->system().particle_count; }
+const SpringCounts& Cloth::springs() const { return impl_->springs; }
+int Cloth::threads() const { return impl_->engine->threads(); }
+
+const StageCounters& Cloth::counters() const { return impl_->engine->counters(); }
+void Cloth::reset_counters() { impl_->engine->counters() = StageCounters{}; }
+
+void Cloth::positions(std::vector<double>& out) const { impl_->engine->positions(out); }
+void Cloth::velocities(std::vector<double>& out) const { impl_->engine->velocities(out); }
+void Cloth::set_state(const std::vector<double>& x, const std::vector<double>& v) {
+  impl_->engine->set_state(x, v);
+}
+bool Cloth::state_is_finite() const { return impl_->engine->state_is_finite(); }
+Cloth::Energy Cloth::energy() const { return impl_->engine->energy(); }
+double Cloth::max_stretch() const { return impl_->engine->max_stretch(); }
+
+}  // namespace clothlab

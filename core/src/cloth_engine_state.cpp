@@ -1,0 +1,117 @@
+// State access and diagnostics of ClothEngine: conversions to and from double,
+// finiteness, energy and stretch. None of this runs inside a step.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cloth_engine.hpp"
+
+namespace clothlab::detail {
+namespace {
+
+template <class Real>
+void to_particle_major(const Real* soa, std::size_t n, std::size_t stride,
+                       std::vector<double>& out) {
+  out.resize(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) out[3 * i + k] = soa[k * stride + i];
+  }
+}
+
+// Calls visit(length, rest, ks) for every spring of the grid, whatever its stiffness.
+template <class Real, class Visit>
+void visit_springs(const Scene& scene, const Real* x, std::size_t stride, Visit visit) {
+  for (const Stencil& stencil : kProvotStencils) {
+    const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
+    const double rest = stencil_rest_length(scene, stencil);
+    const double ks = (scene.*stencil.family).ks;
+    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene.cols));
+    for (std::size_t r = 0; r < extent.row_end; ++r) {
+      for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
+        const std::size_t i = r * scene.cols + c;
+        double squared = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double d = double{x[k * stride + i + offset]} - double{x[k * stride + i]};
+          squared += d * d;
+        }
+        visit(std::sqrt(squared), rest, ks);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+template <class Real>
+void ClothEngine<Real>::positions(std::vector<double>& out) const {
+  to_particle_major(x_.data(), n_, stride_, out);
+}
+
+template <class Real>
+void ClothEngine<Real>::velocities(std::vector<double>& out) const {
+  to_particle_major(v_.data(), n_, stride_, out);
+}
+
+template <class Real>
+void ClothEngine<Real>::set_state(const std::vector<double>& x, const std::vector<double>& v) {
+  if (x.size() != 3 * n_ || v.size() != 3 * n_) {
+    throw std::invalid_argument("set_state: got " + std::to_string(x.size()) + " positions and " +
+                                std::to_string(v.size()) + " velocities, expected " +
+                                std::to_string(3 * n_) + " each (3 per particle)");
+  }
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      x_[k * stride_ + i] = static_cast<Real>(x[3 * i + k]);
+      v_[k * stride_ + i] = static_cast<Real>(v[3 * i + k]);
+    }
+  }
+}
+
+template <class Real>
+bool ClothEngine<Real>::state_is_finite() const {
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (!std::isfinite(x_[k * stride_ + i]) || !std::isfinite(v_[k * stride_ + i])) return false;
+    }
+  }
+  return true;
+}
+
+template <class Real>
+Cloth::Energy ClothEngine<Real>::energy() const {
+  Cloth::Energy energy;
+  const double mass = scene_.total_mass / static_cast<double>(n_);
+  for (uint32_t r = 0; r < scene_.rows; ++r) {
+    for (uint32_t c = 0; c < scene_.cols; ++c) {
+      const std::size_t i = std::size_t{r} * scene_.cols + c;
+      if (inverse_mass_[i] == 0) continue;  // pinned: does not move, no finite mass
+      const Vec3 start = initial_position(scene_, r, c);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double velocity = v_[k * stride_ + i];
+        energy.kinetic += 0.5 * mass * velocity * velocity;
+        energy.gravity -= mass * scene_.gravity[k] * (x_[k * stride_ + i] - start[k]);
+      }
+    }
+  }
+  visit_springs(scene_, x_.data(), stride_, [&](double length, double rest, double ks) {
+    energy.spring += 0.5 * ks * (length - rest) * (length - rest);
+  });
+  return energy;
+}
+
+template <class Real>
+double ClothEngine<Real>::max_stretch() const {
+  double stretch = 1.0;  // a cloth without springs counts as unstretched
+  bool any = false;
+  visit_springs(scene_, x_.data(), stride_, [&](double length, double rest, double) {
+    stretch = any ? std::max(stretch, length / rest) : length / rest;
+    any = true;
+  });
+  return stretch;
+}
+
+template class ClothEngine<float>;
+template class ClothEngine<double>;
+
+}  // namespace clothlab::detail

@@ -1,0 +1,29 @@
+// Precision-independent face of a cloth's state and force pipeline, behind Cloth.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <memory>
+#include <vector>
+
+namespace clothlab::detail {
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  virtual const clothlab_system& system() const = 0;
+  virtual int threads() const = 0;
+  virtual StageCounters& counters() = 0;
+
+  virtual void positions(std::vector<double>& out) const = 0;
+  virtual void velocities(std::vector<double>& out) const = 0;
+  virtual void set_state(const std::vector<double>& x, const std::vector<double>& v) = 0;
+  virtual bool state_is_finite() const = 0;
+  virtual Cloth::Energy energy() const = 0;
+  virtual double max_stretch() const = 0;
+};
+
+std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,
+                                    PipelineOptions options);
+
+}  // namespace clothlab::detail

@@ -1,0 +1,117 @@
+// Copies a scenario's clothlab_scene into an owned Scene and rejects anything the core
+// cannot simulate, with a message naming the field, its value and the allowed range.
+#include <algorithm>
+#include <clothlab/core/cloth.hpp>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+namespace clothlab {
+namespace {
+
+[[noreturn]] void reject(const std::string& field, const std::string& value,
+                         const std::string& allowed) {
+  throw std::invalid_argument("scene." + field + " = " + value + ": allowed " + allowed);
+}
+
+std::string format(double value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  return out.str();
+}
+
+std::string format(const double (&v)[3]) {
+  std::ostringstream out;
+  out.precision(17);
+  out << '(' << v[0] << ", " << v[1] << ", " << v[2] << ')';
+  return out.str();
+}
+
+double require_positive(const char* field, double value) {
+  if (!std::isfinite(value) || value <= 0.0) reject(field, format(value), "finite > 0");
+  return value;
+}
+
+double require_non_negative(const char* field, double value) {
+  if (!std::isfinite(value) || value < 0.0) reject(field, format(value), "finite >= 0");
+  return value;
+}
+
+Vec3 require_finite(const char* field, const double (&v)[3]) {
+  for (double component : v) {
+    if (!std::isfinite(component)) reject(field, format(v), "finite components");
+  }
+  return {v[0], v[1], v[2]};
+}
+
+Vec3 require_direction(const char* field, const double (&v)[3]) {
+  const Vec3 finite = require_finite(field, v);
+  const double length =
+      std::sqrt(finite[0] * finite[0] + finite[1] * finite[1] + finite[2] * finite[2]);
+  if (!(length > 0.0) || !std::isfinite(length)) {
+    reject(field, format(v), "a finite non-zero vector (normalised by the core)");
+  }
+  return {finite[0] / length, finite[1] / length, finite[2] / length};
+}
+
+SpringFamily require_family(const std::string& name, const clothlab_spring_family& family) {
+  return {require_non_negative((name + ".ks").c_str(), family.ks),
+          require_non_negative((name + ".kd").c_str(), family.kd)};
+}
+
+}  // namespace
+
+Scene scene_from_abi(const clothlab_scene& abi) {
+  // Fields beyond struct_size were not written by the scenario: they read as zero.
+  clothlab_scene in;
+  std::memset(&in, 0, sizeof in);
+  std::memcpy(&in, &abi, std::min<std::size_t>(abi.struct_size, sizeof in));
+  if (abi.struct_size < offsetof(clothlab_scene, total_mass)) {
+    reject("struct_size", std::to_string(abi.struct_size),
+           ">= " + std::to_string(offsetof(clothlab_scene, total_mass)));
+  }
+
+  Scene scene;
+  if (in.rows < 1) reject("rows", std::to_string(in.rows), "integer >= 1");
+  if (in.cols < 1) reject("cols", std::to_string(in.cols), "integer >= 1");
+  scene.rows = in.rows;
+  scene.cols = in.cols;
+  scene.width = require_positive("width", in.width);
+  scene.height = require_positive("height", in.height);
+  scene.origin = require_finite("origin", in.origin);
+  scene.col_axis = require_direction("col_axis", in.col_axis);
+  scene.row_axis = require_direction("row_axis", in.row_axis);
+  scene.total_mass = require_positive("total_mass", in.total_mass);
+  scene.structural = require_family("structural", in.structural);
+  scene.shear = require_family("shear", in.shear);
+  scene.flexion = require_family("flexion", in.flexion);
+  scene.gravity = require_finite("gravity", in.gravity);
+  scene.wind_strength = require_non_negative("wind_strength", in.wind_strength);
+  scene.wind_direction = {1.0, 0.0, 0.0};
+  if (scene.wind_strength > 0.0) {
+    scene.wind_direction = require_direction("wind_direction", in.wind_direction);
+  }
+
+  const uint64_t particles = uint64_t{in.rows} * in.cols;
+  if (particles > uint64_t{UINT32_MAX} / 4) {
+    reject("rows*cols", std::to_string(particles), "<= " + std::to_string(UINT32_MAX / 4));
+  }
+  if (in.pinned_count > 0 && in.pinned == nullptr) {
+    reject("pinned", "NULL with pinned_count " + std::to_string(in.pinned_count),
+           "an array of pinned_count indices");
+  }
+  scene.pinned.assign(in.pinned, in.pinned + in.pinned_count);
+  for (uint32_t index : scene.pinned) {
+    if (index >= particles) {
+      reject("pinned", std::to_string(index), "indices < rows*cols = " + std::to_string(particles));
+    }
+  }
+  std::sort(scene.pinned.begin(), scene.pinned.end());
+  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+  return scene;
+}
+
+}  // namespace clothlab
