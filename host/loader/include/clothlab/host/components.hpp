@@ -1,0 +1,113 @@
+// C++ handles on the components a plugin library provides. Every handle and instance
+// shares ownership of its library, so the code stays loaded while any of them lives.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "clothlab/host/param_set.hpp"
+
+namespace clothlab::host {
+
+// Keeps one loaded shared library open (defined in plugin_library.cpp).
+struct LibraryHandle;
+
+// An object a plugin created, destroyed through the plugin when the owner goes.
+class PluginObject {
+ public:
+  PluginObject(std::shared_ptr<const LibraryHandle> library, void* object, void (*destroy)(void*));
+  ~PluginObject();
+  PluginObject(PluginObject&& other) noexcept;
+  PluginObject& operator=(PluginObject&& other) noexcept;
+  PluginObject(const PluginObject&) = delete;
+  PluginObject& operator=(const PluginObject&) = delete;
+
+  void* get() const { return object_; }
+
+ private:
+  void release() noexcept;
+
+  std::shared_ptr<const LibraryHandle> library_;
+  void* object_;
+  void (*destroy_)(void*);
+};
+
+// Metadata every component shares.
+struct ComponentInfo {
+  std::string_view kind;  // "integrator" or "scenario"
+  std::string_view id, name, version, description;
+  std::span<const clothlab_param_spec> params;
+  std::filesystem::path library_path;
+};
+
+class IntegratorInstance {
+ public:
+  IntegratorInstance(const clothlab_integrator& descriptor, std::string label, PluginObject object);
+
+  // Both throw PluginError carrying the plugin's status and message.
+  void prepare(const clothlab_system& system);
+  void step(const clothlab_system& system, double t, double dt);
+
+ private:
+  const clothlab_integrator* descriptor_;
+  std::string label_;
+  PluginObject object_;
+};
+
+class IntegratorPlugin {
+ public:
+  IntegratorPlugin(std::shared_ptr<const LibraryHandle> library, std::filesystem::path path,
+                   const clothlab_integrator& descriptor);
+
+  ComponentInfo info() const;
+  uint32_t flags() const { return descriptor_->flags; }
+  bool uses_velocity_forces() const;
+  uint32_t order() const { return descriptor_->order; }
+  uint32_t evals_per_step() const { return descriptor_->evals_per_step; }
+  // CLOTHLAB_FLOAT32 or CLOTHLAB_FLOAT64.
+  bool supports_precision(uint32_t precision) const;
+
+  ParamSet default_params() const;
+  // Throws PluginError if the plugin refuses the values.
+  IntegratorInstance create(const ParamSet& params) const;
+
+ private:
+  std::shared_ptr<const LibraryHandle> library_;
+  std::filesystem::path path_;
+  const clothlab_integrator* descriptor_;
+};
+
+class ScenarioInstance {
+ public:
+  ScenarioInstance(const clothlab_scenario& descriptor, std::string label, PluginObject object);
+
+  // The scene; its pinned array stays valid while this instance lives. Throws PluginError.
+  clothlab_scene describe() const;
+
+ private:
+  const clothlab_scenario* descriptor_;
+  std::string label_;
+  PluginObject object_;
+};
+
+class ScenarioPlugin {
+ public:
+  ScenarioPlugin(std::shared_ptr<const LibraryHandle> library, std::filesystem::path path,
+                 const clothlab_scenario& descriptor);
+
+  ComponentInfo info() const;
+  ParamSet default_params() const;
+  ScenarioInstance create(const ParamSet& params) const;
+
+ private:
+  std::shared_ptr<const LibraryHandle> library_;
+  std::filesystem::path path_;
+  const clothlab_scenario* descriptor_;
+};
+
+}  // namespace clothlab::host

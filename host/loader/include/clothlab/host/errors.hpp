@@ -1,0 +1,37 @@
+// The host's error kinds; each maps to one exit code of the clothlab program.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace clothlab::host {
+
+// Bad user input: command line, config file or parameter value (exit code 1).
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A plugin library that cannot be found, opened or accepted (exit code 2).
+class PluginLoadError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A plugin call that returned an error status (exit code 2, or 3 for a numerical failure).
+class PluginError : public std::runtime_error {
+ public:
+  PluginError(clothlab_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+  clothlab_status status() const noexcept { return status_; }
+
+ private:
+  clothlab_status status_;
+};
+
+// "invalid argument", "numerical failure", ... for a status code.
+const char* status_name(clothlab_status status);
+
+}  // namespace clothlab::host

@@ -1,0 +1,149 @@
+#include "clothlab/host/components.hpp"
+
+#include <utility>
+
+#include "clothlab/host/errors.hpp"
+
+namespace clothlab::host {
+
+namespace {
+
+// Throws PluginError unless status is OK: "<label> <action> failed (<status>): <message>".
+void check(clothlab_status status, clothlab_message& message, const std::string& label,
+           const char* action) {
+  if (status == CLOTHLAB_OK) return;
+  message.text[CLOTHLAB_MESSAGE_CAPACITY - 1] = '\0';
+  throw PluginError(
+      status, label + " " + action + " failed (" + status_name(status) + "): " + message.text);
+}
+
+std::string label_of(std::string_view kind, const char* id) { return std::string(kind) + " " + id; }
+
+}  // namespace
+
+PluginObject::PluginObject(std::shared_ptr<const LibraryHandle> library, void* object,
+                           void (*destroy)(void*))
+    : library_(std::move(library)), object_(object), destroy_(destroy) {}
+
+PluginObject::~PluginObject() { release(); }
+
+PluginObject::PluginObject(PluginObject&& other) noexcept
+    : library_(std::move(other.library_)),
+      object_(std::exchange(other.object_, nullptr)),
+      destroy_(other.destroy_) {}
+
+PluginObject& PluginObject::operator=(PluginObject&& other) noexcept {
+  if (this != &other) {
+    release();
+    library_ = std::move(other.library_);
+    object_ = std::exchange(other.object_, nullptr);
+    destroy_ = other.destroy_;
+  }
+  return *this;
+}
+
+void PluginObject::release() noexcept {
+  // Destroyed before the library reference drops, so the code is still mapped.
+  if (object_ != nullptr) destroy_(object_);
+  object_ = nullptr;
+  library_.reset();
+}
+
+// ------------------------------------------------------------------ integrator
+
+IntegratorInstance::IntegratorInstance(const clothlab_integrator& descriptor, std::string label,
+                                       PluginObject object)
+    : descriptor_(&descriptor), label_(std::move(label)), object_(std::move(object)) {}
+
+void IntegratorInstance::prepare(const clothlab_system& system) {
+  clothlab_message message{};
+  check(descriptor_->prepare(object_.get(), &system, &message), message, label_, "prepare");
+}
+
+void IntegratorInstance::step(const clothlab_system& system, double t, double dt) {
+  clothlab_message message{};
+  check(descriptor_->step(object_.get(), &system, t, dt, &message), message, label_, "step");
+}
+
+IntegratorPlugin::IntegratorPlugin(std::shared_ptr<const LibraryHandle> library,
+                                   std::filesystem::path path,
+                                   const clothlab_integrator& descriptor)
+    : library_(std::move(library)), path_(std::move(path)), descriptor_(&descriptor) {}
+
+ComponentInfo IntegratorPlugin::info() const {
+  return {"integrator",
+          descriptor_->id,
+          descriptor_->name,
+          descriptor_->version,
+          descriptor_->description,
+          {descriptor_->params, descriptor_->param_count},
+          path_};
+}
+
+bool IntegratorPlugin::uses_velocity_forces() const {
+  return (descriptor_->flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
+}
+
+bool IntegratorPlugin::supports_precision(uint32_t precision) const {
+  return precision < 32 && (descriptor_->precisions & (1u << precision)) != 0;
+}
+
+ParamSet IntegratorPlugin::default_params() const { return ParamSet(info().params, "integrator"); }
+
+IntegratorInstance IntegratorPlugin::create(const ParamSet& params) const {
+  const std::string label = label_of("integrator", descriptor_->id);
+  clothlab_message message{};
+  void* object = nullptr;
+  check(descriptor_->create(params.values().data(), static_cast<uint32_t>(params.values().size()),
+                            &object, &message),
+        message, label, "create");
+  if (object == nullptr)
+    throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
+  return IntegratorInstance(*descriptor_, label,
+                            PluginObject(library_, object, descriptor_->destroy));
+}
+
+// -------------------------------------------------------------------- scenario
+
+ScenarioInstance::ScenarioInstance(const clothlab_scenario& descriptor, std::string label,
+                                   PluginObject object)
+    : descriptor_(&descriptor), label_(std::move(label)), object_(std::move(object)) {}
+
+clothlab_scene ScenarioInstance::describe() const {
+  clothlab_scene scene{};
+  scene.struct_size = sizeof(clothlab_scene);
+  clothlab_message message{};
+  check(descriptor_->describe(object_.get(), &scene, &message), message, label_, "describe");
+  return scene;
+}
+
+ScenarioPlugin::ScenarioPlugin(std::shared_ptr<const LibraryHandle> library,
+                               std::filesystem::path path, const clothlab_scenario& descriptor)
+    : library_(std::move(library)), path_(std::move(path)), descriptor_(&descriptor) {}
+
+ComponentInfo ScenarioPlugin::info() const {
+  return {"scenario",
+          descriptor_->id,
+          descriptor_->name,
+          descriptor_->version,
+          descriptor_->description,
+          {descriptor_->params, descriptor_->param_count},
+          path_};
+}
+
+ParamSet ScenarioPlugin::default_params() const { return ParamSet(info().params, "scenario"); }
+
+ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {
+  const std::string label = label_of("scenario", descriptor_->id);
+  clothlab_message message{};
+  void* object = nullptr;
+  check(descriptor_->create(params.values().data(), static_cast<uint32_t>(params.values().size()),
+                            &object, &message),
+        message, label, "create");
+  if (object == nullptr)
+    throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
+  return ScenarioInstance(*descriptor_, label,
+                          PluginObject(library_, object, descriptor_->destroy));
+}
+
+}  // namespace clothlab::host
