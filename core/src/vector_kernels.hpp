@@ -7,8 +7,7 @@
 namespace clothlab::detail {
 
 template <class Real>
-inline void axpy_span(Real* __restrict y, Real alpha, const Real* __restrict x, std::size_t begin,
-                      std::size_t end) {
+inline void axpy_span(Real* y, Real alpha, const Real* x, std::size_t begin, std::size_t end) {
 #pragma omp simd
   for (std::size_t i = begin; i < end; ++i) y[i] += alpha * x[i];
 }

@@ -1,0 +1,99 @@
+// The stencil kernels against the seed-style reference (array of springs, scatter-add) on
+// perturbed, moving states with every force on, both precisions, several grid shapes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "cloth_test_support.hpp"
+#include "reference_forces.hpp"
+
+namespace clothlab {
+namespace {
+
+Scene busy_scene(uint32_t rows, uint32_t cols) {
+  Scene scene = testing::bare_scene(rows, cols);
+  scene.width = 1.3;
+  scene.height = 0.9;
+  scene.origin = {0.1, 2.0, -0.3};
+  scene.col_axis = {0.8, 0.0, 0.6};
+  scene.row_axis = {0.0, -1.0, 0.0};
+  scene.total_mass = 0.7;
+  scene.structural = {500.0, 0.25};
+  scene.shear = {120.0, 0.1};
+  scene.flexion = {40.0, 0.05};
+  scene.gravity = {0.0, -9.81, 0.0};
+  scene.wind_direction = {0.48, 0.0, 0.84};
+  scene.wind_strength = 7.5;
+  const std::size_t n = std::size_t{rows} * cols;
+  if (n > 1) scene.pinned.push_back(0);
+  if (n > 2) scene.pinned.push_back(static_cast<uint32_t>(n / 2));
+  // Scene copies handed to Cloth are expected to be normalised, as scene_from_abi does.
+  const double length = std::hypot(scene.wind_direction[0], scene.wind_direction[2]);
+  scene.wind_direction = {scene.wind_direction[0] / length, 0.0, scene.wind_direction[2] / length};
+  return scene;
+}
+
+template <class Real>
+void expect_agreement(uint32_t rows, uint32_t cols, double relative_tolerance) {
+  const Scene scene = busy_scene(rows, cols);
+  const Precision precision =
+      sizeof(Real) == sizeof(float) ? Precision::Float32 : Precision::Float64;
+  Cloth cloth(scene, precision, {});
+  reference::ReferenceCloth<Real> reference(scene);
+
+  // Perturb the layout by up to 20% of a cell and give every particle a velocity.
+  std::mt19937 random(rows * 1000 + cols);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  std::vector<double> x, v(3 * std::size_t{rows} * cols);
+  cloth.positions(x);
+  for (double& component : x) component += jitter(random);
+  for (double& component : v) component = 20 * jitter(random);
+  cloth.set_state(x, v);
+  cloth.positions(x);  // rounded to Real, exactly what both evaluate
+  cloth.velocities(v);
+
+  const std::vector<double> fast = testing::acceleration<Real>(cloth);
+  std::vector<Real> xr(x.begin(), x.end()), vr(v.begin(), v.end()), ar(x.size());
+  reference.acceleration(xr.data(), vr.data(), ar.data());
+
+  double scale = 0.0;
+  for (Real component : ar) scale = std::max(scale, std::abs(double{component}));
+  ASSERT_GT(scale, 0.0);
+  for (std::size_t e = 0; e < ar.size(); ++e) {
+    ASSERT_NEAR(fast[e], ar[e], relative_tolerance * scale)
+        << rows << "x" << cols << " particle " << e / 3 << " component " << e % 3;
+  }
+}
+
+const uint32_t kShapes[][2] = {{1, 1}, {2, 1},   {1, 7},   {7, 1},  {3, 3},
+                               {5, 4}, {17, 13}, {64, 48}, {80, 70}};
+
+TEST(ReferenceAgreement, Float64) {
+  for (const auto& shape : kShapes) expect_agreement<double>(shape[0], shape[1], 1e-12);
+}
+
+TEST(ReferenceAgreement, Float32) {
+  for (const auto& shape : kShapes) expect_agreement<float>(shape[0], shape[1], 2e-5);
+}
+
+TEST(ReferenceAgreement, ReferenceBuildsEverySpring) {
+  for (const auto& shape : kShapes) {
+    const reference::ReferenceCloth<double> reference(busy_scene(shape[0], shape[1]));
+    EXPECT_EQ(reference.springs().size(), count_springs(shape[0], shape[1]).total());
+  }
+}
+
+TEST(ReferenceAgreement, SameBitsWithOneOrTwoThreads) {
+  const Scene scene = busy_scene(80, 70);  // large enough to run threaded
+  PipelineOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  Cloth serial(scene, Precision::Float32, one);
+  Cloth threaded(scene, Precision::Float32, two);
+  EXPECT_EQ(testing::acceleration<float>(serial), testing::acceleration<float>(threaded));
+}
+
+}  // namespace
+}  // namespace clothlab

@@ -1,0 +1,134 @@
+#include <gtest/gtest.h>
+
+#include <clothlab/core/cloth.hpp>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace clothlab {
+namespace {
+
+const uint32_t kPins[] = {0, 2, 2, 0};
+
+clothlab_scene valid_scene() {
+  clothlab_scene scene{};
+  scene.struct_size = sizeof scene;
+  scene.rows = 3;
+  scene.cols = 2;
+  scene.pinned_count = 4;
+  scene.pinned = kPins;
+  scene.width = 1.0;
+  scene.height = 2.0;
+  scene.col_axis[0] = 2.0;
+  scene.row_axis[1] = -3.0;
+  scene.total_mass = 0.5;
+  scene.structural = {100.0, 1.0};
+  scene.gravity[1] = -9.81;
+  scene.wind_direction[2] = 5.0;
+  scene.wind_strength = 2.0;
+  return scene;
+}
+
+// The error message of scene_from_abi after `edit`, or "" when it accepted the scene.
+std::string rejection(const std::function<void(clothlab_scene&)>& edit) {
+  clothlab_scene scene = valid_scene();
+  edit(scene);
+  try {
+    scene_from_abi(scene);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+TEST(SceneValidation, AcceptsAndNormalises) {
+  const Scene scene = scene_from_abi(valid_scene());
+  EXPECT_EQ(scene.rows, 3u);
+  EXPECT_EQ(scene.cols, 2u);
+  EXPECT_EQ(scene.pinned, (std::vector<uint32_t>{0, 2}));  // sorted, duplicates removed
+  EXPECT_EQ(scene.col_axis, (Vec3{1, 0, 0}));
+  EXPECT_EQ(scene.row_axis, (Vec3{0, -1, 0}));
+  EXPECT_EQ(scene.wind_direction, (Vec3{0, 0, 1}));
+  EXPECT_EQ(scene.structural.ks, 100.0);
+  EXPECT_EQ(scene.gravity, (Vec3{0, -9.81, 0}));
+}
+
+TEST(SceneValidation, WindDirectionIgnoredWithoutWind) {
+  clothlab_scene abi = valid_scene();
+  abi.wind_strength = 0.0;
+  abi.wind_direction[2] = 0.0;
+  EXPECT_FALSE(scene_from_abi(abi).has_wind());
+}
+
+TEST(SceneValidation, FieldsBeyondStructSizeAreNotRead) {
+  clothlab_scene abi = valid_scene();
+  abi.struct_size = offsetof(clothlab_scene, gravity);
+  abi.gravity[0] = kNaN;     // beyond struct_size: must not be seen
+  abi.wind_strength = -1.0;  // likewise
+  const Scene scene = scene_from_abi(abi);
+  EXPECT_EQ(scene.gravity, (Vec3{0, 0, 0}));
+  EXPECT_FALSE(scene.has_wind());
+}
+
+TEST(SceneValidation, RejectsEachBadField) {
+  struct Case {
+    std::function<void(clothlab_scene&)> edit;
+    std::string expected;
+  };
+  const Case cases[] = {
+      {[](clothlab_scene& s) { s.rows = 0; }, "scene.rows = 0: allowed integer >= 1"},
+      {[](clothlab_scene& s) { s.cols = 0; }, "scene.cols = 0: allowed integer >= 1"},
+      {[](clothlab_scene& s) { s.width = -1; }, "scene.width = -1: allowed finite > 0"},
+      {[](clothlab_scene& s) { s.height = kNaN; }, "scene.height = nan: allowed finite > 0"},
+      {[](clothlab_scene& s) { s.total_mass = 0; }, "scene.total_mass = 0: allowed finite > 0"},
+      {[](clothlab_scene& s) { s.structural.ks = -2; },
+       "scene.structural.ks = -2: allowed finite >= 0"},
+      {[](clothlab_scene& s) { s.shear.kd = kInf; }, "scene.shear.kd = inf: allowed finite >= 0"},
+      {[](clothlab_scene& s) { s.flexion.ks = kNaN; },
+       "scene.flexion.ks = nan: allowed finite >= 0"},
+      {[](clothlab_scene& s) { s.col_axis[0] = 0; },
+       "scene.col_axis = (0, 0, 0): allowed a finite non-zero vector"},
+      {[](clothlab_scene& s) { s.row_axis[2] = kInf; },
+       "scene.row_axis = (0, -3, inf): allowed finite components"},
+      {[](clothlab_scene& s) { s.origin[1] = kNaN; },
+       "scene.origin = (0, nan, 0): allowed finite components"},
+      {[](clothlab_scene& s) { s.gravity[2] = kNaN; },
+       "scene.gravity = (0, -9.8100000000000005, nan): allowed finite components"},
+      {[](clothlab_scene& s) { s.wind_strength = -0.5; },
+       "scene.wind_strength = -0.5: allowed finite >= 0"},
+      {[](clothlab_scene& s) { s.wind_direction[2] = 0; },
+       "scene.wind_direction = (0, 0, 0): allowed a finite non-zero vector"},
+  };
+  for (std::size_t c = 0; c < std::size(cases); ++c) {
+    const std::string message = rejection(cases[c].edit);
+    EXPECT_EQ(message.substr(0, cases[c].expected.size()), cases[c].expected)
+        << "case " << c << ": " << message;
+  }
+}
+
+TEST(SceneValidation, RejectsPinsOutsideTheGrid) {
+  static const uint32_t outside[] = {1, 6};
+  const std::string message = rejection([](clothlab_scene& s) {
+    s.pinned = outside;
+    s.pinned_count = 2;
+  });
+  EXPECT_EQ(message, "scene.pinned = 6: allowed indices < rows*cols = 6");
+}
+
+TEST(SceneValidation, RejectsMissingPinArray) {
+  const std::string message = rejection([](clothlab_scene& s) { s.pinned = nullptr; });
+  EXPECT_EQ(message.rfind("scene.pinned = NULL", 0), 0u) << message;
+}
+
+TEST(SceneValidation, RejectsTruncatedStruct) {
+  const std::string message = rejection([](clothlab_scene& s) { s.struct_size = 8; });
+  EXPECT_EQ(message.rfind("scene.struct_size = 8", 0), 0u) << message;
+}
+
+}  // namespace
+}  // namespace clothlab
