@@ -1,0 +1,47 @@
+// Semi-implicit (symplectic) Euler, exactly as the seed writes its "explicit Euler"
+// (eq. 2.15, after Provot 1995): the velocity is updated first and the position then
+// moves with the NEW velocity. Forward (fully explicit) Euler would use the old one.
+//   a = a(t, x, v);  v += dt a;  x += dt v
+#include <array>
+#include <clothlab/sdk.hpp>
+
+#include "scratch_vectors.hpp"
+
+namespace clothlab::builtin {
+
+struct SemiImplicitEuler {
+  static constexpr const char* id = "euler";
+  static constexpr const char* name = "Semi-implicit (symplectic) Euler";
+  static constexpr const char* version = "1.0.0";
+  static constexpr const char* description =
+      "Seed eq. 2.15: v += dt a(x, v), then x += dt v_new; first order, one force evaluation";
+  static constexpr uint32_t order = 1;
+  static constexpr uint32_t evals_per_step = 1;
+  static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
+  static constexpr std::array<clothlab_param_spec, 0> params{};
+
+  explicit SemiImplicitEuler(const sdk::Params&) {}
+
+  template <class Real>
+  void prepare(sdk::System<Real>& system) {
+    scratch_.allocate(system);
+  }
+
+  template <class Real>
+  void step(sdk::System<Real>& system, double t, double dt) {
+    const auto [acceleration] = scratch_.bind(system);
+    if (dt == 0.0) return;
+    system.acceleration(t, system.x(), system.v(), acceleration);
+    system.axpy(system.v(), dt, acceleration);
+    system.axpy(system.x(), dt, system.v());
+  }
+
+ private:
+  ScratchVectors<1> scratch_;
+};
+
+}  // namespace clothlab::builtin
+
+CLOTHLAB_PLUGIN_ENTRY("clothlab-builtin-euler", "1.0.0",
+                      clothlab::sdk::integrators<clothlab::builtin::SemiImplicitEuler>,
+                      clothlab::sdk::scenarios<>)

@@ -1,0 +1,103 @@
+// The parameters every built-in grid scenario shares, and how they fill a clothlab_scene.
+//
+// Defaults: a 1 m x 1 m, 0.3 kg cloth (heavy cotton, 0.3 kg/m^2) on a 50 x 50 grid,
+// chosen to be STABLE for euler, midpoint, rk4 and verlet at dt = 1 ms in float32.
+// With a square-grid spring network the in-plane stiffness (N/m) equals ks and does not
+// depend on resolution, but the particle mass m = M / (rows cols) does: at 50 x 50,
+// m = 1.2e-4 kg. The stiffest in-plane mode (neighbours moving against each other) has
+//   w_max^2 ~ 4 (ks_structural + ks_shear) / m = 4 (30 + 10) / 1.2e-4 = 1.3e6,
+// so w_max dt ~ 1.15, well inside the limits of Verlet / symplectic Euler (w dt < 2) and
+// RK4 (2.8). A Gershgorin bound over all 12 springs of a particle, 8 sum(ks) / m, gives
+// w_max dt ~ 1.65, still < 2. Hence ks 30 / 10 / 1 (structural / shear / flexion): the
+// cloth stretches ~5 % under its own weight, soft but the stiffest explicit-stable choice.
+// Explicit midpoint amplifies every undamped oscillation (|R| ~ 1 + (w dt)^4 / 8 per
+// step), so the high modes need damping: kd proportional to ks gives them a damping ratio
+// zeta = (kd / ks) w / 2. kd / ks = 5e-4 puts zeta ~ 0.3 at w_max (enough for midpoint)
+// while the fast real eigenvalue, -(kd / ks) w^2 dt ~ -0.65, stays well inside every
+// method's real-axis limit (2), and the slow swinging modes (w ~ 3 rad/s) stay undamped.
+// Finer grids lighten the particles (w_max grows like 1 / spacing): scale dt with the
+// spacing, or lower ks, to stay stable there.
+#pragma once
+
+#include <array>
+#include <clothlab/sdk.hpp>
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace clothlab::builtin {
+
+inline constexpr std::size_t grid_param_count = 12;
+inline constexpr double max_grid_size = 4096;
+
+constexpr std::array<clothlab_param_spec, grid_param_count> grid_cloth_params() {
+  using sdk::int_param;
+  using sdk::real_param;
+  using sdk::vec3_param;
+  return {
+      int_param("rows", 50, 1, max_grid_size, "particles along the cloth's height"),
+      int_param("cols", 50, 1, max_grid_size, "particles along the cloth's width"),
+      real_param("width", 1.0, 1e-3, 1e3, "m", "cloth width (along a row)"),
+      real_param("height", 1.0, 1e-3, 1e3, "m", "cloth height (along a column)"),
+      real_param("mass", 0.3, 1e-6, 1e6, "kg", "total mass, spread evenly over the particles"),
+      real_param("structural.ks", 30.0, 0.0, 1e9, "N/m", "stiffness of structural springs"),
+      real_param("structural.kd", 0.015, 0.0, 1e6, "N s/m", "damping of structural springs"),
+      real_param("shear.ks", 10.0, 0.0, 1e9, "N/m", "stiffness of shear springs"),
+      real_param("shear.kd", 0.005, 0.0, 1e6, "N s/m", "damping of shear springs"),
+      real_param("flexion.ks", 1.0, 0.0, 1e9, "N/m", "stiffness of flexion (bend) springs"),
+      real_param("flexion.kd", 0.0005, 0.0, 1e6, "N s/m", "damping of flexion springs"),
+      vec3_param("gravity", {0.0, -9.81, 0.0}, -1e3, 1e3, "m/s^2", "gravitational acceleration"),
+  };
+}
+
+template <std::size_t N, std::size_t M>
+constexpr std::array<clothlab_param_spec, N + M> concat(
+    const std::array<clothlab_param_spec, N>& first,
+    const std::array<clothlab_param_spec, M>& second) {
+  std::array<clothlab_param_spec, N + M> all{};
+  for (std::size_t i = 0; i < N; ++i) all[i] = first[i];
+  for (std::size_t i = 0; i < M; ++i) all[N + i] = second[i];
+  return all;
+}
+
+// The shared values, read once from validated parameters.
+struct GridCloth {
+  explicit GridCloth(const sdk::Params& values)
+      : rows(static_cast<uint32_t>(values.integer("rows"))),
+        cols(static_cast<uint32_t>(values.integer("cols"))),
+        width(values.real("width")),
+        height(values.real("height")),
+        mass(values.real("mass")),
+        structural{values.real("structural.ks"), values.real("structural.kd")},
+        shear{values.real("shear.ks"), values.real("shear.kd")},
+        flexion{values.real("flexion.ks"), values.real("flexion.kd")},
+        gravity(values.vec3("gravity")) {}
+
+  // Fills everything but the layout, the pins and the wind.
+  void fill(clothlab_scene& scene) const {
+    scene.rows = rows;
+    scene.cols = cols;
+    scene.width = width;
+    scene.height = height;
+    scene.total_mass = mass;
+    scene.structural = structural;
+    scene.shear = shear;
+    scene.flexion = flexion;
+    for (int k = 0; k < 3; ++k) scene.gravity[k] = gravity[k];
+    scene.wind_strength = 0.0;
+    for (double& component : scene.wind_direction) component = 0.0;
+  }
+
+  uint32_t rows, cols;
+  double width, height, mass;
+  clothlab_spring_family structural, shear, flexion;
+  std::array<double, 3> gravity;
+};
+
+inline void set_vec3(double (&out)[3], double x, double y, double z) {
+  out[0] = x;
+  out[1] = y;
+  out[2] = z;
+}
+
+}  // namespace clothlab::builtin

@@ -1,0 +1,69 @@
+// Free fall of a single particle, x(t) = x0 + v0 t - g t^2 / 2 along y.
+// Midpoint, RK4 and Verlet integrate a constant acceleration exactly (up to round-off).
+// Semi-implicit Euler moves with the end-of-step velocity, so after n steps
+//   y_n = y0 + dt sum_{k=1..n} (v0 - g k dt) = y0 + v0 t - g t^2 / 2 - g t dt / 2,
+// an error of exactly -g t dt / 2: first order in dt.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "integrator_harness.hpp"
+
+namespace clothlab::test {
+namespace {
+
+constexpr double g = 9.81;
+constexpr Vec3 x0{1.0, 2.0, 3.0};
+constexpr Vec3 v0{0.5, 1.0, -0.25};
+constexpr double round_off = 1e-12;
+
+Vec3 gravity(double, uint32_t, const double*, const double*, uint32_t) { return {0.0, -g, 0.0}; }
+
+struct FreeFall {
+  FreeFall(const std::string& id, int steps, double dt) : integrator(id), system(1, {}, gravity) {
+    system.set_position(0, x0);
+    system.set_velocity(0, v0);
+    if (id == "verlet") integrator.with("damping", 0.0);
+    integrator.start(system);
+    integrator.run(system, steps, dt);
+  }
+  Integrator integrator;
+  MockSystem<double> system;
+};
+
+void expect_exact_velocity(const MockSystem<double>& system, double t) {
+  EXPECT_NEAR(system.velocity(0)[0], v0[0], round_off);
+  EXPECT_NEAR(system.velocity(0)[1], v0[1] - g * t, round_off);
+  EXPECT_NEAR(system.velocity(0)[2], v0[2], round_off);
+}
+
+class ExactFreeFall : public testing::TestWithParam<std::string> {};
+
+TEST_P(ExactFreeFall, MatchesTheParabolaToRoundOff) {
+  const int steps = 100;
+  const double dt = 0.01, t = steps * dt;
+  FreeFall fall(GetParam(), steps, dt);
+  const Vec3 x = fall.system.position(0);
+  EXPECT_NEAR(x[0], x0[0] + v0[0] * t, round_off);
+  EXPECT_NEAR(x[1], x0[1] + v0[1] * t - 0.5 * g * t * t, round_off);
+  EXPECT_NEAR(x[2], x0[2] + v0[2] * t, round_off);
+  expect_exact_velocity(fall.system, t);
+}
+
+INSTANTIATE_TEST_SUITE_P(SecondOrderAndAbove, ExactFreeFall,
+                         testing::Values("midpoint", "rk4", "verlet"));
+
+TEST(EulerFreeFall, ErrorIsExactlyHalfGTimesTDt) {
+  for (const double dt : {0.01, 0.005}) {
+    const int steps = static_cast<int>(1.0 / dt + 0.5);
+    const double t = steps * dt;
+    FreeFall fall("euler", steps, dt);
+    const double exact = x0[1] + v0[1] * t - 0.5 * g * t * t;
+    EXPECT_NEAR(fall.system.position(0)[1] - exact, -0.5 * g * t * dt, round_off) << "dt " << dt;
+    EXPECT_NEAR(fall.system.position(0)[0], x0[0] + v0[0] * t, round_off);
+    expect_exact_velocity(fall.system, t);
+  }
+}
+
+}  // namespace
+}  // namespace clothlab::test

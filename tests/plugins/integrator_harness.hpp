@@ -1,0 +1,86 @@
+// Drives one integrator plugin through the C ABI against a MockSystem.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mock_system.hpp"
+#include "plugin_library.hpp"
+
+namespace clothlab::test {
+
+// Paths of the built plugins, passed in by CMake.
+inline std::string integrator_path(const std::string& id) {
+  if (id == "euler") return CLOTHLAB_TEST_EULER_PLUGIN;
+  if (id == "midpoint") return CLOTHLAB_TEST_MIDPOINT_PLUGIN;
+  if (id == "rk4") return CLOTHLAB_TEST_RK4_PLUGIN;
+  if (id == "verlet") return CLOTHLAB_TEST_VERLET_PLUGIN;
+  throw std::runtime_error("no integrator plugin " + id);
+}
+
+inline const std::vector<std::string>& all_integrators() {
+  static const std::vector<std::string> ids{"euler", "midpoint", "rk4", "verlet"};
+  return ids;
+}
+
+class Integrator {
+ public:
+  explicit Integrator(const std::string& id) : library_(integrator_path(id)) {
+    values_ = default_values(descriptor().params, descriptor().param_count);
+  }
+  ~Integrator() {
+    if (instance_ != nullptr) descriptor().destroy(instance_);
+  }
+
+  const clothlab_integrator& descriptor() const { return library_.integrator(); }
+
+  // Must come before create().
+  Integrator& with(const std::string& name, double value) {
+    set_value(values_, descriptor().params, name, {{value, 0, 0}});
+    return *this;
+  }
+
+  clothlab_status create() {
+    return descriptor().create(values_.data(), static_cast<uint32_t>(values_.size()), &instance_,
+                               &message_);
+  }
+
+  template <class Real>
+  clothlab_status prepare(MockSystem<Real>& system) {
+    system.allocation_allowed = true;
+    const clothlab_status status = descriptor().prepare(instance_, &system.raw(), &message_);
+    system.allocation_allowed = false;
+    return status;
+  }
+
+  template <class Real>
+  clothlab_status step(MockSystem<Real>& system, double t, double dt) {
+    return descriptor().step(instance_, &system.raw(), t, dt, &message_);
+  }
+
+  // create + prepare, failing the test on error.
+  template <class Real>
+  void start(MockSystem<Real>& system) {
+    ASSERT_EQ(create(), CLOTHLAB_OK) << message();
+    ASSERT_EQ(prepare(system), CLOTHLAB_OK) << message();
+  }
+
+  // n steps of dt from t = 0, failing the test on error.
+  template <class Real>
+  void run(MockSystem<Real>& system, int steps, double dt) {
+    for (int n = 0; n < steps; ++n) ASSERT_EQ(step(system, n * dt, dt), CLOTHLAB_OK) << message();
+  }
+
+  std::string message() const { return message_.text; }
+
+ private:
+  PluginLibrary library_;
+  std::vector<clothlab_param_value> values_;
+  void* instance_ = nullptr;
+  clothlab_message message_{};
+};
+
+}  // namespace clothlab::test
