@@ -1,0 +1,115 @@
+// Replaces the allocator entry points of the whole process with counting forwarders to
+// glibc's implementation (__libc_*), which they then call.
+#include "allocation_counter.hpp"
+
+#include <cerrno>
+#include <cstddef>
+#include <new>
+
+extern "C" {
+void* __libc_malloc(size_t size);
+void* __libc_calloc(size_t count, size_t size);
+void* __libc_realloc(void* pointer, size_t size);
+void* __libc_memalign(size_t alignment, size_t size);
+void __libc_free(void* pointer);
+}
+
+namespace {
+
+// initial-exec: reading the flag must never allocate, even from inside malloc.
+__attribute__((tls_model("initial-exec"))) thread_local bool armed = false;
+__attribute__((tls_model("initial-exec"))) thread_local uint64_t calls = 0;
+
+inline void note() {
+  if (armed) ++calls;
+}
+
+bool valid_alignment(size_t alignment) {
+  return alignment >= sizeof(void*) && (alignment & (alignment - 1)) == 0;
+}
+
+}  // namespace
+
+namespace clothlab::conformance::allocations {
+
+void arm() {
+  calls = 0;
+  armed = true;
+}
+
+uint64_t disarm() {
+  armed = false;
+  return calls;
+}
+
+Pause::Pause() : was_armed_(armed) { armed = false; }
+
+Pause::~Pause() { armed = was_armed_; }
+
+}  // namespace clothlab::conformance::allocations
+
+extern "C" {
+
+void* malloc(size_t size) {
+  note();
+  return __libc_malloc(size);
+}
+
+void* calloc(size_t count, size_t size) {
+  note();
+  return __libc_calloc(count, size);
+}
+
+void* realloc(void* pointer, size_t size) {
+  note();
+  return __libc_realloc(pointer, size);
+}
+
+void free(void* pointer) {
+  if (pointer != nullptr) note();
+  __libc_free(pointer);
+}
+
+void* memalign(size_t alignment, size_t size) {
+  note();
+  return __libc_memalign(alignment, size);
+}
+
+void* aligned_alloc(size_t alignment, size_t size) {
+  note();
+  return __libc_memalign(alignment, size);
+}
+
+int posix_memalign(void** out, size_t alignment, size_t size) {
+  note();
+  if (!valid_alignment(alignment)) return EINVAL;
+  void* pointer = __libc_memalign(alignment, size);
+  if (pointer == nullptr) return ENOMEM;
+  *out = pointer;
+  return 0;
+}
+
+}  // extern "C"
+
+void* operator new(size_t size) {
+  void* pointer = malloc(size == 0 ? 1 : size);
+  if (pointer == nullptr) throw std::bad_alloc();
+  return pointer;
+}
+
+void* operator new[](size_t size) { return operator new(size); }
+
+void* operator new(size_t size, const std::nothrow_t&) noexcept {
+  return malloc(size == 0 ? 1 : size);
+}
+
+void* operator new[](size_t size, const std::nothrow_t&) noexcept {
+  return malloc(size == 0 ? 1 : size);
+}
+
+void operator delete(void* pointer) noexcept { free(pointer); }
+void operator delete[](void* pointer) noexcept { free(pointer); }
+void operator delete(void* pointer, size_t) noexcept { free(pointer); }
+void operator delete[](void* pointer, size_t) noexcept { free(pointer); }
+void operator delete(void* pointer, const std::nothrow_t&) noexcept { free(pointer); }
+void operator delete[](void* pointer, const std::nothrow_t&) noexcept { free(pointer); }

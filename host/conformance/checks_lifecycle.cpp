@@ -1,0 +1,87 @@
+// lifecycle.*: instances survive every order of calls a host may make, on every grid shape.
+#include <string>
+
+#include "check.hpp"
+#include "fixtures.hpp"
+
+namespace clothlab::conformance {
+namespace {
+
+constexpr int repeat_rounds = 10;
+constexpr int grid_steps = 20;
+constexpr double step_size = 1e-3;
+
+Values defaults_of(const clothlab_integrator& integrator) { return default_values(integrator); }
+
+Verdict repeated_lifecycle(const clothlab_integrator& integrator) {
+  State first;
+  for (int round = 0; round < repeat_rounds; ++round) {
+    const State state =
+        simulate(integrator, sheet_scene(3, 3), Precision::Float64, 1, grid_steps, step_size);
+    if (round == 0) first = state;
+    require(state == first, "round " + std::to_string(round + 1) +
+                                " of create/prepare/step/destroy differs from round 1");
+  }
+  return {true, std::to_string(repeat_rounds) + " rounds, identical results"};
+}
+
+Verdict zero_steps(const clothlab_integrator& integrator) {
+  { IntegratorInstance unprepared(integrator, defaults_of(integrator)); }
+  Cloth cloth(sheet_scene(3, 3), Precision::Float64, pipeline_for(integrator));
+  const State before = state_of(cloth);
+  {
+    IntegratorInstance instance(integrator, defaults_of(integrator));
+    instance.prepare(cloth);
+    instance.prepare(cloth);  // rebinding is allowed
+  }
+  require(state_of(cloth) == before, "create/prepare/destroy without a step changed the state");
+  return {true, ""};
+}
+
+Verdict zero_dt(const clothlab_integrator& integrator) {
+  Cloth cloth(sheet_scene(4, 5, true), Precision::Float64, pipeline_for(integrator));
+  IntegratorInstance instance(integrator, defaults_of(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, 5, step_size);  // moving, so a dt = 0 step has forces to ignore
+  const State before = state_of(cloth);
+  for (int i = 0; i < 3; ++i) instance.step(cloth, 5 * step_size, 0.0);
+  require(state_of(cloth) == before, "a step with dt = 0 changed the state");
+  return {true, ""};
+}
+
+Verdict grid_runs(const clothlab_integrator& integrator, uint32_t rows, uint32_t cols,
+                  Precision precision) {
+  Cloth cloth(sheet_scene(rows, cols, true), precision, pipeline_for(integrator));
+  IntegratorInstance instance(integrator, defaults_of(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, grid_steps, step_size);
+  return {true, std::to_string(grid_steps) + " steps, finite"};
+}
+
+bool supports(const clothlab_integrator& integrator, uint32_t precision) {
+  return (integrator.precisions & (1u << precision)) != 0;
+}
+
+}  // namespace
+
+std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator) {
+  const clothlab_integrator* c = &integrator;
+  std::vector<Check> checks = {
+      {c->id, "lifecycle.repeat", [c] { return repeated_lifecycle(*c); }},
+      {c->id, "lifecycle.zero-steps", [c] { return zero_steps(*c); }},
+      {c->id, "lifecycle.dt-zero", [c] { return zero_dt(*c); }},
+  };
+  const std::pair<uint32_t, uint32_t> grids[] = {{1, 1}, {2, 1}, {1, 7}, {3, 3}, {64, 48}};
+  for (auto [rows, cols] : grids) {
+    const std::string shape = std::to_string(rows) + "x" + std::to_string(cols);
+    if (supports(integrator, CLOTHLAB_FLOAT64))
+      checks.push_back({c->id, "lifecycle.grid-" + shape + "-f64",
+                        [c, rows, cols] { return grid_runs(*c, rows, cols, Precision::Float64); }});
+    if (supports(integrator, CLOTHLAB_FLOAT32))
+      checks.push_back({c->id, "lifecycle.grid-" + shape + "-f32",
+                        [c, rows, cols] { return grid_runs(*c, rows, cols, Precision::Float32); }});
+  }
+  return checks;
+}
+
+}  // namespace clothlab::conformance

@@ -1,0 +1,85 @@
+// loading.*: the library opens, exports only its entry point, and the version gate works.
+#include <string>
+
+#include "check.hpp"
+#include "elf_symbols.hpp"
+#include "plugin_library.hpp"
+
+namespace clothlab::conformance {
+namespace {
+
+constexpr int reload_rounds = 20;
+
+Verdict exports_only_entry(const std::string& path) {
+  const std::vector<std::string> names = exported_symbols(path);
+  std::string listed;
+  for (const std::string& name : names) listed += (listed.empty() ? "" : ", ") + name;
+  require(names.size() == 1 && names[0] == CLOTHLAB_PLUGIN_ENTRY_SYMBOL,
+          "exports " + std::to_string(names.size()) + " symbols (" + listed +
+              "); expected exactly " CLOTHLAB_PLUGIN_ENTRY_SYMBOL);
+  return {true, ""};
+}
+
+Verdict opens(const std::string& path) {
+  const PluginLibrary library(path);
+  const clothlab_plugin_descriptor* descriptor = library.descriptor();
+  require(descriptor != nullptr, CLOTHLAB_PLUGIN_ENTRY_SYMBOL " returned null");
+  return {true, "built for ABI " + to_string(descriptor->abi_version)};
+}
+
+Verdict abi_version_accepted(const std::string& path) {
+  const PluginLibrary library(path);
+  const clothlab_abi_version version = library.descriptor()->abi_version;
+  require(abi_accepted(version), "built for ABI " + to_string(version) + "; this host accepts " +
+                                     std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
+  return {true, "ABI " + to_string(version)};
+}
+
+// The host's gate, applied to copies of this plugin's descriptor with edited versions.
+Verdict abi_policy(const std::string& path) {
+  const PluginLibrary library(path);
+  // A descriptor of another major may have another layout: copy only its version then.
+  const clothlab_plugin_descriptor& original = *library.descriptor();
+  clothlab_plugin_descriptor copy{};
+  copy.abi_version = original.abi_version;
+  if (abi_accepted(original.abi_version)) copy = original;
+  copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR + 1, 0};
+  require(!abi_accepted(copy.abi_version),
+          "a newer major " + to_string(copy.abi_version) + " is accepted");
+  copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR - 1, 0};
+  require(!abi_accepted(copy.abi_version),
+          "an older major " + to_string(copy.abi_version) + " is accepted");
+  for (uint32_t minor = 0; minor <= CLOTHLAB_ABI_VERSION_MINOR + 1; ++minor) {
+    copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR, minor};
+    require(abi_accepted(copy.abi_version),
+            "minor version " + to_string(copy.abi_version) + " of the same major is refused");
+  }
+  return {true, ""};
+}
+
+Verdict reloads(const std::string& path) {
+  std::string first_name;
+  for (int round = 0; round < reload_rounds; ++round) {
+    const PluginLibrary library(path);
+    const clothlab_plugin_descriptor* descriptor = library.descriptor();
+    require(descriptor != nullptr, "entry returned null on load " + std::to_string(round + 1));
+    const std::string name = descriptor->library_name != nullptr ? descriptor->library_name : "";
+    if (round == 0) first_name = name;
+    require(name == first_name, "library_name changed on reload " + std::to_string(round + 1));
+  }
+  return {true, std::to_string(reload_rounds) + " load/unload cycles"};
+}
+
+}  // namespace
+
+std::vector<Check> loading_checks(const std::string& path) {
+  return {
+      {"library", "loading.dlopen", [path] { return opens(path); }},
+      {"library", "loading.abi-version", [path] { return abi_version_accepted(path); }},
+      {"library", "loading.exports", [path] { return exports_only_entry(path); }},
+      {"library", "loading.abi-policy", [path] { return abi_policy(path); }},
+      {"library", "loading.reload", [path] { return reloads(path); }},
+  };
+}
+
+}  // namespace clothlab::conformance

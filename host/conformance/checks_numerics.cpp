@@ -1,0 +1,193 @@
+// numerics.*: integrators converge at their declared order on problems with known
+// solutions, respect pins, keep rest at rest and are bit-for-bit deterministic.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "analytic.hpp"
+#include "check.hpp"
+#include "fixtures.hpp"
+#include "order_fit.hpp"
+
+namespace clothlab::conformance {
+namespace {
+
+constexpr double order_tolerance = 0.2;
+constexpr double roundoff_error = 1e-10;  // errors below this count as exact
+
+// Single spring hanging from a pin: particle 1 of a 2x1 grid, unit mass, unit rest length.
+constexpr double spring_k = 10.0;
+constexpr double spring_mass = 1.0;
+constexpr double spring_u0 = 0.1;  // initial extension
+constexpr double spring_horizon = 2.0;
+
+// Coarsest step count per declared order: errors well above round-off, in the asymptotic range.
+int coarsest_steps(uint32_t order) { return order <= 1 ? 200 : order == 2 ? 50 : 20; }
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+Scene single_spring_scene(double damping) {
+  Scene scene;
+  scene.rows = 2;
+  scene.cols = 1;
+  scene.height = 1.0;
+  scene.total_mass = 2.0 * spring_mass;
+  scene.structural = {spring_k, damping};
+  scene.gravity = {0, 0, 0};
+  scene.pinned = {0};
+  return scene;
+}
+
+// Error of one run, position plus velocity scaled by the natural frequency.
+double spring_error(const clothlab_integrator& integrator, double damping, int steps) {
+  Cloth cloth(single_spring_scene(damping), Precision::Float64, pipeline_for(integrator));
+  State state = state_of(cloth);
+  state.x[4] = -(1.0 + spring_u0);  // particle 1, y: rest length below the pin, stretched
+  cloth.set_state(state.x, state.v);
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, steps, spring_horizon / steps);
+  const State end = state_of(cloth);
+  const Oscillation exact =
+      damped_oscillator(spring_k, damping, spring_mass, spring_u0, 0.0, spring_horizon);
+  const double omega = std::sqrt(spring_k / spring_mass);
+  const double sideways =
+      std::abs(end.x[3]) + std::abs(end.x[5]) + std::abs(end.v[3]) + std::abs(end.v[5]);
+  return std::abs(-end.x[4] - 1.0 - exact.position) + std::abs(-end.v[4] - exact.velocity) / omega +
+         sideways;
+}
+
+double free_fall_error(const clothlab_integrator& integrator, int steps) {
+  Scene scene;  // 1x1: one free particle under gravity
+  scene.gravity = {0.0, -9.81, 0.0};
+  Cloth cloth(scene, Precision::Float64, pipeline_for(integrator));
+  const std::array<double, 3> x0{0.5, 1.0, -0.25}, v0{1.0, 2.0, -0.5};
+  cloth.set_state({x0[0], x0[1], x0[2]}, {v0[0], v0[1], v0[2]});
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  constexpr double horizon = 1.0;
+  instance.run(cloth, steps, horizon / steps);
+  const State end = state_of(cloth);
+  const Motion exact = free_fall(x0, v0, scene.gravity, horizon);
+  double error = 0;
+  for (int k = 0; k < 3; ++k)
+    error +=
+        std::abs(end.x[k] - exact.position[k]) + horizon * std::abs(end.v[k] - exact.velocity[k]);
+  return error;
+}
+
+template <class ErrorAt>
+Verdict converges_at_declared_order(const clothlab_integrator& integrator, ErrorAt error_at) {
+  std::vector<ErrorSample> samples;
+  std::string errors;
+  double largest = 0;
+  for (int steps = coarsest_steps(integrator.order), i = 0; i < 4; ++i, steps *= 2) {
+    const double error = error_at(steps);
+    samples.push_back({1.0 / steps, error});
+    largest = std::max(largest, error);
+    errors += (i ? ", " : "") + format("%.3g", error);
+  }
+  if (largest < roundoff_error) return {true, "exact to round-off (errors " + errors + ")"};
+  const double measured = observed_order(samples);
+  const std::string detail = "measured order " + format("%.2f", measured) + ", declared " +
+                             std::to_string(integrator.order) + " (errors " + errors + ")";
+  require(std::abs(measured - integrator.order) <= order_tolerance, detail);
+  return {true, detail};
+}
+
+Verdict pins_untouched(const clothlab_integrator& integrator, Precision precision) {
+  Cloth cloth(sheet_scene(6, 5, true), precision, pipeline_for(integrator));
+  const State before = state_of(cloth);
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, 30, 1e-3);
+  const State after = state_of(cloth);
+  for (uint32_t pin : cloth.scene().pinned)
+    for (int k = 0; k < 3; ++k)
+      require(after.x[3 * pin + k] == before.x[3 * pin + k] &&
+                  after.v[3 * pin + k] == before.v[3 * pin + k],
+              "pinned particle " + std::to_string(pin) + " moved");
+  return {true, std::to_string(cloth.scene().pinned.size()) + " pins bit-for-bit unchanged"};
+}
+
+Verdict rest_stays_at_rest(const clothlab_integrator& integrator) {
+  Scene scene = sheet_scene(3, 4);
+  scene.pinned.clear();
+  scene.gravity = {0, 0, 0};
+  Cloth cloth(scene, Precision::Float64, pipeline_for(integrator));
+  const State before = state_of(cloth);
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, 50, 1e-3);
+  const State after = state_of(cloth);
+  double drift = 0, speed = 0;
+  for (size_t i = 0; i < after.x.size(); ++i) {
+    drift = std::max(drift, std::abs(after.x[i] - before.x[i]));
+    speed = std::max(speed, std::abs(after.v[i]));
+  }
+  require(drift <= 1e-12 && speed <= 1e-10,
+          "a cloth at rest without external forces moved: drift " + format("%.3g", drift) +
+              " m, speed " + format("%.3g", speed) + " m/s");
+  return {true, ""};
+}
+
+Verdict repeatable(const clothlab_integrator& integrator) {
+  const Scene scene = sheet_scene(64, 48, true);
+  const State first = simulate(integrator, scene, Precision::Float64, 1, 20, 1e-3);
+  const State second = simulate(integrator, scene, Precision::Float64, 1, 20, 1e-3);
+  require(first == second, "two identical runs give different bits");
+  return {true, ""};
+}
+
+Verdict thread_count_independent(const clothlab_integrator& integrator, Precision precision) {
+  const Scene scene = sheet_scene(64, 48, true);
+  const State one = simulate(integrator, scene, precision, 1, 20, 1e-3);
+  const State two = simulate(integrator, scene, precision, 2, 20, 1e-3);
+  require(one == two, "1 and 2 threads give different bits");
+  return {true, ""};
+}
+
+}  // namespace
+
+std::vector<Check> numerics_checks(const clothlab_integrator& integrator) {
+  const clothlab_integrator* c = &integrator;
+  if ((c->precisions & (1u << CLOTHLAB_FLOAT64)) == 0)
+    return {{c->id, "numerics.float64", [] {
+               return Verdict{false, "numerics are measured in float64, which it lacks"};
+             }}};
+  std::vector<Check> checks = {
+      {c->id, "numerics.order-spring",
+       [c] {
+         return converges_at_declared_order(*c, [c](int n) { return spring_error(*c, 0.0, n); });
+       }},
+      {c->id, "numerics.order-free-fall",
+       [c] {
+         return converges_at_declared_order(*c, [c](int n) { return free_fall_error(*c, n); });
+       }},
+      {c->id, "numerics.pinned-f64", [c] { return pins_untouched(*c, Precision::Float64); }},
+      {c->id, "numerics.rest", [c] { return rest_stays_at_rest(*c); }},
+      {c->id, "numerics.deterministic", [c] { return repeatable(*c); }},
+      {c->id, "numerics.threads-f64",
+       [c] { return thread_count_independent(*c, Precision::Float64); }},
+  };
+  // Without velocity forces the host builds no damping stage: the damped problem does not apply.
+  if (uses_velocity_forces(integrator))
+    checks.push_back({c->id, "numerics.order-damped-spring", [c] {
+                        return converges_at_declared_order(
+                            *c, [c](int n) { return spring_error(*c, 1.0, n); });
+                      }});
+  if (c->precisions & (1u << CLOTHLAB_FLOAT32)) {
+    checks.push_back(
+        {c->id, "numerics.pinned-f32", [c] { return pins_untouched(*c, Precision::Float32); }});
+    checks.push_back({c->id, "numerics.threads-f32",
+                      [c] { return thread_count_independent(*c, Precision::Float32); }});
+  }
+  return checks;
+}
+
+}  // namespace clothlab::conformance

@@ -1,0 +1,156 @@
+// robustness.*: no exception crosses the C boundary, step never touches the heap, and
+// instances on separate cloths do not interfere.
+#include <exception>
+#include <string>
+#include <thread>
+
+#include "allocation_counter.hpp"
+#include "check.hpp"
+#include "fixtures.hpp"
+
+namespace clothlab::conformance {
+namespace {
+
+constexpr int measured_steps = 10;
+constexpr int concurrent_steps = 50;
+
+// Calls `call` through the raw ABI and fails if any exception comes out of it.
+template <class Call>
+void require_no_escape(const std::string& what, Call&& call) {
+  try {
+    call();
+  } catch (const std::exception& e) {
+    throw CheckFailure("an exception escaped the C boundary from " + what + ": " + e.what());
+  } catch (...) {
+    throw CheckFailure("an exception escaped the C boundary from " + what);
+  }
+}
+
+Verdict nothing_escapes(const clothlab_integrator& integrator) {
+  Values values = default_values(integrator);
+  Cloth cloth(sheet_scene(4, 4, true), Precision::Float64, pipeline_for(integrator));
+  clothlab_message message{};
+  void* instance = nullptr;
+  require_no_escape("create", [&] {
+    integrator.create(values.data(), integrator.param_count, &instance, &message);
+  });
+  require(instance != nullptr, "create with default values failed: " + std::string(message.text));
+  struct Destroy {
+    const clothlab_integrator& integrator;
+    void* instance;
+    ~Destroy() { integrator.destroy(instance); }
+  } destroy{integrator, instance};
+  require_no_escape("prepare", [&] { integrator.prepare(instance, &cloth.system(), &message); });
+  for (int i = 0; i < 3; ++i)
+    require_no_escape(
+        "step", [&] { integrator.step(instance, &cloth.system(), i * 1e-3, 1e-3, &message); });
+  require_no_escape("step with dt = -1",
+                    [&] { integrator.step(instance, &cloth.system(), 0.0, -1.0, &message); });
+  values.push_back({});
+  void* extra = nullptr;
+  require_no_escape("create with too many values", [&] {
+    if (integrator.create(values.data(), static_cast<uint32_t>(values.size()), &extra, &message) ==
+        CLOTHLAB_OK)
+      integrator.destroy(extra);
+  });
+  return {true, ""};
+}
+
+// The cloth's system table with every callback routed through a pause of the allocation
+// counter: only the plugin's own code is measured, not the host's force evaluation.
+class PluginOnlySystem {
+ public:
+  explicit PluginOnlySystem(const clothlab_system& host) : host_(host), system_(host) {
+    system_.context = this;
+    system_.eval_acceleration = [](void* self, double t, const void* x, const void* v, void* a) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      return host.eval_acceleration(host.context, t, x, v, a);
+    };
+    system_.axpy = [](void* self, void* y, double alpha, const void* x) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      host.axpy(host.context, y, alpha, x);
+    };
+    system_.lincomb = [](void* self, void* out, const void* base, uint32_t count,
+                         const double* coefficients, const void* const* vectors) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      host.lincomb(host.context, out, base, count, coefficients, vectors);
+    };
+    system_.copy = [](void* self, void* dst, const void* src) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      host.copy(host.context, dst, src);
+    };
+    system_.alloc_vector = [](void* self) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      return host.alloc_vector(host.context);
+    };
+  }
+  const clothlab_system& system() const { return system_; }
+
+ private:
+  const clothlab_system& host_;
+  clothlab_system system_;
+};
+
+Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
+  Cloth cloth(sheet_scene(8, 8, true), Precision::Float64, pipeline_for(integrator));
+  const PluginOnlySystem measured(cloth.system());
+  IntegratorInstance instance(integrator, default_values(integrator));
+  clothlab_message message{};
+  const clothlab_status prepared =
+      integrator.prepare(instance.handle(), &measured.system(), &message);
+  require(prepared == CLOTHLAB_OK, "prepare failed: " + describe_status(prepared, message));
+  uint64_t calls = 0;
+  for (int i = 0; i < measured_steps; ++i) {
+    allocations::arm();
+    const clothlab_status status =
+        integrator.step(instance.handle(), &measured.system(), i * 1e-3, 1e-3, &message);
+    calls += allocations::disarm();
+    require(status == CLOTHLAB_OK, "step failed: " + describe_status(status, message));
+  }
+  require(calls == 0, std::to_string(calls) + " heap allocator calls during " +
+                          std::to_string(measured_steps) + " steps");
+  return {true, "0 allocator calls by the plugin in " + std::to_string(measured_steps) + " steps"};
+}
+
+Verdict concurrent_equals_sequential(const clothlab_integrator& integrator) {
+  const Scene scenes[2] = {sheet_scene(16, 12, true), sheet_scene(12, 16)};
+  State sequential[2], concurrent[2];
+  for (int i = 0; i < 2; ++i)
+    sequential[i] = simulate(integrator, scenes[i], Precision::Float64, 1, concurrent_steps, 1e-3);
+  std::string errors[2];
+  std::thread workers[2];
+  for (int i = 0; i < 2; ++i)
+    workers[i] = std::thread([&, i] {
+      try {
+        concurrent[i] =
+            simulate(integrator, scenes[i], Precision::Float64, 1, concurrent_steps, 1e-3);
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+      }
+    });
+  for (std::thread& worker : workers) worker.join();
+  for (int i = 0; i < 2; ++i) {
+    require(errors[i].empty(), "concurrent run " + std::to_string(i + 1) + ": " + errors[i]);
+    require(concurrent[i] == sequential[i],
+            "instance " + std::to_string(i + 1) + " run concurrently differs from its run alone");
+  }
+  return {true, ""};
+}
+
+}  // namespace
+
+std::vector<Check> robustness_checks(const clothlab_integrator& integrator) {
+  const clothlab_integrator* c = &integrator;
+  return {
+      {c->id, "robustness.no-throw", [c] { return nothing_escapes(*c); }},
+      {c->id, "robustness.no-alloc", [c] { return step_does_not_allocate(*c); }},
+      {c->id, "robustness.concurrent", [c] { return concurrent_equals_sequential(*c); }},
+  };
+}
+
+}  // namespace clothlab::conformance

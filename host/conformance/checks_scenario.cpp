@@ -1,0 +1,114 @@
+// scenario.*: the scene a scenario describes is simulable, repeatable and follows its
+// parameters.
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "check.hpp"
+#include "fixtures.hpp"
+#include "scene_validation.hpp"
+
+namespace clothlab::conformance {
+namespace {
+
+// Field-by-field equality (the struct may have padding), pins compared by value.
+bool same_scene(const clothlab_scene& a, const clothlab_scene& b) {
+  auto same3 = [](const double(&p)[3], const double(&q)[3]) {
+    return std::memcmp(p, q, sizeof p) == 0;
+  };
+  auto same_family = [](const clothlab_spring_family& p, const clothlab_spring_family& q) {
+    return p.ks == q.ks && p.kd == q.kd;
+  };
+  if (a.rows != b.rows || a.cols != b.cols || a.pinned_count != b.pinned_count) return false;
+  for (uint32_t i = 0; i < a.pinned_count; ++i)
+    if (a.pinned[i] != b.pinned[i]) return false;
+  return a.width == b.width && a.height == b.height && same3(a.origin, b.origin) &&
+         same3(a.col_axis, b.col_axis) && same3(a.row_axis, b.row_axis) &&
+         a.total_mass == b.total_mass && same_family(a.structural, b.structural) &&
+         same_family(a.shear, b.shear) && same_family(a.flexion, b.flexion) &&
+         same3(a.gravity, b.gravity) && same3(a.wind_direction, b.wind_direction) &&
+         a.wind_strength == b.wind_strength;
+}
+
+Values defaults_of(const clothlab_scenario& scenario) { return default_values(scenario); }
+
+Verdict scene_valid(const clothlab_scenario& scenario) {
+  const ScenarioInstance instance(scenario, defaults_of(scenario));
+  const clothlab_scene scene = instance.describe();
+  require_valid_scene(scene);
+  const Cloth cloth(scene_from_abi(scene), Precision::Float64, PipelineOptions{true, 1});
+  require(cloth.state_is_finite(), "the initial state is not finite");
+  return {true, std::to_string(scene.rows) + "x" + std::to_string(scene.cols) + ", " +
+                    std::to_string(scene.pinned_count) + " pins"};
+}
+
+Verdict describe_repeatable(const clothlab_scenario& scenario) {
+  const ScenarioInstance first(scenario, defaults_of(scenario));
+  const clothlab_scene a = first.describe();
+  const clothlab_scene b = first.describe();
+  require(same_scene(a, b), "two describe calls on one instance differ");
+  const ScenarioInstance second(scenario, defaults_of(scenario));
+  require(same_scene(a, second.describe()), "two instances with equal parameters differ");
+  return {true, ""};
+}
+
+// A value inside the range that differs from the default (none when the range is a point).
+bool other_value(const clothlab_param_spec& spec, double current, double& out) {
+  const bool integral = spec.type == CLOTHLAB_PARAM_INT || spec.type == CLOTHLAB_PARAM_BOOL;
+  const double step = integral ? 1.0 : 0.25 * (spec.max_value - spec.min_value);
+  if (step <= 0) return false;
+  out = current + step <= spec.max_value ? current + step : current - step;
+  return out >= spec.min_value && out != current;
+}
+
+// The fields a well-known parameter must set; empty for other names.
+std::string expected_effect(const clothlab_param_spec& spec, const clothlab_scene& scene,
+                            double value) {
+  const std::string name = spec.name;
+  auto mismatch = [&](const char* field, double actual) {
+    return actual == value ? std::string()
+                           : std::string(field) + " is " + std::to_string(actual) + ", not " +
+                                 std::to_string(value);
+  };
+  if (name == "rows") return mismatch("scene.rows", scene.rows);
+  if (name == "cols" || name == "columns") return mismatch("scene.cols", scene.cols);
+  if (name == "mass" || name == "total_mass") return mismatch("scene.total_mass", scene.total_mass);
+  if (name == "width") return mismatch("scene.width", scene.width);
+  if (name == "height") return mismatch("scene.height", scene.height);
+  return {};
+}
+
+Verdict parameters_respected(const clothlab_scenario& scenario) {
+  const Values defaults = defaults_of(scenario);
+  const ScenarioInstance base_instance(scenario, defaults);
+  const clothlab_scene base = base_instance.describe();
+  int changed = 0;
+  for (uint32_t i = 0; i < scenario.param_count; ++i) {
+    const clothlab_param_spec& spec = scenario.params[i];
+    Values values = defaults;
+    if (!other_value(spec, values[i].v[0], values[i].v[0])) continue;
+    const ScenarioInstance instance(scenario, values);
+    const clothlab_scene scene = instance.describe();
+    const std::string what = std::string(spec.name) + " = " + std::to_string(values[i].v[0]);
+    require(!same_scene(scene, base), "setting " + what + " does not change the scene");
+    const std::string wrong = expected_effect(spec, scene, values[i].v[0]);
+    require(wrong.empty(), "with " + what + ", " + wrong);
+    require_valid_scene(scene);
+    ++changed;
+  }
+  return {true, std::to_string(changed) + " parameters change the scene as declared"};
+}
+
+}  // namespace
+
+std::vector<Check> scenario_checks(const clothlab_scenario& scenario) {
+  const clothlab_scenario* c = &scenario;
+  return {
+      {c->id, "scenario.valid", [c] { return scene_valid(*c); }},
+      {c->id, "scenario.deterministic", [c] { return describe_repeatable(*c); }},
+      {c->id, "scenario.params", [c] { return parameters_respected(*c); }},
+  };
+}
+
+}  // namespace clothlab::conformance

@@ -1,0 +1,144 @@
+#include "fixtures.hpp"
+
+#include <cstring>
+
+#include "verdict.hpp"
+
+namespace clothlab::conformance {
+
+namespace {
+std::vector<ParameterOverride> overrides;
+}  // namespace
+
+void set_parameter_overrides(std::vector<ParameterOverride> values) {
+  overrides = std::move(values);
+}
+
+const std::vector<ParameterOverride>& parameter_overrides() { return overrides; }
+
+std::vector<clothlab_param_value> default_values(const std::string& component,
+                                                 const clothlab_param_spec* specs, uint32_t count) {
+  std::vector<clothlab_param_value> values(count);
+  for (uint32_t i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) values[i].v[k] = specs[i].default_value[k];
+    for (const ParameterOverride& override : overrides)
+      if (override.component == component && override.name == specs[i].name)
+        values[i] = override.value;
+  }
+  return values;
+}
+
+std::vector<clothlab_param_value> default_values(const clothlab_integrator& integrator) {
+  return default_values(integrator.id, integrator.params, integrator.param_count);
+}
+
+std::vector<clothlab_param_value> default_values(const clothlab_scenario& scenario) {
+  return default_values(scenario.id, scenario.params, scenario.param_count);
+}
+
+std::string describe_status(clothlab_status status, const clothlab_message& message) {
+  static const char* const names[] = {
+      "OK", "INVALID_ARGUMENT", "UNSUPPORTED", "OUT_OF_MEMORY", "NUMERICAL", "INTERNAL"};
+  const std::string name =
+      status >= 0 && status <= 5 ? names[status] : "status " + std::to_string(status);
+  return name + ": " + std::string(message.text, strnlen(message.text, sizeof message.text));
+}
+
+IntegratorInstance::IntegratorInstance(const clothlab_integrator& integrator,
+                                       const std::vector<clothlab_param_value>& values)
+    : integrator_(integrator) {
+  clothlab_message message{};
+  const clothlab_status status =
+      integrator.create(values.data(), static_cast<uint32_t>(values.size()), &instance_, &message);
+  require(status == CLOTHLAB_OK, "create failed: " + describe_status(status, message));
+  require(instance_ != nullptr, "create returned OK but no instance");
+}
+
+IntegratorInstance::~IntegratorInstance() { integrator_.destroy(instance_); }
+
+void IntegratorInstance::prepare(const Cloth& cloth) {
+  clothlab_message message{};
+  const clothlab_status status = integrator_.prepare(instance_, &cloth.system(), &message);
+  require(status == CLOTHLAB_OK, "prepare failed: " + describe_status(status, message));
+}
+
+void IntegratorInstance::step(const Cloth& cloth, double t, double dt) {
+  clothlab_message message{};
+  const clothlab_status status = integrator_.step(instance_, &cloth.system(), t, dt, &message);
+  require(status == CLOTHLAB_OK,
+          "step at t = " + std::to_string(t) + " failed: " + describe_status(status, message));
+  require(cloth.state_is_finite(), "non-finite state after the step at t = " + std::to_string(t));
+}
+
+void IntegratorInstance::run(const Cloth& cloth, int steps, double dt) {
+  for (int i = 0; i < steps; ++i) step(cloth, i * dt, dt);
+}
+
+ScenarioInstance::ScenarioInstance(const clothlab_scenario& scenario,
+                                   const std::vector<clothlab_param_value>& values)
+    : scenario_(scenario) {
+  clothlab_message message{};
+  const clothlab_status status =
+      scenario.create(values.data(), static_cast<uint32_t>(values.size()), &instance_, &message);
+  require(status == CLOTHLAB_OK, "create failed: " + describe_status(status, message));
+  require(instance_ != nullptr, "create returned OK but no instance");
+}
+
+ScenarioInstance::~ScenarioInstance() { scenario_.destroy(instance_); }
+
+clothlab_scene ScenarioInstance::describe() const {
+  clothlab_scene scene{};
+  scene.struct_size = sizeof scene;
+  clothlab_message message{};
+  const clothlab_status status = scenario_.describe(instance_, &scene, &message);
+  require(status == CLOTHLAB_OK, "describe failed: " + describe_status(status, message));
+  return scene;
+}
+
+Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy) {
+  Scene scene;
+  scene.rows = rows;
+  scene.cols = cols;
+  scene.width = 1.0;
+  scene.height = 0.8;
+  scene.total_mass = 0.5;
+  scene.structural = {40.0, 0.05};
+  scene.shear = {40.0, 0.05};
+  scene.flexion = {10.0, 0.02};
+  if (rows > 1)
+    scene.pinned = cols > 1 ? std::vector<uint32_t>{0, cols - 1} : std::vector<uint32_t>{0};
+  if (windy) {
+    scene.wind_direction = {0, 0, 1};
+    scene.wind_strength = 0.5;
+  }
+  return scene;
+}
+
+bool uses_velocity_forces(const clothlab_integrator& integrator) {
+  return (integrator.flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
+}
+
+PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads) {
+  PipelineOptions options;
+  options.velocity_forces = uses_velocity_forces(integrator);
+  options.threads = threads;
+  return options;
+}
+
+State state_of(const Cloth& cloth) {
+  State state;
+  cloth.positions(state.x);
+  cloth.velocities(state.v);
+  return state;
+}
+
+State simulate(const clothlab_integrator& integrator, const Scene& scene, Precision precision,
+               int threads, int steps, double dt) {
+  Cloth cloth(scene, precision, pipeline_for(integrator, threads));
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  instance.run(cloth, steps, dt);
+  return state_of(cloth);
+}
+
+}  // namespace clothlab::conformance

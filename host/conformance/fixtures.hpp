@@ -1,0 +1,89 @@
+// Building blocks the checks share: parameter values from schemas, owned plugin
+// instances that report errors as check failures, and the small scenes the checks run.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <clothlab/core/cloth.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clothlab::conformance {
+
+// A value that replaces a parameter's default for one component (--param ID.NAME=VALUE).
+struct ParameterOverride {
+  std::string component;
+  std::string name;
+  clothlab_param_value value;
+};
+
+// Installed once by main before any check runs; every check then starts from these values.
+void set_parameter_overrides(std::vector<ParameterOverride> overrides);
+const std::vector<ParameterOverride>& parameter_overrides();
+
+// Defaults from the schema, with the overrides for `component` applied.
+std::vector<clothlab_param_value> default_values(const std::string& component,
+                                                 const clothlab_param_spec* specs, uint32_t count);
+std::vector<clothlab_param_value> default_values(const clothlab_integrator& integrator);
+std::vector<clothlab_param_value> default_values(const clothlab_scenario& scenario);
+
+// "<status name>: <message>" for a non-OK status, for failure reasons.
+std::string describe_status(clothlab_status status, const clothlab_message& message);
+
+// An integrator instance created from `values`; destroyed with the object.
+class IntegratorInstance {
+ public:
+  IntegratorInstance(const clothlab_integrator& integrator,
+                     const std::vector<clothlab_param_value>& values);
+  ~IntegratorInstance();
+  IntegratorInstance(const IntegratorInstance&) = delete;
+  IntegratorInstance& operator=(const IntegratorInstance&) = delete;
+
+  void prepare(const Cloth& cloth);
+  // Fails the check when step returns an error or leaves a non-finite state.
+  void step(const Cloth& cloth, double t, double dt);
+  void run(const Cloth& cloth, int steps, double dt);
+  void* handle() const { return instance_; }
+
+ private:
+  const clothlab_integrator& integrator_;
+  void* instance_ = nullptr;
+};
+
+// A scenario instance created from `values`; destroyed with the object.
+class ScenarioInstance {
+ public:
+  ScenarioInstance(const clothlab_scenario& scenario,
+                   const std::vector<clothlab_param_value>& values);
+  ~ScenarioInstance();
+  ScenarioInstance(const ScenarioInstance&) = delete;
+  ScenarioInstance& operator=(const ScenarioInstance&) = delete;
+
+  // Fails the check when describe returns an error.
+  clothlab_scene describe() const;
+
+ private:
+  const clothlab_scenario& scenario_;
+  void* instance_ = nullptr;
+};
+
+// Like the built-in sheet: top corners pinned (none for a single row), gravity, damped
+// springs of every family, light wind when `windy`.
+Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy = false);
+
+PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads = 1);
+
+bool uses_velocity_forces(const clothlab_integrator& integrator);
+
+struct State {
+  std::vector<double> x, v;
+  bool operator==(const State&) const = default;
+};
+State state_of(const Cloth& cloth);
+
+// Runs `steps` steps of a fresh instance (default parameters) on a fresh Cloth of `scene`.
+State simulate(const clothlab_integrator& integrator, const Scene& scene, Precision precision,
+               int threads, int steps, double dt);
+
+}  // namespace clothlab::conformance

@@ -1,0 +1,33 @@
+// A plugin library opened with dlopen(RTLD_NOW): the runner tests plugins below the host's
+// loader, so it keeps its own thin layer and reports every failure as text.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <string>
+
+namespace clothlab::conformance {
+
+class PluginLibrary {
+ public:
+  // Throws std::runtime_error with dlerror()'s text when the library does not open or
+  // lacks the entry symbol.
+  explicit PluginLibrary(const std::string& path);
+  ~PluginLibrary();
+  PluginLibrary(const PluginLibrary&) = delete;
+  PluginLibrary& operator=(const PluginLibrary&) = delete;
+
+  // Calls the entry point; the pointer stays valid while the library is open.
+  const clothlab_plugin_descriptor* descriptor() const;
+
+ private:
+  void* handle_ = nullptr;
+  clothlab_plugin_entry_fn entry_ = nullptr;
+};
+
+// The host's rule: the same major is accepted, any minor; a different major is refused.
+bool abi_accepted(const clothlab_abi_version& plugin_version);
+
+std::string to_string(const clothlab_abi_version& version);
+
+}  // namespace clothlab::conformance
