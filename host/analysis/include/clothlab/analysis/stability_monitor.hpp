@@ -1,0 +1,84 @@
+// Objective stability verdict of a run, checked every few steps.
+//
+// Checks, in this order, at each check step:
+//  1. non-finite state (any NaN/inf in x or v);
+//  2. stretch: the longest spring over its rest length beyond stretch_limit (default 2);
+//  3. energy: total energy (kinetic + spring + gravity; gravity is a potential, so it is inside)
+//     above E0 + W_wind + margin, where
+//       W_wind bounds the work the wind can have done. A triangle's wind force has magnitude at
+//         most S A (S = wind strength, A = its area), so the power on the cloth is at most
+//         P = S A_cloth v_max. A_cloth is at most the rest area times max_stretch^2 (every grid
+//         triangle's edges are springs), v_max is the fastest particle. Both come from the same
+//         pass as the other checks, so the bound costs one sweep of the velocities. Between checks
+//         the bound is integrated as dt_interval * max(P_before, P_after) * wind_work_safety (the
+//         speed may peak between samples); this over-estimates the true work by the cos factors
+//         and by v_max against mean speeds, which is fine: a divergence grows without limit and
+//         crosses any such bound, while a calm run stays far below it.
+//       margin = energy_margin * scale, scale = M |g| diagonal + |E0 parts|: the energy the
+//         whole cloth would gain by falling its own diagonal, a size that damped dynamics never
+//         approach in error but divergent ones overshoot within a few steps.
+// The first failure is kept: later observations do not change the verdict.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clothlab::analysis {
+
+struct MonitorOptions {
+  uint64_t check_interval = 10;  // steps between checks; 1 checks every step
+  double stretch_limit = 2.0;    // times rest length
+  double energy_margin = 1.0;    // times the energy scale (see above)
+  double wind_work_safety = 2.0;
+};
+
+enum class StabilityCheck { None, NonFinite, Stretch, Energy };
+const char* to_string(StabilityCheck check);
+
+struct Verdict {
+  bool stable = true;
+  StabilityCheck fired = StabilityCheck::None;
+  uint64_t step = 0;   // step at which the check fired
+  double time = 0.0;   // simulated time then, s
+  double value = 0.0;  // what was measured (stretch ratio or energy in J)
+  double limit = 0.0;  // what it was compared against
+  std::string reason;  // one line, empty while stable
+};
+
+class StabilityMonitor {
+ public:
+  // Takes the initial energy from the cloth's current state (time t0). Throws
+  // std::invalid_argument for options out of range.
+  StabilityMonitor(const Cloth& cloth, double t0, const MonitorOptions& options = {});
+
+  // Checks when step is a multiple of check_interval; otherwise returns the current verdict.
+  const Verdict& observe(const Cloth& cloth, uint64_t step, double t);
+  // Checks now, whatever the interval (e.g. after the last step).
+  const Verdict& check(const Cloth& cloth, uint64_t step, double t);
+
+  const Verdict& verdict() const { return verdict_; }
+  double initial_energy() const { return initial_energy_; }
+  double energy_scale() const { return energy_scale_; }
+  double wind_work_bound() const { return wind_work_; }
+  uint64_t checks() const { return checks_; }
+
+ private:
+  double wind_power_bound(const Cloth& cloth, double stretch);
+  void fail(StabilityCheck check, uint64_t step, double t, double value, double limit,
+            std::string reason);
+
+  MonitorOptions options_;
+  double initial_energy_ = 0.0;
+  double energy_scale_ = 0.0;
+  double rest_area_ = 0.0;
+  double wind_work_ = 0.0;
+  double last_time_ = 0.0;
+  double last_power_ = 0.0;
+  uint64_t checks_ = 0;
+  std::vector<double> velocities_;  // reused between checks
+  Verdict verdict_;
+};
+
+}  // namespace clothlab::analysis

@@ -1,0 +1,207 @@
+#include "clothlab/analysis/spectral_estimate.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "clothlab/analysis/linearised_system.hpp"
+
+namespace clothlab::analysis {
+namespace {
+
+using Vector = std::vector<double>;
+using Complex = std::complex<double>;
+
+Vector random_active_vector(LinearisedSystem& lin, std::mt19937_64& random) {
+  std::normal_distribution<double> normal;
+  Vector u(lin.vector_size());
+  for (double& value : u) value = normal(random);
+  lin.keep_active(u);
+  return u;
+}
+
+void scale(Vector& u, double factor) {
+  for (double& value : u) value *= factor;
+}
+
+struct PowerResult {
+  double rayleigh = 0.0;  // u.Ju / u.u at the last iterate
+  Vector vector;
+  bool converged = false;
+};
+
+// Dominant eigenvalue (by modulus) of a symmetric-like operator; its sign is kept.
+template <class Apply>
+PowerResult power_iteration(LinearisedSystem& lin, Apply apply, Vector start,
+                            const SpectralOptions& options) {
+  PowerResult result;
+  Vector image(start.size());
+  scale(start, 1.0 / std::sqrt(lin.dot(start, start)));
+  double previous = 0.0;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    apply(start, image);
+    result.rayleigh = lin.dot(start, image);
+    const double norm = std::sqrt(lin.dot(image, image));
+    if (norm == 0.0) {  // the operator vanishes on the active set
+      result.converged = true;
+      break;
+    }
+    std::swap(start, image);
+    scale(start, 1.0 / norm);
+    if (iteration > 0 &&
+        std::abs(result.rayleigh - previous) <= options.tolerance * std::abs(result.rayleigh)) {
+      result.converged = true;
+      break;
+    }
+    previous = result.rayleigh;
+  }
+  result.vector = std::move(start);
+  return result;
+}
+
+// First-order operator on y = (p, q): A y = (q, J_x p + J_v q).
+struct FirstOrderOperator {
+  LinearisedSystem& lin;
+  Vector stiff, damp;
+
+  explicit FirstOrderOperator(LinearisedSystem& l)
+      : lin(l), stiff(l.vector_size()), damp(l.vector_size()) {}
+
+  void apply(const Vector& y, Vector& out) {
+    const std::size_t n = lin.vector_size();
+    std::span<const double> p(y.data(), n), q(y.data() + n, n);
+    lin.position_jacobian(p, stiff);
+    lin.velocity_jacobian(q, damp);
+    std::copy(q.begin(), q.end(), out.begin());
+    for (std::size_t i = 0; i < n; ++i) out[n + i] = stiff[i] + damp[i];
+  }
+  double dot(const Vector& a, const Vector& b) const {
+    const std::size_t n = lin.vector_size();
+    return lin.dot(std::span(a.data(), n), std::span(b.data(), n)) +
+           lin.dot(std::span(a.data() + n, n), std::span(b.data() + n, n));
+  }
+};
+
+struct RitzValue {
+  Complex value;
+  double residual;
+  Eigen::VectorXcd coefficients;
+};
+
+// Explicitly restarted Arnoldi, restarting from the real part of the dominant Ritz vector.
+std::vector<RitzValue> arnoldi(FirstOrderOperator& op, Vector start,
+                               const SpectralOptions& options) {
+  const int m = std::max(2, options.krylov_dimension);
+  std::vector<RitzValue> ritz;
+  for (int restart = 0; restart <= options.arnoldi_restarts; ++restart) {
+    std::vector<Vector> basis;
+    Eigen::MatrixXd hessenberg = Eigen::MatrixXd::Zero(m + 1, m);
+    scale(start, 1.0 / std::sqrt(op.dot(start, start)));
+    basis.push_back(start);
+    int size = m;
+    for (int j = 0; j < m; ++j) {
+      Vector w(start.size());
+      op.apply(basis[j], w);
+      for (int pass = 0; pass < 2; ++pass) {  // Gram-Schmidt twice keeps the basis orthogonal
+        for (int i = 0; i <= j; ++i) {
+          const double h = op.dot(basis[i], w);
+          hessenberg(i, j) += h;
+          for (std::size_t k = 0; k < w.size(); ++k) w[k] -= h * basis[i][k];
+        }
+      }
+      const double norm = std::sqrt(op.dot(w, w));
+      hessenberg(j + 1, j) = norm;
+      if (norm <= 1e-300) {  // invariant subspace found: the Ritz values are exact
+        size = j + 1;
+        break;
+      }
+      scale(w, 1.0 / norm);
+      basis.push_back(std::move(w));
+    }
+    Eigen::EigenSolver<Eigen::MatrixXd> solver(hessenberg.topLeftCorner(size, size));
+    const double beta = hessenberg(size, size - 1);
+    ritz.clear();
+    for (int i = 0; i < size; ++i) {
+      const Eigen::VectorXcd y = solver.eigenvectors().col(i);
+      ritz.push_back({solver.eigenvalues()(i), beta * std::abs(y(size - 1)) / y.norm(), y});
+    }
+    std::sort(ritz.begin(), ritz.end(), [](const RitzValue& a, const RitzValue& b) {
+      return std::abs(a.value) > std::abs(b.value);
+    });
+    const RitzValue& dominant = ritz.front();
+    if (dominant.residual <= 1e-6 * std::abs(dominant.value) ||
+        restart == options.arnoldi_restarts) {
+      break;
+    }
+    std::fill(start.begin(), start.end(), 0.0);
+    for (int i = 0; i < size; ++i) {
+      const double weight = dominant.coefficients(i).real() + dominant.coefficients(i).imag();
+      for (std::size_t k = 0; k < start.size(); ++k) start[k] += weight * basis[i][k];
+    }
+  }
+  return ritz;
+}
+
+}  // namespace
+
+SpectralEstimate estimate_spectrum(const clothlab_system& system, double t,
+                                   const SpectralOptions& options) {
+  LinearisedSystem lin(system, t);
+  SpectralEstimate estimate;
+  if (lin.active_dof() == 0) return estimate;
+  std::mt19937_64 random(options.seed);
+  Vector scratch(lin.vector_size());
+  auto stiffness = [&](const Vector& u, Vector& out) { lin.position_jacobian(u, out); };
+  auto damping = [&](const Vector& u, Vector& out) { lin.velocity_jacobian(u, out); };
+  auto rayleigh = [&](auto apply, const Vector& u) {
+    apply(u, scratch);
+    return lin.dot(u, scratch) / lin.dot(u, u);
+  };
+
+  const PowerResult stiff =
+      power_iteration(lin, stiffness, random_active_vector(lin, random), options);
+  const PowerResult damp =
+      power_iteration(lin, damping, random_active_vector(lin, random), options);
+  estimate.power_iterations_converged = stiff.converged && damp.converged;
+  estimate.omega_max = std::sqrt(std::max(0.0, -stiff.rayleigh));
+  estimate.stiffest_mode = {std::max(0.0, -stiff.rayleigh),
+                            std::max(0.0, -rayleigh(damping, stiff.vector))};
+  estimate.most_damped_mode = {std::max(0.0, -rayleigh(stiffness, damp.vector)),
+                               std::max(0.0, -damp.rayleigh)};
+
+  FirstOrderOperator op(lin);
+  Vector start(2 * lin.vector_size());
+  const Vector p = random_active_vector(lin, random), q = random_active_vector(lin, random);
+  std::copy(p.begin(), p.end(), start.begin());
+  std::copy(q.begin(), q.end(), start.begin() + static_cast<std::ptrdiff_t>(p.size()));
+  const auto ritz = arnoldi(op, std::move(start), options);
+  estimate.dominant_eigenvalue = ritz.front().value;
+  // Only the outer part of the spectrum converges; slow modes near the origin are left out.
+  const double outer_radius = 0.1 * std::abs(estimate.dominant_eigenvalue);
+  for (const RitzValue& value : ritz) {
+    if (value.residual <= 1e-3 * std::abs(value.value) && std::abs(value.value) >= outer_radius) {
+      estimate.outer_eigenvalues.push_back(value.value);
+    }
+  }
+  estimate.acceleration_evaluations = lin.acceleration_evaluations();
+  return estimate;
+}
+
+double predict_dt_max(Method method, const SpectralEstimate& estimate,
+                      const VerletDamping& verlet) {
+  if (method == Method::PositionVerlet) {
+    return predicted_dt_max(method, DampedMode{estimate.stiffest_mode.omega_squared, 0.0}, verlet);
+  }
+  double dt_max = std::min(predicted_dt_max(method, estimate.stiffest_mode),
+                           predicted_dt_max(method, estimate.most_damped_mode));
+  if (method != Method::SymplecticEuler) {
+    for (const Complex& eigenvalue : estimate.outer_eigenvalues) {
+      dt_max = std::min(dt_max, predicted_dt_max(method, eigenvalue));
+    }
+  }
+  return dt_max;
+}
+
+}  // namespace clothlab::analysis

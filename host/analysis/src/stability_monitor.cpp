@@ -1,0 +1,113 @@
+#include "clothlab/analysis/stability_monitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace clothlab::analysis {
+namespace {
+
+double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+void validate(const MonitorOptions& options) {
+  auto fail = [](const char* key, double value, const char* allowed) {
+    std::ostringstream message;
+    message << "stability monitor: " << key << " = " << value << ", allowed " << allowed;
+    throw std::invalid_argument(message.str());
+  };
+  if (options.check_interval < 1) fail("check_interval", 0, ">= 1");
+  if (!(options.stretch_limit > 1.0)) fail("stretch_limit", options.stretch_limit, "> 1");
+  if (!(options.energy_margin >= 0.0)) fail("energy_margin", options.energy_margin, ">= 0");
+  if (!(options.wind_work_safety >= 1.0)) {
+    fail("wind_work_safety", options.wind_work_safety, ">= 1");
+  }
+}
+
+}  // namespace
+
+const char* to_string(StabilityCheck check) {
+  switch (check) {
+    case StabilityCheck::None:
+      return "none";
+    case StabilityCheck::NonFinite:
+      return "non-finite";
+    case StabilityCheck::Stretch:
+      return "stretch";
+    case StabilityCheck::Energy:
+      return "energy";
+  }
+  return "unknown";
+}
+
+StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorOptions& options)
+    : options_(options), last_time_(t0) {
+  validate(options);
+  const Scene& scene = cloth.scene();
+  const Cloth::Energy energy = cloth.energy();
+  initial_energy_ = energy.total();
+  const double diagonal = std::hypot(scene.width, scene.height);
+  energy_scale_ = scene.total_mass * norm(scene.gravity) * diagonal + std::abs(energy.kinetic) +
+                  std::abs(energy.spring) + std::abs(energy.gravity);
+  rest_area_ = scene.rows > 1 && scene.cols > 1 ? scene.width * scene.height : 0.0;
+  if (cloth.state_is_finite()) last_power_ = wind_power_bound(cloth, cloth.max_stretch());
+}
+
+double StabilityMonitor::wind_power_bound(const Cloth& cloth, double stretch) {
+  const Scene& scene = cloth.scene();
+  if (!scene.has_wind() || rest_area_ == 0.0) return 0.0;
+  cloth.velocities(velocities_);
+  double fastest_squared = 0.0;
+  for (std::size_t i = 0; i + 2 < velocities_.size(); i += 3) {
+    fastest_squared = std::max(fastest_squared, velocities_[i] * velocities_[i] +
+                                                    velocities_[i + 1] * velocities_[i + 1] +
+                                                    velocities_[i + 2] * velocities_[i + 2]);
+  }
+  const double area = rest_area_ * std::max(1.0, stretch) * std::max(1.0, stretch);
+  return std::abs(scene.wind_strength) * area * std::sqrt(fastest_squared);
+}
+
+void StabilityMonitor::fail(StabilityCheck check, uint64_t step, double t, double value,
+                            double limit, std::string reason) {
+  verdict_ = {false, check, step, t, value, limit, std::move(reason)};
+}
+
+const Verdict& StabilityMonitor::observe(const Cloth& cloth, uint64_t step, double t) {
+  if (step % options_.check_interval != 0) return verdict_;
+  return check(cloth, step, t);
+}
+
+const Verdict& StabilityMonitor::check(const Cloth& cloth, uint64_t step, double t) {
+  if (!verdict_.stable) return verdict_;
+  ++checks_;
+  std::ostringstream reason;
+  if (!cloth.state_is_finite()) {
+    reason << "non-finite position or velocity at step " << step << " (t = " << t << " s)";
+    fail(StabilityCheck::NonFinite, step, t, 0.0, 0.0, reason.str());
+    return verdict_;
+  }
+  const double stretch = cloth.max_stretch();
+  if (!(stretch <= options_.stretch_limit)) {
+    reason << "spring stretched to " << stretch << " x rest (limit " << options_.stretch_limit
+           << ") at step " << step << " (t = " << t << " s)";
+    fail(StabilityCheck::Stretch, step, t, stretch, options_.stretch_limit, reason.str());
+    return verdict_;
+  }
+  const double power = wind_power_bound(cloth, stretch);
+  wind_work_ +=
+      std::max(0.0, t - last_time_) * std::max(power, last_power_) * options_.wind_work_safety;
+  last_time_ = t;
+  last_power_ = power;
+  const double energy = cloth.energy().total();
+  const double limit = initial_energy_ + wind_work_ + options_.energy_margin * energy_scale_;
+  if (!(energy <= limit)) {
+    reason << "energy " << energy << " J above initial " << initial_energy_
+           << " J + wind work bound " << wind_work_ << " J + margin "
+           << options_.energy_margin * energy_scale_ << " J at step " << step << " (t = " << t
+           << " s)";
+    fail(StabilityCheck::Energy, step, t, energy, limit, reason.str());
+  }
+  return verdict_;
+}
+
+}  // namespace clothlab::analysis
