@@ -1,25 +1,22 @@
-// Spring forces of one stencil, computed once per spring along a grid row.
+// Spring forces of one stencil along one grid row, each spring computed once.
 //
-// The force on a spring's first particle i is stored at f[i]; the second particle
-// j = i + offset receives -f[i], which the accumulation pass gathers as -f[j - offset].
-// Entries without a spring are never written and stay zero.
+// The force on a spring's first particle (column c of this row) is stored at f[c]; its
+// second particle receives -f[c], which the accumulation pass gathers by a shifted read.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 
 namespace clothlab::detail {
 
 template <class Real>
-struct SpringStencilJob {
-  const Real* x[3];
-  const Real* v[3];  // only read when damped
-  Real* f[3];
-  std::size_t cols;
+struct SpringRow {
+  const Real* x[3];  // positions, at this row's first particle
+  const Real* v[3];  // velocities likewise; read only when damped
+  Real* f[3];        // per-spring force on the first particle, by column
   std::size_t col_begin;
   std::size_t col_end;
-  std::size_t offset;
+  std::size_t offset;  // index distance to the second particle
   Real rest;
   Real ks;
   Real kd;
@@ -27,23 +24,22 @@ struct SpringStencilJob {
 
 // Hooke (seed eq. 2.7), plus damping along the spring (eq. 2.8) when Damped.
 template <class Real, bool Damped>
-inline void spring_row_forces(const SpringStencilJob<Real>& job, std::size_t row) {
-  const std::size_t first = row * job.cols;
-  const std::size_t offset = job.offset;
-  const Real* __restrict x = job.x[0] + first;
-  const Real* __restrict y = job.x[1] + first;
-  const Real* __restrict z = job.x[2] + first;
-  const Real* __restrict vx = job.v[0] + (Damped ? first : 0);
-  const Real* __restrict vy = job.v[1] + (Damped ? first : 0);
-  const Real* __restrict vz = job.v[2] + (Damped ? first : 0);
-  Real* __restrict fx = job.f[0] + first;
-  Real* __restrict fy = job.f[1] + first;
-  Real* __restrict fz = job.f[2] + first;
-  const Real rest = job.rest;
-  const Real ks = job.ks;
-  const Real kd = job.kd;
+inline void spring_row_forces(const SpringRow<Real>& row) {
+  const std::size_t offset = row.offset;
+  const Real* __restrict x = row.x[0];
+  const Real* __restrict y = row.x[1];
+  const Real* __restrict z = row.x[2];
+  const Real* __restrict vx = row.v[0];
+  const Real* __restrict vy = row.v[1];
+  const Real* __restrict vz = row.v[2];
+  Real* __restrict fx = row.f[0];
+  Real* __restrict fy = row.f[1];
+  Real* __restrict fz = row.f[2];
+  const Real rest = row.rest;
+  const Real ks = row.ks;
+  const Real kd = row.kd;
 #pragma omp simd
-  for (std::size_t c = job.col_begin; c < job.col_end; ++c) {
+  for (std::size_t c = row.col_begin; c < row.col_end; ++c) {
     const Real dx = x[c + offset] - x[c];
     const Real dy = y[c + offset] - y[c];
     const Real dz = z[c + offset] - z[c];

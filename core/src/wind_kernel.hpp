@@ -1,9 +1,10 @@
-// Wind pressure on the two triangles of each grid cell (seed eq. 3.2, per triangle).
+// Wind pressure on the two triangles of each grid cell along one row of cells
+// (seed eq. 3.2, per triangle).
 //
-// Cell (r, c) has corners a = i, b = i + 1, c = i + cols, d = i + cols + 1 and triangles
-// (a, b, c) and (b, d, c). Each triangle gets F = strength * area * (n_hat . w) n_hat,
-// a third to each corner; the per-corner share is stored at the cell's index i in
-// `first` (triangle abc) and `second` (triangle bdc), gathered later by shifted adds.
+// Cell c has corners a = c, b = c + 1 in this row and c' = c, d = c + 1 in the next;
+// triangles (a, b, c') and (b, d, c'). Each gets F = strength * area * (n_hat . w) n_hat,
+// a third to each corner; the per-corner share is stored at the cell's column in `first`
+// (triangle abc') and `second` (triangle bdc'), gathered later by shifted reads.
 #pragma once
 
 #include <cmath>
@@ -12,11 +13,12 @@
 namespace clothlab::detail {
 
 template <class Real>
-struct WindJob {
-  const Real* x[3];
+struct WindRow {
+  const Real* x[3];      // positions, at this row's first particle
+  const Real* below[3];  // positions, at the next row's first particle
   Real* first[3];
   Real* second[3];
-  std::size_t cols;
+  std::size_t cells;  // cols - 1
   Real direction[3];
   Real strength;
 };
@@ -37,28 +39,28 @@ inline void triangle_wind_share(Real e1x, Real e1y, Real e1z, Real e2x, Real e2y
 }
 
 template <class Real>
-inline void wind_row_forces(const WindJob<Real>& job, std::size_t row) {
-  const std::size_t first_index = row * job.cols;
-  const std::size_t cols = job.cols;
-  const Real* __restrict x = job.x[0] + first_index;
-  const Real* __restrict y = job.x[1] + first_index;
-  const Real* __restrict z = job.x[2] + first_index;
-  Real* __restrict ax = job.first[0] + first_index;
-  Real* __restrict ay = job.first[1] + first_index;
-  Real* __restrict az = job.first[2] + first_index;
-  Real* __restrict bx = job.second[0] + first_index;
-  Real* __restrict by = job.second[1] + first_index;
-  Real* __restrict bz = job.second[2] + first_index;
-  const Real w[3] = {job.direction[0], job.direction[1], job.direction[2]};
-  const Real strength = job.strength;
-  const std::size_t cells = cols - 1;
+inline void wind_row_forces(const WindRow<Real>& row) {
+  const Real* __restrict x = row.x[0];
+  const Real* __restrict y = row.x[1];
+  const Real* __restrict z = row.x[2];
+  const Real* __restrict xb = row.below[0];
+  const Real* __restrict yb = row.below[1];
+  const Real* __restrict zb = row.below[2];
+  Real* __restrict ax = row.first[0];
+  Real* __restrict ay = row.first[1];
+  Real* __restrict az = row.first[2];
+  Real* __restrict bx = row.second[0];
+  Real* __restrict by = row.second[1];
+  Real* __restrict bz = row.second[2];
+  const Real w[3] = {row.direction[0], row.direction[1], row.direction[2]};
+  const Real strength = row.strength;
 #pragma omp simd
-  for (std::size_t c = 0; c < cells; ++c) {
-    const std::size_t b = c + 1, d = c + cols, e = c + cols + 1;  // corners after a = c
-    triangle_wind_share(x[b] - x[c], y[b] - y[c], z[b] - z[c], x[d] - x[c], y[d] - y[c],
-                        z[d] - z[c], w, strength, ax[c], ay[c], az[c]);
-    triangle_wind_share(x[e] - x[b], y[e] - y[b], z[e] - z[b], x[d] - x[b], y[d] - y[b],
-                        z[d] - z[b], w, strength, bx[c], by[c], bz[c]);
+  for (std::size_t c = 0; c < row.cells; ++c) {
+    triangle_wind_share(x[c + 1] - x[c], y[c + 1] - y[c], z[c + 1] - z[c], xb[c] - x[c],
+                        yb[c] - y[c], zb[c] - z[c], w, strength, ax[c], ay[c], az[c]);
+    triangle_wind_share(xb[c + 1] - x[c + 1], yb[c + 1] - y[c + 1], zb[c + 1] - z[c + 1],
+                        xb[c] - x[c + 1], yb[c] - y[c + 1], zb[c] - z[c + 1], w, strength, bx[c],
+                        by[c], bz[c]);
   }
 }
 
