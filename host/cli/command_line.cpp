@@ -1,0 +1,100 @@
+#include "command_line.hpp"
+
+#include <boost/program_options.hpp>
+#include <clothlab/host/errors.hpp>
+#include <sstream>
+
+namespace po = boost::program_options;
+
+namespace clothlab::cli {
+
+namespace {
+
+// Flags that are shorthands for settings; their values are validated with everything else.
+constexpr const char* setting_flags[][2] = {
+    {"integrator", "integrator.plugin"},
+    {"scenario", "scenario.plugin"},
+    {"dt", "dt"},
+    {"steps", "steps"},
+    {"duration", "duration"},
+    {"precision", "precision"},
+    {"threads", "threads"},
+};
+
+po::options_description describe_options() {
+  po::options_description options("Options");
+  options.add_options()("help,h", "show this help and exit")(
+      "integrator", po::value<std::string>(),
+      "integrator plugin: NAME, NAME.so (searched) or a path with '/' (default rk4)")(
+      "scenario", po::value<std::string>(),
+      "scenario plugin, found like --integrator (default sheet)")(
+      "dt", po::value<std::string>(), "time step in seconds (default 0.001)")(
+      "steps", po::value<std::string>(), "number of steps")(
+      "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
+      "precision", po::value<std::string>(), "float32 or float64 (default float32)")(
+      "threads", po::value<std::string>(), "worker threads, 0 = all (default 0)")(
+      "config", po::value<std::string>(), "YAML config file; command-line values override it")(
+      "set", po::value<std::vector<std::string>>()->composing(),
+      "KEY=VALUE, repeatable; plugin parameters are integrator.KEY / scenario.KEY")(
+      "plugin-path", po::value<std::vector<std::string>>()->composing(),
+      "folders searched for plugins first (repeatable, ':'-separated); then "
+      "CLOTHLAB_PLUGIN_PATH, then ../lib/clothlab/plugins beside the executable")(
+      "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
+      "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
+      "list-plugins", "list the plugins on the search path with their parameters")(
+      "quiet", "print no summary");
+  return options;
+}
+
+std::optional<std::string> string_option(const po::variables_map& values, const char* name) {
+  if (!values.count(name)) return std::nullopt;
+  return values[name].as<std::string>();
+}
+
+Setting parse_set(const std::string& assignment) {
+  const size_t equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0)
+    throw host::InputError("--set " + assignment + ": expected KEY=VALUE, e.g. scenario.rows=50");
+  return {canonical_key(assignment.substr(0, equals)), assignment.substr(equals + 1), "--set"};
+}
+
+}  // namespace
+
+CommandLine parse_command_line(int argc, const char* const argv[]) {
+  po::variables_map values;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(describe_options()).run(), values);
+    po::notify(values);
+  } catch (const po::error& error) {
+    throw host::InputError(std::string("command line: ") + error.what() + "; see --help");
+  }
+
+  CommandLine command_line;
+  command_line.help = values.count("help") > 0;
+  command_line.list_plugins = values.count("list-plugins") > 0;
+  command_line.quiet = values.count("quiet") > 0;
+  command_line.config_file = string_option(values, "config");
+  command_line.json_file = string_option(values, "json");
+  command_line.state_file = string_option(values, "state-out");
+  if (values.count("plugin-path"))
+    command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
+  for (const auto& [flag, key] : setting_flags)
+    if (const auto value = string_option(values, flag))
+      command_line.settings.push_back({key, *value, std::string("--") + flag});
+  if (values.count("set"))
+    for (const std::string& assignment : values["set"].as<std::vector<std::string>>())
+      command_line.settings.push_back(parse_set(assignment));
+  check_one_length(command_line.settings, "command line");
+  return command_line;
+}
+
+std::string usage_text() {
+  std::ostringstream text;
+  text << "Usage: clothlab [options]\n"
+          "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
+          "a summary. Exit codes: 0 ok, 1 bad input, 2 plugin error, 3 the run diverged.\n\n"
+       << describe_options();
+  return text.str();
+}
+
+}  // namespace clothlab::cli

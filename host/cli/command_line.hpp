@@ -1,0 +1,30 @@
+// The clothlab command line (Boost.Program_options).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "settings.hpp"
+
+namespace clothlab::cli {
+
+struct CommandLine {
+  bool help = false;
+  bool list_plugins = false;
+  bool quiet = false;
+  std::optional<std::string> config_file;
+  std::vector<std::string> plugin_paths;
+  std::optional<std::string> json_file;
+  std::optional<std::string> state_file;
+  // --integrator, --dt, ... and --set key=value, in command-line order.
+  std::vector<Setting> settings;
+};
+
+// Throws InputError for an unknown option, a missing value, a --set without '=' or
+// both --steps and --duration.
+CommandLine parse_command_line(int argc, const char* const argv[]);
+
+std::string usage_text();
+
+}  // namespace clothlab::cli

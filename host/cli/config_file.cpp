@@ -1,0 +1,82 @@
+#include "config_file.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <clothlab/host/errors.hpp>
+#include <fstream>
+#include <sstream>
+
+namespace clothlab::cli {
+
+namespace {
+
+std::string location(const std::string& file, const YAML::Mark& mark) {
+  // yaml-cpp counts from 0; editors count from 1.
+  return file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
+std::string sequence_text(const YAML::Node& node, const std::string& file, const std::string& key) {
+  std::string text = "[";
+  for (size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    if (!item.IsScalar())
+      throw host::InputError(location(file, item.Mark()) + ": " + key +
+                             ": a list may hold only plain values; allowed: [x, y, z]");
+    if (i > 0) text += ", ";
+    text += item.Scalar();
+  }
+  return text + "]";
+}
+
+void flatten(const YAML::Node& map, const std::string& prefix, const std::string& file,
+             std::vector<Setting>& out) {
+  for (const auto& entry : map) {
+    const YAML::Node& key_node = entry.first;
+    const YAML::Node& value = entry.second;
+    if (!key_node.IsScalar() || key_node.Scalar().empty())
+      throw host::InputError(location(file, key_node.Mark()) + ": keys must be plain names");
+    const std::string key = prefix.empty() ? key_node.Scalar() : prefix + "." + key_node.Scalar();
+    switch (value.Type()) {
+      case YAML::NodeType::Map:
+        flatten(value, key, file, out);
+        break;
+      case YAML::NodeType::Sequence:
+        out.push_back(
+            {canonical_key(key), sequence_text(value, file, key), location(file, value.Mark())});
+        break;
+      case YAML::NodeType::Scalar:
+        out.push_back({canonical_key(key), value.Scalar(), location(file, value.Mark())});
+        break;
+      default:
+        throw host::InputError(location(file, key_node.Mark()) + ": " + key +
+                               " has no value; allowed: a value, a list or a map");
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<Setting> read_config_file(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::ifstream stream(path);
+  if (!stream) throw host::InputError(file + ": cannot open config file");
+  std::stringstream contents;
+  contents << stream.rdbuf();
+
+  YAML::Node root;
+  try {
+    root = YAML::Load(contents.str());
+  } catch (const YAML::ParserException& error) {
+    throw host::InputError(location(file, error.mark) + ": YAML syntax error: " + error.msg);
+  }
+  std::vector<Setting> settings;
+  if (root.IsNull()) return settings;
+  if (!root.IsMap())
+    throw host::InputError(location(file, root.Mark()) +
+                           ": expected a map of settings (key: value lines)");
+  flatten(root, "", file, settings);
+  check_one_length(settings, "config file " + file);
+  return settings;
+}
+
+}  // namespace clothlab::cli

@@ -1,0 +1,74 @@
+// clothlab: runs one cloth simulation, or lists the plugins it can find.
+// Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged.
+#include <clothlab/host/errors.hpp>
+#include <clothlab/host/plugin_search_path.hpp>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "command_line.hpp"
+#include "config_file.hpp"
+#include "output_file.hpp"
+#include "plugin_listing.hpp"
+#include "run_config.hpp"
+#include "run_report.hpp"
+#include "simulation.hpp"
+
+namespace {
+
+enum ExitCode { exit_ok = 0, exit_bad_input = 1, exit_plugin_error = 2, exit_diverged = 3 };
+
+int fail(int code, const std::string& message) {
+  std::cerr << "clothlab: error: " << message << "\n";
+  return code;
+}
+
+int run(int argc, const char* const argv[]) {
+  using namespace clothlab::cli;
+  const CommandLine command_line = parse_command_line(argc, argv);
+  if (command_line.help) {
+    std::cout << usage_text();
+    return exit_ok;
+  }
+  const auto search_path = clothlab::host::PluginSearchPath::standard(command_line.plugin_paths);
+  if (command_line.list_plugins)
+    return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
+
+  std::vector<Setting> settings;
+  if (command_line.config_file) settings = read_config_file(*command_line.config_file);
+  // Command-line values come after the file's, so they win.
+  settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
+  const RunConfig config = resolve_run_config(settings);
+
+  Simulation simulation(config, search_path);
+  simulation.add_observer(std::make_unique<FiniteStateCheck>());
+  const RunRecord record = simulation.run();
+
+  if (command_line.json_file)
+    write_file_atomically(*command_line.json_file,
+                          [&](std::ostream& out) { out << summary_json(record).dump(2) << "\n"; });
+  if (command_line.state_file)
+    write_file_atomically(*command_line.state_file,
+                          [&](std::ostream& out) { write_state_csv(simulation.cloth(), out); });
+  if (!command_line.quiet) std::cout << human_summary(record);
+  if (!record.stable) return fail(exit_diverged, "run diverged: " + record.verdict);
+  return exit_ok;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  try {
+    return run(argc, argv);
+  } catch (const clothlab::host::InputError& error) {
+    return fail(exit_bad_input, error.what());
+  } catch (const clothlab::host::PluginLoadError& error) {
+    return fail(exit_plugin_error, error.what());
+  } catch (const clothlab::host::PluginError& error) {
+    return fail(exit_plugin_error, error.what());
+  } catch (const std::bad_alloc&) {
+    return fail(exit_plugin_error, "out of memory");
+  } catch (const std::exception& error) {
+    return fail(exit_plugin_error, error.what());
+  }
+}

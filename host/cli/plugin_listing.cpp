@@ -1,0 +1,78 @@
+#include "plugin_listing.hpp"
+
+#include <clothlab/host/param_text.hpp>
+#include <clothlab/host/plugin_library.hpp>
+
+namespace clothlab::cli {
+
+namespace {
+
+void print_params(const host::ComponentInfo& info, std::ostream& out) {
+  if (info.params.empty()) {
+    out << "    parameters: none\n";
+    return;
+  }
+  out << "    parameters:\n";
+  for (const clothlab_param_spec& spec : info.params) {
+    clothlab_param_value fallback{};
+    for (int k = 0; k < 3; ++k) fallback.v[k] = spec.default_value[k];
+    out << "      " << info.kind << "." << spec.name << " = "
+        << host::format_param_value(spec, fallback) << "  (" << host::describe_allowed(spec)
+        << ")  " << spec.help << "\n";
+  }
+}
+
+void print_header(const host::ComponentInfo& info, std::ostream& out) {
+  out << "  " << info.kind << " " << info.id << ": " << info.name << ", version " << info.version
+      << "\n    " << info.description << "\n";
+}
+
+std::string flag_names(const host::IntegratorPlugin& integrator) {
+  std::string names;
+  if (integrator.uses_velocity_forces()) names += "uses-velocity-forces ";
+  const uint32_t unknown = integrator.flags() & ~CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
+  if (unknown != 0) names += "unknown:" + std::to_string(unknown) + " ";
+  if (names.empty()) return "none";
+  names.pop_back();
+  return names;
+}
+
+std::string precision_names(const host::IntegratorPlugin& integrator) {
+  std::string names;
+  if (integrator.supports_precision(CLOTHLAB_FLOAT32)) names += "float32";
+  if (integrator.supports_precision(CLOTHLAB_FLOAT64))
+    names += names.empty() ? "float64" : " float64";
+  return names.empty() ? "none" : names;
+}
+
+}  // namespace
+
+int list_plugins(const host::PluginSearchPath& search_path, std::ostream& out,
+                 std::ostream& errors) {
+  const host::LibraryScan scan = host::scan_libraries(search_path);
+  out << "Plugin search path: " << search_path.describe() << "\n";
+  if (scan.libraries.empty()) out << "(no plugin libraries found)\n";
+  for (const host::PluginLibrary& library : scan.libraries) {
+    const clothlab_abi_version abi = library.abi_version();
+    out << "\n"
+        << library.path().string() << "  (" << library.name() << " " << library.version()
+        << ", ABI " << abi.major << "." << abi.minor << ")\n";
+    for (const host::IntegratorPlugin& integrator : library.integrators()) {
+      const host::ComponentInfo info = integrator.info();
+      print_header(info, out);
+      out << "    order " << integrator.order() << ", " << integrator.evals_per_step()
+          << " force evaluations per step, flags: " << flag_names(integrator)
+          << ", precisions: " << precision_names(integrator) << "\n";
+      print_params(info, out);
+    }
+    for (const host::ScenarioPlugin& scenario : library.scenarios()) {
+      const host::ComponentInfo info = scenario.info();
+      print_header(info, out);
+      print_params(info, out);
+    }
+  }
+  for (const std::string& error : scan.errors) errors << "clothlab: error: " << error << "\n";
+  return static_cast<int>(scan.errors.size());
+}
+
+}  // namespace clothlab::cli

@@ -1,0 +1,14 @@
+// --list-plugins: every plugin library on the search path, its components and parameters.
+#pragma once
+
+#include <clothlab/host/plugin_search_path.hpp>
+#include <ostream>
+
+namespace clothlab::cli {
+
+// Prints the listing to out and each load error or duplicate id to errors (one line
+// each, "clothlab: error: " prefixed). Returns the number of errors.
+int list_plugins(const host::PluginSearchPath& search_path, std::ostream& out,
+                 std::ostream& errors);
+
+}  // namespace clothlab::cli

@@ -1,0 +1,34 @@
+// The settings of one run, merged from the config file and the command line and checked.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "settings.hpp"
+
+namespace clothlab::cli {
+
+struct RunConfig {
+  std::string integrator = "rk4";
+  std::string scenario = "sheet";
+  double dt = 1e-3;
+  uint64_t steps = 2000;  // default: 2 s at the default dt
+  bool float64 = false;
+  int threads = 0;
+  // Plugin parameter settings with the "integrator." / "scenario." prefix removed, in
+  // the order given; applied to the plugins' ParamSets once they are loaded.
+  std::vector<Setting> integrator_params;
+  std::vector<Setting> scenario_params;
+  // plugin_params.<id>.<param> settings with "plugin_params." removed: parameters for one
+  // plugin id, applied only when that plugin runs (before integrator.* / scenario.*), so
+  // one config can carry e.g. verlet's damping and still run with rk4.
+  std::vector<Setting> plugin_params;
+};
+
+// Applies settings in order (later wins; steps and duration replace each other) to the
+// defaults. Throws InputError naming source, key, value and what is allowed for an
+// unknown key or a bad value.
+RunConfig resolve_run_config(const std::vector<Setting>& settings);
+
+}  // namespace clothlab::cli

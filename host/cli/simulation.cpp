@@ -1,0 +1,158 @@
+#include "simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <clothlab/host/errors.hpp>
+#include <stdexcept>
+
+namespace clothlab::cli {
+
+namespace {
+
+// Applies the plugin_params.<id>.* settings addressed to this component, then its
+// integrator.* / scenario.* settings.
+host::ParamSet apply(host::ParamSet params, std::string_view id,
+                     const std::vector<Setting>& for_plugin_ids,
+                     const std::vector<Setting>& settings) {
+  const std::string prefix = std::string(id) + ".";
+  for (const Setting& setting : for_plugin_ids)
+    if (setting.key.starts_with(prefix))
+      params.set(setting.key.substr(prefix.size()), setting.value, setting.source);
+  for (const Setting& setting : settings) params.set(setting.key, setting.value, setting.source);
+  return params;
+}
+
+nlohmann::json params_to_json(const host::ParamSet& params) {
+  nlohmann::json object = nlohmann::json::object();
+  for (size_t i = 0; i < params.specs().size(); ++i) {
+    const clothlab_param_spec& spec = params.specs()[i];
+    const double* v = params.values()[i].v;
+    switch (spec.type) {
+      case CLOTHLAB_PARAM_INT:
+        object[spec.name] = static_cast<long long>(v[0]);
+        break;
+      case CLOTHLAB_PARAM_BOOL:
+        object[spec.name] = v[0] != 0.0;
+        break;
+      case CLOTHLAB_PARAM_VEC3:
+        object[spec.name] = {v[0], v[1], v[2]};
+        break;
+      default:
+        object[spec.name] = v[0];
+    }
+  }
+  return object;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& search_path)
+    : config_(config),
+      integrator_library_(host::PluginLibrary::find(config.integrator, search_path)),
+      scenario_library_(host::PluginLibrary::find(config.scenario, search_path)),
+      integrator_(&integrator_library_.integrator()),
+      scenario_(&scenario_library_.scenario()) {
+  const host::ParamSet integrator_params =
+      apply(integrator_->default_params(), integrator_->info().id, config.plugin_params,
+            config.integrator_params);
+  const host::ParamSet scenario_params = apply(scenario_->default_params(), scenario_->info().id,
+                                               config.plugin_params, config.scenario_params);
+  integrator_params_ = params_to_json(integrator_params);
+  scenario_params_ = params_to_json(scenario_params);
+
+  const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
+  if (!integrator_->supports_precision(precision))
+    throw host::InputError("precision = " + std::string(config.float64 ? "float64" : "float32") +
+                           ": integrator " + std::string(integrator_->info().id) +
+                           " does not support it");
+
+  {
+    // The scene's pinned list lives in the scenario instance: copy it before it goes.
+    const host::ScenarioInstance scenario_instance = scenario_->create(scenario_params);
+    Scene scene;
+    try {
+      scene = scene_from_abi(scenario_instance.describe());
+    } catch (const std::invalid_argument& error) {
+      throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                              "scenario " + std::string(scenario_->info().id) +
+                                  " described an invalid scene: " + error.what());
+    }
+    PipelineOptions options;
+    options.velocity_forces = integrator_->uses_velocity_forces();
+    options.threads = config.threads;
+    cloth_ = std::make_unique<Cloth>(
+        scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
+  }
+  integrator_instance_.emplace(integrator_->create(integrator_params));
+  integrator_instance_->prepare(cloth_->system());
+}
+
+Simulation::~Simulation() {
+  // The integrator may hold vectors of the cloth's system: release it first.
+  integrator_instance_.reset();
+}
+
+void Simulation::add_observer(std::unique_ptr<StepObserver> observer) {
+  observers_.push_back(std::move(observer));
+}
+
+RunRecord Simulation::run() {
+  RunRecord record;
+  record.integrator = integrator_->info().id;
+  record.scenario = scenario_->info().id;
+  record.integrator_library = integrator_library_.path().string();
+  record.scenario_library = scenario_library_.path().string();
+  record.precision = cloth_->precision();
+  record.rows = cloth_->scene().rows;
+  record.cols = cloth_->scene().cols;
+  record.dt = config_.dt;
+  record.steps_requested = config_.steps;
+  record.threads = cloth_->threads();
+  record.springs = cloth_->springs();
+  record.integrator_params = integrator_params_;
+  record.scenario_params = scenario_params_;
+  // Reserved up front for ordinary runs; very long ones grow as they go.
+  constexpr uint64_t reserved_steps = 1u << 20;
+  for (auto* series : {&record.step_s, &record.internal_forces_s, &record.external_forces_s})
+    series->reserve(std::min(config_.steps, reserved_steps));
+
+  cloth_->reset_counters();
+  const clothlab_system& system = cloth_->system();
+  for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
+    // t from the step count, not by summing dt, so long runs do not drift.
+    const double t = static_cast<double>(step - 1) * config_.dt;
+    const StageCounters before = cloth_->counters();
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      integrator_instance_->step(system, t, config_.dt);
+    } catch (const host::PluginError& error) {
+      if (error.status() != CLOTHLAB_ERROR_NUMERICAL) throw;
+      record.stable = false;
+      record.verdict =
+          "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")";
+    }
+    record.step_s.push_back(seconds_since(start));
+    const StageCounters& after = cloth_->counters();
+    record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
+    record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
+    record.steps_taken = step;
+    for (const auto& observer : observers_) {
+      if (!record.stable) break;
+      if (auto failure = observer->after_step(*cloth_, step)) {
+        record.stable = false;
+        record.verdict = std::move(*failure);
+      }
+    }
+    if (!record.stable) record.failed_step = step;
+  }
+  if (record.stable)
+    record.verdict = "stable: all " + std::to_string(record.steps_taken) + " steps finite";
+  record.counters = cloth_->counters();
+  return record;
+}
+
+}  // namespace clothlab::cli

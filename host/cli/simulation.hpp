@@ -1,0 +1,64 @@
+// One run: scenario plugin -> scene -> Cloth -> integrator plugin -> timed step loop.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/host/plugin_library.hpp>
+#include <clothlab/host/plugin_search_path.hpp>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "run_config.hpp"
+#include "step_observer.hpp"
+
+namespace clothlab::cli {
+
+// What a run measured; the raw material of the summary.
+struct RunRecord {
+  std::string integrator, scenario;  // component ids
+  std::string integrator_library, scenario_library;
+  Precision precision = Precision::Float32;
+  uint32_t rows = 0, cols = 0;
+  double dt = 0;
+  uint64_t steps_requested = 0;
+  uint64_t steps_taken = 0;  // includes a failed step
+  int threads = 0;
+  SpringCounts springs;
+  StageCounters counters;
+  // Per step, seconds: the whole step and the core's force phases within it.
+  std::vector<double> step_s, internal_forces_s, external_forces_s;
+  bool stable = true;
+  std::string verdict;
+  std::optional<uint64_t> failed_step;
+  nlohmann::json integrator_params, scenario_params;
+};
+
+class Simulation {
+ public:
+  // Loads both plugins (PluginLoadError), applies the parameter settings (InputError),
+  // creates the scene, the cloth and the integrator (PluginError).
+  Simulation(const RunConfig& config, const host::PluginSearchPath& search_path);
+  ~Simulation();
+
+  void add_observer(std::unique_ptr<StepObserver> observer);
+  // Steps until done or until a check fails; a numerical failure is a verdict, any other
+  // plugin error is thrown.
+  RunRecord run();
+
+  const Cloth& cloth() const { return *cloth_; }
+
+ private:
+  RunConfig config_;
+  host::PluginLibrary integrator_library_;
+  host::PluginLibrary scenario_library_;
+  const host::IntegratorPlugin* integrator_;
+  const host::ScenarioPlugin* scenario_;
+  nlohmann::json integrator_params_, scenario_params_;
+  std::unique_ptr<Cloth> cloth_;
+  std::optional<host::IntegratorInstance> integrator_instance_;
+  std::vector<std::unique_ptr<StepObserver>> observers_;
+};
+
+}  // namespace clothlab::cli
