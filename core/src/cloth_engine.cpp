@@ -33,8 +33,23 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     throw std::invalid_argument("threads = " + std::to_string(options.threads) +
                                 ": allowed 0 (all hardware threads) or >= 1");
   }
+  if (scene.rows < 1 || scene.cols < 1) {
+    throw std::invalid_argument("scene " + std::to_string(scene.rows) + "x" +
+                                std::to_string(scene.cols) + ": allowed rows, cols >= 1");
+  }
+  for (uint32_t pinned : scene.pinned) {
+    if (pinned >= n_) {
+      throw std::invalid_argument("scene.pinned = " + std::to_string(pinned) +
+                                  ": allowed indices < rows*cols = " + std::to_string(n_));
+    }
+  }
   threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
   parallel_ = threads_ > 1 && n_ >= kParallelFrom;
+  if (parallel_) {
+    // Start the thread team now: its first start allocates, which a step must not do.
+#pragma omp parallel num_threads(threads_)
+    { (void)omp_get_thread_num(); }
+  }
 
   x_ = AlignedBuffer<Real>(3 * stride_);
   v_ = AlignedBuffer<Real>(3 * stride_);
@@ -151,7 +166,16 @@ void ClothEngine<Real>::lincomb_callback(void* context, void* out, const void* b
 template <class Real>
 void ClothEngine<Real>::copy_callback(void* context, void* dst, const void* src) {
   const auto* self = static_cast<const ClothEngine*>(context);
-  std::memmove(dst, src, 3 * self->stride_ * sizeof(Real));
+  if (dst == src) return;
+  const std::size_t elements = 3 * self->stride_;
+  const std::size_t pieces = self->parallel_ ? static_cast<std::size_t>(self->threads_) : 1;
+#pragma omp parallel for num_threads(self->threads_) if (self->parallel_)
+  for (std::size_t piece = 0; piece < pieces; ++piece) {
+    const std::size_t begin = elements * piece / pieces;
+    const std::size_t end = elements * (piece + 1) / pieces;
+    std::memcpy(static_cast<Real*>(dst) + begin, static_cast<const Real*>(src) + begin,
+                (end - begin) * sizeof(Real));
+  }
 }
 
 template <class Real>

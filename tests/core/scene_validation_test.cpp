@@ -132,3 +132,37 @@ TEST(SceneValidation, RejectsTruncatedStruct) {
 
 }  // namespace
 }  // namespace clothlab
+
+namespace clothlab {
+namespace {
+
+TEST(ClothConstruction, RejectsWhatValidationWouldHave) {
+  Scene scene;
+  scene.rows = 2;
+  scene.cols = 2;
+  scene.pinned = {4};
+  EXPECT_THROW(Cloth(scene, Precision::Float32, {}), std::invalid_argument);
+  scene.pinned.clear();
+  scene.cols = 0;
+  EXPECT_THROW(Cloth(scene, Precision::Float64, {}), std::invalid_argument);
+  scene.cols = 2;
+  PipelineOptions options;
+  options.threads = -1;
+  EXPECT_THROW(Cloth(scene, Precision::Float64, options), std::invalid_argument);
+}
+
+TEST(ClothConstruction, ThreadsDefaultToAllHardwareThreads) {
+  Scene scene;
+  PipelineOptions options;
+  options.threads = 3;
+  EXPECT_EQ(Cloth(scene, Precision::Float32, options).threads(), 3);
+  EXPECT_GE(Cloth(scene, Precision::Float32, {}).threads(), 1);
+}
+
+TEST(ClothConstruction, SetStateRejectsWrongSizes) {
+  Cloth cloth(Scene{}, Precision::Float64, {});
+  EXPECT_THROW(cloth.set_state({0, 0}, {0, 0, 0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace clothlab
