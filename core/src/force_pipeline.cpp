@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "gather_kernel.hpp"
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
 
@@ -131,6 +132,23 @@ void ForcePipeline<Real>::zero_row(int thread, std::ptrdiff_t row) {
 }
 
 template <class Real>
+template <std::size_t M>
+void ForcePipeline<Real>::gather_stages(int thread, std::ptrdiff_t row, int k, std::size_t first,
+                                        bool assign, Real* out) {
+  std::array<const Real*, M> own, back;
+  for (std::size_t m = 0; m < M; ++m) {
+    const SpringStage& stage = stages_[first + m];
+    own[m] = row_buffer(thread, first + m, row, k);
+    back[m] = row_buffer(thread, first + m, row - stage.row_step, k) - stage.col_step;
+  }
+  if (assign) {
+    gather_springs<Real, M, true>(out, own, back, cols_);
+  } else {
+    gather_springs<Real, M, false>(out, own, back, cols_);
+  }
+}
+
+template <class Real>
 Real ForcePipeline<Real>::accumulate_row(int thread, std::size_t row, Real* a) {
   const auto r = static_cast<std::ptrdiff_t>(row);
   const std::size_t cols = cols_;
@@ -138,33 +156,33 @@ Real ForcePipeline<Real>::accumulate_row(int thread, std::size_t row, Real* a) {
   Real probe = 0;
   for (int k = 0; k < 3; ++k) {
     Real* __restrict out = a + k * stride_ + row * cols;
-#pragma omp simd
-    for (std::size_t c = 0; c < cols; ++c) out[c] = 0;
-    for (std::size_t s = 0; s < stages_.size(); ++s) {
-      // Spring (first -> second) pushes its first particle by f and its second by -f.
-      const Real* __restrict own = row_buffer(thread, s, r, k);
-      const Real* __restrict back =
-          row_buffer(thread, s, r - stages_[s].row_step, k) - stages_[s].col_step;
-#pragma omp simd
-      for (std::size_t c = 0; c < cols; ++c) out[c] += own[c] - back[c];
-    }
-    if (wind_) {
-      // A particle is corner a of its own cell, b of the cell to its left, c of the cell
-      // above and d of the cell above-left.
-      const std::size_t channel = stages_.size();
-      const Real* __restrict first = row_buffer(thread, channel, r, k);
-      const Real* __restrict second = row_buffer(thread, channel + 1, r, k);
-      const Real* __restrict first_above = row_buffer(thread, channel, r - 1, k);
-      const Real* __restrict second_above = row_buffer(thread, channel + 1, r - 1, k);
-      const Real* __restrict first_left = first - 1;
-      const Real* __restrict second_left = second - 1;
-      const Real* __restrict second_above_left = second_above - 1;
-#pragma omp simd
-      for (std::size_t c = 0; c < cols; ++c) {
-        out[c] += first[c] + first_left[c] + second_left[c] + first_above[c] + second_above[c] +
-                  second_above_left[c];
+    bool assign = true;  // the first pass writes, later ones add
+    for (std::size_t s = 0; s < stages_.size(); s += 3, assign = false) {
+      switch (std::min<std::size_t>(3, stages_.size() - s)) {
+        case 1:
+          gather_stages<1>(thread, r, k, s, assign, out);
+          break;
+        case 2:
+          gather_stages<2>(thread, r, k, s, assign, out);
+          break;
+        default:
+          gather_stages<3>(thread, r, k, s, assign, out);
       }
     }
+    if (wind_) {
+      const std::size_t channel = stages_.size();
+      const Real* first = row_buffer(thread, channel, r, k);
+      const Real* second = row_buffer(thread, channel + 1, r, k);
+      const Real* first_above = row_buffer(thread, channel, r - 1, k);
+      const Real* second_above = row_buffer(thread, channel + 1, r - 1, k);
+      if (assign) {
+        gather_wind<Real, true>(out, first, second, first_above, second_above, cols);
+      } else {
+        gather_wind<Real, false>(out, first, second, first_above, second_above, cols);
+      }
+      assign = false;
+    }
+    if (assign) std::fill_n(out, cols, Real(0));  // no force but gravity
     const Real g = gravity_[k];
 #pragma omp simd reduction(+ : probe)
     for (std::size_t c = 0; c < cols; ++c) {

@@ -48,6 +48,10 @@ class ForcePipeline {
   Real* row_buffer(int thread, std::size_t channel, std::ptrdiff_t row, int k);
   void compute_row(int thread, std::size_t row, Pass& pass);
   void zero_row(int thread, std::ptrdiff_t row);
+  // Adds (or, when assign, writes) M stages starting at `first` into out.
+  template <std::size_t M>
+  void gather_stages(int thread, std::ptrdiff_t row, int k, std::size_t first, bool assign,
+                     Real* out);
   // Writes row's accelerations; returns the sum of 0 * a (NaN when one is not finite).
   Real accumulate_row(int thread, std::size_t row, Real* a);
   void run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass, Real& probe);
