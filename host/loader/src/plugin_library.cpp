@@ -24,7 +24,11 @@ std::string dlopen_reason(const fs::path& path) {
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (handle == nullptr) {
     const char* reason = dlerror();
-    return reason ? reason : "unknown dlopen failure";
+    std::string text = reason ? reason : "unknown dlopen failure";
+    // dlerror starts with the path, which the caller's message already names.
+    const std::string prefix = path.string() + ": ";
+    if (text.starts_with(prefix)) text.erase(0, prefix.size());
+    return text;
   }
   dlclose(handle);
   return "Boost.DLL could not open it";

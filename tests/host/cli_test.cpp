@@ -1,0 +1,261 @@
+// The clothlab program end to end, on small grids.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path builtin_plugins = CLOTHLAB_BUILTIN_PLUGIN_DIR;
+const fs::path test_plugins = CLOTHLAB_TEST_PLUGIN_DIR;
+const fs::path source_dir = CLOTHLAB_SOURCE_DIR;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream stream(path);
+  std::stringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+// A fresh folder per test for outputs, removed afterwards.
+class Clothlab : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = fs::temp_directory_path() /
+              ("clothlab_cli_" + std::to_string(getpid()) + "_" + info->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  fs::path file(const std::string& name) const { return folder_ / name; }
+
+  // Runs clothlab with the arguments (shell words) and an optional environment prefix.
+  Outcome run(const std::string& arguments, const std::string& environment = "") const {
+    const std::string command = "cd '" + folder_.string() + "' && env -u CLOTHLAB_PLUGIN_PATH " +
+                                environment + " '" CLOTHLAB_EXECUTABLE "' " + arguments +
+                                " > stdout.txt 2> stderr.txt";
+    const int status = std::system(command.c_str());
+    Outcome outcome;
+    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    outcome.out = read_text(file("stdout.txt"));
+    outcome.err = read_text(file("stderr.txt"));
+    return outcome;
+  }
+
+  // Files in the folder besides the captured streams.
+  std::vector<std::string> outputs() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(folder_)) {
+      const std::string name = entry.path().filename().string();
+      if (name != "stdout.txt" && name != "stderr.txt") names.push_back(name);
+    }
+    return names;
+  }
+
+ private:
+  fs::path folder_;
+};
+
+const char* small_sheet = "--scenario=sheet --set scenario.rows=4 --set scenario.cols=5 ";
+
+TEST_F(Clothlab, JsonSummaryHasEveryKey) {
+  const Outcome outcome = run(std::string("--integrator=rk4 ") + small_sheet +
+                              "--dt 0.001 --steps 20 --quiet --json summary.json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_EQ(outcome.out, "");  // --quiet
+  const auto json = nlohmann::json::parse(read_text(file("summary.json")));
+  for (const char* key : {"integrator",
+                          "scenario",
+                          "precision",
+                          "rows",
+                          "cols",
+                          "dt",
+                          "steps",
+                          "sim_time_s",
+                          "wall_time_s",
+                          "ms_per_step",
+                          "phase_ms",
+                          "springs",
+                          "force_evals",
+                          "springs_per_second",
+                          "real_time_factor",
+                          "stable",
+                          "verdict",
+                          "threads",
+                          "counters",
+                          "integrator_params",
+                          "scenario_params"})
+    EXPECT_TRUE(json.contains(key)) << key;
+  for (const char* key : {"median", "p10", "p90"}) EXPECT_TRUE(json["ms_per_step"].contains(key));
+  for (const char* key : {"internal_forces", "external_forces", "integrate"})
+    EXPECT_TRUE(json["phase_ms"].contains(key));
+  for (const char* key :
+       {"springs_evaluated", "springs_damped", "normals_computed", "particles_integrated"})
+    EXPECT_TRUE(json["counters"].contains(key)) << key;
+  EXPECT_EQ(json["integrator"], "rk4");
+  EXPECT_EQ(json["scenario"], "sheet");
+  EXPECT_EQ(json["precision"], "float32");
+  EXPECT_EQ(json["rows"], 4);
+  EXPECT_EQ(json["cols"], 5);
+  EXPECT_EQ(json["steps"], 20);
+  EXPECT_DOUBLE_EQ(json["sim_time_s"].get<double>(), 0.02);
+  // Seed eq. 2.2 for 4 x 5: structural 4*4 + 3*5 = 31, shear 2*3*4 = 24, flexion 4*3 + 2*5 = 22.
+  EXPECT_EQ(json["springs"], 77);
+  EXPECT_EQ(json["force_evals"], 80);  // 4 per RK4 step
+  EXPECT_EQ(json["stable"], true);
+  EXPECT_EQ(json["scenario_params"]["rows"], 4);
+}
+
+TEST_F(Clothlab, PrintsAHumanSummary) {
+  const Outcome outcome = run(std::string("--integrator=euler ") + small_sheet + "--steps 3");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("euler on sheet, 4x5"), std::string::npos) << outcome.out;
+  EXPECT_NE(outcome.out.find("ms/step"), std::string::npos) << outcome.out;
+}
+
+TEST_F(Clothlab, DivergingRunExitsThreeAndStillWritesItsJson) {
+  const Outcome outcome =
+      run(std::string("--integrator=euler ") + small_sheet +
+          "--set scenario.structural.ks=1e9 --dt 0.05 --steps 500 --json diverged.json");
+  EXPECT_EQ(outcome.exit_code, 3) << outcome.err;
+  EXPECT_EQ(outcome.err.rfind("clothlab: error: run diverged: non-finite", 0), 0u) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("diverged.json")));
+  EXPECT_EQ(json["stable"], false);
+  const int failed = json["failed_step"].get<int>();
+  EXPECT_GT(failed, 0);
+  EXPECT_LT(failed, 500);
+  EXPECT_EQ(json["steps"], failed);
+  EXPECT_NE(json["verdict"].get<std::string>().find("at step " + std::to_string(failed)),
+            std::string::npos);
+}
+
+TEST_F(Clothlab, BadSetExitsOneAndLeavesNoOutputFile) {
+  const Outcome outcome =
+      run("--integrator=rk4 --scenario=sheet --set scenario.rows=0 --steps 2 --json out.json "
+          "--state-out state.csv");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: --set: scenario.rows = 0: out of range; allowed: int in [1, 4096]\n");
+  EXPECT_TRUE(outputs().empty());
+}
+
+TEST_F(Clothlab, UnknownPluginParameterListsTheValidKeys) {
+  const Outcome outcome = run("--integrator=rk4 --scenario=sheet --set scenario.rowz=3");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_NE(outcome.err.find("unknown parameter scenario.rowz; valid: scenario.rows"),
+            std::string::npos)
+      << outcome.err;
+}
+
+TEST_F(Clothlab, IntegratorByNameFileNameAndAbsolutePath) {
+  const std::string absolute = (builtin_plugins / "rk4.so").string();
+  for (const std::string& integrator : {std::string("rk4"), std::string("rk4.so"), absolute}) {
+    const Outcome outcome =
+        run("--integrator=" + integrator + " " + small_sheet + "--steps 2 --json s.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    EXPECT_EQ(nlohmann::json::parse(read_text(file("s.json")))["integrator"], "rk4");
+  }
+}
+
+TEST_F(Clothlab, MissingPluginExitsTwoListingTheSearchPath) {
+  const Outcome outcome = run("--integrator=nothing --scenario=sheet --steps 1");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.err.find("nothing.so"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.err.find(fs::path(builtin_plugins).lexically_normal().string()),
+            std::string::npos)
+      << outcome.err;
+}
+
+TEST_F(Clothlab, LibraryOfAnotherAbiExitsTwo) {
+  const Outcome outcome =
+      run("--integrator=" + (test_plugins / "bad/clothlab_test_abi999.so").string() +
+          " --scenario=sheet --steps 1");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.err.find("plugin ABI version 999.0"), std::string::npos) << outcome.err;
+}
+
+TEST_F(Clothlab, PluginPathFromEnvironmentAndCommandLine) {
+  const std::string arguments =
+      "--integrator=clothlab_test_good --scenario=clothlab_test_good --steps 3 --quiet";
+  EXPECT_EQ(run(arguments).exit_code, 2);
+  const Outcome from_environment =
+      run(arguments, "CLOTHLAB_PLUGIN_PATH=/nonexistent:" + (test_plugins / "good").string());
+  EXPECT_EQ(from_environment.exit_code, 0) << from_environment.err;
+  const Outcome from_command_line =
+      run(arguments + " --plugin-path " + (test_plugins / "good").string());
+  EXPECT_EQ(from_command_line.exit_code, 0) << from_command_line.err;
+}
+
+TEST_F(Clothlab, StateOutIsFullPrecisionCsv) {
+  const Outcome outcome =
+      run("--integrator=verlet --scenario=sheet --set scenario.rows=2 --set scenario.cols=3 "
+          "--steps 1 --precision float64 --state-out state.csv --quiet");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  std::ifstream csv(file("state.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "row,col,x,y,z,vx,vy,vz");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 7) << line;
+  }
+  EXPECT_EQ(rows, 6);
+  EXPECT_EQ(outputs(), std::vector<std::string>{"state.csv"});  // no temporary left
+}
+
+TEST_F(Clothlab, ConfigErrorExitsOneWithItsPosition) {
+  std::ofstream(file("bad.yaml")) << "integrator: rk4\nscenario:\n  plugin: sheet\n  rows: many\n";
+  const Outcome outcome = run("--config bad.yaml");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: bad.yaml:4:9: scenario.rows = many: not a whole number; allowed: int "
+            "in [1, 4096]\n");
+}
+
+TEST_F(Clothlab, ShippedConfigsAreAccepted) {
+  for (const char* config : {"default.yaml", "seed-2016.yaml"}) {
+    const Outcome outcome = run("--config " + (source_dir / "configs" / config).string() +
+                                " --set scenario.rows=6 --set scenario.cols=6 --steps 2 --quiet");
+    EXPECT_EQ(outcome.exit_code, 0) << config << ": " << outcome.err;
+  }
+}
+
+TEST_F(Clothlab, ListPluginsShowsComponentsAndParameters) {
+  const Outcome outcome = run("--list-plugins");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  for (const char* text : {"integrator rk4", "order 4", "scenario flag", "scenario.structural.ks",
+                           "scenario.wind.strength"})
+    EXPECT_NE(outcome.out.find(text), std::string::npos) << text;
+}
+
+TEST_F(Clothlab, ListPluginsReportsIdsInTwoLibraries) {
+  const Outcome outcome = run("--list-plugins --plugin-path " + (test_plugins / "good").string() +
+                              ":" + (test_plugins / "copy").string());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_NE(outcome.err.find("clothlab: error: duplicate plugin id test-drift"), std::string::npos)
+      << outcome.err;
+}
+
+TEST_F(Clothlab, UnknownOptionExitsOne) {
+  const Outcome outcome = run("--integrater=rk4");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err.rfind("clothlab: error: command line: ", 0), 0u) << outcome.err;
+}
+
+}  // namespace
