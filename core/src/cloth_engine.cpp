@@ -14,15 +14,9 @@ namespace clothlab::detail {
 namespace {
 
 constexpr std::size_t kChunk = 2048;         // particles per thread work item
-constexpr std::size_t kBlock = 512;          // particles per accumulation block (in L1)
 constexpr std::size_t kParallelFrom = 4096;  // smaller clouds run on the calling thread
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
-
-void append_chunks(std::vector<std::pair<std::size_t, std::size_t>>& out, std::size_t begin,
-                   std::size_t end, std::size_t size) {
-  for (std::size_t b = begin; b < end; b += size) out.emplace_back(b, std::min(end, b + size));
-}
 
 }  // namespace
 
@@ -73,12 +67,12 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
       begin = i + 1;
     }
   }
-  std::vector<std::pair<std::size_t, std::size_t>> pieces;
   for (const clothlab_range& range : active_) {
-    append_chunks(pieces, range.begin, range.end, kChunk);
+    for (std::size_t b = range.begin; b < range.end; b += kChunk) {
+      active_chunks_.push_back({b, std::min<std::size_t>(range.end, b + kChunk)});
+    }
     active_particles_ += range.end - range.begin;
   }
-  for (auto [b, e] : pieces) active_chunks_.push_back({b, e});
 
   forces_ = std::make_unique<ForcePipeline<Real>>(scene, stride_, inverse_mass_.data(),
                                                   options.velocity_forces, threads_, parallel_);

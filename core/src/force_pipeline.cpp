@@ -99,7 +99,9 @@ void ForcePipeline<Real>::compute_row(int thread, std::size_t row, Pass& pass) {
     }
   }
   if (!wind_) return;
-  const auto start = std::chrono::steady_clock::now();
+  const bool timed = thread == 0;
+  const auto start =
+      timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   const std::size_t first_channel = stages_.size();
   if (row + 1 < rows_) {
     WindRow<Real> job{};
@@ -118,7 +120,7 @@ void ForcePipeline<Real>::compute_row(int thread, std::size_t row, Pass& pass) {
       for (int k = 0; k < 3; ++k) std::fill_n(row_buffer(thread, channel, row, k), cols_, Real(0));
     }
   }
-  if (thread == 0) {
+  if (timed) {
     pass.wind_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
