@@ -39,6 +39,8 @@ int run(int argc, const char* const argv[]) {
   // Command-line values come after the file's, so they win.
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
+  for (const auto& output : {command_line.json_file, command_line.state_file})
+    if (output) check_output_folder(*output);
 
   Simulation simulation(config, search_path);
   simulation.add_observer(std::make_unique<FiniteStateCheck>());

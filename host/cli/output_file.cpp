@@ -35,4 +35,12 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   if (error) throw fail(error.message());
 }
 
+void check_output_folder(const fs::path& path) {
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code error;
+  if (!fs::is_directory(folder, error))
+    throw host::InputError("cannot write " + path.string() + ": folder " + folder.string() +
+                           " does not exist");
+}
+
 }  // namespace clothlab::cli

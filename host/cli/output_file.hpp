@@ -13,4 +13,8 @@ namespace clothlab::cli {
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(std::ostream&)>& write);
 
+// Throws InputError if path's folder does not exist, so a long run does not end in a
+// write failure.
+void check_output_folder(const std::filesystem::path& path);
+
 }  // namespace clothlab::cli

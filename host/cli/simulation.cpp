@@ -44,6 +44,18 @@ nlohmann::json params_to_json(const host::ParamSet& params) {
   return object;
 }
 
+// A plugin that refuses its parameter values with "invalid argument" is rejecting user
+// input: report it as such (exit code 1), not as a plugin failure.
+template <class Create>
+auto create_with_user_params(Create&& create) {
+  try {
+    return create();
+  } catch (const host::PluginError& error) {
+    if (error.status() != CLOTHLAB_ERROR_INVALID_ARGUMENT) throw;
+    throw host::InputError(std::string("parameters rejected: ") + error.what());
+  }
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -72,7 +84,8 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
 
   {
     // The scene's pinned list lives in the scenario instance: copy it before it goes.
-    const host::ScenarioInstance scenario_instance = scenario_->create(scenario_params);
+    const host::ScenarioInstance scenario_instance =
+        create_with_user_params([&] { return scenario_->create(scenario_params); });
     Scene scene;
     try {
       scene = scene_from_abi(scenario_instance.describe());
@@ -87,7 +100,8 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
     cloth_ = std::make_unique<Cloth>(
         scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
   }
-  integrator_instance_.emplace(integrator_->create(integrator_params));
+  integrator_instance_.emplace(
+      create_with_user_params([&] { return integrator_->create(integrator_params); }));
   integrator_instance_->prepare(cloth_->system());
 }
 

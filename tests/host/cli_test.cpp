@@ -154,6 +154,21 @@ TEST_F(Clothlab, BadSetExitsOneAndLeavesNoOutputFile) {
   EXPECT_TRUE(outputs().empty());
 }
 
+TEST_F(Clothlab, ValuesThePluginRejectsAreBadInput) {
+  // In range for the host, but the flag refuses a zero wind direction with wind on.
+  const Outcome outcome =
+      run("--scenario=flag --set scenario.wind.direction=[0,0,0] --set scenario.wind.strength=5");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_NE(outcome.err.find("wind.direction"), std::string::npos) << outcome.err;
+}
+
+TEST_F(Clothlab, MissingOutputFolderIsReportedBeforeTheRun) {
+  const Outcome outcome = run(std::string(small_sheet) + "--steps 1 --json no/such/folder/s.json");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.out, "");  // nothing ran
+  EXPECT_NE(outcome.err.find("no/such/folder/s.json"), std::string::npos) << outcome.err;
+}
+
 TEST_F(Clothlab, UnknownPluginParameterListsTheValidKeys) {
   const Outcome outcome = run("--integrator=rk4 --scenario=sheet --set scenario.rowz=3");
   EXPECT_EQ(outcome.exit_code, 1);
