@@ -1,0 +1,176 @@
+// Whole runs of clothlab-conformance: faulty plugins are caught by the right check and the
+// run still completes; sound plugins pass. Results are read from the --json report.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct RunnerOutput {
+  int exit_code = -1;
+  std::string output;
+  nlohmann::json report;  // null when no report was written
+};
+
+std::string plugin(const std::string& name) {
+  return std::string(CONFORMANCE_PLUGIN_DIR) + "/" + name + ".so";
+}
+
+RunnerOutput run_conformance(const std::string& arguments) {
+  const std::string report_path =
+      ::testing::TempDir() + "conformance-" + std::to_string(getpid()) + ".json";
+  std::remove(report_path.c_str());
+  const std::string command = std::string(CONFORMANCE_RUNNER) + " --seed 11 --json " + report_path +
+                              " " + arguments + " 2>&1";
+  RunnerOutput run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) run.output.append(buffer, n);
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(report_path);
+  if (in) run.report = nlohmann::json::parse(in);
+  std::remove(report_path.c_str());
+  return run;
+}
+
+const nlohmann::json* find_check(const RunnerOutput& run, const std::string& component,
+                                 const std::string& check) {
+  if (run.report.is_null()) return nullptr;
+  for (const nlohmann::json& result : run.report["checks"])
+    if (result["component"] == component && result["check"] == check) return &result;
+  return nullptr;
+}
+
+struct FaultyCase {
+  const char* plugin;
+  const char* component;
+  const char* check;
+  const char* reason;     // expected inside the failure reason
+  const char* arguments;  // filters keep the runs short
+};
+
+class FaultyPlugin : public ::testing::TestWithParam<FaultyCase> {};
+
+TEST_P(FaultyPlugin, IsCaughtByTheRightCheckAndTheRunCompletes) {
+  const FaultyCase& c = GetParam();
+  const RunnerOutput run = run_conformance(std::string(c.arguments) + " " + plugin(c.plugin));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << "no report written:\n" << run.output;
+  const nlohmann::json* result = find_check(run, c.component, c.check);
+  ASSERT_NE(result, nullptr) << c.check << " did not run:\n" << run.output;
+  EXPECT_EQ((*result)["passed"], false) << run.output;
+  EXPECT_NE((*result)["reason"].get<std::string>().find(c.reason), std::string::npos)
+      << (*result)["reason"];
+  const std::string summary = std::to_string(run.report["passed"].get<int>()) + " passed, " +
+                              std::to_string(run.report["failed"].get<int>()) + " failed\n";
+  EXPECT_TRUE(run.output.ends_with(summary)) << run.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Conformance, FaultyPlugin,
+    ::testing::Values(
+        FaultyCase{"faulty_lies_about_order", "lies-about-order", "numerics.order-spring",
+                   "measured order 1.", "--filter numerics.order"},
+        FaultyCase{"faulty_produces_nan", "produces-nan", "lifecycle.grid-3x3-f64", "non-finite",
+                   "--filter lifecycle.grid-3x3"},
+        FaultyCase{"faulty_moves_pinned", "moves-pinned", "numerics.pinned-f64",
+                   "pinned particle 0 moved", "--filter numerics.pinned"},
+        FaultyCase{"faulty_segfaults_in_step", "segfaults-in-step", "lifecycle.grid-3x3-f64",
+                   "crashed: signal 11", "--filter 'lifecycle|robustness'"},
+        FaultyCase{"faulty_hangs_in_step", "hangs-in-step", "lifecycle.grid-3x3-f64",
+                   "timed out after 1 s",
+                   "--timeout 1 --filter 'lifecycle.grid-3x3-f64|params.defaults'"},
+        FaultyCase{"faulty_abi_major_2", "library", "loading.abi-version", "built for ABI 2.0", ""},
+        FaultyCase{"faulty_throws_through_boundary", "throws-through-boundary",
+                   "robustness.no-throw", "exception escaped the C boundary from step",
+                   "--filter robustness"},
+        FaultyCase{"faulty_allocates_every_step", "allocates-every-step", "robustness.no-alloc",
+                   "heap allocator calls during 10 steps", "--filter robustness"}),
+    [](const ::testing::TestParamInfo<FaultyCase>& info) {
+      return std::string(info.param.plugin);
+    });
+
+TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
+  const RunnerOutput run =
+      run_conformance("--filter lifecycle.grid-3x3-f64 " + plugin("faulty_segfaults_in_step") +
+                      " " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 1);
+  const nlohmann::json* after = find_check(run, "c-euler", "lifecycle.grid-3x3-f64");
+  ASSERT_NE(after, nullptr) << run.output;
+  EXPECT_EQ((*after)["passed"], true);
+}
+
+TEST(ConformanceRun, AbiMajorTwoIsNotReadBeyondItsVersion) {
+  const RunnerOutput run = run_conformance(plugin("faulty_abi_major_2"));
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  for (const nlohmann::json& result : run.report["checks"])
+    EXPECT_EQ(result["check"].get<std::string>().rfind("loading.", 0), 0u) << result["check"];
+}
+
+class SoundPlugin : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SoundPlugin, PassesEveryCheck) {
+  const RunnerOutput run = run_conformance(GetParam());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  EXPECT_EQ(run.report["failed"], 0) << run.output;
+  EXPECT_GT(run.report["passed"].get<int>(), 10);
+}
+
+std::vector<std::string> sound_plugins() {
+  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet")};
+  std::stringstream builtins(BUILTIN_PLUGINS);
+  for (std::string name; std::getline(builtins, name, ',');) {
+    // Verlet's default drag (0.1/s) changes the ODE the analytic problems assume.
+    const std::string extra = name == "verlet" ? "--param verlet.damping=0 " : "";
+    arguments.push_back(extra + BUILTIN_PLUGIN_DIR + "/" + name + ".so");
+  }
+  return arguments;
+}
+
+INSTANTIATE_TEST_SUITE_P(Conformance, SoundPlugin, ::testing::ValuesIn(sound_plugins()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           const std::string& path = info.param;
+                           const size_t slash = path.rfind('/');
+                           std::string name = path.substr(slash + 1, path.size() - slash - 4);
+                           return name;
+                         });
+
+TEST(ConformanceRun, WritesJunitAndPrintsTheSeed) {
+  const std::string junit = ::testing::TempDir() + "conformance-junit.xml";
+  const RunnerOutput run =
+      run_conformance("--filter loading --junit " + junit + " " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("seed 11"), std::string::npos);
+  std::ifstream in(junit);
+  std::stringstream xml;
+  xml << in.rdbuf();
+  EXPECT_NE(xml.str().find("<testsuite name=\"c_euler\" tests=\"5\" failures=\"0\""),
+            std::string::npos)
+      << xml.str();
+  std::remove(junit.c_str());
+}
+
+TEST(ConformanceRun, RejectsBadOptionsWithOneLine) {
+  RunnerOutput run = run_conformance("--timeout -1 " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.output,
+            "clothlab-conformance: --timeout = -1.000000: allowed (0, 86400] seconds\n");
+  run = run_conformance("/nonexistent/plugin.so");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.output, "clothlab-conformance: plugin \"/nonexistent/plugin.so\": no such file\n");
+  run = run_conformance("--param c-euler.substeps=99 " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.output.find("--param c-euler.substeps = 99"), std::string::npos) << run.output;
+}
+
+}  // namespace
