@@ -23,9 +23,7 @@
 
 #include <array>
 #include <clothlab/sdk.hpp>
-#include <cmath>
 #include <cstddef>
-#include <string>
 
 namespace clothlab::builtin {
 

@@ -141,6 +141,33 @@ TEST_P(IntegratorContract, ZeroStepLeavesTheStateUnchangedFloat32) {
   expect_zero_step_changes_nothing<float>(GetParam());
 }
 
+TEST_P(IntegratorContract, StageStatesCarryThePinnedParticles) {
+  // Particle 1 accelerates by the pinned particle 0's position plus, when velocities come,
+  // its velocity: a constant c, since a pinned particle never moves. Every stage the
+  // force law sees must therefore hold particle 0's real state, not zeros. One step:
+  // x1 = x + v dt + c dt^2 / 2 (c dt^2 for semi-implicit Euler), v1 = v + c dt.
+  MockSystem<double> system(
+      2, {0}, [](double, uint32_t, const double* x, const double* v, uint32_t stride) {
+        Vec3 a{};
+        for (uint32_t k = 0; k < 3; ++k) a[k] = x[k * stride] + (v ? v[k * stride] : 0.0);
+        return a;
+      });
+  system.set_position(0, {1.0, 2.0, 3.0});
+  system.set_velocity(0, {4.0, 5.0, 6.0});
+  Integrator integrator(GetParam());
+  if (GetParam() == "verlet") integrator.with("damping", 0.0);
+  integrator.start(system);
+  const double dt = 0.125;
+  integrator.run(system, 1, dt);
+  const bool velocities = expected_declaration(GetParam()).velocity_forces;
+  const double position_weight = GetParam() == "euler" ? dt * dt : 0.5 * dt * dt;
+  for (int k = 0; k < 3; ++k) {
+    const double c = (k + 1.0) + (velocities ? k + 4.0 : 0.0);
+    EXPECT_NEAR(system.position(1)[k], position_weight * c, 1e-14) << "component " << k;
+    EXPECT_NEAR(system.velocity(1)[k], dt * c, 1e-14) << "component " << k;
+  }
+}
+
 TEST_P(IntegratorContract, RejectsNegativeOrNonFiniteDt) {
   Chain<double> chain;
   Integrator integrator(GetParam());
