@@ -43,7 +43,8 @@ struct FlagInWind {
       throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, text);
     }
     for (int k = 0; k < 3; ++k) wind_direction_[k] = length > 0.0 ? direction[k] / length : 0.0;
-    for (uint32_t row = 0; row < cloth_.rows; ++row) pinned_.push_back(row * cloth_.cols);
+    if (cloth_.anchored)
+      for (uint32_t row = 0; row < cloth_.rows; ++row) pinned_.push_back(row * cloth_.cols);
   }
 
   void describe(clothlab_scene& scene) const {

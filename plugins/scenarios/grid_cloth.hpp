@@ -27,10 +27,11 @@
 
 namespace clothlab::builtin {
 
-inline constexpr std::size_t grid_param_count = 12;
+inline constexpr std::size_t grid_param_count = 13;
 inline constexpr double max_grid_size = 4096;
 
 constexpr std::array<clothlab_param_spec, grid_param_count> grid_cloth_params() {
+  using sdk::bool_param;
   using sdk::int_param;
   using sdk::real_param;
   using sdk::vec3_param;
@@ -47,6 +48,8 @@ constexpr std::array<clothlab_param_spec, grid_param_count> grid_cloth_params() 
       real_param("flexion.ks", 1.0, 0.0, 1e9, "N/m", "stiffness of flexion (bend) springs"),
       real_param("flexion.kd", 0.0007, 0.0, 1e6, "N s/m", "damping of flexion springs"),
       vec3_param("gravity", {0.0, -9.81, 0.0}, -1e3, 1e3, "m/s^2", "gravitational acceleration"),
+      bool_param("anchored", true,
+                 "pin the scenario's anchor particles; 0 lets the whole cloth fall freely"),
   };
 }
 
@@ -71,7 +74,8 @@ struct GridCloth {
         structural{values.real("structural.ks"), values.real("structural.kd")},
         shear{values.real("shear.ks"), values.real("shear.kd")},
         flexion{values.real("flexion.ks"), values.real("flexion.kd")},
-        gravity(values.vec3("gravity")) {}
+        gravity(values.vec3("gravity")),
+        anchored(values.flag("anchored")) {}
 
   // Fills everything but the layout, the pins and the wind.
   void fill(clothlab_scene& scene) const {
@@ -92,6 +96,7 @@ struct GridCloth {
   double width, height, mass;
   clothlab_spring_family structural, shear, flexion;
   std::array<double, 3> gravity;
+  bool anchored;
 };
 
 inline void set_vec3(double (&out)[3], double x, double y, double z) {

@@ -17,6 +17,7 @@ struct WashingLineSheet {
   static constexpr auto params = grid_cloth_params();
 
   explicit WashingLineSheet(const sdk::Params& values) : cloth_(values) {
+    if (!cloth_.anchored) return;
     pinned_.push_back(0);                                     // top-left
     if (cloth_.cols > 1) pinned_.push_back(cloth_.cols - 1);  // top-right
   }

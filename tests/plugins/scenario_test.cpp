@@ -145,10 +145,26 @@ TEST(SmallGrids, OneRowTwoColumns) {
   EXPECT_EQ(grid(flag, 1, 2).pinned, (std::vector<uint32_t>{0}));
 }
 
+TEST(SmallGrids, OneByOneUnanchoredIsFreeFall) {
+  for (const std::string& path : {sheet, flag}) {
+    const Described d =
+        describe(path, {{"rows", scalar(1)}, {"cols", scalar(1)}, {"anchored", scalar(0)}});
+    ASSERT_EQ(d.status, CLOTHLAB_OK) << d.message;
+    EXPECT_TRUE(d.pinned.empty()) << path;
+    EXPECT_EQ(d.scene.pinned_count, 0u);
+  }
+}
+
+TEST(ScenarioParameters, AnchoredMustBeABoolean) {
+  EXPECT_EQ(describe(sheet, {{"anchored", scalar(2)}}).status, CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(describe(flag, {{"anchored", scalar(0.5)}}).status, CLOTHLAB_ERROR_INVALID_ARGUMENT);
+}
+
 TEST(ScenarioParameters, DeclareTheIssueKeys) {
   const std::vector<std::string> common{"rows",     "cols",          "width",         "height",
                                         "mass",     "structural.ks", "structural.kd", "shear.ks",
-                                        "shear.kd", "flexion.ks",    "flexion.kd",    "gravity"};
+                                        "shear.kd", "flexion.ks",    "flexion.kd",    "gravity",
+                                        "anchored"};
   for (const std::string& path : {sheet, flag}) {
     const PluginLibrary library(path);
     const clothlab_scenario& scenario = library.scenario();
