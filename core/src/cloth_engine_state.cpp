@@ -19,26 +19,12 @@ void to_particle_major(const Real* soa, std::size_t n, std::size_t stride,
   }
 }
 
-// Calls visit(length, rest, ks) for every spring of the grid, whatever its stiffness.
-template <class Real, class Visit>
-void visit_springs(const Scene& scene, const Real* x, std::size_t stride, Visit visit) {
-  for (const Stencil& stencil : kProvotStencils) {
-    const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
-    const double rest = stencil_rest_length(scene, stencil);
-    const double ks = (scene.*stencil.family).ks;
-    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene.cols));
-    for (std::size_t r = 0; r < extent.row_end; ++r) {
-      for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
-        const std::size_t i = r * scene.cols + c;
-        double squared = 0.0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const double d = double{x[k * stride + i + offset]} - double{x[k * stride + i]};
-          squared += d * d;
-        }
-        visit(std::sqrt(squared), rest, ks);
-      }
-    }
-  }
+template <class Real>
+double spring_length(const Real* x, std::size_t stride, std::size_t i, std::size_t offset) {
+  const double dx = double{x[i + offset]} - double{x[i]};
+  const double dy = double{x[stride + i + offset]} - double{x[stride + i]};
+  const double dz = double{x[2 * stride + i + offset]} - double{x[2 * stride + i]};
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 }  // namespace
@@ -94,21 +80,53 @@ Cloth::Energy ClothEngine<Real>::energy() const {
       }
     }
   }
-  visit_springs(scene_, x_.data(), stride_, [&](double length, double rest, double ks) {
-    energy.spring += 0.5 * ks * (length - rest) * (length - rest);
-  });
+  const Real* x = x_.data();
+  const std::size_t cols = scene_.cols;
+  double spring = 0.0;
+  for (const Stencil& stencil : kProvotStencils) {
+    const double ks = (scene_.*stencil.family).ks;
+    if (ks == 0.0) continue;
+    const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
+    const double rest = stencil_rest_length(scene_, stencil);
+    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
+    const auto rows = static_cast<std::ptrdiff_t>(extent.row_end);
+#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(+ : spring)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const std::size_t first = static_cast<std::size_t>(r) * cols;
+#pragma omp simd reduction(+ : spring)
+      for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
+        const double stretch = spring_length(x, stride_, first + c, offset) - rest;
+        spring += 0.5 * ks * stretch * stretch;
+      }
+    }
+  }
+  energy.spring = spring;
   return energy;
 }
 
 template <class Real>
 double ClothEngine<Real>::max_stretch() const {
-  double stretch = 1.0;  // a cloth without springs counts as unstretched
+  const Real* x = x_.data();
+  const std::size_t cols = scene_.cols;
+  double worst = 0.0;
   bool any = false;
-  visit_springs(scene_, x_.data(), stride_, [&](double length, double rest, double) {
-    stretch = any ? std::max(stretch, length / rest) : length / rest;
+  for (const Stencil& stencil : kProvotStencils) {
+    const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
+    if (extent.count() == 0) continue;
     any = true;
-  });
-  return stretch;
+    const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
+    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
+    const auto rows = static_cast<std::ptrdiff_t>(extent.row_end);
+#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(max : worst)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const std::size_t first = static_cast<std::size_t>(r) * cols;
+#pragma omp simd reduction(max : worst)
+      for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
+        worst = std::max(worst, spring_length(x, stride_, first + c, offset) * inverse_rest);
+      }
+    }
+  }
+  return any ? worst : 1.0;  // a cloth without springs counts as unstretched
 }
 
 template class ClothEngine<float>;

@@ -48,3 +48,43 @@ TEST(Energy, InitialLayoutIsAtRest) {
 
 }  // namespace
 }  // namespace clothlab
+
+namespace clothlab {
+namespace {
+
+TEST(Energy, SingleParticleFallsWithoutSprings) {
+  Scene scene = testing::bare_scene(1, 1);
+  scene.gravity = {0, -10, 0};
+  Cloth cloth(scene, Precision::Float64, {});
+  cloth.set_state({0, -2, 0}, {0, -3, 0});
+  EXPECT_NEAR(cloth.energy().gravity, -20.0, 1e-12);  // 1 kg, 2 m below its start
+  EXPECT_NEAR(cloth.energy().kinetic, 4.5, 1e-12);
+  EXPECT_EQ(cloth.energy().spring, 0.0);
+  EXPECT_EQ(cloth.max_stretch(), 1.0);  // no springs: unstretched by definition
+}
+
+TEST(Energy, LargeThreadedClothMatchesHandValue) {
+  // Every structural spring of a 100x80 grid stretched by the same 10% (uniform scaling),
+  // shear and flexion likewise: spring energy = sum over families of count * ks/2 (0.1 L0)^2.
+  Scene scene = testing::bare_scene(100, 80);
+  scene.structural = {10.0, 0.0};
+  scene.shear = {4.0, 0.0};
+  scene.flexion = {2.0, 0.0};
+  PipelineOptions options;
+  options.threads = 2;
+  Cloth cloth(scene, Precision::Float64, options);
+  std::vector<double> x, v(3 * 8000, 0.0);
+  cloth.positions(x);
+  for (double& component : x) component *= 1.1;
+  cloth.set_state(x, v);
+  const SpringCounts counts = count_springs(100, 80);
+  const double horizontal = 100.0 * 79, vertical = 99.0 * 80;  // unit rest lengths
+  const double expected = 0.5 * 10.0 * 0.01 * (horizontal + vertical) +
+                          0.5 * 4.0 * 0.01 * 2.0 * counts.shear +   // rest sqrt(2): L0^2 = 2
+                          0.5 * 2.0 * 0.01 * 4.0 * counts.flexion;  // rest 2: L0^2 = 4
+  EXPECT_NEAR(cloth.energy().spring, expected, 1e-9 * expected);
+  EXPECT_NEAR(cloth.max_stretch(), 1.1, 1e-12);
+}
+
+}  // namespace
+}  // namespace clothlab
