@@ -1,0 +1,76 @@
+// A sweep described in YAML: a single-run config (its keys are the fixed settings of every
+// case) plus a `sweep:` section with the matrix and the mode.
+//
+//   integrator: {damping: 0.5}         # fixed settings, same keys as a single run
+//   scenario: {mass: 100}
+//   duration: 2.0                      # or steps: N
+//   sweep:
+//     name: seed-2016-matrix
+//     mode: run                        # run | work-precision | stability
+//     output: results/seed-2016-matrix # writes .csv and .json beside each other
+//     matrix:                          # every combination is one case, in this order:
+//       integrator: [euler, rk4]
+//       scenario: [sheet, flag]
+//       mesh: [50x50, 100]             # rows x cols, or N for N x N (scenario.rows/cols)
+//       dt: [0.001, 0.005]             # s (run mode only)
+//       precision: [float32, float64]
+//       scenario.structural.ks: [20, 200]   # any setting key: a list of values
+//     monitor: {check_interval: 10, stretch_limit: 2, energy_margin: 1}
+//     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6}
+//     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
+//                 max_evaluations: 40}
+#pragma once
+
+#include <clothlab/analysis/find_max_dt.hpp>
+#include <clothlab/analysis/stability_monitor.hpp>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace clothlab::sweep {
+
+enum class SweepMode { Run, WorkPrecision, Stability };
+const char* to_string(SweepMode mode);
+
+// One setting as a single run would see it: "scenario.structural.ks" = "20".
+struct Setting {
+  std::string key;
+  std::string value;
+  std::string source;  // "file:line:column"
+};
+
+// A matrix axis: a setting key and the values it takes, in file order.
+struct Axis {
+  std::string key;  // canonical: integrator.plugin, scenario.plugin, mesh, dt, precision, ...
+  std::vector<Setting> values;
+};
+
+struct WorkPrecisionSettings {
+  std::string reference_integrator = "rk4";
+  double refinement = 32.0;  // reference dt = finest ladder dt / refinement
+  double dt_start = 4e-3;    // coarsest ladder step, s
+  int levels = 6;            // ladder length (dt_start, dt_start/2, ...)
+};
+
+struct SweepSpec {
+  std::string source;  // file name, for messages
+  std::string name;
+  SweepMode mode = SweepMode::Run;
+  std::filesystem::path output;  // without extension
+  std::vector<Setting> fixed;    // keys outside `sweep:`, flattened
+  std::vector<Axis> axes;        // matrix, in file order
+  analysis::MonitorOptions monitor;
+  WorkPrecisionSettings work_precision;
+  analysis::MaxDtOptions stability;
+};
+
+// Parses YAML text; `source` names it in messages. Throws SweepError.
+SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source);
+// Reads and parses a file. Throws SweepError.
+SweepSpec load_sweep(const std::filesystem::path& path);
+// Whether a YAML file has a `sweep:` section (so it is a sweep, not a single run).
+bool is_sweep_file(const std::filesystem::path& path);
+
+}  // namespace clothlab::sweep

@@ -1,0 +1,58 @@
+// Work-precision: error at time T against a float64 reference, per integrator and dt ladder.
+//
+// For each problem (the case's coordinates without integrator and precision) the reference is
+// the reference integrator in float64 at dt_ref = (finest ladder dt) / refinement, checked by
+// one more halving: the finer run is used as the reference, and the difference between the two,
+// over the cloth diagonal, is reported (divided by 15 it estimates the finer run's own error
+// for an order-4 method). Each (integrator, precision) case then runs the ladder
+// dt_start / 2^k, k = 0 .. levels-1, to T = the sweep's duration exactly (steps = T / dt).
+//   error = sqrt(mean over particles of |x - x_ref|^2) / diagonal
+// and the empirical order is fitted over the automatically chosen asymptotic range.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "clothlab/sweep/case_result.hpp"
+#include "clothlab/sweep/case_spec.hpp"
+#include "clothlab/sweep/progress.hpp"
+#include "clothlab/sweep/results_store.hpp"
+
+namespace clothlab::sweep {
+
+struct Trajectory {
+  std::vector<double> positions;  // final positions, particle-major (3 per particle)
+  double diagonal = 0.0;          // cloth diagonal, m (sqrt(width^2 + height^2))
+  double wall_s = 0.0;            // wall time spent stepping
+  uint64_t force_evals = 0;
+  CaseResult verdict;  // status Stable, or Unstable/Failed with step and reason
+};
+// Runs the case (its dt, precision and steps settings are set by the driver) to the end.
+using TrajectoryRunner = std::function<Trajectory(const CaseSpec&)>;
+
+// RMS particle distance over the diagonal; throws SweepError on mismatched sizes.
+double relative_rms_error(const std::vector<double>& positions,
+                          const std::vector<double>& reference, double diagonal);
+
+struct WorkPrecisionSummary {
+  std::size_t references = 0;  // computed in this session
+  std::size_t runs = 0;        // ladder runs in this session
+  std::size_t skipped = 0;     // ladder rows already stored
+};
+
+// Rows (all keys start with "work-precision;"):
+//   kind=reference: problem coordinates, reference_integrator, reference_dt, check_dt, T,
+//                   reference_difference, reference_error_estimate
+//   kind=ladder:    case coordinates, dt, steps, T, error, wall_per_sim_s, force_evals, status...
+//   kind=fit:       case coordinates, order, r_squared, fit_dt_min, fit_dt_max, fit_points, note
+// `cases` are expand_cases(spec) (no dt axis). Throws SweepError when T is not a whole number of
+// every ladder step, or when the reference itself fails.
+WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector<CaseSpec>& cases,
+                                        const TrajectoryRunner& runner, ResultsStore& store,
+                                        Progress* progress);
+
+// Units of work run_work_precision performs (for a Progress total).
+std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSpec>& cases);
+
+}  // namespace clothlab::sweep

@@ -1,0 +1,141 @@
+#include <algorithm>
+#include <cmath>
+
+#include "clothlab/sweep/case_spec.hpp"
+#include "clothlab/sweep/number_text.hpp"
+#include "clothlab/sweep/sweep_error.hpp"
+
+namespace clothlab::sweep {
+namespace {
+
+// Axis name in keys and result columns: "integrator" rather than "integrator.plugin".
+std::string coordinate_name(const std::string& key) {
+  if (key == "integrator.plugin") return "integrator";
+  if (key == "scenario.plugin") return "scenario";
+  return key;
+}
+
+std::string make_key(const std::vector<std::pair<std::string, std::string>>& coordinates) {
+  std::string key;
+  for (const auto& [name, value] : coordinates) {
+    key += (key.empty() ? "" : ";") + name + "=" + value;
+  }
+  return key;
+}
+
+[[noreturn]] void bad_setting(const Setting& setting, const std::string& allowed) {
+  throw SweepError(setting.source + ": " + setting.key + " = '" + setting.value + "': allowed " +
+                   allowed);
+}
+
+void append_setting(std::vector<Setting>& settings, const Setting& setting) {
+  if (setting.key == "mesh") {
+    const std::size_t cross = setting.value.find('x');
+    const std::string rows = setting.value.substr(0, cross);
+    const std::string cols = cross == std::string::npos ? rows : setting.value.substr(cross + 1);
+    settings.push_back({"scenario.rows", rows, setting.source});
+    settings.push_back({"scenario.cols", cols, setting.source});
+  } else {
+    settings.push_back(setting);
+  }
+}
+
+// Fills the convenience fields from the settings (later settings win).
+void derive_views(CaseSpec& spec) {
+  spec.precision = "float32";
+  spec.duration = 0.0;
+  spec.steps = 0;
+  for (const Setting& setting : spec.settings) {
+    const auto number = parse_number(setting.value);
+    if (setting.key == "integrator.plugin") {
+      spec.integrator = setting.value;
+    } else if (setting.key == "scenario.plugin") {
+      spec.scenario = setting.value;
+    } else if (setting.key == "precision") {
+      if (setting.value != "float32" && setting.value != "float64") {
+        bad_setting(setting, "float32 or float64");
+      }
+      spec.precision = setting.value;
+    } else if (setting.key == "scenario.rows" || setting.key == "scenario.cols") {
+      if (!number || *number < 1 || *number != std::floor(*number) || *number > 100000) {
+        bad_setting(setting, "a whole number in [1, 100000]");
+      }
+      (setting.key == "scenario.rows" ? spec.rows : spec.cols) = static_cast<uint32_t>(*number);
+    } else if (setting.key == "dt") {
+      if (!number || *number <= 0.0 || *number > 10.0)
+        bad_setting(setting, "a number in (0, 10] s");
+      spec.dt = *number;
+    } else if (setting.key == "duration") {
+      if (!number || *number <= 0.0 || *number > 1e6)
+        bad_setting(setting, "a number in (0, 1e6] s");
+      spec.duration = *number;
+      spec.steps = 0;
+    } else if (setting.key == "steps") {
+      if (!number || *number < 1 || *number != std::floor(*number) || *number > 1e12) {
+        bad_setting(setting, "a whole number in [1, 1e12]");
+      }
+      spec.steps = static_cast<uint64_t>(*number);
+      spec.duration = 0.0;
+    }
+  }
+}
+
+}  // namespace
+
+std::string CaseSpec::setting(const std::string& key) const {
+  for (auto it = settings.rbegin(); it != settings.rend(); ++it) {
+    if (it->key == key) return it->value;
+  }
+  return {};
+}
+
+std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
+  std::size_t total = 1;
+  for (const Axis& axis : spec.axes) total *= axis.values.size();
+  std::vector<CaseSpec> cases;
+  cases.reserve(total);
+  std::vector<std::size_t> digit(spec.axes.size(), 0);  // mixed-radix counter, last axis fastest
+  for (std::size_t index = 0; index < total; ++index) {
+    CaseSpec c;
+    c.index = index;
+    c.settings = spec.fixed;
+    for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+      const Setting& value = spec.axes[a].values[digit[a]];
+      c.coordinates.emplace_back(coordinate_name(spec.axes[a].key), canonical_value(value.value));
+      append_setting(c.settings, value);
+    }
+    c.key = make_key(c.coordinates);
+    derive_views(c);
+    cases.push_back(std::move(c));
+    for (std::size_t a = spec.axes.size(); a-- > 0;) {
+      if (++digit[a] < spec.axes[a].values.size()) break;
+      digit[a] = 0;
+    }
+  }
+  return cases;
+}
+
+CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::string& value,
+                      bool as_coordinate) {
+  CaseSpec c = base;
+  append_setting(c.settings, {key, value, "sweep"});
+  derive_views(c);
+  if (!as_coordinate) return c;
+  const std::string name = coordinate_name(key);
+  const std::string canonical = canonical_value(value);
+  auto found = std::find_if(c.coordinates.begin(), c.coordinates.end(),
+                            [&](const auto& coordinate) { return coordinate.first == name; });
+  if (found != c.coordinates.end()) {
+    found->second = canonical;
+  } else {
+    c.coordinates.emplace_back(name, canonical);
+  }
+  c.key = make_key(c.coordinates);
+  return c;
+}
+
+CaseSpec with_dt(const CaseSpec& base, double dt) {
+  return with_setting(base, "dt", format_number(dt));
+}
+
+}  // namespace clothlab::sweep

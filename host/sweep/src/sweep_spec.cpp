@@ -1,0 +1,337 @@
+#include "clothlab/sweep/sweep_spec.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "clothlab/sweep/number_text.hpp"
+#include "clothlab/sweep/sweep_error.hpp"
+
+namespace clothlab::sweep {
+namespace {
+
+std::string location(const std::string& source, const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  if (mark.line < 0) return source;
+  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
+[[noreturn]] void fail(const std::string& source, const YAML::Node& node, const std::string& key,
+                       const std::string& value, const std::string& allowed) {
+  throw SweepError(location(source, node) + ": " + key + " = '" + value + "': allowed " + allowed);
+}
+
+std::string canonical_key(const std::string& key) {
+  if (key == "integrator" || key == "scenario") return key + ".plugin";
+  return key;
+}
+
+bool is_plugin_id(const std::string& text) {
+  static const std::regex id("[a-z0-9_-]+");
+  return std::regex_match(text, id);
+}
+
+std::string scalar_text(const std::string& source, const YAML::Node& node, const std::string& key) {
+  if (node.IsScalar()) return node.Scalar();
+  if (node.IsSequence()) {
+    std::string text = "[";
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      if (!node[i].IsScalar()) fail(source, node[i], key, "(nested)", "plain values in a list");
+      text += (i > 0 ? ", " : "") + node[i].Scalar();
+    }
+    return text + "]";
+  }
+  fail(source, node, key, "(empty)", "a value or a list of plain values");
+}
+
+void flatten(const std::string& source, const YAML::Node& map, const std::string& prefix,
+             std::vector<Setting>& out) {
+  for (const auto& entry : map) {
+    const std::string name = entry.first.as<std::string>();
+    const std::string key = prefix.empty() ? name : prefix + "." + name;
+    if (prefix.empty() && name == "sweep") continue;
+    if (entry.second.IsMap()) {
+      flatten(source, entry.second, key, out);
+    } else {
+      out.push_back({canonical_key(key), scalar_text(source, entry.second, key),
+                     location(source, entry.second)});
+    }
+  }
+}
+
+double number(const std::string& source, const YAML::Node& node, const std::string& key, double low,
+              double high, const std::string& allowed) {
+  const std::string text = node.IsScalar() ? node.Scalar() : "(not a value)";
+  const auto value = parse_number(text);
+  if (!value || *value < low || *value > high) fail(source, node, key, text, allowed);
+  return *value;
+}
+
+double whole_number(const std::string& source, const YAML::Node& node, const std::string& key,
+                    double low, double high) {
+  const std::string allowed =
+      "a whole number in [" + format_number(low) + ", " + format_number(high) + "]";
+  const double value = number(source, node, key, low, high, allowed);
+  if (value != std::floor(value)) fail(source, node, key, node.Scalar(), allowed);
+  return value;
+}
+
+// Visits each key of a section, rejecting keys not in `allowed`.
+void for_each_key(const std::string& source, const YAML::Node& section, const std::string& name,
+                  const std::vector<std::string>& allowed,
+                  const std::function<void(const std::string&, const YAML::Node&)>& visit) {
+  if (!section.IsMap()) fail(source, section, name, "(not a map)", "a map of keys");
+  for (const auto& entry : section) {
+    const std::string key = entry.first.as<std::string>();
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(source, entry.first, name + "." + key, key, "keys: " + list);
+    }
+    visit(name + "." + key, entry.second);
+  }
+}
+
+void check_axis_value(const std::string& source, const YAML::Node& node, const std::string& key,
+                      const std::string& text) {
+  if (key == "integrator.plugin" || key == "scenario.plugin") {
+    if (!is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
+  } else if (key == "mesh") {
+    static const std::regex mesh("([0-9]+)(x([0-9]+))?");
+    std::smatch match;
+    const bool shaped = std::regex_match(text, match, mesh);
+    const auto in_range = [](const std::string& digits) {
+      return digits.size() <= 6 && std::stoul(digits) >= 1 && std::stoul(digits) <= 100000;
+    };
+    if (!shaped || !in_range(match[1]) || (match[3].matched && !in_range(match[3]))) {
+      fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 100000]");
+    }
+  } else if (key == "dt") {
+    const auto value = parse_number(text);
+    if (!value || *value <= 0.0 || *value > 10.0)
+      fail(source, node, key, text, "a number in (0, 10] s");
+  } else if (key == "precision") {
+    if (text != "float32" && text != "float64") fail(source, node, key, text, "float32 or float64");
+  }
+}
+
+Axis read_axis(const std::string& source, const std::string& name, const YAML::Node& node) {
+  Axis axis{canonical_key(name), {}};
+  const std::string key = "sweep.matrix." + name;
+  if (node.IsScalar()) {
+    axis.values.push_back({axis.key, node.Scalar(), location(source, node)});
+  } else if (node.IsSequence() && node.size() > 0) {
+    for (const YAML::Node& item : node) {
+      axis.values.push_back({axis.key, scalar_text(source, item, key), location(source, item)});
+    }
+  } else {
+    fail(source, node, key, "(empty)", "a value or a non-empty list of values");
+  }
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < axis.values.size(); ++i) {
+    const YAML::Node item = node.IsSequence() ? node[i] : node;
+    check_axis_value(source, item, axis.key, axis.values[i].value);
+    if (!seen.insert(canonical_value(axis.values[i].value)).second) {
+      fail(source, item, key, axis.values[i].value, "each value once");
+    }
+  }
+  return axis;
+}
+
+SweepMode read_mode(const std::string& source, const YAML::Node& node) {
+  const std::string text = node.IsScalar() ? node.Scalar() : "(not a value)";
+  if (text == "run") return SweepMode::Run;
+  if (text == "work-precision") return SweepMode::WorkPrecision;
+  if (text == "stability") return SweepMode::Stability;
+  fail(source, node, "sweep.mode", text, "run, work-precision or stability");
+}
+
+void read_monitor(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
+  for_each_key(source, node, "sweep.monitor",
+               {"check_interval", "stretch_limit", "energy_margin", "wind_work_safety"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key.ends_with("check_interval")) {
+                   spec.monitor.check_interval =
+                       static_cast<uint64_t>(whole_number(source, value, key, 1, 1e9));
+                 } else if (key.ends_with("stretch_limit")) {
+                   spec.monitor.stretch_limit =
+                       number(source, value, key, 1.0 + 1e-9, 1e6, "a number in (1, 1e6]");
+                 } else if (key.ends_with("energy_margin")) {
+                   spec.monitor.energy_margin =
+                       number(source, value, key, 0.0, 1e12, "a number in [0, 1e12]");
+                 } else {
+                   spec.monitor.wind_work_safety =
+                       number(source, value, key, 1.0, 1e6, "a number in [1, 1e6]");
+                 }
+               });
+}
+
+void read_work_precision(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
+  auto& wp = spec.work_precision;
+  for_each_key(source, node, "sweep.work_precision",
+               {"reference_integrator", "refinement", "dt_start", "levels"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key.ends_with("reference_integrator")) {
+                   wp.reference_integrator = scalar_text(source, value, key);
+                   if (!is_plugin_id(wp.reference_integrator)) {
+                     fail(source, value, key, wp.reference_integrator, "a plugin id");
+                   }
+                 } else if (key.ends_with("refinement")) {
+                   wp.refinement = number(source, value, key, 2.0, 1e6, "a number in [2, 1e6]");
+                 } else if (key.ends_with("dt_start")) {
+                   wp.dt_start = number(source, value, key, 1e-9, 10.0, "a number in [1e-9, 10] s");
+                 } else {
+                   wp.levels = static_cast<int>(whole_number(source, value, key, 2, 30));
+                 }
+               });
+}
+
+void read_stability(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
+  auto& st = spec.stability;
+  for_each_key(source, node, "sweep.stability",
+               {"dt_initial", "dt_min", "dt_max", "tolerance", "max_evaluations"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 const std::string seconds = "a number in [1e-12, 100] s";
+                 if (key.ends_with("dt_initial")) {
+                   st.dt_initial = number(source, value, key, 1e-12, 100.0, seconds);
+                 } else if (key.ends_with("dt_min")) {
+                   st.dt_lower_limit = number(source, value, key, 1e-12, 100.0, seconds);
+                 } else if (key.ends_with("dt_max")) {
+                   st.dt_upper_limit = number(source, value, key, 1e-12, 100.0, seconds);
+                 } else if (key.ends_with("tolerance")) {
+                   st.relative_tolerance =
+                       number(source, value, key, 1e-6, 0.5, "a number in [1e-6, 0.5]");
+                 } else {
+                   st.max_evaluations = static_cast<int>(whole_number(source, value, key, 1, 1000));
+                 }
+               });
+  if (!(st.dt_lower_limit < st.dt_upper_limit && st.dt_initial >= st.dt_lower_limit &&
+        st.dt_initial <= st.dt_upper_limit)) {
+    fail(source, node, "sweep.stability",
+         "dt_min " + format_number(st.dt_lower_limit) + ", dt_initial " +
+             format_number(st.dt_initial) + ", dt_max " + format_number(st.dt_upper_limit),
+         "dt_min < dt_max and dt_initial between them");
+  }
+}
+
+void check_fixed(const std::string& source, const SweepSpec& spec, const YAML::Node& root) {
+  bool has_steps = false, has_duration = false;
+  for (const Setting& setting : spec.fixed) {
+    has_steps |= setting.key == "steps";
+    has_duration |= setting.key == "duration";
+  }
+  if (has_steps && has_duration) {
+    fail(source, root, "steps/duration", "both", "one of steps or duration");
+  }
+  if (!has_steps && !has_duration) {
+    fail(source, root, "steps/duration", "(missing)", "one of steps or duration at the top level");
+  }
+}
+
+void check_mode_axes(const std::string& source, const YAML::Node& matrix, const SweepSpec& spec) {
+  bool has_dt_axis = false, has_integrator_axis = false;
+  for (const Axis& axis : spec.axes) {
+    has_dt_axis |= axis.key == "dt";
+    has_integrator_axis |= axis.key == "integrator.plugin";
+  }
+  const bool has_fixed_dt = std::any_of(spec.fixed.begin(), spec.fixed.end(),
+                                        [](const Setting& s) { return s.key == "dt"; });
+  if (spec.mode == SweepMode::Run && !has_dt_axis && !has_fixed_dt) {
+    fail(source, matrix, "sweep.matrix.dt", "(missing)", "a dt list (or a fixed dt) in run mode");
+  }
+  if (spec.mode != SweepMode::Run && has_dt_axis) {
+    fail(source, matrix, "sweep.matrix.dt", "(a list)",
+         std::string("no dt axis in ") + to_string(spec.mode) + " mode (it chooses dt itself)");
+  }
+  if (!has_integrator_axis) {
+    fail(source, matrix, "sweep.matrix.integrator", "(missing)", "a list of integrator ids");
+  }
+}
+
+}  // namespace
+
+const char* to_string(SweepMode mode) {
+  switch (mode) {
+    case SweepMode::Run:
+      return "run";
+    case SweepMode::WorkPrecision:
+      return "work-precision";
+    case SweepMode::Stability:
+      return "stability";
+  }
+  return "unknown";
+}
+
+SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& error) {
+    throw SweepError(source + ":" + std::to_string(error.mark.line + 1) + ":" +
+                     std::to_string(error.mark.column + 1) + ": YAML syntax error: " + error.msg);
+  }
+  if (!root.IsMap()) fail(source, root, "(document)", "(not a map)", "a map of settings");
+  const YAML::Node section = root["sweep"];
+  if (!section) fail(source, root, "sweep", "(missing)", "a sweep: section");
+  SweepSpec spec;
+  spec.source = source;
+  flatten(source, root, "", spec.fixed);
+  bool has_matrix = false;
+  for_each_key(
+      source, section, "sweep",
+      {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
+      [&](const std::string& key, const YAML::Node& value) {
+        if (key == "sweep.name") {
+          spec.name = scalar_text(source, value, key);
+          if (!is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
+        } else if (key == "sweep.mode") {
+          spec.mode = read_mode(source, value);
+        } else if (key == "sweep.output") {
+          spec.output = scalar_text(source, value, key);
+          if (spec.output.empty()) fail(source, value, key, "", "a path without extension");
+        } else if (key == "sweep.matrix") {
+          has_matrix = true;
+          if (!value.IsMap()) fail(source, value, key, "(not a map)", "a map of key: [values]");
+          for (const auto& entry : value) {
+            spec.axes.push_back(read_axis(source, entry.first.as<std::string>(), entry.second));
+          }
+        } else if (key == "sweep.monitor") {
+          read_monitor(source, value, spec);
+        } else if (key == "sweep.work_precision") {
+          read_work_precision(source, value, spec);
+        } else {
+          read_stability(source, value, spec);
+        }
+      });
+  if (spec.name.empty()) fail(source, section, "sweep.name", "(missing)", "[a-z0-9_-]+");
+  if (!has_matrix) fail(source, section, "sweep.matrix", "(missing)", "a map of key: [values]");
+  if (spec.output.empty()) spec.output = std::filesystem::path("results") / spec.name;
+  check_mode_axes(source, section["matrix"], spec);
+  check_fixed(source, spec, root);
+  return spec;
+}
+
+SweepSpec load_sweep(const std::filesystem::path& path) {
+  std::ifstream stream(path);
+  if (!stream) throw SweepError(path.string() + ": cannot open sweep file");
+  std::stringstream text;
+  text << stream.rdbuf();
+  return parse_sweep(text.str(), path.string());
+}
+
+bool is_sweep_file(const std::filesystem::path& path) {
+  try {
+    const YAML::Node root = YAML::LoadFile(path.string());
+    return root.IsMap() && root["sweep"];
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
+}  // namespace clothlab::sweep

@@ -1,0 +1,222 @@
+#include "clothlab/sweep/work_precision.hpp"
+
+#include <clothlab/analysis/order_fit.hpp>
+#include <cmath>
+#include <exception>
+#include <map>
+
+#include "clothlab/sweep/number_text.hpp"
+#include "clothlab/sweep/sweep_error.hpp"
+
+namespace clothlab::sweep {
+namespace {
+
+using Coordinates = std::vector<std::pair<std::string, std::string>>;
+
+// The case's coordinates without integrator and precision: what one reference serves.
+Coordinates problem_coordinates(const CaseSpec& c) {
+  Coordinates kept;
+  for (const auto& coordinate : c.coordinates) {
+    if (coordinate.first != "integrator" && coordinate.first != "precision") {
+      kept.push_back(coordinate);
+    }
+  }
+  return kept;
+}
+
+std::string join(const Coordinates& coordinates) {
+  std::string key;
+  for (const auto& [name, value] : coordinates)
+    key += (key.empty() ? "" : ";") + name + "=" + value;
+  return key;
+}
+
+std::string reference_key(const CaseSpec& c) {
+  return "work-precision;reference;" + join(problem_coordinates(c));
+}
+std::string ladder_key(const CaseSpec& c, double dt) {
+  return "work-precision;ladder;" + c.key + ";dt=" + format_number(dt);
+}
+std::string fit_key(const CaseSpec& c) { return "work-precision;fit;" + c.key; }
+
+double ladder_dt(const WorkPrecisionSettings& wp, int level) {
+  return std::ldexp(wp.dt_start, -level);
+}
+
+uint64_t whole_steps(double duration, double dt) {
+  const double steps = duration / dt;
+  const double rounded = std::round(steps);
+  if (rounded < 1.0 || std::abs(steps - rounded) > 1e-6 * rounded) {
+    throw SweepError("work-precision: duration " + format_number(duration) +
+                     " s is not a whole number of steps of " + format_number(dt) +
+                     " s; choose dt_start, refinement and duration so that it is");
+  }
+  return static_cast<uint64_t>(rounded);
+}
+
+CaseSpec run_spec(const CaseSpec& base, double dt, double duration) {
+  return with_setting(with_dt(base, dt), "steps", std::to_string(whole_steps(duration, dt)), false);
+}
+
+Trajectory run_guarded(const TrajectoryRunner& runner, const CaseSpec& c) {
+  try {
+    return runner(c);
+  } catch (const std::exception& error) {
+    Trajectory failed;
+    failed.verdict.status = CaseStatus::Failed;
+    failed.verdict.reason = error.what();
+    return failed;
+  }
+}
+
+double duration_of(const SweepSpec& spec, const CaseSpec& c) {
+  if (c.duration > 0.0) return c.duration;
+  throw SweepError(spec.source + ": work-precision needs duration (T), not steps");
+}
+
+// Runs the reference and its one-halving check; stores the reference row; returns the finer run.
+Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base,
+                             const TrajectoryRunner& runner, ResultsStore& store) {
+  const auto& wp = spec.work_precision;
+  const double duration = duration_of(spec, base);
+  CaseSpec reference = with_setting(base, "integrator.plugin", wp.reference_integrator);
+  reference = with_setting(reference, "precision", "float64");
+  const double dt = ladder_dt(wp, wp.levels - 1) / wp.refinement;
+  const Trajectory coarse = run_guarded(runner, run_spec(reference, dt, duration));
+  const Trajectory fine = run_guarded(runner, run_spec(reference, dt / 2.0, duration));
+  for (const Trajectory* run : {&coarse, &fine}) {
+    if (!run->verdict.stable()) {
+      throw SweepError("work-precision: reference " + wp.reference_integrator + " float64 for " +
+                       join(problem_coordinates(base)) + " is " + to_string(run->verdict.status) +
+                       ": " + run->verdict.reason);
+    }
+  }
+  const double difference = relative_rms_error(coarse.positions, fine.positions, fine.diagonal);
+  if (!store.contains(reference_key(base))) {
+    Row row;
+    row["key"] = reference_key(base);
+    row["kind"] = "reference";
+    for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
+    row["reference_integrator"] = wp.reference_integrator;
+    row["reference_dt"] = dt / 2.0;
+    row["check_dt"] = dt;
+    row["T"] = duration;
+    row["reference_difference"] = difference;
+    // The finer run's own error for an order-4 reference: difference / (2^4 - 1).
+    row["reference_error_estimate"] = difference / 15.0;
+    row["wall_s"] = coarse.wall_s + fine.wall_s;
+    store.append(row);
+  }
+  return fine;
+}
+
+Row ladder_row(const CaseSpec& c, double dt, double duration, const Trajectory& run,
+               const Trajectory& reference) {
+  Row row;
+  row["key"] = ladder_key(c, dt);
+  row["kind"] = "ladder";
+  for (const auto& [name, value] : c.coordinates) row[name] = value;
+  row["dt"] = dt;
+  row["steps"] = whole_steps(duration, dt);
+  row["T"] = duration;
+  CaseResult verdict = run.verdict;
+  row["error"] = nullptr;
+  if (verdict.stable()) {
+    try {
+      row["error"] = relative_rms_error(run.positions, reference.positions, reference.diagonal);
+    } catch (const SweepError& error) {
+      verdict.status = CaseStatus::Failed;
+      verdict.reason = error.what();
+    }
+  }
+  row["status"] = to_string(verdict.status);
+  row["stable"] = verdict.stable();
+  row["wall_per_sim_s"] = run.wall_s / duration;
+  row["force_evals"] = run.force_evals;
+  row["check"] = verdict.check;
+  row["reason"] = verdict.reason;
+  return row;
+}
+
+Row fit_row(const CaseSpec& c, const ResultsStore& store, const WorkPrecisionSettings& wp) {
+  std::vector<double> dts, errors;
+  for (int level = 0; level < wp.levels; ++level) {
+    const std::string key = ladder_key(c, ladder_dt(wp, level));
+    for (const Row& row : store.rows()) {
+      if (row["key"] == key && row["error"].is_number()) {
+        dts.push_back(row["dt"].get<double>());
+        errors.push_back(row["error"].get<double>());
+      }
+    }
+  }
+  const analysis::OrderFit fit = analysis::fit_order(dts, errors);
+  Row row;
+  row["key"] = fit_key(c);
+  row["kind"] = "fit";
+  for (const auto& [name, value] : c.coordinates) row[name] = value;
+  row["fit_valid"] = fit.valid;
+  row["order"] = fit.valid ? Row(fit.slope) : Row();
+  row["r_squared"] = fit.valid ? Row(fit.r_squared) : Row();
+  row["fit_dt_min"] = fit.valid ? Row(fit.dt_min) : Row();
+  row["fit_dt_max"] = fit.valid ? Row(fit.dt_max) : Row();
+  row["fit_points"] = fit.points;
+  row["note"] = fit.note;
+  return row;
+}
+
+}  // namespace
+
+double relative_rms_error(const std::vector<double>& positions,
+                          const std::vector<double>& reference, double diagonal) {
+  if (positions.size() != reference.size() || positions.empty() || positions.size() % 3 != 0) {
+    throw SweepError("work-precision: " + std::to_string(positions.size()) +
+                     " position values against a reference of " + std::to_string(reference.size()));
+  }
+  if (!(diagonal > 0.0)) {
+    throw SweepError("work-precision: cloth diagonal " + format_number(diagonal) + ", needs > 0");
+  }
+  double sum = 0.0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const double d = positions[i] - reference[i];
+    sum += d * d;
+  }
+  return std::sqrt(sum / static_cast<double>(positions.size() / 3)) / diagonal;
+}
+
+std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSpec>& cases) {
+  return cases.size() * static_cast<std::size_t>(spec.work_precision.levels);
+}
+
+WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector<CaseSpec>& cases,
+                                        const TrajectoryRunner& runner, ResultsStore& store,
+                                        Progress* progress) {
+  const auto& wp = spec.work_precision;
+  WorkPrecisionSummary summary;
+  std::map<std::string, Trajectory> references;  // by reference key, computed on first need
+  for (const CaseSpec& c : cases) {
+    const double duration = duration_of(spec, c);
+    for (int level = 0; level < wp.levels; ++level) {
+      const double dt = ladder_dt(wp, level);
+      if (store.contains(ladder_key(c, dt))) {
+        ++summary.skipped;
+        continue;
+      }
+      auto reference = references.find(reference_key(c));
+      if (reference == references.end()) {
+        reference =
+            references.emplace(reference_key(c), compute_reference(spec, c, runner, store)).first;
+        ++summary.references;
+      }
+      const Trajectory run = run_guarded(runner, run_spec(c, dt, duration));
+      store.append(ladder_row(c, dt, duration, run, reference->second));
+      ++summary.runs;
+      if (progress)
+        progress->case_finished(c.integrator + " " + c.key + " dt=" + format_number(dt));
+    }
+    if (!store.contains(fit_key(c))) store.append(fit_row(c, store, wp));
+  }
+  if (progress) progress->finish();
+  return summary;
+}
+
+}  // namespace clothlab::sweep

@@ -1,0 +1,79 @@
+#include "clothlab/sweep/sweep_spec.hpp"
+
+#include <gtest/gtest.h>
+
+#include "clothlab/sweep/sweep_error.hpp"
+
+namespace clothlab::sweep {
+namespace {
+
+const char* kValid = R"(scenario:
+  mass: 100
+  structural: {ks: 20, kd: 7.5}
+duration: 2
+sweep:
+  name: tiny
+  mode: run
+  output: out/tiny
+  matrix:
+    integrator: [euler, rk4]
+    scenario: sheet
+    mesh: [4x6, 8]
+    dt: [1e-3, 0.005]
+    scenario.flexion.ks: [5, 50]
+  monitor: {check_interval: 4, stretch_limit: 3}
+)";
+
+TEST(SweepSpec, ReadsMatrixFixedSettingsAndSections) {
+  const SweepSpec spec = parse_sweep(kValid, "tiny.yaml");
+  EXPECT_EQ(spec.name, "tiny");
+  EXPECT_EQ(spec.mode, SweepMode::Run);
+  EXPECT_EQ(spec.output, std::filesystem::path("out/tiny"));
+  ASSERT_EQ(spec.axes.size(), 5u);
+  EXPECT_EQ(spec.axes[0].key, "integrator.plugin");
+  EXPECT_EQ(spec.axes[1].key, "scenario.plugin");
+  EXPECT_EQ(spec.axes[1].values.size(), 1u);
+  EXPECT_EQ(spec.axes[4].key, "scenario.flexion.ks");
+  EXPECT_EQ(spec.axes[3].values[0].source, "tiny.yaml:13:10");
+  ASSERT_EQ(spec.fixed.size(), 4u);
+  EXPECT_EQ(spec.fixed[1].key, "scenario.structural.ks");
+  EXPECT_EQ(spec.fixed[1].value, "20");
+  EXPECT_EQ(spec.fixed[3].key, "duration");
+  EXPECT_EQ(spec.monitor.check_interval, 4u);
+  EXPECT_DOUBLE_EQ(spec.monitor.stretch_limit, 3.0);
+}
+
+void expect_error(const std::string& yaml, const std::string& fragment) {
+  try {
+    parse_sweep(yaml, "bad.yaml");
+    ADD_FAILURE() << "no error for:\n" << yaml;
+  } catch (const SweepError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+    EXPECT_EQ(message.rfind("bad.yaml", 0), 0u) << message;
+  }
+}
+
+TEST(SweepSpec, BadInputNamesSourceKeyValueAndAllowedRange) {
+  const std::string head = "duration: 1\nsweep:\n  name: x\n";
+  expect_error(head + "  mode: fast\n  matrix: {integrator: [rk4], dt: [0.001]}\n",
+               "sweep.mode = 'fast': allowed run, work-precision or stability");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: [-1]}\n", "dt = '-1'");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: [0.001], mesh: [0x5]}\n", "mesh = '0x5'");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: [0.001, 1e-3]}\n", "each value once");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: [0.001]}\n  colour: red\n",
+               "sweep.colour");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: []}\n", "non-empty list");
+  expect_error(head + "  matrix: {integrator: [rk4]}\n", "sweep.matrix.dt");
+  expect_error(head + "  mode: stability\n  matrix: {integrator: [rk4], dt: [0.001]}\n",
+               "no dt axis in stability mode");
+  expect_error(head + "  matrix: {integrator: [rk4], dt: [0.001]}\n  monitor: {stretch_limit: 1}\n",
+               "sweep.monitor.stretch_limit = '1'");
+  expect_error("sweep:\n  name: x\n  matrix: {integrator: [rk4], dt: [0.001]}\n",
+               "one of steps or duration");
+  expect_error("duration: 1\nsweep: {name: x, matrix: {integrator: [rk4], dt: [0.001]}", "YAML");
+}
+
+}  // namespace
+}  // namespace clothlab::sweep
