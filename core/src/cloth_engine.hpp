@@ -20,7 +20,8 @@ class ClothEngine final : public Engine {
   ClothEngine(const Scene& scene, PipelineOptions options);
 
   const clothlab_system& system() const override { return system_; }
-  int threads() const override { return threads_; }
+  // Threads the force and vector passes actually use: small clothes run on one.
+  int threads() const override { return parallel_ ? threads_ : 1; }
   StageCounters& counters() override { return counters_; }
 
   void positions(std::vector<double>& out) const override;

@@ -151,12 +151,15 @@ TEST(ClothConstruction, RejectsWhatValidationWouldHave) {
   EXPECT_THROW(Cloth(scene, Precision::Float64, options), std::invalid_argument);
 }
 
-TEST(ClothConstruction, ThreadsDefaultToAllHardwareThreads) {
-  Scene scene;
+TEST(ClothConstruction, ReportsTheThreadsItUses) {
   PipelineOptions options;
   options.threads = 3;
-  EXPECT_EQ(Cloth(scene, Precision::Float32, options).threads(), 3);
-  EXPECT_GE(Cloth(scene, Precision::Float32, {}).threads(), 1);
+  EXPECT_EQ(Cloth(Scene{}, Precision::Float32, options).threads(), 1);  // too small to split
+  Scene large;
+  large.rows = 100;
+  large.cols = 100;
+  EXPECT_EQ(Cloth(large, Precision::Float32, options).threads(), 3);
+  EXPECT_GE(Cloth(large, Precision::Float32, {}).threads(), 1);  // 0: all hardware threads
 }
 
 TEST(ClothConstruction, SetStateRejectsWrongSizes) {
