@@ -23,7 +23,7 @@ constexpr double spring_u0 = 0.1;  // initial extension
 constexpr double spring_horizon = 2.0;
 
 // Coarsest step count per declared order: errors well above round-off, in the asymptotic range.
-int coarsest_steps(uint32_t order) { return order <= 1 ? 200 : order == 2 ? 50 : 20; }
+int coarsest_steps(uint32_t order) { return order <= 1 ? 400 : order == 2 ? 50 : 20; }
 
 std::string format(const char* pattern, double value) {
   char text[64];

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The SDK round trip a plugin author relies on (issue 3), against a configured build tree:
+#  1. installs ClothLab to a temporary prefix;
+#  2. configures and builds examples/third_party_integrator out of tree against that prefix
+#     (only find_package(ClothLab)) and runs it with the installed `clothlab`;
+#  3. runs the installed clothlab-conformance on every built-in plugin, the example and the
+#     plain-C test plugin (all must pass), then on each deliberately faulty plugin (each
+#     must be caught by its check while the run completes).
+# Usage: tools/ci-sdk.sh [BUILD_DIR]   (default build; configured with tests on)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+[ -f "$build/CMakeCache.txt" ] || { echo "ci-sdk: $build: not a configured build tree" >&2; exit 2; }
+
+faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_step abi_major_2
+        throws_through_boundary allocates_every_step)
+cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
+  euler midpoint rk4 verlet sheet flag c_euler "${faulty[@]/#/faulty_}"
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+prefix="$work/prefix"
+cmake --install "$build" --prefix "$prefix" >/dev/null
+
+echo "== out-of-tree example against $prefix"
+cmake -S examples/third_party_integrator -B "$work/example" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/example" -j "$(nproc)"
+example="$work/example/velocity_verlet.so"
+"$prefix/bin/clothlab" --integrator="$example" --scenario=sheet --steps 200
+
+conformance="$prefix/bin/clothlab-conformance"
+test_plugins="$build/tests/conformance/plugins"
+seed=${CLOTHLAB_CONFORMANCE_SEED:-20261125}
+
+echo "== conformance: built-ins, the example and the C plugin must pass"
+# Verlet's default drag (0.1/s) is a different ODE from the analytic test problems.
+"$conformance" --seed "$seed" --param verlet.damping=0 \
+  "$prefix"/lib/clothlab/plugins/*.so "$example" "$test_plugins/c_euler.so" >"$work/sound.txt" ||
+  { cat "$work/sound.txt"; echo "ci-sdk: a sound plugin failed conformance" >&2; exit 1; }
+grep -c '^PASS' "$work/sound.txt" | xargs printf '%s checks passed; summary: '
+tail -n 1 "$work/sound.txt"
+
+echo "== conformance: each faulty plugin must be caught"
+# plugin  component  check  extra runner options
+expectations=(
+  "lies_about_order|lies-about-order|numerics.order-spring|--filter numerics"
+  "produces_nan|produces-nan|lifecycle.grid-3x3-f64|--filter lifecycle"
+  "moves_pinned|moves-pinned|numerics.pinned-f64|--filter numerics.pinned"
+  "segfaults_in_step|segfaults-in-step|lifecycle.grid-3x3-f64|--filter lifecycle.grid"
+  "hangs_in_step|hangs-in-step|lifecycle.grid-3x3-f64|--timeout 1 --filter lifecycle.grid-3x3"
+  "abi_major_2|library|loading.abi-version|"
+  "throws_through_boundary|throws-through-boundary|robustness.no-throw|--filter robustness"
+  "allocates_every_step|allocates-every-step|robustness.no-alloc|--filter robustness"
+)
+for expectation in "${expectations[@]}"; do
+  IFS='|' read -r name component check options <<<"$expectation"
+  status=0
+  # shellcheck disable=SC2086 # options are words
+  "$conformance" --seed "$seed" $options "$test_plugins/faulty_$name.so" >"$work/$name.txt" ||
+    status=$?
+  line=$(grep "^FAIL faulty_$name:$component $check " "$work/$name.txt" || true)
+  if [ "$status" -ne 1 ] || [ -z "$line" ] || ! tail -n 1 "$work/$name.txt" | grep -q ' failed$'; then
+    cat "$work/$name.txt"
+    echo "ci-sdk: faulty_$name was not caught by $check (exit $status)" >&2
+    exit 1
+  fi
+  echo "caught: $line"
+done
+echo "ci-sdk: all passed"
