@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+"""tools/plot.py on small synthetic results: every plot kind writes PNG and SVG; bad input is
+one line on stderr and exit code 1."""
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+PLOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "plot.py")
+
+
+def run_plot(*args):
+    return subprocess.run([sys.executable, PLOT, *args], capture_output=True, text=True)
+
+
+def work_precision_rows():
+    rows = [{"key": "ref", "kind": "reference", "scenario": "sheet", "T": 0.5,
+             "reference_error_estimate": 1e-13}]
+    for integrator, order in (("euler", 1), ("rk4", 4)):
+        for precision in ("float64", "float32"):
+            for level in range(5):
+                dt = 0.002 / 2 ** level
+                rows.append({"key": f"{integrator}{precision}{level}", "kind": "ladder",
+                             "scenario": "sheet", "integrator": integrator, "mesh": "20x20",
+                             "precision": precision, "dt": dt, "T": 0.5,
+                             "error": 3.0 * dt ** order + (1e-7 if precision == "float32" else 0),
+                             "wall_per_sim_s": 1e-4 / dt, "stable": True})
+            rows.append({"key": f"fit{integrator}{precision}", "kind": "fit", "scenario": "sheet",
+                         "integrator": integrator, "mesh": "20x20", "precision": precision,
+                         "order": float(order)})
+    return rows
+
+
+def write_csv(path, rows):
+    columns = []
+    for row in rows:
+        columns += [c for c in row if c not in columns]
+    with open(path, "w", newline="") as stream:
+        writer = csv.DictWriter(stream, fieldnames=columns)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: ("true" if v is True else "false" if v is False else v)
+                             for k, v in row.items()})
+
+
+class PlotTest(unittest.TestCase):
+    def setUp(self):
+        self.folder = tempfile.TemporaryDirectory()
+        self.out = os.path.join(self.folder.name, "plots")
+
+    def tearDown(self):
+        self.folder.cleanup()
+
+    def path(self, name):
+        return os.path.join(self.folder.name, name)
+
+    def assert_written(self, result, names):
+        self.assertEqual(result.returncode, 0, result.stderr)
+        for name in names:
+            for extension in ("png", "svg"):
+                target = os.path.join(self.out, f"{name}.{extension}")
+                self.assertTrue(os.path.getsize(target) > 1000, target)
+
+    def test_work_precision_from_csv(self):
+        write_csv(self.path("wp.csv"), work_precision_rows())
+        result = run_plot("work-precision", self.path("wp.csv"), "--out", self.out)
+        self.assert_written(result, ["work-precision-sheet"])
+
+    def test_stability_map_with_matrix_cells(self):
+        search = [{"key": f"s{i}{j}", "kind": "stability", "integrator": integrator,
+                   "scenario": "flag", "mesh": f"{n}x{n}", "dt_max": 0.05 / n,
+                   "predicted_dt_max": 0.06 / n}
+                  for i, integrator in enumerate(("euler", "verlet"))
+                  for j, n in enumerate((50, 100, 200))]
+        matrix = [{"key": f"m{n}{dt}{integrator}", "integrator": integrator, "scenario": "flag",
+                   "mesh": f"{n}x{n}", "dt": dt, "stable": dt < 0.05 / n}
+                  for integrator in ("euler", "verlet") for n in (50, 100) for dt in (1e-4, 1e-3)]
+        with open(self.path("st.json"), "w") as stream:
+            json.dump({"sweep": {}, "rows": search}, stream)
+        with open(self.path("matrix.json"), "w") as stream:
+            json.dump({"sweep": {}, "rows": matrix}, stream)
+        result = run_plot("stability", self.path("st.json"), "--matrix", self.path("matrix.json"),
+                          "--out", self.out)
+        self.assert_written(result, ["stability-map"])
+
+    def test_cost_vs_mesh(self):
+        rows = [{"key": f"{integrator}{n}", "integrator": integrator, "scenario": "sheet",
+                 "mesh": f"{n}x{n}", "dt": 0.001, "ms_per_step": 1e-4 * n * n * cost}
+                for integrator, cost in (("euler", 1), ("rk4", 4)) for n in (50, 100, 150)]
+        write_csv(self.path("runs.csv"), rows)
+        result = run_plot("cost", self.path("runs.csv"), "--out", self.out)
+        self.assert_written(result, ["cost-sheet"])
+
+    def test_bad_input_is_one_line_and_exit_code_1(self):
+        with open(self.path("broken.json"), "w") as stream:
+            stream.write("{\"rows\": [")
+        result = run_plot("work-precision", self.path("broken.json"), "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertIn("broken.json", result.stderr)
+        result = run_plot("cost", self.path("missing.csv"), "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("missing.csv", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,247 @@
+#!/usr/bin/python3
+"""Plots ClothLab sweep results (the .json or .csv a sweep writes) as PNG and SVG.
+
+  plot.py work-precision results/work-precision.json --out plots/
+      per scenario: error at T against wall time per simulated second, and against dt,
+      log-log, one line per integrator (solid float64, dashed float32), fitted orders in
+      the legend.
+  plot.py stability results/stability.json [--matrix results/seed-2016-matrix.json] --out plots/
+      per scenario and integrator: largest stable dt against mesh size, measured (bisection)
+      and predicted (linearised system); with --matrix, each run of a run-mode sweep as a
+      stable (o) or unstable (x) cell.
+  plot.py cost results/seed-2016-matrix.json [--metric ms_per_step] [--dt 0.001] --out plots/
+      per scenario: the metric against particle count, one line per integrator.
+
+Needs Debian's python3-matplotlib (Agg backend, no display).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+
+FORMATS = ("png", "svg")
+COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
+           "verlet": "tab:red", "forward-euler": "tab:purple"}
+
+
+class InputProblem(Exception):
+    """Bad input: reported as one line, exit code 1."""
+
+
+def parse_cell(text):
+    if text == "":
+        return None
+    if text in ("true", "false"):
+        return text == "true"
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def read_rows(path):
+    """Rows of a results file, as dicts; numbers as floats, missing values as None."""
+    try:
+        with open(path, newline="") as stream:
+            if path.endswith(".csv"):
+                return [{k: parse_cell(v) for k, v in row.items()} for row in csv.DictReader(stream)]
+            document = json.load(stream)
+    except OSError as error:
+        raise InputProblem(f"{path}: cannot read results: {error.strerror}")
+    except (json.JSONDecodeError, csv.Error) as error:
+        raise InputProblem(f"{path}: not a results file: {error}")
+    if not isinstance(document, dict) or not isinstance(document.get("rows"), list):
+        raise InputProblem(f"{path}: expected a JSON object with a \"rows\" list")
+    return document["rows"]
+
+
+def mesh_particles(mesh):
+    """'50x40' -> 2000, '50' or 50.0 -> 2500."""
+    text = str(mesh)
+    if text.endswith(".0"):
+        text = text[:-2]
+    rows, _, cols = text.partition("x")
+    try:
+        return int(rows) * int(cols or rows)
+    except ValueError:
+        raise InputProblem(f"mesh value '{mesh}': expected ROWSxCOLS or N")
+
+
+def number(value):
+    return value if isinstance(value, (int, float)) and not isinstance(value, bool) \
+        and math.isfinite(value) else None
+
+
+def save(figure, out, name):
+    os.makedirs(out, exist_ok=True)
+    paths = []
+    for extension in FORMATS:
+        path = os.path.join(out, f"{name}.{extension}")
+        figure.savefig(path, bbox_inches="tight", dpi=120)
+        paths.append(path)
+    plt.close(figure)
+    return paths
+
+
+def require(rows, kind, path):
+    chosen = [r for r in rows if r.get("kind") == kind]
+    if not chosen:
+        raise InputProblem(f"{path}: no rows of kind '{kind}'")
+    return chosen
+
+
+def plot_work_precision(args):
+    rows = read_rows(args.results)
+    ladder = require(rows, "ladder", args.results)
+    fits = {(r.get("scenario"), r.get("integrator"), r.get("precision"), r.get("mesh")): r
+            for r in rows if r.get("kind") == "fit"}
+    references = {r.get("scenario"): r for r in rows if r.get("kind") == "reference"}
+    written = []
+    for scenario in sorted({str(r.get("scenario")) for r in ladder}):
+        figure, (by_cost, by_dt) = plt.subplots(1, 2, figsize=(12, 5))
+        curves = {}
+        for r in ladder:
+            if str(r.get("scenario")) != scenario or number(r.get("error")) is None:
+                continue
+            key = (r.get("integrator"), r.get("precision"), r.get("mesh"))
+            curves.setdefault(key, []).append(r)
+        for (integrator, precision, mesh), points in sorted(curves.items(), key=str):
+            points.sort(key=lambda r: r["dt"])
+            fit = fits.get((scenario, integrator, precision, mesh), {})
+            order = number(fit.get("order"))
+            label = f"{integrator} {precision or ''}".strip()
+            if order is not None:
+                label += f" (order {order:.2f})"
+            style = dict(color=COLOURS.get(integrator), marker="o", markersize=4,
+                         linestyle="--" if precision == "float32" else "-")
+            by_cost.loglog([r["wall_per_sim_s"] for r in points], [r["error"] for r in points],
+                           label=label, **style)
+            by_dt.loglog([r["dt"] for r in points], [r["error"] for r in points], label=label,
+                         **style)
+        reference = references.get(scenario, {})
+        t_end = number(reference.get("T")) or number(ladder[0].get("T"))
+        estimate = number(reference.get("reference_error_estimate"))
+        title = f"{scenario}: error at T = {t_end:g} s" if t_end else scenario
+        if estimate is not None:
+            by_dt.axhline(estimate, color="grey", linestyle=":", label="reference error (est.)")
+            title += f" (reference error ~{estimate:.1e})"
+        by_cost.set_xlabel("wall time per simulated second (s)")
+        by_dt.set_xlabel("dt (s)")
+        for axis in (by_cost, by_dt):
+            axis.set_ylabel("RMS position error / diagonal")
+            axis.grid(True, which="both", alpha=0.3)
+        by_dt.legend(fontsize=8)
+        figure.suptitle(title)
+        written += save(figure, args.out, f"work-precision-{scenario}")
+    return written
+
+
+def plot_stability(args):
+    rows = read_rows(args.results)
+    search = require(rows, "stability", args.results)
+    matrix = read_rows(args.matrix) if args.matrix else []
+    matrix = [r for r in matrix if r.get("dt") is not None and r.get("mesh") is not None]
+    scenarios = sorted({str(r.get("scenario")) for r in search})
+    integrators = sorted({str(r.get("integrator")) for r in search})
+    figure, axes = plt.subplots(len(scenarios), len(integrators), squeeze=False,
+                                figsize=(4 * len(integrators), 3.6 * len(scenarios)),
+                                sharey=True)
+    for i, scenario in enumerate(scenarios):
+        for j, integrator in enumerate(integrators):
+            axis = axes[i][j]
+            mine = sorted((r for r in search if str(r.get("scenario")) == scenario
+                           and str(r.get("integrator")) == integrator),
+                          key=lambda r: mesh_particles(r.get("mesh")))
+            sizes = [math.sqrt(mesh_particles(r.get("mesh"))) for r in mine]
+            measured = [number(r.get("dt_max")) for r in mine]
+            predicted = [number(r.get("predicted_dt_max")) for r in mine]
+            axis.semilogy(sizes, [m if m else float("nan") for m in measured], "k-o",
+                          label="measured dt_max")
+            if any(p for p in predicted):
+                axis.semilogy(sizes, [p if p else float("nan") for p in predicted], "b--",
+                              label="predicted dt_max")
+            cells = [r for r in matrix if str(r.get("scenario")) == scenario
+                     and str(r.get("integrator")) == integrator]
+            for stable, marker, colour in ((True, "o", "tab:green"), (False, "x", "tab:red")):
+                chosen = [r for r in cells if bool(r.get("stable")) == stable]
+                if chosen:
+                    axis.scatter([math.sqrt(mesh_particles(r["mesh"])) for r in chosen],
+                                 [r["dt"] for r in chosen], marker=marker, color=colour,
+                                 label="run: stable" if stable else "run: unstable")
+            axis.set_title(f"{integrator} / {scenario}")
+            axis.set_xlabel("mesh side N (N x N)")
+            axis.grid(True, which="both", alpha=0.3)
+            if j == 0:
+                axis.set_ylabel("dt (s)")
+    axes[0][0].legend(fontsize=8)
+    return save(figure, args.out, "stability-map")
+
+
+def plot_cost(args):
+    rows = read_rows(args.results)
+    runs = [r for r in rows if number(r.get(args.metric)) is not None and r.get("mesh") is not None]
+    if not runs:
+        raise InputProblem(f"{args.results}: no rows with a numeric '{args.metric}' and a mesh")
+    dts = sorted({r["dt"] for r in runs if number(r.get("dt")) is not None})
+    chosen_dt = args.dt if args.dt is not None else (dts[0] if dts else None)
+    if chosen_dt is not None and dts:
+        runs = [r for r in runs if number(r.get("dt")) is not None
+                and math.isclose(r["dt"], chosen_dt, rel_tol=1e-9)]
+        if not runs:
+            raise InputProblem(f"--dt {chosen_dt:g}: no rows at that step; steps present: "
+                               + ", ".join(f"{d:g}" for d in dts))
+    written = []
+    for scenario in sorted({str(r.get("scenario")) for r in runs}):
+        figure, axis = plt.subplots(figsize=(6, 4.5))
+        for integrator in sorted({str(r.get("integrator")) for r in runs}):
+            points = sorted(((mesh_particles(r["mesh"]), r[args.metric]) for r in runs
+                             if str(r.get("scenario")) == scenario
+                             and str(r.get("integrator")) == integrator))
+            if points:
+                axis.loglog(*zip(*points), "o-", color=COLOURS.get(integrator), label=integrator)
+        axis.set_xlabel("particles")
+        axis.set_ylabel(args.metric)
+        title = f"{scenario}: {args.metric} vs mesh size"
+        axis.set_title(title + (f" (dt = {chosen_dt:g} s)" if chosen_dt is not None else ""))
+        axis.grid(True, which="both", alpha=0.3)
+        axis.legend(fontsize=8)
+        written += save(figure, args.out, f"cost-{scenario}")
+    return written
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    commands = parser.add_subparsers(dest="command", required=True)
+    wp = commands.add_parser("work-precision", help="error vs cost and vs dt")
+    wp.add_argument("results")
+    wp.set_defaults(run=plot_work_precision)
+    st = commands.add_parser("stability", help="measured and predicted dt_max vs mesh")
+    st.add_argument("results")
+    st.add_argument("--matrix", help="a run-mode sweep's results, drawn as stable/unstable cells")
+    st.set_defaults(run=plot_stability)
+    cost = commands.add_parser("cost", help="a cost metric vs mesh size")
+    cost.add_argument("results")
+    cost.add_argument("--metric", default="ms_per_step", help="column to plot (default ms_per_step)")
+    cost.add_argument("--dt", type=float, help="time step to plot (default: the smallest)")
+    cost.set_defaults(run=plot_cost)
+    for command in (wp, st, cost):
+        command.add_argument("--out", default="plots", help="output folder (default plots)")
+    args = parser.parse_args(argv)
+    try:
+        for path in args.run(args):
+            print(path)
+    except InputProblem as problem:
+        print(f"plot.py: {problem}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
