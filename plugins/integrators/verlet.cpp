@@ -7,21 +7,22 @@
 // depend on dt and approximate x'' = a - c x'. Then beta = dt (1 - f) / c, the exact
 // displacement weight of a constant force under that drag; with plain dt^2 (the seed's
 // form) the method would drop to first order whenever c > 0. `damping_per_step` p > 0
-// reproduces the seed literally: f = 1 - p, beta = dt^2 (dt-dependent dynamics).
+// reproduces the seed literally: f = 1 - p, beta = dt^2 (dt-dependent dynamics), with the
+// equivalent rate c = -ln(1 - p) / dt used below.
 //
 // Default rate 0.1 1/s: a 10 s velocity time constant, so a 2 s run keeps > 80 % of its
 // motion (close to the undamped physics the other integrators see), yet long runs settle.
 // The integrator never passes velocities to the force evaluation, so the host builds no
 // spring-damping stage; the rate is the only dissipation.
 //
-// Start and restart (first step, after prepare, or when dt changes): the history is
-// rebuilt from (x, v) by the Taylor expansion backwards,
-//   d_{-1} = x_0 - x_{-1} = dt v_0 - dt^2/2 (a_0 - c v_0),
-// which keeps the first step second-order accurate.
-//
-// Velocity. The host reads v for energy and output, so after each step v holds the
-// second-order estimate v_{n+1} = d_n / dt + dt/2 (a_n - c d_n / dt) (exact for
-// free fall); it is never read back by the integration itself, except to restart.
+// Start, restart and velocity use the solution of x'' = a - c x' for a constant a over one
+// step (z = c dt, w = (1 - e^{-z}) / z, phi = (e^z - 1) / z), so free fall with drag is
+// reproduced exactly. The first step (after prepare, or when dt changes) has no history and
+// takes its displacement from (x, v) instead:
+//   d_0 = dt w v_0 + dt^2 (1 - w) / z a_0                    (dt v_0 + dt^2/2 a_0 at c = 0)
+// After each step v holds the velocity the host reads for energy and output (the
+// integration itself reads v only to restart):
+//   v_{n+1} = d_n / (dt phi) + dt (1 - 1 / phi) / z a_n       (d_n / dt + dt/2 a_n at c = 0)
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
@@ -65,35 +66,48 @@ struct StormerVerlet {
     const Coefficients k = coefficients(dt);
 
     system.acceleration(t, x, nullptr, acceleration);
+    // `zero` is never written, so it serves as the base of a plain linear combination.
     if (dt != history_dt_) {
-      // d_{-1} = dt v - dt^2/2 a + c dt^2/2 v; `zero` is never written, so it serves as
-      // the base of a plain linear combination.
-      system.template lincomb<2>(displacement, zero, {dt + 0.5 * k.rate * dt * dt, -0.5 * dt * dt},
-                                 {v, acceleration});
+      system.template lincomb<2>(displacement, zero, {k.start_v, k.start_a}, {v, acceleration});
       history_dt_ = dt;
+    } else {
+      system.template lincomb<2>(displacement, zero, {k.f, k.beta}, {displacement, acceleration});
     }
-    system.template lincomb<2>(displacement, zero, {k.f, k.beta}, {displacement, acceleration});
     system.axpy(x, 1.0, displacement);
-    system.template lincomb<2>(v, zero, {(1.0 - 0.5 * k.rate * dt) / dt, 0.5 * dt},
-                               {displacement, acceleration});
+    system.template lincomb<2>(v, zero, {k.velocity_d, k.velocity_a}, {displacement, acceleration});
   }
 
  private:
   struct Coefficients {
-    double f;     // factor on the previous displacement
-    double beta;  // weight of the acceleration
-    double rate;  // effective damping rate c, 1/s
+    double f, beta;                 // d_n = f d_{n-1} + beta a_n
+    double start_v, start_a;        // d_0 = start_v v_0 + start_a a_0
+    double velocity_d, velocity_a;  // v_{n+1} = velocity_d d_n + velocity_a a_n
   };
 
   Coefficients coefficients(double dt) const {
-    if (damping_per_step_ > 0.0) {
-      const double f = 1.0 - damping_per_step_;
-      return {f, dt * dt, -std::log1p(-damping_per_step_) / dt};
-    }
-    const double z = damping_rate_ * dt;
-    // (1 - exp(-z)) / z, which tends to 1 as z -> 0.
-    const double weight = z > 0.0 ? -std::expm1(-z) / z : 1.0;
-    return {std::exp(-z), dt * dt * weight, damping_rate_};
+    const bool per_step = damping_per_step_ > 0.0;
+    const double z = per_step ? -std::log1p(-damping_per_step_) : damping_rate_ * dt;
+    const double w = z == 0.0 ? 1.0 : -std::expm1(-z) / z;
+    // z / (e^z - 1) = 1 / phi; tends to 0 for large z without overflowing to a NaN.
+    const double inverse_phi = z == 0.0 ? 1.0 : z / std::expm1(z);
+    return {per_step ? 1.0 - damping_per_step_ : std::exp(-z),
+            per_step ? dt * dt : dt * dt * w,
+            dt * w,
+            dt * dt * one_minus_w_over_z(z),
+            inverse_phi / dt,
+            dt * one_minus_inverse_phi_over_z(z)};
+  }
+
+  // (1 - w) / z = 1/2 - z/6 + z^2/24 - ...; the series avoids cancellation at small z.
+  static double one_minus_w_over_z(double z) {
+    if (z < 1e-2) return 0.5 - z * (1.0 / 6 - z * (1.0 / 24 - z * (1.0 / 120 - z / 720)));
+    return (1.0 + std::expm1(-z) / z) / z;
+  }
+
+  // (1 - 1 / phi) / z = 1/2 - z/12 + z^3/720 - ... (z / (e^z - 1) is the Bernoulli series).
+  static double one_minus_inverse_phi_over_z(double z) {
+    if (z < 1e-2) return 0.5 - z / 12 + z * z * z / 720;
+    return (1.0 - z / std::expm1(z)) / z;
   }
 
   double damping_rate_;

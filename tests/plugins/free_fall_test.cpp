@@ -5,6 +5,7 @@
 // an error of exactly -g t dt / 2: first order in dt.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "integrator_harness.hpp"
@@ -62,6 +63,31 @@ TEST(EulerFreeFall, ErrorIsExactlyHalfGTimesTDt) {
     EXPECT_NEAR(fall.system.position(0)[1] - exact, -0.5 * g * t * dt, round_off) << "dt " << dt;
     EXPECT_NEAR(fall.system.position(0)[0], x0[0] + v0[0] * t, round_off);
     expect_exact_velocity(fall.system, t);
+  }
+}
+
+TEST(VerletFreeFall, WithDragMatchesTheExactSolutionEvenAcrossDtChanges) {
+  // x'' = a - c x' with constant a: v(t) = a/c + (v0 - a/c) e^{-ct},
+  // x(t) = x0 + a t / c + (v0 - a/c) (1 - e^{-ct}) / c. Verlet's drag form is exact here,
+  // for mild and for overwhelming drag (c dt up to 1e4, where e^{c dt} overflows).
+  const Vec3 a{0.0, -g, 0.0};
+  for (const double c : {2.0, 1e4}) {
+    MockSystem<double> system(1, {}, gravity);
+    system.set_position(0, x0);
+    system.set_velocity(0, v0);
+    Integrator verlet("verlet");
+    verlet.with("damping", c).start(system);
+    double t = 0.0;
+    for (const double dt : {0.01, 0.02, 0.005, 1.0})
+      for (int n = 0; n < 10; ++n, t += dt) ASSERT_EQ(verlet.step(system, t, dt), CLOTHLAB_OK);
+    for (int k = 0; k < 3; ++k) {
+      const double drift = v0[k] - a[k] / c, decay = std::exp(-c * t);
+      const double scale = 1.0 + std::abs(x0[k]) + std::abs(a[k] * t / c);
+      EXPECT_NEAR(system.position(0)[k], x0[k] + a[k] * t / c + drift * (1.0 - decay) / c,
+                  1e-13 * scale)
+          << "c " << c << " component " << k;
+      EXPECT_NEAR(system.velocity(0)[k], a[k] / c + drift * decay, 1e-13) << "c " << c;
+    }
   }
 }
 

@@ -80,9 +80,9 @@ TEST(IntegratorOneStep, Rk4MatchesHandValues) {
 
 TEST(IntegratorOneStep, VerletWithoutDampingMatchesHandValues) {
   // No velocities reach the force law: a(y) = -100 y - 110.
-  // Step 1: a0 = 10; history d_-1 = dt v0 - dt^2/2 a0 = 0.05 - 0.05 = 0
-  //         d0 = d_-1 + dt^2 a0 = 0.1;  y1 = -1.1;  v1 = d0/dt + dt/2 a0 = 1 + 0.5 = 1.5
-  // Step 2: a1 = 110 - 110 = 0;  d1 = 0.1;  y2 = -1.0;  v2 = 1.0
+  // Step 1 (no history): a0 = 10;  d0 = dt v0 + dt^2/2 a0 = 0.05 + 0.05 = 0.1
+  //                      y1 = -1.1;  v1 = d0/dt + dt/2 a0 = 1 + 0.5 = 1.5
+  // Step 2: a1 = 110 - 110 = 0;  d1 = d0 + dt^2 a1 = 0.1;  y2 = -1.0;  v2 = d1/dt = 1.0
   TwoParticles s;
   Integrator verlet("verlet");
   verlet.with("damping", 0.0).start(s.system);
@@ -93,17 +93,25 @@ TEST(IntegratorOneStep, VerletWithoutDampingMatchesHandValues) {
 }
 
 TEST(IntegratorOneStep, VerletWithSeedDampingPerStepMatchesHandValues) {
-  // damping_per_step p = 0.5: f = 0.5, beta = dt^2 (seed eq. 2.19), effective rate
-  // c = -ln(1 - p) / dt = 10 ln 2.  a0 = 10, v0 = 0.5.
-  // d_-1 = (dt + c dt^2 / 2) v0 - dt^2 / 2 a0 = (0.1 + 0.05 ln 2) 0.5 - 0.05 = 0.025 ln 2
-  // d0 = 0.5 d_-1 + 0.01 * 10 = 0.0125 ln 2 + 0.1;      y1 = -1.1 + 0.0125 ln 2
-  // v1 = (1 - c dt / 2) d0 / dt + dt / 2 a0 = (1 - ln 2 / 2) (0.125 ln 2 + 1) + 0.5
+  // damping_per_step p = 0.5: f = 0.5, beta = dt^2 (seed eq. 2.19); start and velocity use
+  // the equivalent drag z = c dt = -ln(1 - p) = ln 2, for which
+  //   w = (1 - e^{-z}) / z = 0.5 / ln 2,   1 / phi = z / (e^z - 1) = ln 2.
+  // Step 1: a0 = 10, v0 = 0.5
+  //   d0 = dt w v0 + dt^2 (1 - w) / z a0 = 0.025 / ln 2 + 0.1 (1 - 0.5 / ln 2) / ln 2
+  //   v1 = d0 / (dt phi) + dt (1 - 1 / phi) / z a0 = 10 ln 2 d0 + (1 - ln 2) / ln 2
+  // Step 2: a1 = -100 y1 - 110;  d1 = 0.5 d0 + 0.01 a1
+  //   v2 = 10 ln 2 d1 + 0.1 (1 - ln 2) / ln 2 a1
   const double ln2 = std::log(2.0);
   TwoParticles s;
   Integrator verlet("verlet");
   verlet.with("damping_per_step", 0.5).start(s.system);
   verlet.run(s.system, 1, dt);
-  s.expect_state(-1.1 + 0.0125 * ln2, (1.0 - 0.5 * ln2) * (0.125 * ln2 + 1.0) + 0.5);
+  const double d0 = 0.025 / ln2 + 0.1 * (1.0 - 0.5 / ln2) / ln2;
+  const double y1 = -1.2 + d0;
+  s.expect_state(y1, 10.0 * ln2 * d0 + (1.0 - ln2) / ln2);
+  ASSERT_EQ(verlet.step(s.system, dt, dt), CLOTHLAB_OK) << verlet.message();
+  const double a1 = -100.0 * y1 - 110.0, d1 = 0.5 * d0 + 0.01 * a1;
+  s.expect_state(y1 + d1, 10.0 * ln2 * d1 + 0.1 * (1.0 - ln2) / ln2 * a1);
 }
 
 }  // namespace
