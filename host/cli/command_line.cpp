@@ -62,8 +62,14 @@ Setting parse_set(const std::string& assignment) {
 
 CommandLine parse_command_line(int argc, const char* const argv[]) {
   po::variables_map values;
+  // Declared empty so a stray word is an error instead of being ignored.
+  const po::positional_options_description no_positional_arguments;
   try {
-    po::store(po::command_line_parser(argc, argv).options(describe_options()).run(), values);
+    po::store(po::command_line_parser(argc, argv)
+                  .options(describe_options())
+                  .positional(no_positional_arguments)
+                  .run(),
+              values);
     po::notify(values);
   } catch (const po::error& error) {
     throw host::InputError(std::string("command line: ") + error.what() + "; see --help");

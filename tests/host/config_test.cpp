@@ -156,6 +156,7 @@ TEST(CommandLine, BadArgumentsAreInputErrors) {
   EXPECT_THROW(parse({"--set", "scenario.rows"}), host::InputError);
   EXPECT_THROW(parse({"--no-such-option"}), host::InputError);
   EXPECT_THROW(parse({"--dt"}), host::InputError);
+  EXPECT_THROW(parse({"stray-word"}), host::InputError);
   EXPECT_THROW(parse({"--steps", "5", "--duration", "1"}), host::InputError);
 }
 

@@ -75,5 +75,12 @@ TEST(ParamSet, UnknownKeyListsTheValidOnes) {
             "integrator.rows, integrator.pinned, integrator.gravity");
 }
 
+TEST(ParamSet, AComponentWithoutParametersSaysSo) {
+  ParamSet params({}, "integrator");
+  EXPECT_EQ(set_error(params, "damping", "1"),
+            "cfg.yaml:3:7: unknown parameter integrator.damping; the integrator takes no "
+            "parameters");
+}
+
 }  // namespace
 }  // namespace clothlab::host

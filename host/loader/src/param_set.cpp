@@ -23,8 +23,9 @@ size_t ParamSet::index_of(std::string_view key, std::string_view source) const {
     valid += valid.empty() ? "" : ", ";
     valid += prefix_ + "." + spec.name;
   }
-  throw InputError(std::string(source) + ": unknown parameter " + prefix_ + "." + std::string(key) +
-                   "; valid: " + (valid.empty() ? "(none)" : valid));
+  throw InputError(
+      std::string(source) + ": unknown parameter " + prefix_ + "." + std::string(key) +
+      (valid.empty() ? "; the " + prefix_ + " takes no parameters" : "; valid: " + valid));
 }
 
 void ParamSet::set(std::string_view key, std::string_view text, std::string_view source) {
