@@ -198,7 +198,11 @@ double predict_dt_max(Method method, const SpectralEstimate& estimate,
                            predicted_dt_max(method, estimate.most_damped_mode));
   if (method != Method::SymplecticEuler) {
     for (const Complex& eigenvalue : estimate.outer_eigenvalues) {
-      dt_max = std::min(dt_max, predicted_dt_max(method, eigenvalue));
+      // A spring-damper cloth at rest has no growing modes: a positive real part is
+      // finite-difference noise on an undamped mode (or slow wind flutter), and would make
+      // every method "unstable at any dt". Judge such a mode as undamped.
+      const Complex passive(std::min(eigenvalue.real(), 0.0), eigenvalue.imag());
+      dt_max = std::min(dt_max, predicted_dt_max(method, passive));
     }
   }
   return dt_max;

@@ -44,7 +44,8 @@ SpectralEstimate estimate_spectrum(const clothlab_system& system, double t,
 //    velocity forces);
 //  - symplectic Euler: the smaller limit of the stiffest and the most damped mode, each by its
 //    2x2 amplification matrix;
-//  - RK methods: the smallest limit over those two modes and the outer eigenvalues.
+//  - RK methods: the smallest limit over those two modes and the outer eigenvalues (a positive
+//    real part, noise on an undamped mode, is taken as 0).
 double predict_dt_max(Method method, const SpectralEstimate& estimate,
                       const VerletDamping& verlet = {});
 
