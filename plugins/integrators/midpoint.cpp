@@ -7,6 +7,7 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 
+#include "pinned_state.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -35,10 +36,8 @@ struct ExplicitMidpoint {
     if (dt == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
-    // lincomb writes active particles only; the copies give the stage vectors the
-    // pinned particles' state, which the force evaluation reads.
-    system.copy(x_mid, x);
-    system.copy(v_mid, v);
+    copy_pinned(system, x_mid, x);
+    copy_pinned(system, v_mid, v);
 
     system.acceleration(t, x, v, acceleration);
     system.template lincomb<1>(x_mid, x, {0.5 * dt}, {v});

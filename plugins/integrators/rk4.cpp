@@ -8,6 +8,7 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 
+#include "pinned_state.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -36,12 +37,8 @@ struct ClassicRungeKutta4 {
     if (h == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
-    // lincomb writes active particles only; the copies give the stage vectors the
-    // pinned particles' state, which the force evaluation reads.
-    system.copy(x_stage, x);
-    system.copy(v2, v);
-    system.copy(v3, v);
-    system.copy(v4, v);
+    copy_pinned(system, x_stage, x);
+    for (Real* stage_velocity : {v2, v3, v4}) copy_pinned(system, stage_velocity, v);
 
     system.acceleration(t, x, v, a1);
 

@@ -142,18 +142,23 @@ TEST_P(IntegratorContract, ZeroStepLeavesTheStateUnchangedFloat32) {
 }
 
 TEST_P(IntegratorContract, StageStatesCarryThePinnedParticles) {
-  // Particle 1 accelerates by the pinned particle 0's position plus, when velocities come,
-  // its velocity: a constant c, since a pinned particle never moves. Every stage the
-  // force law sees must therefore hold particle 0's real state, not zeros. One step:
-  // x1 = x + v dt + c dt^2 / 2 (c dt^2 for semi-implicit Euler), v1 = v + c dt.
+  // Particle 1 sits between pinned particles 0 and 2 and accelerates by the sum of their
+  // positions plus, when velocities come, of their velocities: a constant c, since pinned
+  // particles never move. Every stage the force law sees must therefore hold the pins'
+  // real state, not zeros. One step:
+  //   x1 = x + v dt + c dt^2 / 2 (c dt^2 for semi-implicit Euler),  v1 = v + c dt.
   MockSystem<double> system(
-      2, {0}, [](double, uint32_t, const double* x, const double* v, uint32_t stride) {
+      3, {0, 2}, [](double, uint32_t, const double* x, const double* v, uint32_t stride) {
         Vec3 a{};
-        for (uint32_t k = 0; k < 3; ++k) a[k] = x[k * stride] + (v ? v[k * stride] : 0.0);
+        for (uint32_t k = 0; k < 3; ++k)
+          for (uint32_t pin : {0u, 2u})
+            a[k] += x[k * stride + pin] + (v ? v[k * stride + pin] : 0.0);
         return a;
       });
   system.set_position(0, {1.0, 2.0, 3.0});
   system.set_velocity(0, {4.0, 5.0, 6.0});
+  system.set_position(2, {0.5, 0.25, 0.125});
+  system.set_velocity(2, {-1.0, -2.0, -4.0});
   Integrator integrator(GetParam());
   if (GetParam() == "verlet") integrator.with("damping", 0.0);
   integrator.start(system);
@@ -161,8 +166,9 @@ TEST_P(IntegratorContract, StageStatesCarryThePinnedParticles) {
   integrator.run(system, 1, dt);
   const bool velocities = expected_declaration(GetParam()).velocity_forces;
   const double position_weight = GetParam() == "euler" ? dt * dt : 0.5 * dt * dt;
+  const Vec3 from_positions{1.5, 2.25, 3.125}, from_velocities{3.0, 3.0, 2.0};
   for (int k = 0; k < 3; ++k) {
-    const double c = (k + 1.0) + (velocities ? k + 4.0 : 0.0);
+    const double c = from_positions[k] + (velocities ? from_velocities[k] : 0.0);
     EXPECT_NEAR(system.position(1)[k], position_weight * c, 1e-14) << "component " << k;
     EXPECT_NEAR(system.velocity(1)[k], dt * c, 1e-14) << "component " << k;
   }
