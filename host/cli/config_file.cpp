@@ -4,6 +4,7 @@
 
 #include <clothlab/host/errors.hpp>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace clothlab::cli {
@@ -54,6 +55,19 @@ void flatten(const YAML::Node& map, const std::string& prefix, const std::string
   }
 }
 
+// The same key twice (also spelled differently: a.b and a: {b}) is almost surely a
+// mistake, so it is not silently resolved by order.
+void reject_repeated_keys(const std::vector<Setting>& settings) {
+  std::map<std::string, const Setting*> first;
+  for (const Setting& setting : settings) {
+    const auto [it, inserted] = first.emplace(setting.key, &setting);
+    if (!inserted)
+      throw host::InputError(setting.source + ": " + setting.key + " = " + setting.value +
+                             " repeats the key already set at " + it->second->source +
+                             "; allowed: each key once per file");
+  }
+}
+
 }  // namespace
 
 std::vector<Setting> read_config_file(const std::filesystem::path& path) {
@@ -75,6 +89,7 @@ std::vector<Setting> read_config_file(const std::filesystem::path& path) {
     throw host::InputError(location(file, root.Mark()) +
                            ": expected a map of settings (key: value lines)");
   flatten(root, "", file, settings);
+  reject_repeated_keys(settings);
   check_one_length(settings, "config file " + file);
   return settings;
 }

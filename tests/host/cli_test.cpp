@@ -251,6 +251,21 @@ TEST_F(Clothlab, ShippedConfigsAreAccepted) {
   }
 }
 
+TEST_F(Clothlab, PluginParamsApplyOnlyToTheirPlugin) {
+  const std::string seed = "--config " + (source_dir / "configs/seed-2016.yaml").string() +
+                           " --set scenario.rows=6 --set scenario.cols=6 --steps 2 --quiet ";
+  const Outcome verlet = run(seed + "--json verlet.json");
+  ASSERT_EQ(verlet.exit_code, 0) << verlet.err;
+  const auto json = nlohmann::json::parse(read_text(file("verlet.json")));
+  EXPECT_EQ(json["integrator"], "verlet");
+  EXPECT_EQ(json["integrator_params"]["damping_per_step"], 0.005);
+  // rk4 has no damping_per_step: the verlet block is not applied to it.
+  const Outcome rk4 = run(seed + "--integrator=rk4 --json rk4.json");
+  EXPECT_NE(rk4.exit_code, 1) << rk4.err;
+  EXPECT_EQ(nlohmann::json::parse(read_text(file("rk4.json")))["integrator_params"],
+            nlohmann::json::object());
+}
+
 TEST_F(Clothlab, ListPluginsShowsComponentsAndParameters) {
   const Outcome outcome = run("--list-plugins");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;

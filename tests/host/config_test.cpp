@@ -129,6 +129,22 @@ TEST(ConfigFile, StepsAndDurationTogetherAreAnError) {
   EXPECT_NE(config_error(config).find("steps or duration, not both"), std::string::npos);
 }
 
+TEST(ConfigFile, TheSameKeyTwiceIsAnError) {
+  const TempConfig config("scenario:\n  rows: 5\nscenario.rows: 6\n");
+  EXPECT_EQ(config_error(config), config.at(3, 16) +
+                                      ": scenario.rows = 6 repeats the key already set at " +
+                                      config.at(2, 9) + "; allowed: each key once per file");
+}
+
+TEST(ConfigFile, PluginParamsAreKeptPerPluginId) {
+  const TempConfig config("plugin_params:\n  verlet: {damping_per_step: 0.005}\n");
+  const RunConfig run = resolve_run_config(read_config_file(config.path()));
+  ASSERT_EQ(run.plugin_params.size(), 1u);
+  EXPECT_EQ(run.plugin_params[0].key, "verlet.damping_per_step");
+  EXPECT_EQ(run.plugin_params[0].value, "0.005");
+  EXPECT_TRUE(run.integrator_params.empty());
+}
+
 TEST(ConfigFile, MissingFileIsAnError) {
   EXPECT_THROW(read_config_file("/nonexistent/clothlab.yaml"), host::InputError);
 }
