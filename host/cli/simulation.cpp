@@ -105,11 +105,6 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
   integrator_instance_->prepare(cloth_->system());
 }
 
-Simulation::~Simulation() {
-  // The integrator may hold vectors of the cloth's system: release it first.
-  integrator_instance_.reset();
-}
-
 void Simulation::add_observer(std::unique_ptr<StepObserver> observer) {
   observers_.push_back(std::move(observer));
 }

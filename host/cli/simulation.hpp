@@ -40,7 +40,6 @@ class Simulation {
   // Loads both plugins (PluginLoadError), applies the parameter settings (InputError),
   // creates the scene, the cloth and the integrator (PluginError).
   Simulation(const RunConfig& config, const host::PluginSearchPath& search_path);
-  ~Simulation();
 
   void add_observer(std::unique_ptr<StepObserver> observer);
   // Steps until done or until a check fails; a numerical failure is a verdict, any other
@@ -56,6 +55,7 @@ class Simulation {
   const host::IntegratorPlugin* integrator_;
   const host::ScenarioPlugin* scenario_;
   nlohmann::json integrator_params_, scenario_params_;
+  // Declared after the cloth so it is destroyed first: it may hold the system's vectors.
   std::unique_ptr<Cloth> cloth_;
   std::optional<host::IntegratorInstance> integrator_instance_;
   std::vector<std::unique_ptr<StepObserver>> observers_;
