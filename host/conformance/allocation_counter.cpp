@@ -1,11 +1,15 @@
-// Replaces the allocator entry points of the whole process with counting forwarders to
-// glibc's implementation (__libc_*), which they then call.
+// Counts allocator calls process-wide. Normally it replaces the allocator entry points with
+// counting forwarders to glibc's implementation (__libc_*). Under AddressSanitizer, which
+// owns the allocator, it registers ASan's allocation hooks instead.
 #include "allocation_counter.hpp"
 
 #include <cerrno>
 #include <cstddef>
 #include <new>
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/allocator_interface.h>
+#else
 extern "C" {
 void* __libc_malloc(size_t size);
 void* __libc_calloc(size_t count, size_t size);
@@ -13,6 +17,7 @@ void* __libc_realloc(void* pointer, size_t size);
 void* __libc_memalign(size_t alignment, size_t size);
 void __libc_free(void* pointer);
 }
+#endif
 
 namespace {
 
@@ -22,10 +27,6 @@ __attribute__((tls_model("initial-exec"))) thread_local uint64_t calls = 0;
 
 inline void note() {
   if (armed) ++calls;
-}
-
-bool valid_alignment(size_t alignment) {
-  return alignment >= sizeof(void*) && (alignment & (alignment - 1)) == 0;
 }
 
 }  // namespace
@@ -47,6 +48,22 @@ Pause::Pause() : was_armed_(armed) { armed = false; }
 Pause::~Pause() { armed = was_armed_; }
 
 }  // namespace clothlab::conformance::allocations
+
+#if defined(__SANITIZE_ADDRESS__)
+
+namespace {
+void on_allocate(const volatile void*, size_t) { note(); }
+void on_free(const volatile void*) { note(); }
+const int hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_allocate, on_free);
+}  // namespace
+
+#else
+
+namespace {
+bool valid_alignment(size_t alignment) {
+  return alignment >= sizeof(void*) && (alignment & (alignment - 1)) == 0;
+}
+}  // namespace
 
 extern "C" {
 
@@ -113,3 +130,5 @@ void operator delete(void* pointer, size_t) noexcept { free(pointer); }
 void operator delete[](void* pointer, size_t) noexcept { free(pointer); }
 void operator delete(void* pointer, const std::nothrow_t&) noexcept { free(pointer); }
 void operator delete[](void* pointer, const std::nothrow_t&) noexcept { free(pointer); }
+
+#endif  // __SANITIZE_ADDRESS__

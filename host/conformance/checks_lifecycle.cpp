@@ -16,8 +16,8 @@ Values defaults_of(const clothlab_integrator& integrator) { return default_value
 Verdict repeated_lifecycle(const clothlab_integrator& integrator) {
   State first;
   for (int round = 0; round < repeat_rounds; ++round) {
-    const State state =
-        simulate(integrator, sheet_scene(3, 3), Precision::Float64, 1, grid_steps, step_size);
+    const State state = simulate(integrator, sheet_scene(3, 3), preferred_precision(integrator), 1,
+                                 grid_steps, step_size);
     if (round == 0) first = state;
     require(state == first, "round " + std::to_string(round + 1) +
                                 " of create/prepare/step/destroy differs from round 1");
@@ -27,7 +27,7 @@ Verdict repeated_lifecycle(const clothlab_integrator& integrator) {
 
 Verdict zero_steps(const clothlab_integrator& integrator) {
   { IntegratorInstance unprepared(integrator, defaults_of(integrator)); }
-  Cloth cloth(sheet_scene(3, 3), Precision::Float64, pipeline_for(integrator));
+  Cloth cloth(sheet_scene(3, 3), preferred_precision(integrator), pipeline_for(integrator));
   const State before = state_of(cloth);
   {
     IntegratorInstance instance(integrator, defaults_of(integrator));
@@ -39,7 +39,7 @@ Verdict zero_steps(const clothlab_integrator& integrator) {
 }
 
 Verdict zero_dt(const clothlab_integrator& integrator) {
-  Cloth cloth(sheet_scene(4, 5, true), Precision::Float64, pipeline_for(integrator));
+  Cloth cloth(sheet_scene(4, 5, true), preferred_precision(integrator), pipeline_for(integrator));
   IntegratorInstance instance(integrator, defaults_of(integrator));
   instance.prepare(cloth);
   instance.run(cloth, 5, step_size);  // moving, so a dt = 0 step has forces to ignore

@@ -1,4 +1,6 @@
 // loading.*: the library opens, exports only its entry point, and the version gate works.
+#include <clothlab/host/errors.hpp>
+#include <clothlab/host/plugin_library.hpp>
 #include <string>
 
 #include "check.hpp"
@@ -57,6 +59,17 @@ Verdict abi_policy(const std::string& path) {
   return {true, ""};
 }
 
+// The real host's loader (Boost.DLL, its own descriptor checks) accepts the library.
+Verdict host_accepts(const std::string& path) {
+  try {
+    const host::PluginLibrary library = host::PluginLibrary::load(path);
+    return {true, std::to_string(library.integrators().size()) + " integrators, " +
+                      std::to_string(library.scenarios().size()) + " scenarios"};
+  } catch (const host::PluginLoadError& e) {
+    throw CheckFailure(std::string("the host refuses it: ") + e.what());
+  }
+}
+
 Verdict reloads(const std::string& path) {
   std::string first_name;
   for (int round = 0; round < reload_rounds; ++round) {
@@ -79,6 +92,7 @@ std::vector<Check> loading_checks(const std::string& path) {
       {"library", "loading.exports", [path] { return exports_only_entry(path); }},
       {"library", "loading.abi-policy", [path] { return abi_policy(path); }},
       {"library", "loading.reload", [path] { return reloads(path); }},
+      {"library", "loading.host-loader", [path] { return host_accepts(path); }},
   };
 }
 

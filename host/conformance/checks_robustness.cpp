@@ -28,7 +28,7 @@ void require_no_escape(const std::string& what, Call&& call) {
 
 Verdict nothing_escapes(const clothlab_integrator& integrator) {
   Values values = default_values(integrator);
-  Cloth cloth(sheet_scene(4, 4, true), Precision::Float64, pipeline_for(integrator));
+  Cloth cloth(sheet_scene(4, 4, true), preferred_precision(integrator), pipeline_for(integrator));
   clothlab_message message{};
   void* instance = nullptr;
   require_no_escape("create", [&] {
@@ -97,7 +97,7 @@ class PluginOnlySystem {
 };
 
 Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
-  Cloth cloth(sheet_scene(8, 8, true), Precision::Float64, pipeline_for(integrator));
+  Cloth cloth(sheet_scene(8, 8, true), preferred_precision(integrator), pipeline_for(integrator));
   const PluginOnlySystem measured(cloth.system());
   IntegratorInstance instance(integrator, default_values(integrator));
   clothlab_message message{};
@@ -121,14 +121,15 @@ Verdict concurrent_equals_sequential(const clothlab_integrator& integrator) {
   const Scene scenes[2] = {sheet_scene(16, 12, true), sheet_scene(12, 16)};
   State sequential[2], concurrent[2];
   for (int i = 0; i < 2; ++i)
-    sequential[i] = simulate(integrator, scenes[i], Precision::Float64, 1, concurrent_steps, 1e-3);
+    sequential[i] =
+        simulate(integrator, scenes[i], preferred_precision(integrator), 1, concurrent_steps, 1e-3);
   std::string errors[2];
   std::thread workers[2];
   for (int i = 0; i < 2; ++i)
     workers[i] = std::thread([&, i] {
       try {
-        concurrent[i] =
-            simulate(integrator, scenes[i], Precision::Float64, 1, concurrent_steps, 1e-3);
+        concurrent[i] = simulate(integrator, scenes[i], preferred_precision(integrator), 1,
+                                 concurrent_steps, 1e-3);
       } catch (const std::exception& e) {
         errors[i] = e.what();
       }

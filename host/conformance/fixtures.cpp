@@ -118,6 +118,11 @@ bool uses_velocity_forces(const clothlab_integrator& integrator) {
   return (integrator.flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
 }
 
+Precision preferred_precision(const clothlab_integrator& integrator) {
+  return (integrator.precisions & (1u << CLOTHLAB_FLOAT64)) != 0 ? Precision::Float64
+                                                                 : Precision::Float32;
+}
+
 PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads) {
   PipelineOptions options;
   options.velocity_forces = uses_velocity_forces(integrator);

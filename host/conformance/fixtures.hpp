@@ -76,6 +76,9 @@ PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads 
 
 bool uses_velocity_forces(const clothlab_integrator& integrator);
 
+// Float64 when the integrator offers it, else its other precision.
+Precision preferred_precision(const clothlab_integrator& integrator);
+
 struct State {
   std::vector<double> x, v;
   bool operator==(const State&) const = default;

@@ -32,7 +32,7 @@ ParameterSubject subject_of(const clothlab_integrator& integrator) {
             return status;
           },
           [c](const Values& values) {
-            Cloth cloth(sheet_scene(3, 3, true), Precision::Float64, pipeline_for(*c));
+            Cloth cloth(sheet_scene(3, 3, true), preferred_precision(*c), pipeline_for(*c));
             IntegratorInstance instance(*c, values);
             instance.prepare(cloth);
             instance.run(cloth, exercise_steps, 1e-3);

@@ -154,7 +154,7 @@ TEST(ConformanceRun, WritesJunitAndPrintsTheSeed) {
   std::ifstream in(junit);
   std::stringstream xml;
   xml << in.rdbuf();
-  EXPECT_NE(xml.str().find("<testsuite name=\"c_euler\" tests=\"5\" failures=\"0\""),
+  EXPECT_NE(xml.str().find("<testsuite name=\"c_euler\" tests=\"6\" failures=\"0\""),
             std::string::npos)
       << xml.str();
   std::remove(junit.c_str());
