@@ -70,7 +70,7 @@ std::string PluginSearchPath::describe() const {
 fs::path PluginSearchPath::resolve(std::string_view argument) const {
   if (argument.empty()) throw PluginLoadError("empty plugin name");
   if (argument.find('/') != std::string_view::npos) {
-    const fs::path path = fs::absolute(fs::path(argument));
+    const fs::path path = fs::absolute(fs::path(argument)).lexically_normal();
     if (!fs::exists(path))
       throw PluginLoadError("plugin file " + path.string() + " does not exist");
     return path;
@@ -80,7 +80,7 @@ fs::path PluginSearchPath::resolve(std::string_view argument) const {
   for (const fs::path& folder : directories_) {
     const fs::path candidate = folder / file_name;
     std::error_code error;
-    if (fs::is_regular_file(candidate, error)) return fs::absolute(candidate);
+    if (fs::is_regular_file(candidate, error)) return fs::absolute(candidate).lexically_normal();
   }
   throw PluginLoadError("plugin " + std::string(argument) + ": no " + file_name +
                         " in the plugin search path " + describe());
@@ -99,7 +99,8 @@ std::vector<fs::path> PluginSearchPath::libraries() const {
     }
     std::sort(in_folder.begin(), in_folder.end());
     for (fs::path& path : in_folder)
-      if (seen_names.insert(path.filename()).second) found.push_back(fs::absolute(path));
+      if (seen_names.insert(path.filename()).second)
+        found.push_back(fs::absolute(path).lexically_normal());
   }
   return found;
 }
