@@ -12,13 +12,11 @@
 namespace clothlab::detail {
 namespace {
 
-// Zeros left of column 0 in every ring row, so reads at c - 2 .. c + 1 need no branch.
+// Zeros left of column 0 in every scratch row, so shifted reads need no branch.
 constexpr std::size_t kMargin = 16;
+constexpr std::size_t kRowsPerThread = 9 + 3 + 6;  // accumulators, force row, wind rows
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
-
-// Ring slot of a row; rows down to -2 (the zero rows above the grid) are valid.
-std::size_t slot(std::ptrdiff_t row) { return static_cast<std::size_t>((row + 3) % 3); }
 
 }  // namespace
 
@@ -57,34 +55,44 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
   }
   normals_per_eval_ = wind_ ? 2 * uint64_t{rows_ - 1} * (cols_ - 1) : 0;
 
-  channels_ = stages_.size() + (wind_ ? 2 : 0);
   row_span_ = kMargin + round_up_16(cols_ + 1);
-  ring_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * channels_ * 9 * row_span_);
+  scratch_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * kRowsPerThread * row_span_);
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::row_buffer(int thread, std::size_t channel, std::ptrdiff_t row, int k) {
-  const std::size_t ring_row =
-      ((static_cast<std::size_t>(thread) * channels_ + channel) * 3 + slot(row)) * 3 +
-      static_cast<std::size_t>(k);
-  return ring_.data() + ring_row * row_span_ + kMargin;
+Real* ForcePipeline<Real>::accumulator(int thread, std::size_t row, int k) {
+  const std::size_t index =
+      static_cast<std::size_t>(thread) * kRowsPerThread + row % 3 * 3 + static_cast<std::size_t>(k);
+  return scratch_.data() + index * row_span_ + kMargin;
 }
 
 template <class Real>
-void ForcePipeline<Real>::compute_row(int thread, std::size_t row, Pass& pass) {
+Real* ForcePipeline<Real>::force_row(int thread, int k) {
+  const std::size_t index =
+      static_cast<std::size_t>(thread) * kRowsPerThread + 9 + static_cast<std::size_t>(k);
+  return scratch_.data() + index * row_span_ + kMargin;
+}
+
+template <class Real>
+Real* ForcePipeline<Real>::wind_row(int thread, int triangle, int k) {
+  const std::size_t index = static_cast<std::size_t>(thread) * kRowsPerThread + 12 +
+                            static_cast<std::size_t>(triangle * 3 + k);
+  return scratch_.data() + index * row_span_ + kMargin;
+}
+
+template <class Real>
+void ForcePipeline<Real>::add_springs(int thread, std::size_t row, const Pass& pass) {
   const std::size_t first = row * cols_;
-  for (std::size_t s = 0; s < stages_.size(); ++s) {
-    const SpringStage& stage = stages_[s];
-    if (row >= stage.extent.row_end) {  // no spring starts here: contribute zeros
-      for (int k = 0; k < 3; ++k) std::fill_n(row_buffer(thread, s, row, k), cols_, Real(0));
-      continue;
-    }
+  for (const SpringStage& stage : stages_) {
+    if (row >= stage.extent.row_end) continue;  // no spring of this stencil starts here
     const bool damped = stage.damped && pass.v != nullptr;
+    const bool in_row = stage.row_step == 0;
     SpringRow<Real> job{};
     for (int k = 0; k < 3; ++k) {
       job.x[k] = pass.x + k * stride_ + first;
       job.v[k] = damped ? pass.v + k * stride_ + first : nullptr;
-      job.f[k] = row_buffer(thread, s, row, k);
+      job.own[k] = in_row ? force_row(thread, k) : accumulator(thread, row, k);
+      job.partner[k] = accumulator(thread, row + stage.row_step, k) + stage.col_step;
     }
     job.col_begin = stage.extent.col_begin;
     job.col_end = stage.extent.col_end;
@@ -92,33 +100,48 @@ void ForcePipeline<Real>::compute_row(int thread, std::size_t row, Pass& pass) {
     job.rest = stage.rest;
     job.ks = stage.ks;
     job.kd = stage.kd;
+    if (!in_row) {
+      if (damped) {
+        spring_row_forces<Real, true, true>(job);
+      } else {
+        spring_row_forces<Real, false, true>(job);
+      }
+      continue;
+    }
+    // In-row stencils start at column 0; the columns after the last spring must read 0.
+    for (int k = 0; k < 3; ++k) std::fill(job.own[k] + job.col_end, job.own[k] + cols_, Real(0));
     if (damped) {
-      spring_row_forces<Real, true>(job);
+      spring_row_forces<Real, true, false>(job);
     } else {
-      spring_row_forces<Real, false>(job);
+      spring_row_forces<Real, false, false>(job);
+    }
+    const auto step = static_cast<std::size_t>(stage.col_step);
+    for (int k = 0; k < 3; ++k) {
+      add_row_springs(accumulator(thread, row, k), force_row(thread, k), step, cols_);
     }
   }
-  if (!wind_) return;
+}
+
+template <class Real>
+void ForcePipeline<Real>::add_wind(int thread, std::size_t row, Pass& pass) {
+  if (!wind_ || row + 1 >= rows_) return;  // the last row starts no cell
   const bool timed = thread == 0;
   const auto start =
       timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-  const std::size_t first_channel = stages_.size();
-  if (row + 1 < rows_) {
-    WindRow<Real> job{};
-    for (int k = 0; k < 3; ++k) {
-      job.x[k] = pass.x + k * stride_ + first;
-      job.below[k] = job.x[k] + cols_;
-      job.first[k] = row_buffer(thread, first_channel, row, k);
-      job.second[k] = row_buffer(thread, first_channel + 1, row, k);
-      job.direction[k] = wind_direction_[k];
-    }
-    job.cells = cols_ - 1;
-    job.strength = wind_strength_;
-    wind_row_forces(job);
-  } else {  // the last row starts no cell
-    for (std::size_t channel = first_channel; channel < channels_; ++channel) {
-      for (int k = 0; k < 3; ++k) std::fill_n(row_buffer(thread, channel, row, k), cols_, Real(0));
-    }
+  WindRow<Real> job{};
+  for (int k = 0; k < 3; ++k) {
+    job.x[k] = pass.x + k * stride_ + row * cols_;
+    job.below[k] = job.x[k] + cols_;
+    job.first[k] = wind_row(thread, 0, k);
+    job.second[k] = wind_row(thread, 1, k);
+    job.direction[k] = wind_direction_[k];
+  }
+  job.cells = cols_ - 1;
+  job.strength = wind_strength_;
+  wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
+  for (int k = 0; k < 3; ++k) {
+    add_cell_winds(accumulator(thread, row, k), accumulator(thread, row + 1, k), job.first[k],
+                   job.second[k], cols_);
   }
   if (timed) {
     pass.wind_seconds +=
@@ -127,91 +150,50 @@ void ForcePipeline<Real>::compute_row(int thread, std::size_t row, Pass& pass) {
 }
 
 template <class Real>
-void ForcePipeline<Real>::zero_row(int thread, std::ptrdiff_t row) {
-  for (std::size_t channel = 0; channel < channels_; ++channel) {
-    for (int k = 0; k < 3; ++k) std::fill_n(row_buffer(thread, channel, row, k), cols_, Real(0));
-  }
-}
-
-template <class Real>
-template <std::size_t M>
-void ForcePipeline<Real>::gather_stages(int thread, std::ptrdiff_t row, int k, std::size_t first,
-                                        bool assign, Real* out) {
-  std::array<const Real*, M> own, back;
-  for (std::size_t m = 0; m < M; ++m) {
-    const SpringStage& stage = stages_[first + m];
-    own[m] = row_buffer(thread, first + m, row, k);
-    back[m] = row_buffer(thread, first + m, row - stage.row_step, k) - stage.col_step;
-  }
-  if (assign) {
-    gather_springs<Real, M, true>(out, own, back, cols_);
-  } else {
-    gather_springs<Real, M, false>(out, own, back, cols_);
-  }
-}
-
-template <class Real>
-Real ForcePipeline<Real>::accumulate_row(int thread, std::size_t row, Real* a) {
-  const auto r = static_cast<std::ptrdiff_t>(row);
+Real ForcePipeline<Real>::finish_row(int thread, std::size_t row, Real* a) {
   const std::size_t cols = cols_;
   const Real* __restrict inverse_mass = inverse_mass_ + row * cols;
   Real probe = 0;
   for (int k = 0; k < 3; ++k) {
+    Real* __restrict acc = accumulator(thread, row, k);
     Real* __restrict out = a + k * stride_ + row * cols;
-    bool assign = true;  // the first pass writes, later ones add
-    for (std::size_t s = 0; s < stages_.size(); s += 3, assign = false) {
-      switch (std::min<std::size_t>(3, stages_.size() - s)) {
-        case 1:
-          gather_stages<1>(thread, r, k, s, assign, out);
-          break;
-        case 2:
-          gather_stages<2>(thread, r, k, s, assign, out);
-          break;
-        default:
-          gather_stages<3>(thread, r, k, s, assign, out);
-      }
-    }
-    if (wind_) {
-      const std::size_t channel = stages_.size();
-      const Real* first = row_buffer(thread, channel, r, k);
-      const Real* second = row_buffer(thread, channel + 1, r, k);
-      const Real* first_above = row_buffer(thread, channel, r - 1, k);
-      const Real* second_above = row_buffer(thread, channel + 1, r - 1, k);
-      if (assign) {
-        gather_wind<Real, true>(out, first, second, first_above, second_above, cols);
-      } else {
-        gather_wind<Real, false>(out, first, second, first_above, second_above, cols);
-      }
-      assign = false;
-    }
-    if (assign) std::fill_n(out, cols, Real(0));  // no force but gravity
     const Real g = gravity_[k];
 #pragma omp simd reduction(+ : probe)
     for (std::size_t c = 0; c < cols; ++c) {
-      const Real value = inverse_mass[c] > Real(0) ? out[c] * inverse_mass[c] + g : Real(0);
+      const Real value = inverse_mass[c] > Real(0) ? acc[c] * inverse_mass[c] + g : Real(0);
       out[c] = value;
-      probe += value * Real(0);  // NaN exactly when some value is not finite
+      acc[c] = 0;                // ready for row + 3
+      probe += value * Real(0);  // NaN exactly when value is not finite
     }
   }
   return probe;
 }
 
 template <class Real>
-void ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass,
-                                   Real& probe) {
-  // Rows above the block feed its first two rows: recompute them, or zero above the grid.
-  for (std::ptrdiff_t row = static_cast<std::ptrdiff_t>(begin) - 2;
-       row < static_cast<std::ptrdiff_t>(begin); ++row) {
-    if (row < 0) {
-      zero_row(thread, row);
-    } else {
-      compute_row(thread, static_cast<std::size_t>(row), pass);
-    }
+void ForcePipeline<Real>::clear_row(int thread, std::size_t row) {
+  for (int k = 0; k < 3; ++k) std::fill_n(accumulator(thread, row, k), cols_, Real(0));
+}
+
+template <class Real>
+Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass) {
+  Real probe = 0;
+  if (begin >= end) return probe;
+  // Springs and cells of the two rows above the block act on its first rows; their own
+  // rows belong to another thread and are dropped.
+  const std::size_t first = begin >= 2 ? begin - 2 : 0;
+  for (std::size_t row = first; row < begin; ++row) {
+    add_springs(thread, row, pass);
+    add_wind(thread, row, pass);
+    clear_row(thread, row);
   }
   for (std::size_t row = begin; row < end; ++row) {
-    compute_row(thread, row, pass);
-    probe += accumulate_row(thread, row, pass.a);
+    add_springs(thread, row, pass);
+    add_wind(thread, row, pass);
+    probe += finish_row(thread, row, pass.a);
   }
+  // Forces already added to the rows after the block belong to the next thread's rows.
+  for (std::size_t row = end; row < std::min(end + 2, rows_); ++row) clear_row(thread, row);
+  return probe;
 }
 
 template <class Real>
@@ -226,7 +208,7 @@ bool ForcePipeline<Real>::evaluate(const Real* x, const Real* v, Real* a, StageC
     const std::size_t begin = rows_ * static_cast<std::size_t>(thread) / team;
     const std::size_t end = rows_ * static_cast<std::size_t>(thread + 1) / team;
     Pass pass{x, v, a, 0.0};
-    run_rows(thread, begin, end, pass, probe);
+    probe += run_rows(thread, begin, end, pass);
     if (thread == 0) wind_seconds = pass.wind_seconds;
   }
   // The pass is fused, so its time is split by thread 0's share of wind work.

@@ -1,11 +1,12 @@
 // The force evaluation built once for a scene: only the spring stencils that exert force,
 // damping terms only when the integrator uses velocity forces, wind only when it blows.
 //
-// One fused pass per thread over its block of grid rows: for row r it computes every
-// spring starting in r (and the wind on the cells below r) into a three-row ring of
-// per-stencil scratch, then gathers the forces on row r's particles by shifted reads of
-// rows r, r-1 and r-2, and writes the acceleration. Scratch stays in cache; there is no
-// scatter and no atomic. Each thread first recomputes the two rows above its block.
+// One fused pass per thread over its block of grid rows, with per-row scratch that stays
+// in cache. For row r it computes every spring starting in r once and the wind on the
+// cells below r, and accumulates them onto a ring of three row accumulators (rows r, r+1,
+// r+2) by shifted adds: within the row through a per-stencil force row, into later rows
+// directly. Row r is then complete and becomes accelerations. No scatter, no atomics;
+// each thread first runs the two rows above its block for their forces on it.
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -45,16 +46,19 @@ class ForcePipeline {
     double wind_seconds;  // measured on thread 0 only
   };
 
-  Real* row_buffer(int thread, std::size_t channel, std::ptrdiff_t row, int k);
-  void compute_row(int thread, std::size_t row, Pass& pass);
-  void zero_row(int thread, std::ptrdiff_t row);
-  // Adds (or, when assign, writes) M stages starting at `first` into out.
-  template <std::size_t M>
-  void gather_stages(int thread, std::ptrdiff_t row, int k, std::size_t first, bool assign,
-                     Real* out);
-  // Writes row's accelerations; returns the sum of 0 * a (NaN when one is not finite).
-  Real accumulate_row(int thread, std::size_t row, Real* a);
-  void run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass, Real& probe);
+  // Per-thread scratch rows: 3 accumulators x 3 components, then a force row per
+  // component, then the two wind share rows per component.
+  Real* accumulator(int thread, std::size_t row, int k);
+  Real* force_row(int thread, int k);
+  Real* wind_row(int thread, int triangle, int k);
+
+  void add_springs(int thread, std::size_t row, const Pass& pass);
+  void add_wind(int thread, std::size_t row, Pass& pass);
+  // Turns row's accumulator into accelerations and clears it; returns the sum of 0 * a
+  // (NaN exactly when some acceleration is not finite).
+  Real finish_row(int thread, std::size_t row, Real* a);
+  void clear_row(int thread, std::size_t row);
+  Real run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass);
 
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
@@ -68,9 +72,8 @@ class ForcePipeline {
   bool wind_ = false;
 
   std::vector<SpringStage> stages_;
-  std::size_t channels_ = 0;  // one per stage, plus two for wind
-  std::size_t row_span_ = 0;  // margin + columns + margin, per ring row
-  AlignedBuffer<Real> ring_;  // threads x channels x 3 rows x 3 components
+  std::size_t row_span_ = 0;  // margin + columns + margin
+  AlignedBuffer<Real> scratch_;
   uint64_t springs_per_eval_ = 0;
   uint64_t damped_per_eval_ = 0;
   uint64_t normals_per_eval_ = 0;

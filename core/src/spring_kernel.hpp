@@ -1,7 +1,9 @@
 // Spring forces of one stencil along one grid row, each spring computed once.
 //
-// The force on a spring's first particle (column c of this row) is stored at f[c]; its
-// second particle receives -f[c], which the accumulation pass gathers by a shifted read.
+// A spring from particle c of this row to its partner pushes c by f and the partner by
+// -f. Stencils that stay in the row store f by column (`own[c] = f`) and are accumulated
+// later by a shifted add; stencils reaching a later row add both ends straight into the
+// row accumulators (`own[c] += f`, `partner[c] -= f`, partner shifted to line up).
 #pragma once
 
 #include <cmath>
@@ -13,7 +15,8 @@ template <class Real>
 struct SpringRow {
   const Real* x[3];  // positions, at this row's first particle
   const Real* v[3];  // velocities likewise; read only when damped
-  Real* f[3];        // per-spring force on the first particle, by column
+  Real* own[3];      // by column of the first particle
+  Real* partner[3];  // by column of the first particle; used only when adding forward
   std::size_t col_begin;
   std::size_t col_end;
   std::size_t offset;  // index distance to the second particle
@@ -23,7 +26,7 @@ struct SpringRow {
 };
 
 // Hooke (seed eq. 2.7), plus damping along the spring (eq. 2.8) when Damped.
-template <class Real, bool Damped>
+template <class Real, bool Damped, bool Forward>
 inline void spring_row_forces(const SpringRow<Real>& row) {
   const std::size_t offset = row.offset;
   const Real* __restrict x = row.x[0];
@@ -32,9 +35,12 @@ inline void spring_row_forces(const SpringRow<Real>& row) {
   const Real* __restrict vx = row.v[0];
   const Real* __restrict vy = row.v[1];
   const Real* __restrict vz = row.v[2];
-  Real* __restrict fx = row.f[0];
-  Real* __restrict fy = row.f[1];
-  Real* __restrict fz = row.f[2];
+  Real* __restrict fx = row.own[0];
+  Real* __restrict fy = row.own[1];
+  Real* __restrict fz = row.own[2];
+  Real* __restrict px = row.partner[0];
+  Real* __restrict py = row.partner[1];
+  Real* __restrict pz = row.partner[2];
   const Real rest = row.rest;
   const Real ks = row.ks;
   const Real kd = row.kd;
@@ -53,9 +59,18 @@ inline void spring_row_forces(const SpringRow<Real>& row) {
       magnitude += kd * closing * inverse_length;
     }
     const Real scale = magnitude * inverse_length;
-    fx[c] = scale * dx;
-    fy[c] = scale * dy;
-    fz[c] = scale * dz;
+    if constexpr (Forward) {
+      fx[c] += scale * dx;
+      fy[c] += scale * dy;
+      fz[c] += scale * dz;
+      px[c] -= scale * dx;
+      py[c] -= scale * dy;
+      pz[c] -= scale * dz;
+    } else {
+      fx[c] = scale * dx;
+      fy[c] = scale * dy;
+      fz[c] = scale * dz;
+    }
   }
 }
 
