@@ -124,5 +124,28 @@ TEST(WorkPrecision, DurationThatIsNotWholeStepsIsRejected) {
       SweepError);
 }
 
+TEST(WorkPrecision, SelfReferencedIntegratorsGetTheirOwnReference) {
+  ScratchFolder scratch;
+  SweepSpec spec = ladder_spec();
+  spec.work_precision.self_reference = {"midpoint"};
+  ResultsStore store(scratch.path() / "wp", false);
+  FakeIntegrators fake;
+  const auto summary = run_work_precision(
+      spec, expand_cases(spec), [&](const CaseSpec& c) { return fake(c); }, store, nullptr);
+  EXPECT_EQ(summary.references, 2u);
+  EXPECT_EQ(fake.calls, 14);
+  const Row* own = find_row(store, "work-precision;reference;scenario=sheet;integrator=midpoint");
+  ASSERT_NE(own, nullptr);
+  EXPECT_EQ((*own)["reference_integrator"], "midpoint");
+  EXPECT_TRUE((*own)["reference_error_estimate"].is_null());
+  // Against itself at dt_ref the error is 5 (dt^2 - dt_ref^2) / sqrt(2) / diagonal.
+  const Row* ladder =
+      find_row(store, "work-precision;ladder;integrator=midpoint;scenario=sheet;dt=0.01");
+  ASSERT_NE(ladder, nullptr);
+  const double h = 0.000625 / 16.0 / 2.0;
+  EXPECT_NEAR((*ladder)["error"].get<double>(), 5.0 * (1e-4 - h * h) / std::sqrt(2.0) / kDiagonal,
+              1e-15);
+}
+
 }  // namespace
 }  // namespace clothlab::sweep

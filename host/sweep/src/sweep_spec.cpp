@@ -175,12 +175,21 @@ void read_monitor(const std::string& source, const YAML::Node& node, SweepSpec& 
 void read_work_precision(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
   auto& wp = spec.work_precision;
   for_each_key(source, node, "sweep.work_precision",
-               {"reference_integrator", "refinement", "dt_start", "levels"},
+               {"reference_integrator", "self_reference", "refinement", "dt_start", "levels"},
                [&](const std::string& key, const YAML::Node& value) {
                  if (key.ends_with("reference_integrator")) {
                    wp.reference_integrator = scalar_text(source, value, key);
                    if (!is_plugin_id(wp.reference_integrator)) {
                      fail(source, value, key, wp.reference_integrator, "a plugin id");
+                   }
+                 } else if (key.ends_with("self_reference")) {
+                   const YAML::Node list = value.IsSequence() ? value : YAML::Node();
+                   if (!value.IsSequence())
+                     fail(source, value, key, "(not a list)", "a list of ids");
+                   for (const YAML::Node& item : list) {
+                     const std::string id = scalar_text(source, item, key);
+                     if (!is_plugin_id(id)) fail(source, item, key, id, "a plugin id");
+                     wp.self_reference.push_back(id);
                    }
                  } else if (key.ends_with("refinement")) {
                    wp.refinement = number(source, value, key, 2.0, 1e6, "a number in [2, 1e6]");

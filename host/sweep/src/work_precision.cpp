@@ -1,5 +1,6 @@
 #include "clothlab/sweep/work_precision.hpp"
 
+#include <algorithm>
 #include <clothlab/analysis/order_fit.hpp>
 #include <cmath>
 #include <exception>
@@ -7,6 +8,7 @@
 
 #include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
+#include "clothlab/sweep/sweep_runner.hpp"
 
 namespace clothlab::sweep {
 namespace {
@@ -31,8 +33,18 @@ std::string join(const Coordinates& coordinates) {
   return key;
 }
 
-std::string reference_key(const CaseSpec& c) {
-  return "work-precision;reference;" + join(problem_coordinates(c));
+bool is_self_referenced(const WorkPrecisionSettings& wp, const CaseSpec& c) {
+  return std::find(wp.self_reference.begin(), wp.self_reference.end(), c.integrator) !=
+         wp.self_reference.end();
+}
+
+std::string reference_integrator(const WorkPrecisionSettings& wp, const CaseSpec& c) {
+  return is_self_referenced(wp, c) ? c.integrator : wp.reference_integrator;
+}
+
+std::string reference_key(const WorkPrecisionSettings& wp, const CaseSpec& c) {
+  const std::string key = "work-precision;reference;" + join(problem_coordinates(c));
+  return is_self_referenced(wp, c) ? key + ";integrator=" + c.integrator : key;
 }
 std::string ladder_key(const CaseSpec& c, double dt) {
   return "work-precision;ladder;" + c.key + ";dt=" + format_number(dt);
@@ -79,31 +91,33 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base,
                              const TrajectoryRunner& runner, ResultsStore& store) {
   const auto& wp = spec.work_precision;
   const double duration = duration_of(spec, base);
-  CaseSpec reference = with_setting(base, "integrator.plugin", wp.reference_integrator);
+  const std::string integrator = reference_integrator(wp, base);
+  CaseSpec reference = with_setting(base, "integrator.plugin", integrator);
   reference = with_setting(reference, "precision", "float64");
   const double dt = ladder_dt(wp, wp.levels - 1) / wp.refinement;
   const Trajectory coarse = run_guarded(runner, run_spec(reference, dt, duration));
   const Trajectory fine = run_guarded(runner, run_spec(reference, dt / 2.0, duration));
   for (const Trajectory* run : {&coarse, &fine}) {
     if (!run->verdict.stable()) {
-      throw SweepError("work-precision: reference " + wp.reference_integrator + " float64 for " +
+      throw SweepError("work-precision: reference " + integrator + " float64 for " +
                        join(problem_coordinates(base)) + " is " + to_string(run->verdict.status) +
                        ": " + run->verdict.reason);
     }
   }
   const double difference = relative_rms_error(coarse.positions, fine.positions, fine.diagonal);
-  if (!store.contains(reference_key(base))) {
+  if (!store.contains(reference_key(wp, base))) {
     Row row;
-    row["key"] = reference_key(base);
+    row["key"] = reference_key(wp, base);
     row["kind"] = "reference";
     for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
-    row["reference_integrator"] = wp.reference_integrator;
+    row["reference_integrator"] = integrator;
     row["reference_dt"] = dt / 2.0;
     row["check_dt"] = dt;
     row["T"] = duration;
     row["reference_difference"] = difference;
-    // The finer run's own error for an order-4 reference: difference / (2^4 - 1).
-    row["reference_error_estimate"] = difference / 15.0;
+    // The finer run's own error for an order-4 reference: difference / (2^4 - 1). A self
+    // reference's order is what is being measured, so it gets no estimate.
+    row["reference_error_estimate"] = is_self_referenced(wp, base) ? Row() : Row(difference / 15.0);
     row["wall_s"] = coarse.wall_s + fine.wall_s;
     store.append(row);
   }
@@ -201,10 +215,11 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
         ++summary.skipped;
         continue;
       }
-      auto reference = references.find(reference_key(c));
+      auto reference = references.find(reference_key(wp, c));
       if (reference == references.end()) {
         reference =
-            references.emplace(reference_key(c), compute_reference(spec, c, runner, store)).first;
+            references.emplace(reference_key(wp, c), compute_reference(spec, c, runner, store))
+                .first;
         ++summary.references;
       }
       const Trajectory run = run_guarded(runner, run_spec(c, dt, duration));

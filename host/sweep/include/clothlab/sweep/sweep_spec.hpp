@@ -16,7 +16,8 @@
 //       precision: [float32, float64]
 //       scenario.structural.ks: [20, 200]   # any setting key: a list of values
 //     monitor: {check_interval: 10, stretch_limit: 2, energy_margin: 1}
-//     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6}
+//     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6,
+//                      self_reference: [verlet]}
 //     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
 //                 max_evaluations: 40}
 #pragma once
@@ -49,6 +50,9 @@ struct Axis {
 
 struct WorkPrecisionSettings {
   std::string reference_integrator = "rk4";
+  // Integrators that solve a different ODE than the reference (e.g. position Verlet: no
+  // velocity forces, its own drag) are measured against themselves at the reference step.
+  std::vector<std::string> self_reference;
   double refinement = 32.0;  // reference dt = finest ladder dt / refinement
   double dt_start = 4e-3;    // coarsest ladder step, s
   int levels = 6;            // ladder length (dt_start, dt_start/2, ...)

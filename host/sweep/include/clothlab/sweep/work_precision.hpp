@@ -8,6 +8,8 @@
 // dt_start / 2^k, k = 0 .. levels-1, to T = the sweep's duration exactly (steps = T / dt).
 //   error = sqrt(mean over particles of |x - x_ref|^2) / diagonal
 // and the empirical order is fitted over the automatically chosen asymptotic range.
+// Integrators listed in self_reference solve another ODE than the reference (position Verlet
+// has no velocity forces and its own drag): their reference is themselves at dt_ref, per problem.
 #pragma once
 
 #include <cstdint>
