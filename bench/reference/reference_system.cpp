@@ -1,0 +1,155 @@
+#include "reference_system.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+namespace clothlab::reference {
+
+template <class Real>
+ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
+    : cloth_(scene),
+      velocity_forces_(velocity_forces),
+      n_(std::size_t{scene.rows} * scene.cols),
+      stride_((n_ + 15) / 16 * 16),
+      x_(make_vector()),
+      v_(make_vector()),
+      inverse_mass_(make_vector()),
+      x_aos_(3 * n_),
+      v_aos_(3 * n_),
+      a_aos_(3 * n_) {
+  const std::vector<Real>& start = cloth_.initial_positions();
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) x_[k * stride_ + i] = start[3 * i + k];
+    inverse_mass_[i] = static_cast<Real>(static_cast<double>(n_) / scene.total_mass);
+  }
+  for (uint32_t pinned : scene.pinned) inverse_mass_[pinned] = 0;
+  for (std::size_t i = 0; i < n_;) {
+    if (inverse_mass_[i] == 0) {
+      ++i;
+      continue;
+    }
+    const std::size_t begin = i;
+    while (i < n_ && inverse_mass_[i] != 0) ++i;
+    active_.push_back({static_cast<uint32_t>(begin), static_cast<uint32_t>(i)});
+  }
+
+  system_.struct_size = sizeof(clothlab_system);
+  system_.precision = sizeof(Real) == sizeof(float) ? CLOTHLAB_FLOAT32 : CLOTHLAB_FLOAT64;
+  system_.particle_count = static_cast<uint32_t>(n_);
+  system_.stride = static_cast<uint32_t>(stride_);
+  system_.x = x_.get();
+  system_.v = v_.get();
+  system_.inverse_mass = inverse_mass_.get();
+  system_.active = active_.data();
+  system_.active_count = static_cast<uint32_t>(active_.size());
+  system_.context = this;
+  system_.eval_acceleration = &eval_callback;
+  system_.axpy = &axpy_callback;
+  system_.lincomb = &lincomb_callback;
+  system_.copy = &copy_callback;
+  system_.alloc_vector = &alloc_callback;
+}
+
+template <class Real>
+typename ReferenceSystem<Real>::Vector ReferenceSystem<Real>::make_vector() const {
+  const std::size_t bytes = (3 * stride_ * sizeof(Real) + 63) / 64 * 64;
+  Vector vector(static_cast<Real*>(std::aligned_alloc(64, bytes)));
+  if (!vector) throw std::bad_alloc();
+  std::memset(vector.get(), 0, bytes);
+  return vector;
+}
+
+template <class Real>
+void ReferenceSystem<Real>::positions(std::vector<double>& out) const {
+  out.resize(3 * n_);
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) out[3 * i + k] = x_[k * stride_ + i];
+  }
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::evaluate(const Real* x, const Real* v, Real* a) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool damping = velocity_forces_ && v != nullptr;
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      x_aos_[3 * i + k] = x[k * stride_ + i];
+      if (damping) v_aos_[3 * i + k] = v[k * stride_ + i];
+    }
+  }
+  cloth_.acceleration(x_aos_.data(), damping ? v_aos_.data() : nullptr, a_aos_.data());
+  bool finite = true;
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      a[k * stride_ + i] = a_aos_[3 * i + k];
+      finite = finite && std::isfinite(a_aos_[3 * i + k]);
+    }
+  }
+  ++force_evals_;
+  force_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::eval_callback(void* context, double, const void* x,
+                                                     const void* v, void* a) {
+  return static_cast<ReferenceSystem*>(context)->evaluate(
+      static_cast<const Real*>(x), static_cast<const Real*>(v), static_cast<Real*>(a));
+}
+
+template <class Real>
+void ReferenceSystem<Real>::axpy_callback(void* context, void* y, double alpha, const void* x) {
+  const auto* self = static_cast<const ReferenceSystem*>(context);
+  Real* out = static_cast<Real*>(y);
+  const Real* in = static_cast<const Real*>(x);
+  for (const clothlab_range& range : self->active_) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      for (std::size_t i = range.begin; i < range.end; ++i) {
+        out[k * self->stride_ + i] += static_cast<Real>(alpha) * in[k * self->stride_ + i];
+      }
+    }
+  }
+}
+
+template <class Real>
+void ReferenceSystem<Real>::lincomb_callback(void* context, void* out, const void* base,
+                                             uint32_t count, const double* coefficients,
+                                             const void* const* vectors) {
+  const auto* self = static_cast<const ReferenceSystem*>(context);
+  for (const clothlab_range& range : self->active_) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      for (std::size_t i = range.begin; i < range.end; ++i) {
+        const std::size_t e = k * self->stride_ + i;
+        Real sum = static_cast<const Real*>(base)[e];
+        for (uint32_t j = 0; j < count; ++j) {
+          sum += static_cast<Real>(coefficients[j]) * static_cast<const Real*>(vectors[j])[e];
+        }
+        static_cast<Real*>(out)[e] = sum;
+      }
+    }
+  }
+}
+
+template <class Real>
+void ReferenceSystem<Real>::copy_callback(void* context, void* dst, const void* src) {
+  const auto* self = static_cast<const ReferenceSystem*>(context);
+  std::memmove(dst, src, 3 * self->stride_ * sizeof(Real));
+}
+
+template <class Real>
+void* ReferenceSystem<Real>::alloc_callback(void* context) {
+  auto* self = static_cast<ReferenceSystem*>(context);
+  try {
+    self->vectors_.push_back(self->make_vector());
+    return self->vectors_.back().get();
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+
+template class ReferenceSystem<float>;
+template class ReferenceSystem<double>;
+
+}  // namespace clothlab::reference

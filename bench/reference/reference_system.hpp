@@ -1,0 +1,63 @@
+// The reference forces behind a clothlab_system, so any integrator plugin can run on the
+// seed-style baseline: the in-run comparison of issue 4. Vectors are SoA as the ABI
+// requires; each evaluation converts to and from the reference's particle-major arrays
+// (preallocated) and the vector helpers are plain single-threaded loops.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "reference_forces.hpp"
+
+namespace clothlab::reference {
+
+template <class Real>
+class ReferenceSystem {
+ public:
+  ReferenceSystem(const Scene& scene, bool velocity_forces);
+  ReferenceSystem(const ReferenceSystem&) = delete;
+  ReferenceSystem& operator=(const ReferenceSystem&) = delete;
+
+  const clothlab_system& system() const { return system_; }
+  uint64_t force_evals() const { return force_evals_; }
+  double force_seconds() const { return force_seconds_; }  // wall time in eval_acceleration
+  // Positions, particle-major: out[3 * i + k].
+  void positions(std::vector<double>& out) const;
+
+ private:
+  struct Free {
+    void operator()(Real* p) const { std::free(p); }
+  };
+  using Vector = std::unique_ptr<Real[], Free>;
+
+  Vector make_vector() const;
+  clothlab_status evaluate(const Real* x, const Real* v, Real* a);
+
+  static clothlab_status eval_callback(void* context, double t, const void* x, const void* v,
+                                       void* a);
+  static void axpy_callback(void* context, void* y, double alpha, const void* x);
+  static void lincomb_callback(void* context, void* out, const void* base, uint32_t count,
+                               const double* coefficients, const void* const* vectors);
+  static void copy_callback(void* context, void* dst, const void* src);
+  static void* alloc_callback(void* context);
+
+  ReferenceCloth<Real> cloth_;
+  bool velocity_forces_;
+  std::size_t n_, stride_;
+  Vector x_, v_, inverse_mass_;
+  std::vector<clothlab_range> active_;
+  std::vector<Real> x_aos_, v_aos_, a_aos_;
+  std::vector<Vector> vectors_;
+  clothlab_system system_{};
+  uint64_t force_evals_ = 0;
+  double force_seconds_ = 0.0;
+};
+
+extern template class ReferenceSystem<float>;
+extern template class ReferenceSystem<double>;
+
+}  // namespace clothlab::reference
