@@ -102,7 +102,9 @@ def plot_work_precision(args):
     ladder = require(rows, "ladder", args.results)
     fits = {(r.get("scenario"), r.get("integrator"), r.get("precision"), r.get("mesh")): r
             for r in rows if r.get("kind") == "fit"}
-    references = {r.get("scenario"): r for r in rows if r.get("kind") == "reference"}
+    # The shared reference of each scenario (self references carry an integrator).
+    references = {r.get("scenario"): r for r in rows
+                  if r.get("kind") == "reference" and not r.get("integrator")}
     written = []
     for scenario in sorted({str(r.get("scenario")) for r in ladder}):
         figure, (by_cost, by_dt) = plt.subplots(1, 2, figsize=(12, 5))
