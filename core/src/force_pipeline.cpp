@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "gather_kernel.hpp"
+#include "shifted_add_kernel.hpp"
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
 
