@@ -65,14 +65,14 @@ SpringFamily require_family(const std::string& name, const clothlab_spring_famil
 }  // namespace
 
 Scene scene_from_abi(const clothlab_scene& abi) {
-  // Fields beyond struct_size were not written by the scenario: they read as zero.
-  clothlab_scene in;
-  std::memset(&in, 0, sizeof in);
-  std::memcpy(&in, &abi, std::min<std::size_t>(abi.struct_size, sizeof in));
   if (abi.struct_size < offsetof(clothlab_scene, total_mass)) {
     reject("struct_size", std::to_string(abi.struct_size),
            ">= " + std::to_string(offsetof(clothlab_scene, total_mass)));
   }
+  // Fields beyond struct_size were not written by the scenario: they read as zero.
+  clothlab_scene in;
+  std::memset(&in, 0, sizeof in);
+  std::memcpy(&in, &abi, std::min<std::size_t>(abi.struct_size, sizeof in));
 
   Scene scene;
   if (in.rows < 1) reject("rows", std::to_string(in.rows), "integer >= 1");
