@@ -42,6 +42,11 @@ po::options_description describe_options() {
       "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
       "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
       "list-plugins", "list the plugins on the search path with their parameters")(
+      "find-max-dt",
+      "bisect dt to the largest stable step for the configured duration (keys "
+      "find_max_dt.tolerance, .dt_min, .dt_max) and print the predicted dt_max beside it")(
+      "out", po::value<std::string>(), "sweep: folder for the results files")(
+      "resume", "sweep: keep the results already written and run only the missing cases")(
       "quiet", "print no summary");
   return options;
 }
@@ -82,6 +87,9 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.config_file = string_option(values, "config");
   command_line.json_file = string_option(values, "json");
   command_line.state_file = string_option(values, "state-out");
+  command_line.find_max_dt = values.count("find-max-dt") > 0;
+  command_line.resume = values.count("resume") > 0;
+  command_line.out_folder = string_option(values, "out");
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const auto& [flag, key] : setting_flags)
@@ -98,7 +106,11 @@ std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
-          "a summary. Exit codes: 0 ok, 1 bad input, 2 plugin error, 3 the run diverged.\n\n"
+          "a summary, or a sweep when the --config file has a `sweep:` section.\n"
+          "Every run is judged by the stability monitor (keys stability.interval,\n"
+          "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
+          "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input,\n"
+          "2 plugin error, 3 the run diverged or failed a stability check.\n\n"
        << describe_options();
   return text.str();
 }

@@ -17,6 +17,10 @@ struct CommandLine {
   std::vector<std::string> plugin_paths;
   std::optional<std::string> json_file;
   std::optional<std::string> state_file;
+  bool find_max_dt = false;  // search the largest stable dt instead of one run
+  bool resume = false;       // sweep: skip cases already in the results
+  // Sweep: results folder (files <out>/<sweep name>.csv/.json) instead of sweep.output.
+  std::optional<std::string> out_folder;
   // --integrator, --dt, ... and --set key=value, in command-line order.
   std::vector<Setting> settings;
 };

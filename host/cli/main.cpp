@@ -1,18 +1,23 @@
-// clothlab: runs one cloth simulation, or lists the plugins it can find.
-// Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged.
+// clothlab: runs one cloth simulation, a sweep, or a search for the largest stable dt, or
+// lists the plugins it can find.
+// Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged or failed
+// a stability check (a sweep exits 0 whatever its cases did: they are results).
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
+#include <clothlab/sweep/sweep_spec.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
 
 #include "command_line.hpp"
 #include "config_file.hpp"
+#include "max_dt_search.hpp"
 #include "output_file.hpp"
 #include "plugin_listing.hpp"
 #include "run_config.hpp"
 #include "run_report.hpp"
 #include "simulation.hpp"
+#include "sweep_mode.hpp"
 
 namespace {
 
@@ -34,6 +39,20 @@ int run(int argc, const char* const argv[]) {
   if (command_line.list_plugins)
     return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
 
+  if (command_line.config_file && clothlab::sweep::is_sweep_file(*command_line.config_file)) {
+    if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
+      throw clothlab::host::InputError(
+          "--config " + *command_line.config_file +
+          " is a sweep: --find-max-dt, --json and --state-out are for single runs");
+    SweepRequest request{*command_line.config_file, command_line.settings, std::nullopt,
+                         command_line.resume};
+    if (command_line.out_folder) request.out_folder = *command_line.out_folder;
+    run_sweep_file(request, search_path, std::cout);
+    return exit_ok;
+  }
+  if (command_line.resume || command_line.out_folder)
+    throw clothlab::host::InputError("--resume and --out need a sweep config (a `sweep:` section)");
+
   std::vector<Setting> settings;
   if (command_line.config_file) settings = read_config_file(*command_line.config_file);
   // Command-line values come after the file's, so they win.
@@ -42,8 +61,18 @@ int run(int argc, const char* const argv[]) {
   for (const auto& output : {command_line.json_file, command_line.state_file})
     if (output) check_output_folder(*output);
 
+  if (command_line.find_max_dt) {
+    if (command_line.state_file)
+      throw clothlab::host::InputError("--state-out is for single runs, not --find-max-dt");
+    const nlohmann::json result = find_max_dt(config, search_path);
+    if (command_line.json_file)
+      write_file_atomically(*command_line.json_file,
+                            [&](std::ostream& out) { out << result.dump(2) << "\n"; });
+    std::cout << max_dt_summary(result);
+    return exit_ok;
+  }
+
   Simulation simulation(config, search_path);
-  simulation.add_observer(std::make_unique<FiniteStateCheck>());
   const RunRecord record = simulation.run();
 
   if (command_line.json_file)

@@ -35,9 +35,10 @@ double read_number(const Setting& setting, uint32_t type, double min_value, doub
 }
 
 // dt and duration must be > 0: the smallest positive double is the inclusive bound.
-double read_positive(const Setting& setting, double max_value) {
-  return read_number(setting, CLOTHLAB_PARAM_REAL, std::nextafter(0.0, 1.0), max_value, "s",
-                     "real in (0, " + host::format_number(max_value) + "] s");
+double read_positive(const Setting& setting, double max_value, const char* unit = "s") {
+  return read_number(setting, CLOTHLAB_PARAM_REAL, std::nextafter(0.0, 1.0), max_value, unit,
+                     "real in (0, " + host::format_number(max_value) + "]" +
+                         (*unit ? std::string(" ") + unit : std::string()));
 }
 
 bool starts_with(const std::string& text, const std::string& prefix) {
@@ -77,6 +78,19 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else if (key == "threads") {
       config.threads =
           static_cast<int>(read_number(setting, CLOTHLAB_PARAM_INT, 0, max_threads, ""));
+    } else if (key == "stability.interval") {
+      config.stability_interval =
+          static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, "steps"));
+    } else if (key == "stability.max_stretch") {
+      config.max_stretch = read_number(setting, CLOTHLAB_PARAM_REAL, 1.0, 1e6, "");
+    } else if (key == "stability.energy_margin") {
+      config.energy_margin = read_positive(setting, 1e12, "");
+    } else if (key == "find_max_dt.tolerance") {
+      config.search_tolerance = read_number(setting, CLOTHLAB_PARAM_REAL, 1e-6, 1.0, "");
+    } else if (key == "find_max_dt.dt_min") {
+      config.search_dt_min = read_positive(setting, max_dt_s);
+    } else if (key == "find_max_dt.dt_max") {
+      config.search_dt_max = read_positive(setting, max_dt_s);
     } else if (starts_with(key, "integrator.")) {
       config.integrator_params.push_back({key.substr(11), setting.value, setting.source});
     } else if (starts_with(key, "scenario.")) {
@@ -86,7 +100,9 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else {
       throw host::InputError(setting.source + ": unknown key " + key +
                              "; valid: integrator, scenario, dt, steps, duration, precision, "
-                             "threads, integrator.<parameter>, scenario.<parameter>, "
+                             "threads, stability.interval, stability.max_stretch, "
+                             "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
+                             "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
                              "plugin_params.<plugin id>.<parameter>");
     }
   }
@@ -99,7 +115,15 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              host::format_number(steps) + " steps; allowed: 1 to 1e9 steps");
     }
     config.steps = static_cast<uint64_t>(steps);
+    config.duration = duration;
+  } else {
+    config.duration = static_cast<double>(config.steps) * config.dt;
   }
+  if (config.search_dt_min >= config.search_dt_max)
+    throw host::InputError(
+        "find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
+        " s is not below find_max_dt.dt_max = " + host::format_number(config.search_dt_max) +
+        " s; allowed: dt_min < dt_max");
   return config;
 }
 

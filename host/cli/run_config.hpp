@@ -14,6 +14,7 @@ struct RunConfig {
   std::string scenario = "sheet";
   double dt = 1e-3;
   uint64_t steps = 2000;  // default: 2 s at the default dt
+  double duration = 2.0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;
   // Plugin parameter settings with the "integrator." / "scenario." prefix removed, in
@@ -24,6 +25,14 @@ struct RunConfig {
   // plugin id, applied only when that plugin runs (before integrator.* / scenario.*), so
   // one config can carry e.g. verlet's damping and still run with rk4.
   std::vector<Setting> plugin_params;
+  // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
+  uint64_t stability_interval = 10;  // steps between checks
+  double max_stretch = 2.0;          // longest spring / rest length
+  double energy_margin = 1.0;        // times the cloth's energy scale
+  // find_max_dt.*: the --find-max-dt search.
+  double search_tolerance = 0.02;  // relative width of the final bracket
+  double search_dt_min = 1e-7;     // s: nothing stable below gives up
+  double search_dt_max = 1.0;      // s: everything stable up to it gives up
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the

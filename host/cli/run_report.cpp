@@ -71,8 +71,11 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["real_time_factor"] = figures.real_time_factor;
   json["stable"] = record.stable;
   json["verdict"] = record.verdict;
+  json["failed_check"] =
+      record.failed_check.empty() ? nlohmann::json(nullptr) : nlohmann::json(record.failed_check);
   json["failed_step"] =
       record.failed_step ? nlohmann::json(*record.failed_step) : nlohmann::json(nullptr);
+  json["stability_checks"] = record.stability_checks;
   json["threads"] = record.threads;
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/host/errors.hpp>
 #include <stdexcept>
 
@@ -105,10 +106,6 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
   integrator_instance_->prepare(cloth_->system());
 }
 
-void Simulation::add_observer(std::unique_ptr<StepObserver> observer) {
-  observers_.push_back(std::move(observer));
-}
-
 RunRecord Simulation::run() {
   RunRecord record;
   record.integrator = integrator_->info().id;
@@ -129,6 +126,18 @@ RunRecord Simulation::run() {
   for (auto* series : {&record.step_s, &record.internal_forces_s, &record.external_forces_s})
     series->reserve(std::min(config_.steps, reserved_steps));
 
+  analysis::MonitorOptions monitor_options;
+  monitor_options.check_interval = config_.stability_interval;
+  monitor_options.stretch_limit = config_.max_stretch;
+  monitor_options.energy_margin = config_.energy_margin;
+  analysis::StabilityMonitor monitor(*cloth_, 0.0, monitor_options);
+  auto fail = [&](uint64_t step, std::string check, std::string verdict) {
+    record.stable = false;
+    record.failed_step = step;
+    record.failed_check = std::move(check);
+    record.verdict = std::move(verdict);
+  };
+
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
@@ -140,26 +149,25 @@ RunRecord Simulation::run() {
       integrator_instance_->step(system, t, config_.dt);
     } catch (const host::PluginError& error) {
       if (error.status() != CLOTHLAB_ERROR_NUMERICAL) throw;
-      record.stable = false;
-      record.verdict =
-          "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")";
+      fail(step, "non-finite",
+           "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")");
     }
     record.step_s.push_back(seconds_since(start));
     const StageCounters& after = cloth_->counters();
     record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
     record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
     record.steps_taken = step;
-    for (const auto& observer : observers_) {
-      if (!record.stable) break;
-      if (auto failure = observer->after_step(*cloth_, step)) {
-        record.stable = false;
-        record.verdict = std::move(*failure);
-      }
-    }
-    if (!record.stable) record.failed_step = step;
+    if (!record.stable) break;
+    const double t_end = static_cast<double>(step) * config_.dt;
+    const analysis::Verdict& verdict = step == config_.steps
+                                           ? monitor.check(*cloth_, step, t_end)
+                                           : monitor.observe(*cloth_, step, t_end);
+    if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
   }
+  record.stability_checks = monitor.checks();
   if (record.stable)
-    record.verdict = "stable: all " + std::to_string(record.steps_taken) + " steps finite";
+    record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
+                     std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
   record.counters = cloth_->counters();
   return record;
 }

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "run_config.hpp"
-#include "step_observer.hpp"
 
 namespace clothlab::cli {
 
@@ -31,7 +30,9 @@ struct RunRecord {
   std::vector<double> step_s, internal_forces_s, external_forces_s;
   bool stable = true;
   std::string verdict;
+  std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
+  uint64_t stability_checks = 0;
   nlohmann::json integrator_params, scenario_params;
 };
 
@@ -41,12 +42,15 @@ class Simulation {
   // creates the scene, the cloth and the integrator (PluginError).
   Simulation(const RunConfig& config, const host::PluginSearchPath& search_path);
 
-  void add_observer(std::unique_ptr<StepObserver> observer);
-  // Steps until done or until a check fails; a numerical failure is a verdict, any other
-  // plugin error is thrown.
+  // Steps until done or until a stability check fails (the run stops there: past a failed
+  // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
+  // is thrown. The monitor (config.stability.*) checks every few steps and after the last.
   RunRecord run();
 
   const Cloth& cloth() const { return *cloth_; }
+  std::string integrator_id() const { return std::string(integrator_->info().id); }
+  // The parameter values in force, defaults included.
+  const nlohmann::json& integrator_params() const { return integrator_params_; }
 
  private:
   RunConfig config_;
@@ -58,7 +62,6 @@ class Simulation {
   // Declared after the cloth so it is destroyed first: it may hold the system's vectors.
   std::unique_ptr<Cloth> cloth_;
   std::optional<host::IntegratorInstance> integrator_instance_;
-  std::vector<std::unique_ptr<StepObserver>> observers_;
 };
 
 }  // namespace clothlab::cli

@@ -1,0 +1,23 @@
+// One case as JSON, for single runs, sweeps and the dt search alike: the same Simulation,
+// reported the same way. Meant to run inside run_isolated (isolation.hpp).
+#pragma once
+
+#include <clothlab/host/plugin_search_path.hpp>
+#include <nlohmann/json.hpp>
+
+#include "run_config.hpp"
+
+namespace clothlab::cli {
+
+// Runs the configured case and returns summary_json of its record; with_positions adds
+// "positions" (final x, particle-major) and "diagonal" (the cloth's, m).
+nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& search_path,
+                        bool with_positions = false);
+
+// The dt_max predicted for the configured integrator on the configured scene from the
+// float64 linearisation at rest, with damping: {"dt_max", "omega_max", "dominant_re",
+// "dominant_im", "method"}. dt_max is null when never unstable. Throws for an integrator the
+// analysis does not know.
+nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path);
+
+}  // namespace clothlab::cli

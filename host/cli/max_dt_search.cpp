@@ -1,0 +1,105 @@
+#include "max_dt_search.hpp"
+
+#include <clothlab/analysis/find_max_dt.hpp>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+
+#include "case_execution.hpp"
+#include "isolation.hpp"
+
+namespace clothlab::cli {
+
+namespace {
+
+RunConfig with_dt(RunConfig config, double dt) {
+  config.dt = dt;
+  config.steps = static_cast<uint64_t>(std::max(1.0, std::round(config.duration / dt)));
+  return config;
+}
+
+}  // namespace
+
+nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath& search_path) {
+  nlohmann::json result;
+  result["duration"] = config.duration;
+  result["tolerance"] = config.search_tolerance;
+  result["predicted_dt_max"] = nullptr;
+  analysis::MaxDtOptions options;
+  options.relative_tolerance = config.search_tolerance;
+  options.dt_lower_limit = config.search_dt_min;
+  options.dt_upper_limit = config.search_dt_max;
+  options.dt_initial = std::clamp(config.dt, config.search_dt_min, config.search_dt_max);
+  try {
+    const nlohmann::json prediction =
+        run_isolated([&] { return predict_case(config, search_path); });
+    result["predicted_dt_max"] = prediction["dt_max"];
+    result["omega_max"] = prediction["omega_max"];
+    result["dominant_eigenvalue"] = {prediction["dominant_re"], prediction["dominant_im"]};
+    // The prediction is the natural first probe: the bracket is then found in a step or two.
+    if (prediction["dt_max"].is_number())
+      options.dt_initial = std::clamp(prediction["dt_max"].get<double>(), config.search_dt_min,
+                                      config.search_dt_max);
+  } catch (const std::exception& error) {
+    result["prediction_error"] = error.what();
+  }
+
+  nlohmann::json probes = nlohmann::json::array();
+  const analysis::MaxDtResult search = analysis::find_max_dt(
+      [&](double dt) {
+        nlohmann::json probe = {{"dt", dt}};
+        try {
+          const nlohmann::json run =
+              run_isolated([&] { return run_case(with_dt(config, dt), search_path); });
+          for (const char* field : {"integrator", "scenario", "rows", "cols", "precision"})
+            result[field] = run[field];
+          probe["stable"] = run["stable"];
+          probe["failed_check"] = run["failed_check"];
+          probe["failed_step"] = run["failed_step"];
+        } catch (const std::exception& error) {
+          probe["stable"] = false;
+          probe["failed_check"] = "error";
+          probe["error"] = error.what();
+        }
+        probes.push_back(probe);
+        return probe["stable"].get<bool>();
+      },
+      options);
+  result["dt_max"] = search.dt_stable > 0 ? nlohmann::json(search.dt_stable) : nullptr;
+  result["dt_unstable"] = search.dt_unstable > 0 ? nlohmann::json(search.dt_unstable) : nullptr;
+  result["outcome"] = analysis::to_string(search.outcome);
+  result["evaluations"] = search.evaluations;
+  result["measured_over_predicted"] =
+      result["predicted_dt_max"].is_number() && search.dt_stable > 0
+          ? nlohmann::json(search.dt_stable / result["predicted_dt_max"].get<double>())
+          : nullptr;
+  result["probes"] = probes;
+  return result;
+}
+
+std::string max_dt_summary(const nlohmann::json& result) {
+  auto number = [](const nlohmann::json& value) {
+    if (!value.is_number()) return std::string("-");
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", value.get<double>());
+    return std::string(text);
+  };
+  std::string text = result.value("integrator", std::string("?")) + " on " +
+                     result.value("scenario", std::string("?")) + " " +
+                     number(result.value("rows", nlohmann::json())) + "x" +
+                     number(result.value("cols", nlohmann::json())) + ", " +
+                     result.value("precision", std::string("?")) + ", " +
+                     number(result["duration"]) + " s simulated:\n";
+  text += "  measured  dt_max = " + number(result["dt_max"]) + " s (unstable at " +
+          number(result["dt_unstable"]) + " s; " + result["outcome"].get<std::string>() + ", " +
+          std::to_string(result["evaluations"].get<int>()) + " runs, tolerance " +
+          number(result["tolerance"]) + ")\n";
+  text += "  predicted dt_max = " + number(result["predicted_dt_max"]) +
+          " s (linearised at rest, with damping)";
+  if (result.contains("prediction_error"))
+    text += ": " + result["prediction_error"].get<std::string>();
+  text += "\n  measured / predicted = " + number(result["measured_over_predicted"]) + "\n";
+  return text;
+}
+
+}  // namespace clothlab::cli

@@ -1,0 +1,150 @@
+#include "sweep_mode.hpp"
+
+#include <algorithm>
+#include <clothlab/host/errors.hpp>
+#include <clothlab/sweep/stability_search.hpp>
+#include <clothlab/sweep/sweep_error.hpp>
+#include <clothlab/sweep/sweep_runner.hpp>
+#include <clothlab/sweep/sweep_spec.hpp>
+#include <clothlab/sweep/work_precision.hpp>
+#include <iostream>
+#include <limits>
+
+#include "case_execution.hpp"
+#include "isolation.hpp"
+#include "run_config.hpp"
+
+namespace clothlab::cli {
+
+namespace {
+
+// The case's settings as a single run sees them, with the sweep's monitor options.
+RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
+  std::vector<Setting> settings;
+  for (const sweep::Setting& setting : c.settings)
+    settings.push_back({setting.key, setting.value, setting.source});
+  RunConfig config = resolve_run_config(settings);
+  config.stability_interval = spec.monitor.check_interval;
+  config.max_stretch = spec.monitor.stretch_limit;
+  config.energy_margin = spec.monitor.energy_margin;
+  return config;
+}
+
+// The verdict part of a case result from a run's summary JSON.
+sweep::CaseResult verdict_of(const nlohmann::json& run) {
+  sweep::CaseResult result;
+  if (!run["stable"].get<bool>()) {
+    result.status = sweep::CaseStatus::Unstable;
+    result.fail_step = run["failed_step"].is_number() ? run["failed_step"].get<uint64_t>() : 0;
+    result.check = run["failed_check"].is_string() ? run["failed_check"].get<std::string>() : "";
+    result.reason = run["verdict"].get<std::string>();
+  }
+  return result;
+}
+
+sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+                          const host::PluginSearchPath& search_path) {
+  const RunConfig config = case_config(spec, c);
+  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path); });
+  sweep::CaseResult result = verdict_of(run);
+  result.metrics = {{"steps", run["steps"].get<double>()},
+                    {"sim_time_s", run["sim_time_s"].get<double>()},
+                    {"wall_time_s", run["wall_time_s"].get<double>()},
+                    {"ms_per_step", run["ms_per_step"]["median"].get<double>()},
+                    {"ms_per_step_p90", run["ms_per_step"]["p90"].get<double>()},
+                    {"force_evals", run["force_evals"].get<double>()},
+                    {"springs_per_second", run["springs_per_second"].get<double>()},
+                    {"real_time_factor", run["real_time_factor"].get<double>()},
+                    {"threads", run["threads"].get<double>()}};
+  result.notes = {{"verdict", run["verdict"].get<std::string>()}};
+  return result;
+}
+
+sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+                                 const host::PluginSearchPath& search_path) {
+  const RunConfig config = case_config(spec, c);
+  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path, true); });
+  sweep::Trajectory trajectory;
+  trajectory.positions = run["positions"].get<std::vector<double>>();
+  trajectory.diagonal = run["diagonal"].get<double>();
+  trajectory.wall_s = run["wall_time_s"].get<double>();
+  trajectory.force_evals = run["force_evals"].get<uint64_t>();
+  trajectory.verdict = verdict_of(run);
+  return trajectory;
+}
+
+sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+                                const host::PluginSearchPath& search_path) {
+  const RunConfig config = case_config(spec, c);
+  const nlohmann::json prediction = run_isolated([&] { return predict_case(config, search_path); });
+  sweep::DtPrediction result;
+  result.dt_max = prediction["dt_max"].is_number() ? prediction["dt_max"].get<double>()
+                                                   : std::numeric_limits<double>::infinity();
+  result.omega_max = prediction["omega_max"].get<double>();
+  result.dominant_eigenvalue = {prediction["dominant_re"].get<double>(),
+                                prediction["dominant_im"].get<double>()};
+  return result;
+}
+
+}  // namespace
+
+void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
+                    std::ostream& out) {
+  try {
+    sweep::SweepSpec spec = sweep::load_sweep(request.config_file);
+    for (const Setting& setting : request.overrides)
+      spec.fixed.push_back({setting.key, setting.value, setting.source});
+    if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
+    const std::vector<sweep::CaseSpec> cases = sweep::expand_cases(spec);
+    // Every case's settings are checked before the first one runs.
+    for (const sweep::CaseSpec& c : cases) case_config(spec, c);
+    if (spec.output.has_parent_path())
+      std::filesystem::create_directories(spec.output.parent_path());
+
+    sweep::ResultsStore store(spec.output, request.resume);
+    store.set_metadata({{"name", spec.name},
+                        {"mode", sweep::to_string(spec.mode)},
+                        {"config", request.config_file.string()},
+                        {"cases", cases.size()}});
+    const bool terminal = sweep::stderr_is_terminal();
+    std::string counts;
+    if (spec.mode == sweep::SweepMode::Run) {
+      const auto done = std::count_if(cases.begin(), cases.end(),
+                                      [&](const auto& c) { return store.contains(c.key); });
+      sweep::Progress progress(cases.size(), static_cast<std::size_t>(done), std::cerr, terminal);
+      const sweep::SweepSummary summary = sweep::run_sweep(
+          cases, [&](const sweep::CaseSpec& c) { return run_row(spec, c, search_path); }, store,
+          &progress);
+      counts = std::to_string(summary.total) + " cases: " + std::to_string(summary.stable) +
+               " stable, " + std::to_string(summary.unstable) + " unstable, " +
+               std::to_string(summary.failed) + " failed, " + std::to_string(summary.skipped) +
+               " already done";
+    } else if (spec.mode == sweep::SweepMode::WorkPrecision) {
+      sweep::Progress progress(sweep::work_precision_units(spec, cases), 0, std::cerr, terminal);
+      const sweep::WorkPrecisionSummary summary = sweep::run_work_precision(
+          spec, cases,
+          [&](const sweep::CaseSpec& c) { return run_trajectory(spec, c, search_path); }, store,
+          &progress);
+      counts = std::to_string(summary.references) + " references, " + std::to_string(summary.runs) +
+               " ladder runs, " + std::to_string(summary.skipped) + " already done";
+    } else {
+      sweep::Progress progress(cases.size(), 0, std::cerr, terminal);
+      const sweep::StabilitySummary summary = sweep::run_stability_search(
+          spec, cases, [&](const sweep::CaseSpec& c) { return run_row(spec, c, search_path); },
+          [&](const sweep::CaseSpec& c) { return predict_row(spec, c, search_path); }, store,
+          &progress);
+      counts = std::to_string(summary.searched) + " searched, " + std::to_string(summary.skipped) +
+               " already done";
+    }
+    store.flush();
+    out << "sweep " << spec.name << " (" << sweep::to_string(spec.mode) << "): " << counts
+        << "\n  results: " << store.csv_path().string() << ", " << store.json_path().string()
+        << "\n";
+  } catch (const sweep::SweepError& error) {
+    throw host::InputError(error.what());
+  } catch (const std::filesystem::filesystem_error& error) {
+    throw host::InputError(error.what());
+  }
+}
+
+}  // namespace clothlab::cli

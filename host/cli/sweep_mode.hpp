@@ -1,0 +1,29 @@
+// `clothlab --config sweep.yaml`: a config with a `sweep:` section runs its matrix through
+// clothlab_sweep in the mode it names (run, work-precision, stability). Every case is one
+// Simulation, run in its own child process (isolation.hpp), so a crash is a failed row.
+#pragma once
+
+#include <clothlab/host/plugin_search_path.hpp>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "settings.hpp"
+
+namespace clothlab::cli {
+
+struct SweepRequest {
+  std::filesystem::path config_file;
+  // Command-line settings: added to the sweep's fixed settings (matrix axes still win).
+  std::vector<Setting> overrides;
+  std::optional<std::filesystem::path> out_folder;  // replaces sweep.output's folder
+  bool resume = false;
+};
+
+// Runs the sweep, prints a summary to out. Throws InputError for a bad sweep file or results
+// that cannot be resumed or written. Unstable and failed cases are results, not errors.
+void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
+                    std::ostream& out);
+
+}  // namespace clothlab::cli

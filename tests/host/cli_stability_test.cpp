@@ -1,0 +1,172 @@
+// The clothlab program's stability verdict, sweeps and dt search end to end, on tiny grids.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream stream(path);
+  std::stringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_text(path)); }
+
+class ClothlabStability : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = fs::temp_directory_path() /
+              ("clothlab_stability_" + std::to_string(getpid()) + "_" + info->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  fs::path file(const std::string& name) const { return folder_ / name; }
+
+  Outcome run(const std::string& arguments) const {
+    const std::string command = "cd '" + folder_.string() +
+                                "' && env -u CLOTHLAB_PLUGIN_PATH '" CLOTHLAB_EXECUTABLE
+                                "' --plugin-path '" CLOTHLAB_BUILTIN_PLUGIN_DIR "' " +
+                                arguments + " > stdout.txt 2> stderr.txt";
+    const int status = std::system(command.c_str());
+    Outcome outcome;
+    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    outcome.out = read_text(file("stdout.txt"));
+    outcome.err = read_text(file("stderr.txt"));
+    return outcome;
+  }
+
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name)) << text;
+  }
+
+  fs::path folder_;
+};
+
+// A 6x6 sheet of 0.3 kg: 8.3 g per particle. With ks = 1e4 N/m a particle's stiffest mode has
+// w ~ sqrt(4 ks / m) ~ 2.2e3 rad/s, so w dt ~ 44 at dt = 20 ms: far outside RK4's stability
+// interval (2.8) and the state must blow up within a few steps.
+const std::string tiny_sheet = "--scenario sheet --set scenario.rows=6 --set scenario.cols=6 ";
+
+TEST_F(ClothlabStability, CalmRunIsJudgedStable) {
+  const Outcome outcome =
+      run(tiny_sheet + "--integrator rk4 --dt 0.001 --duration 0.2 --json run.json --quiet");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto json = read_json(file("run.json"));
+  EXPECT_TRUE(json["stable"].get<bool>());
+  EXPECT_TRUE(json["failed_check"].is_null());
+  EXPECT_TRUE(json["failed_step"].is_null());
+  // 200 steps checked every 10: 20 checks.
+  EXPECT_EQ(json["stability_checks"].get<int>(), 20);
+}
+
+TEST_F(ClothlabStability, DivergentRunIsFlaggedAndStops) {
+  const Outcome outcome = run(tiny_sheet +
+                              "--set scenario.structural.ks=1e4 --set scenario.shear.ks=1e4 "
+                              "--integrator rk4 --dt 0.02 --duration 2 --set stability.interval=1 "
+                              "--json run.json --quiet");
+  ASSERT_EQ(outcome.exit_code, 3) << outcome.err;
+  const auto json = read_json(file("run.json"));
+  EXPECT_FALSE(json["stable"].get<bool>());
+  ASSERT_TRUE(json["failed_check"].is_string());
+  EXPECT_NE(json["failed_check"].get<std::string>(), "");
+  const int failed_step = json["failed_step"].get<int>();
+  EXPECT_GE(failed_step, 1);
+  EXPECT_LT(failed_step, 100);  // of the 100 requested: the run stopped at the verdict
+  EXPECT_EQ(json["steps"].get<int>(), failed_step);
+  EXPECT_NE(outcome.err.find("run diverged"), std::string::npos);
+}
+
+TEST_F(ClothlabStability, BadMonitorSettingIsRejected) {
+  const Outcome outcome = run(tiny_sheet + "--set stability.max_stretch=0.5");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_NE(outcome.err.find("stability.max_stretch = 0.5"), std::string::npos) << outcome.err;
+}
+
+const std::string four_case_sweep = R"(scenario: {rows: 5, cols: 5}
+duration: 0.05
+sweep:
+  name: four
+  mode: run
+  output: ignored/four
+  matrix:
+    integrator: [euler, rk4]
+    scenario: [sheet]
+    dt: [0.001, 0.002]
+)";
+
+TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
+  write("four.yaml", four_case_sweep);
+  const Outcome first = run("--config four.yaml --out results");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto rows = read_json(file("results/four.json"))["rows"];
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& row : rows) EXPECT_EQ(row["status"], "stable") << row.dump();
+
+  const Outcome again = run("--config four.yaml --out results --resume");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("0 stable, 0 unstable, 0 failed, 4 already done"), std::string::npos)
+      << again.out;
+  // Same rows, same measurements: nothing was re-run.
+  EXPECT_EQ(read_json(file("results/four.json"))["rows"], rows);
+
+  // Drop the last row: resuming runs that case alone.
+  auto document = read_json(file("results/four.json"));
+  document["rows"].erase(document["rows"].end() - 1);
+  std::ofstream(file("results/four.json")) << document.dump();
+  const Outcome partial = run("--config four.yaml --out results --resume");
+  ASSERT_EQ(partial.exit_code, 0) << partial.err;
+  EXPECT_NE(partial.out.find("1 stable, 0 unstable, 0 failed, 3 already done"), std::string::npos)
+      << partial.out;
+  EXPECT_EQ(read_json(file("results/four.json"))["rows"].size(), 4u);
+
+  // Atomic writes: only the two results files, no temporaries, and the CSV has 4 rows.
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(file("results")))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"four.csv", "four.json"}));
+  std::ifstream csv(file("results/four.csv"));
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 5);
+}
+
+TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {
+  const std::string scene = tiny_sheet + "--integrator midpoint --duration 0.5 ";
+  const Outcome search = run(scene +
+                             "--find-max-dt --set find_max_dt.tolerance=0.02 "
+                             "--json search.json");
+  ASSERT_EQ(search.exit_code, 0) << search.err;
+  const auto json = read_json(file("search.json"));
+  ASSERT_EQ(json["outcome"], "bracketed") << json.dump();
+  const double dt_max = json["dt_max"].get<double>();
+  EXPECT_LE(json["dt_unstable"].get<double>(), dt_max * 1.021);
+  EXPECT_NE(search.out.find("predicted dt_max"), std::string::npos);
+
+  char dt_text[64];
+  std::snprintf(dt_text, sizeof dt_text, "%.17g", dt_max);
+  EXPECT_EQ(run(scene + "--quiet --dt " + dt_text).exit_code, 0);
+  std::snprintf(dt_text, sizeof dt_text, "%.17g", 1.2 * dt_max);
+  EXPECT_EQ(run(scene + "--quiet --dt " + dt_text).exit_code, 3);
+}
+
+}  // namespace
