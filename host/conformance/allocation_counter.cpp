@@ -8,7 +8,10 @@
 #include <new>
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+// From the sanitizer runtime (GCC ships the library, not <sanitizer/allocator_interface.h>).
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*on_allocate)(const volatile void*,
+                                                                             size_t),
+                                                         void (*on_free)(const volatile void*));
 #else
 extern "C" {
 void* __libc_malloc(size_t size);

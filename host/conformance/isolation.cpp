@@ -41,6 +41,9 @@ void write_all(int fd, const std::string& bytes) {
 
 // Child side: one byte pass/fail followed by the reason.
 [[noreturn]] void run_child(const std::function<Verdict()>& body, int fd) {
+  // Fault signals kill the child, so the parent sees the signal even when a sanitizer
+  // runtime installed handlers that would turn it into an exit status.
+  for (int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(fault, SIG_DFL);
   const Verdict verdict = run_guarded(body);
   write_all(fd, std::string(verdict.passed ? "P" : "F") + verdict.reason);
   close(fd);

@@ -1,5 +1,6 @@
 // Whole runs of clothlab-conformance: faulty plugins are caught by the right check and the
 // run still completes; sound plugins pass. Results are read from the --json report.
+#include <clothlab/plugin.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -114,6 +115,27 @@ TEST(ConformanceRun, AbiMajorTwoIsNotReadBeyondItsVersion) {
   ASSERT_FALSE(run.report.is_null()) << run.output;
   for (const nlohmann::json& result : run.report["checks"])
     EXPECT_EQ(result["check"].get<std::string>().rfind("loading.", 0), 0u) << result["check"];
+}
+
+TEST(ConformanceRun, ANewerMinorAbiIsAcceptedByTheRunnerAndTheHostLoader) {
+  const RunnerOutput run = run_conformance("--filter loading " + plugin("abi_newer_minor"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json* host = find_check(run, "library", "loading.host-loader");
+  ASSERT_NE(host, nullptr) << run.output;
+  EXPECT_EQ((*host)["passed"], true) << (*host)["reason"];
+  const nlohmann::json* version = find_check(run, "library", "loading.abi-version");
+  ASSERT_NE(version, nullptr) << run.output;
+  EXPECT_EQ((*version)["reason"], "ABI " + std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + "." +
+                                      std::to_string(CLOTHLAB_ABI_VERSION_MINOR + 1));
+}
+
+TEST(ConformanceRun, TheHostLoaderRefusesAnotherMajor) {
+  const RunnerOutput run = run_conformance("--filter loading " + plugin("faulty_abi_major_2"));
+  const nlohmann::json* host = find_check(run, "library", "loading.host-loader");
+  ASSERT_NE(host, nullptr) << run.output;
+  EXPECT_EQ((*host)["passed"], false);
+  EXPECT_EQ((*host)["reason"].get<std::string>().rfind("the host refuses it: ", 0), 0u)
+      << (*host)["reason"];
 }
 
 class SoundPlugin : public ::testing::TestWithParam<std::string> {};
