@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
@@ -18,16 +19,17 @@ namespace clothlab::cli {
 
 namespace {
 
-// The case's settings as a single run sees them, with the sweep's monitor options.
+// The case's settings as a single run sees them. The sweep's monitor section comes first, so
+// stability.* keys among the fixed settings (or --set on the command line) override it.
 RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
-  std::vector<Setting> settings;
+  const std::string source = spec.source + ": sweep.monitor";
+  std::vector<Setting> settings = {
+      {"stability.interval", std::to_string(spec.monitor.check_interval), source},
+      {"stability.max_stretch", sweep::format_number(spec.monitor.stretch_limit), source},
+      {"stability.energy_margin", sweep::format_number(spec.monitor.energy_margin), source}};
   for (const sweep::Setting& setting : c.settings)
     settings.push_back({setting.key, setting.value, setting.source});
-  RunConfig config = resolve_run_config(settings);
-  config.stability_interval = spec.monitor.check_interval;
-  config.max_stretch = spec.monitor.stretch_limit;
-  config.energy_margin = spec.monitor.energy_margin;
-  return config;
+  return resolve_run_config(settings);
 }
 
 // The verdict part of a case result from a run's summary JSON.
