@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "clothlab/sweep/sweep_error.hpp"
+#include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
 namespace {
@@ -73,6 +74,19 @@ TEST(SweepSpec, BadInputNamesSourceKeyValueAndAllowedRange) {
   expect_error("sweep:\n  name: x\n  matrix: {integrator: [rk4], dt: [0.001]}\n",
                "one of steps or duration");
   expect_error("duration: 1\nsweep: {name: x, matrix: {integrator: [rk4], dt: [0.001]}", "YAML");
+}
+
+TEST(SweepSpec, SweepFilesAreToldApartFromSingleRunConfigs) {
+  testing::ScratchFolder scratch;
+  std::ofstream(scratch.path() / "sweep.yaml") << kValid;
+  std::ofstream(scratch.path() / "single.yaml") << "integrator: rk4\ndt: 0.001\n";
+  std::ofstream(scratch.path() / "broken.yaml") << "sweep: [\n";
+  EXPECT_TRUE(is_sweep_file(scratch.path() / "sweep.yaml"));
+  EXPECT_FALSE(is_sweep_file(scratch.path() / "single.yaml"));
+  EXPECT_FALSE(is_sweep_file(scratch.path() / "broken.yaml"));
+  EXPECT_FALSE(is_sweep_file(scratch.path() / "missing.yaml"));
+  EXPECT_EQ(load_sweep(scratch.path() / "sweep.yaml").name, "tiny");
+  EXPECT_THROW(load_sweep(scratch.path() / "missing.yaml"), SweepError);
 }
 
 }  // namespace
