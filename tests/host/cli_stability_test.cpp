@@ -150,6 +150,28 @@ TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
   EXPECT_EQ(lines, 5);
 }
 
+TEST_F(ClothlabStability, CrashingCaseIsAFailedRowAndTheSweepGoesOn) {
+  write("crash.yaml", R"(scenario: {rows: 4, cols: 4}
+duration: 0.01
+sweep:
+  name: crash
+  mode: run
+  matrix:
+    integrator: [clothlab_test_crash, rk4]
+    scenario: [sheet]
+    dt: [0.001]
+)");
+  const Outcome outcome =
+      run("--config crash.yaml --out results --plugin-path '" CLOTHLAB_CRASH_PLUGIN_DIR "'");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto rows = read_json(file("results/crash.json"))["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["status"], "failed");
+  EXPECT_NE(rows[0]["reason"].get<std::string>().find("signal 11"), std::string::npos)
+      << rows[0].dump();
+  EXPECT_EQ(rows[1]["status"], "stable");
+}
+
 TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {
   const std::string scene = tiny_sheet + "--integrator midpoint --duration 0.5 ";
   const Outcome search = run(scene +
