@@ -39,7 +39,7 @@ po::options_description option_list(CommandLine& line, double& timeout, std::str
       "in-process", po::bool_switch(&line.options.in_process),
       "run checks in this process (for a debugger): a crash then ends the run")(
       "filter", po::value(&filter),
-      "run only checks whose \"plugin:component check\" matches REGEX")(
+      "run only checks whose \"plugin:component check\" matches this POSIX extended regex")(
       "seed", po::value(&seed), "fuzzing seed (default: random; always printed)")(
       "json", po::value(&line.json_path), "also write the results as JSON to FILE")(
       "junit", po::value(&line.junit_path), "also write the results as JUnit XML to FILE")(
@@ -103,8 +103,8 @@ CommandLine parse(int argc, char** argv) {
   line.options.timeout_s = timeout;
   if (!filter.empty()) {
     try {
-      line.options.filter.emplace(filter, std::regex::ECMAScript);
-    } catch (const std::regex_error& e) {
+      line.options.filter = std::make_shared<const CheckFilter>(filter);
+    } catch (const std::invalid_argument& e) {
       usage_error("--filter = \"" + filter + "\": not a valid regular expression (" + e.what() +
                   ")");
     }

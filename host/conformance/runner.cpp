@@ -61,7 +61,7 @@ class PluginRun {
   // Runs `check`; reports it when it matches the filter. Returns whether it passed.
   bool run(const Check& check, bool report = true) {
     CheckResult result{label_, check.component, check.name, false, "", 0};
-    const bool wanted = !options_.filter || std::regex_search(result.full_name(), *options_.filter);
+    const bool wanted = !options_.filter || options_.filter->matches(result.full_name());
     const auto start = std::chrono::steady_clock::now();
     const Verdict verdict = options_.in_process ? run_guarded(check.body)
                                                 : run_isolated(check.body, options_.timeout_s);
@@ -78,7 +78,7 @@ class PluginRun {
     bool all_passed = true;
     for (const Check& check : checks) {
       CheckResult probe{label_, check.component, check.name, false, "", 0};
-      if (options_.filter && !std::regex_search(probe.full_name(), *options_.filter)) continue;
+      if (options_.filter && !options_.filter->matches(probe.full_name())) continue;
       all_passed = run(check) && all_passed;
     }
     return all_passed;

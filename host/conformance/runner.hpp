@@ -3,12 +3,12 @@
 #pragma once
 
 #include <functional>
-#include <optional>
-#include <regex>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "check.hpp"
+#include "check_filter.hpp"
 
 namespace clothlab::conformance {
 
@@ -27,7 +27,7 @@ struct RunOptions {
   Settings settings;
   double timeout_s = 10;
   bool in_process = false;
-  std::optional<std::regex> filter;  // searched in CheckResult::full_name()
+  std::shared_ptr<const CheckFilter> filter;  // matched against CheckResult::full_name()
 };
 
 using ResultSink = std::function<void(const CheckResult&)>;

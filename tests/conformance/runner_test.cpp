@@ -190,6 +190,10 @@ TEST(ConformanceRun, RejectsBadOptionsWithOneLine) {
   run = run_conformance("/nonexistent/plugin.so");
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_EQ(run.output, "clothlab-conformance: plugin \"/nonexistent/plugin.so\": no such file\n");
+  run = run_conformance("--filter '(' " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.output.rfind("clothlab-conformance: --filter = \"(\": not a valid", 0), 0u)
+      << run.output;
   run = run_conformance("--param c-euler.substeps=99 " + plugin("c_euler"));
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.output.find("--param c-euler.substeps = 99"), std::string::npos) << run.output;
