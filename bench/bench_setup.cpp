@@ -1,0 +1,44 @@
+#include "bench_setup.hpp"
+
+#include <clothlab/host/param_set.hpp>
+
+namespace clothlab::bench {
+namespace {
+
+host::PluginLibrary find_plugin(const std::string& id) {
+  return host::PluginLibrary::find(id, host::PluginSearchPath::standard({}));
+}
+
+}  // namespace
+
+Scene make_scene(const std::string& id, const ParamTexts& params) {
+  const host::PluginLibrary library = find_plugin(id);
+  host::ParamSet values = library.scenario().default_params();
+  for (const auto& [key, text] : params) values.set(key, text, "bench");
+  const host::ScenarioInstance instance = library.scenario().create(values);
+  return scene_from_abi(instance.describe());
+}
+
+ParamTexts bench_cloth_params(int side) {
+  const double size_m = 6.0 * side / 300.0;  // 2 cm spacing at 300 x 300
+  const double mass_kg = 0.6 * size_m * size_m;
+  return {{"rows", std::to_string(side)},        {"cols", std::to_string(side)},
+          {"width", std::to_string(size_m)},     {"height", std::to_string(size_m)},
+          {"mass", std::to_string(mass_kg)},     {"gravity", "[0, -1.62, 0]"}};
+}
+
+bool integrator_uses_velocity_forces(const std::string& id) {
+  return find_plugin(id).integrator().uses_velocity_forces();
+}
+
+BoundIntegrator::BoundIntegrator(const std::string& id, const Cloth& cloth)
+    : library_(find_plugin(id)),
+      instance_(library_.integrator().create(library_.integrator().default_params())),
+      system_(&cloth.system()),
+      uses_velocity_forces_(library_.integrator().uses_velocity_forces()) {
+  instance_.prepare(*system_);
+}
+
+void BoundIntegrator::step(double t, double dt) { instance_.step(*system_, t, dt); }
+
+}  // namespace clothlab::bench

@@ -1,0 +1,41 @@
+// What the benchmark programs share: a scene built by a real scenario plugin and a loaded
+// integrator plugin, both found beside the executable like the host finds them.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/host/plugin_library.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace clothlab::bench {
+
+using ParamTexts = std::vector<std::pair<std::string, std::string>>;
+
+// The scene of scenario `id` ("sheet", "flag") with the given parameter texts set.
+Scene make_scene(const std::string& id, const ParamTexts& params);
+
+// Parameters of the benchmark cloth at side x side particles: the material of
+// configs/bench-300.yaml (2 cm spacing, 0.6 kg/m^2, lunar gravity), so every size has
+// the same per-particle dynamics and the 300 x 300 one is exactly that file's.
+ParamTexts bench_cloth_params(int side);
+
+// An integrator plugin instance with default parameters, bound to a cloth.
+class BoundIntegrator {
+ public:
+  BoundIntegrator(const std::string& id, const Cloth& cloth);
+  void step(double t, double dt);
+  bool uses_velocity_forces() const { return uses_velocity_forces_; }
+
+ private:
+  host::PluginLibrary library_;
+  host::IntegratorInstance instance_;
+  const clothlab_system* system_;
+  bool uses_velocity_forces_;
+};
+
+// Whether integrator `id` needs damping forces (decides the Cloth's pipeline).
+bool integrator_uses_velocity_forces(const std::string& id);
+
+}  // namespace clothlab::bench

@@ -1,0 +1,159 @@
+// Google Benchmark microbenchmarks: each force stage and a whole step per integrator,
+// fast core vs the seed-style reference, over mesh sizes 50^2 ... 1000^2 (float32).
+// Run by hand (tools/bench.sh --micro); never part of CTest timing.
+#include <benchmark/benchmark.h>
+
+#include <clothlab/core/cloth.hpp>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench_setup.hpp"
+#include "reference_forces.hpp"
+
+namespace clothlab::bench {
+namespace {
+
+constexpr int kSides[] = {50, 100, 200, 300, 500, 1000};
+
+Scene bench_scene(const std::string& scenario, int side, bool with_springs) {
+  ParamTexts params = bench_cloth_params(side);
+  if (!with_springs) {
+    for (const char* family : {"structural", "shear", "flexion"}) {
+      params.emplace_back(std::string(family) + ".ks", "0");
+      params.emplace_back(std::string(family) + ".kd", "0");
+    }
+  }
+  return make_scene(scenario, params);
+}
+
+struct FreeDeleter {
+  void operator()(float* data) const { std::free(data); }
+};
+using AlignedFloats = std::unique_ptr<float[], FreeDeleter>;
+
+AlignedFloats aligned_floats(std::size_t count) {
+  const std::size_t bytes = (count * sizeof(float) + 63) / 64 * 64;
+  auto* data = static_cast<float*>(std::aligned_alloc(64, bytes));
+  if (data == nullptr) throw std::bad_alloc();
+  std::fill_n(data, bytes / sizeof(float), 0.0f);
+  return AlignedFloats(data);
+}
+
+void set_rates(benchmark::State& state, uint64_t springs_per_iteration) {
+  state.counters["springs_per_s"] = benchmark::Counter(
+      static_cast<double>(springs_per_iteration), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["particles_per_s"] =
+      benchmark::Counter(static_cast<double>(state.range(0)) * static_cast<double>(state.range(0)),
+                         benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// One fast acceleration evaluation: the stages the scene and `damped` call for.
+void fast_forces(benchmark::State& state, const std::string& scenario, bool with_springs,
+                 bool damped) {
+  const int side = static_cast<int>(state.range(0));
+  const Scene scene = bench_scene(scenario, side, with_springs);
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{damped, 0});
+  const clothlab_system& system = cloth.system();
+  AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
+  for (auto _ : state) {
+    system.eval_acceleration(system.context, 0.0, system.x, damped ? system.v : nullptr,
+                             a.get());
+    benchmark::ClobberMemory();
+  }
+  set_rates(state, with_springs ? cloth.springs().total() : 0);
+}
+
+// The seed-style evaluation: spring structs, scatter-add, one thread, particle-major.
+void reference_forces(benchmark::State& state, const std::string& scenario, bool with_springs,
+                      bool damped) {
+  const int side = static_cast<int>(state.range(0));
+  reference::ReferenceCloth<float> cloth(bench_scene(scenario, side, with_springs));
+  const std::vector<float> x = cloth.initial_positions();
+  const std::vector<float> v(x.size(), 0.0f);
+  std::vector<float> a(x.size());
+  for (auto _ : state) {
+    cloth.acceleration(x.data(), damped ? v.data() : nullptr, a.data());
+    benchmark::ClobberMemory();
+  }
+  set_rates(state, with_springs ? cloth.springs().size() : 0);
+}
+
+// A whole step of integrator `id` on the flag, restarted from rest if it ever diverges.
+void fast_step(benchmark::State& state, const std::string& id) {
+  const int side = static_cast<int>(state.range(0));
+  const Scene scene = bench_scene("flag", side, true);
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{integrator_uses_velocity_forces(id), 0});
+  std::vector<double> x0, v0;
+  cloth.positions(x0);
+  cloth.velocities(v0);
+  BoundIntegrator integrator(id, cloth);
+  const uint64_t evals_before = cloth.counters().force_evals;
+  double t = 0.0;
+  for (auto _ : state) {
+    try {
+      integrator.step(t, 1e-3);
+      t += 1e-3;
+    } catch (const std::exception&) {
+      state.PauseTiming();
+      cloth.set_state(x0, v0);
+      integrator = BoundIntegrator(id, cloth);
+      state.ResumeTiming();
+    }
+  }
+  const double evals_per_step = static_cast<double>(cloth.counters().force_evals - evals_before) /
+                                static_cast<double>(state.iterations());
+  set_rates(state, static_cast<uint64_t>(evals_per_step * static_cast<double>(cloth.springs().total())));
+  state.counters["real_time_factor"] =
+      benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The baseline step: reference forces, then the same semi-implicit Euler update.
+void reference_euler_step(benchmark::State& state) {
+  const int side = static_cast<int>(state.range(0));
+  reference::ReferenceCloth<float> cloth(bench_scene("flag", side, true));
+  std::vector<float> x = cloth.initial_positions();
+  std::vector<float> v(x.size(), 0.0f);
+  std::vector<float> a(x.size());
+  const float dt = 1e-3f;
+  for (auto _ : state) {
+    cloth.acceleration(x.data(), v.data(), a.data());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      v[i] += dt * a[i];
+      x[i] += dt * v[i];
+    }
+    benchmark::ClobberMemory();
+  }
+  set_rates(state, cloth.springs().size());
+  state.counters["real_time_factor"] =
+      benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void sizes(benchmark::internal::Benchmark* benchmark) {
+  for (int side : kSides) benchmark->Arg(side);
+  benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+
+BENCHMARK_CAPTURE(fast_forces, springs_damped, std::string("sheet"), true, true)->Apply(sizes);
+BENCHMARK_CAPTURE(fast_forces, springs_undamped, std::string("sheet"), true, false)->Apply(sizes);
+BENCHMARK_CAPTURE(fast_forces, gravity_only, std::string("sheet"), false, false)->Apply(sizes);
+BENCHMARK_CAPTURE(fast_forces, wind_and_gravity, std::string("flag"), false, false)->Apply(sizes);
+BENCHMARK_CAPTURE(fast_forces, flag_all, std::string("flag"), true, true)->Apply(sizes);
+BENCHMARK_CAPTURE(reference_forces, springs_damped, std::string("sheet"), true, true)->Apply(sizes);
+BENCHMARK_CAPTURE(reference_forces, springs_undamped, std::string("sheet"), true, false)
+    ->Apply(sizes);
+BENCHMARK_CAPTURE(reference_forces, wind_and_gravity, std::string("flag"), false, false)
+    ->Apply(sizes);
+BENCHMARK_CAPTURE(reference_forces, flag_all, std::string("flag"), true, true)->Apply(sizes);
+BENCHMARK_CAPTURE(fast_step, euler, std::string("euler"))->Apply(sizes);
+BENCHMARK_CAPTURE(fast_step, verlet, std::string("verlet"))->Apply(sizes);
+BENCHMARK_CAPTURE(fast_step, midpoint, std::string("midpoint"))->Apply(sizes);
+BENCHMARK_CAPTURE(fast_step, rk4, std::string("rk4"))->Apply(sizes);
+BENCHMARK(reference_euler_step)->Apply(sizes);
+
+}  // namespace
+}  // namespace clothlab::bench
+
+BENCHMARK_MAIN();

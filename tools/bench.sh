@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Issue-4 benchmark table from one run: builds Release with -march=native, then measures
+#   - each integrator x scenario at 300 x 300, dt 1 ms, float32 (configs/bench-300.yaml):
+#     ms/step (median of REPS runs' median step times), real-time factor = dt / that,
+#     internal-force throughput (springs/s, median over runs);
+#   - the euler flag step of the fast core vs the in-run baseline (seed-style reference
+#     forces + the same Euler update, one thread), alternating in one process;
+#   - euler flag cost vs mesh size (50^2 ... 1000^2) to show linear scaling.
+# Usage: tools/bench.sh [--micro]   (--micro also runs the Google Benchmark suite)
+# Environment: BUILD_DIR (build-bench), RESULTS_DIR ($BUILD_DIR/bench-results), REPS (5), STEPS (200),
+#              THREADS (0 = all).
+# Results: $RESULTS_DIR/table.md, summary.json, runs.csv, speedup.json, raw JSON per run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=${BUILD_DIR:-build-bench}
+results=${RESULTS_DIR:-$build_dir/bench-results}
+reps=${REPS:-5}
+steps=${STEPS:-200}
+threads=${THREADS:-0}
+micro=0
+[[ ${1:-} == --micro ]] && micro=1
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DCLOTHLAB_NATIVE=ON >/dev/null
+cmake --build "$build_dir" -j "$(nproc)" --target clothlab euler midpoint rk4 verlet sheet flag \
+  clothlab_speedup $([[ $micro == 1 ]] && echo clothlab_microbench) >/dev/null
+mkdir -p "$results/runs"
+bin="$build_dir/bin"
+
+for rep in $(seq 1 "$reps"); do
+  for scenario in sheet flag; do
+    for integrator in euler verlet midpoint rk4; do
+      "$bin/clothlab" --config configs/bench-300.yaml --integrator "$integrator" \
+        --scenario "$scenario" --steps "$steps" --threads "$threads" --quiet \
+        --json "$results/runs/$scenario-$integrator-$rep.json"
+    done
+  done
+done
+
+"$bin/clothlab_speedup" configs/bench-300.yaml "$reps" "$steps" >"$results/speedup.json"
+
+# Same material and spacing as bench-300 (2 cm, 0.6 kg/m^2) at every size.
+for side in 50 100 200 300 500 1000; do
+  size=$(python3 -c "print(6.0 * $side / 300)")
+  mass=$(python3 -c "print(0.6 * (6.0 * $side / 300) ** 2)")
+  "$bin/clothlab" --config configs/bench-300.yaml --integrator euler --scenario flag \
+    --set scenario.rows="$side" --set scenario.cols="$side" --set scenario.width="$size" \
+    --set scenario.height="$size" --set scenario.mass="$mass" --steps "$steps" \
+    --threads "$threads" --quiet --json "$results/runs/scaling-$side.json"
+done
+
+python3 bench/bench_table.py "$results" "$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+[[ $micro == 1 ]] && "$bin/clothlab_microbench" --benchmark_out="$results/microbench.json" \
+  --benchmark_out_format=json --benchmark_counters_tabular=true
+exit 0
