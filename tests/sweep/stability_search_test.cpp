@@ -17,7 +17,7 @@ sweep:
   name: st
   mode: stability
   matrix: {integrator: [euler, rk4], mesh: [10]}
-  stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.5, tolerance: 0.01}
+  stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.5, tolerance: 0.01, growth: 1.5}
 )",
                      "st.yaml");
 }

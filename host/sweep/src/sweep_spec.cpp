@@ -204,7 +204,7 @@ void read_work_precision(const std::string& source, const YAML::Node& node, Swee
 void read_stability(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
   auto& st = spec.stability;
   for_each_key(source, node, "sweep.stability",
-               {"dt_initial", "dt_min", "dt_max", "tolerance", "max_evaluations"},
+               {"dt_initial", "dt_min", "dt_max", "tolerance", "growth", "max_evaluations"},
                [&](const std::string& key, const YAML::Node& value) {
                  const std::string seconds = "a number in [1e-12, 100] s";
                  if (key.ends_with("dt_initial")) {
@@ -213,6 +213,8 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
                    st.dt_lower_limit = number(source, value, key, 1e-12, 100.0, seconds);
                  } else if (key.ends_with("dt_max")) {
                    st.dt_upper_limit = number(source, value, key, 1e-12, 100.0, seconds);
+                 } else if (key.ends_with("growth")) {
+                   st.growth = number(source, value, key, 1.01, 100.0, "a number in [1.01, 100]");
                  } else if (key.ends_with("tolerance")) {
                    st.relative_tolerance =
                        number(source, value, key, 1e-6, 0.5, "a number in [1e-6, 0.5]");

@@ -19,7 +19,7 @@
 //     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6,
 //                      self_reference: [verlet]}
 //     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
-//                 max_evaluations: 40}
+//                 growth: 2, max_evaluations: 40}   # growth: bracketing factor
 #pragma once
 
 #include <clothlab/analysis/find_max_dt.hpp>
