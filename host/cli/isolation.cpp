@@ -1,5 +1,6 @@
 #include "isolation.hpp"
 
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -59,6 +60,7 @@ nlohmann::json run_isolated(const std::function<nlohmann::json()>& work) {
   // Buffered output would otherwise be written twice, by both processes.
   std::cout.flush();
   std::cerr.flush();
+  const pid_t parent = ::getpid();
   const pid_t child = ::fork();
   if (child < 0) {
     ::close(fds[0]);
@@ -66,6 +68,9 @@ nlohmann::json run_isolated(const std::function<nlohmann::json()>& work) {
     throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
   }
   if (child == 0) {
+    // A child whose parent was killed (Ctrl-C on a sweep) must not run on alone.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
     ::close(fds[0]);
     child_main(fds[1], work);
   }
