@@ -33,3 +33,41 @@ for row in json.load(open(sys.argv[1]))["rows"]:
           f'  predicted {g(row["predicted_dt_max"]):>10} s  ratio {g(row["measured_over_predicted"])}'
           f'  ({row["outcome"]}, {row["check"] or "-"})')
 PY
+if [ "${SKIP_MATRIX:-0}" != 1 ]; then
+  seed="${SEED_TEXT:-/work/shared/seed/001_e1c50b133d58c230.txt}"
+  [ -f "$seed" ] && /usr/bin/python3 - "$seed" "$out/seed-2016-matrix.json" <<'PY'
+import json, re, sys
+# Seed appendix C tables (C.2 ... C.16) against the objective verdicts of the matrix sweep.
+seed_text = open(sys.argv[1]).read().splitlines()
+tables = {"C.2": ("euler", "sheet"), "C.4": ("euler", "flag"), "C.6": ("verlet", "sheet"),
+          "C.8": ("verlet", "flag"), "C.10": ("midpoint", "sheet"), "C.12": ("midpoint", "flag"),
+          "C.14": ("rk4", "sheet"), "C.16": ("rk4", "flag")}
+meshes = [50, 100, 150, 200, 250, 300]; dts = [1, 5, 10, 15, 20]
+seed = {}
+for i, line in enumerate(seed_text):
+    m = re.match(r"Table (C\.\d+): Stability results", line)
+    if not m or m.group(1) not in tables: continue
+    cells = [l.split("\t")[2].strip() for l in seed_text[max(0, i - 80):i]
+             if re.match(r".*\t\d+\t(Stable|Unstable)\s*$", l)][-30:]
+    for k, verdict in enumerate(cells):
+        seed[tables[m.group(1)] + (meshes[k // 5], dts[k % 5])] = verdict == "Stable"
+rows = json.load(open(sys.argv[2]))["rows"]
+ours = {}
+for r in rows:
+    mesh = int(r["mesh"].split("x")[0]); dt = round(float(r["dt"]) * 1000)
+    ours[(r["integrator"], r["scenario"], mesh, dt)] = (r["status"], r.get("check") or "", r.get("fail_step"))
+agree = disagree = 0
+for (integ, scen) in tables.values():
+    print(f"{integ} {scen}: mesh \\ dt(ms) " + " ".join(f"{d:>6}" for d in dts))
+    for mesh in meshes:
+        cells = []
+        for dt in dts:
+            s = seed.get((integ, scen, mesh, dt)); o = ours.get((integ, scen, mesh, dt))
+            if s is None or o is None: cells.append("  ?   "); continue
+            ok = (o[0] == "stable") == s
+            agree += ok; disagree += not ok
+            cells.append(("S" if s else "U") + "/" + (o[0][0].upper() + (o[1][:1] if o[1] else "")) + ("  " if ok else " !"))
+        print(f"   {mesh:>4}^2 " + " ".join(f"{c:>6}" for c in cells))
+print(f"agree {agree}, disagree {disagree}  (cell: seed/ours; ours S stable, U unstable + check n/s/e, F failed; ! = differs)")
+PY
+fi
