@@ -50,5 +50,6 @@ done
 
 python3 bench/bench_table.py "$results" "$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
 [[ $micro == 1 ]] && "$bin/clothlab_microbench" --benchmark_out="$results/microbench.json" \
-  --benchmark_out_format=json --benchmark_counters_tabular=true
+  --benchmark_out_format=json --benchmark_counters_tabular=true --benchmark_repetitions="$reps" \
+  --benchmark_report_aggregates_only=true
 exit 0
