@@ -27,9 +27,7 @@ cmake -S examples/third_party_integrator -B "$work/example" -DCMAKE_PREFIX_PATH=
   -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$work/example" -j "$(nproc)"
 example="$work/example/velocity_verlet.so"
-# 100 steps: the default sheet (soft springs) stretches past the stability monitor's 2x
-# limit after ~0.16 s with every integrator; this run shows loading and stepping work.
-"$prefix/bin/clothlab" --integrator="$example" --scenario=sheet --steps 100
+"$prefix/bin/clothlab" --integrator="$example" --scenario=sheet
 
 conformance="$prefix/bin/clothlab-conformance"
 test_plugins="$build/tests/conformance/plugins"

@@ -27,7 +27,7 @@ struct RunConfig {
   std::vector<Setting> plugin_params;
   // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
   uint64_t stability_interval = 10;  // steps between checks
-  double max_stretch = 2.0;          // longest spring / rest length
+  double max_stretch = 5.0;          // longest spring / rest length (see MonitorOptions)
   double energy_margin = 1.0;        // times the cloth's energy scale
   // find_max_dt.*: the --find-max-dt search.
   double search_tolerance = 0.02;  // relative width of the final bracket

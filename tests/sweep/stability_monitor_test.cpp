@@ -104,6 +104,7 @@ TEST(StabilityMonitor, StretchCheckFiresBeyondTheLimit) {
   MonitorOptions options;
   options.check_interval = 1;
   options.energy_margin = 1e12;  // leave the stretch check alone to fire
+  options.stretch_limit = 2.0;
   const Verdict verdict = run(cloth, 2.5 / omega(), 2000, options);
   ASSERT_EQ(verdict.fired, StabilityCheck::Stretch) << verdict.reason;
   EXPECT_GT(verdict.value, 2.0);
