@@ -15,7 +15,7 @@
 //       dt: [0.001, 0.005]             # s (run mode only)
 //       precision: [float32, float64]
 //       scenario.structural.ks: [20, 200]   # any setting key: a list of values
-//     monitor: {check_interval: 10, stretch_limit: 2, energy_margin: 1}
+//     monitor: {check_interval: 10, stretch_limit: 5, energy_margin: 1}
 //     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6,
 //                      self_reference: [verlet]}
 //     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
