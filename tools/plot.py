@@ -175,7 +175,7 @@ def plot_stability(args):
                 chosen = [r for r in cells if bool(r.get("stable")) == stable]
                 if chosen:
                     axis.scatter([math.sqrt(mesh_particles(r["mesh"])) for r in chosen],
-                                 [r["dt"] for r in chosen], marker=marker, color=colour,
+                                 [float(r["dt"]) for r in chosen], marker=marker, color=colour,
                                  label="run: stable" if stable else "run: unstable")
             axis.set_title(f"{integrator} / {scenario}")
             axis.set_xlabel("mesh side N (N x N)")
