@@ -19,6 +19,21 @@ void check(clothlab_status status, clothlab_message& message, const std::string&
 
 std::string label_of(std::string_view kind, const char* id) { return std::string(kind) + " " + id; }
 
+// Calls a component's `create` with validated values; the object keeps the library loaded.
+template <class Descriptor>
+PluginObject create_object(const std::shared_ptr<const LibraryHandle>& library,
+                           const Descriptor& descriptor, const ParamSet& params,
+                           const std::string& label) {
+  clothlab_message message{};
+  void* object = nullptr;
+  check(descriptor.create(params.values().data(), static_cast<uint32_t>(params.values().size()),
+                          &object, &message),
+        message, label, "create");
+  if (object == nullptr)
+    throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
+  return PluginObject(library, object, descriptor.destroy);
+}
+
 }  // namespace
 
 PluginObject::PluginObject(std::shared_ptr<const LibraryHandle> library, void* object,
@@ -92,15 +107,8 @@ ParamSet IntegratorPlugin::default_params() const { return ParamSet(info().param
 
 IntegratorInstance IntegratorPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("integrator", descriptor_->id);
-  clothlab_message message{};
-  void* object = nullptr;
-  check(descriptor_->create(params.values().data(), static_cast<uint32_t>(params.values().size()),
-                            &object, &message),
-        message, label, "create");
-  if (object == nullptr)
-    throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
   return IntegratorInstance(*descriptor_, label,
-                            PluginObject(library_, object, descriptor_->destroy));
+                            create_object(library_, *descriptor_, params, label));
 }
 
 // -------------------------------------------------------------------- scenario
@@ -135,15 +143,8 @@ ParamSet ScenarioPlugin::default_params() const { return ParamSet(info().params,
 
 ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("scenario", descriptor_->id);
-  clothlab_message message{};
-  void* object = nullptr;
-  check(descriptor_->create(params.values().data(), static_cast<uint32_t>(params.values().size()),
-                            &object, &message),
-        message, label, "create");
-  if (object == nullptr)
-    throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
   return ScenarioInstance(*descriptor_, label,
-                          PluginObject(library_, object, descriptor_->destroy));
+                          create_object(library_, *descriptor_, params, label));
 }
 
 }  // namespace clothlab::host
