@@ -50,6 +50,7 @@ ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
   system_.lincomb = &lincomb_callback;
   system_.copy = &copy_callback;
   system_.alloc_vector = &alloc_callback;
+  system_.eval_acceleration_at = &eval_at_callback;
 }
 
 template <class Real>
@@ -70,13 +71,27 @@ void ReferenceSystem<Real>::positions(std::vector<double>& out) const {
 }
 
 template <class Real>
-clothlab_status ReferenceSystem<Real>::evaluate(const Real* x, const Real* v, Real* a) {
+Real ReferenceSystem<Real>::combined(const clothlab_combination& state, std::size_t i,
+                                     std::size_t k) const {
+  const std::size_t e = k * stride_ + i;
+  Real value = static_cast<const Real*>(state.base)[e];
+  if (inverse_mass_[i] == Real(0)) return value;  // pinned: the base value
+  for (uint32_t j = 0; j < state.count; ++j) {
+    value +=
+        static_cast<Real>(state.coefficients[j]) * static_cast<const Real*>(state.vectors[j])[e];
+  }
+  return value;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::evaluate(const clothlab_combination& x,
+                                                const clothlab_combination* v, Real* a) {
   const auto start = std::chrono::steady_clock::now();
   const bool damping = velocity_forces_ && v != nullptr;
   for (std::size_t i = 0; i < n_; ++i) {
     for (std::size_t k = 0; k < 3; ++k) {
-      x_aos_[3 * i + k] = x[k * stride_ + i];
-      if (damping) v_aos_[3 * i + k] = v[k * stride_ + i];
+      x_aos_[3 * i + k] = combined(x, i, k);
+      if (damping) v_aos_[3 * i + k] = combined(*v, i, k);
     }
   }
   cloth_.acceleration(x_aos_.data(), damping ? v_aos_.data() : nullptr, a_aos_.data());
@@ -95,8 +110,23 @@ clothlab_status ReferenceSystem<Real>::evaluate(const Real* x, const Real* v, Re
 template <class Real>
 clothlab_status ReferenceSystem<Real>::eval_callback(void* context, double, const void* x,
                                                      const void* v, void* a) {
+  const clothlab_combination x_state{x, 0, 0, nullptr, nullptr};
+  const clothlab_combination v_state{v, 0, 0, nullptr, nullptr};
   return static_cast<ReferenceSystem*>(context)->evaluate(
-      static_cast<const Real*>(x), static_cast<const Real*>(v), static_cast<Real*>(a));
+      x_state, v == nullptr ? nullptr : &v_state, static_cast<Real*>(a));
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::eval_at_callback(void* context, double,
+                                                        const clothlab_combination* x,
+                                                        const clothlab_combination* v, void* a) {
+  const auto valid = [](const clothlab_combination* state) {
+    return state->base != nullptr && state->count <= CLOTHLAB_COMBINATION_MAX_TERMS;
+  };
+  if (x == nullptr || !valid(x) || (v != nullptr && !valid(v))) {
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  }
+  return static_cast<ReferenceSystem*>(context)->evaluate(*x, v, static_cast<Real*>(a));
 }
 
 template <class Real>

@@ -35,10 +35,14 @@ class ReferenceSystem {
   using Vector = std::unique_ptr<Real[], Free>;
 
   Vector make_vector() const;
-  clothlab_status evaluate(const Real* x, const Real* v, Real* a);
+  // Element (i, k) of a state combination; pinned particles take the base value.
+  Real combined(const clothlab_combination& state, std::size_t i, std::size_t k) const;
+  clothlab_status evaluate(const clothlab_combination& x, const clothlab_combination* v, Real* a);
 
   static clothlab_status eval_callback(void* context, double t, const void* x, const void* v,
                                        void* a);
+  static clothlab_status eval_at_callback(void* context, double t, const clothlab_combination* x,
+                                          const clothlab_combination* v, void* a);
   static void axpy_callback(void* context, void* y, double alpha, const void* x);
   static void lincomb_callback(void* context, void* out, const void* base, uint32_t count,
                                const double* coefficients, const void* const* vectors);

@@ -18,6 +18,25 @@ constexpr std::size_t kParallelFrom = 4096;  // smaller clouds run on the callin
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
+template <class Real>
+StateCombination<Real> in_place(const void* base) {
+  StateCombination<Real> state;
+  state.base = static_cast<const Real*>(base);
+  return state;
+}
+
+template <class Real>
+bool convert(const clothlab_combination& from, StateCombination<Real>& to) {
+  if (from.count > StateCombination<Real>::kMaxTerms || from.base == nullptr) return false;
+  to.base = static_cast<const Real*>(from.base);
+  to.count = from.count;
+  for (uint32_t term = 0; term < from.count; ++term) {
+    to.coefficients[term] = static_cast<Real>(from.coefficients[term]);
+    to.vectors[term] = static_cast<const Real*>(from.vectors[term]);
+  }
+  return true;
+}
+
 }  // namespace
 
 template <class Real>
@@ -92,10 +111,12 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   system_.lincomb = &lincomb_callback;
   system_.copy = &copy_callback;
   system_.alloc_vector = &alloc_callback;
+  system_.eval_acceleration_at = &eval_at_callback;
 }
 
 template <class Real>
-clothlab_status ClothEngine<Real>::evaluate(const Real* x, const Real* v, Real* a) {
+clothlab_status ClothEngine<Real>::evaluate(const StateCombination<Real>& x,
+                                            const StateCombination<Real>* v, Real* a) {
   return forces_->evaluate(x, v, a, counters_) ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
@@ -140,8 +161,22 @@ void* ClothEngine<Real>::alloc_vector() noexcept {
 template <class Real>
 clothlab_status ClothEngine<Real>::eval_callback(void* context, double, const void* x,
                                                  const void* v, void* a) {
-  return static_cast<ClothEngine*>(context)->evaluate(
-      static_cast<const Real*>(x), static_cast<const Real*>(v), static_cast<Real*>(a));
+  const StateCombination<Real> x_state = in_place<Real>(x);
+  const StateCombination<Real> v_state = in_place<Real>(v);
+  return static_cast<ClothEngine*>(context)->evaluate(x_state, v == nullptr ? nullptr : &v_state,
+                                                      static_cast<Real*>(a));
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::eval_at_callback(void* context, double,
+                                                    const clothlab_combination* x,
+                                                    const clothlab_combination* v, void* a) {
+  StateCombination<Real> x_state, v_state;
+  if (x == nullptr || !convert(*x, x_state) || (v != nullptr && !convert(*v, v_state))) {
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  }
+  return static_cast<ClothEngine*>(context)->evaluate(x_state, v == nullptr ? nullptr : &v_state,
+                                                      static_cast<Real*>(a));
 }
 
 template <class Real>

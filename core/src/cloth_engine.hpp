@@ -36,7 +36,8 @@ class ClothEngine final : public Engine {
     std::size_t begin, end;
   };
 
-  clothlab_status evaluate(const Real* x, const Real* v, Real* a);
+  clothlab_status evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v,
+                           Real* a);
   void axpy(Real* y, Real alpha, const Real* x);
   void lincomb(Real* out, const Real* base, uint32_t count, const double* coefficients,
                const void* const* vectors);
@@ -44,6 +45,8 @@ class ClothEngine final : public Engine {
 
   static clothlab_status eval_callback(void* context, double t, const void* x, const void* v,
                                        void* a);
+  static clothlab_status eval_at_callback(void* context, double t, const clothlab_combination* x,
+                                          const clothlab_combination* v, void* a);
   static void axpy_callback(void* context, void* y, double alpha, const void* x);
   static void lincomb_callback(void* context, void* out, const void* base, uint32_t count,
                                const double* coefficients, const void* const* vectors);

@@ -14,7 +14,9 @@ namespace {
 
 // Zeros left of column 0 in every scratch row, so shifted reads need no branch.
 constexpr std::size_t kMargin = 16;
-constexpr std::size_t kRowsPerThread = 9 + 3 + 6;  // accumulators, force row, wind rows
+// Accumulators, force row, wind rows, staged rows.
+constexpr std::size_t kRowsPerThread = 9 + 3 + 6 + 18;
+constexpr std::size_t kStagedRowsFrom = 18;
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
@@ -45,7 +47,6 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
     if (stage.count == 0 || (family.ks == 0.0 && !stage.damped)) continue;
     stage.row_step = stencil.row_step;
     stage.col_step = stencil.col_step;
-    stage.offset = static_cast<std::size_t>(stencil_offset(stencil, scene.cols));
     stage.rest = static_cast<Real>(stencil_rest_length(scene, stencil));
     stage.ks = static_cast<Real>(family.ks);
     stage.kd = static_cast<Real>(family.kd);
@@ -81,22 +82,52 @@ Real* ForcePipeline<Real>::wind_row(int thread, int triangle, int k) {
 }
 
 template <class Real>
+Real* ForcePipeline<Real>::staged_row(int thread, std::size_t row, int quantity, int k) {
+  const std::size_t index = static_cast<std::size_t>(thread) * kRowsPerThread + kStagedRowsFrom +
+                            row % 3 * 6 + static_cast<std::size_t>(quantity * 3 + k);
+  return scratch_.data() + index * row_span_ + kMargin;
+}
+
+template <class Real>
+const Real* ForcePipeline<Real>::state_row(int thread, const Pass& pass, int quantity,
+                                           std::size_t row, int k) {
+  const StateCombination<Real>& state = quantity == 0 ? *pass.x : *pass.v;
+  if (state.count == 0) return state.base + k * stride_ + row * cols_;
+  return staged_row(thread, row, quantity, k);
+}
+
+template <class Real>
+void ForcePipeline<Real>::stage_row(int thread, const Pass& pass, std::size_t row) {
+  for (int quantity = 0; quantity < 2; ++quantity) {
+    const StateCombination<Real>* state = quantity == 0 ? pass.x : pass.v;
+    if (state == nullptr || state->count == 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      combine_row(staged_row(thread, row, quantity, k), *state, k * stride_ + row * cols_,
+                  inverse_mass_ + row * cols_, cols_);
+    }
+  }
+}
+
+template <class Real>
 void ForcePipeline<Real>::add_springs(int thread, std::size_t row, const Pass& pass) {
-  const std::size_t first = row * cols_;
   for (const SpringStage& stage : stages_) {
     if (row >= stage.extent.row_end) continue;  // no spring of this stencil starts here
     const bool damped = stage.damped && pass.v != nullptr;
     const bool in_row = stage.row_step == 0;
+    const std::size_t partner_row = row + stage.row_step;
     SpringRow<Real> job{};
     for (int k = 0; k < 3; ++k) {
-      job.x[k] = pass.x + k * stride_ + first;
-      job.v[k] = damped ? pass.v + k * stride_ + first : nullptr;
+      job.x[k] = state_row(thread, pass, 0, row, k);
+      job.x_partner[k] = state_row(thread, pass, 0, partner_row, k) + stage.col_step;
+      if (damped) {
+        job.v[k] = state_row(thread, pass, 1, row, k);
+        job.v_partner[k] = state_row(thread, pass, 1, partner_row, k) + stage.col_step;
+      }
       job.own[k] = in_row ? force_row(thread, k) : accumulator(thread, row, k);
-      job.partner[k] = accumulator(thread, row + stage.row_step, k) + stage.col_step;
+      job.partner[k] = accumulator(thread, partner_row, k) + stage.col_step;
     }
     job.col_begin = stage.extent.col_begin;
     job.col_end = stage.extent.col_end;
-    job.offset = stage.offset;
     job.rest = stage.rest;
     job.ks = stage.ks;
     job.kd = stage.kd;
@@ -130,8 +161,8 @@ void ForcePipeline<Real>::add_wind(int thread, std::size_t row, Pass& pass) {
       timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   WindRow<Real> job{};
   for (int k = 0; k < 3; ++k) {
-    job.x[k] = pass.x + k * stride_ + row * cols_;
-    job.below[k] = job.x[k] + cols_;
+    job.x[k] = state_row(thread, pass, 0, row, k);
+    job.below[k] = state_row(thread, pass, 0, row + 1, k);
     job.first[k] = wind_row(thread, 0, k);
     job.second[k] = wind_row(thread, 1, k);
     job.direction[k] = wind_direction_[k];
@@ -181,12 +212,19 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
   // Springs and cells of the two rows above the block act on its first rows; their own
   // rows belong to another thread and are dropped.
   const std::size_t first = begin >= 2 ? begin - 2 : 0;
+  std::size_t staged = first;
+  // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
+  const auto stage_through = [&](std::size_t row) {
+    for (; staged < std::min(row + 3, rows_); ++staged) stage_row(thread, pass, staged);
+  };
   for (std::size_t row = first; row < begin; ++row) {
+    stage_through(row);
     add_springs(thread, row, pass);
     add_wind(thread, row, pass);
     clear_row(thread, row);
   }
   for (std::size_t row = begin; row < end; ++row) {
+    stage_through(row);
     add_springs(thread, row, pass);
     add_wind(thread, row, pass);
     probe += finish_row(thread, row, pass.a);
@@ -197,7 +235,8 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
 }
 
 template <class Real>
-bool ForcePipeline<Real>::evaluate(const Real* x, const Real* v, Real* a, StageCounters& counters) {
+bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v,
+                                   Real* a, StageCounters& counters) {
   const auto start = std::chrono::steady_clock::now();
   double wind_seconds = 0.0;
   Real probe = 0;
@@ -207,7 +246,7 @@ bool ForcePipeline<Real>::evaluate(const Real* x, const Real* v, Real* a, StageC
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t begin = rows_ * static_cast<std::size_t>(thread) / team;
     const std::size_t end = rows_ * static_cast<std::size_t>(thread + 1) / team;
-    Pass pass{x, v, a, 0.0};
+    Pass pass{&x, v, a, 0.0};
     probe += run_rows(thread, begin, end, pass);
     if (thread == 0) wind_seconds = pass.wind_seconds;
   }

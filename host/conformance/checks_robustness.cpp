@@ -67,6 +67,12 @@ class PluginOnlySystem {
       const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
       return host.eval_acceleration(host.context, t, x, v, a);
     };
+    system_.eval_acceleration_at = [](void* self, double t, const clothlab_combination* x,
+                                      const clothlab_combination* v, void* a) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      return host.eval_acceleration_at(host.context, t, x, v, a);
+    };
     system_.axpy = [](void* self, void* y, double alpha, const void* x) {
       const allocations::Pause pause;
       const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;

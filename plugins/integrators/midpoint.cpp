@@ -4,10 +4,11 @@
 //   x_mid = x + dt/2 v,   v_mid = v + dt/2 a1
 //   a2 = a(t + dt/2, x_mid, v_mid)
 //   x += dt v_mid,        v += dt a2
+// With v_mid substituted, x += dt v + dt^2/2 a1: the midpoint state is formed inside the
+// force pass (acceleration_at) and only the two accelerations are stored.
 #include <array>
 #include <clothlab/sdk.hpp>
 
-#include "pinned_state.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -32,23 +33,21 @@ struct ExplicitMidpoint {
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double dt) {
-    const auto [acceleration, x_mid, v_mid] = scratch_.bind(system);
+    const auto [a1, a2] = scratch_.bind(system);
     if (dt == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
-    copy_pinned(system, x_mid, x);
-    copy_pinned(system, v_mid, v);
+    const double half = 0.5 * dt;
 
-    system.acceleration(t, x, v, acceleration);
-    system.template lincomb<1>(x_mid, x, {0.5 * dt}, {v});
-    system.template lincomb<1>(v_mid, v, {0.5 * dt}, {acceleration});
-    system.acceleration(t + 0.5 * dt, x_mid, v_mid, acceleration);
-    system.axpy(x, dt, v_mid);
-    system.axpy(v, dt, acceleration);
+    system.acceleration(t, x, v, a1);
+    system.acceleration_at(t + half, sdk::Sum<Real, 1>{x, {half}, {v}},
+                           sdk::Sum<Real, 1>{v, {half}, {a1}}, a2);
+    system.template lincomb<2>(x, x, {dt, half * dt}, {v, a1});
+    system.axpy(v, dt, a2);
   }
 
  private:
-  ScratchVectors<3> scratch_;
+  ScratchVectors<2> scratch_;
 };
 
 }  // namespace clothlab::builtin

@@ -5,10 +5,13 @@
 //   stage 3: x3 = x + h/2 v2,   v3 = v + h/2 a2,   a3 = a(t + h/2,  x3, v3)
 //   stage 4: x4 = x + h v3,     v4 = v + h a3,     a4 = a(t + h,    x4, v4)
 //   x += h/6 (v1 + 2 v2 + 2 v3 + v4),   v += h/6 (a1 + 2 a2 + 2 a3 + a4)
+// Substituting the stage velocities, every stage state is x, v and the a_i:
+//   x3 = x + h/2 v + h^2/4 a1,  x4 = x + h v + h^2/2 a2,  x += h v + h^2/6 (a1 + a2 + a3),
+// so the stage states are formed inside the force pass (acceleration_at) and only the four
+// accelerations are stored.
 #include <array>
 #include <clothlab/sdk.hpp>
 
-#include "pinned_state.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -33,34 +36,27 @@ struct ClassicRungeKutta4 {
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double h) {
-    const auto [a1, a2, a3, a4, v2, v3, v4, x_stage] = scratch_.bind(system);
+    const auto [a1, a2, a3, a4] = scratch_.bind(system);
     if (h == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
-    copy_pinned(system, x_stage, x);
-    for (Real* stage_velocity : {v2, v3, v4}) copy_pinned(system, stage_velocity, v);
+    using Sum1 = sdk::Sum<Real, 1>;
+    using Sum2 = sdk::Sum<Real, 2>;
+    const double half = 0.5 * h, h2 = h * h;
 
     system.acceleration(t, x, v, a1);
+    system.acceleration_at(t + half, Sum1{x, {half}, {v}}, Sum1{v, {half}, {a1}}, a2);
+    system.acceleration_at(t + half, Sum2{x, {half, 0.25 * h2}, {v, a1}}, Sum1{v, {half}, {a2}},
+                           a3);
+    system.acceleration_at(t + h, Sum2{x, {h, 0.5 * h2}, {v, a2}}, Sum1{v, {h}, {a3}}, a4);
 
-    system.template lincomb<1>(x_stage, x, {0.5 * h}, {v});
-    system.template lincomb<1>(v2, v, {0.5 * h}, {a1});
-    system.acceleration(t + 0.5 * h, x_stage, v2, a2);
-
-    system.template lincomb<1>(x_stage, x, {0.5 * h}, {v2});
-    system.template lincomb<1>(v3, v, {0.5 * h}, {a2});
-    system.acceleration(t + 0.5 * h, x_stage, v3, a3);
-
-    system.template lincomb<1>(x_stage, x, {h}, {v3});
-    system.template lincomb<1>(v4, v, {h}, {a3});
-    system.acceleration(t + h, x_stage, v4, a4);
-
-    const double sixth = h / 6.0, third = h / 3.0;
-    system.template lincomb<4>(x, x, {sixth, third, third, sixth}, {v, v2, v3, v4});
+    const double sixth = h / 6.0, third = h / 3.0, h2_sixth = h2 / 6.0;
+    system.template lincomb<4>(x, x, {h, h2_sixth, h2_sixth, h2_sixth}, {v, a1, a2, a3});
     system.template lincomb<4>(v, v, {sixth, third, third, sixth}, {a1, a2, a3, a4});
   }
 
  private:
-  ScratchVectors<8> scratch_;
+  ScratchVectors<4> scratch_;
 };
 
 }  // namespace clothlab::builtin

@@ -3,7 +3,8 @@
 //
 // Vector helpers follow plugin.h: axpy and lincomb touch active particles only, copy
 // touches all, alloc_vector works only while `allocation_allowed` (the harness sets it
-// around prepare), so a step that allocates fails. Arithmetic is done in double and
+// around prepare), so a step that allocates fails. eval_acceleration_at forms the stage
+// state in two vectors of its own, then evaluates. Arithmetic is done in double and
 // rounded once to Real.
 #pragma once
 
@@ -34,6 +35,8 @@ class MockSystem {
       : n_(particle_count), stride_((particle_count + 15) / 16 * 16), law_(std::move(law)) {
     x_ = new_vector();
     v_ = new_vector();
+    stage_x_ = new_vector();
+    stage_v_ = new_vector();
     inverse_mass_ = new_buffer(n_);
     for (uint32_t i = 0; i < n_; ++i) inverse_mass_[i] = 1;
     for (uint32_t i : pinned) inverse_mass_[i] = 0;
@@ -59,7 +62,8 @@ class MockSystem {
             &MockSystem::axpy,
             &MockSystem::lincomb,
             &MockSystem::copy,
-            &MockSystem::alloc};
+            &MockSystem::alloc,
+            &MockSystem::eval_at};
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;
@@ -128,6 +132,18 @@ class MockSystem {
     return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
   }
 
+  static clothlab_status eval_at(void* context, double t, const clothlab_combination* x,
+                                 const clothlab_combination* v, void* a) {
+    MockSystem& s = self(context);
+    const auto form = [&](const clothlab_combination& state, Real* out) {
+      copy(context, out, state.base);
+      lincomb(context, out, state.base, state.count, state.coefficients, state.vectors);
+    };
+    form(*x, s.stage_x_);
+    if (v != nullptr) form(*v, s.stage_v_);
+    return eval(context, t, s.stage_x_, v == nullptr ? nullptr : s.stage_v_, a);
+  }
+
   static void axpy(void* context, void* y, double alpha, const void* x) {
     Real* out = static_cast<Real*>(y);
     const Real* in = static_cast<const Real*>(x);
@@ -163,6 +179,8 @@ class MockSystem {
   std::vector<std::unique_ptr<Real, Free>> buffers_;
   Real* x_;
   Real* v_;
+  Real* stage_x_;
+  Real* stage_v_;
   Real* inverse_mass_;
   std::vector<clothlab_range> active_;
   clothlab_system raw_;

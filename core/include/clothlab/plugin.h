@@ -25,7 +25,7 @@
 #include <stdint.h>
 
 #define CLOTHLAB_ABI_VERSION_MAJOR 1u
-#define CLOTHLAB_ABI_VERSION_MINOR 0u
+#define CLOTHLAB_ABI_VERSION_MINOR 1u
 
 #if defined(__GNUC__) || defined(__clang__)
 #define CLOTHLAB_EXPORT __attribute__((visibility("default")))
@@ -95,6 +95,16 @@ typedef struct clothlab_range {
   uint32_t end;
 } clothlab_range;
 
+/* base + sum_i coefficients[i] * vectors[i] over vectors of a system (since 1.1). */
+#define CLOTHLAB_COMBINATION_MAX_TERMS 8u
+typedef struct clothlab_combination {
+  const void *base;
+  uint32_t count; /* 0 .. CLOTHLAB_COMBINATION_MAX_TERMS */
+  uint32_t reserved0;
+  const double *coefficients;
+  const void *const *vectors;
+} clothlab_combination;
+
 /*
  * The cloth as an integrator sees it: the first-order system
  *   dx/dt = v,  dv/dt = a(t, x, v) = M^-1 F(t, x, v).
@@ -136,6 +146,16 @@ typedef struct clothlab_system {
   /* A zeroed vector owned by the host, freed with the system. Only during `prepare`;
    * returns NULL when out of memory. */
   void *(*alloc_vector)(void *context);
+
+  /* ---- since 1.1: present when struct_size covers it ---- */
+
+  /* eval_acceleration at the state x = x->base + sum ..., v = v->base + sum ..., each
+   * formed row by row inside the force pass and never stored: a Runge-Kutta stage costs
+   * one pass over memory instead of a lincomb per stage vector and an evaluation.
+   * Pinned particles take the base values. v may be NULL as for eval_acceleration; a
+   * count above CLOTHLAB_COMBINATION_MAX_TERMS is CLOTHLAB_ERROR_INVALID_ARGUMENT. */
+  clothlab_status (*eval_acceleration_at)(void *context, double t, const clothlab_combination *x,
+                                          const clothlab_combination *v, void *a);
 } clothlab_system;
 
 /* ------------------------------------------------------------ integrator */

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -46,8 +47,8 @@ class Error : public std::runtime_error {
 
 inline void write_message(clothlab_message* out, std::string_view text) noexcept {
   if (out == nullptr) return;
-  const size_t n = text.size() < CLOTHLAB_MESSAGE_CAPACITY - 1 ? text.size()
-                                                                : CLOTHLAB_MESSAGE_CAPACITY - 1;
+  const size_t n =
+      text.size() < CLOTHLAB_MESSAGE_CAPACITY - 1 ? text.size() : CLOTHLAB_MESSAGE_CAPACITY - 1;
   std::memcpy(out->text, text.data(), n);
   out->text[n] = '\0';
 }
@@ -76,30 +77,39 @@ clothlab_status guarded(clothlab_message* error, Body&& body) noexcept {
 // ------------------------------------------------------------------ parameters
 
 constexpr clothlab_param_spec real_param(const char* name, double fallback, double min_value,
-                                         double max_value, const char* unit,
-                                         const char* help) {
-  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_REAL, name, help, unit,
+                                         double max_value, const char* unit, const char* help) {
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_REAL, name,     help, unit,
           {fallback, 0.0, 0.0},        min_value,           max_value};
 }
 
 constexpr clothlab_param_spec int_param(const char* name, double fallback, double min_value,
                                         double max_value, const char* help) {
-  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_INT, name, help, "",
+  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_INT, name,     help, "",
           {fallback, 0.0, 0.0},        min_value,          max_value};
 }
 
 constexpr clothlab_param_spec bool_param(const char* name, bool fallback, const char* help) {
-  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_BOOL, name, help, "",
-          {fallback ? 1.0 : 0.0, 0.0, 0.0}, 0.0, 1.0};
+  return {sizeof(clothlab_param_spec),
+          CLOTHLAB_PARAM_BOOL,
+          name,
+          help,
+          "",
+          {fallback ? 1.0 : 0.0, 0.0, 0.0},
+          0.0,
+          1.0};
 }
 
 constexpr clothlab_param_spec vec3_param(const char* name, std::array<double, 3> fallback,
                                          double min_value, double max_value, const char* unit,
                                          const char* help) {
-  return {sizeof(clothlab_param_spec), CLOTHLAB_PARAM_VEC3,
-          name,                        help,
-          unit,                        {fallback[0], fallback[1], fallback[2]},
-          min_value,                   max_value};
+  return {sizeof(clothlab_param_spec),
+          CLOTHLAB_PARAM_VEC3,
+          name,
+          help,
+          unit,
+          {fallback[0], fallback[1], fallback[2]},
+          min_value,
+          max_value};
 }
 
 // Validated, typed access to the values the host passed to `create`.
@@ -109,9 +119,9 @@ class Params {
          uint32_t count)
       : specs_(specs), values_(values) {
     if (count != specs.size())
-      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                  "expected " + std::to_string(specs.size()) + " parameter values, got " +
-                      std::to_string(count));
+      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "expected " + std::to_string(specs.size()) +
+                                                       " parameter values, got " +
+                                                       std::to_string(count));
     if (count > 0 && values == nullptr)
       throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "parameter values are null");
     for (size_t i = 0; i < specs.size(); ++i) validate(specs[i], values[i]);
@@ -157,6 +167,14 @@ class Params {
 
 // ---------------------------------------------------------------------- system
 
+// base + sum_i coefficients[i] * vectors[i]: a stage state for System::acceleration_at.
+template <class Real, size_t N>
+struct Sum {
+  const Real* base;
+  std::array<double, N> coefficients;
+  std::array<const Real*, N> vectors;
+};
+
 // Typed view of a clothlab_system. Vectors are Real arrays of 3 * stride elements.
 template <class Real>
 class System {
@@ -176,7 +194,26 @@ class System {
     const clothlab_status status = raw_->eval_acceleration(raw_->context, t, x, v, a);
     if (status != CLOTHLAB_OK)
       throw Error(status, status == CLOTHLAB_ERROR_NUMERICAL ? "non-finite acceleration"
-                                                               : "acceleration evaluation failed");
+                                                             : "acceleration evaluation failed");
+  }
+  // a = M^-1 F(t, x, v) at a stage state given as sums, which the host forms inside the
+  // force pass (ABI 1.1); e.g. acceleration_at(t, Sum<Real, 1>{x, {h}, {v}}, ...).
+  template <size_t Nx, size_t Nv>
+  void acceleration_at(double t, const Sum<Real, Nx>& x, const Sum<Real, Nv>& v, Real* a) const {
+    static_assert(Nx <= CLOTHLAB_COMBINATION_MAX_TERMS && Nv <= CLOTHLAB_COMBINATION_MAX_TERMS);
+    if (!has_acceleration_at())
+      throw Error(CLOTHLAB_ERROR_UNSUPPORTED, "the host lacks eval_acceleration_at (ABI < 1.1)");
+    const Combination<Nx> x_terms(x);
+    const Combination<Nv> v_terms(v);
+    const clothlab_status status =
+        raw_->eval_acceleration_at(raw_->context, t, &x_terms.raw, &v_terms.raw, a);
+    if (status != CLOTHLAB_OK)
+      throw Error(status, status == CLOTHLAB_ERROR_NUMERICAL ? "non-finite acceleration"
+                                                             : "acceleration evaluation failed");
+  }
+  bool has_acceleration_at() const {
+    return raw_->struct_size >= offsetof(clothlab_system, eval_acceleration_at) + sizeof(void*) &&
+           raw_->eval_acceleration_at != nullptr;
   }
   void axpy(Real* y, double alpha, const Real* x) const { raw_->axpy(raw_->context, y, alpha, x); }
   // out = base + sum c_i * v_i
@@ -196,6 +233,16 @@ class System {
   }
 
  private:
+  template <size_t N>
+  struct Combination {
+    explicit Combination(const Sum<Real, N>& sum) {
+      for (size_t i = 0; i < N; ++i) untyped[i] = sum.vectors[i];
+      raw = {sum.base, static_cast<uint32_t>(N), 0, sum.coefficients.data(), untyped.data()};
+    }
+    std::array<const void*, N> untyped{};
+    clothlab_combination raw;
+  };
+
   const clothlab_system* raw_;
 };
 
@@ -240,7 +287,8 @@ const clothlab_integrator* integrator_descriptor() {
       },
       [](void* instance, const clothlab_system* raw, clothlab_message* error) -> clothlab_status {
         return guarded(error, [&] {
-          with_precision(*raw, [&](auto& system) { static_cast<Impl*>(instance)->prepare(system); });
+          with_precision(*raw,
+                         [&](auto& system) { static_cast<Impl*>(instance)->prepare(system); });
         });
       },
       [](void* instance, const clothlab_system* raw, double t, double dt,
@@ -328,8 +376,8 @@ const clothlab_plugin_descriptor* plugin_descriptor(const char* library_name,
 }  // namespace clothlab::sdk
 
 // Defines the library's one exported symbol.
-#define CLOTHLAB_PLUGIN_ENTRY(LIBRARY_NAME, LIBRARY_VERSION, INTEGRATORS, SCENARIOS)          \
+#define CLOTHLAB_PLUGIN_ENTRY(LIBRARY_NAME, LIBRARY_VERSION, INTEGRATORS, SCENARIOS)         \
   extern "C" CLOTHLAB_EXPORT const clothlab_plugin_descriptor* clothlab_plugin_entry(void) { \
-    return clothlab::sdk::plugin_descriptor<INTEGRATORS, SCENARIOS>(LIBRARY_NAME,             \
-                                                                     LIBRARY_VERSION);         \
+    return clothlab::sdk::plugin_descriptor<INTEGRATORS, SCENARIOS>(LIBRARY_NAME,            \
+                                                                    LIBRARY_VERSION);        \
   }

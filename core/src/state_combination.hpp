@@ -1,0 +1,41 @@
+// A state vector given as a linear combination base + sum_i coefficients[i] * vectors[i]
+// (all of 3 * stride elements), and the kernel that forms one grid row of it. The force
+// pass forms the rows of a Runge-Kutta stage state as it goes instead of reading a stage
+// vector written by an earlier pass.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace clothlab::detail {
+
+template <class Real>
+struct StateCombination {
+  static constexpr uint32_t kMaxTerms = CLOTHLAB_COMBINATION_MAX_TERMS;
+  const Real* base = nullptr;
+  uint32_t count = 0;
+  Real coefficients[kMaxTerms] = {};
+  const Real* vectors[kMaxTerms] = {};
+};
+
+// out[c] = the combination at element first + c for active particles, the base value for
+// pinned ones (inverse mass 0), as lincomb leaves them.
+template <class Real>
+inline void combine_row(Real* __restrict out, const StateCombination<Real>& state,
+                        std::size_t first, const Real* __restrict inverse_mass, std::size_t cols) {
+  const Real* __restrict base = state.base + first;
+#pragma omp simd
+  for (std::size_t c = 0; c < cols; ++c) out[c] = base[c];
+  for (uint32_t term = 0; term < state.count; ++term) {
+    const Real coefficient = state.coefficients[term];
+    const Real* __restrict vector = state.vectors[term] + first;
+#pragma omp simd
+    for (std::size_t c = 0; c < cols; ++c) out[c] += coefficient * vector[c];
+  }
+#pragma omp simd
+  for (std::size_t c = 0; c < cols; ++c) out[c] = inverse_mass[c] > Real(0) ? out[c] : base[c];
+}
+
+}  // namespace clothlab::detail
