@@ -5,6 +5,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <cstddef>
 
 #if defined(__AVX512F__)
 #include <immintrin.h>
@@ -28,6 +29,26 @@ inline __m512 inverse_sqrt_or_zero(__m512 s) {
   const __m512 y = _mm512_maskz_rsqrt14_ps(normal, s);  // 0 in the other lanes stays 0
   const __m512 half_s_y = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(0.5f), s), y);
   return _mm512_mul_ps(y, _mm512_fnmadd_ps(half_s_y, y, _mm512_set1_ps(1.5f)));
+}
+
+// Loads and stores of 16 floats for the AVX-512 kernels: full width, or masked for the last
+// columns of a row (masked stores are slower, so only the tail pays for them).
+struct FullLanes {
+  static __m512 load(const float* p) { return _mm512_loadu_ps(p); }
+  static void store(float* p, __m512 value) { _mm512_storeu_ps(p, value); }
+};
+struct TailLanes {
+  __mmask16 lanes;
+  __m512 load(const float* p) const { return _mm512_maskz_loadu_ps(lanes, p); }
+  void store(float* p, __m512 value) const { _mm512_mask_storeu_ps(p, lanes, value); }
+};
+
+// Runs body(c, lanes) over [begin, end) in steps of 16, the last step with TailLanes.
+template <class Body>
+inline void for_each_16(std::size_t begin, std::size_t end, Body&& body) {
+  std::size_t c = begin;
+  for (; c + 16 <= end; c += 16) body(c, FullLanes{});
+  if (c < end) body(c, TailLanes{__mmask16((1u << (end - c)) - 1)});
 }
 #endif
 

@@ -16,14 +16,18 @@
 
 namespace clothlab::detail {
 
+// Every row below holds its three components `span` elements apart: component k of
+// column c at [c + k * span]. One stride for all of them keeps the kernel to six base
+// pointers, so they stay in registers.
 template <class Real>
 struct SpringRow {
-  const Real* x[3];          // positions of this row, by column
-  const Real* x_partner[3];  // positions of the partners, shifted to line up by column
-  const Real* v[3];          // velocities likewise; read only when damped
-  const Real* v_partner[3];
-  Real* own[3];      // by column of the first particle
-  Real* partner[3];  // by column of the first particle; used only when adding forward
+  const Real* x;          // positions of this row
+  const Real* x_partner;  // positions of the partners, shifted to line up by column
+  const Real* v;          // velocities likewise; read only when damped
+  const Real* v_partner;
+  Real* own;      // by column of the first particle
+  Real* partner;  // by column of the first particle; used only when adding forward
+  std::size_t span;
   std::size_t col_begin;
   std::size_t col_end;
   Real rest;
@@ -45,50 +49,39 @@ inline Lane spring_force_scale(Lane dx, Lane dy, Lane dz, Lane dvx, Lane dvy, La
 
 template <class Real, bool Damped, bool Forward>
 inline void spring_row_forces_portable(const SpringRow<Real>& row) {
-  const Real* __restrict x = row.x[0];
-  const Real* __restrict y = row.x[1];
-  const Real* __restrict z = row.x[2];
-  const Real* __restrict xp = row.x_partner[0];
-  const Real* __restrict yp = row.x_partner[1];
-  const Real* __restrict zp = row.x_partner[2];
-  const Real* __restrict vx = row.v[0];
-  const Real* __restrict vy = row.v[1];
-  const Real* __restrict vz = row.v[2];
-  const Real* __restrict vxp = row.v_partner[0];
-  const Real* __restrict vyp = row.v_partner[1];
-  const Real* __restrict vzp = row.v_partner[2];
-  Real* __restrict fx = row.own[0];
-  Real* __restrict fy = row.own[1];
-  Real* __restrict fz = row.own[2];
-  Real* __restrict px = row.partner[0];
-  Real* __restrict py = row.partner[1];
-  Real* __restrict pz = row.partner[2];
+  const Real* __restrict x = row.x;
+  const Real* __restrict xp = row.x_partner;
+  const Real* __restrict v = row.v;
+  const Real* __restrict vp = row.v_partner;
+  Real* __restrict own = row.own;
+  Real* __restrict partner = row.partner;
+  const std::size_t y = row.span, z = 2 * row.span;
   const Real rest = row.rest;
   const Real ks = row.ks;
   const Real kd = row.kd;
 #pragma omp simd
   for (std::size_t c = row.col_begin; c < row.col_end; ++c) {
     const Real dx = xp[c] - x[c];
-    const Real dy = yp[c] - y[c];
-    const Real dz = zp[c] - z[c];
+    const Real dy = xp[c + y] - x[c + y];
+    const Real dz = xp[c + z] - x[c + z];
     Real dvx = 0, dvy = 0, dvz = 0;
     if constexpr (Damped) {
-      dvx = vxp[c] - vx[c];
-      dvy = vyp[c] - vy[c];
-      dvz = vzp[c] - vz[c];
+      dvx = vp[c] - v[c];
+      dvy = vp[c + y] - v[c + y];
+      dvz = vp[c + z] - v[c + z];
     }
     const Real scale = spring_force_scale<Damped>(dx, dy, dz, dvx, dvy, dvz, rest, ks, kd);
     if constexpr (Forward) {
-      fx[c] += scale * dx;
-      fy[c] += scale * dy;
-      fz[c] += scale * dz;
-      px[c] -= scale * dx;
-      py[c] -= scale * dy;
-      pz[c] -= scale * dz;
+      own[c] += scale * dx;
+      own[c + y] += scale * dy;
+      own[c + z] += scale * dz;
+      partner[c] -= scale * dx;
+      partner[c + y] -= scale * dy;
+      partner[c + z] -= scale * dz;
     } else {
-      fx[c] = scale * dx;
-      fy[c] = scale * dy;
-      fz[c] = scale * dz;
+      own[c] = scale * dx;
+      own[c + y] = scale * dy;
+      own[c + z] = scale * dz;
     }
   }
 }
@@ -99,28 +92,27 @@ inline void spring_row_forces_avx512(const SpringRow<float>& row) {
   const __m512 rest = _mm512_set1_ps(row.rest);
   const __m512 ks = _mm512_set1_ps(row.ks);
   const __m512 kd = _mm512_set1_ps(row.kd);
-  for (std::size_t c = row.col_begin; c < row.col_end; c += 16) {
-    const std::size_t left = row.col_end - c;
-    const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1);
-    const auto load = [&](const float* p) { return _mm512_maskz_loadu_ps(lanes, p + c); };
-    const auto store = [&](float* p, __m512 value) { _mm512_mask_storeu_ps(p + c, lanes, value); };
+  const std::size_t span = row.span;
+  for_each_16(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
+    const auto load = [&](const float* p, int k) { return lanes.load(p + c + k * span); };
+    const auto store = [&](float* p, int k, __m512 value) { lanes.store(p + c + k * span, value); };
     __m512 d[3], dv[3] = {};
-    for (int k = 0; k < 3; ++k) d[k] = load(row.x_partner[k]) - load(row.x[k]);
+    for (int k = 0; k < 3; ++k) d[k] = load(row.x_partner, k) - load(row.x, k);
     if constexpr (Damped) {
-      for (int k = 0; k < 3; ++k) dv[k] = load(row.v_partner[k]) - load(row.v[k]);
+      for (int k = 0; k < 3; ++k) dv[k] = load(row.v_partner, k) - load(row.v, k);
     }
     const __m512 scale =
         spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
     for (int k = 0; k < 3; ++k) {
       const __m512 force = scale * d[k];
       if constexpr (Forward) {
-        store(row.own[k], load(row.own[k]) + force);
-        store(row.partner[k], load(row.partner[k]) - force);
+        store(row.own, k, load(row.own, k) + force);
+        store(row.partner, k, load(row.partner, k) - force);
       } else {
-        store(row.own[k], force);
+        store(row.own, k, force);
       }
     }
-  }
+  });
 }
 #endif
 

@@ -28,6 +28,7 @@ inline void combine_row(Real* __restrict out, const StateCombination<Real>& stat
   const Real* __restrict base = state.base + first;
 #pragma omp simd
   for (std::size_t c = 0; c < cols; ++c) out[c] = base[c];
+  if (state.count == 0) return;
   for (uint32_t term = 0; term < state.count; ++term) {
     const Real coefficient = state.coefficients[term];
     const Real* __restrict vector = state.vectors[term] + first;

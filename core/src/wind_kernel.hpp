@@ -17,12 +17,14 @@
 
 namespace clothlab::detail {
 
+// Rows hold their components a span apart, as in the spring kernel.
 template <class Real>
 struct WindRow {
-  const Real* x[3];      // positions, at this row's first particle
-  const Real* below[3];  // positions, at the next row's first particle
-  Real* first[3];
-  Real* second[3];
+  const Real* x;      // positions of this row
+  const Real* below;  // positions of the next row
+  Real* first;
+  Real* second;
+  std::size_t span;
   std::size_t cells;  // cols - 1
   Real direction[3];
   Real strength;
@@ -58,34 +60,27 @@ inline void cell_wind_shares(const Lane (&a)[3], const Lane (&b)[3], const Lane 
 
 template <class Real>
 inline void wind_row_forces_portable(const WindRow<Real>& row) {
-  const Real* __restrict x = row.x[0];
-  const Real* __restrict y = row.x[1];
-  const Real* __restrict z = row.x[2];
-  const Real* __restrict xb = row.below[0];
-  const Real* __restrict yb = row.below[1];
-  const Real* __restrict zb = row.below[2];
-  Real* __restrict fx = row.first[0];
-  Real* __restrict fy = row.first[1];
-  Real* __restrict fz = row.first[2];
-  Real* __restrict sx = row.second[0];
-  Real* __restrict sy = row.second[1];
-  Real* __restrict sz = row.second[2];
+  const Real* __restrict x = row.x;
+  const Real* __restrict below = row.below;
+  Real* __restrict first = row.first;
+  Real* __restrict second = row.second;
+  const std::size_t y = row.span, z = 2 * row.span;
   const Real w[3] = {row.direction[0], row.direction[1], row.direction[2]};
   const Real strength_sixth = row.strength / Real(6);
 #pragma omp simd
   for (std::size_t c = 0; c < row.cells; ++c) {
-    const Real a[3] = {x[c], y[c], z[c]};
-    const Real b[3] = {x[c + 1], y[c + 1], z[c + 1]};
-    const Real below[3] = {xb[c], yb[c], zb[c]};
-    const Real d[3] = {xb[c + 1], yb[c + 1], zb[c + 1]};
-    Real first[3], second[3];
-    cell_wind_shares(a, b, below, d, w, strength_sixth, first, second);
-    fx[c] = first[0];
-    fy[c] = first[1];
-    fz[c] = first[2];
-    sx[c] = second[0];
-    sy[c] = second[1];
-    sz[c] = second[2];
+    const Real a[3] = {x[c], x[c + y], x[c + z]};
+    const Real b[3] = {x[c + 1], x[c + 1 + y], x[c + 1 + z]};
+    const Real c_[3] = {below[c], below[c + y], below[c + z]};
+    const Real d[3] = {below[c + 1], below[c + 1 + y], below[c + 1 + z]};
+    Real share_first[3], share_second[3];
+    cell_wind_shares(a, b, c_, d, w, strength_sixth, share_first, share_second);
+    first[c] = share_first[0];
+    first[c + y] = share_first[1];
+    first[c + z] = share_first[2];
+    second[c] = share_second[0];
+    second[c + y] = share_second[1];
+    second[c + z] = share_second[2];
   }
 }
 
@@ -94,23 +89,22 @@ inline void wind_row_forces_avx512(const WindRow<float>& row) {
   const __m512 w[3] = {_mm512_set1_ps(row.direction[0]), _mm512_set1_ps(row.direction[1]),
                        _mm512_set1_ps(row.direction[2])};
   const __m512 strength_sixth = _mm512_set1_ps(row.strength / 6.0f);
-  for (std::size_t c = 0; c < row.cells; c += 16) {
-    const std::size_t left = row.cells - c;
-    const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1);
-    const auto load = [&](const float* p) { return _mm512_maskz_loadu_ps(lanes, p + c); };
+  const std::size_t span = row.span;
+  for_each_16(0, row.cells, [&](std::size_t c, auto lanes) {
+    const auto load = [&](const float* p, std::size_t k) { return lanes.load(p + c + k * span); };
     __m512 a[3], b[3], below[3], d[3], first[3], second[3];
-    for (int k = 0; k < 3; ++k) {
-      a[k] = load(row.x[k]);
-      b[k] = load(row.x[k] + 1);
-      below[k] = load(row.below[k]);
-      d[k] = load(row.below[k] + 1);
+    for (std::size_t k = 0; k < 3; ++k) {
+      a[k] = load(row.x, k);
+      b[k] = load(row.x + 1, k);
+      below[k] = load(row.below, k);
+      d[k] = load(row.below + 1, k);
     }
     cell_wind_shares(a, b, below, d, w, strength_sixth, first, second);
-    for (int k = 0; k < 3; ++k) {
-      _mm512_mask_storeu_ps(row.first[k] + c, lanes, first[k]);
-      _mm512_mask_storeu_ps(row.second[k] + c, lanes, second[k]);
+    for (std::size_t k = 0; k < 3; ++k) {
+      lanes.store(row.first + c + k * span, first[k]);
+      lanes.store(row.second + c + k * span, second[k]);
     }
-  }
+  });
 }
 #endif
 

@@ -1,0 +1,142 @@
+// All six Provot stencils of one interior grid row (a row every stencil starts in), and
+// the wind on the cells below it, in one sweep over its columns, 16 floats at a time on
+// AVX-512.
+//
+// Per column block the row's own positions and velocities are loaded once and the forces
+// on its own particles summed in registers over the six springs; only the partners' ends
+// go to memory. A cell's corners are partners of the (0,1), (1,0), (1,1) springs, so its
+// wind shares ride on their loads and stores. Each partner end whose column is shifted (+1, -1, +2)
+// goes to an accumulator of its own for that shift, so the read-modify-writes of one block never
+// overlap each other or the next block's (overlapping ones would stall store
+// forwarding). finish_row sums the shifted accumulators.
+#pragma once
+
+#include <cstddef>
+
+#include "inverse_sqrt.hpp"
+#include "spring_kernel.hpp"
+#include "wind_kernel.hpp"
+
+#if defined(__AVX512F__)
+
+namespace clothlab::detail {
+
+// Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
+struct InteriorRow {
+  const float* x[3];  // positions of rows r, r+1, r+2
+  const float* v[3];  // velocities likewise; read only when damped
+  float* aligned[3];  // accumulators of rows r, r+1, r+2 for ends at the same column
+  float* plus1[2];    // rows r, r+1: ends one column to the right
+  float* minus1;      // row r+1: ends one column to the left
+  float* plus2;       // row r: ends two columns to the right
+  std::size_t span;   // between the components of every row above, as in SpringRow
+  std::size_t cols;
+  float rest[6], ks[6], kd[6];
+  __m512 wind_direction[3];  // broadcast; used only with wind
+  __m512 wind_strength_sixth;
+};
+
+// Lanes of the block at column c whose column lies in [begin, end).
+inline __mmask16 columns_in(std::size_t c, std::size_t begin, std::size_t end) {
+  const std::size_t low = begin > c ? begin - c : 0;
+  const std::size_t high = end > c ? (end - c < 16 ? end - c : 16) : 0;
+  return __mmask16(((1u << high) - 1) & ~((1u << low) - 1));
+}
+
+// Edge blocks (the first, and those reaching the last two columns) mask each spring and
+// cell to its columns; their loads and stores may reach into the zero margins around a
+// row, where masked lanes add exactly 0.
+template <bool Damped, bool Wind, bool Edge>
+inline void interior_row_block(const InteriorRow& row, std::size_t c) {
+  using Vec3 = __m512[3];
+  const std::size_t span = row.span;
+  const auto load = [&](const float* p, std::ptrdiff_t shift, Vec3& out) {
+    for (std::size_t k = 0; k < 3; ++k) out[k] = _mm512_loadu_ps(p + c + k * span + shift);
+  };
+  const auto add_to = [&](float* p, std::ptrdiff_t shift, const Vec3& value) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      float* q = p + c + k * span + shift;
+      _mm512_storeu_ps(q, _mm512_loadu_ps(q) + value[k]);
+    }
+  };
+  const auto mask = [](Vec3& value, __mmask16 valid) {
+    if constexpr (Edge) {
+      for (std::size_t k = 0; k < 3; ++k) value[k] = _mm512_maskz_mov_ps(valid, value[k]);
+    }
+  };
+  const std::size_t cols = row.cols;
+  Vec3 x, v = {}, own = {};
+  load(row.x[0], 0, x);
+  if constexpr (Damped) load(row.v[0], 0, v);
+  // Force of stencil s on the own end, partner at `partner` (row r + dr, column c + dc).
+  // Returns the force on the partner end, -f.
+  const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, __mmask16 valid,
+                          Vec3& on_partner) {
+    Vec3 d, dv = {};
+    for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - x[k];
+    if constexpr (Damped) {
+      load(row.v[dr], dc, dv);
+      for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
+    }
+    const __m512 scale = spring_force_scale<Damped>(
+        d[0], d[1], d[2], dv[0], dv[1], dv[2], _mm512_set1_ps(row.rest[s]),
+        _mm512_set1_ps(row.ks[s]), _mm512_set1_ps(row.kd[s]));
+    Vec3 f;
+    for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
+    mask(f, valid);
+    for (std::size_t k = 0; k < 3; ++k) {
+      own[k] += f[k];
+      on_partner[k] = -f[k];
+    }
+  };
+  // The cell's corners other than x are partners of the first three stencils.
+  Vec3 right, below, below_right, far;
+  load(row.x[0], 1, right);
+  load(row.x[1], 0, below);
+  load(row.x[1], 1, below_right);
+  Vec3 to_right, to_below, to_below_right, partner;
+  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), to_right);
+  spring(1, below, 1, 0, columns_in(c, 0, cols), to_below);
+  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), to_below_right);
+  if constexpr (Wind) {
+    Vec3 first, second;
+    cell_wind_shares(x, right, below, below_right, row.wind_direction, row.wind_strength_sixth,
+                     first, second);
+    const __mmask16 cells = columns_in(c, 0, cols - 1);
+    mask(first, cells);
+    mask(second, cells);
+    for (std::size_t k = 0; k < 3; ++k) {
+      own[k] += first[k];
+      to_right[k] += first[k] + second[k];
+      to_below[k] += first[k] + second[k];
+      to_below_right[k] += second[k];
+    }
+  }
+  add_to(row.plus1[0], 1, to_right);
+  add_to(row.aligned[1], 0, to_below);
+  add_to(row.plus1[1], 1, to_below_right);
+  load(row.x[1], -1, far);
+  spring(3, far, 1, -1, columns_in(c, 1, cols), partner);
+  add_to(row.minus1, -1, partner);
+  load(row.x[0], 2, far);
+  spring(4, far, 0, 2, columns_in(c, 0, cols - 2), partner);
+  add_to(row.plus2, 2, partner);
+  load(row.x[2], 0, far);
+  spring(5, far, 2, 0, columns_in(c, 0, cols), partner);
+  add_to(row.aligned[2], 0, partner);
+  add_to(row.aligned[0], 0, own);
+}
+
+template <bool Damped, bool Wind>
+inline void interior_row_forces(const InteriorRow& row) {
+  const std::size_t cols = row.cols;
+  std::size_t c = 0;
+  interior_row_block<Damped, Wind, true>(row, c);
+  // Blocks clear of both edges: every lane of every stencil is a spring.
+  for (c = 16; c + 16 + 2 <= cols; c += 16) interior_row_block<Damped, Wind, false>(row, c);
+  for (; c < cols; c += 16) interior_row_block<Damped, Wind, true>(row, c);
+}
+
+}  // namespace clothlab::detail
+
+#endif
