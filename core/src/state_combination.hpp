@@ -22,13 +22,49 @@ struct StateCombination {
 
 // out[c] = the combination at element first + c for active particles, the base value for
 // pinned ones (inverse mass 0), as lincomb leaves them.
+// Terms summed per column in one pass, for a fixed number of terms.
+template <class Real, uint32_t Terms>
+inline void combine_row_fused(Real* __restrict out, const StateCombination<Real>& state,
+                              std::size_t first, const Real* __restrict inverse_mass,
+                              std::size_t cols) {
+  const Real* __restrict base = state.base + first;
+  const Real* __restrict vectors[Terms > 0 ? Terms : 1];
+  Real coefficients[Terms > 0 ? Terms : 1];
+  for (uint32_t term = 0; term < Terms; ++term) {
+    vectors[term] = state.vectors[term] + first;
+    coefficients[term] = state.coefficients[term];
+  }
+#pragma omp simd
+  for (std::size_t c = 0; c < cols; ++c) {
+    Real sum = base[c];
+    for (uint32_t term = 0; term < Terms; ++term) sum += coefficients[term] * vectors[term][c];
+    out[c] = inverse_mass[c] > Real(0) ? sum : base[c];
+  }
+}
+
 template <class Real>
 inline void combine_row(Real* __restrict out, const StateCombination<Real>& state,
                         std::size_t first, const Real* __restrict inverse_mass, std::size_t cols) {
+  switch (state.count) {
+    case 0: {
+      const Real* __restrict base = state.base + first;
+#pragma omp simd
+      for (std::size_t c = 0; c < cols; ++c) out[c] = base[c];
+      return;
+    }
+    case 1:
+      return combine_row_fused<Real, 1>(out, state, first, inverse_mass, cols);
+    case 2:
+      return combine_row_fused<Real, 2>(out, state, first, inverse_mass, cols);
+    case 3:
+      return combine_row_fused<Real, 3>(out, state, first, inverse_mass, cols);
+    default:
+      break;
+  }
+  // More terms: swept one by one over the row (stays in L1).
   const Real* __restrict base = state.base + first;
 #pragma omp simd
   for (std::size_t c = 0; c < cols; ++c) out[c] = base[c];
-  if (state.count == 0) return;
   for (uint32_t term = 0; term < state.count; ++term) {
     const Real coefficient = state.coefficients[term];
     const Real* __restrict vector = state.vectors[term] + first;
