@@ -51,6 +51,8 @@ ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
   system_.copy = &copy_callback;
   system_.alloc_vector = &alloc_callback;
   system_.eval_acceleration_at = &eval_at_callback;
+  system_.reserve_rkn = &reserve_rkn_callback;
+  system_.step_rkn = &step_rkn_callback;
 }
 
 template <class Real>
@@ -127,6 +129,67 @@ clothlab_status ReferenceSystem<Real>::eval_at_callback(void* context, double,
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   }
   return static_cast<ReferenceSystem*>(context)->evaluate(*x, v, static_cast<Real*>(a));
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::reserve_rkn_callback(void* context, uint32_t stages) {
+  auto* self = static_cast<ReferenceSystem*>(context);
+  if (stages == 0 || stages > CLOTHLAB_RKN_MAX_STAGES) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    if (!self->stage_x_) self->stage_x_ = self->make_vector();
+    if (!self->stage_v_) self->stage_v_ = self->make_vector();
+    while (self->accelerations_.size() < stages)
+      self->accelerations_.push_back(self->make_vector());
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+// Stage by stage, as a straightforward implementation would: each stage state formed as
+// whole vectors, evaluated, and the update applied at the end (see plugin.h).
+template <class Real>
+clothlab_status ReferenceSystem<Real>::step_rkn_callback(void* context, double t, double h,
+                                                         const clothlab_rkn_scheme* scheme) {
+  auto* self = static_cast<ReferenceSystem*>(context);
+  const uint32_t n = scheme->stages;
+  if (n == 0 || n > self->accelerations_.size()) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const auto for_active = [&](auto&& body) {
+    for (const clothlab_range& range : self->active_)
+      for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t i = range.begin; i < range.end; ++i) body(k * self->stride_ + i);
+  };
+  Real* x = self->x_.get();
+  Real* v = self->v_.get();
+  for (uint32_t stage = 0; stage < n; ++stage) {
+    copy_callback(context, self->stage_x_.get(), x);
+    copy_callback(context, self->stage_v_.get(), v);
+    for_active([&](std::size_t e) {
+      Real xs = x[e] + static_cast<Real>(h * scheme->alpha[stage]) * v[e], vs = v[e];
+      for (uint32_t j = 0; j < stage; ++j) {
+        const Real a = self->accelerations_[j][e];
+        xs += static_cast<Real>(h * h * scheme->x_coupling[stage * n + j]) * a;
+        vs += static_cast<Real>(h * scheme->v_coupling[stage * n + j]) * a;
+      }
+      self->stage_x_[e] = xs;
+      self->stage_v_[e] = vs;
+    });
+    const clothlab_status status =
+        eval_callback(context, t + scheme->c[stage] * h, self->stage_x_.get(), self->stage_v_.get(),
+                      self->accelerations_[stage].get());
+    if (status != CLOTHLAB_OK) return status;
+  }
+  for_active([&](std::size_t e) {
+    Real dx = static_cast<Real>(h) * v[e], dv = 0;
+    for (uint32_t j = 0; j < n; ++j) {
+      const Real a = self->accelerations_[j][e];
+      dx += static_cast<Real>(h * h * scheme->x_weights[j]) * a;
+      dv += static_cast<Real>(h * scheme->v_weights[j]) * a;
+    }
+    x[e] += dx;
+    v[e] += dv;
+  });
+  return CLOTHLAB_OK;
 }
 
 template <class Real>

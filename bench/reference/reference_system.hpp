@@ -43,6 +43,9 @@ class ReferenceSystem {
                                        void* a);
   static clothlab_status eval_at_callback(void* context, double t, const clothlab_combination* x,
                                           const clothlab_combination* v, void* a);
+  static clothlab_status reserve_rkn_callback(void* context, uint32_t stages);
+  static clothlab_status step_rkn_callback(void* context, double t, double h,
+                                           const clothlab_rkn_scheme* scheme);
   static void axpy_callback(void* context, void* y, double alpha, const void* x);
   static void lincomb_callback(void* context, void* out, const void* base, uint32_t count,
                                const double* coefficients, const void* const* vectors);
@@ -56,6 +59,8 @@ class ReferenceSystem {
   std::vector<clothlab_range> active_;
   std::vector<Real> x_aos_, v_aos_, a_aos_;
   std::vector<Vector> vectors_;
+  Vector stage_x_, stage_v_;           // step_rkn: one stage state at a time
+  std::vector<Vector> accelerations_;  // step_rkn: one per stage
   clothlab_system system_{};
   uint64_t force_evals_ = 0;
   double force_seconds_ = 0.0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -112,6 +113,8 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   system_.copy = &copy_callback;
   system_.alloc_vector = &alloc_callback;
   system_.eval_acceleration_at = &eval_at_callback;
+  system_.reserve_rkn = &reserve_rkn_callback;
+  system_.step_rkn = &step_rkn_callback;
 }
 
 template <class Real>
@@ -177,6 +180,44 @@ clothlab_status ClothEngine<Real>::eval_at_callback(void* context, double,
   }
   return static_cast<ClothEngine*>(context)->evaluate(x_state, v == nullptr ? nullptr : &v_state,
                                                       static_cast<Real*>(a));
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::reserve_rkn_callback(void* context, uint32_t stages) {
+  if (stages == 0 || stages > CLOTHLAB_RKN_MAX_STAGES) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    static_cast<ClothEngine*>(context)->forces_->reserve_stages(stages);
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::step_rkn_callback(void* context, double, double h,
+                                                     const clothlab_rkn_scheme* scheme) {
+  auto* self = static_cast<ClothEngine*>(context);
+  if (scheme == nullptr || scheme->stages == 0 ||
+      scheme->stages > self->forces_->reserved_stages() || !std::isfinite(h)) {
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  }
+  const uint32_t stages = scheme->stages;
+  RknStep<Real> step;
+  step.stages = stages;
+  step.h = static_cast<Real>(h);
+  for (uint32_t i = 0; i < stages; ++i) {
+    step.x_velocity[i] = static_cast<Real>(h * scheme->alpha[i]);
+    for (uint32_t j = 0; j < i; ++j) {
+      step.x_stage[i][j] = static_cast<Real>(h * h * scheme->x_coupling[i * stages + j]);
+      step.v_stage[i][j] = static_cast<Real>(h * scheme->v_coupling[i * stages + j]);
+    }
+    step.x_weights[i] = static_cast<Real>(h * h * scheme->x_weights[i]);
+    step.v_weights[i] = static_cast<Real>(h * scheme->v_weights[i]);
+  }
+  const bool finite =
+      self->forces_->step_rkn(self->x_.data(), self->v_.data(), step, self->counters_);
+  self->counters_.particles_integrated += self->active_particles_;
+  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
 template <class Real>

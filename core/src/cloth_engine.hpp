@@ -47,6 +47,9 @@ class ClothEngine final : public Engine {
                                        void* a);
   static clothlab_status eval_at_callback(void* context, double t, const clothlab_combination* x,
                                           const clothlab_combination* v, void* a);
+  static clothlab_status reserve_rkn_callback(void* context, uint32_t stages);
+  static clothlab_status step_rkn_callback(void* context, double t, double h,
+                                           const clothlab_rkn_scheme* scheme);
   static void axpy_callback(void* context, void* y, double alpha, const void* x);
   static void lincomb_callback(void* context, void* out, const void* base, uint32_t count,
                                const double* coefficients, const void* const* vectors);

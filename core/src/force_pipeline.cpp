@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "interior_row_kernel.hpp"
+#include "scratch_layout.hpp"
 #include "shifted_add_kernel.hpp"
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
@@ -14,17 +15,7 @@
 namespace clothlab::detail {
 namespace {
 
-// Zeros left of column 0 in every scratch row, so shifted reads need no branch; as much
-// again after the last column for the full-width edge blocks of the interior kernel.
-constexpr std::size_t kMargin = 16;
-// Per thread: accumulators (3 ring slots x 4 shifts x 3 components), force row, wind
-// rows, staged rows (3 ring slots x (x, v) x 3 components).
-constexpr std::size_t kAccumulatorShifts = 3;
-constexpr std::size_t kForceRowFrom = 3 * kAccumulatorShifts * 3;
-constexpr std::size_t kWindRowsFrom = kForceRowFrom + 3;
-constexpr std::size_t kStagedRowsFrom = kWindRowsFrom + 6;
-constexpr std::size_t kRowsPerThread = kStagedRowsFrom + 18;
-constexpr std::size_t kGapBytes = 65536;  // between the threads' scratch regions
+using namespace scratch;
 
 #if defined(__AVX512F__)
 constexpr bool kInteriorKernel = true;
@@ -72,75 +63,97 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
 
   interior_kernel_ = kInteriorKernel && std::is_same_v<Real, float> && stages_.size() == 6;
   row_span_ = kMargin + round_up_16(cols_ + kMargin + 2);
+  reserve_stages(1);
+}
+
+template <class Real>
+void ForcePipeline<Real>::reserve_stages(uint32_t stages) {
+  if (stages <= reserved_stages_) return;
+  reserved_stages_ = stages;
+  // Per thread: a ring per stage, then for the fused step an acceleration ring per stage,
+  // the halo rows and two update rows (see rkn_sweep.cpp).
+  const std::size_t rows = stages * kRowsPerRing + stages * rkn_window() * 3 + rkn_halo() * 6 + 2;
   // Each thread's scratch starts 64 KiB after the end of the previous one's: with the
   // regions closer than ~40 KiB the second thread ran ~35 % slower on this 2-core AMD
   // EPYC VM (300 x 300 force pass: 230 vs 350 us; cause not isolated, likely prefetch or
   // cache-set sharing between the cores' hot rows).
   const std::size_t gap = kGapBytes / sizeof(Real);
-  thread_stride_ = (kRowsPerThread * row_span_ + gap - 1) / gap * gap + gap;
+  thread_stride_ = (rows * row_span_ + gap - 1) / gap * gap + gap;
   scratch_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * thread_stride_);
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::scratch_row(int thread, std::size_t index) {
+Real* ForcePipeline<Real>::ring(int thread, std::size_t stage) {
+  return scratch_.data() + static_cast<std::size_t>(thread) * thread_stride_ +
+         stage * kRowsPerRing * row_span_;
+}
+
+template <class Real>
+Real* ForcePipeline<Real>::thread_row(int thread, std::size_t index) {
   return scratch_.data() + static_cast<std::size_t>(thread) * thread_stride_ + index * row_span_ +
          kMargin;
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::accumulator(int thread, std::size_t row, int k, int shift) {
-  return scratch_row(thread, (row % 3 * kAccumulatorShifts + static_cast<std::size_t>(shift)) * 3 +
-                                 static_cast<std::size_t>(k));
+Real* ForcePipeline<Real>::accumulator(Real* ring, std::size_t row, int k, int shift) {
+  const std::size_t index = (row % 3 * kAccumulatorShifts + static_cast<std::size_t>(shift)) * 3 +
+                            static_cast<std::size_t>(k);
+  return ring + index * row_span_ + kMargin;
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::force_row(int thread, int k) {
-  return scratch_row(thread, kForceRowFrom + static_cast<std::size_t>(k));
+Real* ForcePipeline<Real>::force_row(Real* ring, int k) {
+  return ring + (kForceRowFrom + static_cast<std::size_t>(k)) * row_span_ + kMargin;
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::wind_row(int thread, int triangle, int k) {
-  return scratch_row(thread, kWindRowsFrom + static_cast<std::size_t>(triangle * 3 + k));
+Real* ForcePipeline<Real>::wind_row(Real* ring, int triangle, int k) {
+  return ring + (kWindRowsFrom + static_cast<std::size_t>(triangle * 3 + k)) * row_span_ + kMargin;
 }
 
 template <class Real>
-Real* ForcePipeline<Real>::staged_row(int thread, std::size_t row, int quantity, int k) {
-  return scratch_row(thread,
-                     kStagedRowsFrom + row % 3 * 6 + static_cast<std::size_t>(quantity * 3 + k));
+Real* ForcePipeline<Real>::staged_row(Real* ring, std::size_t row, int quantity, int k) {
+  const std::size_t index =
+      kStagedRowsFrom + row % 3 * 6 + static_cast<std::size_t>(quantity * 3 + k);
+  return ring + index * row_span_ + kMargin;
 }
 
 template <class Real>
-void ForcePipeline<Real>::stage_row(int thread, const Pass& pass, std::size_t row) {
+void ForcePipeline<Real>::stage_row(Real* ring, const StateCombination<Real>* const (&state)[2],
+                                    std::size_t row) {
   for (int quantity = 0; quantity < 2; ++quantity) {
-    const StateCombination<Real>* state = quantity == 0 ? pass.x : pass.v;
-    if (state == nullptr) continue;
+    if (state[quantity] == nullptr) continue;
+    const StateCombination<Real>& sum = *state[quantity];
     for (int k = 0; k < 3; ++k) {
-      combine_row(staged_row(thread, row, quantity, k), *state, k * stride_ + row * cols_,
-                  inverse_mass_ + row * cols_, cols_);
+      const std::size_t first = k * stride_ + row * cols_;
+      const Real* vectors[StateCombination<Real>::kMaxTerms];
+      for (uint32_t term = 0; term < sum.count; ++term) vectors[term] = sum.vectors[term] + first;
+      combine_row(staged_row(ring, row, quantity, k), sum.base + first, sum.count, sum.coefficients,
+                  vectors, inverse_mass_ + row * cols_, cols_);
     }
   }
 }
 
 template <class Real>
-void ForcePipeline<Real>::add_springs(int thread, std::size_t row, const Pass& pass) {
+void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass) {
   if (interior_row(row)) {
-    add_interior_springs(thread, row, pass);
+    add_interior_springs(ring, row, pass);
     return;
   }
   for (const SpringStage& stage : stages_) {
     if (row >= stage.extent.row_end) continue;  // no spring of this stencil starts here
-    const bool damped = stage.damped && pass.v != nullptr;
+    const bool damped = stage.damped && pass.damped;
     const bool in_row = stage.row_step == 0;
     const std::size_t partner_row = row + stage.row_step;
     SpringRow<Real> job{};
-    job.x = staged_row(thread, row, 0, 0);
-    job.x_partner = staged_row(thread, partner_row, 0, 0) + stage.col_step;
+    job.x = staged_row(ring, row, 0, 0);
+    job.x_partner = staged_row(ring, partner_row, 0, 0) + stage.col_step;
     if (damped) {
-      job.v = staged_row(thread, row, 1, 0);
-      job.v_partner = staged_row(thread, partner_row, 1, 0) + stage.col_step;
+      job.v = staged_row(ring, row, 1, 0);
+      job.v_partner = staged_row(ring, partner_row, 1, 0) + stage.col_step;
     }
-    job.own = in_row ? force_row(thread, 0) : accumulator(thread, row, 0);
-    job.partner = accumulator(thread, partner_row, 0) + stage.col_step;
+    job.own = in_row ? force_row(ring, 0) : accumulator(ring, row, 0);
+    job.partner = accumulator(ring, partner_row, 0) + stage.col_step;
     job.span = row_span_;
     job.col_begin = stage.extent.col_begin;
     job.col_end = stage.extent.col_end;
@@ -157,7 +170,7 @@ void ForcePipeline<Real>::add_springs(int thread, std::size_t row, const Pass& p
     }
     // In-row stencils start at column 0; the columns after the last spring must read 0.
     for (int k = 0; k < 3; ++k) {
-      Real* force = force_row(thread, k);
+      Real* force = force_row(ring, k);
       std::fill(force + job.col_end, force + cols_, Real(0));
     }
     if (damped) {
@@ -167,31 +180,31 @@ void ForcePipeline<Real>::add_springs(int thread, std::size_t row, const Pass& p
     }
     const auto step = static_cast<std::size_t>(stage.col_step);
     for (int k = 0; k < 3; ++k) {
-      add_row_springs(accumulator(thread, row, k), force_row(thread, k), step, cols_);
+      add_row_springs(accumulator(ring, row, k), force_row(ring, k), step, cols_);
     }
   }
 }
 
 template <class Real>
-void ForcePipeline<Real>::add_interior_springs(int thread, std::size_t row, const Pass& pass) {
+void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, const Pass& pass) {
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
     InteriorRow job{};
     bool damped = false;
     for (std::size_t r = 0; r < 3; ++r) {
-      job.x[r] = staged_row(thread, row + r, 0, 0);
-      job.v[r] = pass.v != nullptr ? staged_row(thread, row + r, 1, 0) : nullptr;
-      job.aligned[r] = accumulator(thread, row + r, 0, kSameColumn);
+      job.x[r] = staged_row(ring, row + r, 0, 0);
+      job.v[r] = pass.damped ? staged_row(ring, row + r, 1, 0) : nullptr;
+      job.aligned[r] = accumulator(ring, row + r, 0, kSameColumn);
     }
-    job.plus1[0] = accumulator(thread, row, 0, kNextColumn);
-    job.plus1[1] = accumulator(thread, row + 1, 0, kNextColumn);
-    job.minus1 = accumulator(thread, row + 1, 0, kFurtherColumn);
-    job.plus2 = accumulator(thread, row, 0, kFurtherColumn);
+    job.plus1[0] = accumulator(ring, row, 0, kNextColumn);
+    job.plus1[1] = accumulator(ring, row + 1, 0, kNextColumn);
+    job.minus1 = accumulator(ring, row + 1, 0, kFurtherColumn);
+    job.plus2 = accumulator(ring, row, 0, kFurtherColumn);
     job.span = row_span_;
     job.cols = cols_;
     for (std::size_t s = 0; s < 6; ++s) {
       const SpringStage& stage = stages_[s];
-      const bool stage_damped = stage.damped && pass.v != nullptr;
+      const bool stage_damped = stage.damped && pass.damped;
       job.rest[s] = stage.rest;
       job.ks[s] = stage.ks;
       job.kd[s] = stage_damped ? stage.kd : 0.0f;  // one damped sweep; undamped ones add 0
@@ -213,29 +226,29 @@ void ForcePipeline<Real>::add_interior_springs(int thread, std::size_t row, cons
     return;
   }
 #endif
-  (void)thread, (void)row, (void)pass;  // only float on AVX-512 has the interior kernel
+  (void)ring, (void)row, (void)pass;  // only float on AVX-512 has the interior kernel
 }
 
 template <class Real>
-void ForcePipeline<Real>::add_wind(int thread, std::size_t row, Pass& pass) {
+void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
   if (!wind_ || row + 1 >= rows_) return;  // the last row starts no cell
   if (interior_row(row)) return;           // its cells went with its springs
-  const bool timed = thread == 0;
+  const bool timed = pass.timed;
   const auto start =
       timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   WindRow<Real> job{};
-  job.x = staged_row(thread, row, 0, 0);
-  job.below = staged_row(thread, row + 1, 0, 0);
-  job.first = wind_row(thread, 0, 0);
-  job.second = wind_row(thread, 1, 0);
+  job.x = staged_row(ring, row, 0, 0);
+  job.below = staged_row(ring, row + 1, 0, 0);
+  job.first = wind_row(ring, 0, 0);
+  job.second = wind_row(ring, 1, 0);
   job.span = row_span_;
   for (int k = 0; k < 3; ++k) job.direction[k] = wind_direction_[k];
   job.cells = cols_ - 1;
   job.strength = wind_strength_;
   wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
   for (int k = 0; k < 3; ++k) {
-    add_cell_winds(accumulator(thread, row, k), accumulator(thread, row + 1, k),
-                   wind_row(thread, 0, k), wind_row(thread, 1, k), cols_);
+    add_cell_winds(accumulator(ring, row, k), accumulator(ring, row + 1, k), wind_row(ring, 0, k),
+                   wind_row(ring, 1, k), cols_);
   }
   if (timed) {
     pass.wind_seconds +=
@@ -244,21 +257,21 @@ void ForcePipeline<Real>::add_wind(int thread, std::size_t row, Pass& pass) {
 }
 
 template <class Real>
-Real ForcePipeline<Real>::finish_row(int thread, std::size_t row, Real* a) {
+Real ForcePipeline<Real>::finish_row(Real* ring, std::size_t row, Real* out, std::size_t span) {
   const std::size_t cols = cols_;
   const Real* __restrict inverse_mass = inverse_mass_ + row * cols;
   Real probe = 0;
   for (int k = 0; k < 3; ++k) {
-    Real* __restrict same = accumulator(thread, row, k, kSameColumn);
-    Real* __restrict next = accumulator(thread, row, k, kNextColumn);
-    Real* __restrict further = accumulator(thread, row, k, kFurtherColumn);
-    Real* __restrict out = a + k * stride_ + row * cols;
+    Real* __restrict same = accumulator(ring, row, k, kSameColumn);
+    Real* __restrict next = accumulator(ring, row, k, kNextColumn);
+    Real* __restrict further = accumulator(ring, row, k, kFurtherColumn);
+    Real* __restrict out_k = out + k * span;
     const Real g = gravity_[k];
 #pragma omp simd reduction(+ : probe)
     for (std::size_t c = 0; c < cols; ++c) {
       const Real force = same[c] + next[c] + further[c];
       const Real value = inverse_mass[c] > Real(0) ? force * inverse_mass[c] + g : Real(0);
-      out[c] = value;
+      out_k[c] = value;
       same[c] = next[c] = further[c] = 0;  // ready for row + 3
       probe += value * Real(0);            // NaN exactly when value is not finite
     }
@@ -267,38 +280,36 @@ Real ForcePipeline<Real>::finish_row(int thread, std::size_t row, Real* a) {
 }
 
 template <class Real>
-void ForcePipeline<Real>::clear_row(int thread, std::size_t row) {
+void ForcePipeline<Real>::clear_row(Real* ring, std::size_t row) {
   for (int shift = 0; shift < static_cast<int>(kAccumulatorShifts); ++shift) {
-    for (int k = 0; k < 3; ++k) std::fill_n(accumulator(thread, row, k, shift), cols_, Real(0));
+    for (int k = 0; k < 3; ++k) std::fill_n(accumulator(ring, row, k, shift), cols_, Real(0));
   }
 }
 
 template <class Real>
-Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass) {
+Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t end,
+                                   const StateCombination<Real>* const (&state)[2], Real* a,
+                                   Pass& pass) {
   Real probe = 0;
   if (begin >= end) return probe;
+  Real* const own = ring(thread, 0);
   // Springs and cells of the two rows above the block act on its first rows; their own
   // rows belong to another thread and are dropped.
   const std::size_t first = begin >= 2 ? begin - 2 : 0;
   std::size_t staged = first;
-  // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
-  const auto stage_through = [&](std::size_t row) {
-    for (; staged < std::min(row + 3, rows_); ++staged) stage_row(thread, pass, staged);
-  };
-  for (std::size_t row = first; row < begin; ++row) {
-    stage_through(row);
-    add_springs(thread, row, pass);
-    add_wind(thread, row, pass);
-    clear_row(thread, row);
-  }
-  for (std::size_t row = begin; row < end; ++row) {
-    stage_through(row);
-    add_springs(thread, row, pass);
-    add_wind(thread, row, pass);
-    probe += finish_row(thread, row, pass.a);
+  for (std::size_t row = first; row < end; ++row) {
+    // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
+    for (; staged < std::min(row + 3, rows_); ++staged) stage_row(own, state, staged);
+    add_springs(own, row, pass);
+    add_wind(own, row, pass);
+    if (row < begin) {
+      clear_row(own, row);
+    } else {
+      probe += finish_row(own, row, a + row * cols_, stride_);
+    }
   }
   // Forces already added to the rows after the block belong to the next thread's rows.
-  for (std::size_t row = end; row < std::min(end + 2, rows_); ++row) clear_row(thread, row);
+  for (std::size_t row = end; row < std::min(end + 2, rows_); ++row) clear_row(own, row);
   return probe;
 }
 
@@ -308,14 +319,15 @@ bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateC
   const auto start = std::chrono::steady_clock::now();
   double wind_seconds = 0.0;
   Real probe = 0;
+  const StateCombination<Real>* const state[2] = {&x, v};
 #pragma omp parallel num_threads(threads_) if (parallel_) reduction(+ : probe)
   {
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t begin = rows_ * static_cast<std::size_t>(thread) / team;
     const std::size_t end = rows_ * static_cast<std::size_t>(thread + 1) / team;
-    Pass pass{&x, v, a, 0.0};
-    probe += run_rows(thread, begin, end, pass);
+    Pass pass{v != nullptr, thread == 0, 0.0};
+    probe += run_rows(thread, begin, end, state, a, pass);
     if (thread == 0) wind_seconds = pass.wind_seconds;
   }
   // The pass is fused, so its time is split by thread 0's share of wind work.

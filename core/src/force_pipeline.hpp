@@ -23,6 +23,7 @@
 
 #include "aligned_buffer.hpp"
 #include "grid.hpp"
+#include "rkn_step.hpp"
 #include "state_combination.hpp"
 
 namespace clothlab::detail {
@@ -38,6 +39,16 @@ class ForcePipeline {
   bool evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v, Real* a,
                 StageCounters& counters);
 
+  // Scratch for step_rkn with up to `stages` stages. Allocates: not during a step.
+  void reserve_stages(uint32_t stages);
+  uint32_t reserved_stages() const { return reserved_stages_; }
+  // One step of an explicit Runge-Kutta-Nystrom scheme (stages <= reserved_stages()) as a
+  // single sweep over the rows, the stages following each other a few rows apart: x and
+  // v are read and written once, stage states and accelerations live only in per-thread
+  // row windows. Returns false when some stage acceleration is not finite (the state is
+  // then partly advanced). No allocation.
+  bool step_rkn(Real* x, Real* v, const RknStep<Real>& step, StageCounters& counters);
+
  private:
   struct SpringStage {
     StencilExtent extent;
@@ -48,37 +59,49 @@ class ForcePipeline {
     uint64_t count = 0;
   };
   struct Pass {
-    const StateCombination<Real>* x;
-    const StateCombination<Real>* v;  // nullptr: no damping
-    Real* a;
-    double wind_seconds;  // measured on thread 0 only
+    bool damped;          // damping terms wanted
+    bool timed;           // time the separate wind stage (thread 0)
+    double wind_seconds;  // that time
   };
+  using StatePair = const StateCombination<Real>* const (&)[2];  // x, v (nullptr: none)
 
-  // Per-thread scratch rows: a ring of 3 rows of accumulators, a force row, the two wind
-  // share rows, and a ring of 3 staged rows of x and of v; 3 components each.
+  // A ring: the scratch of one force pass of one thread. Rows of accumulators (a ring of
+  // 3 grid rows), a force row, the two wind share rows and staged rows of x and v (a
+  // ring of 3 grid rows); 3 components each, one row span apart.
   // Accumulators of a row for spring ends at the same column as the spring's start, or
   // shifted: separate so the interior kernel's stores of one block never overlap.
   // kFurtherColumn takes the ends one column left from the row above and two columns
   // right from the row itself: written in different sweeps, so they may share.
   enum Shift { kSameColumn, kNextColumn, kFurtherColumn };
-  Real* accumulator(int thread, std::size_t row, int k, int shift = kSameColumn);
-  Real* scratch_row(int thread, std::size_t index);
-  Real* force_row(int thread, int k);
-  Real* wind_row(int thread, int triangle, int k);
-  Real* staged_row(int thread, std::size_t row, int quantity, int k);
-  // Forms grid row `row` of x and v into the staged ring.
-  void stage_row(int thread, const Pass& pass, std::size_t row);
+  Real* ring(int thread, std::size_t stage);
+  Real* thread_row(int thread, std::size_t index);  // rows after the rings
+  Real* accumulator(Real* ring, std::size_t row, int k, int shift = kSameColumn);
+  Real* force_row(Real* ring, int k);
+  Real* wind_row(Real* ring, int triangle, int k);
+  Real* staged_row(Real* ring, std::size_t row, int quantity, int k);
+  // Forms grid row `row` of x and v into the staged rows.
+  void stage_row(Real* ring, StatePair state, std::size_t row);
 
-  void add_springs(int thread, std::size_t row, const Pass& pass);
+  void add_springs(Real* ring, std::size_t row, const Pass& pass);
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
   bool interior_row(std::size_t row) const { return interior_kernel_ && row + 2 < rows_; }
-  void add_interior_springs(int thread, std::size_t row, const Pass& pass);
-  void add_wind(int thread, std::size_t row, Pass& pass);
-  // Turns row's accumulator into accelerations and clears it; returns the sum of 0 * a
-  // (NaN exactly when some acceleration is not finite).
-  Real finish_row(int thread, std::size_t row, Real* a);
-  void clear_row(int thread, std::size_t row);
-  Real run_rows(int thread, std::size_t begin, std::size_t end, Pass& pass);
+  void add_interior_springs(Real* ring, std::size_t row, const Pass& pass);
+  void add_wind(Real* ring, std::size_t row, Pass& pass);
+  // Turns row's accumulators into accelerations at out (components `span` apart) and
+  // clears them; returns the sum of 0 * a (NaN exactly when some a is not finite).
+  Real finish_row(Real* ring, std::size_t row, Real* out, std::size_t span);
+  void clear_row(Real* ring, std::size_t row);
+  Real run_rows(int thread, std::size_t begin, std::size_t end, StatePair state, Real* a,
+                Pass& pass);
+
+  // The fused step (rkn_sweep.cpp): rows of the acceleration windows, of the halo (x and
+  // v rows of other threads' blocks, copied before anything is written) and the sweep.
+  std::size_t rkn_window() const { return 2 * std::size_t{reserved_stages_}; }
+  std::size_t rkn_halo() const { return 4 * std::size_t{reserved_stages_}; }
+  Real* window_row(int thread, std::size_t stage, std::size_t row);
+  Real* halo_row(int thread, std::size_t slot, int quantity);
+  Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
+                const RknStep<Real>& step, Pass& pass);
 
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
@@ -95,6 +118,7 @@ class ForcePipeline {
   bool interior_kernel_ = false;   // all six stencils, float, AVX-512
   std::size_t row_span_ = 0;       // margin + columns + margin
   std::size_t thread_stride_ = 0;  // elements from one thread's scratch to the next
+  uint32_t reserved_stages_ = 0;
   AlignedBuffer<Real> scratch_;
   uint64_t springs_per_eval_ = 0;
   uint64_t damped_per_eval_ = 0;

@@ -73,6 +73,16 @@ class PluginOnlySystem {
       const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
       return host.eval_acceleration_at(host.context, t, x, v, a);
     };
+    system_.reserve_rkn = [](void* self, uint32_t stages) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      return host.reserve_rkn(host.context, stages);
+    };
+    system_.step_rkn = [](void* self, double t, double h, const clothlab_rkn_scheme* scheme) {
+      const allocations::Pause pause;
+      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+      return host.step_rkn(host.context, t, h, scheme);
+    };
     system_.axpy = [](void* self, void* y, double alpha, const void* x) {
       const allocations::Pause pause;
       const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;

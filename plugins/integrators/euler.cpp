@@ -2,6 +2,8 @@
 // (eq. 2.15, after Provot 1995): the velocity is updated first and the position then
 // moves with the NEW velocity. Forward (fully explicit) Euler would use the old one.
 //   a = a(t, x, v);  v += dt a;  x += dt v
+// As a one-stage Runge-Kutta-Nystrom scheme (x += dt v + dt^2 a, v += dt a) the host runs
+// it as one sweep over memory.
 #include <array>
 #include <clothlab/sdk.hpp>
 
@@ -22,22 +24,23 @@ struct SemiImplicitEuler {
 
   explicit SemiImplicitEuler(const sdk::Params&) {}
 
+  static constexpr sdk::RknScheme<1> scheme{{0.0}, {0.0}, {0.0}, {0.0}, {1.0}, {1.0}};
+
   template <class Real>
   void prepare(sdk::System<Real>& system) {
-    scratch_.allocate(system);
+    prepared_for_.allocate(system);
+    system.reserve_rkn(1);
   }
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double dt) {
-    const auto [acceleration] = scratch_.bind(system);
+    (void)prepared_for_.bind(system);
     if (dt == 0.0) return;
-    system.acceleration(t, system.x(), system.v(), acceleration);
-    system.axpy(system.v(), dt, acceleration);
-    system.axpy(system.x(), dt, system.v());
+    system.step_rkn(t, dt, scheme);
   }
 
  private:
-  ScratchVectors<1> scratch_;
+  ScratchVectors<0> prepared_for_;  // no vectors: remembers the system
 };
 
 }  // namespace clothlab::builtin

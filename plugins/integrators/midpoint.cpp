@@ -4,8 +4,8 @@
 //   x_mid = x + dt/2 v,   v_mid = v + dt/2 a1
 //   a2 = a(t + dt/2, x_mid, v_mid)
 //   x += dt v_mid,        v += dt a2
-// With v_mid substituted, x += dt v + dt^2/2 a1: the midpoint state is formed inside the
-// force pass (acceleration_at) and only the two accelerations are stored.
+// With v_mid substituted, x += dt v + dt^2/2 a1: a two-stage Runge-Kutta-Nystrom scheme,
+// which the host runs as one sweep over memory.
 #include <array>
 #include <clothlab/sdk.hpp>
 
@@ -26,28 +26,30 @@ struct ExplicitMidpoint {
 
   explicit ExplicitMidpoint(const sdk::Params&) {}
 
+  //                                        c          alpha      x coupling
+  static constexpr sdk::RknScheme<2> scheme{{0.0, 0.5},
+                                            {0.0, 0.5},
+                                            {0.0, 0.0, 0.0, 0.0},
+                                            // v coupling   x weights   v weights
+                                            {0.0, 0.0, 0.5, 0.0},
+                                            {0.5, 0.0},
+                                            {0.0, 1.0}};
+
   template <class Real>
   void prepare(sdk::System<Real>& system) {
-    scratch_.allocate(system);
+    prepared_for_.allocate(system);
+    system.reserve_rkn(2);
   }
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double dt) {
-    const auto [a1, a2] = scratch_.bind(system);
+    (void)prepared_for_.bind(system);
     if (dt == 0.0) return;
-    Real* x = system.x();
-    Real* v = system.v();
-    const double half = 0.5 * dt;
-
-    system.acceleration(t, x, v, a1);
-    system.acceleration_at(t + half, sdk::Sum<Real, 1>{x, {half}, {v}},
-                           sdk::Sum<Real, 1>{v, {half}, {a1}}, a2);
-    system.template lincomb<2>(x, x, {dt, half * dt}, {v, a1});
-    system.axpy(v, dt, a2);
+    system.step_rkn(t, dt, scheme);
   }
 
  private:
-  ScratchVectors<2> scratch_;
+  ScratchVectors<0> prepared_for_;  // no vectors: remembers the system
 };
 
 }  // namespace clothlab::builtin

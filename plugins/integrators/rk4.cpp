@@ -7,8 +7,7 @@
 //   x += h/6 (v1 + 2 v2 + 2 v3 + v4),   v += h/6 (a1 + 2 a2 + 2 a3 + a4)
 // Substituting the stage velocities, every stage state is x, v and the a_i:
 //   x3 = x + h/2 v + h^2/4 a1,  x4 = x + h v + h^2/2 a2,  x += h v + h^2/6 (a1 + a2 + a3),
-// so the stage states are formed inside the force pass (acceleration_at) and only the four
-// accelerations are stored.
+// a four-stage Runge-Kutta-Nystrom scheme, which the host runs as one sweep over memory.
 #include <array>
 #include <clothlab/sdk.hpp>
 
@@ -29,34 +28,36 @@ struct ClassicRungeKutta4 {
 
   explicit ClassicRungeKutta4(const sdk::Params&) {}
 
+  static constexpr double sixth = 1.0 / 6.0, third = 1.0 / 3.0;
+  static constexpr sdk::RknScheme<4> scheme{
+      {0.0, 0.5, 0.5, 1.0},  // c
+      {0.0, 0.5, 0.5, 1.0},  // alpha
+      {0.0, 0.0, 0.0, 0.0,   // x coupling: X3 gets h^2/4 a1, X4 h^2/2 a2
+       0.0, 0.0, 0.0, 0.0,   //
+       0.25, 0.0, 0.0, 0.0,  //
+       0.0, 0.5, 0.0, 0.0},
+      {0.0, 0.0, 0.0, 0.0,  // v coupling: V2 = v + h/2 a1, V3 = v + h/2 a2, V4 = v + h a3
+       0.5, 0.0, 0.0, 0.0,  //
+       0.0, 0.5, 0.0, 0.0,  //
+       0.0, 0.0, 1.0, 0.0},
+      {sixth, sixth, sixth, 0.0},     // x weights
+      {sixth, third, third, sixth}};  // v weights
+
   template <class Real>
   void prepare(sdk::System<Real>& system) {
-    scratch_.allocate(system);
+    prepared_for_.allocate(system);
+    system.reserve_rkn(4);
   }
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double h) {
-    const auto [a1, a2, a3, a4] = scratch_.bind(system);
+    (void)prepared_for_.bind(system);
     if (h == 0.0) return;
-    Real* x = system.x();
-    Real* v = system.v();
-    using Sum1 = sdk::Sum<Real, 1>;
-    using Sum2 = sdk::Sum<Real, 2>;
-    const double half = 0.5 * h, h2 = h * h;
-
-    system.acceleration(t, x, v, a1);
-    system.acceleration_at(t + half, Sum1{x, {half}, {v}}, Sum1{v, {half}, {a1}}, a2);
-    system.acceleration_at(t + half, Sum2{x, {half, 0.25 * h2}, {v, a1}}, Sum1{v, {half}, {a2}},
-                           a3);
-    system.acceleration_at(t + h, Sum2{x, {h, 0.5 * h2}, {v, a2}}, Sum1{v, {h}, {a3}}, a4);
-
-    const double sixth = h / 6.0, third = h / 3.0, h2_sixth = h2 / 6.0;
-    system.template lincomb<4>(x, x, {h, h2_sixth, h2_sixth, h2_sixth}, {v, a1, a2, a3});
-    system.template lincomb<4>(v, v, {sixth, third, third, sixth}, {a1, a2, a3, a4});
+    system.step_rkn(t, h, scheme);
   }
 
  private:
-  ScratchVectors<4> scratch_;
+  ScratchVectors<0> prepared_for_;  // no vectors: remembers the system
 };
 
 }  // namespace clothlab::builtin

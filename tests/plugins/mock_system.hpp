@@ -63,7 +63,9 @@ class MockSystem {
             &MockSystem::lincomb,
             &MockSystem::copy,
             &MockSystem::alloc,
-            &MockSystem::eval_at};
+            &MockSystem::eval_at,
+            &MockSystem::reserve_rkn,
+            &MockSystem::step_rkn};
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;
@@ -80,6 +82,7 @@ class MockSystem {
 
   bool allocation_allowed = false;
   int evaluations = 0;
+  int rkn_steps = 0;
   int evaluations_without_velocity = 0;
 
  private:
@@ -144,6 +147,50 @@ class MockSystem {
     return eval(context, t, s.stage_x_, v == nullptr ? nullptr : s.stage_v_, a);
   }
 
+  // Stage by stage, in double: X_i, V_i formed whole, then evaluated (see plugin.h).
+  static clothlab_status reserve_rkn(void* context, uint32_t stages) {
+    MockSystem& s = self(context);
+    if (!s.allocation_allowed || stages == 0 || stages > CLOTHLAB_RKN_MAX_STAGES)
+      return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+    while (s.stage_accelerations_.size() < stages) s.stage_accelerations_.push_back(s.new_vector());
+    return CLOTHLAB_OK;
+  }
+
+  static clothlab_status step_rkn(void* context, double t, double h,
+                                  const clothlab_rkn_scheme* scheme) {
+    MockSystem& s = self(context);
+    const uint32_t n = scheme->stages;
+    if (n == 0 || n > s.stage_accelerations_.size()) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+    ++s.rkn_steps;
+    const auto& a = s.stage_accelerations_;
+    for (uint32_t i = 0; i < n; ++i) {
+      copy(context, s.stage_x_, s.x_);
+      copy(context, s.stage_v_, s.v_);
+      s.for_active([&](size_t j) {
+        double x = s.x_[j] + h * scheme->alpha[i] * s.v_[j], v = s.v_[j];
+        for (uint32_t k = 0; k < i; ++k) {
+          x += h * h * scheme->x_coupling[i * n + k] * a[k][j];
+          v += h * scheme->v_coupling[i * n + k] * a[k][j];
+        }
+        s.stage_x_[j] = static_cast<Real>(x);
+        s.stage_v_[j] = static_cast<Real>(v);
+      });
+      const clothlab_status status =
+          eval(context, t + scheme->c[i] * h, s.stage_x_, s.stage_v_, a[i]);
+      if (status != CLOTHLAB_OK) return status;
+    }
+    s.for_active([&](size_t j) {
+      double x = s.x_[j] + h * s.v_[j], v = s.v_[j];
+      for (uint32_t k = 0; k < n; ++k) {
+        x += h * h * scheme->x_weights[k] * a[k][j];
+        v += h * scheme->v_weights[k] * a[k][j];
+      }
+      s.x_[j] = static_cast<Real>(x);
+      s.v_[j] = static_cast<Real>(v);
+    });
+    return CLOTHLAB_OK;
+  }
+
   static void axpy(void* context, void* y, double alpha, const void* x) {
     Real* out = static_cast<Real*>(y);
     const Real* in = static_cast<const Real*>(x);
@@ -181,6 +228,7 @@ class MockSystem {
   Real* v_;
   Real* stage_x_;
   Real* stage_v_;
+  std::vector<Real*> stage_accelerations_;
   Real* inverse_mass_;
   std::vector<clothlab_range> active_;
   clothlab_system raw_;

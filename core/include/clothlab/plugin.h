@@ -105,6 +105,25 @@ typedef struct clothlab_combination {
   const void *const *vectors;
 } clothlab_combination;
 
+/* An explicit Runge-Kutta-Nystrom scheme for x'' = a(t, x, x') (since 1.1): stage i of s,
+ *   X_i = x + h alpha[i] v + h^2 sum_{j<i} x_coupling[i s + j] A_j,
+ *   V_i = v + h sum_{j<i} v_coupling[i s + j] A_j,     A_i = a(t + c[i] h, X_i, V_i),
+ * then x += h v + h^2 sum_i x_weights[i] A_i,  v += h sum_i v_weights[i] A_i.
+ * Any explicit Runge-Kutta method applied to (x, v) has this form (x_coupling = A^2,
+ * x_weights = b A); so do symplectic Euler (one stage, weights 1) and other splittings.
+ * Entries on and above the coupling diagonals are ignored. */
+#define CLOTHLAB_RKN_MAX_STAGES 8u
+typedef struct clothlab_rkn_scheme {
+  uint32_t struct_size;
+  uint32_t stages; /* 1 .. CLOTHLAB_RKN_MAX_STAGES */
+  const double *c;          /* stages */
+  const double *alpha;      /* stages */
+  const double *x_coupling; /* stages x stages, row-major */
+  const double *v_coupling; /* stages x stages, row-major */
+  const double *x_weights;  /* stages */
+  const double *v_weights;  /* stages */
+} clothlab_rkn_scheme;
+
 /*
  * The cloth as an integrator sees it: the first-order system
  *   dx/dt = v,  dv/dt = a(t, x, v) = M^-1 F(t, x, v).
@@ -156,6 +175,16 @@ typedef struct clothlab_system {
    * count above CLOTHLAB_COMBINATION_MAX_TERMS is CLOTHLAB_ERROR_INVALID_ARGUMENT. */
   clothlab_status (*eval_acceleration_at)(void *context, double t, const clothlab_combination *x,
                                           const clothlab_combination *v, void *a);
+  /* During `prepare` only: readies step_rkn for schemes of up to `stages` stages (may
+   * allocate). CLOTHLAB_ERROR_INVALID_ARGUMENT above CLOTHLAB_RKN_MAX_STAGES. */
+  clothlab_status (*reserve_rkn)(void *context, uint32_t stages);
+  /* One step t -> t + h of an explicit Runge-Kutta-Nystrom scheme on x and v, which the
+   * host may run as one fused sweep over memory (stage states and accelerations never
+   * stored as vectors). Pinned particles stay put. Needs reserve_rkn with at least
+   * scheme->stages; CLOTHLAB_ERROR_NUMERICAL when a stage acceleration is not finite
+   * (x and v are then partly advanced). */
+  clothlab_status (*step_rkn)(void *context, double t, double h,
+                              const clothlab_rkn_scheme *scheme);
 } clothlab_system;
 
 /* ------------------------------------------------------------ integrator */

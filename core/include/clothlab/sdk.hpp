@@ -175,6 +175,25 @@ struct Sum {
   std::array<const Real*, N> vectors;
 };
 
+// An explicit Runge-Kutta-Nystrom scheme with its tables (see clothlab_rkn_scheme).
+template <size_t Stages>
+struct RknScheme {
+  std::array<double, Stages> c, alpha;
+  std::array<double, Stages * Stages> x_coupling, v_coupling;  // row-major, strictly lower
+  std::array<double, Stages> x_weights, v_weights;
+
+  clothlab_rkn_scheme raw() const {
+    return {sizeof(clothlab_rkn_scheme),
+            static_cast<uint32_t>(Stages),
+            c.data(),
+            alpha.data(),
+            x_coupling.data(),
+            v_coupling.data(),
+            x_weights.data(),
+            v_weights.data()};
+  }
+};
+
 // Typed view of a clothlab_system. Vectors are Real arrays of 3 * stride elements.
 template <class Real>
 class System {
@@ -214,6 +233,26 @@ class System {
   bool has_acceleration_at() const {
     return raw_->struct_size >= offsetof(clothlab_system, eval_acceleration_at) + sizeof(void*) &&
            raw_->eval_acceleration_at != nullptr;
+  }
+  // Readies step_rkn for schemes of up to `stages` stages: call from `prepare` (ABI 1.1).
+  void reserve_rkn(uint32_t stages) const {
+    if (!has_rkn()) throw Error(CLOTHLAB_ERROR_UNSUPPORTED, "the host lacks step_rkn (ABI < 1.1)");
+    const clothlab_status status = raw_->reserve_rkn(raw_->context, stages);
+    if (status != CLOTHLAB_OK) throw Error(status, "reserve_rkn failed");
+  }
+  // One step of the scheme on x and v, fused by the host into one sweep (ABI 1.1).
+  template <size_t Stages>
+  void step_rkn(double t, double h, const RknScheme<Stages>& scheme) const {
+    if (!has_rkn()) throw Error(CLOTHLAB_ERROR_UNSUPPORTED, "the host lacks step_rkn (ABI < 1.1)");
+    const clothlab_rkn_scheme raw = scheme.raw();
+    const clothlab_status status = raw_->step_rkn(raw_->context, t, h, &raw);
+    if (status != CLOTHLAB_OK)
+      throw Error(status, status == CLOTHLAB_ERROR_NUMERICAL ? "non-finite acceleration"
+                                                             : "step_rkn failed");
+  }
+  bool has_rkn() const {
+    return raw_->struct_size >= offsetof(clothlab_system, step_rkn) + sizeof(void*) &&
+           raw_->reserve_rkn != nullptr && raw_->step_rkn != nullptr;
   }
   void axpy(Real* y, double alpha, const Real* x) const { raw_->axpy(raw_->context, y, alpha, x); }
   // out = base + sum c_i * v_i

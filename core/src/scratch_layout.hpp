@@ -1,0 +1,23 @@
+// Row layout of the force pipeline's per-thread scratch (see force_pipeline.hpp).
+#pragma once
+
+#include <cstddef>
+
+namespace clothlab::detail::scratch {
+
+// Zeros left of column 0 in every scratch row, so shifted reads need no branch; as much
+// again after the last column for the full-width edge blocks of the interior kernel.
+inline constexpr std::size_t kMargin = 16;
+
+// A ring, the scratch of one force pass: accumulators (3 ring slots x 3 shifts x 3
+// components), force row, wind rows, staged rows (3 ring slots x (x, v) x 3 components).
+inline constexpr std::size_t kAccumulatorShifts = 3;
+inline constexpr std::size_t kForceRowFrom = 3 * kAccumulatorShifts * 3;
+inline constexpr std::size_t kWindRowsFrom = kForceRowFrom + 3;
+inline constexpr std::size_t kStagedRowsFrom = kWindRowsFrom + 6;
+inline constexpr std::size_t kRowsPerRing = kStagedRowsFrom + 18;
+
+// Between the threads' scratch regions.
+inline constexpr std::size_t kGapBytes = 65536;
+
+}  // namespace clothlab::detail::scratch
