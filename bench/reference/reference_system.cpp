@@ -162,21 +162,28 @@ clothlab_status ReferenceSystem<Real>::step_rkn_callback(void* context, double t
   Real* x = self->x_.get();
   Real* v = self->v_.get();
   for (uint32_t stage = 0; stage < n; ++stage) {
-    copy_callback(context, self->stage_x_.get(), x);
-    copy_callback(context, self->stage_v_.get(), v);
-    for_active([&](std::size_t e) {
-      Real xs = x[e] + static_cast<Real>(h * scheme->alpha[stage]) * v[e], vs = v[e];
-      for (uint32_t j = 0; j < stage; ++j) {
-        const Real a = self->accelerations_[j][e];
-        xs += static_cast<Real>(h * h * scheme->x_coupling[stage * n + j]) * a;
-        vs += static_cast<Real>(h * scheme->v_coupling[stage * n + j]) * a;
-      }
-      self->stage_x_[e] = xs;
-      self->stage_v_[e] = vs;
-    });
+    bool in_place = scheme->alpha[stage] == 0.0;  // a stage at (x, v) itself: no copies
+    for (uint32_t j = 0; j < stage; ++j) {
+      in_place = in_place && scheme->x_coupling[stage * n + j] == 0.0 &&
+                 scheme->v_coupling[stage * n + j] == 0.0;
+    }
+    if (!in_place) {
+      copy_callback(context, self->stage_x_.get(), x);
+      copy_callback(context, self->stage_v_.get(), v);
+      for_active([&](std::size_t e) {
+        Real xs = x[e] + static_cast<Real>(h * scheme->alpha[stage]) * v[e], vs = v[e];
+        for (uint32_t j = 0; j < stage; ++j) {
+          const Real a = self->accelerations_[j][e];
+          xs += static_cast<Real>(h * h * scheme->x_coupling[stage * n + j]) * a;
+          vs += static_cast<Real>(h * scheme->v_coupling[stage * n + j]) * a;
+        }
+        self->stage_x_[e] = xs;
+        self->stage_v_[e] = vs;
+      });
+    }
     const clothlab_status status =
-        eval_callback(context, t + scheme->c[stage] * h, self->stage_x_.get(), self->stage_v_.get(),
-                      self->accelerations_[stage].get());
+        eval_callback(context, t + scheme->c[stage] * h, in_place ? x : self->stage_x_.get(),
+                      in_place ? v : self->stage_v_.get(), self->accelerations_[stage].get());
     if (status != CLOTHLAB_OK) return status;
   }
   for_active([&](std::size_t e) {
