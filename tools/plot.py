@@ -79,6 +79,16 @@ def number(value):
         and math.isfinite(value) else None
 
 
+def coordinate(value):
+    """A matrix coordinate such as dt as a number: JSON results store them as strings."""
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            return None
+    return number(value)
+
+
 def save(figure, out, name):
     os.makedirs(out, exist_ok=True)
     paths = []
@@ -149,7 +159,8 @@ def plot_stability(args):
     rows = read_rows(args.results)
     search = require(rows, "stability", args.results)
     matrix = read_rows(args.matrix) if args.matrix else []
-    matrix = [r for r in matrix if r.get("dt") is not None and r.get("mesh") is not None]
+    matrix = [r for r in matrix
+              if coordinate(r.get("dt")) is not None and r.get("mesh") is not None]
     scenarios = sorted({str(r.get("scenario")) for r in search})
     integrators = sorted({str(r.get("integrator")) for r in search})
     figure, axes = plt.subplots(len(scenarios), len(integrators), squeeze=False,
@@ -175,7 +186,8 @@ def plot_stability(args):
                 chosen = [r for r in cells if bool(r.get("stable")) == stable]
                 if chosen:
                     axis.scatter([math.sqrt(mesh_particles(r["mesh"])) for r in chosen],
-                                 [float(r["dt"]) for r in chosen], marker=marker, color=colour,
+                                 [coordinate(r["dt"]) for r in chosen], marker=marker,
+                                 color=colour,
                                  label="run: stable" if stable else "run: unstable")
             axis.set_title(f"{integrator} / {scenario}")
             axis.set_xlabel("mesh side N (N x N)")
@@ -183,6 +195,7 @@ def plot_stability(args):
             if j == 0:
                 axis.set_ylabel("dt (s)")
     axes[0][0].legend(fontsize=8)
+    figure.tight_layout()  # else each row's x label runs into the titles below it
     return save(figure, args.out, "stability-map")
 
 
@@ -191,11 +204,11 @@ def plot_cost(args):
     runs = [r for r in rows if number(r.get(args.metric)) is not None and r.get("mesh") is not None]
     if not runs:
         raise InputProblem(f"{args.results}: no rows with a numeric '{args.metric}' and a mesh")
-    dts = sorted({r["dt"] for r in runs if number(r.get("dt")) is not None})
+    dts = sorted({coordinate(r.get("dt")) for r in runs} - {None})
     chosen_dt = args.dt if args.dt is not None else (dts[0] if dts else None)
     if chosen_dt is not None and dts:
-        runs = [r for r in runs if number(r.get("dt")) is not None
-                and math.isclose(r["dt"], chosen_dt, rel_tol=1e-9)]
+        runs = [r for r in runs if coordinate(r.get("dt")) is not None
+                and math.isclose(coordinate(r["dt"]), chosen_dt, rel_tol=1e-9)]
         if not runs:
             raise InputProblem(f"--dt {chosen_dt:g}: no rows at that step; steps present: "
                                + ", ".join(f"{d:g}" for d in dts))

@@ -94,6 +94,19 @@ class PlotTest(unittest.TestCase):
         result = run_plot("cost", self.path("runs.csv"), "--out", self.out)
         self.assert_written(result, ["cost-sheet"])
 
+    def test_cost_picks_a_step_among_json_string_dts(self):
+        # A run-mode sweep's JSON stores its matrix coordinates as strings.
+        rows = [{"key": f"{n}{dt}", "integrator": "euler", "scenario": "sheet",
+                 "mesh": f"{n}x{n}", "dt": dt, "ms_per_step": 1e-4 * n * n}
+                for n in (50, 100) for dt in ("0.001", "0.002")]
+        with open(self.path("runs.json"), "w") as stream:
+            json.dump({"sweep": {}, "rows": rows}, stream)
+        self.assert_written(run_plot("cost", self.path("runs.json"), "--out", self.out),
+                            ["cost-sheet"])
+        result = run_plot("cost", self.path("runs.json"), "--dt", "0.005", "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("steps present: 0.001, 0.002", result.stderr)
+
     def test_bad_input_is_one_line_and_exit_code_1(self):
         with open(self.path("broken.json"), "w") as stream:
             stream.write("{\"rows\": [")
