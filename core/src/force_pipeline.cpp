@@ -64,6 +64,10 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
   interior_kernel_ = kInteriorKernel && std::is_same_v<Real, float> && stages_.size() == 6;
   row_span_ = kMargin + round_up_16(cols_ + kMargin + 2);
   reserve_stages(1);
+  for (std::size_t t = 0; t <= static_cast<std::size_t>(threads_); ++t) {
+    split_.push_back(rows_ * t / static_cast<std::size_t>(threads_));
+  }
+  busy_.assign(static_cast<std::size_t>(threads_), 0.0);
 }
 
 template <class Real>
@@ -313,6 +317,22 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
   return probe;
 }
 
+// Moves each block boundary a row toward the thread that finished first, so a slower core
+// (or the halo prelude that only later blocks run) does not leave the other one waiting at
+// the barrier. Results do not depend on the boundaries: every block is exact.
+template <class Real>
+void ForcePipeline<Real>::balance_split() {
+  constexpr double kTolerance = 1.02;
+  for (std::size_t b = 1; b + 1 < split_.size(); ++b) {
+    const double upper = busy_[b - 1], lower = busy_[b];
+    if (upper > kTolerance * lower && split_[b] > split_[b - 1] + 1) {
+      --split_[b];
+    } else if (lower > kTolerance * upper && split_[b] + 1 < split_[b + 1]) {
+      ++split_[b];
+    }
+  }
+}
+
 template <class Real>
 bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v,
                                    Real* a, StageCounters& counters) {
@@ -320,16 +340,23 @@ bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateC
   double wind_seconds = 0.0;
   Real probe = 0;
   const StateCombination<Real>* const state[2] = {&x, v};
+  bool full_team = false;
 #pragma omp parallel num_threads(threads_) if (parallel_) reduction(+ : probe)
   {
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    const std::size_t begin = rows_ * static_cast<std::size_t>(thread) / team;
-    const std::size_t end = rows_ * static_cast<std::size_t>(thread + 1) / team;
+    const auto t = static_cast<std::size_t>(thread);
+    const bool balanced = team + 1 == split_.size();
+    const std::size_t begin = balanced ? split_[t] : rows_ * t / team;
+    const std::size_t end = balanced ? split_[t + 1] : rows_ * (t + 1) / team;
+    if (thread == 0) full_team = balanced;
+    const double pass_start = omp_get_wtime();
     Pass pass{v != nullptr, thread == 0, 0.0};
     probe += run_rows(thread, begin, end, state, a, pass);
+    busy_[t] = omp_get_wtime() - pass_start;
     if (thread == 0) wind_seconds = pass.wind_seconds;
   }
+  if (full_team) balance_split();
   // The pass is fused, so its time is split by thread 0's share of wind work.
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

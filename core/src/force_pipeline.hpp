@@ -102,6 +102,9 @@ class ForcePipeline {
   Real* halo_row(int thread, std::size_t slot, int quantity);
   Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
                 const RknStep<Real>& step, Pass& pass);
+  // Moves each boundary of the threads' row blocks a row toward the thread that finished
+  // first in the last pass (results do not depend on the boundaries).
+  void balance_split();
 
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
@@ -119,6 +122,8 @@ class ForcePipeline {
   std::size_t row_span_ = 0;       // margin + columns + margin
   std::size_t thread_stride_ = 0;  // elements from one thread's scratch to the next
   uint32_t reserved_stages_ = 0;
+  std::vector<std::size_t> split_;  // first row of each thread's block, then rows
+  std::vector<double> busy_;        // each thread's time in the last pass
   AlignedBuffer<Real> scratch_;
   uint64_t springs_per_eval_ = 0;
   uint64_t damped_per_eval_ = 0;

@@ -153,12 +153,17 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
                                    StageCounters& counters) {
   const auto start = std::chrono::steady_clock::now();
   Real probe = 0;
+  bool full_team = false;
 #pragma omp parallel num_threads(threads_) if (parallel_) reduction(+ : probe)
   {
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    const std::size_t begin = rows_ * static_cast<std::size_t>(thread) / team;
-    const std::size_t end = rows_ * static_cast<std::size_t>(thread + 1) / team;
+    const auto t = static_cast<std::size_t>(thread);
+    // The balanced split when the team is the one it was made for, else an even one.
+    const bool balanced = team + 1 == split_.size();
+    const std::size_t begin = balanced ? split_[t] : rows_ * t / team;
+    const std::size_t end = balanced ? split_[t + 1] : rows_ * (t + 1) / team;
+    if (thread == 0) full_team = balanced;
     // Halo: rows of x and v the prelude reads above and below the block.
     const std::size_t reach = 2 * step.stages;
     const std::size_t above = begin > reach ? begin - reach : 0;
@@ -174,9 +179,12 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
     for (std::size_t row = above; row < begin; ++row) copy_row(row, row - above);
     for (std::size_t row = end; row < below; ++row) copy_row(row, rkn_halo() / 2 + (row - end));
 #pragma omp barrier
+    const double sweep_start = omp_get_wtime();
     Pass pass{true, false, 0.0};
     probe += rkn_rows(thread, begin, end, x, v, step, pass);
+    busy_[t] = omp_get_wtime() - sweep_start;
   }
+  if (full_team) balance_split();
   // Springs, wind and the updates run interleaved: the whole sweep counts as forces.
   counters.internal_forces_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
