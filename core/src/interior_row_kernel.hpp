@@ -94,12 +94,11 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
   load(row.x[0], 1, right);
   load(row.x[1], 0, below);
   load(row.x[1], 1, below_right);
-  Vec3 to_right, to_below, to_below_right, partner;
-  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), to_right);
-  spring(1, below, 1, 0, columns_in(c, 0, cols), to_below);
-  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), to_below_right);
+  // Wind first: its shares join the partner ends of the first three springs, so only one
+  // partner sum is alive at a time (fewer registers spilled).
+  Vec3 both = {}, second = {};  // shares of corners b and c' (both triangles), d (second)
   if constexpr (Wind) {
-    Vec3 first, second;
+    Vec3 first;
     cell_wind_shares(x, right, below, below_right, row.wind_direction, row.wind_strength_sixth,
                      first, second);
     const __mmask16 cells = columns_in(c, 0, cols - 1);
@@ -107,14 +106,24 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
     mask(second, cells);
     for (std::size_t k = 0; k < 3; ++k) {
       own[k] += first[k];
-      to_right[k] += first[k] + second[k];
-      to_below[k] += first[k] + second[k];
-      to_below_right[k] += second[k];
+      both[k] = first[k] + second[k];
     }
   }
-  add_to(row.plus1[0], 1, to_right);
-  add_to(row.aligned[1], 0, to_below);
-  add_to(row.plus1[1], 1, to_below_right);
+  const auto with_wind = [&](Vec3& partner, const Vec3& share) {
+    if constexpr (Wind) {
+      for (std::size_t k = 0; k < 3; ++k) partner[k] += share[k];
+    }
+  };
+  Vec3 partner;
+  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), partner);
+  with_wind(partner, both);
+  add_to(row.plus1[0], 1, partner);
+  spring(1, below, 1, 0, columns_in(c, 0, cols), partner);
+  with_wind(partner, both);
+  add_to(row.aligned[1], 0, partner);
+  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), partner);
+  with_wind(partner, second);
+  add_to(row.plus1[1], 1, partner);
   load(row.x[1], -1, far);
   spring(3, far, 1, -1, columns_in(c, 1, cols), partner);
   add_to(row.minus1, -1, partner);
