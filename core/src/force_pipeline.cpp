@@ -76,7 +76,7 @@ void ForcePipeline<Real>::reserve_stages(uint32_t stages) {
   reserved_stages_ = stages;
   // Per thread: a ring per stage, then for the fused step an acceleration ring per stage,
   // the halo rows and two update rows (see rkn_sweep.cpp).
-  const std::size_t rows = stages * kRowsPerRing + stages * rkn_window() * 3 + rkn_halo() * 6 + 2;
+  const std::size_t rows = update_from() + 2;
   // Each thread's scratch starts 64 KiB after the end of the previous one's: with the
   // regions closer than ~40 KiB the second thread ran ~35 % slower on this 2-core AMD
   // EPYC VM (300 x 300 force pass: 230 vs 350 us; cause not isolated, likely prefetch or
@@ -346,13 +346,11 @@ bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateC
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const auto t = static_cast<std::size_t>(thread);
-    const bool balanced = team + 1 == split_.size();
-    const std::size_t begin = balanced ? split_[t] : rows_ * t / team;
-    const std::size_t end = balanced ? split_[t + 1] : rows_ * (t + 1) / team;
-    if (thread == 0) full_team = balanced;
+    const Block block = block_of(t, team);
+    if (thread == 0) full_team = block.balanced;
     const double pass_start = omp_get_wtime();
     Pass pass{v != nullptr, thread == 0, 0.0};
-    probe += run_rows(thread, begin, end, state, a, pass);
+    probe += run_rows(thread, block.begin, block.end, state, a, pass);
     busy_[t] = omp_get_wtime() - pass_start;
     if (thread == 0) wind_seconds = pass.wind_seconds;
   }

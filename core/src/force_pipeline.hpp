@@ -24,6 +24,7 @@
 #include "aligned_buffer.hpp"
 #include "grid.hpp"
 #include "rkn_step.hpp"
+#include "scratch_layout.hpp"
 #include "state_combination.hpp"
 
 namespace clothlab::detail {
@@ -58,6 +59,16 @@ class ForcePipeline {
     bool damped = false;
     uint64_t count = 0;
   };
+  // A thread's rows: from the balanced split when the team is the one it was made for,
+  // else an even share.
+  struct Block {
+    std::size_t begin, end;
+    bool balanced;
+  };
+  Block block_of(std::size_t thread, std::size_t team) const {
+    if (team + 1 == split_.size()) return {split_[thread], split_[thread + 1], true};
+    return {rows_ * thread / team, rows_ * (thread + 1) / team, false};
+  }
   struct Pass {
     bool damped;          // damping terms wanted
     bool timed;           // time the separate wind stage (thread 0)
@@ -98,6 +109,17 @@ class ForcePipeline {
   // v rows of other threads' blocks, copied before anything is written) and the sweep.
   std::size_t rkn_window() const { return 2 * std::size_t{reserved_stages_}; }
   std::size_t rkn_halo() const { return 4 * std::size_t{reserved_stages_}; }
+  // Thread rows after the rings: acceleration windows, halo rows, two update rows.
+  std::size_t windows_from() const { return reserved_stages_ * scratch::kRowsPerRing; }
+  std::size_t halo_from() const { return windows_from() + reserved_stages_ * rkn_window() * 3; }
+  std::size_t update_from() const { return halo_from() + rkn_halo() * 6; }
+  // Halo slot of grid row `row` outside the block [begin, end) of a `stages`-stage step:
+  // the 2 * stages rows above it first, then those below.
+  std::size_t halo_slot(std::size_t row, std::size_t begin, std::size_t end,
+                        std::size_t stages) const {
+    const std::size_t reach = 2 * stages;
+    return row < begin ? row - (begin > reach ? begin - reach : 0) : rkn_halo() / 2 + (row - end);
+  }
   Real* window_row(int thread, std::size_t stage, std::size_t row);
   Real* halo_row(int thread, std::size_t slot, int quantity);
   Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,

@@ -15,24 +15,17 @@
 #include <chrono>
 
 #include "force_pipeline.hpp"
-#include "scratch_layout.hpp"
 
 namespace clothlab::detail {
 
-using scratch::kRowsPerRing;
-
 template <class Real>
 Real* ForcePipeline<Real>::window_row(int thread, std::size_t stage, std::size_t row) {
-  const std::size_t index =
-      reserved_stages_ * kRowsPerRing + (stage * rkn_window() + row % rkn_window()) * 3;
-  return thread_row(thread, index);
+  return thread_row(thread, windows_from() + (stage * rkn_window() + row % rkn_window()) * 3);
 }
 
 template <class Real>
 Real* ForcePipeline<Real>::halo_row(int thread, std::size_t slot, int quantity) {
-  const std::size_t index = reserved_stages_ * kRowsPerRing + reserved_stages_ * rkn_window() * 3 +
-                            slot * 6 + static_cast<std::size_t>(quantity) * 3;
-  return thread_row(thread, index);
+  return thread_row(thread, halo_from() + slot * 6 + static_cast<std::size_t>(quantity) * 3);
 }
 
 template <class Real>
@@ -41,7 +34,6 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
   Real probe = 0;
   if (begin >= end) return probe;
   const std::size_t stages = step.stages;
-  const std::size_t halo_above = rkn_halo() / 2;
   // Per stage: rows run from `first` (up to two prelude rows that only feed the rows
   // below), finished from `ready`, through `last`; `staged` is the next row to stage.
   std::size_t first[RknStep<Real>::kMaxStages] = {}, ready[RknStep<Real>::kMaxStages] = {};
@@ -56,8 +48,7 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
   // Component k of row `row` of x (quantity 0) or v (1): in place in the block, else halo.
   const auto source = [&](int quantity, std::size_t row, std::size_t k) -> const Real* {
     if (row >= begin && row < end) return (quantity == 0 ? x : v) + k * stride_ + row * cols_;
-    const std::size_t slot = row < begin ? row - first[0] : halo_above + (row - end);
-    return halo_row(thread, slot, quantity) + k * row_span_;
+    return halo_row(thread, halo_slot(row, begin, end, stages), quantity) + k * row_span_;
   };
   const auto stage_rkn_row = [&](std::size_t s, std::size_t row) {
     Real* const stage_ring = ring(thread, s);
@@ -90,10 +81,8 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
   };
   // x += h v + sum_s x_weights[s] A_s, v += sum_s v_weights[s] A_s on active particles.
   const auto advance_row = [&](std::size_t row) {
-    const std::size_t scratch =
-        reserved_stages_ * kRowsPerRing + reserved_stages_ * rkn_window() * 3 + rkn_halo() * 6;
-    Real* __restrict dx = thread_row(thread, scratch);
-    Real* __restrict dv = thread_row(thread, scratch + 1);
+    Real* __restrict dx = thread_row(thread, update_from());
+    Real* __restrict dv = thread_row(thread, update_from() + 1);
     const Real* __restrict inverse_mass = inverse_mass_ + row * cols_;
     const Real h = step.h;
     for (std::size_t k = 0; k < 3; ++k) {
@@ -159,16 +148,15 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const auto t = static_cast<std::size_t>(thread);
-    // The balanced split when the team is the one it was made for, else an even one.
-    const bool balanced = team + 1 == split_.size();
-    const std::size_t begin = balanced ? split_[t] : rows_ * t / team;
-    const std::size_t end = balanced ? split_[t + 1] : rows_ * (t + 1) / team;
-    if (thread == 0) full_team = balanced;
+    const Block block = block_of(t, team);
+    const std::size_t begin = block.begin, end = block.end;
+    if (thread == 0) full_team = block.balanced;
     // Halo: rows of x and v the prelude reads above and below the block.
     const std::size_t reach = 2 * step.stages;
     const std::size_t above = begin > reach ? begin - reach : 0;
     const std::size_t below = std::min(rows_, end + reach);
-    const auto copy_row = [&](std::size_t row, std::size_t slot) {
+    const auto copy_row = [&](std::size_t row) {
+      const std::size_t slot = halo_slot(row, begin, end, step.stages);
       for (int quantity = 0; quantity < 2; ++quantity) {
         const Real* from = (quantity == 0 ? x : v) + row * cols_;
         Real* to = halo_row(thread, slot, quantity);
@@ -176,8 +164,8 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
           std::copy_n(from + k * stride_, cols_, to + k * row_span_);
       }
     };
-    for (std::size_t row = above; row < begin; ++row) copy_row(row, row - above);
-    for (std::size_t row = end; row < below; ++row) copy_row(row, rkn_halo() / 2 + (row - end));
+    for (std::size_t row = above; row < begin; ++row) copy_row(row);
+    for (std::size_t row = end; row < below; ++row) copy_row(row);
 #pragma omp barrier
     const double sweep_start = omp_get_wtime();
     Pass pass{true, false, 0.0};
