@@ -12,20 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "../support/sanitizer.hpp"
+
 namespace {
 
-// GCC marks an AddressSanitizer build with a macro, Clang with a feature test.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool address_sanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool address_sanitizer = true;
-#else
-constexpr bool address_sanitizer = false;
-#endif
-#else
-constexpr bool address_sanitizer = false;
-#endif
+using clothlab::testing::address_sanitizer;
 
 // A plugin that segfaults in a check's child: the child dies of SIGSEGV, except under
 // AddressSanitizer, which catches the signal, reports it and exits with status 1.

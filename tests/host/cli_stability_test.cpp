@@ -12,6 +12,8 @@
 #include <string>
 #include <string_view>
 
+#include "../support/sanitizer.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -152,18 +154,7 @@ TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
   EXPECT_EQ(lines, 5);
 }
 
-// GCC marks an AddressSanitizer build with a macro, Clang with a feature test.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool address_sanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool address_sanitizer = true;
-#else
-constexpr bool address_sanitizer = false;
-#endif
-#else
-constexpr bool address_sanitizer = false;
-#endif
+using clothlab::testing::address_sanitizer;
 
 // "exited with status N without a result", N > 0: the reason the sweep records for a child that
 // ended without answering (host/cli/isolation.cpp).
