@@ -1,7 +1,9 @@
 // Small helpers shared by the core tests: scenes and element access into system vectors.
 #pragma once
 
+#include <algorithm>
 #include <clothlab/core/cloth.hpp>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -19,6 +21,28 @@ inline Scene bare_scene(uint32_t rows, uint32_t cols) {
   scene.total_mass = static_cast<double>(rows) * cols;
   scene.gravity = {0, 0, 0};
   return scene;
+}
+
+// Pins the first column and/or particles n/2 and n - 1, kept sorted and unique as a Scene's
+// pins must be.
+inline void add_pins(Scene& scene, bool first_column, bool two_singles) {
+  const uint32_t n = scene.rows * scene.cols;
+  if (first_column) {
+    for (uint32_t r = 0; r < scene.rows; ++r) scene.pinned.push_back(r * scene.cols);
+  }
+  if (two_singles) {
+    scene.pinned.push_back(n / 2);
+    scene.pinned.push_back(n - 1);
+  }
+  std::sort(scene.pinned.begin(), scene.pinned.end());
+  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+}
+
+// Component k of particle i on the unit-spaced layout (x = column, y = -row) moved by a
+// smooth pattern of the given amplitude: a state off rest, springs stretched and sheared.
+inline double perturbed_layout(std::size_t i, std::size_t k, uint32_t cols, double amplitude) {
+  const double layout[3] = {static_cast<double>(i % cols), -static_cast<double>(i / cols), 0.0};
+  return layout[k] + amplitude * std::sin(1.7 * static_cast<double>(i) + 2.1 * k + 0.3);
 }
 
 // Component k of particle i in a system vector of precision Real.

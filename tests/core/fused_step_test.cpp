@@ -158,22 +158,13 @@ Scene scene_for(const Case& c) {
     scene.wind_direction = {0.6, 0.0, 0.8};
     scene.wind_strength = 2.0;
   }
-  if (c.pins == Pins::ColumnAndSingles) {
-    for (uint32_t r = 0; r < c.rows; ++r) scene.pinned.push_back(r * c.cols);
-  }
-  if (c.pins != Pins::None) {
-    scene.pinned.push_back(n / 2);
-    scene.pinned.push_back(n - 1);
-  }
-  std::sort(scene.pinned.begin(), scene.pinned.end());
-  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+  testing::add_pins(scene, c.pins == Pins::ColumnAndSingles, c.pins != Pins::None);
   return scene;
 }
 
 // A state off the rest layout (springs stretched, sheared, moving) that both systems get.
 double start_position(std::size_t i, std::size_t k, uint32_t cols) {
-  const double layout[3] = {static_cast<double>(i % cols), -static_cast<double>(i / cols), 0.0};
-  return layout[k] + 0.05 * std::sin(1.7 * static_cast<double>(i) + 2.1 * k + 0.3);
+  return testing::perturbed_layout(i, k, cols, 0.05);
 }
 double start_velocity(std::size_t i, std::size_t k) {
   return 0.3 * std::sin(0.9 * static_cast<double>(i) + 1.3 * k + 0.4);

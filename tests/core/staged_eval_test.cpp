@@ -48,19 +48,14 @@ Scene scene_for(const Case& c) {
   scene.gravity = {0.0, -9.81, 0.0};
   scene.wind_direction = {0.6, 0.0, 0.8};
   scene.wind_strength = 2.0;
-  for (uint32_t r = 0; r < c.rows; ++r) scene.pinned.push_back(r * c.cols);
-  scene.pinned.push_back(n / 2);
-  scene.pinned.push_back(n - 1);
-  std::sort(scene.pinned.begin(), scene.pinned.end());
-  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+  testing::add_pins(scene, true, true);
   return scene;
 }
 
 // Element (i, k) of the vectors of the test. Terms are nonzero on pinned particles too:
 // the sums must ignore them there.
 double base_position(std::size_t i, std::size_t k, uint32_t cols) {
-  const double layout[3] = {static_cast<double>(i % cols), -static_cast<double>(i / cols), 0.0};
-  return layout[k] + 0.03 * std::sin(1.7 * static_cast<double>(i) + 2.1 * k + 0.3);
+  return testing::perturbed_layout(i, k, cols, 0.03);
 }
 double base_velocity(std::size_t i, std::size_t k) {
   return 0.3 * std::sin(0.9 * static_cast<double>(i) + 1.3 * k + 0.4);
