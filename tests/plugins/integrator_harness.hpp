@@ -18,6 +18,7 @@ inline std::string integrator_path(const std::string& id) {
   if (id == "midpoint") return CLOTHLAB_TEST_MIDPOINT_PLUGIN;
   if (id == "rk4") return CLOTHLAB_TEST_RK4_PLUGIN;
   if (id == "verlet") return CLOTHLAB_TEST_VERLET_PLUGIN;
+  if (id == "xpbd") return CLOTHLAB_TEST_XPBD_PLUGIN;
   throw std::runtime_error("no integrator plugin " + id);
 }
 
