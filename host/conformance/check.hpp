@@ -42,6 +42,7 @@ std::vector<Check> parameter_checks(const ParameterSubject& subject, const Setti
 std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator);
 std::vector<Check> numerics_checks(const clothlab_integrator& integrator);
 std::vector<Check> robustness_checks(const clothlab_integrator& integrator);
+std::vector<Check> stability_checks(const clothlab_integrator& integrator);
 std::vector<Check> scenario_checks(const clothlab_scenario& scenario);
 
 }  // namespace clothlab::conformance
