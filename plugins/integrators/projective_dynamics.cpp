@@ -112,8 +112,8 @@ struct ProjectiveDynamics {
       if (factorization_.info() != Eigen::Success)
         throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "the global solve failed");
     }
-    const double moved = (positions_ - start_).cwiseAbs().maxCoeff();
-    const double change = (positions_ - previous_).cwiseAbs().maxCoeff();
+    const double moved = max_difference(positions_, start_);
+    const double change = max_difference(positions_, previous_);
     if (!std::isfinite(change)) throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "non-finite positions");
     last_.iterations = static_cast<uint64_t>(iterations_);
     last_.residual = moved > 0.0 ? change / moved : 0.0;
@@ -180,7 +180,8 @@ struct ProjectiveDynamics {
     Eigen::AMDOrdering<int>()(graph, elimination_order);
     // AMD returns the elimination order; row u of the reordered system is the unknown
     // eliminated u-th (as SimplicialLDLT applies it: P = order^-1).
-    const auto new_row = elimination_order.inverse();
+    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> new_row =
+        elimination_order.inverse();
     unknown_of_.assign(n, -1);
     for (uint32_t i = 0; i < n; ++i)
       if (natural[i] >= 0) unknown_of_[i] = new_row.indices()[natural[i]];
@@ -268,6 +269,18 @@ struct ProjectiveDynamics {
         if (s.second >= 0) rhs_(s.second, k) -= scale * d[k];
       }
     }
+  }
+
+  // max |a - b| over all entries, NaN if any is NaN; a plain loop because GCC 12 warns
+  // (falsely) inside Eigen's AVX-512 maxCoeff.
+  static double max_difference(const Positions& a, const Positions& b) {
+    double largest = 0.0;
+    for (Eigen::Index k = 0; k < a.size(); ++k) {
+      const double difference = std::abs(a.data()[k] - b.data()[k]);
+      if (std::isnan(difference)) return difference;
+      largest = std::max(largest, difference);
+    }
+    return largest;
   }
 
   double end_position(int32_t unknown, uint32_t particle, size_t k) const {
