@@ -228,7 +228,9 @@ TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
                      undamped_pendulum()),
         backward_euler);
     // Each iteration shrinks the gap until it reaches rounding (1e-14 here).
-    if (iterations == 1) EXPECT_GT(difference, 1e-6);  // one iteration is far from converged
+    if (iterations == 1) {
+      EXPECT_GT(difference, 1e-6);  // one iteration is far from converged
+    }
     if (previous > 1e-12) {
       EXPECT_LT(difference, previous / 2) << iterations << " iterations";
     }
