@@ -6,20 +6,13 @@
 // around prepare), so a step that allocates fails. eval_acceleration_at forms the stage
 // state in two vectors of its own, then evaluates. Arithmetic is done in double and
 // rounded once to Real.
-//
-// A test may also offer the host extensions of a spring network it describes (ABI 1.2):
-// the topology (springs and a spring colouring) and the external forces (a constant
-// gravity), for integrators that treat the springs themselves.
 #pragma once
 
-#include <clothlab/ext/external_forces.h>
-#include <clothlab/ext/topology.h>
 #include <clothlab/plugin.h>
 
 #include <array>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <functional>
 #include <memory>
 #include <new>
@@ -34,16 +27,6 @@ using Vec3 = std::array<double, 3>;
 template <class Real>
 using ForceLaw =
     std::function<Vec3(double t, uint32_t i, const Real* x, const Real* v, uint32_t stride)>;
-
-// Springs as the topology extension publishes them, with a colouring the test vouches for
-// (no two springs of a colour share a particle); adjacency, triangles and the particle
-// colouring are left empty.
-struct SpringNetwork {
-  std::vector<uint32_t> first, second;
-  std::vector<double> rest_length, ks, kd;
-  std::vector<std::vector<uint32_t>> colors;  // spring indices per colour
-  Vec3 gravity{0, 0, 0};
-};
 
 template <class Real>
 class MockSystem {
@@ -83,23 +66,10 @@ class MockSystem {
             &MockSystem::eval_at,
             &MockSystem::reserve_rkn,
             &MockSystem::step_rkn,
-            nullptr};  // get_extension: offered by offer()
+            &MockSystem::get_extension};
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;
-
-  // Offers the topology and external-forces extensions of `network` from now on.
-  void offer(SpringNetwork network) {
-    network_ = std::move(network);
-    family_.assign(network_.first.size(), CLOTHLAB_SPRING_STRUCTURAL);
-    color_offsets_.assign(1, 0);
-    color_members_.clear();
-    for (const std::vector<uint32_t>& color : network_.colors) {
-      color_members_.insert(color_members_.end(), color.begin(), color.end());
-      color_offsets_.push_back(static_cast<uint32_t>(color_members_.size()));
-    }
-    raw_.get_extension = &MockSystem::extension;
-  }
 
   const clothlab_system& raw() const { return raw_; }
   uint32_t stride() const { return stride_; }
@@ -110,6 +80,11 @@ class MockSystem {
   void set_velocity(uint32_t i, Vec3 p) { set(v_, i, p); }
   Vec3 position(uint32_t i) const { return get(x_, i); }
   Vec3 velocity(uint32_t i) const { return get(v_, i); }
+
+  // Host extensions a test offers (by clothlab/ext/ id; none by default). Their functions
+  // receive this system as context and reach their own data through extension_data.
+  std::function<const void*(const char* id)> extensions;
+  void* extension_data = nullptr;
 
   bool allocation_allowed = false;
   int evaluations = 0;
@@ -246,47 +221,10 @@ class MockSystem {
       static_cast<Real*>(dst)[j] = static_cast<const Real*>(src)[j];
   }
 
-  static const void* extension(void* context, const char* id) {
-    static const clothlab_topology_extension topology{&MockSystem::topology};
-    static const clothlab_external_forces_extension external{&MockSystem::external_acceleration,
-                                                             &MockSystem::gravity_only};
-    (void)context;
-    if (id == nullptr) return nullptr;
-    if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
-    if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external;
-    return nullptr;
-  }
-
-  static clothlab_status topology(void* context, clothlab_topology* out) {
+  static const void* get_extension(void* context, const char* id) {
     const MockSystem& s = self(context);
-    const SpringNetwork& net = s.network_;
-    *out = {};
-    out->struct_size = sizeof(clothlab_topology);
-    out->particle_count = s.n_;
-    out->spring_count = static_cast<uint32_t>(net.first.size());
-    out->first = net.first.data();
-    out->second = net.second.data();
-    out->rest_length = net.rest_length.data();
-    out->ks = net.ks.data();
-    out->kd = net.kd.data();
-    out->family = s.family_.data();
-    out->spring_color_count = static_cast<uint32_t>(net.colors.size());
-    out->spring_color_offsets = s.color_offsets_.data();
-    out->spring_color_members = s.color_members_.data();
-    return CLOTHLAB_OK;
+    return s.extensions && id != nullptr ? s.extensions(id) : nullptr;
   }
-
-  static clothlab_status external_acceleration(void* context, double, const void*, void* a) {
-    const MockSystem& s = self(context);
-    Real* out = static_cast<Real*>(a);
-    for (uint32_t i = 0; i < s.n_; ++i)
-      for (uint32_t k = 0; k < 3; ++k)
-        out[k * s.stride_ + i] =
-            s.inverse_mass_[i] == 0 ? Real(0) : static_cast<Real>(s.network_.gravity[k]);
-    return CLOTHLAB_OK;
-  }
-
-  static int32_t gravity_only(void*) { return 0; }
 
   static void* alloc(void* context) {
     MockSystem& s = self(context);
@@ -304,9 +242,6 @@ class MockSystem {
   std::vector<Real*> stage_accelerations_;
   Real* inverse_mass_;
   std::vector<clothlab_range> active_;
-  SpringNetwork network_;
-  std::vector<uint8_t> family_;
-  std::vector<uint32_t> color_offsets_, color_members_;
   clothlab_system raw_;
 };
 

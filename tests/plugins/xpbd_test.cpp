@@ -1,9 +1,9 @@
 // The xpbd plugin against analytic solutions on spring networks the mock host publishes
-// through the topology and external-forces extensions: the static sag of a hanging chain
-// (Hooke's law, in the soft and the stiff regime), the period of a single spring and of a
-// stiff pendulum (the constrained limit), independence of the iteration count (lambda is
-// reset once per substep, not per iteration: newton#2933), bitwise identity across thread
-// counts, pins left alone.
+// through the topology and external-forces extensions (spring_network.hpp): the static sag of a
+// hanging chain (Hooke's law, in the soft and the stiff regime), the period of a single spring and
+// of a stiff pendulum (the constrained limit), independence of the iteration count (lambda is reset
+// once per substep, not per iteration: newton#2933), bitwise identity across thread counts, pins
+// left alone.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,34 +11,32 @@
 #include <vector>
 
 #include "integrator_harness.hpp"
+#include "spring_network.hpp"
 
 namespace clothlab::test {
 namespace {
 
 constexpr double g = 9.81;
 
+std::vector<TestSpring> chain_springs(uint32_t count, double spacing, double ks, double kd) {
+  std::vector<TestSpring> springs;
+  for (uint32_t i = 0; i + 1 < count; ++i) springs.push_back({i, i + 1, spacing, ks, kd});
+  return springs;
+}
+
 // A vertical chain of `count` unit masses spaced `spacing` below particle 0 (pinned), joined
-// by springs (ks, kd); colours alternate so no two springs of a colour share a particle.
+// by springs (ks, kd), under gravity; colours alternate so no two springs of a colour share
+// a particle.
 template <class Real>
 struct HangingChain {
   HangingChain(uint32_t count, double spacing, double ks, double kd)
-      : system(count, {0}, [](double, uint32_t, const Real*, const Real*, uint32_t) {
-          return Vec3{0, 0, 0};
-        }) {
-    SpringNetwork network;
-    network.colors.resize(2);
-    for (uint32_t i = 0; i + 1 < count; ++i) {
-      network.first.push_back(i);
-      network.second.push_back(i + 1);
-      network.rest_length.push_back(spacing);
-      network.ks.push_back(ks);
-      network.kd.push_back(kd);
-      network.colors[i % 2].push_back(i);
-    }
-    network.gravity = {0, -g, 0};
-    system.offer(std::move(network));
-    for (uint32_t i = 0; i < count; ++i) system.set_position(i, {0, -spacing * i, 0});
+      : network(count, {0}, chain_springs(count, spacing, ks, kd), {0, -g, 0}) {
+    std::vector<std::vector<uint32_t>> colors(2);
+    for (uint32_t k = 0; k + 1 < count; ++k) colors[k % 2].push_back(k);
+    network.set_spring_colors(colors);
+    for (uint32_t i = 0; i < count; ++i) system().set_position(i, {0, -spacing * i, 0});
   }
+  MockSystem<Real>& system() { return network.system(); }
 
   // Equilibrium height of particle i: spring p carries the (count - 1 - p) masses below it.
   static double equilibrium_y(uint32_t count, uint32_t i, double spacing, double ks) {
@@ -47,7 +45,7 @@ struct HangingChain {
     return y;
   }
 
-  MockSystem<Real> system;
+  SpringNetwork<Real> network;
 };
 
 constexpr uint32_t chain_count = 6;
@@ -72,15 +70,15 @@ double chain_sag_error(double ks, int iterations) {
   HangingChain<Real> chain(chain_count, chain_spacing, ks, chain_damping_ratio * ks);
   Integrator xpbd("xpbd");
   xpbd.with("iterations", iterations).with("substeps", chain_substeps).with("threads", 1);
-  xpbd.start(chain.system);
-  xpbd.run(chain.system, 4000, chain_dt);  // 40 s
+  xpbd.start(chain.system());
+  xpbd.run(chain.system(), 4000, chain_dt);  // 40 s
   double error = 0;
   for (uint32_t i = 0; i < chain_count; ++i) {
-    const Vec3 p = chain.system.position(i);
+    const Vec3 p = chain.system().position(i);
     const double exact = HangingChain<Real>::equilibrium_y(chain_count, i, chain_spacing, ks);
     error = std::max({error, std::abs(p[1] - exact), std::abs(p[0]), std::abs(p[2])});
   }
-  EXPECT_EQ(chain.system.position(0), (Vec3{0, 0, 0})) << "the pin moved";
+  EXPECT_EQ(chain.system().position(0), (Vec3{0, 0, 0})) << "the pin moved";
   return error;
 }
 
@@ -124,10 +122,8 @@ double measured_period(const std::vector<double>& y, double center, double dt) {
 // An undamped unit mass on a spring from a pin, no gravity, started 0.1 m stretched.
 double spring_period(int iterations) {
   constexpr double ks = 10.0, dt = 1e-3;
-  MockSystem<double> system(2, {0}, [](double, uint32_t, const double*, const double*, uint32_t) {
-    return Vec3{0, 0, 0};
-  });
-  system.offer({{0}, {1}, {1.0}, {ks}, {0.0}, {{0}}, {0, 0, 0}});
+  SpringNetwork<double> network(2, {0}, {{0, 1, 1.0, ks, 0.0}}, {0, 0, 0});
+  MockSystem<double>& system = network.system();
   system.set_position(1, {0, -1.1, 0});
   Integrator xpbd("xpbd");
   xpbd.with("iterations", iterations).with("substeps", 10);
@@ -152,10 +148,8 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
   // ks = 1e7 N/m on a 1 m, 1 kg pendulum: the stiff (constrained) limit, period
   // 2 pi sqrt(L / g) (1 + theta0^2 / 16) for a 0.05 rad swing.
   constexpr double theta0 = 0.05, dt = 0.01;
-  MockSystem<double> system(2, {0}, [](double, uint32_t, const double*, const double*, uint32_t) {
-    return Vec3{0, 0, 0};
-  });
-  system.offer({{0}, {1}, {1.0}, {1.0e7}, {0.0}, {{0}}, {0, -g, 0}});
+  SpringNetwork<double> network(2, {0}, {{0, 1, 1.0, 1.0e7, 0.0}}, {0, -g, 0});
+  MockSystem<double>& system = network.system();
   system.set_position(1, {std::sin(theta0), -std::cos(theta0), 0});
   Integrator xpbd("xpbd");
   xpbd.with("substeps", 20);
@@ -179,27 +173,20 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
 template <class Real>
 std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, int steps) {
   const uint32_t n = rows * cols;
-  MockSystem<Real> system(n, {0, cols - 1},
-                          [](double, uint32_t, const Real*, const Real*, uint32_t) {
-                            return Vec3{0, 0, 0};
-                          });
-  SpringNetwork network;
-  network.colors.resize(4);
+  std::vector<TestSpring> springs;
+  std::vector<std::vector<uint32_t>> colors(4);
   const auto add = [&](uint32_t i, uint32_t j, uint32_t color) {
-    network.colors[color].push_back(static_cast<uint32_t>(network.first.size()));
-    network.first.push_back(i);
-    network.second.push_back(j);
-    network.rest_length.push_back(0.01);
-    network.ks.push_back(500.0);
-    network.kd.push_back(0.1);
+    colors[color].push_back(static_cast<uint32_t>(springs.size()));
+    springs.push_back({i, j, 0.01, 500.0, 0.1});
   };
   for (uint32_t r = 0; r < rows; ++r)
     for (uint32_t c = 0; c < cols; ++c) {
       if (c + 1 < cols) add(r * cols + c, r * cols + c + 1, c % 2);
       if (r + 1 < rows) add(r * cols + c, (r + 1) * cols + c, 2 + r % 2);
     }
-  network.gravity = {0, -g, 0};
-  system.offer(std::move(network));
+  SpringNetwork<Real> network(n, {0, cols - 1}, std::move(springs), {0, -g, 0});
+  network.set_spring_colors(colors);
+  MockSystem<Real>& system = network.system();
   for (uint32_t r = 0; r < rows; ++r)
     for (uint32_t c = 0; c < cols; ++c) {
       system.set_position(r * cols + c, {0.01 * c, -0.01 * r, 0});
@@ -240,12 +227,12 @@ TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsFloat32) {
 TEST(Xpbd, ZeroStepLeavesTheStateAlone) {
   HangingChain<double> chain(4, 0.1, 100.0, 0.1);
   Integrator xpbd("xpbd");
-  xpbd.start(chain.system);
-  xpbd.run(chain.system, 3, 0.01);
-  const Vec3 before = chain.system.position(3), speed = chain.system.velocity(3);
-  ASSERT_EQ(xpbd.step(chain.system, 0.03, 0.0), CLOTHLAB_OK) << xpbd.message();
-  EXPECT_EQ(chain.system.position(3), before);
-  EXPECT_EQ(chain.system.velocity(3), speed);
+  xpbd.start(chain.system());
+  xpbd.run(chain.system(), 3, 0.01);
+  const Vec3 before = chain.system().position(3), speed = chain.system().velocity(3);
+  ASSERT_EQ(xpbd.step(chain.system(), 0.03, 0.0), CLOTHLAB_OK) << xpbd.message();
+  EXPECT_EQ(chain.system().position(3), before);
+  EXPECT_EQ(chain.system().velocity(3), speed);
 }
 
 TEST(Xpbd, WithoutTheTopologyExtensionPrepareFailsWithOneLine) {

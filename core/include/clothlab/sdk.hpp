@@ -18,7 +18,9 @@
 // external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED when the host lacks one;
 // system.extension<Table>(id) returns nullptr instead. An integrator offers its own
 // extensions by declaring `static constexpr clothlab_integrator_traits traits` or
-// `static constexpr clothlab_explicit_scheme explicit_scheme`.
+// `static constexpr clothlab_explicit_scheme explicit_scheme`, and solver statistics
+// (clothlab.solver-statistics/1) by a member
+// `void last_step_statistics(clothlab_solver_step_statistics&) const`.
 //
 //   CLOTHLAB_PLUGIN_ENTRY("my-plugin", "1.0.0",
 //                         clothlab::sdk::integrators<MyIntegrator>,
@@ -27,6 +29,7 @@
 
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
+#include <clothlab/ext/solver_statistics.h>
 #include <clothlab/plugin.h>
 
 #include <array>
@@ -326,6 +329,20 @@ const void* integrator_extension(const char* id) noexcept {
     static_assert(std::is_same_v<std::remove_cv_t<decltype(Impl::explicit_scheme)>,
                                  clothlab_explicit_scheme>);
     if (std::strcmp(id, CLOTHLAB_EXT_EXPLICIT_SCHEME) == 0) return &Impl::explicit_scheme;
+  }
+  if constexpr (requires(const Impl& impl, clothlab_solver_step_statistics& out) {
+                  impl.last_step_statistics(out);
+                }) {
+    static const clothlab_solver_statistics_extension statistics{
+        [](void* instance, clothlab_solver_step_statistics* out) -> clothlab_status {
+          if (instance == nullptr || out == nullptr ||
+              out->struct_size < sizeof(clothlab_solver_step_statistics))
+            return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+          static_cast<const Impl*>(instance)->last_step_statistics(*out);
+          out->struct_size = sizeof(clothlab_solver_step_statistics);
+          return CLOTHLAB_OK;
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_SOLVER_STATISTICS) == 0) return &statistics;
   }
   return nullptr;
 }
