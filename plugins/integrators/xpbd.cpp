@@ -42,7 +42,9 @@
 namespace clothlab::builtin {
 namespace {
 
-constexpr uint32_t parallel_from_springs = 8192;  // smaller clothes run on the calling thread
+// Smaller clothes run on the calling thread: a colour of fewer than ~5000 springs is not
+// worth the barrier that ends it (12 barriers per sweep).
+constexpr uint32_t parallel_from_springs = 65536;
 
 // One spring as the projection reads it, stored colour by colour.
 template <class Real>
@@ -75,7 +77,7 @@ struct Xpbd {
   // conformance runner treat the scene's damping as present.
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
   static constexpr std::array<clothlab_param_spec, 3> params{
-      sdk::int_param("substeps", 10, 1, 1000, "substeps per step (h = dt / substeps)"),
+      sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
       sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
       sdk::int_param("threads", 0, 0, 256,
                      "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
@@ -152,65 +154,92 @@ struct Xpbd {
     }
   }
 
-  // One substep; false when a velocity came out non-finite.
+  // One substep; false when a velocity came out non-finite. The sweeps' worksharing loops
+  // run on the team of a parallel region, or, on one thread, orphaned (no team, no barrier
+  // cost, no allocation).
   template <class Real>
   bool advance_substep(sdk::System<Real>& system, double h, const Real* external_acceleration,
                        Real* previous) {
-    const std::vector<Constraint<Real>>& constraints = constraints_for<Real>().springs;
-    Real* lambda = constraints_for<Real>().lambda.data();
-    const uint32_t n = system.particle_count();
-    const std::size_t stride = system.stride();
-    const Real* inverse_mass = system.inverse_mass();
-    Real* x = system.x();
-    Real* v = system.v();
-    const Real step = static_cast<Real>(h);
-    const Real ks_scale = static_cast<Real>(h * h);  // ks h^2
-    const Real inverse_step = static_cast<Real>(1.0 / h);
-    const auto count = static_cast<long>(constraints.size());
+    const Substep<Real> substep{constraints_for<Real>().springs.data(),
+                                constraints_for<Real>().lambda.data(),
+                                system.inverse_mass(),
+                                external_acceleration,
+                                previous,
+                                system.x(),
+                                system.v(),
+                                system.particle_count(),
+                                system.stride(),
+                                static_cast<Real>(h),
+                                static_cast<Real>(h * h),
+                                static_cast<Real>(1.0 / h)};
+    if (threads_ == 1) return sweep(substep);
     bool finite = true;
-#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(&& : finite)
-    {
+#pragma omp parallel num_threads(threads_) reduction(&& : finite)
+    finite = sweep(substep);
+    return finite;
+  }
+
+  template <class Real>
+  struct Substep {
+    const Constraint<Real>* constraints;
+    Real* lambda;
+    const Real* inverse_mass;
+    const Real* external_acceleration;
+    Real* previous;  // positions at the substep's start
+    Real* x;
+    Real* v;
+    uint32_t particle_count;
+    std::size_t stride;
+    Real h, h_squared, inverse_h;
+  };
+
+  // Predict, project colour by colour, update velocities. Returns this thread's share of
+  // "every velocity is finite".
+  template <class Real>
+  bool sweep(const Substep<Real>& s) const {
+    const auto n = static_cast<long>(s.particle_count);
 #pragma omp for schedule(static)
-      for (long i = 0; i < static_cast<long>(n); ++i) {
-        if (inverse_mass[i] == 0) continue;
-        for (std::size_t c = 0; c < 3; ++c) {
-          const std::size_t e = c * stride + static_cast<std::size_t>(i);
-          previous[e] = x[e];
-          v[e] += step * external_acceleration[e];
-          x[e] += step * v[e];
-        }
+    for (long i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+        s.previous[e] = s.x[e];  // pinned too: their dx = x - previous must be 0
+        if (s.inverse_mass[i] == 0) continue;
+        s.v[e] += s.h * s.external_acceleration[e];
+        s.x[e] += s.h * s.v[e];
       }
+    for (int iteration = 0; iteration < iterations_; ++iteration)
+      for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
+        const long begin = color_offsets_[color], end = color_offsets_[color + 1];
 #pragma omp for schedule(static)
-      for (long k = 0; k < count; ++k) lambda[k] = 0;
-      for (int iteration = 0; iteration < iterations_; ++iteration)
-        for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
-          const long begin = color_offsets_[color], end = color_offsets_[color + 1];
+        for (long k = begin; k < end; ++k)
+          project(s.constraints[k], s.lambda[k], iteration == 0, s.x, s.previous, s.stride, s.h,
+                  s.h_squared);
+      }
+    bool finite = true;
 #pragma omp for schedule(static)
-          for (long k = begin; k < end; ++k)
-            project(constraints[k], lambda[k], x, previous, stride, step, ks_scale);
-        }
-#pragma omp for schedule(static)
-      for (long i = 0; i < static_cast<long>(n); ++i) {
-        if (inverse_mass[i] == 0) continue;
-        for (std::size_t c = 0; c < 3; ++c) {
-          const std::size_t e = c * stride + static_cast<std::size_t>(i);
-          v[e] = (x[e] - previous[e]) * inverse_step;
-          finite = finite && std::isfinite(v[e]);
-        }
+    for (long i = 0; i < n; ++i) {
+      if (s.inverse_mass[i] == 0) continue;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+        s.v[e] = (s.x[e] - s.previous[e]) * s.inverse_h;
+        finite = finite && std::isfinite(s.v[e]);
       }
     }
     return finite;
   }
 
   template <class Real>
-  static void project(const Constraint<Real>& spring, Real& lambda, Real* x, const Real* previous,
-                      std::size_t stride, Real h, Real h_squared) {
+  // lambda is reset at the substep's first iteration (`fresh`), then accumulates.
+  static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, Real* x,
+                      const Real* previous, std::size_t stride, Real h, Real h_squared) {
     std::array<Real, 3> d, moved;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
       d[c] = x[i] - x[j];
       moved[c] = (x[i] - previous[i]) - (x[j] - previous[j]);
     }
+    const Real accumulated = fresh ? Real(0) : lambda;
+    lambda = accumulated;
     const Real length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(length > 0)) return;  // coincident ends: no direction to push along
     const Real inverse_length = 1 / length;

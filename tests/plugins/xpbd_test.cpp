@@ -205,10 +205,10 @@ std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, 
 
 template <class Real>
 void expect_bitwise_identical_across_threads() {
-  // 100 x 100: 19800 springs, above the plugin's threshold for running in parallel.
-  const std::vector<double> one = grid_state_after<Real>(100, 100, 1, 10);
+  // 190 x 190: 71820 springs, above the plugin's threshold for running in parallel.
+  const std::vector<double> one = grid_state_after<Real>(190, 190, 1, 4);
   for (int threads : {2}) {
-    const std::vector<double> many = grid_state_after<Real>(100, 100, threads, 10);
+    const std::vector<double> many = grid_state_after<Real>(190, 190, threads, 4);
     ASSERT_EQ(many.size(), one.size());
     size_t differing = 0;
     for (size_t k = 0; k < one.size(); ++k) differing += std::memcmp(&one[k], &many[k], 8) != 0;
