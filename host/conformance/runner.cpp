@@ -63,8 +63,9 @@ class PluginRun {
     CheckResult result{label_, check.component, check.name, false, "", 0};
     const bool wanted = !options_.filter || options_.filter->matches(result.full_name());
     const auto start = std::chrono::steady_clock::now();
-    const Verdict verdict = options_.in_process ? run_guarded(check.body)
-                                                : run_isolated(check.body, options_.timeout_s);
+    const Verdict verdict =
+        options_.in_process ? run_guarded(check.body)
+                            : run_isolated(check.body, options_.timeout_s * check.timeout_scale);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.passed = verdict.passed;
