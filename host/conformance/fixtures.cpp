@@ -119,14 +119,9 @@ bool uses_velocity_forces(const clothlab_integrator& integrator) {
 }
 
 const clothlab_integrator_traits* integrator_traits(const clothlab_integrator& integrator) {
-  if (!CLOTHLAB_HAS_FIELD(&integrator, clothlab_integrator, get_extension) ||
-      integrator.get_extension == nullptr)
-    return nullptr;
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
-      integrator.get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
-  if (traits == nullptr ||
-      traits->struct_size < CLOTHLAB_FIELD_END(clothlab_integrator_traits, iterations_param))
-    return nullptr;
+      clothlab_integrator_extension(&integrator, CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  if (traits == nullptr || traits->struct_size < sizeof(clothlab_integrator_traits)) return nullptr;
   return traits;
 }
 
