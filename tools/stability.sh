@@ -26,12 +26,30 @@ mkdir -p "$out"
 # far more (200x200) in equilibrium. The stretch check would then call every dt unstable, so the
 # search judges by the non-finite and energy checks (stretch limit 1000x: only blow-ups).
 "$clothlab" --config configs/stability.yaml --out "$out" --set stability.max_stretch=1000 "$@"
+# Large steps (configs/stability-large-dt.yaml): all seven integrators on the default 50x50
+# cloth and on one with every ks and kd ten times larger, searched up to dt = 50 ms.
+# The stiff cloth: the scenarios' default springs (ks 20/10/1 N/m, kd = 7e-4 ks) times 10.
+stiff=(--set scenario.structural.ks=200 --set scenario.structural.kd=0.14
+       --set scenario.shear.ks=100 --set scenario.shear.kd=0.07
+       --set scenario.flexion.ks=10 --set scenario.flexion.kd=0.007)
+"$clothlab" --config configs/stability-large-dt.yaml --out "$out" --set stability.max_stretch=1000 "$@"
+"$clothlab" --config configs/stability-large-dt.yaml --out "$out/stiff" \
+  --set stability.max_stretch=1000 "${stiff[@]}" "$@"
 matrix=()
 if [ "${SKIP_MATRIX:-0}" != 1 ]; then
   "$clothlab" --config configs/seed-2016-matrix.yaml --out "$out" "$@"
   matrix=(--matrix "$out/seed-2016-matrix.json")
 fi
 /usr/bin/python3 tools/plot.py stability "$out/stability.json" "${matrix[@]}" --out "$out"
+# Large steps: default and 10x stiffer cloth.
+for results in "$out/stability-large-dt.json" "$out/stiff/stability-large-dt.json"; do
+  echo "== $results"
+  /usr/bin/python3 - "$results" <<'PY'
+import json, sys
+for row in json.load(open(sys.argv[1]))["rows"]:
+    print(f'{row["integrator"]:20} {row["scenario"]:6} measured {row["dt_max"]:.4g} s ({row["outcome"]}, {row["check"] or "-"})')
+PY
+done
 # Predicted against measured dt_max, one line per integrator x scenario x mesh.
 /usr/bin/python3 - "$out/stability.json" <<'PY'
 import json, sys

@@ -128,6 +128,19 @@ TEST_F(Clothlab, PrintsAHumanSummary) {
   EXPECT_NE(outcome.out.find("ms/step"), std::string::npos) << outcome.out;
 }
 
+// The position-based integrator runs from the command line on the windy scene, at the
+// default dt and at 50 ms (its 40 substeps of one Gauss-Seidel sweep keep it stable there).
+TEST_F(Clothlab, XpbdRunsTheFlagAtTheDefaultStepAndAt50Ms) {
+  for (const char* dt : {"0.001", "0.05"}) {
+    const Outcome outcome = run(std::string("--integrator=xpbd --scenario=flag --dt ") + dt +
+                                " --duration 0.5 --json xpbd.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << "dt " << dt << ": " << outcome.err;
+    const auto json = nlohmann::json::parse(read_text(file("xpbd.json")));
+    EXPECT_EQ(json["stable"], true) << dt;
+    EXPECT_EQ(json["integrator_params"]["substeps"], 40);
+  }
+}
+
 TEST_F(Clothlab, DivergingRunExitsThreeAndStillWritesItsJson) {
   const Outcome outcome =
       run(std::string("--integrator=euler ") + small_sheet +
