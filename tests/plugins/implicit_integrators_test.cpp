@@ -1,4 +1,4 @@
-// implicit_euler and projective_dynamics on small spring networks (spring_network.hpp):
+// implicit_euler and projective_dynamics on small spring networks (spring_host.hpp):
 // against the analytic backward-Euler step of a linear chain, by measured order, against
 // each other (converged projective dynamics = backward Euler on the same springs), and for
 // what they report through clothlab.solver-statistics/1.
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "integrator_harness.hpp"
-#include "spring_network.hpp"
+#include "spring_host.hpp"
 
 namespace clothlab::test {
 namespace {
@@ -53,7 +53,7 @@ void analytic_backward_euler(Eigen::Vector3d& u, Eigen::Vector3d& v, double h) {
 }
 
 TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
-  SpringNetwork<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
+  SpringHost<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
   MockSystem<double>& system = network.system();
   Eigen::Vector3d u{0.02, -0.01, 0.03}, v{0.5, 0.0, -0.4};
   for (uint32_t i = 0; i < 4; ++i) {
@@ -83,7 +83,7 @@ struct Pendulum {
     return {{0, 1, 0.3, 40.0, 0.05}, {1, 2, 0.25, 60.0, 0.05}, {0, 2, 0.4, 30.0, 0.05}};
   }
   template <class Real>
-  static void place(SpringNetwork<Real>& network) {
+  static void place(SpringHost<Real>& network) {
     MockSystem<Real>& system = network.system();
     system.set_position(0, {0, 0, 0});
     system.set_position(1, {0.25, -0.2, 0.05});
@@ -96,7 +96,7 @@ struct Pendulum {
 std::vector<Vec3> run_pendulum(const std::string& id, double h, int steps,
                                std::vector<std::pair<std::string, double>> params = {},
                                std::vector<TestSpring> springs = Pendulum::springs()) {
-  SpringNetwork<double> network(3, {0}, std::move(springs), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, std::move(springs), {0, -9.81, 0});
   Pendulum::place(network);
   Integrator integrator(id);
   for (const auto& [name, value] : params) integrator.with(name, value);
@@ -129,7 +129,7 @@ TEST(ImplicitEuler, IsFirstOrderOnANonlinearNetwork) {
 
 // |v1 - v0 - h a(x1, v1)| after one step: how far the step is from backward Euler proper.
 double backward_euler_residual(int newton_steps, double h) {
-  SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
   Pendulum::place(network);
   MockSystem<double>& system = network.system();
   const Vec3 v1_start = system.velocity(1), v2_start = system.velocity(2);
@@ -172,7 +172,7 @@ TEST(ImplicitEuler, DeclaresItsTraits) {
 
 TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
   for (bool starved : {false, true}) {
-    SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     Pendulum::place(network);
     Integrator integrator("implicit_euler");
     if (starved) integrator.with("max_iterations", 1).with("tolerance", 1e-14);
@@ -240,7 +240,7 @@ TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
 }
 
 TEST(ProjectiveDynamics, FactorsOnceAndAgainOnlyWhenTheStepSizeChanges) {
-  SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
   Pendulum::place(network);
   Integrator integrator("projective_dynamics");
   integrator.start(network.system());
@@ -273,8 +273,8 @@ TEST(ProjectiveDynamics, DeclaresItsTraits) {
 // Float32 systems: the same step as in double, to float precision.
 TEST(ImplicitIntegrators, Float32StepsFollowFloat64) {
   for (const std::string id : {"implicit_euler", "projective_dynamics"}) {
-    SpringNetwork<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
-    SpringNetwork<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     Pendulum::place(single);
     Pendulum::place(reference);
     Integrator a(id), b(id);
