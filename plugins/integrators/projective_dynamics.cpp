@@ -22,11 +22,11 @@
 // `prepare` starts over); `step` solves into preallocated vectors and does not allocate
 // (except a refactorisation above 16384 active particles: see PreorderedLDLT).
 // The factorisation is double in both precisions: states are converted at the boundary.
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
@@ -236,8 +236,7 @@ struct ProjectiveDynamics {
     factorization_.analyzePattern(system_matrix_);
 
     pinned_position_.assign(3 * unknown_of_.size(), 0.0);
-    for (Positions* buffer :
-         {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
+    for (Positions* buffer : {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
       buffer->setZero(count, 3);
   }
 

@@ -202,8 +202,8 @@ TEST_F(Clothlab, ASolveThatMissesItsToleranceIsCountedWithItsStep) {
 }
 
 TEST_F(Clothlab, SolverParameterOutOfRangeIsOneLineOfBadInput) {
-  for (const char* setting : {"integrator.max_iterations=0", "integrator.tolerance=2",
-                              "integrator.newton_steps=51"}) {
+  for (const char* setting :
+       {"integrator.max_iterations=0", "integrator.tolerance=2", "integrator.newton_steps=51"}) {
     const Outcome outcome = run(std::string("--integrator=implicit_euler ") + small_sheet +
                                 "--steps 1 --set " + setting);
     EXPECT_EQ(outcome.exit_code, 1) << setting;

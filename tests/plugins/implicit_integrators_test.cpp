@@ -2,11 +2,11 @@
 // against the analytic backward-Euler step of a linear chain, by measured order, against
 // each other (converged projective dynamics = backward Euler on the same springs), and for
 // what they report through clothlab.solver-statistics/1.
+#include <clothlab/ext/integrator_traits.h>
+#include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <clothlab/ext/integrator_traits.h>
-#include <clothlab/ext/solver_statistics.h>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -102,8 +102,7 @@ std::vector<Vec3> run_pendulum(const std::string& id, double h, int steps,
   for (const auto& [name, value] : params) integrator.with(name, value);
   integrator.start(network.system());
   integrator.run(network.system(), steps, h);
-  return {network.system().position(1), network.system().position(2),
-          network.system().velocity(1)};
+  return {network.system().position(1), network.system().position(2), network.system().velocity(1)};
 }
 
 double distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -118,9 +117,9 @@ TEST(ImplicitEuler, IsFirstOrderOnANonlinearNetwork) {
   const std::vector<Vec3> reference = run_pendulum("rk4", duration / 4000, 4000);
   std::vector<double> errors;
   for (int steps : {40, 80, 160})
-    errors.push_back(distance(run_pendulum("implicit_euler", duration / steps, steps,
-                                           {{"tolerance", 1e-12}}),
-                              reference));
+    errors.push_back(
+        distance(run_pendulum("implicit_euler", duration / steps, steps, {{"tolerance", 1e-12}}),
+                 reference));
   for (size_t k = 1; k < errors.size(); ++k) {
     const double order = std::log2(errors[k - 1] / errors[k]);
     EXPECT_NEAR(order, 1.0, 0.15) << "errors " << errors[k - 1] << " -> " << errors[k];
@@ -138,14 +137,14 @@ double backward_euler_residual(int newton_steps, double h) {
   integrator.start(system);
   EXPECT_EQ(integrator.step(system, 0.0, h), CLOTHLAB_OK) << integrator.message();
   std::vector<double> a(3 * system.stride());
-  EXPECT_EQ(system.raw().eval_acceleration(system.raw().context, h, system.x(), system.v(),
-                                           a.data()),
-            CLOTHLAB_OK);
+  EXPECT_EQ(
+      system.raw().eval_acceleration(system.raw().context, h, system.x(), system.v(), a.data()),
+      CLOTHLAB_OK);
   double residual = 0;
   for (auto [i, start] : {std::pair{1u, v1_start}, std::pair{2u, v2_start}})
     for (int k = 0; k < 3; ++k)
-      residual = std::max(residual, std::abs(system.velocity(i)[k] - start[k] -
-                                             h * a[k * system.stride() + i]));
+      residual = std::max(
+          residual, std::abs(system.velocity(i)[k] - start[k] - h * a[k * system.stride() + i]));
   return residual;
 }
 
@@ -196,6 +195,24 @@ TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
   }
 }
 
+// A chain folded to half its rest lengths: compressed springs' transverse stiffness makes
+// the exact Newton matrix indefinite at a large h^2 ks / m, and CG breaks down; with it
+// dropped (definite_springs, the default) the solve converges.
+TEST(ImplicitEuler, DefiniteSpringsKeepCgConvergingOnACompressedCloth) {
+  for (bool definite : {false, true}) {
+    std::vector<TestSpring> springs;
+    for (uint32_t i = 0; i + 1 < 6; ++i) springs.push_back({i, i + 1, 0.2, 400.0, 0.01});
+    SpringHost<double> host(6, {0}, springs, {0, -9.81, 0});
+    for (uint32_t i = 0; i < 6; ++i)
+      host.system().set_position(i, {0.1 * i, 0.01 * (i % 2), 0.02 * (i % 3)});
+    Integrator integrator("implicit_euler");
+    integrator.with("definite_springs", definite ? 1.0 : 0.0).with("max_iterations", 200);
+    integrator.start(host.system());
+    ASSERT_EQ(integrator.step(host.system(), 0.0, 0.05), CLOTHLAB_OK) << integrator.message();
+    EXPECT_EQ(last_step(integrator).converged, definite ? 1u : 0u) << "definite " << definite;
+  }
+}
+
 TEST(ImplicitEuler, RefusesAHostWithoutTheJacobian) {
   MockSystem<double> system(2, {0}, [](double, uint32_t, const double*, const double*, uint32_t) {
     return Vec3{0, 0, 0};
@@ -218,15 +235,14 @@ std::vector<TestSpring> undamped_pendulum() {
 TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
   const double h = 0.01;
   const int steps = 5;
-  const std::vector<Vec3> backward_euler =
-      run_pendulum("implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}},
-                   undamped_pendulum());
+  const std::vector<Vec3> backward_euler = run_pendulum(
+      "implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}}, undamped_pendulum());
   double previous = INFINITY;
   for (int iterations : {1, 2, 4, 8, 64}) {
-    const double difference = distance(
-        run_pendulum("projective_dynamics", h, steps, {{"iterations", iterations}},
-                     undamped_pendulum()),
-        backward_euler);
+    const double difference =
+        distance(run_pendulum("projective_dynamics", h, steps, {{"iterations", iterations}},
+                              undamped_pendulum()),
+                 backward_euler);
     // Each iteration shrinks the gap until it reaches rounding (1e-14 here).
     if (iterations == 1) {
       EXPECT_GT(difference, 1e-6);  // one iteration is far from converged

@@ -28,8 +28,8 @@ struct TestSpring {
 template <class Real>
 class SpringHost {
  public:
-  SpringHost(uint32_t particle_count, std::vector<uint32_t> pinned,
-                std::vector<TestSpring> springs, Vec3 gravity)
+  SpringHost(uint32_t particle_count, std::vector<uint32_t> pinned, std::vector<TestSpring> springs,
+             Vec3 gravity)
       : springs_(std::move(springs)),
         gravity_(gravity),
         system_(particle_count, std::move(pinned),
@@ -130,12 +130,12 @@ class SpringHost {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) {
         const double identity = r == c ? 1.0 : 0.0;
-        const double hooke = -s.ks * ((1 - s.rest_length / l) * identity +
-                                      s.rest_length / l * n[r] * n[c]);
+        const double hooke =
+            -s.ks * ((1 - s.rest_length / l) * identity + s.rest_length / l * n[r] * n[c]);
         double turning = 0.0;
         for (int m = 0; m < 3; ++m)
-          turning += (n[r] * w[m] + nw * (r == m ? 1.0 : 0.0)) *
-                     ((m == c ? 1.0 : 0.0) - n[m] * n[c]) / l;
+          turning +=
+              (n[r] * w[m] + nw * (r == m ? 1.0 : 0.0)) * ((m == c ? 1.0 : 0.0) - n[m] * n[c]) / l;
         b[3 * r + c] = c_x * (hooke - kd * turning) + c_v * (-kd * n[r] * n[c]);
       }
     return b;
@@ -264,8 +264,8 @@ class SpringHost {
   static int32_t constant_external(void*) { return 0; }
 
   static constexpr clothlab_topology_extension topology_table{&get_topology};
-  static constexpr clothlab_jacobian_extension jacobian_table{
-      &reserve, &apply, &diagonal_blocks, &no_pattern, &no_blocks};
+  static constexpr clothlab_jacobian_extension jacobian_table{&reserve, &apply, &diagonal_blocks,
+                                                              &no_pattern, &no_blocks};
   static constexpr clothlab_reductions_extension reductions_table{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_table{&external_acceleration,
                                                                      &constant_external};

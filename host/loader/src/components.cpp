@@ -85,8 +85,7 @@ void IntegratorInstance::step(const clothlab_system& system, double t, double dt
   check(descriptor_->step(object_.get(), &system, t, dt, &message), message, label_, "step");
 }
 
-std::optional<clothlab_solver_step_statistics> IntegratorInstance::last_step_statistics()
-    const {
+std::optional<clothlab_solver_step_statistics> IntegratorInstance::last_step_statistics() const {
   if (statistics_ == nullptr || statistics_->last_step == nullptr) return std::nullopt;
   clothlab_solver_step_statistics statistics{};
   statistics.struct_size = sizeof statistics;
