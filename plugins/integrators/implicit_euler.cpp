@@ -18,14 +18,17 @@
 // dv stay 0. A solve that stops at `max_iterations` (or meets p.Ap <= 0) before the
 // tolerance is reported through clothlab.solver-statistics/1, never passed off as converged.
 //
-// Definiteness (`definite_springs`, on by default): a spring shorter than its rest length
-// has the transverse stiffness -ks (1 - l0/l) (I - n n^T) > 0 in df/dx, which makes A
-// indefinite once h^2 ks / m is large (a folding cloth at dt = 50 ms): CG breaks down and the
-// step explodes. As in Choi & Ko (2002), that term is dropped from the matrix (and from the
-// h^2 (da/dx) v0 of the right-hand side): the plugin subtracts it from the host's exact
-// product for the springs it finds compressed at the linearisation state (topology
-// extension). The Newton matrix changes, not the equation: still first order, and
-// newton_steps > 1 still converges to backward Euler.
+// Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
+// or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
+// and the step explodes): a spring shorter than its rest length has the transverse
+// stiffness -ks (1 - l0/l) (I - n n^T) > 0, and the damping force's x-derivative is not
+// symmetric. As Baraff and Witkin (and Choi & Ko 2002 for compression), the matrix then
+// keeps the springs' Hooke stiffness without that compressive term plus the damping's
+// velocity derivative: the host's product is taken twice, with v = NULL (Hooke only) for
+// c_x and with c_x = 0 for c_v, and the plugin subtracts the compressed springs' term for
+// the springs it finds compressed at the linearisation state (topology extension). The
+// Newton matrix changes, not the equation: still first order, and newton_steps > 1 still
+// converges to backward Euler. `definite` = 0 uses the exact Jacobian, one product.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
@@ -58,9 +61,9 @@ struct ImplicitEuler {
       sdk::int_param("newton_steps", 1, 1, 50,
                      "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward "
                      "Euler on the nonlinear springs"),
-      sdk::bool_param("definite_springs", true,
-                      "drop compressed springs' transverse stiffness from the matrix (keeps it "
-                      "positive definite); 0 = the exact Jacobian"),
+      sdk::bool_param("definite", true,
+                      "Baraff-Witkin's definite matrix: no compressive transverse stiffness, no "
+                      "damping x-derivative; 0 = the exact Jacobian"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -70,7 +73,7 @@ struct ImplicitEuler {
       : tolerance_(values.real("tolerance")),
         max_iterations_(values.integer("max_iterations")),
         newton_steps_(values.integer("newton_steps")),
-        definite_springs_(values.flag("definite_springs")) {}
+        definite_(values.flag("definite")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -78,9 +81,10 @@ struct ImplicitEuler {
     (void)system.reductions();  // checked here, so a host without it fails in prepare
     scratch_.allocate(system);
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
+    damping_blocks_.assign(definite_ ? inverse_blocks_.size() : 0, 0.0);
     springs_ = {};
     compressed_.clear();
-    if (definite_springs_) {
+    if (definite_) {
       springs_ = system.topology().raw();
       compressed_.reserve(springs_.spring_count);  // filled per solve, never beyond
     }
@@ -105,7 +109,7 @@ struct ImplicitEuler {
     // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
     system.acceleration(t, x, v, acceleration);
     find_compressed_springs(system, x);
-    solver.jacobian.apply(t, x, v, h * h, 0.0, v, rhs);
+    solver.jacobian.apply(t, x, definite_ ? nullptr : v, h * h, 0.0, v, rhs);
     subtract_compressed_stiffness(system, h * h, v, rhs);
     system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
     solve(solver, t, h, x, v, rhs, dv);
@@ -129,9 +133,10 @@ struct ImplicitEuler {
   void last_step_statistics(clothlab_solver_step_statistics& out) const { out = last_; }
 
  private:
-  // Scratch: acceleration, dv, rhs, delta, x1, v1, zero (never written), then CG's r, z, p, q.
+  // Scratch: acceleration, dv, rhs, delta, x1, v1, zero (never written), then CG's r, z, p, q and
+  // the damping part of a product.
   static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = 4;
+  static constexpr size_t cg_vectors = 5;
 
   template <class Real>
   struct Solver {
@@ -144,13 +149,25 @@ struct ImplicitEuler {
           r(vectors[step_vectors]),
           z(vectors[step_vectors + 1]),
           p(vectors[step_vectors + 2]),
-          q(vectors[step_vectors + 3]) {}
+          q(vectors[step_vectors + 3]),
+          damping_product(vectors[step_vectors + 4]) {}
     const sdk::System<Real>& system;
     sdk::Jacobian<Real> jacobian;
     sdk::Reductions<Real> reductions;
     const Real* zero;
-    Real *r, *z, *p, *q;
+    Real *r, *z, *p, *q, *damping_product;
   };
+
+  // q = J u, J the exact Jacobian or (definite) the Baraff-Witkin matrix.
+  template <class Real>
+  void apply_jacobian(const Solver<Real>& s, double t, const Real* x, const Real* v, double c_x,
+                      double c_v, const Real* u, Real* q) const {
+    if (!definite_) return s.jacobian.apply(t, x, v, c_x, c_v, u, q);
+    s.jacobian.apply(t, x, nullptr, c_x, 0.0, u, q);
+    s.jacobian.apply(t, x, v, 0.0, c_v, u, s.damping_product);
+    s.system.axpy(q, 1.0, s.damping_product);
+    subtract_compressed_stiffness(s.system, c_x, u, q);
+  }
 
   // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs by block-Jacobi PCG in
   // the mass inner product, from solution = 0, with compressed_ found at x; adds to last_.
@@ -172,8 +189,7 @@ struct ImplicitEuler {
       system.copy(s.p, s.z);
       double rz = s.reductions.mass_dot(s.r, s.z);
       while (iterations < max_iterations_) {
-        s.jacobian.apply(t, x, v, c_x, c_v, s.p, s.q);
-        subtract_compressed_stiffness(system, c_x, s.p, s.q);
+        apply_jacobian(s, t, x, v, c_x, c_v, s.p, s.q);
         system.axpy(s.q, 1.0, s.p);
         const double pq = s.reductions.mass_dot(s.p, s.q);
         if (!std::isfinite(pq))
@@ -204,7 +220,13 @@ struct ImplicitEuler {
   template <class Real>
   void invert_diagonal_blocks(const Solver<Real>& s, double t, const Real* x, const Real* v,
                               double c_x, double c_v) {
-    s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
+    if (definite_) {
+      s.jacobian.diagonal_blocks(t, x, nullptr, c_x, 0.0, inverse_blocks_.data());
+      s.jacobian.diagonal_blocks(t, x, v, 0.0, c_v, damping_blocks_.data());
+      for (size_t k = 0; k < inverse_blocks_.size(); ++k) inverse_blocks_[k] += damping_blocks_[k];
+    } else {
+      s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
+    }
     for (const CompressedSpring& spring : compressed_)
       for (const uint32_t end : {spring.first, spring.second}) {
         const double scale = c_x * spring.stiffness * inverse_mass_[end];
@@ -238,7 +260,7 @@ struct ImplicitEuler {
   template <class Real>
   void find_compressed_springs(const sdk::System<Real>& system, const Real* x) {
     compressed_.clear();
-    if (!definite_springs_) return;
+    if (!definite_) return;
     const size_t stride = system.stride();
     for (uint32_t k = 0; k < springs_.spring_count; ++k) {
       const uint32_t i = springs_.first[k], j = springs_.second[k];
@@ -305,12 +327,13 @@ struct ImplicitEuler {
   double tolerance_;
   long max_iterations_;
   long newton_steps_;
-  bool definite_springs_;
+  bool definite_;
   clothlab_topology springs_{};  // the host's arrays, when definite_springs
   std::vector<CompressedSpring> compressed_;
   std::vector<double> inverse_mass_;
   ScratchVectors<step_vectors + cg_vectors> scratch_;
   std::vector<double> inverse_blocks_;  // 9 n, row-major 3x3 per particle
+  std::vector<double> damping_blocks_;  // 9 n: the damping's diagonal blocks (definite)
   clothlab_solver_step_statistics last_{};
 };
 
