@@ -104,7 +104,10 @@ INSTANTIATE_TEST_SUITE_P(
                    "robustness.no-throw", "exception escaped the C boundary from step",
                    "--filter robustness"},
         FaultyCase{"faulty_allocates_every_step", "allocates-every-step", "robustness.no-alloc",
-                   "heap allocator calls during 10 steps", "--filter robustness"}),
+                   "heap allocator calls during 10 steps", "--filter robustness"},
+        FaultyCase{"faulty_misdeclares_scheme", "misdeclares-scheme", "descriptor.extensions",
+                   "takes 2 evaluations per step, the descriptor says evals_per_step = 1",
+                   "--filter descriptor"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.plugin);
     });
@@ -158,7 +161,8 @@ TEST_P(SoundPlugin, PassesEveryCheck) {
 }
 
 std::vector<std::string> sound_plugins() {
-  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet")};
+  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet"),
+                                        plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
     // Verlet's default drag (0.1/s) changes the ODE the analytic problems assume.

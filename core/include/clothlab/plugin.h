@@ -337,6 +337,23 @@ static inline int clothlab_abi_is_compatible(clothlab_abi_version plugin_version
 #define CLOTHLAB_SYSTEM_SIZE_1_1 CLOTHLAB_FIELD_END(clothlab_system, step_rkn)
 #define CLOTHLAB_SYSTEM_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_system, get_extension)
 
+/* The one safe way to look an extension up: NULL when the struct predates 1.2 (its
+ * get_extension field is not there to read), when the field is NULL, or when the other
+ * side does not offer `id`. */
+static inline const void *clothlab_system_extension(const clothlab_system *system,
+                                                    const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(system, clothlab_system, get_extension) || !system->get_extension)
+    return NULL;
+  return system->get_extension(system->context, id);
+}
+static inline const void *clothlab_integrator_extension(const clothlab_integrator *integrator,
+                                                        const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(integrator, clothlab_integrator, get_extension) ||
+      !integrator->get_extension)
+    return NULL;
+  return integrator->get_extension(id);
+}
+
 #ifdef __cplusplus
 }
 #endif
