@@ -15,9 +15,20 @@
 // tolerance is on |r|_M / |b|_M. The preconditioner is block-Jacobi: the inverted 3x3
 // diagonal blocks of A. Pinned particles drop out inside CG, since every host vector
 // operation and Jacobian product acts on the active particles only and their entries of
-// dv stay 0. A solve that stops at `max_iterations` (or meets p.Ap <= 0, where a compressed
-// spring makes A indefinite) before the tolerance is reported through
-// clothlab.solver-statistics/1, never passed off as converged.
+// dv stay 0. A solve that stops at `max_iterations` (or meets p.Ap <= 0) before the
+// tolerance is reported through clothlab.solver-statistics/1, never passed off as converged.
+//
+// Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
+// or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
+// and the step explodes): a spring shorter than its rest length has the transverse
+// stiffness -ks (1 - l0/l) (I - n n^T) > 0, and the damping force's x-derivative is not
+// symmetric. As Baraff and Witkin (and Choi & Ko 2002 for compression), the matrix then
+// keeps the springs' Hooke stiffness without that compressive term plus the damping's
+// velocity derivative: the host's product is taken twice, with v = NULL (Hooke only) for
+// c_x and with c_x = 0 for c_v, and the plugin subtracts the compressed springs' term for
+// the springs it finds compressed at the linearisation state (topology extension). The
+// Newton matrix changes, not the equation: still first order, and newton_steps > 1 still
+// converges to backward Euler. `definite` = 0 uses the exact Jacobian, one product.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
@@ -41,7 +52,7 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 3> params{
+  static constexpr std::array<clothlab_param_spec, 4> params{
       sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
                       "CG stops when the residual's mass norm falls below tolerance x the "
                       "right-hand side's"),
@@ -50,6 +61,9 @@ struct ImplicitEuler {
       sdk::int_param("newton_steps", 1, 1, 50,
                      "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward "
                      "Euler on the nonlinear springs"),
+      sdk::bool_param("definite", true,
+                      "Baraff-Witkin's definite matrix: no compressive transverse stiffness, no "
+                      "damping x-derivative; 0 = the exact Jacobian"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -58,7 +72,8 @@ struct ImplicitEuler {
   explicit ImplicitEuler(const sdk::Params& values)
       : tolerance_(values.real("tolerance")),
         max_iterations_(values.integer("max_iterations")),
-        newton_steps_(values.integer("newton_steps")) {}
+        newton_steps_(values.integer("newton_steps")),
+        definite_(values.flag("definite")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -66,6 +81,16 @@ struct ImplicitEuler {
     (void)system.reductions();  // checked here, so a host without it fails in prepare
     scratch_.allocate(system);
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
+    damping_blocks_.assign(definite_ ? inverse_blocks_.size() : 0, 0.0);
+    springs_ = {};
+    compressed_.clear();
+    if (definite_) {
+      springs_ = system.topology().raw();
+      compressed_.reserve(springs_.spring_count);  // filled per solve, never beyond
+    }
+    inverse_mass_.resize(system.particle_count());
+    for (uint32_t i = 0; i < system.particle_count(); ++i)
+      inverse_mass_[i] = system.inverse_mass()[i];
     last_ = {};
   }
 
@@ -83,7 +108,9 @@ struct ImplicitEuler {
 
     // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
     system.acceleration(t, x, v, acceleration);
-    solver.jacobian.apply(t, x, v, h * h, 0.0, v, rhs);
+    find_compressed_springs(system, x);
+    solver.jacobian.apply(t, x, definite_ ? nullptr : v, h * h, 0.0, v, rhs);
+    subtract_compressed_stiffness(system, h * h, v, rhs);
     system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
     solve(solver, t, h, x, v, rhs, dv);
 
@@ -94,6 +121,7 @@ struct ImplicitEuler {
       system.copy(x1, x);
       system.axpy(x1, h, v1);
       system.acceleration(t + h, x1, v1, acceleration);
+      find_compressed_springs(system, x1);
       system.template lincomb<2>(rhs, zero, {h, -1.0}, {acceleration, dv});
       solve(solver, t + h, h, x1, v1, rhs, delta);
       system.axpy(dv, 1.0, delta);
@@ -105,9 +133,10 @@ struct ImplicitEuler {
   void last_step_statistics(clothlab_solver_step_statistics& out) const { out = last_; }
 
  private:
-  // Scratch: acceleration, dv, rhs, delta, x1, v1, zero (never written), then CG's r, z, p, q.
+  // Scratch: acceleration, dv, rhs, delta, x1, v1, zero (never written), then CG's r, z, p, q and
+  // the damping part of a product.
   static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = 4;
+  static constexpr size_t cg_vectors = 5;
 
   template <class Real>
   struct Solver {
@@ -120,16 +149,28 @@ struct ImplicitEuler {
           r(vectors[step_vectors]),
           z(vectors[step_vectors + 1]),
           p(vectors[step_vectors + 2]),
-          q(vectors[step_vectors + 3]) {}
+          q(vectors[step_vectors + 3]),
+          damping_product(vectors[step_vectors + 4]) {}
     const sdk::System<Real>& system;
     sdk::Jacobian<Real> jacobian;
     sdk::Reductions<Real> reductions;
     const Real* zero;
-    Real *r, *z, *p, *q;
+    Real *r, *z, *p, *q, *damping_product;
   };
 
+  // q = J u, J the exact Jacobian or (definite) the Baraff-Witkin matrix.
+  template <class Real>
+  void apply_jacobian(const Solver<Real>& s, double t, const Real* x, const Real* v, double c_x,
+                      double c_v, const Real* u, Real* q) const {
+    if (!definite_) return s.jacobian.apply(t, x, v, c_x, c_v, u, q);
+    s.jacobian.apply(t, x, nullptr, c_x, 0.0, u, q);
+    s.jacobian.apply(t, x, v, 0.0, c_v, u, s.damping_product);
+    s.system.axpy(q, 1.0, s.damping_product);
+    subtract_compressed_stiffness(s.system, c_x, u, q);
+  }
+
   // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs by block-Jacobi PCG in
-  // the mass inner product, from solution = 0; adds to last_.
+  // the mass inner product, from solution = 0, with compressed_ found at x; adds to last_.
   template <class Real>
   void solve(const Solver<Real>& s, double t, double h, const Real* x, const Real* v,
              const Real* rhs, Real* solution) {
@@ -148,10 +189,11 @@ struct ImplicitEuler {
       system.copy(s.p, s.z);
       double rz = s.reductions.mass_dot(s.r, s.z);
       while (iterations < max_iterations_) {
-        s.jacobian.apply(t, x, v, c_x, c_v, s.p, s.q);
+        apply_jacobian(s, t, x, v, c_x, c_v, s.p, s.q);
         system.axpy(s.q, 1.0, s.p);
         const double pq = s.reductions.mass_dot(s.p, s.q);
-        if (!std::isfinite(pq)) throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "CG met a non-finite p.Ap");
+        if (!std::isfinite(pq))
+          throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "CG met a non-finite p.Ap");
         if (pq <= 0.0) break;  // A indefinite along p: stop, reported as not converged
         const double alpha = rz / pq;
         system.axpy(solution, alpha, s.p);
@@ -178,7 +220,22 @@ struct ImplicitEuler {
   template <class Real>
   void invert_diagonal_blocks(const Solver<Real>& s, double t, const Real* x, const Real* v,
                               double c_x, double c_v) {
-    s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
+    if (definite_) {
+      s.jacobian.diagonal_blocks(t, x, nullptr, c_x, 0.0, inverse_blocks_.data());
+      s.jacobian.diagonal_blocks(t, x, v, 0.0, c_v, damping_blocks_.data());
+      for (size_t k = 0; k < inverse_blocks_.size(); ++k) inverse_blocks_[k] += damping_blocks_[k];
+    } else {
+      s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
+    }
+    for (const CompressedSpring& spring : compressed_)
+      for (const uint32_t end : {spring.first, spring.second}) {
+        const double scale = c_x * spring.stiffness * inverse_mass_[end];
+        double* b = &inverse_blocks_[9 * size_t{end}];
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            b[3 * r + c] -=
+                scale * ((r == c ? 1.0 : 0.0) - spring.direction[r] * spring.direction[c]);
+      }
     for (const clothlab_range& range : s.system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) {
         double* b = &inverse_blocks_[9 * size_t{i}];
@@ -198,6 +255,55 @@ struct ImplicitEuler {
       }
   }
 
+  // compressed_ = the springs shorter than their rest length at x, with
+  // ks (l0/l - 1) and their direction n; none when definite_springs is off.
+  template <class Real>
+  void find_compressed_springs(const sdk::System<Real>& system, const Real* x) {
+    compressed_.clear();
+    if (!definite_) return;
+    const size_t stride = system.stride();
+    for (uint32_t k = 0; k < springs_.spring_count; ++k) {
+      const uint32_t i = springs_.first[k], j = springs_.second[k];
+      if (inverse_mass_[i] == 0.0 && inverse_mass_[j] == 0.0) continue;
+      std::array<double, 3> d{};
+      for (size_t c = 0; c < 3; ++c) d[c] = double{x[c * stride + i]} - double{x[c * stride + j]};
+      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const double rest = springs_.rest_length[k];
+      if (!(length < rest) || length == 0.0) continue;
+      compressed_.push_back({i,
+                             j,
+                             springs_.ks[k] * (rest / length - 1.0),
+                             {d[0] / length, d[1] / length, d[2] / length}});
+    }
+  }
+
+  // out -= c_x (the compressed springs' transverse part of da/dx) u: for each, at its
+  // active ends, (c_x ks (l0/l - 1) / m) (I - n n^T) (u_end - u_other). Pinned entries of u
+  // count as 0, as in the host's product.
+  template <class Real>
+  void subtract_compressed_stiffness(const sdk::System<Real>& system, double c_x, const Real* u,
+                                     Real* out) const {
+    const size_t stride = system.stride();
+    const auto entry = [&](uint32_t i, size_t c) {
+      return inverse_mass_[i] == 0.0 ? 0.0 : double{u[c * stride + i]};
+    };
+    for (const CompressedSpring& spring : compressed_) {
+      std::array<double, 3> du{};
+      for (size_t c = 0; c < 3; ++c) du[c] = entry(spring.first, c) - entry(spring.second, c);
+      const double along =
+          spring.direction[0] * du[0] + spring.direction[1] * du[1] + spring.direction[2] * du[2];
+      for (size_t c = 0; c < 3; ++c) {
+        const double transverse = c_x * spring.stiffness * (du[c] - along * spring.direction[c]);
+        if (inverse_mass_[spring.first] != 0.0)
+          out[c * stride + spring.first] -=
+              static_cast<Real>(transverse * inverse_mass_[spring.first]);
+        if (inverse_mass_[spring.second] != 0.0)
+          out[c * stride + spring.second] +=
+              static_cast<Real>(transverse * inverse_mass_[spring.second]);
+      }
+    }
+  }
+
   // z = blockdiag(A)^-1 r on the active particles.
   template <class Real>
   void precondition(const sdk::System<Real>& system, const Real* r, Real* z) const {
@@ -212,11 +318,22 @@ struct ImplicitEuler {
       }
   }
 
+  struct CompressedSpring {
+    uint32_t first, second;
+    double stiffness;                 // ks (l0/l - 1) > 0
+    std::array<double, 3> direction;  // unit, first minus second
+  };
+
   double tolerance_;
   long max_iterations_;
   long newton_steps_;
+  bool definite_;
+  clothlab_topology springs_{};  // the host's arrays, when definite_springs
+  std::vector<CompressedSpring> compressed_;
+  std::vector<double> inverse_mass_;
   ScratchVectors<step_vectors + cg_vectors> scratch_;
   std::vector<double> inverse_blocks_;  // 9 n, row-major 3x3 per particle
+  std::vector<double> damping_blocks_;  // 9 n: the damping's diagonal blocks (definite)
   clothlab_solver_step_statistics last_{};
 };
 

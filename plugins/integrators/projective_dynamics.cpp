@@ -16,16 +16,17 @@
 //
 // Pinned particles are eliminated: the unknowns are the active particles, numbered in the
 // fill-reducing (AMD) order computed once in `prepare`, so Eigen's SimplicialLDLT factors
-// the matrix in natural order with no permuted copy. The matrix is factored on the first
-// step and again only when h changes (stiffness and pins are fixed while a system lives;
+// the matrix in natural order with no permuted copy (and its factors solve all three
+// coordinates in one sweep). The matrix is factored on the first step and again only when h
+// changes (stiffness and pins are fixed while a system lives;
 // `prepare` starts over); `step` solves into preallocated vectors and does not allocate
 // (except a refactorisation above 16384 active particles: see PreorderedLDLT).
 // The factorisation is double in both precisions: states are converted at the boundary.
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
@@ -108,9 +109,8 @@ struct ProjectiveDynamics {
       rhs_ = fixed_rhs_;
       project_springs(h * h);
       if (iteration + 1 == iterations_) previous_ = positions_;
-      positions_ = factorization_.solve(rhs_);
-      if (factorization_.info() != Eigen::Success)
-        throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "the global solve failed");
+      positions_ = rhs_;
+      solve_in_place(positions_);
     }
     const double moved = max_difference(positions_, start_);
     const double change = max_difference(positions_, previous_);
@@ -132,7 +132,8 @@ struct ProjectiveDynamics {
 
  private:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-  using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+  // One row per unknown: a particle's x, y, z side by side for the 3-wide solves.
+  using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
   // SimplicialLDLT's numeric factorisation of an upper triangle already in elimination
   // order. Its public factorize() first builds a (here identical) reordered copy, which
@@ -235,8 +236,7 @@ struct ProjectiveDynamics {
     factorization_.analyzePattern(system_matrix_);
 
     pinned_position_.assign(3 * unknown_of_.size(), 0.0);
-    for (Positions* buffer :
-         {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
+    for (Positions* buffer : {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
       buffer->setZero(count, 3);
   }
 
@@ -252,6 +252,37 @@ struct ProjectiveDynamics {
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "factorising M + h D + h^2 K failed");
     factored_h_ = h;
     ++last_.factorizations;
+  }
+
+  // x = (L D L^T)^-1 x with the factors of SimplicialLDLT, all three columns in one sweep
+  // over L each way (Eigen's solve sweeps L once per column, three times the memory traffic).
+  void solve_in_place(Positions& positions) const {
+    const Matrix& lower = factorization_.matrixL().nestedExpression();
+    const auto& diagonal = factorization_.vectorD();
+    const int* column_start = lower.outerIndexPtr();
+    const int* row = lower.innerIndexPtr();
+    const double* value = lower.valuePtr();
+    double* x = positions.data();
+    const auto count = static_cast<int>(lower.cols());
+    for (int j = 0; j < count; ++j) {  // L y = b, L unit lower triangular
+      const double x0 = x[3 * j], x1 = x[3 * j + 1], x2 = x[3 * j + 2];
+      for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
+        if (row[p] <= j) continue;  // the unit diagonal
+        double* target = &x[3 * row[p]];
+        target[0] -= value[p] * x0, target[1] -= value[p] * x1, target[2] -= value[p] * x2;
+      }
+    }
+    for (int j = 0; j < count; ++j)
+      for (int k = 0; k < 3; ++k) x[3 * j + k] /= diagonal[j];
+    for (int j = count - 1; j >= 0; --j) {  // L^T x = y
+      double x0 = x[3 * j], x1 = x[3 * j + 1], x2 = x[3 * j + 2];
+      for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
+        if (row[p] <= j) continue;
+        const double* source = &x[3 * row[p]];
+        x0 -= value[p] * source[0], x1 -= value[p] * source[1], x2 -= value[p] * source[2];
+      }
+      x[3 * j] = x0, x[3 * j + 1] = x1, x[3 * j + 2] = x2;
+    }
   }
 
   // rhs_ += weight sum_s ks_s A_s^T d_s, d_s the spring's current vector at its rest length.

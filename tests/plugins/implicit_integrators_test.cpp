@@ -1,19 +1,19 @@
-// implicit_euler and projective_dynamics on small spring networks (spring_network.hpp):
+// implicit_euler and projective_dynamics on small spring networks (spring_host.hpp):
 // against the analytic backward-Euler step of a linear chain, by measured order, against
 // each other (converged projective dynamics = backward Euler on the same springs), and for
 // what they report through clothlab.solver-statistics/1.
+#include <clothlab/ext/integrator_traits.h>
+#include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <clothlab/ext/integrator_traits.h>
-#include <clothlab/ext/solver_statistics.h>
 #include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "integrator_harness.hpp"
-#include "spring_network.hpp"
+#include "spring_host.hpp"
 
 namespace clothlab::test {
 namespace {
@@ -53,7 +53,7 @@ void analytic_backward_euler(Eigen::Vector3d& u, Eigen::Vector3d& v, double h) {
 }
 
 TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
-  SpringNetwork<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
+  SpringHost<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
   MockSystem<double>& system = network.system();
   Eigen::Vector3d u{0.02, -0.01, 0.03}, v{0.5, 0.0, -0.4};
   for (uint32_t i = 0; i < 4; ++i) {
@@ -83,7 +83,7 @@ struct Pendulum {
     return {{0, 1, 0.3, 40.0, 0.05}, {1, 2, 0.25, 60.0, 0.05}, {0, 2, 0.4, 30.0, 0.05}};
   }
   template <class Real>
-  static void place(SpringNetwork<Real>& network) {
+  static void place(SpringHost<Real>& network) {
     MockSystem<Real>& system = network.system();
     system.set_position(0, {0, 0, 0});
     system.set_position(1, {0.25, -0.2, 0.05});
@@ -96,14 +96,13 @@ struct Pendulum {
 std::vector<Vec3> run_pendulum(const std::string& id, double h, int steps,
                                std::vector<std::pair<std::string, double>> params = {},
                                std::vector<TestSpring> springs = Pendulum::springs()) {
-  SpringNetwork<double> network(3, {0}, std::move(springs), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, std::move(springs), {0, -9.81, 0});
   Pendulum::place(network);
   Integrator integrator(id);
   for (const auto& [name, value] : params) integrator.with(name, value);
   integrator.start(network.system());
   integrator.run(network.system(), steps, h);
-  return {network.system().position(1), network.system().position(2),
-          network.system().velocity(1)};
+  return {network.system().position(1), network.system().position(2), network.system().velocity(1)};
 }
 
 double distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -118,9 +117,9 @@ TEST(ImplicitEuler, IsFirstOrderOnANonlinearNetwork) {
   const std::vector<Vec3> reference = run_pendulum("rk4", duration / 4000, 4000);
   std::vector<double> errors;
   for (int steps : {40, 80, 160})
-    errors.push_back(distance(run_pendulum("implicit_euler", duration / steps, steps,
-                                           {{"tolerance", 1e-12}}),
-                              reference));
+    errors.push_back(
+        distance(run_pendulum("implicit_euler", duration / steps, steps, {{"tolerance", 1e-12}}),
+                 reference));
   for (size_t k = 1; k < errors.size(); ++k) {
     const double order = std::log2(errors[k - 1] / errors[k]);
     EXPECT_NEAR(order, 1.0, 0.15) << "errors " << errors[k - 1] << " -> " << errors[k];
@@ -129,7 +128,7 @@ TEST(ImplicitEuler, IsFirstOrderOnANonlinearNetwork) {
 
 // |v1 - v0 - h a(x1, v1)| after one step: how far the step is from backward Euler proper.
 double backward_euler_residual(int newton_steps, double h) {
-  SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
   Pendulum::place(network);
   MockSystem<double>& system = network.system();
   const Vec3 v1_start = system.velocity(1), v2_start = system.velocity(2);
@@ -138,14 +137,14 @@ double backward_euler_residual(int newton_steps, double h) {
   integrator.start(system);
   EXPECT_EQ(integrator.step(system, 0.0, h), CLOTHLAB_OK) << integrator.message();
   std::vector<double> a(3 * system.stride());
-  EXPECT_EQ(system.raw().eval_acceleration(system.raw().context, h, system.x(), system.v(),
-                                           a.data()),
-            CLOTHLAB_OK);
+  EXPECT_EQ(
+      system.raw().eval_acceleration(system.raw().context, h, system.x(), system.v(), a.data()),
+      CLOTHLAB_OK);
   double residual = 0;
   for (auto [i, start] : {std::pair{1u, v1_start}, std::pair{2u, v2_start}})
     for (int k = 0; k < 3; ++k)
-      residual = std::max(residual, std::abs(system.velocity(i)[k] - start[k] -
-                                             h * a[k * system.stride() + i]));
+      residual = std::max(
+          residual, std::abs(system.velocity(i)[k] - start[k] - h * a[k * system.stride() + i]));
   return residual;
 }
 
@@ -172,7 +171,7 @@ TEST(ImplicitEuler, DeclaresItsTraits) {
 
 TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
   for (bool starved : {false, true}) {
-    SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     Pendulum::place(network);
     Integrator integrator("implicit_euler");
     if (starved) integrator.with("max_iterations", 1).with("tolerance", 1e-14);
@@ -180,9 +179,10 @@ TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
     const int products_before = network.jacobian_products;
     ASSERT_EQ(integrator.step(network.system(), 0.0, 0.05), CLOTHLAB_OK) << integrator.message();
     const clothlab_solver_step_statistics stats = last_step(integrator);
-    // One product for the right-hand side, one per CG iteration.
+    // One product for the right-hand side, two per CG iteration (the Baraff-Witkin matrix:
+    // Hooke stiffness and damping taken apart).
     EXPECT_EQ(static_cast<uint64_t>(network.jacobian_products - products_before),
-              1 + stats.iterations);
+              1 + 2 * stats.iterations);
     EXPECT_EQ(stats.factorizations, 0u);
     if (starved) {
       EXPECT_EQ(stats.converged, 0u);
@@ -193,6 +193,24 @@ TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
       EXPECT_GE(stats.iterations, 2u);
       EXPECT_LE(stats.residual, 1e-5);
     }
+  }
+}
+
+// A chain folded to half its rest lengths: compressed springs' transverse stiffness makes
+// the exact Newton matrix indefinite at a large h^2 ks / m, and CG breaks down; with it
+// dropped (definite, the default) the solve converges.
+TEST(ImplicitEuler, TheDefiniteMatrixKeepsCgConvergingOnACompressedCloth) {
+  for (bool definite : {false, true}) {
+    std::vector<TestSpring> springs;
+    for (uint32_t i = 0; i + 1 < 6; ++i) springs.push_back({i, i + 1, 0.2, 400.0, 0.01});
+    SpringHost<double> host(6, {0}, springs, {0, -9.81, 0});
+    for (uint32_t i = 0; i < 6; ++i)
+      host.system().set_position(i, {0.1 * i, 0.01 * (i % 2), 0.02 * (i % 3)});
+    Integrator integrator("implicit_euler");
+    integrator.with("definite", definite ? 1.0 : 0.0).with("max_iterations", 200);
+    integrator.start(host.system());
+    ASSERT_EQ(integrator.step(host.system(), 0.0, 0.05), CLOTHLAB_OK) << integrator.message();
+    EXPECT_EQ(last_step(integrator).converged, definite ? 1u : 0u) << "definite " << definite;
   }
 }
 
@@ -218,15 +236,14 @@ std::vector<TestSpring> undamped_pendulum() {
 TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
   const double h = 0.01;
   const int steps = 5;
-  const std::vector<Vec3> backward_euler =
-      run_pendulum("implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}},
-                   undamped_pendulum());
+  const std::vector<Vec3> backward_euler = run_pendulum(
+      "implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}}, undamped_pendulum());
   double previous = INFINITY;
   for (int iterations : {1, 2, 4, 8, 64}) {
-    const double difference = distance(
-        run_pendulum("projective_dynamics", h, steps, {{"iterations", iterations}},
-                     undamped_pendulum()),
-        backward_euler);
+    const double difference =
+        distance(run_pendulum("projective_dynamics", h, steps, {{"iterations", iterations}},
+                              undamped_pendulum()),
+                 backward_euler);
     // Each iteration shrinks the gap until it reaches rounding (1e-14 here).
     if (iterations == 1) {
       EXPECT_GT(difference, 1e-6);  // one iteration is far from converged
@@ -240,7 +257,7 @@ TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
 }
 
 TEST(ProjectiveDynamics, FactorsOnceAndAgainOnlyWhenTheStepSizeChanges) {
-  SpringNetwork<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
   Pendulum::place(network);
   Integrator integrator("projective_dynamics");
   integrator.start(network.system());
@@ -273,8 +290,8 @@ TEST(ProjectiveDynamics, DeclaresItsTraits) {
 // Float32 systems: the same step as in double, to float precision.
 TEST(ImplicitIntegrators, Float32StepsFollowFloat64) {
   for (const std::string id : {"implicit_euler", "projective_dynamics"}) {
-    SpringNetwork<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
-    SpringNetwork<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     Pendulum::place(single);
     Pendulum::place(reference);
     Integrator a(id), b(id);

@@ -66,7 +66,7 @@ class MockSystem {
             &MockSystem::eval_at,
             &MockSystem::reserve_rkn,
             &MockSystem::step_rkn,
-            &MockSystem::get_extension};
+            &MockSystem::get_extension};  // none unless a test sets `extensions`
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;

@@ -1,5 +1,5 @@
 // The xpbd plugin against analytic solutions on spring networks the mock host publishes
-// through the topology and external-forces extensions (spring_network.hpp): the static sag of a
+// through the topology and external-forces extensions (spring_host.hpp): the static sag of a
 // hanging chain (Hooke's law, in the soft and the stiff regime), the period of a single spring and
 // of a stiff pendulum (the constrained limit), independence of the iteration count (lambda is reset
 // once per substep, not per iteration: newton#2933), bitwise identity across thread counts, pins
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "integrator_harness.hpp"
-#include "spring_network.hpp"
+#include "spring_host.hpp"
 
 namespace clothlab::test {
 namespace {
@@ -45,7 +45,7 @@ struct HangingChain {
     return y;
   }
 
-  SpringNetwork<Real> network;
+  SpringHost<Real> network;
 };
 
 constexpr uint32_t chain_count = 6;
@@ -122,7 +122,7 @@ double measured_period(const std::vector<double>& y, double center, double dt) {
 // An undamped unit mass on a spring from a pin, no gravity, started 0.1 m stretched.
 double spring_period(int iterations) {
   constexpr double ks = 10.0, dt = 1e-3;
-  SpringNetwork<double> network(2, {0}, {{0, 1, 1.0, ks, 0.0}}, {0, 0, 0});
+  SpringHost<double> network(2, {0}, {{0, 1, 1.0, ks, 0.0}}, {0, 0, 0});
   MockSystem<double>& system = network.system();
   system.set_position(1, {0, -1.1, 0});
   Integrator xpbd("xpbd");
@@ -148,7 +148,7 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
   // ks = 1e7 N/m on a 1 m, 1 kg pendulum: the stiff (constrained) limit, period
   // 2 pi sqrt(L / g) (1 + theta0^2 / 16) for a 0.05 rad swing.
   constexpr double theta0 = 0.05, dt = 0.01;
-  SpringNetwork<double> network(2, {0}, {{0, 1, 1.0, 1.0e7, 0.0}}, {0, -g, 0});
+  SpringHost<double> network(2, {0}, {{0, 1, 1.0, 1.0e7, 0.0}}, {0, -g, 0});
   MockSystem<double>& system = network.system();
   system.set_position(1, {std::sin(theta0), -std::cos(theta0), 0});
   Integrator xpbd("xpbd");
@@ -184,7 +184,7 @@ std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, 
       if (c + 1 < cols) add(r * cols + c, r * cols + c + 1, c % 2);
       if (r + 1 < rows) add(r * cols + c, (r + 1) * cols + c, 2 + r % 2);
     }
-  SpringNetwork<Real> network(n, {0, cols - 1}, std::move(springs), {0, -g, 0});
+  SpringHost<Real> network(n, {0, cols - 1}, std::move(springs), {0, -g, 0});
   network.set_spring_colors(colors);
   MockSystem<Real>& system = network.system();
   for (uint32_t r = 0; r < rows; ++r)

@@ -26,10 +26,10 @@ struct TestSpring {
 };
 
 template <class Real>
-class SpringNetwork {
+class SpringHost {
  public:
-  SpringNetwork(uint32_t particle_count, std::vector<uint32_t> pinned,
-                std::vector<TestSpring> springs, Vec3 gravity)
+  SpringHost(uint32_t particle_count, std::vector<uint32_t> pinned, std::vector<TestSpring> springs,
+             Vec3 gravity)
       : springs_(std::move(springs)),
         gravity_(gravity),
         system_(particle_count, std::move(pinned),
@@ -46,8 +46,8 @@ class SpringNetwork {
     };
     build_topology(particle_count);
   }
-  SpringNetwork(const SpringNetwork&) = delete;
-  SpringNetwork& operator=(const SpringNetwork&) = delete;
+  SpringHost(const SpringHost&) = delete;
+  SpringHost& operator=(const SpringHost&) = delete;
 
   MockSystem<Real>& system() { return system_; }
   int jacobian_products = 0;
@@ -86,8 +86,8 @@ class SpringNetwork {
  private:
   using Block = std::array<double, 9>;
 
-  static SpringNetwork& self(void* context) {
-    return *static_cast<SpringNetwork*>(static_cast<MockSystem<Real>*>(context)->extension_data);
+  static SpringHost& self(void* context) {
+    return *static_cast<SpringHost*>(static_cast<MockSystem<Real>*>(context)->extension_data);
   }
 
   double value(const Real* vector, uint32_t i, int k) const {
@@ -178,7 +178,7 @@ class SpringNetwork {
   }
 
   static clothlab_status get_topology(void* context, clothlab_topology* out) {
-    const SpringNetwork& s = self(context);
+    const SpringHost& s = self(context);
     const auto springs = static_cast<uint32_t>(s.springs_.size());
     const uint32_t n = s.system_.raw().particle_count;
     *out = {sizeof(clothlab_topology),
@@ -208,7 +208,7 @@ class SpringNetwork {
   static clothlab_status reserve(void*) { return CLOTHLAB_OK; }
   static clothlab_status apply(void* context, double, const void* x, const void* v, double c_x,
                                double c_v, const void* u, void* out) {
-    SpringNetwork& s = self(context);
+    SpringHost& s = self(context);
     ++s.jacobian_products;
     s.jacobian_product(static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
                        static_cast<const Real*>(u), static_cast<Real*>(out));
@@ -216,7 +216,7 @@ class SpringNetwork {
   }
   static clothlab_status diagonal_blocks(void* context, double, const void* x, const void* v,
                                          double c_x, double c_v, double* out) {
-    const SpringNetwork& s = self(context);
+    const SpringHost& s = self(context);
     const uint32_t n = s.system_.raw().particle_count;
     std::fill(out, out + 9 * size_t{n}, 0.0);
     for (const TestSpring& spring : s.springs_) {
@@ -253,7 +253,7 @@ class SpringNetwork {
     return sum;
   }
   static double max_abs(void* context, const void* a) {
-    const SpringNetwork& s = self(context);
+    const SpringHost& s = self(context);
     double largest = 0;
     s.for_active([&](uint32_t i) {
       for (int k = 0; k < 3; ++k)
@@ -263,7 +263,7 @@ class SpringNetwork {
   }
 
   static clothlab_status external_acceleration(void* context, double, const void*, void* a) {
-    const SpringNetwork& s = self(context);
+    const SpringHost& s = self(context);
     Real* out = static_cast<Real*>(a);
     const uint32_t stride = s.system_.stride();
     std::fill(out, out + 3 * size_t{stride}, Real(0));
