@@ -64,6 +64,7 @@ class Simulation {
 
   const Cloth& cloth() const { return *cloth_; }
   std::string integrator_id() const { return std::string(integrator_->info().id); }
+  const host::IntegratorPlugin& integrator() const { return *integrator_; }
   // The parameter values in force, defaults included.
   const nlohmann::json& integrator_params() const { return integrator_params_; }
 

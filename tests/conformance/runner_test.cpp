@@ -162,6 +162,7 @@ TEST_P(SoundPlugin, PassesEveryCheck) {
 
 std::vector<std::string> sound_plugins() {
   std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet"),
+                                        plugin("example_linearly_implicit_euler"),
                                         plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
