@@ -143,7 +143,16 @@ struct ProjectiveDynamics {
   class PreorderedLDLT
       : public Eigen::SimplicialLDLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> {
    public:
+    // The symbolic analysis, and the diagonal's storage, which the first factorisation
+    // would otherwise allocate.
+    void analyze(const Matrix& upper) {
+      this->analyzePattern(upper);
+      this->m_diag.resize(upper.rows());
+    }
     void refactorize(const Matrix& upper) { this->template factorize_preordered<true>(upper); }
+    // The factors by reference (matrixL() is a view, but vectorD() returns a copy).
+    const Matrix& lower() const { return this->m_matrix; }
+    const Eigen::VectorXd& diagonal() const { return this->m_diag; }
   };
 
   // A spring with one end pinned: its pull toward the pinned end is constant over a step.
@@ -233,7 +242,7 @@ struct ProjectiveDynamics {
     stiffness_ = upper(&Entry::ks);
     damping_ = damping_upper_.selfadjointView<Eigen::Upper>();
     system_matrix_ = mass_matrix_;
-    factorization_.analyzePattern(system_matrix_);
+    factorization_.analyze(system_matrix_);
 
     pinned_position_.assign(3 * unknown_of_.size(), 0.0);
     for (Positions* buffer : {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
@@ -257,8 +266,8 @@ struct ProjectiveDynamics {
   // x = (L D L^T)^-1 x with the factors of SimplicialLDLT, all three columns in one sweep
   // over L each way (Eigen's solve sweeps L once per column, three times the memory traffic).
   void solve_in_place(Positions& positions) const {
-    const Matrix& lower = factorization_.matrixL().nestedExpression();
-    const auto& diagonal = factorization_.vectorD();
+    const Matrix& lower = factorization_.lower();
+    const Eigen::VectorXd& diagonal = factorization_.diagonal();
     const int* column_start = lower.outerIndexPtr();
     const int* row = lower.innerIndexPtr();
     const double* value = lower.valuePtr();
