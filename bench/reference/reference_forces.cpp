@@ -72,6 +72,18 @@ void ReferenceCloth<Real>::acceleration(const Real* x, const Real* v, Real* a) {
   std::fill(forces_.begin(), forces_.end(), Real(0));
   add_springs(x, v);
   if (scene_.has_wind()) add_wind(x);
+  to_acceleration(a);
+}
+
+template <class Real>
+void ReferenceCloth<Real>::external_acceleration(const Real* x, Real* a) {
+  std::fill(forces_.begin(), forces_.end(), Real(0));
+  if (scene_.has_wind()) add_wind(x);
+  to_acceleration(a);
+}
+
+template <class Real>
+void ReferenceCloth<Real>::to_acceleration(Real* a) const {
   const std::size_t n = particle_count();
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t k = 0; k < 3; ++k) {
