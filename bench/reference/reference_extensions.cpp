@@ -17,11 +17,120 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
+  static constexpr clothlab_topology_extension topology{&topology_get};
   if (id == nullptr) return nullptr;
+  if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   return nullptr;
+}
+
+namespace {
+
+// Members grouped by colour (CSR), ascending within a colour.
+void group(const std::vector<uint32_t>& color_of, std::vector<uint32_t>& offsets,
+           std::vector<uint32_t>& members) {
+  const uint32_t colors =
+      color_of.empty() ? 0 : *std::max_element(color_of.begin(), color_of.end()) + 1;
+  std::vector<std::vector<uint32_t>> by_color(colors);
+  for (uint32_t item = 0; item < color_of.size(); ++item) by_color[color_of[item]].push_back(item);
+  offsets.assign(1, 0);
+  members.clear();
+  for (const std::vector<uint32_t>& items : by_color) {
+    members.insert(members.end(), items.begin(), items.end());
+    offsets.push_back(static_cast<uint32_t>(members.size()));
+  }
+}
+
+// The smallest colour not in `used` (a bit per colour).
+uint32_t first_free(uint64_t used) {
+  uint32_t color = 0;
+  while (used & (uint64_t{1} << color)) ++color;
+  return color;
+}
+
+}  // namespace
+
+template <class Real>
+void ReferenceSystem<Real>::build_topology(const Scene& scene) {
+  Topology& t = topology_;
+  for (const Spring<Real>& s : cloth_.springs()) {
+    const SpringFamily& law = s.family == CLOTHLAB_SPRING_STRUCTURAL ? scene.structural
+                              : s.family == CLOTHLAB_SPRING_SHEAR    ? scene.shear
+                                                                     : scene.flexion;
+    if (law.ks == 0.0 && law.kd == 0.0) continue;
+    t.first.push_back(std::min(s.i, s.j));
+    t.second.push_back(std::max(s.i, s.j));
+    t.rest_length.push_back(s.rest);
+    t.ks.push_back(law.ks);
+    t.kd.push_back(law.kd);
+    t.family.push_back(s.family);
+  }
+  for (uint32_t r = 0; r + 1 < scene.rows; ++r)
+    for (uint32_t c = 0; c + 1 < scene.cols; ++c) {
+      const uint32_t a = r * scene.cols + c;
+      t.triangles.insert(t.triangles.end(),
+                         {a, a + 1, a + scene.cols, a + 1, a + scene.cols + 1, a + scene.cols});
+    }
+  std::vector<std::vector<uint32_t>> touching(n_);
+  for (uint32_t s = 0; s < t.first.size(); ++s) {
+    touching[t.first[s]].push_back(s);
+    touching[t.second[s]].push_back(s);
+  }
+  t.adjacency_offsets.assign(1, 0);
+  for (const std::vector<uint32_t>& springs : touching) {
+    t.adjacent_springs.insert(t.adjacent_springs.end(), springs.begin(), springs.end());
+    t.adjacency_offsets.push_back(static_cast<uint32_t>(t.adjacent_springs.size()));
+  }
+  // First-fit colourings, in index order.
+  std::vector<uint64_t> used_at(n_, 0);
+  std::vector<uint32_t> spring_colors;
+  for (uint32_t s = 0; s < t.first.size(); ++s) {
+    const uint32_t color = first_free(used_at[t.first[s]] | used_at[t.second[s]]);
+    spring_colors.push_back(color);
+    used_at[t.first[s]] |= uint64_t{1} << color;
+    used_at[t.second[s]] |= uint64_t{1} << color;
+  }
+  std::vector<uint32_t> particle_colors(n_, 0);
+  for (uint32_t i = 0; i < n_; ++i) {
+    uint64_t used = 0;
+    for (uint32_t e = t.adjacency_offsets[i]; e < t.adjacency_offsets[i + 1]; ++e) {
+      const uint32_t s = t.adjacent_springs[e];
+      const uint32_t other = t.first[s] == i ? t.second[s] : t.first[s];
+      if (other < i) used |= uint64_t{1} << particle_colors[other];
+    }
+    particle_colors[i] = first_free(used);
+  }
+  group(spring_colors, t.spring_color_offsets, t.spring_color_members);
+  group(particle_colors, t.particle_color_offsets, t.particle_color_members);
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::topology_get(void* context, clothlab_topology* out) {
+  const auto& self = *static_cast<const ReferenceSystem*>(context);
+  if (out == nullptr || out->struct_size < sizeof(clothlab_topology))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const Topology& t = self.topology_;
+  out->particle_count = static_cast<uint32_t>(self.n_);
+  out->spring_count = static_cast<uint32_t>(t.first.size());
+  out->triangle_count = static_cast<uint32_t>(t.triangles.size() / 3);
+  out->first = t.first.data();
+  out->second = t.second.data();
+  out->rest_length = t.rest_length.data();
+  out->ks = t.ks.data();
+  out->kd = t.kd.data();
+  out->family = t.family.data();
+  out->triangles = t.triangles.data();
+  out->adjacency_offsets = t.adjacency_offsets.data();
+  out->adjacent_springs = t.adjacent_springs.data();
+  out->spring_color_count = static_cast<uint32_t>(t.spring_color_offsets.size() - 1);
+  out->spring_color_offsets = t.spring_color_offsets.data();
+  out->spring_color_members = t.spring_color_members.data();
+  out->particle_color_count = static_cast<uint32_t>(t.particle_color_offsets.size() - 1);
+  out->particle_color_offsets = t.particle_color_offsets.data();
+  out->particle_color_members = t.particle_color_members.data();
+  return CLOTHLAB_OK;
 }
 
 template <class Real>

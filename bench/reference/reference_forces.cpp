@@ -1,5 +1,7 @@
 #include "reference_forces.hpp"
 
+#include <clothlab/ext/topology.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -57,8 +59,11 @@ ReferenceCloth<Real>::ReferenceCloth(const Scene& scene)
           squared += d * d;
         }
         const SpringFamily& family = scene.*n.family;
+        const uint8_t id = n.family == &Scene::structural ? CLOTHLAB_SPRING_STRUCTURAL
+                           : n.family == &Scene::shear    ? CLOTHLAB_SPRING_SHEAR
+                                                          : CLOTHLAB_SPRING_FLEXION;
         springs_.push_back({i, j, static_cast<Real>(std::sqrt(squared)),
-                            static_cast<Real>(family.ks), static_cast<Real>(family.kd)});
+                            static_cast<Real>(family.ks), static_cast<Real>(family.kd), id});
       }
     }
   }

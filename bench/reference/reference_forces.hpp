@@ -18,6 +18,7 @@ struct Spring {
   Real rest;
   Real ks;
   Real kd;
+  uint8_t family;  // CLOTHLAB_SPRING_* (clothlab/ext/topology.h)
 };
 
 template <class Real>

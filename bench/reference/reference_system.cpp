@@ -73,6 +73,7 @@ ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
     row_offsets_.push_back(static_cast<uint32_t>(columns_.size()));
   }
   blocks_.assign(9 * columns_.size(), 0.0);
+  build_topology(scene);
 }
 
 template <class Real>

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/topology.h>
 
 #include <clothlab/core/cloth.hpp>
 #include <cstddef>
@@ -55,9 +56,11 @@ class ReferenceSystem {
   static void* alloc_callback(void* context);
 
   // Host extensions (reference_extensions.cpp): reductions, external forces and the spring
-  // Jacobian as plain serial loops over the spring list (scatter), the oracle for the
-  // engine's. The topology extension is left to the engine.
+  // Jacobian as plain serial loops over the spring list (scatter), the topology with
+  // first-fit colourings: the oracle for the engine's.
   static const void* get_extension_callback(void* context, const char* id);
+  void build_topology(const Scene& scene);
+  static clothlab_status topology_get(void* context, clothlab_topology* out);
   void to_aos(const void* soa, std::vector<Real>& aos) const;
   // M = c_x dF_i/dx_j + c_v dF_i/dv_j of spring s at (x, v), row-major.
   void spring_block(const Spring<Real>& s, const Real* x, const Real* v, double c_x, double c_v,
@@ -90,6 +93,13 @@ class ReferenceSystem {
   std::vector<uint32_t> row_offsets_, columns_;  // jacobian: block pattern
   std::vector<double> blocks_;                   // jacobian: all blocks, for the diagonal
   bool wind_ = false;
+  struct Topology {
+    std::vector<uint32_t> first, second, triangles, adjacency_offsets, adjacent_springs;
+    std::vector<uint32_t> spring_color_offsets, spring_color_members;
+    std::vector<uint32_t> particle_color_offsets, particle_color_members;
+    std::vector<double> rest_length, ks, kd;
+    std::vector<uint8_t> family;
+  } topology_;
   clothlab_system system_{};
   uint64_t force_evals_ = 0;
   double force_seconds_ = 0.0;

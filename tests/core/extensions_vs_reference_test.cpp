@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "extension_support.hpp"
 #include "reference_system.hpp"
@@ -127,6 +128,46 @@ TEST(ExtensionsVsReference, ReductionsAndExternalForces) {
   const double scale = max_abs(external[1]);
   for (std::size_t e = 0; e < external[0].size(); ++e)
     ASSERT_NEAR(external[0][e], external[1][e], 1e-12 * scale) << e;
+}
+
+// The same springs (ends, laws, rest lengths, families) and triangles; the reference's own
+// first-fit colourings are independent too (the engine's are checked in topology_test).
+TEST(ExtensionsVsReference, Topology) {
+  Scene scene = testing::busy_scene(7, 9);
+  scene.flexion = {0.0, 0.0};  // left out by both
+  Cloth cloth(scene, Precision::Float64, {});
+  reference::ReferenceSystem<double> oracle(scene, true);
+  const clothlab_topology engine = testing::topology_of(cloth.system());
+  const clothlab_topology reference = testing::topology_of(oracle.system());
+  using Row = std::tuple<uint32_t, uint32_t, double, double, double, uint8_t>;
+  const auto rows = [](const clothlab_topology& t) {
+    std::vector<Row> out;
+    for (uint32_t s = 0; s < t.spring_count; ++s)
+      out.emplace_back(t.first[s], t.second[s], t.rest_length[s], t.ks[s], t.kd[s], t.family[s]);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const std::vector<Row> a = rows(engine), b = rows(reference);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(std::get<0>(a[k]), std::get<0>(b[k]));
+    EXPECT_EQ(std::get<1>(a[k]), std::get<1>(b[k]));
+    EXPECT_NEAR(std::get<2>(a[k]), std::get<2>(b[k]), 1e-12);
+    EXPECT_EQ(std::get<3>(a[k]), std::get<3>(b[k]));
+    EXPECT_EQ(std::get<4>(a[k]), std::get<4>(b[k]));
+    EXPECT_EQ(std::get<5>(a[k]), std::get<5>(b[k]));
+  }
+  ASSERT_EQ(engine.triangle_count, reference.triangle_count);
+  EXPECT_TRUE(std::equal(engine.triangles, engine.triangles + 3 * engine.triangle_count,
+                         reference.triangles));
+  ASSERT_EQ(reference.adjacency_offsets[reference.particle_count], 2 * reference.spring_count);
+  std::vector<uint32_t> color(reference.particle_count);
+  for (uint32_t c = 0; c < reference.particle_color_count; ++c)
+    for (uint32_t m = reference.particle_color_offsets[c];
+         m < reference.particle_color_offsets[c + 1]; ++m)
+      color[reference.particle_color_members[m]] = c;
+  for (uint32_t s = 0; s < reference.spring_count; ++s)
+    EXPECT_NE(color[reference.first[s]], color[reference.second[s]]) << s;
 }
 
 }  // namespace
