@@ -19,6 +19,7 @@ constexpr const char* setting_flags[][2] = {
     {"duration", "duration"},
     {"precision", "precision"},
     {"threads", "threads"},
+    {"frames", "frames.dir"},
 };
 
 po::options_description describe_options() {
@@ -41,6 +42,9 @@ po::options_description describe_options() {
       "CLOTHLAB_PLUGIN_PATH, then ../lib/clothlab/plugins beside the executable")(
       "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
       "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
+      "frames", po::value<std::string>(),
+      "write the cloth every frame to DIR (keys frames.every | frames.rate (default 60 Hz), "
+      "frames.format: vtp, obj, pc2); `clothlab view DIR` plays it")(
       "list-plugins", "list the plugins on the search path with their parameters")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "

@@ -2,15 +2,19 @@
 // lists the plugins it can find.
 // Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged or failed
 // a stability check (a sweep exits 0 whatever its cases did: they are results).
+#include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
 #include <clothlab/sweep/sweep_spec.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
 
 #include "command_line.hpp"
 #include "config_file.hpp"
+#include "frames_output.hpp"
+#include "interrupt.hpp"
 #include "max_dt_search.hpp"
 #include "output_file.hpp"
 #include "plugin_listing.hpp"
@@ -21,7 +25,13 @@
 
 namespace {
 
-enum ExitCode { exit_ok = 0, exit_bad_input = 1, exit_plugin_error = 2, exit_diverged = 3 };
+enum ExitCode {
+  exit_ok = 0,
+  exit_bad_input = 1,
+  exit_plugin_error = 2,
+  exit_diverged = 3,
+  exit_interrupted = 130  // the shell's code for a SIGINT
+};
 
 int fail(int code, const std::string& message) {
   std::cerr << "clothlab: error: " << message << "\n";
@@ -40,10 +50,12 @@ int run(int argc, const char* const argv[]) {
     return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
 
   if (command_line.config_file && clothlab::sweep::is_sweep_file(*command_line.config_file)) {
-    if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
+    const bool frames = std::any_of(command_line.settings.begin(), command_line.settings.end(),
+                                    [](const Setting& s) { return s.key.starts_with("frames."); });
+    if (command_line.find_max_dt || command_line.json_file || command_line.state_file || frames)
       throw clothlab::host::InputError(
           "--config " + *command_line.config_file +
-          " is a sweep: --find-max-dt, --json and --state-out are for single runs");
+          " is a sweep: --find-max-dt, --json, --state-out and --frames are for single runs");
     SweepRequest request{*command_line.config_file, command_line.settings, std::nullopt,
                          command_line.resume};
     if (command_line.out_folder) request.out_folder = *command_line.out_folder;
@@ -62,8 +74,9 @@ int run(int argc, const char* const argv[]) {
     if (output) check_output_folder(*output);
 
   if (command_line.find_max_dt) {
-    if (command_line.state_file)
-      throw clothlab::host::InputError("--state-out is for single runs, not --find-max-dt");
+    if (command_line.state_file || !config.frames.dir.empty())
+      throw clothlab::host::InputError(
+          "--state-out and --frames are for single runs, not --find-max-dt");
     const nlohmann::json result = find_max_dt(config, search_path);
     if (command_line.json_file)
       write_file_atomically(*command_line.json_file,
@@ -73,7 +86,11 @@ int run(int argc, const char* const argv[]) {
   }
 
   Simulation simulation(config, search_path);
-  const RunRecord record = simulation.run();
+  std::optional<FramesOutput> frames;
+  if (!config.frames.dir.empty()) frames.emplace(config, simulation);
+  install_interrupt_handler();
+  const RunRecord record = simulation.run({frames ? &*frames : nullptr, &interrupt_requested()});
+  if (frames) frames->finish(record);
 
   if (command_line.json_file)
     write_file_atomically(*command_line.json_file,
@@ -82,6 +99,7 @@ int run(int argc, const char* const argv[]) {
     write_file_atomically(*command_line.state_file,
                           [&](std::ostream& out) { write_state_csv(simulation.cloth(), out); });
   if (!command_line.quiet) std::cout << human_summary(record);
+  if (record.interrupted) return fail(exit_interrupted, record.verdict + " (outputs written)");
   if (!record.stable) return fail(exit_diverged, "run diverged: " + record.verdict);
   return exit_ok;
 }

@@ -2,12 +2,22 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "settings.hpp"
 
 namespace clothlab::cli {
+
+// frames.*: the cloth written every few steps for ParaView, Blender and the viewer.
+struct FramesConfig {
+  std::string dir;                          // empty: no frames
+  std::optional<uint64_t> every;            // frames.every (steps); else from rate
+  double rate = 60;                         // frames.rate, Hz of simulated time
+  std::vector<std::string> formats{"vtp"};  // vtp (+ .pvd index), obj, pc2
+  uint64_t every_steps = 1;                 // resolved: steps between frames
+};
 
 struct RunConfig {
   std::string integrator = "rk4";
@@ -33,6 +43,7 @@ struct RunConfig {
   double search_tolerance = 0.02;  // relative width of the final bracket
   double search_dt_min = 1e-7;     // s: nothing stable below gives up
   double search_dt_max = 1.0;      // s: everything stable up to it gives up
+  FramesConfig frames;
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the

@@ -106,7 +106,7 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
   integrator_instance_->prepare(cloth_->system());
 }
 
-RunRecord Simulation::run() {
+RunRecord Simulation::run(const RunHooks& hooks) {
   RunRecord record;
   record.integrator = integrator_->info().id;
   record.scenario = scenario_->info().id;
@@ -140,7 +140,12 @@ RunRecord Simulation::run() {
 
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
+  if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
+    if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
+      record.interrupted = true;
+      break;
+    }
     // t from the step count, not by summing dt, so long runs do not drift.
     const double t = static_cast<double>(step - 1) * config_.dt;
     const StageCounters before = cloth_->counters();
@@ -163,9 +168,12 @@ RunRecord Simulation::run() {
                                            ? monitor.check(*cloth_, step, t_end)
                                            : monitor.observe(*cloth_, step, t_end);
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
+    if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
   record.stability_checks = monitor.checks();
-  if (record.stable)
+  if (record.interrupted)
+    record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
+  else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
   record.counters = cloth_->counters();
