@@ -109,6 +109,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
 std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
+          "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"

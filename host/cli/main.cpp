@@ -22,6 +22,7 @@
 #include "run_report.hpp"
 #include "simulation.hpp"
 #include "sweep_mode.hpp"
+#include "view_command.hpp"
 
 namespace {
 
@@ -40,6 +41,10 @@ int fail(int code, const std::string& message) {
 
 int run(int argc, const char* const argv[]) {
   using namespace clothlab::cli;
+  if (argc > 1 && std::string_view(argv[1]) == "view") {
+    clothlab::viewer::run_view_command(argc - 1, argv + 1, std::cout);
+    return exit_ok;
+  }
   const CommandLine command_line = parse_command_line(argc, argv);
   if (command_line.help) {
     std::cout << usage_text();

@@ -26,7 +26,14 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   {
     std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
     if (!stream) throw fail(std::strerror(errno));
-    write(stream);
+    try {
+      write(stream);
+    } catch (...) {
+      // The target stays as it was; no half-written temporary is left behind.
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      throw;
+    }
     stream.flush();
     if (!stream) throw fail("write failed");
   }

@@ -26,8 +26,13 @@ TEST(FramesConfig, DefaultIsSixtyFramesPerSimulatedSecondAsVtp) {
 }
 
 TEST(FramesConfig, FramesFlagRateEveryAndFormats) {
-  const char* argv[] = {"clothlab", "--frames", "out/frames", "--set", "frames.rate=30",
-                        "--set", "frames.format=[obj, pc2]"};
+  const char* argv[] = {"clothlab",
+                        "--frames",
+                        "out/frames",
+                        "--set",
+                        "frames.rate=30",
+                        "--set",
+                        "frames.format=[obj, pc2]"};
   const CommandLine command_line = parse_command_line(7, argv);
   RunConfig run = resolve_run_config(command_line.settings);
   EXPECT_EQ(run.frames.dir, "out/frames");

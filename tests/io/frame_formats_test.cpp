@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <clothlab/io/frame_formats.hpp>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <sstream>
 
 #include "../../host/io/src/base64.hpp"
