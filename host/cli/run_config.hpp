@@ -2,9 +2,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "material.hpp"
 #include "settings.hpp"
 
 namespace clothlab::cli {
@@ -13,8 +15,12 @@ struct RunConfig {
   std::string integrator = "rk4";
   std::string scenario = "sheet";
   double dt = 1e-3;
-  uint64_t steps = 2000;  // default: 2 s at the default dt
-  double duration = 2.0;  // s; when the length was given as steps: steps * dt
+  // Frames: with frame_rate given, dt = 1 / (frame_rate * substeps); without, every step is
+  // a frame (frame_rate = 1 / dt, substeps = 1).
+  double frame_rate = 1e3;  // Hz
+  uint64_t substeps = 1;    // steps per frame
+  uint64_t steps = 2000;    // default: 2 s at the default dt
+  double duration = 2.0;    // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;
   // Plugin parameter settings with the "integrator." / "scenario." prefix removed, in
@@ -25,6 +31,8 @@ struct RunConfig {
   // plugin id, applied only when that plugin runs (before integrator.* / scenario.*), so
   // one config can carry e.g. verlet's damping and still run with rk4.
   std::vector<Setting> plugin_params;
+  // material.*: when set, decides the scenario's mass and every spring's ks and kd.
+  std::optional<Material> material;
   // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
   uint64_t stability_interval = 10;  // steps between checks
   double max_stretch = 5.0;          // longest spring / rest length (see MonitorOptions)
