@@ -60,7 +60,7 @@ int run(int argc, const char* const argv[]) {
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
   for (const auto& output : {command_line.json_file, command_line.state_file})
-    if (output) check_output_folder(*output);
+    if (output) check_output_path(*output);
 
   if (command_line.find_max_dt) {
     if (command_line.state_file)
@@ -103,6 +103,8 @@ int main(int argc, char* argv[]) {
   try {
     return run(argc, argv);
   } catch (const clothlab::host::InputError& error) {
+    return fail(exit_bad_input, error.what());
+  } catch (const clothlab::io::WriteError& error) {
     return fail(exit_bad_input, error.what());
   } catch (const clothlab::host::PluginLoadError& error) {
     return fail(exit_plugin_error, error.what());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
@@ -107,6 +108,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
       std::filesystem::create_directories(spec.output.parent_path());
 
     sweep::ResultsStore store(spec.output, request.resume);
+    // A results file that cannot be written is found before the first case runs.
+    for (const auto& path : {store.csv_path(), store.json_path()}) io::check_output_path(path);
     store.set_metadata({{"name", spec.name},
                         {"mode", sweep::to_string(spec.mode)},
                         {"config", request.config_file.string()},

@@ -1,5 +1,6 @@
 // The clothlab program's stability verdict, sweeps and dt search end to end, on tiny grids.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -178,6 +179,35 @@ bool is_segfault_record(const std::string& reason, const std::string& err) {
   const bool reported = err.find("AddressSanitizer: SEGV") != std::string::npos ||
                         err.find("runtime error: store to null pointer") != std::string::npos;
   return address_sanitizer && is_failed_exit(reason) && reported;
+}
+
+// Item 5 of issue 12: an output path naming a FIFO or device was replaced by a regular file,
+// and a bad output was found only after the work. Now it is refused before anything runs.
+TEST_F(ClothlabStability, AnOutputThatIsNotARegularFileIsRefusedBeforeTheRun) {
+  write("fifo.yaml", R"(scenario: {rows: 4, cols: 4}
+duration: 0.01
+sweep:
+  name: fifo
+  mode: run
+  matrix:
+    integrator: [rk4]
+    dt: [0.001]
+)");
+  fs::create_directories(file("results"));
+  ASSERT_EQ(::mkfifo(file("results/fifo.json").c_str(), 0600), 0);
+  const Outcome sweep = run("--config fifo.yaml --out results");
+  EXPECT_EQ(sweep.exit_code, 1);
+  EXPECT_NE(sweep.err.find("results/fifo.json: it is a FIFO"), std::string::npos) << sweep.err;
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(file("results/fifo.json"))));
+  EXPECT_FALSE(fs::exists(file("results/fifo.csv")));
+
+  const Outcome single =
+      run("--steps 2 --set scenario.rows=4 --set scenario.cols=4 --json /dev/null");
+  EXPECT_EQ(single.exit_code, 1);
+  EXPECT_EQ(single.err,
+            "clothlab: error: cannot write /dev/null: it is a device; allowed: a "
+            "regular file or a new name\n");
+  EXPECT_EQ(single.out, "");
 }
 
 // Item 2 of issue 12: a hanging case hung the sweep forever. Now the `timeout` key bounds
