@@ -15,6 +15,8 @@ constexpr const char* setting_flags[][2] = {
     {"integrator", "integrator.plugin"},
     {"scenario", "scenario.plugin"},
     {"dt", "dt"},
+    {"frame-rate", "frame_rate"},
+    {"substeps", "substeps"},
     {"steps", "steps"},
     {"duration", "duration"},
     {"precision", "precision"},
@@ -30,6 +32,9 @@ po::options_description describe_options() {
       "scenario", po::value<std::string>(),
       "scenario plugin, found like --integrator (default sheet)")(
       "dt", po::value<std::string>(), "time step in seconds (default 0.001)")(
+      "frame-rate", po::value<std::string>(),
+      "frames per second (Hz), instead of --dt: dt = 1 / (frame rate * substeps)")(
+      "substeps", po::value<std::string>(), "steps per frame, with --frame-rate (default 1)")(
       "steps", po::value<std::string>(), "number of steps")(
       "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
       "precision", po::value<std::string>(), "float32 or float64 (default float32)")(

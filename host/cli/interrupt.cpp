@@ -1,5 +1,7 @@
 #include "interrupt.hpp"
 
+#include <signal.h>
+
 #include <csignal>
 
 namespace clothlab::cli {
@@ -7,9 +9,15 @@ namespace clothlab::cli {
 namespace {
 
 std::atomic<bool> requested{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+std::atomic<pid_t> forward_to{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<pid_t>::is_always_lock_free,
+              "used from a signal handler");
 
-extern "C" void request_stop(int) { requested.store(true, std::memory_order_relaxed); }
+extern "C" void request_stop(int signal_number) {
+  requested.store(true, std::memory_order_relaxed);
+  if (const pid_t child = forward_to.load(std::memory_order_relaxed); child > 0)
+    ::kill(child, signal_number);
+}
 
 }  // namespace
 
@@ -23,5 +31,7 @@ void install_interrupt_handler() {
 }
 
 const std::atomic<bool>& interrupt_requested() { return requested; }
+
+void forward_interrupts_to(pid_t child) { forward_to.store(child, std::memory_order_relaxed); }
 
 }  // namespace clothlab::cli

@@ -15,6 +15,7 @@
 #include "config_file.hpp"
 #include "frames_output.hpp"
 #include "interrupt.hpp"
+#include "isolation.hpp"
 #include "max_dt_search.hpp"
 #include "output_file.hpp"
 #include "plugin_listing.hpp"
@@ -76,7 +77,7 @@ int run(int argc, const char* const argv[]) {
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
   for (const auto& output : {command_line.json_file, command_line.state_file})
-    if (output) check_output_folder(*output);
+    if (output) check_output_path(*output);
 
   if (command_line.find_max_dt) {
     if (command_line.state_file || !config.frames.dir.empty())
@@ -90,22 +91,36 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
 
-  Simulation simulation(config, search_path);
-  std::optional<FramesOutput> frames;
-  if (!config.frames.dir.empty()) frames.emplace(config, simulation);
+  // The run itself is plugin code: in a child, so a crash or hang is reported as one. Ctrl-C
+  // reaches the child (forwarded), which stops stepping and still writes every output.
   install_interrupt_handler();
-  const RunRecord record = simulation.run({frames ? &*frames : nullptr, &interrupt_requested()});
-  if (frames) frames->finish(record);
-
-  if (command_line.json_file)
-    write_file_atomically(*command_line.json_file,
-                          [&](std::ostream& out) { out << summary_json(record).dump(2) << "\n"; });
-  if (command_line.state_file)
-    write_file_atomically(*command_line.state_file,
-                          [&](std::ostream& out) { write_state_csv(simulation.cloth(), out); });
-  if (!command_line.quiet) std::cout << human_summary(record);
-  if (record.interrupted) return fail(exit_interrupted, record.verdict + " (outputs written)");
-  if (!record.stable) return fail(exit_diverged, "run diverged: " + record.verdict);
+  const nlohmann::json run = run_isolated(
+      [&] {
+        Simulation simulation(config, search_path);
+        std::optional<FramesOutput> frames;
+        if (!config.frames.dir.empty()) frames.emplace(config, simulation);
+        const RunRecord record =
+            simulation.run({frames ? &*frames : nullptr, &interrupt_requested()});
+        if (frames) frames->finish(record);
+        if (command_line.json_file)
+          write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
+            out << summary_json(record).dump(2) << "\n";
+          });
+        if (command_line.state_file)
+          write_file_atomically(*command_line.state_file, [&](std::ostream& out) {
+            write_state_csv(simulation.cloth(), out);
+          });
+        return nlohmann::json{{"summary", human_summary(record)},
+                              {"stable", record.stable},
+                              {"interrupted", record.interrupted},
+                              {"verdict", record.verdict}};
+      },
+      config.timeout_s, /*forward_interrupt=*/true);
+  if (!command_line.quiet) std::cout << run["summary"].get<std::string>();
+  if (run["interrupted"].get<bool>())
+    return fail(exit_interrupted, run["verdict"].get<std::string>() + " (outputs written)");
+  if (!run["stable"].get<bool>())
+    return fail(exit_diverged, "run diverged: " + run["verdict"].get<std::string>());
   return exit_ok;
 }
 
@@ -116,6 +131,8 @@ int main(int argc, char* argv[]) {
     return run(argc, argv);
   } catch (const clothlab::host::InputError& error) {
     return fail(exit_bad_input, error.what());
+  } catch (const clothlab::io::WriteError& error) {
+    return fail(exit_bad_input, error.what());
   } catch (const clothlab::host::PluginLoadError& error) {
     return fail(exit_plugin_error, error.what());
   } catch (const clothlab::host::PluginError& error) {
@@ -123,6 +140,7 @@ int main(int argc, char* argv[]) {
   } catch (const std::bad_alloc&) {
     return fail(exit_plugin_error, "out of memory");
   } catch (const std::exception& error) {
+    // Also a run whose child process crashed or timed out: the plugin's fault.
     return fail(exit_plugin_error, error.what());
   }
 }

@@ -22,6 +22,9 @@ struct RunRecord {
   Precision precision = Precision::Float32;
   uint32_t rows = 0, cols = 0;
   double dt = 0;
+  double frame_rate = 0;  // Hz
+  uint64_t substeps = 1;  // steps per frame
+  std::string material;   // the material's name; empty without one
   uint64_t steps_requested = 0;
   uint64_t steps_taken = 0;  // includes a failed step
   int threads = 0;
@@ -35,6 +38,9 @@ struct RunRecord {
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
   uint64_t stability_checks = 0;
+  // Spring length / rest length: at the end, and the largest seen at the monitor's checks.
+  Cloth::Stretch final_stretch;
+  double max_stretch_over_run = 1.0;
   nlohmann::json integrator_params, scenario_params;
 };
 

@@ -1,13 +1,13 @@
 #include "view_bundle.hpp"
 
 #include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <system_error>
 
 #include "../io/src/base64.hpp"
-#include "output_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -101,12 +101,12 @@ fs::path write_view_bundle(const ViewRequest& request) {
   if (error || !fs::is_directory(request.out))
     throw host::InputError("--out " + request.out.string() + ": cannot create the folder: " +
                            (error ? error.message() : std::string("not a folder")));
-  cli::write_file_atomically(request.out / "runs.js", [&](std::ostream& out) {
+  clothlab::io::write_file_atomically(request.out / "runs.js", [&](std::ostream& out) {
     out << "// Written by clothlab view.\nwindow.CLOTHLAB_RUNS = [];\n";
     for (const fs::path& run : request.runs) write_run(out, run, request.max_frames);
   });
   for (const char* name : asset_files)
-    cli::write_file_atomically(request.out / name, [&](std::ostream& out) {
+    clothlab::io::write_file_atomically(request.out / name, [&](std::ostream& out) {
       std::ifstream in(request.assets / name, std::ios::binary);
       out << in.rdbuf();
     });

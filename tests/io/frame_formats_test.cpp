@@ -63,7 +63,7 @@ TEST(VtkPolyData, ReadsBackWhatItWrote) {
   const fs::path path = fs::path(testing::TempDir()) / "frame_formats_test.vtp";
   {
     std::ofstream out(path);
-    write_vtp(out, mesh, frame);
+    write_vtp(out, vtp_topology(mesh), frame);
   }
   uint64_t triangles = 0;
   const Frame read = read_vtp(path, &triangles);

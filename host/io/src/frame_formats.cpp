@@ -7,24 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "base64.hpp"
-
 namespace clothlab::io {
 
 namespace {
-
-// VTK's uncompressed binary inline data: a UInt32 byte count, then the bytes, base64
-// encoded as one stream.
-template <class T>
-std::string binary_array(const std::vector<T>& values) {
-  const uint32_t bytes = static_cast<uint32_t>(values.size() * sizeof(T));
-  std::string raw(sizeof bytes + bytes, '\0');
-  std::memcpy(raw.data(), &bytes, sizeof bytes);
-  if (bytes > 0) std::memcpy(raw.data() + sizeof bytes, values.data(), bytes);
-  std::string text;
-  append_base64(text, raw.data(), raw.size());
-  return text;
-}
 
 std::string number_text(double value) {
   char buffer[32];
@@ -37,11 +22,36 @@ void field(std::ostream& out, const char* name, double value) {
       << "\" NumberOfTuples=\"1\" format=\"ascii\">" << number_text(value) << "</DataArray>\n";
 }
 
-void data_array(std::ostream& out, const char* type, const char* name, int components,
-                const std::string& base64) {
-  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\""
-      << components << "\" format=\"binary\">" << base64 << "</DataArray>\n";
-}
+// Raw appended arrays: each is a UInt32 byte count and the bytes, at its offset from the
+// '_' that opens the AppendedData section.
+class AppendedArrays {
+ public:
+  template <class T>
+  void declare(std::ostream& out, const char* type, const char* name, int components,
+               const std::vector<T>& values) {
+    out << "        <DataArray type=\"" << type << "\" Name=\"" << name
+        << "\" NumberOfComponents=\"" << components << "\" format=\"appended\" offset=\"" << offset_
+        << "\"/>\n";
+    blocks_.push_back({values.data(), static_cast<uint32_t>(values.size() * sizeof(T))});
+    offset_ += sizeof(uint32_t) + blocks_.back().bytes;
+  }
+  void write(std::ostream& out) const {
+    out << "  <AppendedData encoding=\"raw\">\n   _";
+    for (const Block& block : blocks_) {
+      out.write(reinterpret_cast<const char*>(&block.bytes), sizeof block.bytes);
+      out.write(static_cast<const char*>(block.data), block.bytes);
+    }
+    out << "\n  </AppendedData>\n";
+  }
+
+ private:
+  struct Block {
+    const void* data;
+    uint32_t bytes;
+  };
+  std::vector<Block> blocks_;
+  uint64_t offset_ = 0;
+};
 
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream stream(path, std::ios::binary);
@@ -51,9 +61,9 @@ std::string read_text(const std::filesystem::path& path) {
   return text.str();
 }
 
-// The body of the DataArray named name, and its opening tag.
+// The text between the DataArray named name's tags (ASCII field data).
 std::string_view array_body(const std::string& text, const std::string& name,
-                            const std::filesystem::path& path, std::string_view* tag = nullptr) {
+                            const std::filesystem::path& path) {
   const size_t at = text.find("Name=\"" + name + "\"");
   if (at == std::string::npos)
     throw std::runtime_error(path.string() + ": no DataArray named " + name);
@@ -62,22 +72,30 @@ std::string_view array_body(const std::string& text, const std::string& name,
   const size_t end = text.find("</DataArray>", begin);
   if (open == std::string::npos || begin == 0 || end == std::string::npos)
     throw std::runtime_error(path.string() + ": DataArray " + name + " is not closed");
-  if (tag) *tag = std::string_view(text).substr(open, begin - open);
   return std::string_view(text).substr(begin, end - begin);
 }
 
 template <class T>
-std::vector<T> binary_values(const std::string& text, const std::string& name,
-                             const std::filesystem::path& path) {
-  const std::vector<uint8_t> raw = decode_base64(array_body(text, name, path));
+std::vector<T> appended_values(const std::string& text, const std::string& name,
+                               const std::filesystem::path& path) {
+  const size_t at = text.find("Name=\"" + name + "\"");
+  const size_t tag_end = at == std::string::npos ? at : text.find('>', at);
+  if (tag_end == std::string::npos)
+    throw std::runtime_error(path.string() + ": no DataArray named " + name);
+  const size_t offset_at = text.find("offset=\"", at);
+  const size_t section = text.find("<AppendedData encoding=\"raw\">");
+  const size_t base = section == std::string::npos ? section : text.find('_', section);
+  if (offset_at == std::string::npos || offset_at > tag_end || base == std::string::npos)
+    throw std::runtime_error(path.string() + ": DataArray " + name + " is not raw appended data");
+  const size_t begin = base + 1 + std::stoull(text.substr(offset_at + 8));
   uint32_t bytes = 0;
-  if (raw.size() < sizeof bytes)
-    throw std::runtime_error(path.string() + ": DataArray " + name + " has no header");
-  std::memcpy(&bytes, raw.data(), sizeof bytes);
-  if (raw.size() < sizeof bytes + bytes || bytes % sizeof(T) != 0)
+  if (begin + sizeof bytes > text.size())
+    throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
+  std::memcpy(&bytes, text.data() + begin, sizeof bytes);
+  if (begin + sizeof bytes + bytes > text.size() || bytes % sizeof(T) != 0)
     throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
   std::vector<T> values(bytes / sizeof(T));
-  if (bytes > 0) std::memcpy(values.data(), raw.data() + sizeof bytes, bytes);
+  if (bytes > 0) std::memcpy(values.data(), text.data() + begin + sizeof bytes, bytes);
   return values;
 }
 
@@ -93,10 +111,14 @@ double ascii_value(const std::string& text, const std::string& name,
 
 }  // namespace
 
-void write_vtp(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
-  const std::vector<int32_t> connectivity = mesh.triangles();
-  std::vector<int32_t> offsets(mesh.triangle_count());
-  for (size_t i = 0; i < offsets.size(); ++i) offsets[i] = static_cast<int32_t>(3 * (i + 1));
+VtpTopology vtp_topology(const GridMesh& mesh) {
+  VtpTopology topology{mesh.triangles(), std::vector<int32_t>(mesh.triangle_count())};
+  for (size_t i = 0; i < topology.offsets.size(); ++i)
+    topology.offsets[i] = static_cast<int32_t>(3 * (i + 1));
+  return topology;
+}
+
+void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame) {
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
          "header_type=\"UInt32\">\n  <PolyData>\n    <FieldData>\n";
@@ -106,18 +128,21 @@ void write_vtp(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
   field(out, "energy_spring", frame.energy.spring);
   field(out, "energy_gravity", frame.energy.gravity);
   field(out, "energy_total", frame.energy.total());
-  out << "    </FieldData>\n    <Piece NumberOfPoints=\"" << mesh.vertex_count()
+  out << "    </FieldData>\n    <Piece NumberOfPoints=\"" << frame.positions.size() / 3
       << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\""
-      << mesh.triangle_count()
+      << topology.offsets.size()
       << "\">\n      <PointData Scalars=\"stretch\" Vectors=\"velocity\">\n";
-  data_array(out, "Float32", "velocity", 3, binary_array(frame.velocities));
-  data_array(out, "Float32", "stretch", 1, binary_array(frame.stretch));
+  AppendedArrays arrays;
+  arrays.declare(out, "Float32", "velocity", 3, frame.velocities);
+  arrays.declare(out, "Float32", "stretch", 1, frame.stretch);
   out << "      </PointData>\n      <Points>\n";
-  data_array(out, "Float32", "Points", 3, binary_array(frame.positions));
+  arrays.declare(out, "Float32", "Points", 3, frame.positions);
   out << "      </Points>\n      <Polys>\n";
-  data_array(out, "Int32", "connectivity", 1, binary_array(connectivity));
-  data_array(out, "Int32", "offsets", 1, binary_array(offsets));
-  out << "      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
+  arrays.declare(out, "Int32", "connectivity", 1, topology.connectivity);
+  arrays.declare(out, "Int32", "offsets", 1, topology.offsets);
+  out << "      </Polys>\n    </Piece>\n  </PolyData>\n";
+  arrays.write(out);
+  out << "</VTKFile>\n";
 }
 
 Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
@@ -125,9 +150,9 @@ Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
   if (text.find("<VTKFile type=\"PolyData\"") == std::string::npos)
     throw std::runtime_error(path.string() + ": not a VTK XML PolyData file");
   Frame frame;
-  frame.positions = binary_values<float>(text, "Points", path);
-  frame.velocities = binary_values<float>(text, "velocity", path);
-  frame.stretch = binary_values<float>(text, "stretch", path);
+  frame.positions = appended_values<float>(text, "Points", path);
+  frame.velocities = appended_values<float>(text, "velocity", path);
+  frame.stretch = appended_values<float>(text, "stretch", path);
   frame.time = ascii_value(text, "TimeValue", path);
   frame.step = static_cast<uint64_t>(ascii_value(text, "step", path));
   frame.energy = {ascii_value(text, "energy_kinetic", path),
@@ -136,7 +161,7 @@ Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
   if (frame.velocities.size() != frame.positions.size() ||
       frame.stretch.size() * 3 != frame.positions.size())
     throw std::runtime_error(path.string() + ": point data sizes do not match the points");
-  if (triangles) *triangles = binary_values<int32_t>(text, "offsets", path).size();
+  if (triangles) *triangles = appended_values<int32_t>(text, "offsets", path).size();
   return frame;
 }
 

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <array>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <clothlab/io/frame_writer.hpp>
 #include <condition_variable>
@@ -11,8 +12,6 @@
 #include <mutex>
 #include <regex>
 #include <thread>
-
-#include "output_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -55,6 +54,7 @@ void remove_earlier_frames(const fs::path& dir) {
 struct FrameWriter::Impl {
   FrameWriterOptions options;
   GridMesh mesh;
+  VtpTopology topology;
   double column_rest = 0, row_rest = 0;
   // A one-thread copy of the cloth: the energy of a frame from the same code as the run's.
   Cloth energy_cloth;
@@ -78,6 +78,7 @@ struct FrameWriter::Impl {
   Impl(const Scene& scene, Precision precision, FrameWriterOptions options_in)
       : options(std::move(options_in)),
         mesh{scene.rows, scene.cols},
+        topology(vtp_topology(mesh)),
         column_rest(scene.cols > 1 ? scene.width / (scene.cols - 1) : 0.0),
         row_rest(scene.rows > 1 ? scene.height / (scene.rows - 1) : 0.0),
         energy_cloth(scene, precision, PipelineOptions{true, 1}),
@@ -86,8 +87,8 @@ struct FrameWriter::Impl {
         pc2(has(options.formats, "pc2")) {}
 
   void write_run_json(const nlohmann::json& json) {
-    cli::write_file_atomically(options.dir / "run.json",
-                               [&](std::ostream& out) { out << json.dump(2) << "\n"; });
+    io::write_file_atomically(options.dir / "run.json",
+                              [&](std::ostream& out) { out << json.dump(2) << "\n"; });
   }
 
   void write(const Snapshot& snapshot) {
@@ -102,15 +103,15 @@ struct FrameWriter::Impl {
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
-      cli::write_file_atomically(options.dir / name,
-                                 [&](std::ostream& out) { write_vtp(out, mesh, frame); });
+      io::write_file_atomically(options.dir / name,
+                                [&](std::ostream& out) { write_vtp(out, topology, frame); });
       index.push_back({frame.time, name});
-      cli::write_file_atomically(options.dir / "frames.pvd",
-                                 [&](std::ostream& out) { write_pvd(out, index); });
+      io::write_file_atomically(options.dir / "frames.pvd",
+                                [&](std::ostream& out) { write_pvd(out, index); });
     }
     if (obj)
-      cli::write_file_atomically(options.dir / frame_name(frames, "obj"),
-                                 [&](std::ostream& out) { write_obj(out, mesh, frame); });
+      io::write_file_atomically(options.dir / frame_name(frames, "obj"),
+                                [&](std::ostream& out) { write_obj(out, mesh, frame); });
     if (pc2) {
       pc2_staging.write(reinterpret_cast<const char*>(frame.positions.data()),
                         static_cast<std::streamsize>(frame.positions.size() * sizeof(float)));
@@ -167,7 +168,7 @@ struct FrameWriter::Impl {
   void write_point_cache() {
     pc2_staging.close();
     const fs::path staging = options.dir / pc2_staging_name;
-    cli::write_file_atomically(options.dir / "frames.pc2", [&](std::ostream& out) {
+    io::write_file_atomically(options.dir / "frames.pc2", [&](std::ostream& out) {
       write_pc2_header(out, mesh.vertex_count(), frames);
       std::ifstream in(staging, std::ios::binary);
       out << in.rdbuf();
@@ -188,7 +189,12 @@ FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOpt
   nlohmann::json run = impl.options.run;
   run["status"] = "running";
   run["frames"] = {{"every_steps", impl.options.every_steps}, {"formats", impl.options.formats}};
-  impl.write_run_json(run);
+  try {
+    impl.write_run_json(run);
+  } catch (const io::WriteError& error) {
+    // Before any step: an unwritable folder is bad input, not a failed run.
+    throw host::InputError("frames folder " + impl.options.dir.string() + ": " + error.what());
+  }
   if (impl.pc2) {
     impl.pc2_staging.open(impl.options.dir / pc2_staging_name, std::ios::binary | std::ios::trunc);
     if (!impl.pc2_staging)

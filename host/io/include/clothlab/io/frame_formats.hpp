@@ -1,6 +1,7 @@
 // The frame file formats, all written without a library:
 //   .vtp  VTK XML PolyData (ParaView): points, triangles, point data velocity and stretch,
-//         field data TimeValue, step and the energies; binary (base64) arrays.
+//         field data TimeValue, step and the energies; arrays as raw appended binary (no
+//         encoding to spend time on, the triangles' bytes computed once per run).
 //   .pvd  the ParaView collection listing the .vtp files with their times.
 //   .obj  Wavefront OBJ, one file per frame (Blender's stop-motion OBJ import, Houdini).
 //   .pc2  Blender / 3ds Max point cache: a header and float32 positions per frame.
@@ -14,7 +15,13 @@
 
 namespace clothlab::io {
 
-void write_vtp(std::ostream& out, const GridMesh& mesh, const Frame& frame);
+// The triangles as VTK's connectivity and offsets arrays: the same in every frame.
+struct VtpTopology {
+  std::vector<int32_t> connectivity, offsets;
+};
+VtpTopology vtp_topology(const GridMesh& mesh);
+
+void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame);
 
 // Reads a .vtp this module wrote (positions, velocities, stretch, time, step, energy, and
 // the triangle count in *triangles). Throws std::runtime_error naming the file and what
