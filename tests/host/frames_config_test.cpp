@@ -45,6 +45,14 @@ TEST(FramesConfig, FramesFlagRateEveryAndFormats) {
   EXPECT_EQ(run.frames.every_steps, 1u);  // faster than the step: every step
 }
 
+TEST(FramesConfig, FollowTheRunsFrameRateUnlessFramesRateIsGiven) {
+  RunConfig run = resolve_run_config({{"frame_rate", "30", "a"}, {"substeps", "10", "b"}});
+  EXPECT_EQ(run.frames.every_steps, 10u);  // one frame per frame_rate frame
+  run = resolve_run_config(
+      {{"frame_rate", "30", "a"}, {"substeps", "10", "b"}, {"frames.rate", "15", "c"}});
+  EXPECT_EQ(run.frames.every_steps, 20u);
+}
+
 TEST(FramesConfig, BadValuesNameSourceKeyValueAndAllowed) {
   EXPECT_EQ(error_of({{"frames.format", "[vtp, gltf]", "x.yaml:3:9"}}),
             "x.yaml:3:9: frames.format = [vtp, gltf]: unknown format 'gltf'; allowed: vtp, obj, "
