@@ -120,7 +120,8 @@ std::string usage_text() {
           "Every run is judged by the stability monitor (keys stability.interval,\n"
           "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
           "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input,\n"
-          "2 plugin error, 3 the run diverged or failed a stability check.\n\n"
+          "2 plugin error, 3 the run diverged or failed a stability check, 130 a run stopped\n"
+          "by Ctrl-C (SIGINT) or SIGTERM, its outputs written.\n\n"
        << describe_options();
   return text.str();
 }

@@ -1,7 +1,8 @@
 // clothlab: runs one cloth simulation, a sweep, or a search for the largest stable dt, or
 // lists the plugins it can find.
 // Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged or failed
-// a stability check (a sweep exits 0 whatever its cases did: they are results).
+// a stability check (a sweep exits 0 whatever its cases did: they are results), 130 a single
+// run stopped by SIGINT or SIGTERM (its outputs written).
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>

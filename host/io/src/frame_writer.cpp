@@ -68,6 +68,8 @@ struct FrameWriter::Impl {
   mutable std::mutex mutex;
   std::condition_variable changed;
 
+  bool finished = false;  // finish() ran
+
   // Writer thread only.
   uint64_t frames = 0;
   std::vector<CollectionEntry> index;
@@ -208,7 +210,16 @@ FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOpt
 }
 
 FrameWriter::~FrameWriter() {
-  if (impl_) impl_->stop_thread();
+  if (!impl_) return;
+  impl_->stop_thread();
+  // A run ended by an exception never reached finish(): its point cache is still completed,
+  // so every format holds the frames written so far.
+  if (impl_->pc2 && !impl_->finished) {
+    try {
+      impl_->write_point_cache();
+    } catch (...) {  // nothing to report to from a destructor; the .vtp sequence stands
+    }
+  }
 }
 
 bool FrameWriter::is_frame_step(uint64_t step) const {
@@ -241,6 +252,7 @@ void FrameWriter::finish(const nlohmann::json& summary) {
   Impl& impl = *impl_;
   impl.stop_thread();
   impl.rethrow_failure();
+  impl.finished = true;
   if (impl.pc2) impl.write_point_cache();
   nlohmann::json run = impl.options.run;
   run["status"] = "finished";
