@@ -7,6 +7,8 @@
                                  and the two differ from each other (the cloth moved)
         side-by-side             two runs (rk4, verlet): a cloth in each half of the view
         no-frames                `clothlab view` on a folder without frames: one line, exit 1
+        mutant-draws-nothing     the same page with its render call removed: the cloth check
+                                 must find no cloth (the check can fail)
 The screenshots stay in WORK_DIR (printed) as test artefacts.
 """
 import os
@@ -109,6 +111,29 @@ def side_by_side():
     print("ok: one cloth in each pane")
 
 
+def mutant_draws_nothing():
+    out = os.path.join(WORK, "mutant")
+    shutil.rmtree(out, ignore_errors=True)
+    folder = frames(out, "rk4")
+    view = os.path.join(out, "view")
+    run(CLOTHLAB, "view", folder, "--out", view)
+    script = os.path.join(view, "viewer.js")
+    with open(script) as stream:
+        text = stream.read()
+    render_call = "renderer.render(run.scene, camera);"
+    if render_call not in text:
+        fail(f"viewer.js has no '{render_call}' to remove")
+    with open(script, "w") as stream:
+        stream.write(text.replace(render_call, ""))
+    image = screenshot(os.path.join(view, "index.html"), "t=0.5&paused=1",
+                       os.path.join(out, "nothing-drawn.png"))
+    _, count = cloth_pixels(image, (0, 0, WIDTH - PANEL, HEIGHT))
+    area = (WIDTH - PANEL) * HEIGHT
+    if count >= 0.03 * area:
+        fail(f"a page that draws no cloth passes the cloth check ({count} of {area} pixels)")
+    print(f"ok: the page without its render call shows {count} of {area} non-background pixels")
+
+
 def no_frames():
     empty = os.path.join(WORK, "empty")
     os.makedirs(empty, exist_ok=True)
@@ -121,4 +146,4 @@ def no_frames():
 
 
 {"cloth-drawn-and-moving": cloth_drawn_and_moving, "side-by-side": side_by_side,
- "no-frames": no_frames}[CASE]()
+ "no-frames": no_frames, "mutant-draws-nothing": mutant_draws_nothing}[CASE]()
