@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
@@ -47,7 +48,8 @@ sweep::CaseResult verdict_of(const nlohmann::json& run) {
 sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                           const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path); });
+  const nlohmann::json run =
+      run_isolated([&] { return run_case(config, search_path); }, config.timeout_s);
   sweep::CaseResult result = verdict_of(run);
   result.metrics = {{"steps", run["steps"].get<double>()},
                     {"sim_time_s", run["sim_time_s"].get<double>()},
@@ -65,7 +67,8 @@ sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c
 sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                  const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path, true); });
+  const nlohmann::json run =
+      run_isolated([&] { return run_case(config, search_path, true); }, config.timeout_s);
   sweep::Trajectory trajectory;
   trajectory.positions = run["positions"].get<std::vector<double>>();
   trajectory.diagonal = run["diagonal"].get<double>();
@@ -78,7 +81,8 @@ sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::Case
 sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                 const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json prediction = run_isolated([&] { return predict_case(config, search_path); });
+  const nlohmann::json prediction =
+      run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
   sweep::DtPrediction result;
   result.dt_max = prediction["dt_max"].is_number() ? prediction["dt_max"].get<double>()
                                                    : std::numeric_limits<double>::infinity();
@@ -104,6 +108,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
       std::filesystem::create_directories(spec.output.parent_path());
 
     sweep::ResultsStore store(spec.output, request.resume);
+    // A results file that cannot be written is found before the first case runs.
+    for (const auto& path : {store.csv_path(), store.json_path()}) io::check_output_path(path);
     store.set_metadata({{"name", spec.name},
                         {"mode", sweep::to_string(spec.mode)},
                         {"config", request.config_file.string()},

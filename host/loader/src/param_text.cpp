@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "clothlab/host/identifiers.hpp"
+
 namespace clothlab::host {
 
 namespace {
@@ -62,14 +64,6 @@ std::optional<std::array<double, 3>> parse_vec3(std::string_view text) {
     vector[k] = *component;
   }
   return vector;
-}
-
-bool valid_name(const char* name) {
-  if (name == nullptr || *name == '\0') return false;
-  for (const char* c = name; *c != '\0'; ++c)
-    if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_' || *c == '.'))
-      return false;
-  return true;
 }
 
 }  // namespace
@@ -167,7 +161,7 @@ std::optional<std::string> spec_problem(const clothlab_param_spec& spec) {
   if (spec.struct_size < CLOTHLAB_PARAM_SPEC_SIZE_1_0)
     return "parameter spec struct_size " + std::to_string(spec.struct_size) + " < " +
            std::to_string(CLOTHLAB_PARAM_SPEC_SIZE_1_0);
-  if (!valid_name(spec.name))
+  if (spec.name == nullptr || !is_param_name(spec.name))
     return std::string("parameter name \"") + (spec.name ? spec.name : "(null)") +
            "\" is not [a-z0-9_.]+";
   const std::string name = spec.name;

@@ -1,7 +1,6 @@
 #include "clothlab/sweep/results_store.hpp"
 
-#include <unistd.h>
-
+#include <clothlab/io/atomic_file.hpp>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -43,30 +42,6 @@ const char* to_string(CaseStatus status) {
   return "unknown";
 }
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
-  std::error_code error;
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), error);
-  if (error) {
-    throw SweepError(path.parent_path().string() + ": cannot create folder: " + error.message());
-  }
-  std::filesystem::path temporary = path;
-  temporary += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-    stream << text;
-    stream.flush();
-    if (!stream) {
-      std::filesystem::remove(temporary, error);
-      throw SweepError(temporary.string() + ": cannot write results file");
-    }
-  }
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw SweepError(path.string() + ": cannot replace results file: " + error.message());
-  }
-}
-
 std::string rows_to_csv(const std::vector<Row>& rows) {
   std::vector<std::string> columns;
   std::unordered_set<std::string> seen;
@@ -90,6 +65,10 @@ std::string rows_to_csv(const std::vector<Row>& rows) {
 
 ResultsStore::ResultsStore(std::filesystem::path base, bool resume)
     : csv_path_(base.string() + ".csv"), json_path_(base.string() + ".json") {
+  std::error_code error;
+  if (base.has_parent_path()) std::filesystem::create_directories(base.parent_path(), error);
+  if (error)
+    throw SweepError(base.parent_path().string() + ": cannot create folder: " + error.message());
   if (!resume || !std::filesystem::exists(json_path_)) return;
   std::ifstream stream(json_path_);
   nlohmann::ordered_json document;
@@ -130,8 +109,9 @@ void ResultsStore::flush() const {
   nlohmann::ordered_json document;
   document["sweep"] = metadata_;
   document["rows"] = rows_;
-  write_file_atomically(json_path_, document.dump(1) + "\n");
-  write_file_atomically(csv_path_, rows_to_csv(rows_));
+  io::write_file_atomically(
+      json_path_, document.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  io::write_file_atomically(csv_path_, rows_to_csv(rows_));
 }
 
 }  // namespace clothlab::sweep

@@ -3,10 +3,11 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <charconv>
+#include <clothlab/host/identifiers.hpp>
 #include <cmath>
 #include <fstream>
 #include <functional>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -30,11 +31,6 @@ std::string location(const std::string& source, const YAML::Node& node) {
 std::string canonical_key(const std::string& key) {
   if (key == "integrator" || key == "scenario") return key + ".plugin";
   return key;
-}
-
-bool is_plugin_id(const std::string& text) {
-  static const std::regex id("[a-z0-9_-]+");
-  return std::regex_match(text, id);
 }
 
 std::string scalar_text(const std::string& source, const YAML::Node& node, const std::string& key) {
@@ -98,20 +94,27 @@ void for_each_key(const std::string& source, const YAML::Node& section, const st
   }
 }
 
+// "ROWSxCOLS" or "N", each a whole number in [1, 4096] (the scenarios' own range).
+bool mesh_shape(const std::string& text) {
+  const auto side = [](std::string_view digits) {
+    if (digits.empty() || digits.size() > 4) return false;
+    unsigned value = 0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    return error == std::errc() && end == digits.data() + digits.size() && value >= 1 &&
+           value <= 4096;
+  };
+  const std::string_view view(text);
+  const size_t cross = view.find('x');
+  if (cross == std::string_view::npos) return side(view);
+  return side(view.substr(0, cross)) && side(view.substr(cross + 1));
+}
+
 void check_axis_value(const std::string& source, const YAML::Node& node, const std::string& key,
                       const std::string& text) {
   if (key == "integrator.plugin" || key == "scenario.plugin") {
-    if (!is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
+    if (!host::is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
   } else if (key == "mesh") {
-    static const std::regex mesh("([0-9]+)(x([0-9]+))?");
-    std::smatch match;
-    const bool shaped = std::regex_match(text, match, mesh);
-    const auto in_range = [](const std::string& digits) {
-      return digits.size() <= 6 && std::stoul(digits) >= 1 && std::stoul(digits) <= 100000;
-    };
-    if (!shaped || !in_range(match[1]) || (match[3].matched && !in_range(match[3]))) {
-      fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 100000]");
-    }
+    if (!mesh_shape(text)) fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 4096]");
   } else if (key == "dt") {
     const auto value = parse_number(text);
     if (!value || *value <= 0.0 || *value > 10.0)
@@ -179,7 +182,7 @@ void read_work_precision(const std::string& source, const YAML::Node& node, Swee
                [&](const std::string& key, const YAML::Node& value) {
                  if (key.ends_with("reference_integrator")) {
                    wp.reference_integrator = scalar_text(source, value, key);
-                   if (!is_plugin_id(wp.reference_integrator)) {
+                   if (!host::is_plugin_id(wp.reference_integrator)) {
                      fail(source, value, key, wp.reference_integrator, "a plugin id");
                    }
                  } else if (key.ends_with("self_reference")) {
@@ -188,7 +191,7 @@ void read_work_precision(const std::string& source, const YAML::Node& node, Swee
                      fail(source, value, key, "(not a list)", "a list of ids");
                    for (const YAML::Node& item : list) {
                      const std::string id = scalar_text(source, item, key);
-                     if (!is_plugin_id(id)) fail(source, item, key, id, "a plugin id");
+                     if (!host::is_plugin_id(id)) fail(source, item, key, id, "a plugin id");
                      wp.self_reference.push_back(id);
                    }
                  } else if (key.ends_with("refinement")) {
@@ -300,7 +303,7 @@ SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
       [&](const std::string& key, const YAML::Node& value) {
         if (key == "sweep.name") {
           spec.name = scalar_text(source, value, key);
-          if (!is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
+          if (!host::is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
         } else if (key == "sweep.mode") {
           spec.mode = read_mode(source, value);
         } else if (key == "sweep.output") {

@@ -63,12 +63,12 @@ struct PipelineOptions {
 // Cumulative counters since construction (or reset_counters), for the run summary.
 struct StageCounters {
   uint64_t force_evals = 0;
-  uint64_t springs_evaluated = 0;   // Hooke terms computed
-  uint64_t springs_damped = 0;      // damping terms computed
-  uint64_t normals_computed = 0;    // triangle normals for wind
+  uint64_t springs_evaluated = 0;     // Hooke terms computed
+  uint64_t springs_damped = 0;        // damping terms computed
+  uint64_t normals_computed = 0;      // triangle normals for wind
   uint64_t particles_integrated = 0;  // active particle updates by vector helpers
-  double internal_forces_s = 0.0;   // wall time in spring forces
-  double external_forces_s = 0.0;   // wall time in gravity + wind
+  double internal_forces_s = 0.0;     // wall time in spring forces
+  double external_forces_s = 0.0;     // wall time in gravity + wind
 };
 
 class Cloth {
@@ -103,8 +103,13 @@ class Cloth {
     double total() const { return kinetic + spring + gravity; }
   };
   Energy energy() const;
-  // Largest ratio of current length to rest length over all springs.
-  double max_stretch() const;
+  // Current length over rest length, over all springs: the largest and the mean (whether the
+  // cloth hangs like cloth or like rubber). A cloth without springs counts as unstretched.
+  struct Stretch {
+    double max = 1, mean = 1;
+  };
+  Stretch stretch() const;
+  double max_stretch() const { return stretch().max; }
 
  private:
   struct Impl;

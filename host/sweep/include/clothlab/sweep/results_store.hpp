@@ -19,7 +19,7 @@ using Row = nlohmann::ordered_json;  // an object with at least a string "key"
 
 class ResultsStore {
  public:
-  // Without resume, existing files are replaced at the first write. With resume, rows are
+  // Creates base's folder. Without resume, existing files are replaced at the first write. With resume, rows are
   // loaded from <base>.json if it exists; throws SweepError if it cannot be read or parsed.
   ResultsStore(std::filesystem::path base, bool resume);
 
@@ -32,7 +32,7 @@ class ResultsStore {
   std::size_t resumed_rows() const { return resumed_; }
 
   // Adds a row (its "key" must be new) and rewrites both files atomically. Throws SweepError
-  // on a bad row or when the files cannot be written.
+  // on a bad row, io::WriteError when the files cannot be written (clothlab/io).
   void append(Row row);
   // Rewrites both files atomically from the rows held (e.g. after set_metadata).
   void flush() const;
@@ -45,8 +45,6 @@ class ResultsStore {
   std::size_t resumed_ = 0;
 };
 
-// Writes text to path through <path>.tmp-<pid> and rename. Throws SweepError.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
 // CSV text of rows: header from the union of fields, RFC 4180 quoting.
 std::string rows_to_csv(const std::vector<Row>& rows);
 
