@@ -50,6 +50,11 @@ po::options_description describe_options() {
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
       "find_max_dt.tolerance, .dt_min, .dt_max) and print the predicted dt_max beside it")(
+      "choose",
+      "which integrator for this scene: for each integrator on the plugin path the cheapest "
+      "substeps (and iterations) at --frame-rate that stay stable, within choose.stretch_limit "
+      "(1.1) and within choose.error_tolerance (1 % of the diagonal at T = choose.duration, 1 s) "
+      "of a converged reference; ranked table to stdout and choose.output (results/choose)")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
       "resume", "sweep: keep the results already written and run only the missing cases")(
       "quiet", "print no summary");
@@ -94,6 +99,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.state_file = string_option(values, "state-out");
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
+  command_line.choose = values.count("choose") > 0;
   command_line.out_folder = string_option(values, "out");
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();

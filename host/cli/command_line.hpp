@@ -18,6 +18,7 @@ struct CommandLine {
   std::optional<std::string> json_file;
   std::optional<std::string> state_file;
   bool find_max_dt = false;  // search the largest stable dt instead of one run
+  bool choose = false;       // which integrator for this scene and frame rate (choose_mode.hpp)
   bool resume = false;       // sweep: skip cases already in the results
   // Sweep: results folder (files <out>/<sweep name>.csv/.json) instead of sweep.output.
   std::optional<std::string> out_folder;

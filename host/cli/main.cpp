@@ -9,6 +9,7 @@
 #include <iostream>
 #include <new>
 
+#include "choose_mode.hpp"
 #include "command_line.hpp"
 #include "config_file.hpp"
 #include "isolation.hpp"
@@ -62,6 +63,13 @@ int run(int argc, const char* const argv[]) {
   for (const auto& output : {command_line.json_file, command_line.state_file})
     if (output) check_output_path(*output);
 
+  if (command_line.choose) {
+    if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
+      throw clothlab::host::InputError(
+          "--choose writes its own results (choose.output): no --find-max-dt, --json, --state-out");
+    run_choose(settings, search_path, std::cout);
+    return exit_ok;
+  }
   if (command_line.find_max_dt) {
     if (command_line.state_file)
       throw clothlab::host::InputError("--state-out is for single runs, not --find-max-dt");

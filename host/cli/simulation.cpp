@@ -178,9 +178,10 @@ RunRecord Simulation::run() {
     // Sampled where the monitor looks, so the maximum over the run costs no extra passes
     // beyond one per check.
     if (step % config_.stability_interval == 0 || step == config_.steps)
-      record.max_stretch_over_run = std::max(record.max_stretch_over_run, cloth_->max_stretch());
+      record.max_stretch_over_run =
+          std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
   }
-  const Cloth::Stretch final_stretch = cloth_->stretch();
+  const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
   record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);
   record.stability_checks = monitor.checks();

@@ -36,7 +36,8 @@ struct RunRecord {
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
   uint64_t stability_checks = 0;
-  // Spring length / rest length: at the end, and the largest seen at the monitor's checks.
+  // Structural spring length / rest length (warp and weft): at the end, and the largest seen
+  // at the monitor's checks.
   Cloth::Stretch final_stretch;
   double max_stretch_over_run = 1.0;
   nlohmann::json integrator_params, scenario_params;
