@@ -141,9 +141,7 @@ class IntegratorSearch {
       probe.why = "stretch " + format_number(run.max_stretch) + " above " +
                   format_number(settings_.stretch_limit);
     } else {
-      const Trajectory measured = settings_.error_mesh.empty()
-                                      ? run
-                                      : run_guarded(with_setting(c, "mesh", settings_.error_mesh));
+      const Trajectory measured = same_error_run() ? run : run_guarded(error_case(c));
       if (!measured.verdict.stable()) {
         probe.why = "on the error mesh " + settings_.error_mesh + ": " + measured.verdict.reason;
       } else {
@@ -223,7 +221,7 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
   const double reference_dt = 1.0 / (settings.frame_rate * settings.reference_substeps);
   progress << "choose: reference " << settings.reference_integrator << " float64 at dt "
            << format_number(reference_dt)
-           << " s and half that, to T = " << format_number(settings.duration) << " s"
+           << " s and half that, to T = " << format_number(error_duration(settings)) << " s"
            << (settings.error_mesh.empty() ? "" : " on " + settings.error_mesh) << "\n"
            << std::flush;
   const Trajectory reference = compute_reference(spec, error_base, reference_dt, runner, store);
