@@ -19,6 +19,23 @@ std::string printf_text(const char* format, auto... values) {
   return buffer;
 }
 
+// Iterations and misses of an iterative integrator; null for the others.
+nlohmann::json solver_json(const std::optional<SolverTotals>& solver) {
+  if (!solver) return nullptr;
+  const double steps = static_cast<double>(std::max<uint64_t>(solver->steps, 1));
+  return {{"steps", solver->steps},
+          {"iterations", solver->iterations},
+          {"iterations_per_step",
+           {{"mean", static_cast<double>(solver->iterations) / steps},
+            {"max", solver->max_iterations}}},
+          {"factorizations", solver->factorizations},
+          {"non_converged_steps", solver->non_converged_steps},
+          {"first_non_converged_step", solver->first_non_converged_step
+                                           ? nlohmann::json(*solver->first_non_converged_step)
+                                           : nlohmann::json(nullptr)},
+          {"max_residual", solver->max_residual}};
+}
+
 }  // namespace
 
 RunFigures compute_figures(const RunRecord& record) {
@@ -100,6 +117,7 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["failed_step"] =
       record.failed_step ? nlohmann::json(*record.failed_step) : nlohmann::json(nullptr);
   json["stability_checks"] = record.stability_checks;
+  json["solver"] = solver_json(record.solver);
   json["threads"] = record.threads;
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},
@@ -134,6 +152,15 @@ std::string human_summary(const RunRecord& record) {
       "  per step: internal forces %.4g ms, external forces %.4g ms, integrate %.4g ms; "
       "%.3g springs/s\n",
       figures.internal_ms, figures.external_ms, figures.integrate_ms, figures.springs_per_second);
+  if (record.solver)
+    text += printf_text(
+        "  solver: %.4g iterations/step (max %llu), %llu factorisations, %llu steps missed "
+        "the tolerance\n",
+        static_cast<double>(record.solver->iterations) /
+            static_cast<double>(std::max<uint64_t>(record.solver->steps, 1)),
+        static_cast<unsigned long long>(record.solver->max_iterations),
+        static_cast<unsigned long long>(record.solver->factorizations),
+        static_cast<unsigned long long>(record.solver->non_converged_steps));
   text += "  verdict: " + record.verdict + "\n";
   return text;
 }

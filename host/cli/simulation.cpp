@@ -63,6 +63,17 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+void SolverTotals::add(uint64_t step, const clothlab_solver_step_statistics& statistics) {
+  ++steps;
+  iterations += statistics.iterations;
+  max_iterations = std::max(max_iterations, statistics.iterations);
+  factorizations += statistics.factorizations;
+  max_residual = std::max(max_residual, statistics.residual);
+  if (statistics.converged) return;
+  ++non_converged_steps;
+  if (!first_non_converged_step) first_non_converged_step = step;
+}
+
 Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& search_path)
     : config_(config),
       integrator_library_(host::PluginLibrary::find(config.integrator, search_path)),
@@ -170,6 +181,10 @@ RunRecord Simulation::run() {
     record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
     record.steps_taken = step;
     if (!record.stable) break;
+    if (const auto statistics = integrator_instance_->last_step_statistics()) {
+      if (!record.solver) record.solver.emplace();
+      record.solver->add(step, *statistics);
+    }
     const double t_end = static_cast<double>(step) * config_.dt;
     const analysis::Verdict& verdict = step == config_.steps
                                            ? monitor.check(*cloth_, step, t_end)
@@ -188,6 +203,11 @@ RunRecord Simulation::run() {
   if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
+  if (record.solver && record.solver->non_converged_steps > 0)
+    record.verdict += "; the solver missed its tolerance in " +
+                      std::to_string(record.solver->non_converged_steps) + " of " +
+                      std::to_string(record.solver->steps) + " steps (first at step " +
+                      std::to_string(*record.solver->first_non_converged_step) + ")";
   record.counters = cloth_->counters();
   return record;
 }

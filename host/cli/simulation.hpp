@@ -14,6 +14,20 @@
 
 namespace clothlab::cli {
 
+// What an iterative or factorising integrator reported over a run
+// (clothlab.solver-statistics/1), step by step.
+struct SolverTotals {
+  uint64_t steps = 0;  // steps reported
+  uint64_t iterations = 0;
+  uint64_t max_iterations = 0;  // in one step
+  uint64_t factorizations = 0;
+  uint64_t non_converged_steps = 0;  // steps whose solve missed its tolerance
+  std::optional<uint64_t> first_non_converged_step;
+  double max_residual = 0;  // relative, over all steps
+
+  void add(uint64_t step, const clothlab_solver_step_statistics& statistics);
+};
+
 // What a run measured; the raw material of the summary.
 struct RunRecord {
   std::string integrator, scenario;  // component ids
@@ -40,6 +54,7 @@ struct RunRecord {
   // at the monitor's checks.
   Cloth::Stretch final_stretch;
   double max_stretch_over_run = 1.0;
+  std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
   nlohmann::json integrator_params, scenario_params;
 };
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +162,61 @@ TEST_F(Clothlab, ValuesThePluginRejectsAreBadInput) {
       run("--scenario=flag --set scenario.wind.direction=[0,0,0] --set scenario.wind.strength=5");
   EXPECT_EQ(outcome.exit_code, 1);
   EXPECT_NE(outcome.err.find("wind.direction"), std::string::npos) << outcome.err;
+}
+
+TEST_F(Clothlab, SolverStatisticsOfAnImplicitIntegratorReachTheJson) {
+  for (const std::string integrator : {"implicit_euler", "projective_dynamics", "rk4"}) {
+    const Outcome outcome = run("--integrator=" + integrator + " " + small_sheet +
+                                "--dt 0.01 --steps 20 --quiet --json s.json");
+    ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    const auto json = nlohmann::json::parse(read_text(file("s.json")));
+    if (integrator == "rk4") {
+      EXPECT_TRUE(json["solver"].is_null());  // an explicit method has no solver
+      continue;
+    }
+    const auto& solver = json["solver"];
+    EXPECT_EQ(solver["steps"], 20) << integrator;
+    EXPECT_EQ(solver["non_converged_steps"], 0) << integrator;
+    EXPECT_TRUE(solver["first_non_converged_step"].is_null()) << integrator;
+    EXPECT_GE(solver["iterations_per_step"]["mean"].get<double>(), 1.0) << integrator;
+    // Matrix-free CG factors nothing; projective dynamics factors once for its one dt.
+    EXPECT_EQ(solver["factorizations"], integrator == "implicit_euler" ? 0 : 1);
+    EXPECT_EQ(json["verdict"].get<std::string>().find("missed"), std::string::npos);
+  }
+}
+
+TEST_F(Clothlab, ASolveThatMissesItsToleranceIsCountedWithItsStep) {
+  const Outcome outcome =
+      run(std::string("--integrator=implicit_euler ") + small_sheet +
+          "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14 --dt 0.01 "
+          "--steps 20 --quiet --json s.json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("s.json")));
+  EXPECT_EQ(json["solver"]["non_converged_steps"], 20);
+  EXPECT_EQ(json["solver"]["first_non_converged_step"], 1);
+  EXPECT_EQ(json["solver"]["iterations_per_step"]["max"], 1);
+  EXPECT_GT(json["solver"]["max_residual"].get<double>(), 1e-14);
+  EXPECT_NE(json["verdict"].get<std::string>().find(
+                "the solver missed its tolerance in 20 of 20 steps (first at step 1)"),
+            std::string::npos)
+      << json["verdict"];
+}
+
+TEST_F(Clothlab, SolverParameterOutOfRangeIsOneLineOfBadInput) {
+  for (const char* setting :
+       {"integrator.max_iterations=0", "integrator.tolerance=2", "integrator.newton_steps=51"}) {
+    const Outcome outcome = run(std::string("--integrator=implicit_euler ") + small_sheet +
+                                "--steps 1 --set " + setting);
+    EXPECT_EQ(outcome.exit_code, 1) << setting;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+    EXPECT_NE(outcome.err.find(std::string(setting).substr(0, std::string(setting).find('='))),
+              std::string::npos)
+        << outcome.err;
+  }
+  const Outcome outcome = run(std::string("--integrator=projective_dynamics ") + small_sheet +
+                              "--steps 1 --set integrator.iterations=0");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_NE(outcome.err.find("integrator.iterations = 0"), std::string::npos) << outcome.err;
 }
 
 TEST_F(Clothlab, MissingOutputFolderIsReportedBeforeTheRun) {

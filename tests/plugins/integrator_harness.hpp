@@ -18,6 +18,8 @@ inline std::string integrator_path(const std::string& id) {
   if (id == "midpoint") return CLOTHLAB_TEST_MIDPOINT_PLUGIN;
   if (id == "rk4") return CLOTHLAB_TEST_RK4_PLUGIN;
   if (id == "verlet") return CLOTHLAB_TEST_VERLET_PLUGIN;
+  if (id == "implicit_euler") return CLOTHLAB_TEST_IMPLICIT_EULER_PLUGIN;
+  if (id == "projective_dynamics") return CLOTHLAB_TEST_PROJECTIVE_DYNAMICS_PLUGIN;
   throw std::runtime_error("no integrator plugin " + id);
 }
 
@@ -75,6 +77,7 @@ class Integrator {
   }
 
   std::string message() const { return message_.text; }
+  void* instance() const { return instance_; }
 
  private:
   PluginLibrary library_;

@@ -65,7 +65,8 @@ class MockSystem {
             &MockSystem::alloc,
             &MockSystem::eval_at,
             &MockSystem::reserve_rkn,
-            &MockSystem::step_rkn};
+            &MockSystem::step_rkn,
+            &MockSystem::get_extension};
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;
@@ -79,6 +80,11 @@ class MockSystem {
   void set_velocity(uint32_t i, Vec3 p) { set(v_, i, p); }
   Vec3 position(uint32_t i) const { return get(x_, i); }
   Vec3 velocity(uint32_t i) const { return get(v_, i); }
+
+  // Host extensions a test offers (by clothlab/ext/ id; none by default). Their functions
+  // receive this system as context and reach their own data through extension_data.
+  std::function<const void*(const char* id)> extensions;
+  void* extension_data = nullptr;
 
   bool allocation_allowed = false;
   int evaluations = 0;
@@ -213,6 +219,11 @@ class MockSystem {
     const MockSystem& s = self(context);
     for (size_t j = 0; j < 3 * size_t{s.stride_}; ++j)
       static_cast<Real*>(dst)[j] = static_cast<const Real*>(src)[j];
+  }
+
+  static const void* get_extension(void* context, const char* id) {
+    const MockSystem& s = self(context);
+    return s.extensions && id != nullptr ? s.extensions(id) : nullptr;
   }
 
   static void* alloc(void* context) {

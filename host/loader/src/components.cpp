@@ -68,7 +68,12 @@ void PluginObject::release() noexcept {
 
 IntegratorInstance::IntegratorInstance(const clothlab_integrator& descriptor, std::string label,
                                        PluginObject object)
-    : descriptor_(&descriptor), label_(std::move(label)), object_(std::move(object)) {}
+    : descriptor_(&descriptor), label_(std::move(label)), object_(std::move(object)) {
+  if (CLOTHLAB_HAS_FIELD(descriptor_, clothlab_integrator, get_extension) &&
+      descriptor_->get_extension != nullptr)
+    statistics_ = static_cast<const clothlab_solver_statistics_extension*>(
+        descriptor_->get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
+}
 
 void IntegratorInstance::prepare(const clothlab_system& system) {
   clothlab_message message{};
@@ -78,6 +83,16 @@ void IntegratorInstance::prepare(const clothlab_system& system) {
 void IntegratorInstance::step(const clothlab_system& system, double t, double dt) {
   clothlab_message message{};
   check(descriptor_->step(object_.get(), &system, t, dt, &message), message, label_, "step");
+}
+
+std::optional<clothlab_solver_step_statistics> IntegratorInstance::last_step_statistics() const {
+  if (statistics_ == nullptr || statistics_->last_step == nullptr) return std::nullopt;
+  clothlab_solver_step_statistics statistics{};
+  statistics.struct_size = sizeof statistics;
+  const clothlab_status status = statistics_->last_step(object_.get(), &statistics);
+  if (status != CLOTHLAB_OK)
+    throw PluginError(status, label_ + " solver statistics failed (" + status_name(status) + ")");
+  return statistics;
 }
 
 IntegratorPlugin::IntegratorPlugin(std::shared_ptr<const LibraryHandle> library,

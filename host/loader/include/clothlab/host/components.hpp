@@ -2,10 +2,12 @@
 // shares ownership of its library, so the code stays loaded while any of them lives.
 #pragma once
 
+#include <clothlab/ext/solver_statistics.h>
 #include <clothlab/plugin.h>
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -53,8 +55,14 @@ class IntegratorInstance {
   void prepare(const clothlab_system& system);
   void step(const clothlab_system& system, double t, double dt);
 
+  // The last step's solver figures when the integrator offers
+  // clothlab.solver-statistics/1 (iterative and factorising integrators), else nullopt.
+  // Throws PluginError if the plugin fails to report.
+  std::optional<clothlab_solver_step_statistics> last_step_statistics() const;
+
  private:
   const clothlab_integrator* descriptor_;
+  const clothlab_solver_statistics_extension* statistics_ = nullptr;
   std::string label_;
   PluginObject object_;
 };

@@ -1,0 +1,309 @@
+// implicit_euler and projective_dynamics on small spring networks (spring_host.hpp):
+// against the analytic backward-Euler step of a linear chain, by measured order, against
+// each other (converged projective dynamics = backward Euler on the same springs), and for
+// what they report through clothlab.solver-statistics/1.
+#include <clothlab/ext/integrator_traits.h>
+#include <clothlab/ext/solver_statistics.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "integrator_harness.hpp"
+#include "spring_host.hpp"
+
+namespace clothlab::test {
+namespace {
+
+clothlab_solver_step_statistics last_step(const Integrator& integrator) {
+  const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
+      integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
+  clothlab_solver_step_statistics out{};
+  out.struct_size = sizeof out;
+  if (extension == nullptr) {
+    ADD_FAILURE() << integrator.descriptor().id << " offers no solver statistics";
+    return out;
+  }
+  EXPECT_EQ(extension->last_step(integrator.instance(), &out), CLOTHLAB_OK);
+  return out;
+}
+
+// A chain along x: particle 0 pinned at the origin, the others at rest spacing 0.1 m.
+std::vector<TestSpring> axial_chain_springs() {
+  return {{0, 1, 0.1, 50.0, 0.5}, {1, 2, 0.1, 80.0, 0.2}, {2, 3, 0.1, 30.0, 0.4}};
+}
+
+// Backward Euler on the chain's linear ODE u'' = -K u - D u' (u: displacements along x,
+// masses 1): (I + h D + h^2 K) v1 = v0 - h K u0, u1 = u0 + h v1.
+void analytic_backward_euler(Eigen::Vector3d& u, Eigen::Vector3d& v, double h) {
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero(), damping = Eigen::Matrix3d::Zero();
+  for (const TestSpring& s : axial_chain_springs()) {
+    const int a = static_cast<int>(s.first) - 1, b = static_cast<int>(s.second) - 1;
+    for (auto [matrix, k] : {std::pair{&stiffness, s.ks}, std::pair{&damping, s.kd}}) {
+      (*matrix)(b, b) += k;
+      if (a >= 0) (*matrix)(a, a) += k, (*matrix)(a, b) -= k, (*matrix)(b, a) -= k;
+    }
+  }
+  const Eigen::Matrix3d system = Eigen::Matrix3d::Identity() + h * damping + h * h * stiffness;
+  v = system.partialPivLu().solve(v - h * stiffness * u);
+  u += h * v;
+}
+
+TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
+  SpringHost<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
+  MockSystem<double>& system = network.system();
+  Eigen::Vector3d u{0.02, -0.01, 0.03}, v{0.5, 0.0, -0.4};
+  for (uint32_t i = 0; i < 4; ++i) {
+    system.set_position(i, {0.1 * i + (i > 0 ? u[i - 1] : 0.0), 0, 0});
+    system.set_velocity(i, {i > 0 ? v[i - 1] : 0.0, 0, 0});
+  }
+  Integrator integrator("implicit_euler");
+  integrator.with("tolerance", 1e-13);
+  integrator.start(system);
+  const double h = 0.02;
+  for (int step = 0; step < 25; ++step) {
+    ASSERT_EQ(integrator.step(system, step * h, h), CLOTHLAB_OK) << integrator.message();
+    analytic_backward_euler(u, v, h);
+  }
+  for (uint32_t i = 1; i < 4; ++i) {
+    EXPECT_NEAR(system.position(i)[0], 0.1 * i + u[i - 1], 1e-11) << "particle " << i;
+    EXPECT_NEAR(system.velocity(i)[0], v[i - 1], 1e-10) << "particle " << i;
+    EXPECT_EQ(system.position(i)[1], 0.0);
+    EXPECT_EQ(system.position(i)[2], 0.0);
+  }
+  EXPECT_EQ(system.position(0), (Vec3{0, 0, 0}));  // pinned: untouched
+}
+
+// Three particles hanging in a triangle from particle 0: nonlinear springs and gravity.
+struct Pendulum {
+  static std::vector<TestSpring> springs() {
+    return {{0, 1, 0.3, 40.0, 0.05}, {1, 2, 0.25, 60.0, 0.05}, {0, 2, 0.4, 30.0, 0.05}};
+  }
+  template <class Real>
+  static void place(SpringHost<Real>& network) {
+    MockSystem<Real>& system = network.system();
+    system.set_position(0, {0, 0, 0});
+    system.set_position(1, {0.25, -0.2, 0.05});
+    system.set_position(2, {0.1, -0.45, -0.1});
+    system.set_velocity(1, {0.3, 0.1, 0.0});
+    system.set_velocity(2, {-0.2, 0.0, 0.4});
+  }
+};
+
+std::vector<Vec3> run_pendulum(const std::string& id, double h, int steps,
+                               std::vector<std::pair<std::string, double>> params = {},
+                               std::vector<TestSpring> springs = Pendulum::springs()) {
+  SpringHost<double> network(3, {0}, std::move(springs), {0, -9.81, 0});
+  Pendulum::place(network);
+  Integrator integrator(id);
+  for (const auto& [name, value] : params) integrator.with(name, value);
+  integrator.start(network.system());
+  integrator.run(network.system(), steps, h);
+  return {network.system().position(1), network.system().position(2), network.system().velocity(1)};
+}
+
+double distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double largest = 0;
+  for (size_t p = 0; p < a.size(); ++p)
+    for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[p][k] - b[p][k]));
+  return largest;
+}
+
+TEST(ImplicitEuler, IsFirstOrderOnANonlinearNetwork) {
+  const double duration = 0.4;
+  const std::vector<Vec3> reference = run_pendulum("rk4", duration / 4000, 4000);
+  std::vector<double> errors;
+  for (int steps : {40, 80, 160})
+    errors.push_back(
+        distance(run_pendulum("implicit_euler", duration / steps, steps, {{"tolerance", 1e-12}}),
+                 reference));
+  for (size_t k = 1; k < errors.size(); ++k) {
+    const double order = std::log2(errors[k - 1] / errors[k]);
+    EXPECT_NEAR(order, 1.0, 0.15) << "errors " << errors[k - 1] << " -> " << errors[k];
+  }
+}
+
+// |v1 - v0 - h a(x1, v1)| after one step: how far the step is from backward Euler proper.
+double backward_euler_residual(int newton_steps, double h) {
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  Pendulum::place(network);
+  MockSystem<double>& system = network.system();
+  const Vec3 v1_start = system.velocity(1), v2_start = system.velocity(2);
+  Integrator integrator("implicit_euler");
+  integrator.with("tolerance", 1e-14).with("newton_steps", newton_steps);
+  integrator.start(system);
+  EXPECT_EQ(integrator.step(system, 0.0, h), CLOTHLAB_OK) << integrator.message();
+  std::vector<double> a(3 * system.stride());
+  EXPECT_EQ(
+      system.raw().eval_acceleration(system.raw().context, h, system.x(), system.v(), a.data()),
+      CLOTHLAB_OK);
+  double residual = 0;
+  for (auto [i, start] : {std::pair{1u, v1_start}, std::pair{2u, v2_start}})
+    for (int k = 0; k < 3; ++k)
+      residual = std::max(
+          residual, std::abs(system.velocity(i)[k] - start[k] - h * a[k * system.stride() + i]));
+  return residual;
+}
+
+TEST(ImplicitEuler, NewtonStepsConvergeToBackwardEuler) {
+  const double h = 0.05;
+  const double one = backward_euler_residual(1, h), two = backward_euler_residual(2, h),
+               six = backward_euler_residual(6, h);
+  EXPECT_GT(one, 1e-4);  // the linearised step is not backward Euler on nonlinear springs
+  EXPECT_LT(two, one / 10);
+  EXPECT_LT(six, 1e-10);
+}
+
+TEST(ImplicitEuler, DeclaresItsTraits) {
+  const Integrator integrator("implicit_euler");
+  EXPECT_STREQ(integrator.descriptor().id, "implicit_euler");
+  EXPECT_EQ(integrator.descriptor().order, 1u);
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  ASSERT_NE(traits, nullptr);
+  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE);
+  EXPECT_STREQ(traits->iterations_param, "max_iterations");
+  EXPECT_EQ(integrator.descriptor().get_extension("clothlab.solver-statistics/2"), nullptr);
+}
+
+TEST(ImplicitEuler, ReportsCgIterationsAndAStepThatMissesItsTolerance) {
+  for (bool starved : {false, true}) {
+    SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    Pendulum::place(network);
+    Integrator integrator("implicit_euler");
+    if (starved) integrator.with("max_iterations", 1).with("tolerance", 1e-14);
+    integrator.start(network.system());
+    const int products_before = network.jacobian_products;
+    ASSERT_EQ(integrator.step(network.system(), 0.0, 0.05), CLOTHLAB_OK) << integrator.message();
+    const clothlab_solver_step_statistics stats = last_step(integrator);
+    // One product for the right-hand side, one per CG iteration.
+    EXPECT_EQ(static_cast<uint64_t>(network.jacobian_products - products_before),
+              1 + stats.iterations);
+    EXPECT_EQ(stats.factorizations, 0u);
+    if (starved) {
+      EXPECT_EQ(stats.converged, 0u);
+      EXPECT_EQ(stats.iterations, 1u);
+      EXPECT_GT(stats.residual, 1e-14);
+    } else {
+      EXPECT_EQ(stats.converged, 1u);
+      EXPECT_GE(stats.iterations, 2u);
+      EXPECT_LE(stats.residual, 1e-5);
+    }
+  }
+}
+
+// A chain folded to half its rest lengths: compressed springs' transverse stiffness makes
+// the exact Newton matrix indefinite at a large h^2 ks / m, and CG breaks down; with it
+// dropped (definite_springs, the default) the solve converges.
+TEST(ImplicitEuler, DefiniteSpringsKeepCgConvergingOnACompressedCloth) {
+  for (bool definite : {false, true}) {
+    std::vector<TestSpring> springs;
+    for (uint32_t i = 0; i + 1 < 6; ++i) springs.push_back({i, i + 1, 0.2, 400.0, 0.01});
+    SpringHost<double> host(6, {0}, springs, {0, -9.81, 0});
+    for (uint32_t i = 0; i < 6; ++i)
+      host.system().set_position(i, {0.1 * i, 0.01 * (i % 2), 0.02 * (i % 3)});
+    Integrator integrator("implicit_euler");
+    integrator.with("definite_springs", definite ? 1.0 : 0.0).with("max_iterations", 200);
+    integrator.start(host.system());
+    ASSERT_EQ(integrator.step(host.system(), 0.0, 0.05), CLOTHLAB_OK) << integrator.message();
+    EXPECT_EQ(last_step(integrator).converged, definite ? 1u : 0u) << "definite " << definite;
+  }
+}
+
+TEST(ImplicitEuler, RefusesAHostWithoutTheJacobian) {
+  MockSystem<double> system(2, {0}, [](double, uint32_t, const double*, const double*, uint32_t) {
+    return Vec3{0, 0, 0};
+  });
+  Integrator integrator("implicit_euler");
+  ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
+  EXPECT_EQ(integrator.prepare(system), CLOTHLAB_ERROR_UNSUPPORTED);
+  EXPECT_NE(integrator.message().find(CLOTHLAB_EXT_JACOBIAN), std::string::npos)
+      << integrator.message();
+}
+
+// Springs without damping: projective dynamics damps isotropically, implicit Euler along
+// the spring, so they agree only where there is no damping.
+std::vector<TestSpring> undamped_pendulum() {
+  std::vector<TestSpring> springs = Pendulum::springs();
+  for (TestSpring& s : springs) s.kd = 0.0;
+  return springs;
+}
+
+TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
+  const double h = 0.01;
+  const int steps = 5;
+  const std::vector<Vec3> backward_euler = run_pendulum(
+      "implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}}, undamped_pendulum());
+  double previous = INFINITY;
+  for (int iterations : {1, 2, 4, 8, 64}) {
+    const double difference =
+        distance(run_pendulum("projective_dynamics", h, steps, {{"iterations", iterations}},
+                              undamped_pendulum()),
+                 backward_euler);
+    // Each iteration shrinks the gap until it reaches rounding (1e-14 here).
+    if (iterations == 1) {
+      EXPECT_GT(difference, 1e-6);  // one iteration is far from converged
+    }
+    if (previous > 1e-12) {
+      EXPECT_LT(difference, previous / 2) << iterations << " iterations";
+    }
+    previous = difference;
+  }
+  EXPECT_LT(previous, 1e-12);
+}
+
+TEST(ProjectiveDynamics, FactorsOnceAndAgainOnlyWhenTheStepSizeChanges) {
+  SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+  Pendulum::place(network);
+  Integrator integrator("projective_dynamics");
+  integrator.start(network.system());
+  const struct {
+    double h;
+    uint64_t factorizations;
+  } schedule[] = {{0.01, 1}, {0.01, 0}, {0.01, 0}, {0.02, 1}, {0.02, 0}, {0.01, 1}};
+  double t = 0;
+  for (const auto& [h, factorizations] : schedule) {
+    ASSERT_EQ(integrator.step(network.system(), t, h), CLOTHLAB_OK) << integrator.message();
+    EXPECT_EQ(last_step(integrator).factorizations, factorizations) << "t = " << t;
+    EXPECT_EQ(last_step(integrator).iterations, 10u);
+    t += h;
+  }
+  // A new binding (stiffness or pins may differ) starts over.
+  ASSERT_EQ(integrator.prepare(network.system()), CLOTHLAB_OK) << integrator.message();
+  ASSERT_EQ(integrator.step(network.system(), t, 0.01), CLOTHLAB_OK);
+  EXPECT_EQ(last_step(integrator).factorizations, 1u);
+}
+
+TEST(ProjectiveDynamics, DeclaresItsTraits) {
+  const Integrator integrator("projective_dynamics");
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  ASSERT_NE(traits, nullptr);
+  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE);
+  EXPECT_STREQ(traits->iterations_param, "iterations");
+}
+
+// Float32 systems: the same step as in double, to float precision.
+TEST(ImplicitIntegrators, Float32StepsFollowFloat64) {
+  for (const std::string id : {"implicit_euler", "projective_dynamics"}) {
+    SpringHost<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    SpringHost<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
+    Pendulum::place(single);
+    Pendulum::place(reference);
+    Integrator a(id), b(id);
+    a.start(single.system());
+    b.start(reference.system());
+    a.run(single.system(), 20, 0.01);
+    b.run(reference.system(), 20, 0.01);
+    for (uint32_t i = 1; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(single.system().position(i)[k], reference.system().position(i)[k], 1e-4)
+            << id << " particle " << i;
+  }
+}
+
+}  // namespace
+}  // namespace clothlab::test

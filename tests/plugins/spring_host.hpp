@@ -1,0 +1,283 @@
+// A small spring network as a MockSystem that offers the host extensions implicit and
+// projective integrators need: topology, jacobian (matrix-free products and diagonal
+// blocks), reductions and external forces, written here from the same force law as its
+// eval_acceleration (Hooke + damping along each spring, gravity; every mass 1 kg), so the
+// plugins can be tested against analytic solutions without the core.
+#pragma once
+
+#include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/reductions.h>
+#include <clothlab/ext/topology.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "mock_system.hpp"
+
+namespace clothlab::test {
+
+struct TestSpring {
+  uint32_t first, second;  // first < second
+  double rest_length, ks, kd;
+};
+
+template <class Real>
+class SpringHost {
+ public:
+  SpringHost(uint32_t particle_count, std::vector<uint32_t> pinned, std::vector<TestSpring> springs,
+             Vec3 gravity)
+      : springs_(std::move(springs)),
+        gravity_(gravity),
+        system_(particle_count, std::move(pinned),
+                [this](double, uint32_t i, const Real* x, const Real* v, uint32_t stride) {
+                  return acceleration_of(i, x, v, stride);
+                }) {
+    system_.extension_data = this;
+    system_.extensions = [](const char* id) -> const void* {
+      if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+      return nullptr;
+    };
+    build_topology(particle_count);
+  }
+  SpringHost(const SpringHost&) = delete;
+  SpringHost& operator=(const SpringHost&) = delete;
+
+  MockSystem<Real>& system() { return system_; }
+  int jacobian_products = 0;
+
+  // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0).
+  void jacobian_product(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+                        Real* out) const {
+    const uint32_t stride = system_.stride();
+    std::vector<double> sum(3 * size_t{stride}, 0.0);
+    for (const TestSpring& s : springs_) {
+      const Block b = spring_block(s, x, v, c_x, c_v);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          const double du = value(u, s.first, c) - value(u, s.second, c);
+          sum[r * stride + s.first] += b[3 * r + c] * du;
+          sum[r * stride + s.second] -= b[3 * r + c] * du;
+        }
+    }
+    for (size_t j = 0; j < sum.size(); ++j) out[j] = 0;
+    for_active([&](uint32_t i) {
+      for (int k = 0; k < 3; ++k) out[k * stride + i] = static_cast<Real>(sum[k * stride + i]);
+    });
+  }
+
+ private:
+  using Block = std::array<double, 9>;
+
+  static SpringHost& self(void* context) {
+    return *static_cast<SpringHost*>(static_cast<MockSystem<Real>*>(context)->extension_data);
+  }
+
+  double value(const Real* vector, uint32_t i, int k) const {
+    return vector[k * system_.stride() + i];
+  }
+  bool active(uint32_t i) const { return mass_inverse(i) != 0; }
+  double mass_inverse(uint32_t i) const {
+    return static_cast<const Real*>(system_.raw().inverse_mass)[i];
+  }
+  template <class Body>
+  void for_active(Body&& body) const {
+    for (uint32_t r = 0; r < system_.raw().active_count; ++r)
+      for (uint32_t i = system_.raw().active[r].begin; i < system_.raw().active[r].end; ++i)
+        body(i);
+  }
+
+  Vec3 acceleration_of(uint32_t i, const Real* x, const Real* v, uint32_t stride) const {
+    (void)stride;
+    Vec3 a = gravity_;
+    for (const TestSpring& s : springs_) {
+      if (s.first != i && s.second != i) continue;
+      const uint32_t other = s.first == i ? s.second : s.first;
+      Vec3 d{}, w{};
+      for (int k = 0; k < 3; ++k) {
+        d[k] = value(x, i, k) - value(x, other, k);
+        w[k] = v == nullptr ? 0.0 : value(v, i, k) - value(v, other, k);
+      }
+      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const double along = (d[0] * w[0] + d[1] * w[1] + d[2] * w[2]) / length;
+      for (int k = 0; k < 3; ++k)
+        a[k] += -s.ks * (length - s.rest_length) * d[k] / length - s.kd * along * d[k] / length;
+    }
+    return a;
+  }
+
+  // d f_first / d x_first (times c_x) + d f_first / d v_first (times c_v): Hooke
+  // -ks ((1 - l0/l) I + (l0/l) n n^T), damping -kd n n^T in v and, in x, the turning of n:
+  // -kd (n w^T + (n.w) I) (I - n n^T) / l, w = v_first - v_second.
+  Block spring_block(const TestSpring& s, const Real* x, const Real* v, double c_x,
+                     double c_v) const {
+    Vec3 d{}, w{};
+    for (int k = 0; k < 3; ++k) {
+      d[k] = value(x, s.first, k) - value(x, s.second, k);
+      w[k] = v == nullptr ? 0.0 : value(v, s.first, k) - value(v, s.second, k);
+    }
+    const double l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const Vec3 n{d[0] / l, d[1] / l, d[2] / l};
+    const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+    const double kd = v == nullptr ? 0.0 : s.kd;
+    Block b{};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        const double identity = r == c ? 1.0 : 0.0;
+        const double hooke =
+            -s.ks * ((1 - s.rest_length / l) * identity + s.rest_length / l * n[r] * n[c]);
+        double turning = 0.0;
+        for (int m = 0; m < 3; ++m)
+          turning +=
+              (n[r] * w[m] + nw * (r == m ? 1.0 : 0.0)) * ((m == c ? 1.0 : 0.0) - n[m] * n[c]) / l;
+        b[3 * r + c] = c_x * (hooke - kd * turning) + c_v * (-kd * n[r] * n[c]);
+      }
+    return b;
+  }
+
+  void build_topology(uint32_t n) {
+    for (const TestSpring& s : springs_) {
+      first_.push_back(s.first);
+      second_.push_back(s.second);
+      rest_.push_back(s.rest_length);
+      ks_.push_back(s.ks);
+      kd_.push_back(s.kd);
+      family_.push_back(CLOTHLAB_SPRING_STRUCTURAL);
+    }
+    offsets_.assign(n + 1, 0);
+    for (const TestSpring& s : springs_) ++offsets_[s.first + 1], ++offsets_[s.second + 1];
+    for (uint32_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+    adjacent_.resize(offsets_[n]);
+    std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (uint32_t k = 0; k < springs_.size(); ++k) {
+      adjacent_[fill[springs_[k].first]++] = k;
+      adjacent_[fill[springs_[k].second]++] = k;
+    }
+    // Trivial colourings: one spring, one particle per colour.
+    for (uint32_t k = 0; k <= springs_.size(); ++k) spring_color_offsets_.push_back(k);
+    for (uint32_t k = 0; k < springs_.size(); ++k) spring_colors_.push_back(k);
+    for (uint32_t i = 0; i <= n; ++i) particle_color_offsets_.push_back(i);
+    for (uint32_t i = 0; i < n; ++i) particle_colors_.push_back(i);
+  }
+
+  static clothlab_status get_topology(void* context, clothlab_topology* out) {
+    const SpringHost& s = self(context);
+    const auto springs = static_cast<uint32_t>(s.springs_.size());
+    const uint32_t n = s.system_.raw().particle_count;
+    *out = {sizeof(clothlab_topology),
+            n,
+            springs,
+            0,
+            s.first_.data(),
+            s.second_.data(),
+            s.rest_.data(),
+            s.ks_.data(),
+            s.kd_.data(),
+            s.family_.data(),
+            nullptr,
+            s.offsets_.data(),
+            s.adjacent_.data(),
+            springs,
+            0,
+            s.spring_color_offsets_.data(),
+            s.spring_colors_.data(),
+            n,
+            0,
+            s.particle_color_offsets_.data(),
+            s.particle_colors_.data()};
+    return CLOTHLAB_OK;
+  }
+
+  static clothlab_status reserve(void*) { return CLOTHLAB_OK; }
+  static clothlab_status apply(void* context, double, const void* x, const void* v, double c_x,
+                               double c_v, const void* u, void* out) {
+    SpringHost& s = self(context);
+    ++s.jacobian_products;
+    s.jacobian_product(static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
+                       static_cast<const Real*>(u), static_cast<Real*>(out));
+    return CLOTHLAB_OK;
+  }
+  static clothlab_status diagonal_blocks(void* context, double, const void* x, const void* v,
+                                         double c_x, double c_v, double* out) {
+    const SpringHost& s = self(context);
+    const uint32_t n = s.system_.raw().particle_count;
+    std::fill(out, out + 9 * size_t{n}, 0.0);
+    for (const TestSpring& spring : s.springs_) {
+      const Block b = s.spring_block(spring, static_cast<const Real*>(x),
+                                     static_cast<const Real*>(v), c_x, c_v);
+      for (uint32_t end : {spring.first, spring.second})
+        if (s.active(end))
+          for (int k = 0; k < 9; ++k) out[9 * size_t{end} + k] += b[k];
+    }
+    return CLOTHLAB_OK;
+  }
+  static clothlab_status no_pattern(void*, clothlab_block_pattern*) {
+    return CLOTHLAB_ERROR_UNSUPPORTED;
+  }
+  static clothlab_status no_blocks(void*, double, const void*, const void*, double, double,
+                                   double*) {
+    return CLOTHLAB_ERROR_UNSUPPORTED;
+  }
+
+  static double dot(void* context, const void* a, const void* b) {
+    return self(context).weighted_dot(a, b, false);
+  }
+  static double mass_dot(void* context, const void* a, const void* b) {
+    return self(context).weighted_dot(a, b, true);
+  }
+  double weighted_dot(const void* a, const void* b, bool by_mass) const {
+    double sum = 0;
+    for_active([&](uint32_t i) {
+      const double weight = by_mass ? 1.0 / mass_inverse(i) : 1.0;
+      for (int k = 0; k < 3; ++k)
+        sum += weight * value(static_cast<const Real*>(a), i, k) *
+               value(static_cast<const Real*>(b), i, k);
+    });
+    return sum;
+  }
+  static double max_abs(void* context, const void* a) {
+    const SpringHost& s = self(context);
+    double largest = 0;
+    s.for_active([&](uint32_t i) {
+      for (int k = 0; k < 3; ++k)
+        largest = std::max(largest, std::abs(s.value(static_cast<const Real*>(a), i, k)));
+    });
+    return largest;
+  }
+
+  static clothlab_status external_acceleration(void* context, double, const void*, void* a) {
+    const SpringHost& s = self(context);
+    Real* out = static_cast<Real*>(a);
+    const uint32_t stride = s.system_.stride();
+    std::fill(out, out + 3 * size_t{stride}, Real(0));
+    s.for_active([&](uint32_t i) {
+      for (int k = 0; k < 3; ++k) out[k * stride + i] = static_cast<Real>(s.gravity_[k]);
+    });
+    return CLOTHLAB_OK;
+  }
+  static int32_t constant_external(void*) { return 0; }
+
+  static constexpr clothlab_topology_extension topology_table{&get_topology};
+  static constexpr clothlab_jacobian_extension jacobian_table{&reserve, &apply, &diagonal_blocks,
+                                                              &no_pattern, &no_blocks};
+  static constexpr clothlab_reductions_extension reductions_table{&dot, &mass_dot, &max_abs};
+  static constexpr clothlab_external_forces_extension external_table{&external_acceleration,
+                                                                     &constant_external};
+
+  std::vector<TestSpring> springs_;
+  Vec3 gravity_;
+  std::vector<uint32_t> first_, second_, offsets_, adjacent_;
+  std::vector<uint32_t> spring_color_offsets_, spring_colors_, particle_color_offsets_,
+      particle_colors_;
+  std::vector<double> rest_, ks_, kd_;
+  std::vector<uint8_t> family_;
+  MockSystem<Real> system_;
+};
+
+}  // namespace clothlab::test
