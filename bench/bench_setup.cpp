@@ -22,18 +22,27 @@ Scene make_scene(const std::string& id, const ParamTexts& params) {
 ParamTexts bench_cloth_params(int side) {
   const double size_m = 6.0 * side / 300.0;  // 2 cm spacing at 300 x 300
   const double mass_kg = 0.6 * size_m * size_m;
-  return {{"rows", std::to_string(side)},        {"cols", std::to_string(side)},
-          {"width", std::to_string(size_m)},     {"height", std::to_string(size_m)},
-          {"mass", std::to_string(mass_kg)},     {"gravity", "[0, -1.62, 0]"}};
+  return {{"rows", std::to_string(side)},    {"cols", std::to_string(side)},
+          {"width", std::to_string(size_m)}, {"height", std::to_string(size_m)},
+          {"mass", std::to_string(mass_kg)}, {"gravity", "[0, -1.62, 0]"}};
 }
 
 bool integrator_uses_velocity_forces(const std::string& id) {
   return find_plugin(id).integrator().uses_velocity_forces();
 }
 
-BoundIntegrator::BoundIntegrator(const std::string& id, const Cloth& cloth)
+namespace {
+host::ParamSet integrator_values(const host::PluginLibrary& library, const ParamTexts& params) {
+  host::ParamSet values = library.integrator().default_params();
+  for (const auto& [key, text] : params) values.set(key, text, "bench");
+  return values;
+}
+}  // namespace
+
+BoundIntegrator::BoundIntegrator(const std::string& id, const Cloth& cloth,
+                                 const ParamTexts& params)
     : library_(find_plugin(id)),
-      instance_(library_.integrator().create(library_.integrator().default_params())),
+      instance_(library_.integrator().create(integrator_values(library_, params))),
       system_(&cloth.system()),
       uses_velocity_forces_(library_.integrator().uses_velocity_forces()) {
   instance_.prepare(*system_);

@@ -4,7 +4,6 @@
 
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/host/plugin_library.hpp>
-
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,10 +20,10 @@ Scene make_scene(const std::string& id, const ParamTexts& params);
 // the same per-particle dynamics and the 300 x 300 one is exactly that file's.
 ParamTexts bench_cloth_params(int side);
 
-// An integrator plugin instance with default parameters, bound to a cloth.
+// An integrator plugin instance with default parameters (but for `params`), bound to a cloth.
 class BoundIntegrator {
  public:
-  BoundIntegrator(const std::string& id, const Cloth& cloth);
+  BoundIntegrator(const std::string& id, const Cloth& cloth, const ParamTexts& params = {});
   void step(double t, double dt);
   bool uses_velocity_forces() const { return uses_velocity_forces_; }
 

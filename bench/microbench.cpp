@@ -1,7 +1,11 @@
 // Google Benchmark microbenchmarks: each force stage and a whole step per integrator,
-// fast core vs the seed-style reference, over mesh sizes 50^2 ... 1000^2 (float32).
-// Run by hand (tools/bench.sh --micro); never part of CTest timing.
+// fast core vs the seed-style reference, over mesh sizes 50^2 ... 1000^2 (float32); and the
+// cost units of the implicit and position-based methods at 300 x 300 on 1 and 2 threads
+// beside one explicit force evaluation: a CG iteration on the host extensions and an XPBD
+// substep. Run by hand (tools/bench.sh --micro); never part of CTest timing.
 #include <benchmark/benchmark.h>
+#include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/reductions.h>
 
 #include <clothlab/core/cloth.hpp>
 #include <cstdlib>
@@ -59,8 +63,7 @@ void fast_forces(benchmark::State& state, const std::string& scenario, bool with
   const clothlab_system& system = cloth.system();
   AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
   for (auto _ : state) {
-    system.eval_acceleration(system.context, 0.0, system.x, damped ? system.v : nullptr,
-                             a.get());
+    system.eval_acceleration(system.context, 0.0, system.x, damped ? system.v : nullptr, a.get());
     benchmark::ClobberMemory();
   }
   set_rates(state, with_springs ? cloth.springs().total() : 0);
@@ -105,7 +108,8 @@ void fast_step(benchmark::State& state, const std::string& id) {
   }
   const double evals_per_step = static_cast<double>(cloth.counters().force_evals - evals_before) /
                                 static_cast<double>(state.iterations());
-  set_rates(state, static_cast<uint64_t>(evals_per_step * static_cast<double>(cloth.springs().total())));
+  set_rates(state,
+            static_cast<uint64_t>(evals_per_step * static_cast<double>(cloth.springs().total())));
   state.counters["real_time_factor"] =
       benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -131,6 +135,76 @@ void reference_euler_step(benchmark::State& state) {
       benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// One damped explicit acceleration evaluation of the 300 x 300 flag on state.range(1) threads:
+// the unit the two below are compared with.
+void force_evaluation(benchmark::State& state) {
+  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, static_cast<int>(state.range(1))});
+  const clothlab_system& system = cloth.system();
+  AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
+  for (auto _ : state) {
+    system.eval_acceleration(system.context, 0.0, system.x, system.v, a.get());
+    benchmark::ClobberMemory();
+  }
+}
+
+// The work of one preconditioner-free CG iteration of a linearised backward-Euler step on
+// the host extensions: q = p - J p (one jacobian apply, c_x = h^2, c_v = h, and a lincomb),
+// two dot products, x += alpha p, r -= alpha q, p = r + beta p.
+void cg_iteration(benchmark::State& state) {
+  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, static_cast<int>(state.range(1))});
+  const clothlab_system& system = cloth.system();
+  const auto* jacobian = static_cast<const clothlab_jacobian_extension*>(
+      system.get_extension(system.context, CLOTHLAB_EXT_JACOBIAN));
+  const auto* reductions = static_cast<const clothlab_reductions_extension*>(
+      system.get_extension(system.context, CLOTHLAB_EXT_REDUCTIONS));
+  if (jacobian == nullptr || reductions == nullptr || jacobian->reserve(system.context) != 0) {
+    state.SkipWithError("the host lacks the jacobian or reductions extension");
+    return;
+  }
+  const std::size_t size = 3 * std::size_t{system.stride};
+  AlignedFloats p = aligned_floats(size), q = aligned_floats(size), r = aligned_floats(size),
+                x = aligned_floats(size);
+  for (std::size_t k = 0; k < size; ++k) p[k] = r[k] = 1e-3f * static_cast<float>(k % 7);
+  const double h = 1e-3;
+  for (auto _ : state) {
+    jacobian->apply(system.context, 0.0, system.x, system.v, h * h, h, p.get(), q.get());
+    const double minus_one = -1.0;
+    const void* terms[] = {q.get()};
+    system.lincomb(system.context, q.get(), p.get(), 1, &minus_one, terms);
+    const double alpha = reductions->dot(system.context, r.get(), r.get()) /
+                         reductions->dot(system.context, p.get(), q.get());
+    system.axpy(system.context, x.get(), alpha, p.get());
+    system.axpy(system.context, r.get(), -alpha, q.get());
+    const double beta = 0.5;
+    const void* previous[] = {p.get()};
+    system.lincomb(system.context, p.get(), r.get(), 1, &beta, previous);
+    benchmark::ClobberMemory();
+  }
+}
+
+// One XPBD substep (substeps = 1, one iteration: predict, 12 colour sweeps, velocities) on
+// the flag, the plugin and the host on state.range(1) threads.
+void xpbd_substep(benchmark::State& state) {
+  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
+  const int threads = static_cast<int>(state.range(1));
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, threads});
+  BoundIntegrator xpbd(
+      "xpbd", cloth,
+      {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}});
+  double t = 0.0;
+  for (auto _ : state) {
+    xpbd.step(t, 1e-3);
+    t += 1e-3;
+  }
+}
+
+void at_300_on_1_and_2_threads(benchmark::internal::Benchmark* benchmark) {
+  for (int threads : {1, 2}) benchmark->Args({300, threads});
+  benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+
 void sizes(benchmark::internal::Benchmark* benchmark) {
   for (int side : kSides) benchmark->Arg(side);
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -152,6 +226,9 @@ BENCHMARK_CAPTURE(fast_step, verlet, std::string("verlet"))->Apply(sizes);
 BENCHMARK_CAPTURE(fast_step, midpoint, std::string("midpoint"))->Apply(sizes);
 BENCHMARK_CAPTURE(fast_step, rk4, std::string("rk4"))->Apply(sizes);
 BENCHMARK(reference_euler_step)->Apply(sizes);
+BENCHMARK(force_evaluation)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK(cg_iteration)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
 
 }  // namespace
 }  // namespace clothlab::bench

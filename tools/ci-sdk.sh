@@ -13,9 +13,9 @@ build=${1:-build}
 [ -f "$build/CMakeCache.txt" ] || { echo "ci-sdk: $build: not a configured build tree" >&2; exit 2; }
 
 faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_step abi_major_2
-        throws_through_boundary allocates_every_step)
+        throws_through_boundary allocates_every_step claims_unconditional_stability)
 cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
-  euler midpoint rk4 verlet sheet flag c_euler "${faulty[@]/#/faulty_}"
+  euler midpoint rk4 verlet xpbd sheet flag c_euler "${faulty[@]/#/faulty_}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -52,6 +52,7 @@ expectations=(
   "abi_major_2|library|loading.abi-version|"
   "throws_through_boundary|throws-through-boundary|robustness.no-throw|--filter robustness"
   "allocates_every_step|allocates-every-step|robustness.no-alloc|--filter robustness"
+  "claims_unconditional_stability|claims-unconditional-stability|stability.unconditional-sheet|--filter stability.unconditional"
 )
 for expectation in "${expectations[@]}"; do
   IFS='|' read -r name component check options <<<"$expectation"

@@ -28,7 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
 
 FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
-           "verlet": "tab:red", "forward-euler": "tab:purple"}
+           "verlet": "tab:red", "forward-euler": "tab:purple", "implicit_euler": "tab:brown",
+           "projective_dynamics": "tab:pink", "xpbd": "tab:olive"}
 
 
 class InputProblem(Exception):

@@ -16,6 +16,9 @@ struct Check {
   std::string component;  // "library", or an integrator or scenario id
   std::string name;       // "<group>.<check>", e.g. "numerics.order-spring"
   std::function<Verdict()> body;
+  // A check that runs a whole cloth for seconds (stability.*) gets this multiple of the
+  // runner's --timeout.
+  double timeout_scale = 1.0;
 };
 
 using Values = std::vector<clothlab_param_value>;
@@ -42,6 +45,7 @@ std::vector<Check> parameter_checks(const ParameterSubject& subject, const Setti
 std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator);
 std::vector<Check> numerics_checks(const clothlab_integrator& integrator);
 std::vector<Check> robustness_checks(const clothlab_integrator& integrator);
+std::vector<Check> stability_checks(const clothlab_integrator& integrator);
 std::vector<Check> scenario_checks(const clothlab_scenario& scenario);
 
 }  // namespace clothlab::conformance

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "check.hpp"
+#include "fixtures.hpp"
 
 namespace clothlab::conformance {
 namespace {
@@ -107,12 +108,39 @@ Verdict integrator_fields(const clothlab_integrator& integrator) {
 
 Verdict integrator_order(const clothlab_integrator& integrator) {
   require(integrator.order >= 1, "declared order " + std::to_string(integrator.order) + " < 1");
-  require(integrator.evals_per_step >= 1,
-          "evals_per_step " + std::to_string(integrator.evals_per_step) + " < 1");
+  // An iterative method's cost is set by its substep and iteration parameters; it may call
+  // eval_acceleration not at all (XPBD projects the springs itself).
+  require(integrator.evals_per_step >= 1 || has_trait(integrator, CLOTHLAB_TRAIT_ITERATIVE),
+          "evals_per_step " + std::to_string(integrator.evals_per_step) +
+              " < 1 (0 only for an integrator declaring CLOTHLAB_TRAIT_ITERATIVE)");
   const uint32_t known = (1u << CLOTHLAB_FLOAT32) | (1u << CLOTHLAB_FLOAT64);
   require(integrator.precisions != 0 && (integrator.precisions & ~known) == 0,
           "precisions mask " + std::to_string(integrator.precisions) + " has unknown bits or none");
   return {true, "order " + std::to_string(integrator.order)};
+}
+
+// Declared traits name integer parameters of the integrator itself.
+Verdict integrator_traits_consistent(const clothlab_integrator& integrator) {
+  const clothlab_integrator_traits* traits = integrator_traits(integrator);
+  if (traits == nullptr) return {true, "no traits declared"};
+  const uint32_t known = CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE;
+  require((traits->flags & ~known) == 0,
+          "traits flags " + std::to_string(traits->flags) + " have unknown bits");
+  const auto require_int_param = [&](const char* role, const char* name) {
+    if (name == nullptr) return;
+    for (uint32_t i = 0; i < integrator.param_count; ++i)
+      if (std::string(integrator.params[i].name) == name) {
+        require(integrator.params[i].type == CLOTHLAB_PARAM_INT,
+                std::string(role) + " parameter " + name + " is not an integer parameter");
+        return;
+      }
+    throw CheckFailure(std::string(role) + " names " + name + ", which is not a parameter");
+  };
+  require_int_param("substeps_param", traits->substeps_param);
+  require_int_param("iterations_param", traits->iterations_param);
+  require((traits->flags & CLOTHLAB_TRAIT_ITERATIVE) == 0 || traits->iterations_param != nullptr,
+          "CLOTHLAB_TRAIT_ITERATIVE without iterations_param");
+  return {true, "flags " + std::to_string(traits->flags)};
 }
 
 Verdict scenario_fields(const clothlab_scenario& scenario) {
@@ -137,6 +165,8 @@ std::vector<Check> descriptor_checks(const clothlab_plugin_descriptor& library) 
     if (c == nullptr || c->id == nullptr) continue;
     checks.push_back({c->id, "descriptor.fields", [c] { return integrator_fields(*c); }});
     checks.push_back({c->id, "descriptor.order", [c] { return integrator_order(*c); }});
+    checks.push_back(
+        {c->id, "descriptor.traits", [c] { return integrator_traits_consistent(*c); }});
     checks.push_back(
         {c->id, "descriptor.params", [c] { return params_consistent(c->params, c->param_count); }});
   }

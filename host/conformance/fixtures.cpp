@@ -118,6 +118,23 @@ bool uses_velocity_forces(const clothlab_integrator& integrator) {
   return (integrator.flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
 }
 
+const clothlab_integrator_traits* integrator_traits(const clothlab_integrator& integrator) {
+  if (!CLOTHLAB_HAS_FIELD(&integrator, clothlab_integrator, get_extension) ||
+      integrator.get_extension == nullptr)
+    return nullptr;
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  if (traits == nullptr ||
+      traits->struct_size < CLOTHLAB_FIELD_END(clothlab_integrator_traits, iterations_param))
+    return nullptr;
+  return traits;
+}
+
+bool has_trait(const clothlab_integrator& integrator, uint32_t trait) {
+  const clothlab_integrator_traits* traits = integrator_traits(integrator);
+  return traits != nullptr && (traits->flags & trait) != 0;
+}
+
 Precision preferred_precision(const clothlab_integrator& integrator) {
   return (integrator.precisions & (1u << CLOTHLAB_FLOAT64)) != 0 ? Precision::Float64
                                                                  : Precision::Float32;

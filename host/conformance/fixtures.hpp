@@ -2,6 +2,7 @@
 // instances that report errors as check failures, and the small scenes the checks run.
 #pragma once
 
+#include <clothlab/ext/integrator_traits.h>
 #include <clothlab/plugin.h>
 
 #include <clothlab/core/cloth.hpp>
@@ -75,6 +76,11 @@ Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy = false);
 PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads = 1);
 
 bool uses_velocity_forces(const clothlab_integrator& integrator);
+
+// The integrator's "clothlab.integrator-traits/1" extension, or nullptr when it offers none
+// (no get_extension, a 1.0/1.1-sized descriptor, or NULL for that id).
+const clothlab_integrator_traits* integrator_traits(const clothlab_integrator& integrator);
+bool has_trait(const clothlab_integrator& integrator, uint32_t trait);
 
 // Float64 when the integrator offers it, else its other precision.
 Precision preferred_precision(const clothlab_integrator& integrator);

@@ -63,8 +63,9 @@ class PluginRun {
     CheckResult result{label_, check.component, check.name, false, "", 0};
     const bool wanted = !options_.filter || options_.filter->matches(result.full_name());
     const auto start = std::chrono::steady_clock::now();
-    const Verdict verdict = options_.in_process ? run_guarded(check.body)
-                                                : run_isolated(check.body, options_.timeout_s);
+    const Verdict verdict =
+        options_.in_process ? run_guarded(check.body)
+                            : run_isolated(check.body, options_.timeout_s * check.timeout_scale);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.passed = verdict.passed;
@@ -131,6 +132,7 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
     run.run_all(lifecycle_checks(*integrator));
     run.run_all(numerics_checks(*integrator));
     run.run_all(robustness_checks(*integrator));
+    run.run_all(stability_checks(*integrator));
   }
   for (uint32_t i = 0; i < library.scenario_count && library.scenarios; ++i) {
     const clothlab_scenario* scenario = library.scenarios[i];

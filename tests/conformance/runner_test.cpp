@@ -104,7 +104,10 @@ INSTANTIATE_TEST_SUITE_P(
                    "robustness.no-throw", "exception escaped the C boundary from step",
                    "--filter robustness"},
         FaultyCase{"faulty_allocates_every_step", "allocates-every-step", "robustness.no-alloc",
-                   "heap allocator calls during 10 steps", "--filter robustness"}),
+                   "heap allocator calls during 10 steps", "--filter robustness"},
+        FaultyCase{"faulty_claims_unconditional_stability", "claims-unconditional-stability",
+                   "stability.unconditional-sheet", "declares unconditional stability, but",
+                   "--filter stability.unconditional"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.plugin);
     });

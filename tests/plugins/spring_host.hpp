@@ -52,6 +52,17 @@ class SpringHost {
   MockSystem<Real>& system() { return system_; }
   int jacobian_products = 0;
 
+  // Replaces the trivial spring colouring (one spring per colour) with `colors`, spring
+  // indices per colour; the test vouches that no two springs of a colour share a particle.
+  void set_spring_colors(const std::vector<std::vector<uint32_t>>& colors) {
+    spring_color_offsets_.assign(1, 0);
+    spring_colors_.clear();
+    for (const std::vector<uint32_t>& color : colors) {
+      spring_colors_.insert(spring_colors_.end(), color.begin(), color.end());
+      spring_color_offsets_.push_back(static_cast<uint32_t>(spring_colors_.size()));
+    }
+  }
+
   // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0).
   void jacobian_product(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                         Real* out) const {
@@ -183,7 +194,7 @@ class SpringHost {
             nullptr,
             s.offsets_.data(),
             s.adjacent_.data(),
-            springs,
+            static_cast<uint32_t>(s.spring_color_offsets_.size() - 1),
             0,
             s.spring_color_offsets_.data(),
             s.spring_colors_.data(),
