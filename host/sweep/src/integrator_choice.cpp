@@ -104,6 +104,7 @@ class IntegratorSearch {
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
+    if (candidate_.has_own_substeps) c = with_setting(c, "integrator.substeps", "1", false);
     if (iterations > 0) c = with_setting(c, "integrator.iterations", std::to_string(iterations));
     return c;
   }

@@ -33,8 +33,8 @@ namespace clothlab::sweep {
 
 struct ChoiceSettings {
   double frame_rate = 60.0;       // Hz
-  double duration = 1.0;        // T of the runs judged for stability, stretch and cost, s
-  double error_duration = 0.0;  // T of the error; 0: duration (the flag needs it shorter)
+  double duration = 1.0;          // T of the runs judged for stability, stretch and cost, s
+  double error_duration = 0.0;    // T of the error; 0: duration (the flag needs it shorter)
   double stretch_limit = 1.10;    // x rest length
   double error_tolerance = 0.01;  // RMS position error / cloth diagonal
   uint32_t max_substeps = 4096;
@@ -47,6 +47,9 @@ struct ChoiceSettings {
 struct ChoiceCandidate {
   std::string integrator;
   bool has_iterations = false;
+  // A method with its own `substeps` parameter (xpbd) gets 1 there, so that the host's substeps
+  // per frame are its only substeps.
+  bool has_own_substeps = false;
 };
 
 struct Choice {
