@@ -26,9 +26,11 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const RunConfig& config,
     for (const host::IntegratorPlugin& integrator : library.integrators()) {
       if (!integrator.supports_precision(precision)) continue;
       sweep::ChoiceCandidate candidate{std::string(integrator.info().id), false};
-      for (const clothlab_param_spec& spec : integrator.default_params().specs())
+      const host::ParamSet params = integrator.default_params();
+      for (const clothlab_param_spec& spec : params.specs()) {
         if (std::string_view(spec.name) == "iterations") candidate.has_iterations = true;
-      if (std::string_view(spec.name) == "substeps") candidate.has_own_substeps = true;
+        if (std::string_view(spec.name) == "substeps") candidate.has_own_substeps = true;
+      }
       found.push_back(candidate);
     }
   if (config.choice_integrators.empty()) return found;

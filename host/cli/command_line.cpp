@@ -46,6 +46,9 @@ po::options_description describe_options() {
       "CLOTHLAB_PLUGIN_PATH, then ../lib/clothlab/plugins beside the executable")(
       "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
       "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
+      "energy-out", po::value<std::string>(),
+      "write the energy at t = 0 and at every stability check as CSV to FILE "
+      "(integrator,t,kinetic,spring,gravity,total; tools/plot.py energy draws it)")(
       "list-plugins", "list the plugins on the search path with their parameters")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
@@ -97,6 +100,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.config_file = string_option(values, "config");
   command_line.json_file = string_option(values, "json");
   command_line.state_file = string_option(values, "state-out");
+  command_line.energy_file = string_option(values, "energy-out");
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
   command_line.choose = values.count("choose") > 0;

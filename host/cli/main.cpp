@@ -60,7 +60,8 @@ int run(int argc, const char* const argv[]) {
   // Command-line values come after the file's, so they win.
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
-  for (const auto& output : {command_line.json_file, command_line.state_file})
+  for (const auto& output :
+       {command_line.json_file, command_line.state_file, command_line.energy_file})
     if (output) check_output_path(*output);
 
   if (command_line.choose) {
@@ -85,7 +86,10 @@ int run(int argc, const char* const argv[]) {
   const nlohmann::json run = run_isolated(
       [&] {
         Simulation simulation(config, search_path);
-        const RunRecord record = simulation.run();
+        const RunRecord record = simulation.run(command_line.energy_file.has_value());
+        if (command_line.energy_file)
+          write_file_atomically(*command_line.energy_file,
+                                [&](std::ostream& out) { write_energy_csv(record, out); });
         if (command_line.json_file)
           write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
             out << summary_json(record).dump(2) << "\n";

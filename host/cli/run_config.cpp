@@ -137,6 +137,8 @@ bool read_choice_key(const Setting& setting, RunConfig& config) {
   const std::string& key = setting.key;
   if (key == "choose.duration") {
     choice.duration = read_positive(setting, 1e3);
+  } else if (key == "choose.probe_timeout") {
+    choice.probe_timeout_s = read_positive(setting, 1e6);
   } else if (key == "choose.error_duration") {
     choice.error_duration = read_positive(setting, 1e3);
   } else if (key == "choose.stretch_limit") {
@@ -238,20 +240,20 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else if (starts_with(key, "plugin_params.") && key.find('.', 14) != std::string::npos) {
       config.plugin_params.push_back({key.substr(14), setting.value, setting.source});
     } else {
-      throw host::InputError(
-          setting.source + ": unknown key " + key +
-          "; valid: integrator, scenario, dt, frame_rate, substeps, steps, "
-          "duration, precision, threads, timeout, material.name, "
-          "material.areal_density, material.stretch_stiffness, "
-          "material.shear_stiffness, material.bending_stiffness, "
-          "material.damping_time, choose.duration, choose.error_duration, choose.stretch_limit, "
-          "choose.error_tolerance, choose.max_substeps, choose.max_iterations, "
-          "choose.reference_substeps, choose.reference_integrator, "
-          "choose.error_mesh, choose.integrators, choose.output, "
-          "stability.interval, stability.max_stretch, "
-          "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
-          "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
-          "plugin_params.<plugin id>.<parameter>");
+      throw host::InputError(setting.source + ": unknown key " + key +
+                             "; valid: integrator, scenario, dt, frame_rate, substeps, steps, "
+                             "duration, precision, threads, timeout, material.name, "
+                             "material.areal_density, material.stretch_stiffness, "
+                             "material.shear_stiffness, material.bending_stiffness, "
+                             "material.damping_time, choose.duration, choose.error_duration, "
+                             "choose.probe_timeout, choose.stretch_limit, "
+                             "choose.error_tolerance, choose.max_substeps, choose.max_iterations, "
+                             "choose.reference_substeps, choose.reference_integrator, "
+                             "choose.error_mesh, choose.integrators, choose.output, "
+                             "stability.interval, stability.max_stretch, "
+                             "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
+                             "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
+                             "plugin_params.<plugin id>.<parameter>");
     }
   }
   if (!material.source.empty()) {

@@ -126,7 +126,7 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
   integrator_instance_->prepare(cloth_->system());
 }
 
-RunRecord Simulation::run() {
+RunRecord Simulation::run(bool trace_energy) {
   RunRecord record;
   record.integrator = integrator_->info().id;
   record.scenario = scenario_->info().id;
@@ -161,6 +161,7 @@ RunRecord Simulation::run() {
     record.verdict = std::move(verdict);
   };
 
+  if (trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
@@ -192,6 +193,8 @@ RunRecord Simulation::run() {
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
     // Sampled where the monitor looks, so the maximum over the run costs no extra passes
     // beyond one per check.
+    if (trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
+      record.energy_trace.push_back({t_end, cloth_->energy()});
     if (step % config_.stability_interval == 0 || step == config_.steps)
       record.max_stretch_over_run =
           std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);

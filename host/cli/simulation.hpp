@@ -54,6 +54,11 @@ struct RunRecord {
   // at the monitor's checks.
   Cloth::Stretch final_stretch;
   double max_stretch_over_run = 1.0;
+  struct EnergySample {
+    double t;
+    Cloth::Energy energy;
+  };
+  std::vector<EnergySample> energy_trace;
   std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
   nlohmann::json integrator_params, scenario_params;
 };
@@ -67,7 +72,9 @@ class Simulation {
   // Steps until done or until a stability check fails (the run stops there: past a failed
   // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
   // is thrown. The monitor (config.stability.*) checks every few steps and after the last.
-  RunRecord run();
+  // With trace_energy, the record's energy_trace holds the energy at t = 0 and at every
+  // monitor check (an extra pass over the springs there, outside the timed steps).
+  RunRecord run(bool trace_energy = false);
 
   const Cloth& cloth() const { return *cloth_; }
   std::string integrator_id() const { return std::string(integrator_->info().id); }

@@ -23,10 +23,11 @@ struct Probe {
 
 // The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
-std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>& passes) {
+std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>& passes,
+                               const bool& give_up) {
   uint32_t failing = 0, n = 1;
   while (!passes(n)) {
-    if (n >= max) return std::nullopt;
+    if (n >= max || give_up) return std::nullopt;
     failing = n;
     n = std::min(max, 2 * n);
   }
@@ -36,6 +37,12 @@ std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>
     (passes(middle) ? passing : failing) = middle;
   }
   return passing;
+}
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g %%", 100 * fraction);
+  return text;
 }
 
 double error_duration(const ChoiceSettings& settings) {
@@ -62,15 +69,17 @@ class IntegratorSearch {
     choice.integrator = candidate_.integrator;
     std::optional<std::pair<uint32_t, uint32_t>> best;  // (substeps, iterations)
     if (!candidate_.has_iterations) {
-      if (const auto substeps =
-              fewest(settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }))
+      if (const auto substeps = fewest(
+              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, give_up_))
         best = {{*substeps, 0}};
     } else {
       // Cost ~ substeps x iterations: walk the substeps up while the cheapest passing
       // iteration count keeps lowering the cost per frame.
       for (uint32_t substeps = 1; substeps <= settings_.max_substeps; substeps *= 2) {
-        const auto iterations = fewest(settings_.max_iterations,
-                                       [&](uint32_t it) { return probe(substeps, it).passed; });
+        const auto iterations = fewest(
+            settings_.max_iterations, [&](uint32_t it) { return probe(substeps, it).passed; },
+            give_up_);
+        if (give_up_) break;
         if (!iterations) continue;
         const double cost = probes_.at({substeps, *iterations}).ms_per_frame;
         if (best && cost >= probes_.at(*best).ms_per_frame) break;
@@ -79,6 +88,10 @@ class IntegratorSearch {
       }
     }
     choice.probes = static_cast<int>(probes_.size());
+    if (!best && !give_up_reason_.empty()) {
+      choice.verdict = give_up_reason_;
+      return choice;
+    }
     if (!best) {
       choice.verdict = "no setting passed up to " + std::to_string(settings_.max_substeps) +
                        " substeps" +
@@ -103,6 +116,7 @@ class IntegratorSearch {
  private:
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
+    c = with_setting(c, "timeout", format_number(settings_.probe_timeout_s), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
     if (candidate_.has_own_substeps) c = with_setting(c, "integrator.substeps", "1", false);
     if (iterations > 0) c = with_setting(c, "integrator.iterations", std::to_string(iterations));
@@ -155,9 +169,35 @@ class IntegratorSearch {
       }
     }
     if (!probe.passed) last_failure_ = std::to_string(substeps) + " substeps: " + probe.why;
+    judge_give_up(substeps, iterations, run, probe);
     store_row(c, substeps, iterations, probe);
     print(substeps, iterations, probe);
     return probes_.emplace(std::make_pair(substeps, iterations), probe).first->second;
+  }
+
+  // Sets give_up_ when going on cannot help (see the header).
+  void judge_give_up(uint32_t substeps, uint32_t iterations, const Trajectory& run,
+                     const Probe& probe) {
+    const std::string label =
+        std::to_string(substeps) + " substeps" +
+        (iterations ? " x " + std::to_string(iterations) + " iterations" : "");
+    if (run.verdict.status == CaseStatus::Failed &&
+        run.verdict.reason.find("timed out") != std::string::npos) {
+      give_up_ = true;
+      give_up_reason_ = "too slow: a probe at " + label + " ran past " +
+                        format_number(settings_.probe_timeout_s) + " s";
+      return;
+    }
+    if (!std::isfinite(probe.error) || probe.passed) return;
+    // Same iterations, half the step: compare with the probe at substeps / 2.
+    const auto coarser = probes_.find({substeps / 2, iterations});
+    if (substeps >= 2 && coarser != probes_.end() && std::isfinite(coarser->second.error) &&
+        !coarser->second.passed &&
+        std::abs(probe.error - coarser->second.error) < 0.1 * probe.error) {
+      give_up_ = true;
+      give_up_reason_ = "converges elsewhere: error " + percent(probe.error) + " at " + label +
+                        ", " + percent(coarser->second.error) + " at half the substeps";
+    }
   }
 
   void store_row(const CaseSpec& c, uint32_t substeps, uint32_t iterations, const Probe& probe) {
@@ -200,13 +240,9 @@ class IntegratorSearch {
   std::chrono::steady_clock::time_point start_;
   std::map<std::pair<uint32_t, uint32_t>, Probe> probes_;
   std::string last_failure_;
+  bool give_up_ = false;
+  std::string give_up_reason_;
 };
-
-std::string percent(double fraction) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g %%", 100 * fraction);
-  return text;
-}
 
 }  // namespace
 

@@ -18,6 +18,9 @@
 // parameter, each substep count gets the fewest iterations (doubling, then bisection) that
 // pass, and substep counts grow until the cost per frame stops improving. Cost = median wall
 // time per frame of the run at the scene's mesh.
+// Early stops: a probe that times out ends the integrator's search ("too slow"); so does an
+// error that stays above the tolerance while halving the step changes it by less than 10 %
+// (the method converges to another solution, e.g. other damping: "converges elsewhere").
 #pragma once
 
 #include <cstdint>
@@ -38,7 +41,10 @@ struct ChoiceSettings {
   double stretch_limit = 1.10;    // x rest length
   double error_tolerance = 0.01;  // RMS position error / cloth diagonal
   uint32_t max_substeps = 4096;
-  uint32_t max_iterations = 64;
+  uint32_t max_iterations = 32;
+  // Wall-clock limit of one probe run (s): a setting that slow is no answer for a game, and
+  // more substeps or iterations only cost more, so the integrator's search stops there.
+  double probe_timeout_s = 60.0;
   uint32_t reference_substeps = 512;  // reference dt = 1 / (frame_rate reference_substeps)
   std::string reference_integrator = "rk4";
   std::string error_mesh;  // "ROWSxCOLS"; empty: the scene's mesh
