@@ -3,8 +3,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -301,7 +301,10 @@ TEST_F(Clothlab, ConfigErrorExitsOneWithItsPosition) {
 }
 
 TEST_F(Clothlab, ShippedConfigsAreAccepted) {
-  for (const char* config : {"default.yaml", "seed-2016.yaml"}) {
+  for (const char* config :
+       {"default.yaml", "seed-2016.yaml", "bench-300.yaml", "bench-300-soft.yaml",
+        "choose-cotton-flag-200.yaml", "materials/cotton.yaml", "materials/silk.yaml",
+        "materials/denim.yaml", "materials/seed-2016.yaml"}) {
     const Outcome outcome = run("--config " + (source_dir / "configs" / config).string() +
                                 " --set scenario.rows=6 --set scenario.cols=6 --steps 2 --quiet");
     EXPECT_EQ(outcome.exit_code, 0) << config << ": " << outcome.err;
