@@ -21,6 +21,7 @@ constexpr const char* setting_flags[][2] = {
     {"duration", "duration"},
     {"precision", "precision"},
     {"threads", "threads"},
+    {"frames", "frames.dir"},
 };
 
 po::options_description describe_options() {
@@ -49,6 +50,9 @@ po::options_description describe_options() {
       "energy-out", po::value<std::string>(),
       "write the energy at t = 0 and at every stability check as CSV to FILE "
       "(integrator,t,kinetic,spring,gravity,total; tools/plot.py energy draws it)")(
+      "frames", po::value<std::string>(),
+      "write the cloth every frame to DIR (keys frames.every | frames.rate (default 60 Hz), "
+      "frames.format: vtp, obj, pc2); `clothlab view DIR` plays it")(
       "list-plugins", "list the plugins on the search path with their parameters")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
@@ -120,12 +124,14 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
 std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
+          "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
           "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
           "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input,\n"
-          "2 plugin error, 3 the run diverged or failed a stability check.\n\n"
+          "2 plugin error, 3 the run diverged or failed a stability check, 130 a run stopped\n"
+          "by Ctrl-C (SIGINT) or SIGTERM, its outputs written.\n\n"
        << describe_options();
   return text.str();
 }

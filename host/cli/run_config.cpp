@@ -43,6 +43,30 @@ double read_positive(const Setting& setting, double max_value, const char* unit 
                          (*unit ? std::string(" ") + unit : std::string()));
 }
 
+// frames.format: one name or a list "[vtp, obj]"; each once.
+std::vector<std::string> read_frame_formats(const Setting& setting) {
+  std::string text = setting.value;
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']')
+    text = text.substr(1, text.size() - 2);
+  std::vector<std::string> formats;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find(',', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string name = text.substr(begin, end - begin);
+    name.erase(0, name.find_first_not_of(' '));
+    name.erase(name.find_last_not_of(' ') + 1);
+    const bool known = name == "vtp" || name == "obj" || name == "pc2";
+    if (!known || std::find(formats.begin(), formats.end(), name) != formats.end())
+      throw host::InputError(setting.source + ": frames.format = " + setting.value + ": " +
+                             (known ? "repeats " + name : "unknown format '" + name + "'") +
+                             "; allowed: vtp, obj, pc2 or a list of them, e.g. [vtp, pc2]");
+    formats.push_back(name);
+    begin = end + 1;
+  }
+  return formats;
+}
+
 // Each material key with its allowed range; a material must set all of them.
 struct MaterialKey {
   const char* key;
@@ -233,6 +257,18 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       config.search_dt_min = read_positive(setting, max_dt_s);
     } else if (key == "find_max_dt.dt_max") {
       config.search_dt_max = read_positive(setting, max_dt_s);
+    } else if (key == "frames.dir") {
+      if (setting.value.empty())
+        throw host::InputError(setting.source + ": frames.dir is empty; allowed: a folder path");
+      config.frames.dir = setting.value;
+    } else if (key == "frames.every") {
+      config.frames.every =
+          static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, "steps"));
+    } else if (key == "frames.rate") {
+      config.frames.rate = read_positive(setting, 1e6, "Hz");
+      config.frames.every.reset();
+    } else if (key == "frames.format") {
+      config.frames.formats = read_frame_formats(setting);
     } else if (starts_with(key, "integrator.")) {
       config.integrator_params.push_back({key.substr(11), setting.value, setting.source});
     } else if (starts_with(key, "scenario.")) {
@@ -252,7 +288,8 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "choose.error_mesh, choose.integrators, choose.output, "
                              "stability.interval, stability.max_stretch, "
                              "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
-                             "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
+                             "find_max_dt.dt_max, frames.dir, frames.every, frames.rate, "
+                             "frames.format, integrator.<parameter>, scenario.<parameter>, "
                              "plugin_params.<plugin id>.<parameter>");
     }
   }
@@ -289,6 +326,15 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   } else {
     config.duration = static_cast<double>(config.steps) * config.dt;
   }
+  // A frame every 1/rate s of simulated time, to the nearest step (at least every step); the
+  // rate is frames.rate, else the frame_rate the run was set up with, else 60 Hz.
+  const double frames_rate = config.frames.rate   ? *config.frames.rate
+                             : frame_rate_setting ? config.frame_rate
+                                                  : 60.0;
+  config.frames.every_steps =
+      config.frames.every
+          ? *config.frames.every
+          : static_cast<uint64_t>(std::max(1.0, std::round(1.0 / (frames_rate * config.dt))));
   if (config.search_dt_min >= config.search_dt_max)
     throw host::InputError(
         "find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +

@@ -12,6 +12,16 @@
 
 namespace clothlab::cli {
 
+// frames.*: the cloth written every few steps for ParaView, Blender and the viewer.
+struct FramesConfig {
+  std::string dir;                // empty: no frames
+  std::optional<uint64_t> every;  // frames.every (steps); else from rate
+  // frames.rate, Hz of simulated time; unset: frame_rate when given, else 60 Hz.
+  std::optional<double> rate;
+  std::vector<std::string> formats{"vtp"};  // vtp (+ .pvd index), obj, pc2
+  uint64_t every_steps = 1;                 // resolved: steps between frames
+};
+
 struct RunConfig {
   std::string integrator = "rk4";
   std::string scenario = "sheet";
@@ -50,6 +60,7 @@ struct RunConfig {
   double search_tolerance = 0.02;  // relative width of the final bracket
   double search_dt_min = 1e-7;     // s: nothing stable below gives up
   double search_dt_max = 1.0;      // s: everything stable up to it gives up
+  FramesConfig frames;
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the

@@ -126,7 +126,7 @@ Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& se
   integrator_instance_->prepare(cloth_->system());
 }
 
-RunRecord Simulation::run(bool trace_energy) {
+RunRecord Simulation::run(const RunHooks& hooks) {
   RunRecord record;
   record.integrator = integrator_->info().id;
   record.scenario = scenario_->info().id;
@@ -161,10 +161,15 @@ RunRecord Simulation::run(bool trace_energy) {
     record.verdict = std::move(verdict);
   };
 
-  if (trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
+  if (hooks.trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
+  if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
+    if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
+      record.interrupted = true;
+      break;
+    }
     // t from the step count, not by summing dt, so long runs do not drift.
     const double t = static_cast<double>(step - 1) * config_.dt;
     const StageCounters before = cloth_->counters();
@@ -193,17 +198,20 @@ RunRecord Simulation::run(bool trace_energy) {
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
     // Sampled where the monitor looks, so the maximum over the run costs no extra passes
     // beyond one per check.
-    if (trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
+    if (hooks.trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
       record.energy_trace.push_back({t_end, cloth_->energy()});
     if (step % config_.stability_interval == 0 || step == config_.steps)
       record.max_stretch_over_run =
           std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
+    if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
   const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
   record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);
   record.stability_checks = monitor.checks();
-  if (record.stable)
+  if (record.interrupted)
+    record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
+  else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
   if (record.solver && record.solver->non_converged_steps > 0)

@@ -1,6 +1,7 @@
 // One run: scenario plugin -> scene -> Cloth -> integrator plugin -> timed step loop.
 #pragma once
 
+#include <atomic>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
@@ -46,6 +47,7 @@ struct RunRecord {
   // Per step, seconds: the whole step and the core's force phases within it.
   std::vector<double> step_s, internal_forces_s, external_forces_s;
   bool stable = true;
+  bool interrupted = false;  // stopped early on request (SIGINT), not by a failed check
   std::string verdict;
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
@@ -63,6 +65,23 @@ struct RunRecord {
   nlohmann::json integrator_params, scenario_params;
 };
 
+// Sees the state before the first step (step 0) and after every step that passed the
+// stability checks, on the stepping thread (frames output).
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual void observe(const Cloth& cloth, uint64_t step, double t) = 0;
+};
+
+struct RunHooks {
+  StepObserver* observer = nullptr;
+  // Checked before every step; once true the run stops with a verdict saying so.
+  const std::atomic<bool>* stop_requested = nullptr;
+  // Energy at t = 0 and at every monitor check into the record's energy_trace (an extra pass
+  // over the springs there, outside the timed steps).
+  bool trace_energy = false;
+};
+
 class Simulation {
  public:
   // Loads both plugins (PluginLoadError), applies the parameter settings (InputError),
@@ -72,14 +91,15 @@ class Simulation {
   // Steps until done or until a stability check fails (the run stops there: past a failed
   // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
   // is thrown. The monitor (config.stability.*) checks every few steps and after the last.
-  // With trace_energy, the record's energy_trace holds the energy at t = 0 and at every
-  // monitor check (an extra pass over the springs there, outside the timed steps).
-  RunRecord run(bool trace_energy = false);
+  RunRecord run(const RunHooks& hooks = {});
 
   const Cloth& cloth() const { return *cloth_; }
   std::string integrator_id() const { return std::string(integrator_->info().id); }
+  const host::IntegratorPlugin& integrator() const { return *integrator_; }
+  std::string scenario_id() const { return std::string(scenario_->info().id); }
   // The parameter values in force, defaults included.
   const nlohmann::json& integrator_params() const { return integrator_params_; }
+  const nlohmann::json& scenario_params() const { return scenario_params_; }
 
  private:
   RunConfig config_;

@@ -32,28 +32,30 @@ Verdict opens(const std::string& path) {
 Verdict abi_version_accepted(const std::string& path) {
   const PluginLibrary library(path);
   const clothlab_abi_version version = library.descriptor()->abi_version;
-  require(abi_accepted(version), "built for ABI " + to_string(version) + "; this host accepts " +
-                                     std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
+  require(clothlab_abi_is_compatible(version),
+          "built for ABI " + to_string(version) + "; this host accepts " +
+              std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
   return {true, "ABI " + to_string(version)};
 }
 
-// The host's gate, applied to copies of this plugin's descriptor with edited versions.
+// The host's gate (clothlab_abi_is_compatible, plugin.h), applied to copies of this plugin's
+// descriptor with edited versions.
 Verdict abi_policy(const std::string& path) {
   const PluginLibrary library(path);
   // A descriptor of another major may have another layout: copy only its version then.
   const clothlab_plugin_descriptor& original = *library.descriptor();
   clothlab_plugin_descriptor copy{};
   copy.abi_version = original.abi_version;
-  if (abi_accepted(original.abi_version)) copy = original;
+  if (clothlab_abi_is_compatible(original.abi_version)) copy = original;
   copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR + 1, 0};
-  require(!abi_accepted(copy.abi_version),
+  require(!clothlab_abi_is_compatible(copy.abi_version),
           "a newer major " + to_string(copy.abi_version) + " is accepted");
   copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR - 1, 0};
-  require(!abi_accepted(copy.abi_version),
+  require(!clothlab_abi_is_compatible(copy.abi_version),
           "an older major " + to_string(copy.abi_version) + " is accepted");
   for (uint32_t minor = 0; minor <= CLOTHLAB_ABI_VERSION_MINOR + 1; ++minor) {
     copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR, minor};
-    require(abi_accepted(copy.abi_version),
+    require(clothlab_abi_is_compatible(copy.abi_version),
             "minor version " + to_string(copy.abi_version) + " of the same major is refused");
   }
   return {true, ""};

@@ -107,7 +107,10 @@ INSTANTIATE_TEST_SUITE_P(
                    "heap allocator calls during 10 steps", "--filter robustness"},
         FaultyCase{"faulty_claims_unconditional_stability", "claims-unconditional-stability",
                    "stability.unconditional-sheet", "declares unconditional stability, but",
-                   "--filter stability.unconditional"}),
+                   "--filter stability.unconditional"},
+        FaultyCase{"faulty_misdeclares_scheme", "misdeclares-scheme", "descriptor.extensions",
+                   "takes 2 evaluations per step, the descriptor says evals_per_step = 1",
+                   "--filter descriptor"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.plugin);
     });
@@ -161,7 +164,9 @@ TEST_P(SoundPlugin, PassesEveryCheck) {
 }
 
 std::vector<std::string> sound_plugins() {
-  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet")};
+  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet"),
+                                        plugin("example_linearly_implicit_euler"),
+                                        plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
     // Verlet's default drag (0.1/s) changes the ODE the analytic problems assume.

@@ -13,7 +13,12 @@
  *    by extensions, optional interfaces looked up by a versioned string id
  *    ("clothlab.jacobian/1") through `get_extension` on both sides, NULL when absent.
  *    A new capability is a new id, a change of one is a new revision ("/2"); a published
- *    extension struct is never edited. One header per extension, in clothlab/ext/.
+ *    extension struct is never edited. One header per extension, in clothlab/ext/:
+ *    host side topology, jacobian, reductions, external-forces; integrator side
+ *    integrator-traits, explicit-scheme.
+ *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
+ *    give the same results, because every reader accepts the smaller struct sizes below;
+ *    the only price is that the structs stop growing at 1.2.
  *  - Errors are status codes plus a message written into a caller-owned buffer.
  *    No exception, longjmp or C++ type ever crosses the boundary.
  *  - Ownership: the host owns the cloth state and every vector of a clothlab_system;
@@ -336,6 +341,23 @@ static inline int clothlab_abi_is_compatible(clothlab_abi_version plugin_version
 #define CLOTHLAB_SYSTEM_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_system, alloc_vector)
 #define CLOTHLAB_SYSTEM_SIZE_1_1 CLOTHLAB_FIELD_END(clothlab_system, step_rkn)
 #define CLOTHLAB_SYSTEM_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_system, get_extension)
+
+/* The one safe way to look an extension up: NULL when the struct predates 1.2 (its
+ * get_extension field is not there to read), when the field is NULL, or when the other
+ * side does not offer `id`. */
+static inline const void *clothlab_system_extension(const clothlab_system *system,
+                                                    const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(system, clothlab_system, get_extension) || !system->get_extension)
+    return NULL;
+  return system->get_extension(system->context, id);
+}
+static inline const void *clothlab_integrator_extension(const clothlab_integrator *integrator,
+                                                        const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(integrator, clothlab_integrator, get_extension) ||
+      !integrator->get_extension)
+    return NULL;
+  return integrator->get_extension(id);
+}
 
 #ifdef __cplusplus
 }

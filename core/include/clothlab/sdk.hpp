@@ -245,9 +245,7 @@ class System {
   // table, or nullptr when the host does not offer it or predates extensions (ABI < 1.2).
   template <class Table>
   const Table* extension(const char* id) const {
-    if (!CLOTHLAB_HAS_FIELD(raw_, clothlab_system, get_extension) || raw_->get_extension == nullptr)
-      return nullptr;
-    return static_cast<const Table*>(raw_->get_extension(raw_->context, id));
+    return static_cast<const Table*>(clothlab_system_extension(raw_, id));
   }
   // The typed extensions; each throws CLOTHLAB_ERROR_UNSUPPORTED when the host lacks it.
   // topology()'s first call may allocate: make it from `prepare`.
