@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/io/atomic_file.hpp>
-#include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
@@ -26,8 +26,8 @@ RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
   const std::string source = spec.source + ": sweep.monitor";
   std::vector<Setting> settings = {
       {"stability.interval", std::to_string(spec.monitor.check_interval), source},
-      {"stability.max_stretch", sweep::format_number(spec.monitor.stretch_limit), source},
-      {"stability.energy_margin", sweep::format_number(spec.monitor.energy_margin), source}};
+      {"stability.max_stretch", host::format_number(spec.monitor.stretch_limit), source},
+      {"stability.energy_margin", host::format_number(spec.monitor.energy_margin), source}};
   for (const sweep::Setting& setting : c.settings)
     settings.push_back({setting.key, setting.value, setting.source});
   return resolve_run_config(settings);

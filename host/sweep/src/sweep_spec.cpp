@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <charconv>
 #include <clothlab/host/identifiers.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <set>
 #include <sstream>
 
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -64,7 +64,7 @@ void flatten(const std::string& source, const YAML::Node& map, const std::string
 double number(const std::string& source, const YAML::Node& node, const std::string& key, double low,
               double high, const std::string& allowed) {
   const std::string text = node.IsScalar() ? node.Scalar() : "(not a value)";
-  const auto value = parse_number(text);
+  const auto value = host::parse_real(text);
   if (!value || *value < low || *value > high) fail(source, node, key, text, allowed);
   return *value;
 }
@@ -72,7 +72,7 @@ double number(const std::string& source, const YAML::Node& node, const std::stri
 double whole_number(const std::string& source, const YAML::Node& node, const std::string& key,
                     double low, double high) {
   const std::string allowed =
-      "a whole number in [" + format_number(low) + ", " + format_number(high) + "]";
+      "a whole number in [" + host::format_number(low) + ", " + host::format_number(high) + "]";
   const double value = number(source, node, key, low, high, allowed);
   if (value != std::floor(value)) fail(source, node, key, node.Scalar(), allowed);
   return value;
@@ -116,7 +116,7 @@ void check_axis_value(const std::string& source, const YAML::Node& node, const s
   } else if (key == "mesh") {
     if (!mesh_shape(text)) fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 4096]");
   } else if (key == "dt") {
-    const auto value = parse_number(text);
+    const auto value = host::parse_real(text);
     if (!value || *value <= 0.0 || *value > 10.0)
       fail(source, node, key, text, "a number in (0, 10] s");
   } else if (key == "precision") {
@@ -140,7 +140,7 @@ Axis read_axis(const std::string& source, const std::string& name, const YAML::N
   for (std::size_t i = 0; i < axis.values.size(); ++i) {
     const YAML::Node item = node.IsSequence() ? node[i] : node;
     check_axis_value(source, item, axis.key, axis.values[i].value);
-    if (!seen.insert(canonical_value(axis.values[i].value)).second) {
+    if (!seen.insert(host::canonical_value(axis.values[i].value)).second) {
       fail(source, item, key, axis.values[i].value, "each value once");
     }
   }
@@ -228,8 +228,9 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
   if (!(st.dt_lower_limit < st.dt_upper_limit && st.dt_initial >= st.dt_lower_limit &&
         st.dt_initial <= st.dt_upper_limit)) {
     fail(source, node, "sweep.stability",
-         "dt_min " + format_number(st.dt_lower_limit) + ", dt_initial " +
-             format_number(st.dt_initial) + ", dt_max " + format_number(st.dt_upper_limit),
+         "dt_min " + host::format_number(st.dt_lower_limit) + ", dt_initial " +
+             host::format_number(st.dt_initial) + ", dt_max " +
+             host::format_number(st.dt_upper_limit),
          "dt_min < dt_max and dt_initial between them");
   }
 }
