@@ -15,6 +15,7 @@
 #include "case_execution.hpp"
 #include "isolation.hpp"
 #include "run_config.hpp"
+#include "simulation.hpp"
 
 namespace clothlab::cli {
 
@@ -92,6 +93,36 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
   return result;
 }
 
+// Every case goes through the checks of a single run (its settings, then its plugins and
+// parameter values) before the first one runs: a sweep with bad input does nothing and
+// exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
+void check_every_case(const sweep::SweepSpec& spec, const std::vector<sweep::CaseSpec>& cases,
+                      const host::PluginSearchPath& search_path) {
+  std::vector<RunConfig> configs;
+  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(spec, c));
+  if (configs.empty()) return;
+  try {
+    run_isolated(
+        [&] {
+          for (size_t i = 0; i < configs.size(); ++i) {
+            try {
+              load_plugins(configs[i], search_path);
+            } catch (const std::exception& error) {
+              throw host::InputError(std::string(error.what()) + " (sweep case " + cases[i].key +
+                                     ")");
+            }
+          }
+          return nlohmann::json();
+        },
+        configs.front().timeout_s);
+  } catch (const host::InputError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                            "checking the sweep's cases: " + std::string(error.what()));
+  }
+}
+
 }  // namespace
 
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
@@ -102,8 +133,7 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
       spec.fixed.push_back({setting.key, setting.value, setting.source});
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
     const std::vector<sweep::CaseSpec> cases = sweep::expand_cases(spec);
-    // Every case's settings are checked before the first one runs.
-    for (const sweep::CaseSpec& c : cases) case_config(spec, c);
+    check_every_case(spec, cases, search_path);
     if (spec.output.has_parent_path())
       std::filesystem::create_directories(spec.output.parent_path());
 
