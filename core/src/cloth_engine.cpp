@@ -14,8 +14,7 @@
 namespace clothlab::detail {
 namespace {
 
-constexpr std::size_t kChunk = 2048;         // particles per thread work item
-constexpr std::size_t kParallelFrom = 4096;  // smaller clouds run on the calling thread
+constexpr std::size_t kChunk = 2048;  // particles per thread work item
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
@@ -58,7 +57,7 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     }
   }
   threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
-  parallel_ = threads_ > 1 && n_ >= kParallelFrom;
+  parallel_ = threads_ > 1 && n_ >= parallel_from_particles;
   if (parallel_) {
     // Start the thread team now: its first start allocates, which a step must not do.
 #pragma omp parallel num_threads(threads_)
