@@ -200,7 +200,8 @@ sweep:
   const Outcome bad_byte = run("--config bad.yaml --out results");
   EXPECT_EQ(bad_byte.exit_code, 1) << bad_byte.err;
   EXPECT_EQ(std::count(bad_byte.err.begin(), bad_byte.err.end(), '\n'), 1) << bad_byte.err;
-  EXPECT_NE(bad_byte.err.find("bad.yaml:1:18: scenario.mass = "), std::string::npos) << bad_byte.err;
+  EXPECT_NE(bad_byte.err.find("bad.yaml:1:18: scenario.mass = "), std::string::npos)
+      << bad_byte.err;
   EXPECT_EQ(bad_byte.out, "");
   EXPECT_FALSE(fs::exists(file("results/bad.json")));
 

@@ -73,8 +73,8 @@ TEST_F(AtomicFile, APlantedSymlinkAtAPredictableNameIsNotFollowed) {
   const fs::path victim = folder_ / "victim";
   std::ofstream(victim) << "precious";
   const std::string pid = std::to_string(getpid());
-  for (const std::string& name :
-       {"out.json.tmp-" + pid, ".out.json.tmp." + pid, ".out.json.tmp-" + pid, std::string("out.json.tmp")})
+  for (const std::string& name : {"out.json.tmp-" + pid, ".out.json.tmp." + pid,
+                                  ".out.json.tmp-" + pid, std::string("out.json.tmp")})
     fs::create_symlink(victim, folder_ / name);
   write_file_atomically(folder_ / "out.json", std::string_view("new"));
   EXPECT_EQ(read_text(victim), "precious");
