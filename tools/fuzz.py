@@ -18,6 +18,7 @@ import json
 import os
 import random
 import shutil
+import stat
 import subprocess
 import sys
 import tempfile
@@ -29,7 +30,7 @@ SPECIAL_VALUES = [
     "", "0", "-1", "1e309", "nan", "inf", "-0", "1e-320", "0x10", "1,5", "4096", "4097",
     "1e1", "1.5", "99999999999999999999", "true", "[1, 2, 3]", "[]", "{}", "~", "null",
     "\"a\\nb\"", "\"\\xff\"", "'\t'", "a" * 3000, "9" * 400, "&x 1", "*x", "!!binary aGk=",
-    "[[1]]", "{a: {b: {c: {d: 1}}}}", "float16", "rk5", "../../etc/passwd", "/dev/zero",
+    "[[1]]", "{a: {b: {c: {d: 1}}}}", "float16", "rk5", "../no-such-folder/x",
 ]
 SPECIAL_KEYS = [
     "dt", "steps", "duration", "precision", "threads", "timeout", "integrator", "scenario",
@@ -109,7 +110,10 @@ def command_mutation(rng, words):
         flag = rng.choice(["--dt", "--steps", "--duration", "--threads", "--precision",
                            "--integrator", "--scenario", "--json", "--state-out", "--config",
                            "--out", "--plugin-path"])
-        words += [flag, rng.choice(SPECIAL_VALUES + ["/dev/full", "/dev/null", ".", "fifo"])]
+        # Devices are private nodes in the case folder, never /dev/*: a broken build run as
+        # root would replace them.
+        readable = ["/dev/zero"] if flag == "--config" else []  # read, never written
+        words += [flag, rng.choice(SPECIAL_VALUES + readable + ["device", ".", "fifo"])]
     elif choice == 3 and words:
         del words[rng.randrange(len(words))]
     elif choice == 4:
@@ -199,6 +203,11 @@ def run_one(executable, plugin_dir, config_name, data, args, limit_s, work_root)
                 f.write(data)
         if "fifo" in args:
             os.mkfifo(os.path.join(folder, "fifo"))
+        if "device" in args:
+            try:
+                os.mknod(os.path.join(folder, "device"), 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+            except PermissionError:
+                pass  # not root: "device" names a new regular file
         # Every run or case is bounded by the program's own timeout key, so legitimately long
         # work (duration=4096) ends; only the program itself can outlive the harness's limit.
         command = [executable, "--plugin-path", plugin_dir] + args + ["--set", "timeout=3"]

@@ -56,6 +56,14 @@ std::optional<std::string> string_option(const po::variables_map& values, const 
   return values[name].as<std::string>();
 }
 
+// A file or folder option: an empty value would show up later as an error naming no path.
+std::optional<std::string> path_option(const po::variables_map& values, const char* name) {
+  std::optional<std::string> path = string_option(values, name);
+  if (path && path->empty())
+    throw host::InputError(std::string("--") + name + " = '': an empty path; allowed: a path");
+  return path;
+}
+
 Setting parse_set(const std::string& assignment) {
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0)
@@ -96,12 +104,12 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.help = values.count("help") > 0;
   command_line.list_plugins = values.count("list-plugins") > 0;
   command_line.quiet = values.count("quiet") > 0;
-  command_line.config_file = string_option(values, "config");
-  command_line.json_file = string_option(values, "json");
-  command_line.state_file = string_option(values, "state-out");
+  command_line.config_file = path_option(values, "config");
+  command_line.json_file = path_option(values, "json");
+  command_line.state_file = path_option(values, "state-out");
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
-  command_line.out_folder = string_option(values, "out");
+  command_line.out_folder = path_option(values, "out");
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const auto& [flag, key] : setting_flags)

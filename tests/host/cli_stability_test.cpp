@@ -1,6 +1,7 @@
 // The clothlab program's stability verdict, sweeps and dt search end to end, on tiny grids.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -256,6 +257,9 @@ TEST_F(ClothlabStability, CommandLineAndConfigErrorsAreOneLineWithTheirSource) {
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_EQ(unknown.err.rfind("clothlab: error: unknown.yaml:1:13: integrator = nosuch: ", 0), 0u)
       << unknown.err;
+  const Outcome empty_path = run("--config '' --steps 1");
+  EXPECT_EQ(empty_path.exit_code, 1);
+  EXPECT_EQ(empty_path.err, "clothlab: error: --config = '': an empty path; allowed: a path\n");
   const Outcome many_threads = run("--threads 4096 --steps 1");
   EXPECT_EQ(many_threads.exit_code, 1);
   EXPECT_NE(
@@ -284,13 +288,17 @@ sweep:
   EXPECT_TRUE(fs::is_fifo(fs::symlink_status(file("results/fifo.json"))));
   EXPECT_FALSE(fs::exists(file("results/fifo.csv")));
 
+  // A private null device (never /dev/null: a broken build run as root would replace it).
+  if (::mknod(file("null-device").c_str(), S_IFCHR | 0666, ::makedev(1, 3)) != 0)
+    GTEST_SKIP() << "mknod needs root; the FIFO case above ran";
   const Outcome single =
-      run("--steps 2 --set scenario.rows=4 --set scenario.cols=4 --json /dev/null");
+      run("--steps 2 --set scenario.rows=4 --set scenario.cols=4 --json null-device");
   EXPECT_EQ(single.exit_code, 1);
   EXPECT_EQ(single.err,
-            "clothlab: error: cannot write /dev/null: it is a device; allowed: a "
-            "regular file or a new name\n");
+            "clothlab: error: cannot write null-device: it is a device; allowed: a regular file or "
+            "a new name\n");
   EXPECT_EQ(single.out, "");
+  EXPECT_TRUE(fs::is_character_file(file("null-device")));
 }
 
 // Item 2 of issue 12: a hanging case hung the sweep forever. Now the `timeout` key bounds
