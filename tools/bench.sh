@@ -5,11 +5,15 @@
 #     internal-force throughput (springs/s, median over runs);
 #   - the euler flag step of the fast core vs the in-run baseline (seed-style reference
 #     forces + the same Euler update, one thread), alternating in one process;
-#   - euler flag cost vs mesh size (50^2 ... 1000^2) to show linear scaling.
-# Usage: tools/bench.sh [--micro]   (--micro also runs the Google Benchmark suite)
+#   - euler flag cost vs mesh size (50^2 ... 1000^2) to show linear scaling;
+#   - the cost of --frames: euler and rk4 flag at 300 x 300 with and without frames at 60
+#     frames per simulated second (.vtp + .pvd), FRAME_STEPS steps, runs in alternation.
+# Usage: tools/bench.sh [--micro | --frames]   (--micro also runs the Google Benchmark
+#        suite; --frames runs only the frames comparison)
 # Environment: BUILD_DIR (build-bench), RESULTS_DIR ($BUILD_DIR/bench-results), REPS (5), STEPS (200),
-#              THREADS (0 = all).
-# Results: $RESULTS_DIR/table.md, summary.json, runs.csv, speedup.json, raw JSON per run.
+#              THREADS (0 = all), FRAME_STEPS (1000).
+# Results: $RESULTS_DIR/table.md, summary.json, runs.csv, speedup.json, frames.md, frames.json,
+#          raw JSON per run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${BUILD_DIR:-build-bench}
@@ -17,14 +21,39 @@ results=${RESULTS_DIR:-$build_dir/bench-results}
 reps=${REPS:-5}
 steps=${STEPS:-200}
 threads=${THREADS:-0}
-micro=0
+frame_steps=${FRAME_STEPS:-1000}
+micro=0 frames_only=0
 [[ ${1:-} == --micro ]] && micro=1
+[[ ${1:-} == --frames ]] && frames_only=1
 
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DCLOTHLAB_NATIVE=ON >/dev/null
+extra_targets=(clothlab_speedup)
+[[ $micro == 1 ]] && extra_targets+=(clothlab_microbench)
+[[ $frames_only == 1 ]] && extra_targets=()
 cmake --build "$build_dir" -j "$(nproc)" --target clothlab euler midpoint rk4 verlet sheet flag \
-  clothlab_speedup $([[ $micro == 1 ]] && echo clothlab_microbench) >/dev/null
+  "${extra_targets[@]}" >/dev/null
 mkdir -p "$results/runs"
 bin="$build_dir/bin"
+machine="$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+
+frames_comparison() {
+  for rep in $(seq 1 "$reps"); do
+    for integrator in euler rk4; do
+      for frames in off on; do
+        local extra=()
+        [[ $frames == on ]] && extra=(--frames "$results/frames-$integrator" --set frames.rate=60)
+        "$bin/clothlab" --config configs/bench-300.yaml --integrator "$integrator" --scenario flag \
+          --steps "$frame_steps" --threads "$threads" --quiet "${extra[@]}" \
+          --json "$results/runs/frames-$frames-flag-$integrator-$rep.json"
+      done
+    done
+  done
+  python3 bench/frames_table.py "$results" "$machine"
+}
+if [[ $frames_only == 1 ]]; then
+  frames_comparison
+  exit 0
+fi
 
 for rep in $(seq 1 "$reps"); do
   for scenario in sheet flag; do
@@ -48,7 +77,8 @@ for side in 50 100 200 300 500 1000; do
     --threads "$threads" --quiet --json "$results/runs/scaling-$side.json"
 done
 
-python3 bench/bench_table.py "$results" "$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+python3 bench/bench_table.py "$results" "$machine"
+frames_comparison
 [[ $micro == 1 ]] && "$bin/clothlab_microbench" --benchmark_out="$results/microbench.json" \
   --benchmark_out_format=json --benchmark_counters_tabular=true --benchmark_repetitions="$reps" \
   --benchmark_report_aggregates_only=true

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The SDK round trip a plugin author relies on (issue 3), against a configured build tree:
 #  1. installs ClothLab to a temporary prefix;
-#  2. configures and builds examples/third_party_integrator out of tree against that prefix
-#     (only find_package(ClothLab)) and runs it with the installed `clothlab`;
-#  3. runs the installed clothlab-conformance on every built-in plugin, the example and the
+#  2. configures and builds examples/third_party_integrator and examples/jacobian_integrator
+#     out of tree against that prefix (only find_package(ClothLab)) and runs them with the
+#     installed `clothlab`;
+#  3. runs the installed clothlab-conformance on every built-in plugin, the examples and the
 #     plain-C test plugin (all must pass), then on each deliberately faulty plugin (each
 #     must be caught by its check while the run completes).
 # Usage: tools/ci-sdk.sh [BUILD_DIR]   (default build; configured with tests on)
@@ -13,7 +14,7 @@ build=${1:-build}
 [ -f "$build/CMakeCache.txt" ] || { echo "ci-sdk: $build: not a configured build tree" >&2; exit 2; }
 
 faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_step abi_major_2
-        throws_through_boundary allocates_every_step)
+        throws_through_boundary allocates_every_step misdeclares_scheme)
 cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
   euler midpoint rk4 verlet sheet flag c_euler "${faulty[@]/#/faulty_}"
 
@@ -28,6 +29,12 @@ cmake -S examples/third_party_integrator -B "$work/example" -DCMAKE_PREFIX_PATH=
 cmake --build "$work/example" -j "$(nproc)"
 example="$work/example/velocity_verlet.so"
 "$prefix/bin/clothlab" --integrator="$example" --scenario=sheet
+# The second example steps through the host's jacobian and reductions extensions.
+cmake -S examples/jacobian_integrator -B "$work/jacobian_example" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/jacobian_example" -j "$(nproc)"
+jacobian_example="$work/jacobian_example/linearly_implicit_euler.so"
+"$prefix/bin/clothlab" --integrator="$jacobian_example" --scenario=sheet --duration 0.2 --dt 0.01
 
 conformance="$prefix/bin/clothlab-conformance"
 test_plugins="$build/tests/conformance/plugins"
@@ -36,7 +43,8 @@ seed=${CLOTHLAB_CONFORMANCE_SEED:-20261125}
 echo "== conformance: built-ins, the example and the C plugin must pass"
 # Verlet's default drag (0.1/s) is a different ODE from the analytic test problems.
 "$conformance" --seed "$seed" --param verlet.damping=0 \
-  "$prefix"/lib/clothlab/plugins/*.so "$example" "$test_plugins/c_euler.so" >"$work/sound.txt" ||
+  "$prefix"/lib/clothlab/plugins/*.so "$example" "$jacobian_example" "$test_plugins/c_euler.so" \
+  >"$work/sound.txt" ||
   { cat "$work/sound.txt"; echo "ci-sdk: a sound plugin failed conformance" >&2; exit 1; }
 grep -c '^PASS' "$work/sound.txt" | xargs printf '%s checks passed; summary: '
 tail -n 1 "$work/sound.txt"
@@ -52,6 +60,7 @@ expectations=(
   "abi_major_2|library|loading.abi-version|"
   "throws_through_boundary|throws-through-boundary|robustness.no-throw|--filter robustness"
   "allocates_every_step|allocates-every-step|robustness.no-alloc|--filter robustness"
+  "misdeclares_scheme|misdeclares-scheme|descriptor.extensions|--filter descriptor"
 )
 for expectation in "${expectations[@]}"; do
   IFS='|' read -r name component check options <<<"$expectation"

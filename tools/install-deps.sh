@@ -7,7 +7,11 @@ packages=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib binutils
+  python3-vtk9 python3-numpy python3-pil chromium
 )
+# The viewer's three.js comes from npm (host/viewer/package-lock.json). Debian's nodejs and
+# npm unless a Node.js with npm is already installed (e.g. from NodeSource).
+command -v npm >/dev/null || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -18,4 +22,10 @@ if ((${#missing[@]})); then
   [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
   "${sudo_cmd[@]}" apt-get update -qq
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+# Exactly the locked three.js, into host/viewer/node_modules (CMake copies it into the build).
+viewer="$(dirname "$0")/../host/viewer"
+if [ ! -f "$viewer/node_modules/three/build/three.min.js" ] ||
+  [ "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]; then
+  (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error)
 fi

@@ -3,15 +3,18 @@
 
   plot.py work-precision results/work-precision.json --out plots/
       per scenario: error at T against wall time per simulated second, and against dt,
-      log-log, one line per integrator (solid float64, dashed float32), fitted orders in
-      the legend.
+      log-log, one line per integrator (solid float64, dashed float32), the fitted order in
+      the legend where the fit is in the asymptotic range (r^2 >= 0.99).
   plot.py stability results/stability.json [--matrix results/seed-2016-matrix.json] --out plots/
       per scenario and integrator: largest stable dt against mesh size, measured (bisection)
       and predicted (linearised system); with --matrix, each run of a run-mode sweep as a
-      stable (o) or unstable (x) cell.
+      stable (o) or unstable (x) cell, in a panel of its own (its cloth differs); the
+      60 Hz and 30 Hz frame steps (16.7 ms, 33.3 ms) as horizontal lines.
   plot.py cost results/seed-2016-matrix.json [--metric ms_per_step] [--dt 0.001] --out plots/
       per scenario: the metric against particle count, one line per integrator.
 
+Every plot names the mesh, the cloth, the precision and the machine under its title
+(--cloth, --matrix-cloth, --machine; the machine defaults to this one's CPU).
 Needs Debian's python3-matplotlib (Agg backend, no display).
 """
 import argparse
@@ -25,6 +28,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+
+plt.rcParams["svg.fonttype"] = "none"  # text stays text in SVG: searchable, and testable
+plt.rcParams["legend.fontsize"] = 8
+plt.rcParams["legend.framealpha"] = 0.85
+# Frame steps a reader compares dt_max with: 60 and 30 frames per second.
+FRAME_STEPS = ((1 / 60, "60 Hz frame (16.7 ms)"), (1 / 30, "30 Hz frame (33.3 ms)"))
+ASYMPTOTIC_R_SQUARED = 0.99
 
 FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
@@ -79,6 +89,38 @@ def number(value):
         and math.isfinite(value) else None
 
 
+def this_machine():
+    """'AMD EPYC 9R14, 2 cores': the CPU model and count from /proc/cpuinfo."""
+    try:
+        with open("/proc/cpuinfo") as stream:
+            models = [line.split(":", 1)[1].strip() for line in stream
+                      if line.startswith("model name")]
+    except OSError:
+        models = []
+    return f"{models[0]}, {len(models)} cores" if models else "unknown machine"
+
+
+def values_of(rows, key):
+    return ", ".join(sorted({str(r.get(key)) for r in rows if r.get(key) not in (None, "")}))
+
+
+def caption(rows, cloth, machine):
+    """What a reader needs to judge a plot: mesh, cloth, precision, machine."""
+    return (f"mesh {values_of(rows, 'mesh') or 'not recorded'}; cloth: {cloth}; "
+            f"precision {values_of(rows, 'precision') or 'float32 (default)'}; machine: {machine}")
+
+
+def asymptotic_order(fit):
+    """The fitted order, or None when the fit is not in the asymptotic range."""
+    order = number(fit.get("order"))
+    r_squared = number(fit.get("r_squared"))
+    if order is None or fit.get("fit_valid") is False:
+        return None
+    if r_squared is not None and r_squared < ASYMPTOTIC_R_SQUARED:
+        return None
+    return order
+
+
 def coordinate(value):
     """A matrix coordinate such as dt as a number: JSON results store them as strings."""
     if isinstance(value, str):
@@ -127,7 +169,7 @@ def plot_work_precision(args):
         for (integrator, precision, mesh), points in sorted(curves.items(), key=str):
             points.sort(key=lambda r: r["dt"])
             fit = fits.get((scenario, integrator, precision, mesh), {})
-            order = number(fit.get("order"))
+            order = asymptotic_order(fit)
             label = f"{integrator} {precision or ''}".strip()
             if order is not None:
                 label += f" (order {order:.2f})"
@@ -149,8 +191,9 @@ def plot_work_precision(args):
         for axis in (by_cost, by_dt):
             axis.set_ylabel("RMS position error / diagonal")
             axis.grid(True, which="both", alpha=0.3)
-        by_dt.legend(fontsize=8)
-        figure.suptitle(title)
+            axis.legend(loc="best")
+        mine = [r for r in ladder if str(r.get("scenario")) == scenario]
+        figure.suptitle(title + "\n" + caption(mine, args.cloth, args.machine), fontsize=10)
         written += save(figure, args.out, f"work-precision-{scenario}")
     return written
 
@@ -163,38 +206,52 @@ def plot_stability(args):
               if coordinate(r.get("dt")) is not None and r.get("mesh") is not None]
     scenarios = sorted({str(r.get("scenario")) for r in search})
     integrators = sorted({str(r.get("integrator")) for r in search})
-    figure, axes = plt.subplots(len(scenarios), len(integrators), squeeze=False,
-                                figsize=(4 * len(integrators), 3.6 * len(scenarios)),
+    # The matrix ran another cloth: its cells get panels of their own, never the lines' axes.
+    kinds = ["search"] + (["matrix"] if matrix else [])
+    panel_rows = [(scenario, kind) for scenario in scenarios for kind in kinds]
+    figure, axes = plt.subplots(len(panel_rows), len(integrators), squeeze=False,
+                                figsize=(4 * len(integrators), 3.8 * len(panel_rows)),
                                 sharey=True)
-    for i, scenario in enumerate(scenarios):
+    for i, (scenario, kind) in enumerate(panel_rows):
         for j, integrator in enumerate(integrators):
             axis = axes[i][j]
-            mine = sorted((r for r in search if str(r.get("scenario")) == scenario
-                           and str(r.get("integrator")) == integrator),
-                          key=lambda r: mesh_particles(r.get("mesh")))
-            sizes = [math.sqrt(mesh_particles(r.get("mesh"))) for r in mine]
-            measured = [number(r.get("dt_max")) for r in mine]
-            predicted = [number(r.get("predicted_dt_max")) for r in mine]
-            axis.semilogy(sizes, [m if m else float("nan") for m in measured], "k-o",
-                          label="measured dt_max")
-            if any(p for p in predicted):
-                axis.semilogy(sizes, [p if p else float("nan") for p in predicted], "b--",
-                              label="predicted dt_max")
-            cells = [r for r in matrix if str(r.get("scenario")) == scenario
-                     and str(r.get("integrator")) == integrator]
-            for stable, marker, colour in ((True, "o", "tab:green"), (False, "x", "tab:red")):
-                chosen = [r for r in cells if bool(r.get("stable")) == stable]
-                if chosen:
-                    axis.scatter([math.sqrt(mesh_particles(r["mesh"])) for r in chosen],
-                                 [coordinate(r["dt"]) for r in chosen], marker=marker,
-                                 color=colour,
-                                 label="run: stable" if stable else "run: unstable")
-            axis.set_title(f"{integrator} / {scenario}")
+            if kind == "search":
+                mine = sorted((r for r in search if str(r.get("scenario")) == scenario
+                               and str(r.get("integrator")) == integrator),
+                              key=lambda r: mesh_particles(r.get("mesh")))
+                sizes = [math.sqrt(mesh_particles(r.get("mesh"))) for r in mine]
+                measured = [number(r.get("dt_max")) for r in mine]
+                predicted = [number(r.get("predicted_dt_max")) for r in mine]
+                axis.semilogy(sizes, [m if m else float("nan") for m in measured], "k-o",
+                              label="measured dt_max")
+                if any(p for p in predicted):
+                    axis.semilogy(sizes, [p if p else float("nan") for p in predicted], "b--",
+                                  label="predicted dt_max")
+                axis.set_title(f"{integrator} / {scenario}: {args.cloth}", fontsize=9)
+            else:
+                cells = [r for r in matrix if str(r.get("scenario")) == scenario
+                         and str(r.get("integrator")) == integrator]
+                for stable, marker, colour in ((True, "o", "tab:green"), (False, "x", "tab:red")):
+                    chosen = [r for r in cells if bool(r.get("stable")) == stable]
+                    if chosen:
+                        axis.scatter([math.sqrt(mesh_particles(r["mesh"])) for r in chosen],
+                                     [coordinate(r["dt"]) for r in chosen], marker=marker,
+                                     color=colour,
+                                     label="run: stable" if stable else "run: unstable")
+                axis.set_yscale("log")
+                axis.set_title(f"{integrator} / {scenario}: {args.matrix_cloth}", fontsize=9)
+            for step, label in FRAME_STEPS:
+                axis.axhline(step, color="grey", linestyle=":" if step < 0.02 else "-.",
+                             linewidth=1, label=label)
             axis.set_xlabel("mesh side N (N x N)")
             axis.grid(True, which="both", alpha=0.3)
+            axis.legend(loc="lower left")
             if j == 0:
                 axis.set_ylabel("dt (s)")
-    axes[0][0].legend(fontsize=8)
+    figure.suptitle("Largest stable dt against mesh size\n"
+                    + caption(search + matrix, args.cloth + (f" / {args.matrix_cloth}"
+                                                              if matrix else ""), args.machine),
+                    fontsize=10)
     figure.tight_layout()  # else each row's x label runs into the titles below it
     return save(figure, args.out, "stability-map")
 
@@ -224,9 +281,11 @@ def plot_cost(args):
         axis.set_xlabel("particles")
         axis.set_ylabel(args.metric)
         title = f"{scenario}: {args.metric} vs mesh size"
-        axis.set_title(title + (f" (dt = {chosen_dt:g} s)" if chosen_dt is not None else ""))
+        title += f" (dt = {chosen_dt:g} s)" if chosen_dt is not None else ""
+        mine = [r for r in runs if str(r.get("scenario")) == scenario]
+        axis.set_title(title + "\n" + caption(mine, args.cloth, args.machine), fontsize=8)
         axis.grid(True, which="both", alpha=0.3)
-        axis.legend(fontsize=8)
+        axis.legend(loc="best")
         written += save(figure, args.out, f"cost-{scenario}")
     return written
 
@@ -246,8 +305,14 @@ def main(argv=None):
     cost.add_argument("--metric", default="ms_per_step", help="column to plot (default ms_per_step)")
     cost.add_argument("--dt", type=float, help="time step to plot (default: the smallest)")
     cost.set_defaults(run=plot_cost)
+    st.add_argument("--matrix-cloth", default="the matrix's cloth",
+                    help="the cloth of the --matrix runs, for their panels' titles")
     for command in (wp, st, cost):
         command.add_argument("--out", default="plots", help="output folder (default plots)")
+        command.add_argument("--cloth", default="default cloth (plugins/README.md)",
+                             help="the cloth (material) of the results, for the caption")
+        command.add_argument("--machine", default=this_machine(),
+                             help="the machine the results came from (default: this one)")
     args = parser.parse_args(argv)
     try:
         for path in args.run(args):

@@ -31,7 +31,8 @@ if [ "${SKIP_MATRIX:-0}" != 1 ]; then
   "$clothlab" --config configs/seed-2016-matrix.yaml --out "$out" "$@"
   matrix=(--matrix "$out/seed-2016-matrix.json")
 fi
-/usr/bin/python3 tools/plot.py stability "$out/stability.json" "${matrix[@]}" --out "$out"
+/usr/bin/python3 tools/plot.py stability "$out/stability.json" "${matrix[@]}" --out "$out" \
+  --cloth "default cloth" --matrix-cloth "seed §5.1 cloth (100 kg, ks 20, kd 7.5)"
 # Predicted against measured dt_max, one line per integrator x scenario x mesh.
 /usr/bin/python3 - "$out/stability.json" <<'PY'
 import json, sys

@@ -1,5 +1,7 @@
 #include "reference_forces.hpp"
 
+#include <clothlab/ext/topology.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -57,8 +59,11 @@ ReferenceCloth<Real>::ReferenceCloth(const Scene& scene)
           squared += d * d;
         }
         const SpringFamily& family = scene.*n.family;
+        const uint8_t id = n.family == &Scene::structural ? CLOTHLAB_SPRING_STRUCTURAL
+                           : n.family == &Scene::shear    ? CLOTHLAB_SPRING_SHEAR
+                                                          : CLOTHLAB_SPRING_FLEXION;
         springs_.push_back({i, j, static_cast<Real>(std::sqrt(squared)),
-                            static_cast<Real>(family.ks), static_cast<Real>(family.kd)});
+                            static_cast<Real>(family.ks), static_cast<Real>(family.kd), id});
       }
     }
   }
@@ -72,6 +77,18 @@ void ReferenceCloth<Real>::acceleration(const Real* x, const Real* v, Real* a) {
   std::fill(forces_.begin(), forces_.end(), Real(0));
   add_springs(x, v);
   if (scene_.has_wind()) add_wind(x);
+  to_acceleration(a);
+}
+
+template <class Real>
+void ReferenceCloth<Real>::external_acceleration(const Real* x, Real* a) {
+  std::fill(forces_.begin(), forces_.end(), Real(0));
+  if (scene_.has_wind()) add_wind(x);
+  to_acceleration(a);
+}
+
+template <class Real>
+void ReferenceCloth<Real>::to_acceleration(Real* a) const {
   const std::size_t n = particle_count();
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t k = 0; k < 3; ++k) {

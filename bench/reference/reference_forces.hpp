@@ -18,6 +18,7 @@ struct Spring {
   Real rest;
   Real ks;
   Real kd;
+  uint8_t family;  // CLOTHLAB_SPRING_* (clothlab/ext/topology.h)
 };
 
 template <class Real>
@@ -33,9 +34,13 @@ class ReferenceCloth {
   // a = M^-1 F(x, v) on unpinned particles, 0 on pinned ones; all arrays particle-major
   // with 3 * particle_count() elements. v == nullptr leaves out damping. No allocation.
   void acceleration(const Real* x, const Real* v, Real* a);
+  // The same for gravity and wind alone (no springs).
+  void external_acceleration(const Real* x, Real* a);
+  const std::vector<Real>& inverse_masses() const { return inverse_mass_; }
 
  private:
   void add_springs(const Real* x, const Real* v);
+  void to_acceleration(Real* a) const;
   void add_wind(const Real* x);
 
   Scene scene_;

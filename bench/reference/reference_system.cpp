@@ -1,5 +1,6 @@
 #include "reference_system.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -53,6 +54,26 @@ ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
   system_.eval_acceleration_at = &eval_at_callback;
   system_.reserve_rkn = &reserve_rkn_callback;
   system_.step_rkn = &step_rkn_callback;
+  system_.get_extension = &get_extension_callback;
+  wind_ = scene.has_wind();
+
+  // The Jacobian's block pattern: each row's particle and spring partners, ascending.
+  product_.assign(3 * n_, 0.0);
+  std::vector<std::vector<uint32_t>> rows(n_);
+  for (std::size_t i = 0; i < n_; ++i) rows[i].push_back(static_cast<uint32_t>(i));
+  for (const Spring<Real>& spring : cloth_.springs()) {
+    rows[spring.i].push_back(spring.j);
+    rows[spring.j].push_back(spring.i);
+  }
+  row_offsets_.push_back(0);
+  for (std::vector<uint32_t>& row : rows) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    columns_.insert(columns_.end(), row.begin(), row.end());
+    row_offsets_.push_back(static_cast<uint32_t>(columns_.size()));
+  }
+  blocks_.assign(9 * columns_.size(), 0.0);
+  build_topology(scene);
 }
 
 template <class Real>

@@ -4,6 +4,9 @@
 // (preallocated) and the vector helpers are plain single-threaded loops.
 #pragma once
 
+#include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/topology.h>
+
 #include <clothlab/core/cloth.hpp>
 #include <cstddef>
 #include <cstdint>
@@ -52,6 +55,31 @@ class ReferenceSystem {
   static void copy_callback(void* context, void* dst, const void* src);
   static void* alloc_callback(void* context);
 
+  // Host extensions (reference_extensions.cpp): reductions, external forces and the spring
+  // Jacobian as plain serial loops over the spring list (scatter), the topology with
+  // first-fit colourings: the oracle for the engine's.
+  static const void* get_extension_callback(void* context, const char* id);
+  void build_topology(const Scene& scene);
+  static clothlab_status topology_get(void* context, clothlab_topology* out);
+  void to_aos(const void* soa, std::vector<Real>& aos) const;
+  // M = c_x dF_i/dx_j + c_v dF_i/dv_j of spring s at (x, v), row-major.
+  void spring_block(const Spring<Real>& s, const Real* x, const Real* v, double c_x, double c_v,
+                    double (&m)[9]) const;
+  uint32_t slot(uint32_t row, uint32_t column) const;
+  static clothlab_status jacobian_reserve(void* context);
+  static clothlab_status jacobian_apply(void* context, double t, const void* x, const void* v,
+                                        double c_x, double c_v, const void* u, void* out);
+  static clothlab_status jacobian_diagonal(void* context, double t, const void* x, const void* v,
+                                           double c_x, double c_v, double* out);
+  static clothlab_status jacobian_pattern(void* context, clothlab_block_pattern* out);
+  static clothlab_status jacobian_blocks(void* context, double t, const void* x, const void* v,
+                                         double c_x, double c_v, double* values);
+  static double dot(void* context, const void* a, const void* b);
+  static double mass_dot(void* context, const void* a, const void* b);
+  static double max_abs(void* context, const void* a);
+  static clothlab_status external(void* context, double t, const void* x, void* a);
+  static int32_t depends_on_position(void* context);
+
   ReferenceCloth<Real> cloth_;
   bool velocity_forces_;
   std::size_t n_, stride_;
@@ -59,8 +87,19 @@ class ReferenceSystem {
   std::vector<clothlab_range> active_;
   std::vector<Real> x_aos_, v_aos_, a_aos_;
   std::vector<Vector> vectors_;
-  Vector stage_x_, stage_v_;           // step_rkn: one stage state at a time
-  std::vector<Vector> accelerations_;  // step_rkn: one per stage
+  Vector stage_x_, stage_v_;                     // step_rkn: one stage state at a time
+  std::vector<Vector> accelerations_;            // step_rkn: one per stage
+  std::vector<double> product_;                  // jacobian: 3 n accumulators
+  std::vector<uint32_t> row_offsets_, columns_;  // jacobian: block pattern
+  std::vector<double> blocks_;                   // jacobian: all blocks, for the diagonal
+  bool wind_ = false;
+  struct Topology {
+    std::vector<uint32_t> first, second, triangles, adjacency_offsets, adjacent_springs;
+    std::vector<uint32_t> spring_color_offsets, spring_color_members;
+    std::vector<uint32_t> particle_color_offsets, particle_color_members;
+    std::vector<double> rest_length, ks, kd;
+    std::vector<uint8_t> family;
+  } topology_;
   clothlab_system system_{};
   uint64_t force_evals_ = 0;
   double force_seconds_ = 0.0;

@@ -34,6 +34,6 @@ void Cloth::set_state(const std::vector<double>& x, const std::vector<double>& v
 }
 bool Cloth::state_is_finite() const { return impl_->engine->state_is_finite(); }
 Cloth::Energy Cloth::energy() const { return impl_->engine->energy(); }
-double Cloth::max_stretch() const { return impl_->engine->max_stretch(); }
+Cloth::Stretch Cloth::stretch() const { return impl_->engine->stretch(); }
 
 }  // namespace clothlab

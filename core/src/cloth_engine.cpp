@@ -107,9 +107,10 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     active_particles_ += range.end - range.begin;
   }
 
-  forces_ =
-      std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
-                                            options.velocity_forces, threads_, parallel_);
+  forces_ = std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
+                                                  options.velocity_forces, threads_, parallel_);
+  velocity_forces_ = options.velocity_forces;
+  chunk_sums_.assign(active_chunks_.size(), 0.0);
 
   system_.struct_size = sizeof(clothlab_system);
   system_.precision = sizeof(Real) == sizeof(float) ? CLOTHLAB_FLOAT32 : CLOTHLAB_FLOAT64;
@@ -129,6 +130,7 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   system_.eval_acceleration_at = &eval_at_callback;
   system_.reserve_rkn = &reserve_rkn_callback;
   system_.step_rkn = &step_rkn_callback;
+  system_.get_extension = &get_extension_callback;
 }
 
 template <class Real>

@@ -11,6 +11,8 @@
 #include "engine.hpp"
 #include "force_pipeline.hpp"
 #include "grid.hpp"
+#include "grid_topology.hpp"
+#include "spring_jacobian.hpp"
 
 namespace clothlab::detail {
 
@@ -29,7 +31,7 @@ class ClothEngine final : public Engine {
   void set_state(const std::vector<double>& x, const std::vector<double>& v) override;
   bool state_is_finite() const override;
   Cloth::Energy energy() const override;
-  double max_stretch() const override;
+  Cloth::Stretch stretch() const override;
 
  private:
   struct Span {
@@ -56,6 +58,33 @@ class ClothEngine final : public Engine {
   static void copy_callback(void* context, void* dst, const void* src);
   static void* alloc_callback(void* context);
 
+  // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, reductions and
+  // external forces. The topology and the Jacobian's pattern are built on first use.
+  static const void* get_extension_callback(void* context, const char* id);
+  const GridTopology& topology();
+  const SpringJacobian<Real>& jacobian();
+  // Sum over the active chunks of term(k * stride + i), each chunk summed on its own and
+  // the chunks' sums added in chunk order: the same bits for any thread count.
+  template <class Term>
+  double chunked_sum(Term&& term);
+  static clothlab_status topology_callback(void* context, clothlab_topology* out);
+  static clothlab_status jacobian_reserve_callback(void* context);
+  static clothlab_status jacobian_apply_callback(void* context, double t, const void* x,
+                                                 const void* v, double c_x, double c_v,
+                                                 const void* u, void* out);
+  static clothlab_status jacobian_diagonal_callback(void* context, double t, const void* x,
+                                                    const void* v, double c_x, double c_v,
+                                                    double* out);
+  static clothlab_status jacobian_pattern_callback(void* context, clothlab_block_pattern* out);
+  static clothlab_status jacobian_blocks_callback(void* context, double t, const void* x,
+                                                  const void* v, double c_x, double c_v,
+                                                  double* values);
+  static double dot_callback(void* context, const void* a, const void* b);
+  static double mass_dot_callback(void* context, const void* a, const void* b);
+  static double max_abs_callback(void* context, const void* a);
+  static clothlab_status external_callback(void* context, double t, const void* x, void* a);
+  static int32_t depends_on_position_callback(void* context);
+
   Scene scene_;
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
@@ -68,6 +97,10 @@ class ClothEngine final : public Engine {
   uint64_t active_particles_ = 0;
 
   std::unique_ptr<ForcePipeline<Real>> forces_;
+  bool velocity_forces_ = true;
+  std::unique_ptr<GridTopology> topology_;
+  std::unique_ptr<SpringJacobian<Real>> jacobian_;
+  std::vector<double> chunk_sums_;  // one per active chunk: the reductions' partial results
 
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};

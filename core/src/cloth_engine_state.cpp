@@ -105,28 +105,33 @@ Cloth::Energy ClothEngine<Real>::energy() const {
 }
 
 template <class Real>
-double ClothEngine<Real>::max_stretch() const {
+Cloth::Stretch ClothEngine<Real>::stretch() const {
   const Real* x = x_.data();
   const std::size_t cols = scene_.cols;
   double worst = 0.0;
-  bool any = false;
+  double sum = 0.0;
+  std::size_t springs = 0;
   for (const Stencil& stencil : kProvotStencils) {
     const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
     if (extent.count() == 0) continue;
-    any = true;
+    springs += extent.count();
     const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
     const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
     const auto rows = static_cast<std::ptrdiff_t>(extent.row_end);
-#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(max : worst)
+#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(max : worst) \
+    reduction(+ : sum)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
       const std::size_t first = static_cast<std::size_t>(r) * cols;
-#pragma omp simd reduction(max : worst)
+#pragma omp simd reduction(max : worst) reduction(+ : sum)
       for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
-        worst = std::max(worst, spring_length(x, stride_, first + c, offset) * inverse_rest);
+        const double ratio = spring_length(x, stride_, first + c, offset) * inverse_rest;
+        worst = std::max(worst, ratio);
+        sum += ratio;
       }
     }
   }
-  return any ? worst : 1.0;  // a cloth without springs counts as unstretched
+  if (springs == 0) return {};
+  return {worst, sum / static_cast<double>(springs)};
 }
 
 template class ClothEngine<float>;

@@ -40,6 +40,11 @@ class ForcePipeline {
   bool evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v, Real* a,
                 StageCounters& counters);
 
+  // a = gravity + M^-1 wind at x (no springs), through the same wind kernel as evaluate;
+  // 0 where the inverse mass is 0. Returns false when some value is not finite.
+  bool evaluate_external(const Real* x, Real* a);
+  bool has_wind() const { return wind_; }
+
   // Scratch for step_rkn with up to `stages` stages. Allocates: not during a step.
   void reserve_stages(uint32_t stages);
   uint32_t reserved_stages() const { return reserved_stages_; }
@@ -73,6 +78,7 @@ class ForcePipeline {
     bool damped;          // damping terms wanted
     bool timed;           // time the separate wind stage (thread 0)
     double wind_seconds;  // that time
+    bool springs;         // false: gravity and wind only (no interior kernel either)
   };
   using StatePair = const StateCombination<Real>* const (&)[2];  // x, v (nullptr: none)
 

@@ -2,6 +2,7 @@
 
 #include <clothlab/analysis/stability_prediction.hpp>
 #include <cmath>
+#include <stdexcept>
 
 #include "run_report.hpp"
 #include "simulation.hpp"
@@ -25,17 +26,21 @@ nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& s
 
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path) {
   const Simulation simulation(config, search_path);
-  const analysis::Method method = analysis::method_for_plugin(simulation.integrator_id().c_str());
-  analysis::VerletDamping verlet;
-  const nlohmann::json& params = simulation.integrator_params();
-  if (method == analysis::Method::PositionVerlet) {
-    verlet.rate_per_s = params.value("damping", 0.0);
-    verlet.per_step_fraction = params.value("damping_per_step", 0.0);
+  const host::IntegratorPlugin& integrator = simulation.integrator();
+  const void* declared = integrator.extension(CLOTHLAB_EXT_EXPLICIT_SCHEME);
+  if (declared == nullptr) {
+    throw std::invalid_argument("integrator " + simulation.integrator_id() +
+                                " declares no explicit scheme (" CLOTHLAB_EXT_EXPLICIT_SCHEME
+                                "): no stability prediction");
   }
-  const analysis::StabilityPrediction prediction =
-      analysis::predict_stability(simulation.cloth().scene(), method, verlet, config.threads);
+  const analysis::RknTable table =
+      analysis::rkn_table(*static_cast<const clothlab_explicit_scheme*>(declared));
+  const analysis::StabilityPrediction prediction = analysis::predict_stability(
+      simulation.cloth().scene(), table, integrator.uses_velocity_forces(), config.threads);
   nlohmann::json json;
-  json["method"] = analysis::to_string(method);
+  json["method"] = "declared scheme: " + std::to_string(table.stages) + " stages, " +
+                   std::to_string(table.evaluations_per_step()) + " evaluations per step";
+  json["evals_per_step"] = table.evaluations_per_step();
   json["dt_max"] = std::isfinite(prediction.dt_max) ? nlohmann::json(prediction.dt_max)
                                                     : nlohmann::json(nullptr);
   json["omega_max"] = prediction.spectrum.omega_max;

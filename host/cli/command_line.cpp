@@ -15,10 +15,13 @@ constexpr const char* setting_flags[][2] = {
     {"integrator", "integrator.plugin"},
     {"scenario", "scenario.plugin"},
     {"dt", "dt"},
+    {"frame-rate", "frame_rate"},
+    {"substeps", "substeps"},
     {"steps", "steps"},
     {"duration", "duration"},
     {"precision", "precision"},
     {"threads", "threads"},
+    {"frames", "frames.dir"},
 };
 
 po::options_description describe_options() {
@@ -29,6 +32,9 @@ po::options_description describe_options() {
       "scenario", po::value<std::string>(),
       "scenario plugin, found like --integrator (default sheet)")(
       "dt", po::value<std::string>(), "time step in seconds (default 0.001)")(
+      "frame-rate", po::value<std::string>(),
+      "frames per second (Hz), instead of --dt: dt = 1 / (frame rate * substeps)")(
+      "substeps", po::value<std::string>(), "steps per frame, with --frame-rate (default 1)")(
       "steps", po::value<std::string>(), "number of steps")(
       "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
       "precision", po::value<std::string>(), "float32 or float64 (default float32)")(
@@ -41,6 +47,9 @@ po::options_description describe_options() {
       "CLOTHLAB_PLUGIN_PATH, then ../lib/clothlab/plugins beside the executable")(
       "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
       "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
+      "frames", po::value<std::string>(),
+      "write the cloth every frame to DIR (keys frames.every | frames.rate (default 60 Hz), "
+      "frames.format: vtp, obj, pc2); `clothlab view DIR` plays it")(
       "list-plugins", "list the plugins on the search path with their parameters")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
@@ -126,6 +135,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
 std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
+          "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
@@ -136,7 +146,8 @@ std::string usage_text() {
           "plugins, parameter values) before the first one runs.\n"
           "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input (also\n"
           "a sweep case's), 2 plugin error (also a crash or timeout of a single run), 3 the\n"
-          "run diverged or failed a stability check.\n\n"
+          "run diverged or failed a stability check, 130 a run stopped by Ctrl-C (SIGINT)\n"
+          "or SIGTERM, its outputs written.\n\n"
        << describe_options();
   return text.str();
 }

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "interrupt.hpp"
+
 namespace clothlab::cli {
 
 namespace {
@@ -37,9 +39,11 @@ std::string answer_of(const std::function<nlohmann::json()>& work) {
 
 }  // namespace
 
-nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s) {
+nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
+                            bool forward_interrupt) {
   process::IsolationOptions options;
   options.timeout_s = timeout_s;
+  if (forward_interrupt) options.on_child = forward_interrupts_to;
   const process::ChildOutcome outcome =
       process::run_isolated([&] { return answer_of(work); }, options);
   if (!outcome.answered()) throw std::runtime_error(outcome.problem);

@@ -11,7 +11,9 @@ namespace clothlab::cli {
 // Runs work() in a child and returns its JSON. Throws std::runtime_error with a one-line
 // reason when the child threw (its message), crashed (the signal or exit status) or
 // outlived timeout_s. Throws InputError / PluginLoadError / PluginError as the child did,
-// so exit codes do not depend on where the work ran.
-nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s);
+// so exit codes do not depend on where the work ran. With forward_interrupt, a SIGINT or
+// SIGTERM the program gets (interrupt.hpp) is passed on to the child.
+nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
+                            bool forward_interrupt = false);
 
 }  // namespace clothlab::cli

@@ -1,16 +1,21 @@
 // clothlab: runs one cloth simulation, a sweep, or a search for the largest stable dt, or
 // lists the plugins it can find.
 // Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged or failed
-// a stability check (a sweep exits 0 whatever its cases did: they are results).
+// a stability check (a sweep exits 0 whatever its cases did: they are results), 130 a single
+// run stopped by SIGINT or SIGTERM (its outputs written).
+#include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
 #include <clothlab/sweep/sweep_spec.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
 
 #include "command_line.hpp"
 #include "config_file.hpp"
+#include "frames_output.hpp"
+#include "interrupt.hpp"
 #include "isolation.hpp"
 #include "max_dt_search.hpp"
 #include "output_file.hpp"
@@ -19,10 +24,17 @@
 #include "run_report.hpp"
 #include "simulation.hpp"
 #include "sweep_mode.hpp"
+#include "view_command.hpp"
 
 namespace {
 
-enum ExitCode { exit_ok = 0, exit_bad_input = 1, exit_plugin_error = 2, exit_diverged = 3 };
+enum ExitCode {
+  exit_ok = 0,
+  exit_bad_input = 1,
+  exit_plugin_error = 2,
+  exit_diverged = 3,
+  exit_interrupted = 130  // the shell's code for a SIGINT
+};
 
 int fail(int code, const std::string& message) {
   std::cerr << "clothlab: error: " << clothlab::host::one_line(message) << "\n";
@@ -31,6 +43,10 @@ int fail(int code, const std::string& message) {
 
 int run(int argc, const char* const argv[]) {
   using namespace clothlab::cli;
+  if (argc > 1 && std::string_view(argv[1]) == "view") {
+    clothlab::viewer::run_view_command(argc - 1, argv + 1, std::cout);
+    return exit_ok;
+  }
   const CommandLine command_line = parse_command_line(argc, argv);
   if (command_line.help) {
     std::cout << usage_text();
@@ -41,10 +57,12 @@ int run(int argc, const char* const argv[]) {
     return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
 
   if (command_line.config_file && clothlab::sweep::is_sweep_file(*command_line.config_file)) {
-    if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
+    const bool frames = std::any_of(command_line.settings.begin(), command_line.settings.end(),
+                                    [](const Setting& s) { return s.key.starts_with("frames."); });
+    if (command_line.find_max_dt || command_line.json_file || command_line.state_file || frames)
       throw clothlab::host::InputError(
           "--config " + *command_line.config_file +
-          " is a sweep: --find-max-dt, --json and --state-out are for single runs");
+          " is a sweep: --find-max-dt, --json, --state-out and --frames are for single runs");
     SweepRequest request{*command_line.config_file, command_line.settings, std::nullopt,
                          command_line.resume};
     if (command_line.out_folder) request.out_folder = *command_line.out_folder;
@@ -63,8 +81,9 @@ int run(int argc, const char* const argv[]) {
     if (output) check_output_path(*output);
 
   if (command_line.find_max_dt) {
-    if (command_line.state_file)
-      throw clothlab::host::InputError("--state-out is for single runs, not --find-max-dt");
+    if (command_line.state_file || !config.frames.dir.empty())
+      throw clothlab::host::InputError(
+          "--state-out and --frames are for single runs, not --find-max-dt");
     const nlohmann::json result = find_max_dt(config, search_path);
     if (command_line.json_file)
       write_file_atomically(*command_line.json_file,
@@ -73,11 +92,17 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
 
-  // The run itself is plugin code: in a child, so a crash or hang is reported as one.
+  // The run itself is plugin code: in a child, so a crash or hang is reported as one. Ctrl-C
+  // reaches the child (forwarded), which stops stepping and still writes every output.
+  install_interrupt_handler();
   const nlohmann::json run = run_isolated(
       [&] {
         Simulation simulation(config, search_path);
-        const RunRecord record = simulation.run();
+        std::optional<FramesOutput> frames;
+        if (!config.frames.dir.empty()) frames.emplace(config, simulation);
+        const RunRecord record =
+            simulation.run({frames ? &*frames : nullptr, &interrupt_requested()});
+        if (frames) frames->finish(record);
         if (command_line.json_file)
           write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
             out << summary_json(record).dump(2) << "\n";
@@ -88,10 +113,13 @@ int run(int argc, const char* const argv[]) {
           });
         return nlohmann::json{{"summary", human_summary(record)},
                               {"stable", record.stable},
+                              {"interrupted", record.interrupted},
                               {"verdict", record.verdict}};
       },
-      config.timeout_s);
+      config.timeout_s, /*forward_interrupt=*/true);
   if (!command_line.quiet) std::cout << run["summary"].get<std::string>();
+  if (run["interrupted"].get<bool>())
+    return fail(exit_interrupted, run["verdict"].get<std::string>() + " (outputs written)");
   if (!run["stable"].get<bool>())
     return fail(exit_diverged, "run diverged: " + run["verdict"].get<std::string>());
   return exit_ok;

@@ -1,5 +1,6 @@
 #include "run_config.hpp"
 
+#include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
@@ -43,6 +44,79 @@ double read_positive(const Setting& setting, double max_value, const char* unit 
                          (*unit ? std::string(" ") + unit : std::string()));
 }
 
+// frames.format: one name or a list "[vtp, obj]"; each once.
+std::vector<std::string> read_frame_formats(const Setting& setting) {
+  std::string text = setting.value;
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']')
+    text = text.substr(1, text.size() - 2);
+  std::vector<std::string> formats;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find(',', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string name = text.substr(begin, end - begin);
+    name.erase(0, name.find_first_not_of(' '));
+    name.erase(name.find_last_not_of(' ') + 1);
+    const bool known = name == "vtp" || name == "obj" || name == "pc2";
+    if (!known || std::find(formats.begin(), formats.end(), name) != formats.end())
+      throw host::InputError(setting.source + ": frames.format = " + setting.value + ": " +
+                             (known ? "repeats " + name : "unknown format '" + name + "'") +
+                             "; allowed: vtp, obj, pc2 or a list of them, e.g. [vtp, pc2]");
+    formats.push_back(name);
+    begin = end + 1;
+  }
+  return formats;
+}
+
+// Each material key with its allowed range; a material must set all of them.
+struct MaterialKey {
+  const char* key;
+  double Material::*field;
+  double min_value, max_value;
+  const char* unit;
+};
+constexpr MaterialKey material_keys[] = {
+    {"material.areal_density", &Material::areal_density, 1e-6, 1e3, "kg/m^2"},
+    {"material.stretch_stiffness", &Material::stretch_stiffness, 1e-3, 1e8, "N/m"},
+    {"material.shear_stiffness", &Material::shear_stiffness, 0.0, 1e8, "N/m"},
+    {"material.bending_stiffness", &Material::bending_stiffness, 0.0, 1.0, "N m"},
+    {"material.damping_time", &Material::damping_time, 0.0, 10.0, "s"},
+};
+constexpr double max_frame_rate_hz = 1e6;
+constexpr double max_substeps = 1e6;
+
+// Reads a material key into the material; false when the key is not one.
+bool read_material_key(const Setting& setting, Material& material, std::vector<std::string>& seen) {
+  if (setting.key == "material.name") {
+    material.name = setting.value;
+  } else {
+    const MaterialKey* match = nullptr;
+    for (const MaterialKey& candidate : material_keys)
+      if (setting.key == candidate.key) match = &candidate;
+    if (match == nullptr) return false;
+    material.*(match->field) =
+        read_number(setting, CLOTHLAB_PARAM_REAL, match->min_value, match->max_value, match->unit);
+    seen.push_back(setting.key);
+  }
+  if (material.source.empty()) material.source = setting.source;
+  return true;
+}
+
+void check_material_complete(const Material& material, const std::vector<std::string>& seen) {
+  for (const MaterialKey& key : material_keys)
+    if (std::find(seen.begin(), seen.end(), key.key) == seen.end())
+      throw host::InputError(material.source + ": material " + material.name + " has no " +
+                             key.key + "; allowed: real in [" + host::format_number(key.min_value) +
+                             ", " + host::format_number(key.max_value) + "] " + key.unit +
+                             " (a material sets every material.* value)");
+  if (!(material.shear_stiffness < material.stretch_stiffness))
+    throw host::InputError(material.source + ": material.shear_stiffness = " +
+                           host::format_number(material.shear_stiffness) +
+                           " N/m is not below material.stretch_stiffness = " +
+                           host::format_number(material.stretch_stiffness) +
+                           " N/m; allowed: shear < stretch (the grid's axes carry E - G)");
+}
+
 bool starts_with(const std::string& text, const std::string& prefix) {
   return text.size() > prefix.size() && text.compare(0, prefix.size(), prefix) == 0;
 }
@@ -56,6 +130,9 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   double duration = 2.0;
   std::optional<Setting> duration_setting;
   std::string bracket_source = "default find_max_dt bracket";  // the last of dt_min, dt_max set
+  std::optional<Setting> dt_setting, frame_rate_setting, substeps_setting;
+  Material material;
+  std::vector<std::string> material_keys_seen;
   for (const Setting& setting : settings) {
     const std::string& key = setting.key;
     if (key == "integrator.plugin" || key == "scenario.plugin") {
@@ -67,6 +144,15 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       (integrator ? config.integrator_source : config.scenario_source) = setting.source;
     } else if (key == "dt") {
       config.dt = read_positive(setting, max_dt_s);
+      dt_setting = setting;
+    } else if (key == "frame_rate") {
+      config.frame_rate = read_positive(setting, max_frame_rate_hz, "Hz");
+      frame_rate_setting = setting;
+    } else if (key == "substeps") {
+      config.substeps = static_cast<uint64_t>(
+          read_number(setting, CLOTHLAB_PARAM_INT, 1, max_substeps, "steps per frame"));
+      substeps_setting = setting;
+    } else if (read_material_key(setting, material, material_keys_seen)) {
     } else if (key == "steps") {
       config.steps =
           static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, ""));
@@ -100,6 +186,18 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else if (key == "find_max_dt.dt_max") {
       config.search_dt_max = read_positive(setting, max_dt_s);
       bracket_source = setting.source;
+    } else if (key == "frames.dir") {
+      if (setting.value.empty())
+        throw host::InputError(setting.source + ": frames.dir is empty; allowed: a folder path");
+      config.frames.dir = setting.value;
+    } else if (key == "frames.every") {
+      config.frames.every =
+          static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, "steps"));
+    } else if (key == "frames.rate") {
+      config.frames.rate = read_positive(setting, 1e6, "Hz");
+      config.frames.every.reset();
+    } else if (key == "frames.format") {
+      config.frames.formats = read_frame_formats(setting);
     } else if (starts_with(key, "integrator.")) {
       config.integrator_params.push_back({key.substr(11), setting.value, setting.source});
     } else if (starts_with(key, "scenario.")) {
@@ -108,12 +206,35 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       config.plugin_params.push_back({key.substr(14), setting.value, setting.source});
     } else {
       throw host::InputError(setting.source + ": unknown key " + key +
-                             "; valid: integrator, scenario, dt, steps, duration, precision, "
-                             "threads, timeout, stability.interval, stability.max_stretch, "
+                             "; valid: integrator, scenario, dt, frame_rate, substeps, steps, "
+                             "duration, precision, threads, timeout, material.name, "
+                             "material.areal_density, material.stretch_stiffness, "
+                             "material.shear_stiffness, material.bending_stiffness, "
+                             "material.damping_time, stability.interval, stability.max_stretch, "
                              "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
-                             "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
+                             "find_max_dt.dt_max, frames.dir, frames.every, frames.rate, "
+                             "frames.format, integrator.<parameter>, scenario.<parameter>, "
                              "plugin_params.<plugin id>.<parameter>");
     }
+  }
+  if (!material.source.empty()) {
+    check_material_complete(material, material_keys_seen);
+    config.material = material;
+  }
+  if (frame_rate_setting) {
+    if (dt_setting)
+      throw host::InputError(dt_setting->source + ": dt = " + dt_setting->value +
+                             " conflicts with " + frame_rate_setting->source +
+                             ": frame_rate = " + frame_rate_setting->value +
+                             "; allowed: dt, or frame_rate and substeps (dt = 1 / (frame_rate "
+                             "substeps)), not both");
+    config.dt = 1.0 / (config.frame_rate * static_cast<double>(config.substeps));
+  } else if (substeps_setting) {
+    throw host::InputError(substeps_setting->source + ": substeps = " + substeps_setting->value +
+                           " without frame_rate; allowed: substeps together with frame_rate "
+                           "(Hz)");
+  } else {
+    config.frame_rate = 1.0 / config.dt;
   }
   if (length_is_duration) {
     const double steps = std::round(duration / config.dt);
@@ -128,6 +249,15 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   } else {
     config.duration = static_cast<double>(config.steps) * config.dt;
   }
+  // A frame every 1/rate s of simulated time, to the nearest step (at least every step); the
+  // rate is frames.rate, else the frame_rate the run was set up with, else 60 Hz.
+  const double frames_rate = config.frames.rate   ? *config.frames.rate
+                             : frame_rate_setting ? config.frame_rate
+                                                  : 60.0;
+  config.frames.every_steps =
+      config.frames.every
+          ? *config.frames.every
+          : static_cast<uint64_t>(std::max(1.0, std::round(1.0 / (frames_rate * config.dt))));
   if (config.search_dt_min >= config.search_dt_max)
     throw host::InputError(
         bracket_source + ": find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +

@@ -2,12 +2,24 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "material.hpp"
 #include "settings.hpp"
 
 namespace clothlab::cli {
+
+// frames.*: the cloth written every few steps for ParaView, Blender and the viewer.
+struct FramesConfig {
+  std::string dir;                // empty: no frames
+  std::optional<uint64_t> every;  // frames.every (steps); else from rate
+  // frames.rate, Hz of simulated time; unset: frame_rate when given, else 60 Hz.
+  std::optional<double> rate;
+  std::vector<std::string> formats{"vtp"};  // vtp (+ .pvd index), obj, pc2
+  uint64_t every_steps = 1;                 // resolved: steps between frames
+};
 
 struct RunConfig {
   std::string integrator = "rk4";
@@ -15,8 +27,12 @@ struct RunConfig {
   // Where each plugin was named ("configs/x.yaml:2:13", "--integrator"), for load errors.
   std::string integrator_source = "default integrator", scenario_source = "default scenario";
   double dt = 1e-3;
-  uint64_t steps = 2000;  // default: 2 s at the default dt
-  double duration = 2.0;  // s; when the length was given as steps: steps * dt
+  // Frames: with frame_rate given, dt = 1 / (frame_rate * substeps); without, every step is
+  // a frame (frame_rate = 1 / dt, substeps = 1).
+  double frame_rate = 1e3;  // Hz
+  uint64_t substeps = 1;    // steps per frame
+  uint64_t steps = 2000;    // default: 2 s at the default dt
+  double duration = 2.0;    // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;  // 0: all cores; at most 256
   // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
@@ -30,6 +46,8 @@ struct RunConfig {
   // plugin id, applied only when that plugin runs (before integrator.* / scenario.*), so
   // one config can carry e.g. verlet's damping and still run with rk4.
   std::vector<Setting> plugin_params;
+  // material.*: when set, decides the scenario's mass and every spring's ks and kd.
+  std::optional<Material> material;
   // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
   uint64_t stability_interval = 10;  // steps between checks
   double max_stretch = 5.0;          // longest spring / rest length (see MonitorOptions)
@@ -38,6 +56,7 @@ struct RunConfig {
   double search_tolerance = 0.02;  // relative width of the final bracket
   double search_dt_min = 1e-7;     // s: nothing stable below gives up
   double search_dt_max = 1.0;      // s: everything stable up to it gives up
+  FramesConfig frames;
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the

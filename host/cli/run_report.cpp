@@ -35,6 +35,19 @@ RunFigures compute_figures(const RunRecord& record) {
   figures.internal_ms = median_ms(record.internal_forces_s);
   figures.external_ms = median_ms(record.external_forces_s);
   figures.integrate_ms = median_ms(integrate_s);
+  // A frame is `substeps` consecutive steps; a trailing partial frame is left out.
+  std::vector<double> frame_s;
+  const size_t substeps = std::max<uint64_t>(1, record.substeps);
+  for (size_t first = 0; first + substeps <= record.step_s.size(); first += substeps)
+    frame_s.push_back(std::accumulate(
+        record.step_s.begin() + static_cast<std::ptrdiff_t>(first),
+        record.step_s.begin() + static_cast<std::ptrdiff_t>(first + substeps), 0.0));
+  if (!frame_s.empty()) {
+    figures.frame_ms_median = median_ms(frame_s);
+    figures.frame_ms_p10 = 1e3 * quantile(frame_s, 0.1);
+    figures.frame_ms_p90 = 1e3 * quantile(frame_s, 0.9);
+    if (figures.frame_ms_median > 0) figures.frames_per_second = 1e3 / figures.frame_ms_median;
+  }
   const double internal_s = record.counters.internal_forces_s;
   if (internal_s > 0)
     figures.springs_per_second = static_cast<double>(record.springs.total()) *
@@ -55,6 +68,10 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["rows"] = record.rows;
   json["cols"] = record.cols;
   json["dt"] = record.dt;
+  json["frame_rate"] = record.frame_rate;
+  json["substeps"] = record.substeps;
+  json["material"] =
+      record.material.empty() ? nlohmann::json(nullptr) : nlohmann::json(record.material);
   json["steps"] = record.steps_taken;
   json["steps_requested"] = record.steps_requested;
   json["sim_time_s"] = figures.sim_time_s;
@@ -64,11 +81,19 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["phase_ms"] = {{"internal_forces", figures.internal_ms},
                       {"external_forces", figures.external_ms},
                       {"integrate", figures.integrate_ms}};
+  json["ms_per_frame"] = {{"median", figures.frame_ms_median},
+                          {"p10", figures.frame_ms_p10},
+                          {"p90", figures.frame_ms_p90}};
+  json["frames_per_second"] = figures.frames_per_second;
+  json["max_stretch"] = {{"final", record.final_stretch.max},
+                         {"over_run", record.max_stretch_over_run}};
+  json["mean_stretch"] = record.final_stretch.mean;
   json["springs"] = record.springs.total();
   json["force_evals"] = counters.force_evals;
   json["springs_per_second"] = figures.springs_per_second;
   json["real_time_factor"] = figures.real_time_factor;
   json["stable"] = record.stable;
+  json["interrupted"] = record.interrupted;
   json["verdict"] = record.verdict;
   json["failed_check"] =
       record.failed_check.empty() ? nlohmann::json(nullptr) : nlohmann::json(record.failed_check);
@@ -97,6 +122,14 @@ std::string human_summary(const RunRecord& record) {
       "factor %.3g\n",
       figures.ms_median, figures.ms_p10, figures.ms_p90, figures.wall_time_s,
       figures.real_time_factor);
+  text += printf_text(
+      "  frames: %g Hz x %llu substeps: %.4g ms/frame (median), %.4g frames/s achievable\n",
+      record.frame_rate, static_cast<unsigned long long>(record.substeps), figures.frame_ms_median,
+      figures.frames_per_second);
+  text +=
+      printf_text("  stretch: max %.4g (final), %.4g (over the run), mean %.4g%s%s\n",
+                  record.final_stretch.max, record.max_stretch_over_run, record.final_stretch.mean,
+                  record.material.empty() ? "" : "; material ", record.material.c_str());
   text += printf_text(
       "  per step: internal forces %.4g ms, external forces %.4g ms, integrate %.4g ms; "
       "%.3g springs/s\n",

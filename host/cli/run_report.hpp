@@ -15,7 +15,9 @@ struct RunFigures {
   double sim_time_s = 0;   // steps taken * dt
   double wall_time_s = 0;  // time spent inside the integrator's step calls
   double ms_median = 0, ms_p10 = 0, ms_p90 = 0;
-  double internal_ms = 0, external_ms = 0, integrate_ms = 0;  // medians per step
+  double internal_ms = 0, external_ms = 0, integrate_ms = 0;       // medians per step
+  double frame_ms_median = 0, frame_ms_p10 = 0, frame_ms_p90 = 0;  // substeps per frame summed
+  double frames_per_second = 0;  // achievable: 1000 / frame_ms_median
   double springs_per_second = 0;
   double real_time_factor = 0;
 };

@@ -110,6 +110,15 @@ LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath
                                            config.plugin_params, config.integrator_params);
   host::ParamSet scenario_params = apply(scenario->default_params(), scenario->info().id,
                                          config.plugin_params, config.scenario_params);
+  if (config.material) {
+    // Everything the user set for the scenario, by either route, may not contradict it.
+    std::vector<Setting> user_settings = config.scenario_params;
+    const std::string prefix = std::string(scenario->info().id) + ".";
+    for (const Setting& setting : config.plugin_params)
+      if (setting.key.starts_with(prefix))
+        user_settings.push_back({setting.key.substr(prefix.size()), setting.value, setting.source});
+    apply_material(*config.material, user_settings, scenario_params);
+  }
   const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
   if (!integrator->supports_precision(precision))
     throw host::InputError("precision = " + std::string(config.float64 ? "float64" : "float32") +
@@ -159,7 +168,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
   integrator_instance_->prepare(cloth_->system());
 }
 
-RunRecord Simulation::run() {
+RunRecord Simulation::run(const RunHooks& hooks) {
   RunRecord record;
   record.integrator = integrator_->info().id;
   record.scenario = scenario_->info().id;
@@ -169,6 +178,9 @@ RunRecord Simulation::run() {
   record.rows = cloth_->scene().rows;
   record.cols = cloth_->scene().cols;
   record.dt = config_.dt;
+  record.frame_rate = config_.frame_rate;
+  record.substeps = config_.substeps;
+  if (config_.material) record.material = config_.material->name;
   record.steps_requested = config_.steps;
   record.threads = cloth_->threads();
   record.springs = cloth_->springs();
@@ -192,7 +204,12 @@ RunRecord Simulation::run() {
 
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
+  if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
+    if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
+      record.interrupted = true;
+      break;
+    }
     // t from the step count, not by summing dt, so long runs do not drift.
     const double t = static_cast<double>(step - 1) * config_.dt;
     const StageCounters before = cloth_->counters();
@@ -227,9 +244,19 @@ RunRecord Simulation::run() {
                                            ? monitor.check(*cloth_, step, t_end)
                                            : monitor.observe(*cloth_, step, t_end);
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
+    // Sampled where the monitor looks, so the maximum over the run costs no extra passes
+    // beyond one per check.
+    if (step % config_.stability_interval == 0 || step == config_.steps)
+      record.max_stretch_over_run = std::max(record.max_stretch_over_run, cloth_->max_stretch());
+    if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
+  const Cloth::Stretch final_stretch = cloth_->stretch();
+  record.final_stretch = final_stretch;
+  record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);
   record.stability_checks = monitor.checks();
-  if (record.stable)
+  if (record.interrupted)
+    record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
+  else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
   record.counters = cloth_->counters();

@@ -1,6 +1,7 @@
 // One run: scenario plugin -> scene -> Cloth -> integrator plugin -> timed step loop.
 #pragma once
 
+#include <atomic>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/host/param_set.hpp>
 #include <clothlab/host/plugin_library.hpp>
@@ -24,6 +25,9 @@ struct RunRecord {
   Precision precision = Precision::Float32;
   uint32_t rows = 0, cols = 0;
   double dt = 0;
+  double frame_rate = 0;  // Hz
+  uint64_t substeps = 1;  // steps per frame
+  std::string material;   // the material's name; empty without one
   uint64_t steps_requested = 0;
   uint64_t steps_taken = 0;  // includes a failed step
   int threads = 0;
@@ -36,10 +40,14 @@ struct RunRecord {
   uint64_t timing_stride = 1;  // the kept samples are steps 1, 1 + stride, 1 + 2 stride, ...
   double step_total_s = 0;
   bool stable = true;
+  bool interrupted = false;  // stopped early on request (SIGINT), not by a failed check
   std::string verdict;
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
   uint64_t stability_checks = 0;
+  // Spring length / rest length: at the end, and the largest seen at the monitor's checks.
+  Cloth::Stretch final_stretch;
+  double max_stretch_over_run = 1.0;
   nlohmann::json integrator_params, scenario_params;
 };
 
@@ -57,6 +65,20 @@ struct LoadedPlugins {
 // plugin_params.<id> names a plugin that exists (a typo'd id is an InputError).
 LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path);
 
+// Sees the state before the first step (step 0) and after every step that passed the
+// stability checks, on the stepping thread (frames output).
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual void observe(const Cloth& cloth, uint64_t step, double t) = 0;
+};
+
+struct RunHooks {
+  StepObserver* observer = nullptr;
+  // Checked before every step; once true the run stops with a verdict saying so.
+  const std::atomic<bool>* stop_requested = nullptr;
+};
+
 class Simulation {
  public:
   // Loads both plugins (PluginLoadError), applies the parameter settings (InputError),
@@ -66,12 +88,15 @@ class Simulation {
   // Steps until done or until a stability check fails (the run stops there: past a failed
   // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
   // is thrown. The monitor (config.stability.*) checks every few steps and after the last.
-  RunRecord run();
+  RunRecord run(const RunHooks& hooks = {});
 
   const Cloth& cloth() const { return *cloth_; }
   std::string integrator_id() const { return std::string(integrator_->info().id); }
+  const host::IntegratorPlugin& integrator() const { return *integrator_; }
+  std::string scenario_id() const { return std::string(scenario_->info().id); }
   // The parameter values in force, defaults included.
   const nlohmann::json& integrator_params() const { return integrator_params_; }
+  const nlohmann::json& scenario_params() const { return scenario_params_; }
 
  private:
   Simulation(const RunConfig& config, LoadedPlugins plugins);

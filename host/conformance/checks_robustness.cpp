@@ -7,6 +7,7 @@
 #include "allocation_counter.hpp"
 #include "check.hpp"
 #include "fixtures.hpp"
+#include "plugin_only_system.hpp"
 
 namespace clothlab::conformance {
 namespace {
@@ -55,62 +56,6 @@ Verdict nothing_escapes(const clothlab_integrator& integrator) {
   });
   return {true, ""};
 }
-
-// The cloth's system table with every callback routed through a pause of the allocation
-// counter: only the plugin's own code is measured, not the host's force evaluation.
-class PluginOnlySystem {
- public:
-  explicit PluginOnlySystem(const clothlab_system& host) : host_(host), system_(host) {
-    system_.context = this;
-    system_.eval_acceleration = [](void* self, double t, const void* x, const void* v, void* a) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      return host.eval_acceleration(host.context, t, x, v, a);
-    };
-    system_.eval_acceleration_at = [](void* self, double t, const clothlab_combination* x,
-                                      const clothlab_combination* v, void* a) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      return host.eval_acceleration_at(host.context, t, x, v, a);
-    };
-    system_.reserve_rkn = [](void* self, uint32_t stages) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      return host.reserve_rkn(host.context, stages);
-    };
-    system_.step_rkn = [](void* self, double t, double h, const clothlab_rkn_scheme* scheme) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      return host.step_rkn(host.context, t, h, scheme);
-    };
-    system_.axpy = [](void* self, void* y, double alpha, const void* x) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      host.axpy(host.context, y, alpha, x);
-    };
-    system_.lincomb = [](void* self, void* out, const void* base, uint32_t count,
-                         const double* coefficients, const void* const* vectors) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      host.lincomb(host.context, out, base, count, coefficients, vectors);
-    };
-    system_.copy = [](void* self, void* dst, const void* src) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      host.copy(host.context, dst, src);
-    };
-    system_.alloc_vector = [](void* self) {
-      const allocations::Pause pause;
-      const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-      return host.alloc_vector(host.context);
-    };
-  }
-  const clothlab_system& system() const { return system_; }
-
- private:
-  const clothlab_system& host_;
-  clothlab_system system_;
-};
 
 Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
   Cloth cloth(sheet_scene(8, 8, true), preferred_precision(integrator), pipeline_for(integrator));

@@ -25,6 +25,9 @@ struct SemiImplicitEuler {
   explicit SemiImplicitEuler(const sdk::Params&) {}
 
   static constexpr sdk::RknScheme<1> scheme{{0.0}, {0.0}, {0.0}, {0.0}, {1.0}, {1.0}};
+  // Declared as data: the host derives the cost and the stability limit from the table.
+  static constexpr clothlab_rkn_scheme raw_scheme = scheme.raw();
+  static constexpr clothlab_explicit_scheme explicit_scheme = sdk::explicit_scheme_of(raw_scheme);
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {

@@ -48,6 +48,15 @@ struct StormerVerlet {
                       "seed-style damping per step p: f = 1 - p, dt-dependent (seed: 0.005)"),
   };
 
+  // Undamped position Verlet is velocity Verlet on (x, v): the same positions, so the same
+  // stability. Declared as a two-stage table whose last acceleration is the next step's
+  // first, one evaluation per step: x += h v + h^2/2 a(x), v += h/2 (a(x) + a(x_new)).
+  static constexpr sdk::RknScheme<2> velocity_verlet{
+      {0.0, 1.0}, {0.0, 1.0}, {0.0, 0.0, 0.5, 0.0}, {0.0, 0.0, 1.0, 0.0}, {0.5, 0.0}, {0.5, 0.5}};
+  static constexpr clothlab_rkn_scheme raw_scheme = velocity_verlet.raw();
+  static constexpr clothlab_explicit_scheme explicit_scheme =
+      sdk::explicit_scheme_of(raw_scheme, true);
+
   explicit StormerVerlet(const sdk::Params& values)
       : damping_rate_(values.real("damping")), damping_per_step_(values.real("damping_per_step")) {}
 

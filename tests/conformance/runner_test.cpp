@@ -105,6 +105,10 @@ INSTANTIATE_TEST_SUITE_P(
                    "--filter robustness"},
         FaultyCase{"faulty_allocates_every_step", "allocates-every-step", "robustness.no-alloc",
                    "heap allocator calls during 10 steps", "--filter robustness"},
+        FaultyCase{"faulty_misdeclares_scheme", "misdeclares-scheme", "descriptor.extensions",
+                   "takes 2 evaluations per step, the descriptor says evals_per_step = 1",
+                   "--filter descriptor"},
+
         FaultyCase{"faulty_idle_in_float32", "idle-in-float32", "numerics.precisions-agree",
                    "float32 and float64 differ by", "--filter numerics"},
         FaultyCase{"faulty_rebinds_badly", "rebinds-badly", "lifecycle.prepare-twice",
@@ -165,7 +169,9 @@ TEST_P(SoundPlugin, PassesEveryCheck) {
 }
 
 std::vector<std::string> sound_plugins() {
-  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet")};
+  std::vector<std::string> arguments = {plugin("c_euler"), plugin("example_velocity_verlet"),
+                                        plugin("example_linearly_implicit_euler"),
+                                        plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
     // Verlet's default drag (0.1/s) changes the ODE the analytic problems assume.

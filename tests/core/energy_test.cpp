@@ -84,6 +84,18 @@ TEST(Energy, LargeThreadedClothMatchesHandValue) {
                           0.5 * 2.0 * 0.01 * 4.0 * counts.flexion;  // rest 2: L0^2 = 4
   EXPECT_NEAR(cloth.energy().spring, expected, 1e-9 * expected);
   EXPECT_NEAR(cloth.max_stretch(), 1.1, 1e-12);
+  EXPECT_NEAR(cloth.stretch().mean, 1.1, 1e-12);
+}
+
+TEST(Energy, MeanStretchAveragesOverEverySpring) {
+  // 3x1 grid: two structural springs (rest 1) and one flexion spring (rest 2). Moving the last
+  // particle from y = -2 to y = -3 stretches one structural spring to 2 and the flexion spring
+  // to 1.5: mean (1 + 2 + 1.5) / 3 = 1.5, max 2.
+  Scene scene = testing::bare_scene(3, 1);
+  Cloth cloth(scene, Precision::Float64, {});
+  cloth.set_state({0, 0, 0, 0, -1, 0, 0, -3, 0}, std::vector<double>(9, 0.0));
+  EXPECT_NEAR(cloth.stretch().max, 2.0, 1e-12);
+  EXPECT_NEAR(cloth.stretch().mean, 1.5, 1e-12);
 }
 
 }  // namespace

@@ -12,28 +12,7 @@
 namespace clothlab {
 namespace {
 
-Scene busy_scene(uint32_t rows, uint32_t cols) {
-  Scene scene = testing::bare_scene(rows, cols);
-  scene.width = 1.3;
-  scene.height = 0.9;
-  scene.origin = {0.1, 2.0, -0.3};
-  scene.col_axis = {0.8, 0.0, 0.6};
-  scene.row_axis = {0.0, -1.0, 0.0};
-  scene.total_mass = 0.7;
-  scene.structural = {500.0, 0.25};
-  scene.shear = {120.0, 0.1};
-  scene.flexion = {40.0, 0.05};
-  scene.gravity = {0.0, -9.81, 0.0};
-  scene.wind_direction = {0.48, 0.0, 0.84};
-  scene.wind_strength = 7.5;
-  const std::size_t n = std::size_t{rows} * cols;
-  if (n > 1) scene.pinned.push_back(0);
-  if (n > 2) scene.pinned.push_back(static_cast<uint32_t>(n / 2));
-  // Scene copies handed to Cloth are expected to be normalised, as scene_from_abi does.
-  const double length = std::hypot(scene.wind_direction[0], scene.wind_direction[2]);
-  scene.wind_direction = {scene.wind_direction[0] / length, 0.0, scene.wind_direction[2] / length};
-  return scene;
-}
+using testing::busy_scene;
 
 template <class Real>
 void expect_agreement(uint32_t rows, uint32_t cols, double relative_tolerance,

@@ -3,17 +3,12 @@
 #include <clothlab/core/cloth.hpp>
 #include <cstdint>
 
+#include "cloth_test_support.hpp"
+
 namespace clothlab {
 namespace {
 
-// Seed eq. 2.2, valid for m, n >= 2 (m rows, n columns).
-SpringCounts seed_equation_2_2(int64_t m, int64_t n) {
-  SpringCounts counts;
-  counts.structural = static_cast<uint64_t>(2 * (m - 1) * (n - 1) + (m - 1) + (n - 1));
-  counts.shear = static_cast<uint64_t>(2 * (m - 1) * (n - 1));
-  counts.flexion = static_cast<uint64_t>(2 * (m - 2) * (n - 2) + 2 * ((m - 2) + (n - 2)));
-  return counts;
-}
+using testing::seed_equation_2_2;
 
 TEST(SpringCounts, MatchSeedEquationForGridsOfAtLeastTwoByTwo) {
   const uint32_t shapes[][2] = {{2, 2}, {2, 3},   {3, 2},   {3, 3},

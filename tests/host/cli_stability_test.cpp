@@ -368,6 +368,9 @@ TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {
   const double dt_max = json["dt_max"].get<double>();
   EXPECT_LE(json["dt_unstable"].get<double>(), dt_max * 1.021);
   EXPECT_NE(search.out.find("predicted dt_max"), std::string::npos);
+  // Predicted from midpoint's declared table (clothlab.explicit-scheme/1), not from its id.
+  EXPECT_TRUE(json["predicted_dt_max"].is_number()) << json.dump();
+  EXPECT_FALSE(json.contains("prediction_error")) << json.dump();
 
   char dt_text[64];
   std::snprintf(dt_text, sizeof dt_text, "%.17g", dt_max);

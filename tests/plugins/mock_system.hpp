@@ -65,7 +65,8 @@ class MockSystem {
             &MockSystem::alloc,
             &MockSystem::eval_at,
             &MockSystem::reserve_rkn,
-            &MockSystem::step_rkn};
+            &MockSystem::step_rkn,
+            nullptr};  // no host extensions: a force law has no springs to describe
   }
   MockSystem(const MockSystem&) = delete;
   MockSystem& operator=(const MockSystem&) = delete;

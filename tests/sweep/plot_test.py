@@ -28,9 +28,11 @@ def work_precision_rows():
                              "precision": precision, "dt": dt, "T": 0.5,
                              "error": 3.0 * dt ** order + (1e-7 if precision == "float32" else 0),
                              "wall_per_sim_s": 1e-4 / dt, "stable": True})
+            # euler's fit is made out of its asymptotic range: its order must not be shown.
             rows.append({"key": f"fit{integrator}{precision}", "kind": "fit", "scenario": "sheet",
                          "integrator": integrator, "mesh": "20x20", "precision": precision,
-                         "order": float(order)})
+                         "order": float(order), "fit_valid": True,
+                         "r_squared": 0.5 if integrator == "euler" else 0.9999})
     return rows
 
 
@@ -64,10 +66,24 @@ class PlotTest(unittest.TestCase):
                 target = os.path.join(self.out, f"{name}.{extension}")
                 self.assertTrue(os.path.getsize(target) > 1000, target)
 
+    def svg(self, name):
+        with open(os.path.join(self.out, f"{name}.svg")) as stream:
+            return stream.read()
+
     def test_work_precision_from_csv(self):
         write_csv(self.path("wp.csv"), work_precision_rows())
-        result = run_plot("work-precision", self.path("wp.csv"), "--out", self.out)
+        result = run_plot("work-precision", self.path("wp.csv"), "--out", self.out,
+                          "--machine", "test machine", "--cloth", "test cloth")
         self.assert_written(result, ["work-precision-sheet"])
+        svg = self.svg("work-precision-sheet")
+        self.assertIn("rk4 float64 (order 4.00)", svg)
+        self.assertIn("euler float64", svg)
+        self.assertNotIn("euler float64 (order", svg)  # r^2 0.5: not asymptotic
+        for fact in ("mesh 20x20", "cloth: test cloth", "precision float32, float64",
+                     "machine: test machine"):
+            self.assertIn(fact, svg)
+        self.assertEqual(svg.count("reference error (est.)"), 1)
+        self.assertGreaterEqual(svg.count(">rk4 float64 (order 4.00)<"), 2)  # both panels
 
     def test_stability_map_with_matrix_cells(self):
         search = [{"key": f"s{i}{j}", "kind": "stability", "integrator": integrator,
@@ -83,8 +99,16 @@ class PlotTest(unittest.TestCase):
         with open(self.path("matrix.json"), "w") as stream:
             json.dump({"sweep": {}, "rows": matrix}, stream)
         result = run_plot("stability", self.path("st.json"), "--matrix", self.path("matrix.json"),
-                          "--out", self.out)
+                          "--out", self.out, "--cloth", "soft cloth", "--matrix-cloth",
+                          "seed cloth", "--machine", "test machine")
         self.assert_written(result, ["stability-map"])
+        svg = self.svg("stability-map")
+        # Lines and markers of different cloths never share a panel: 2 integrators x 2 kinds.
+        self.assertEqual(svg.count("/ flag: soft cloth"), 2)
+        self.assertEqual(svg.count("/ flag: seed cloth"), 2)
+        self.assertEqual(svg.count(">60 Hz frame (16.7 ms)<"), 4)  # in every panel's legend
+        self.assertEqual(svg.count(">30 Hz frame (33.3 ms)<"), 4)
+        self.assertIn("machine: test machine", svg)
 
     def test_cost_vs_mesh(self):
         rows = [{"key": f"{integrator}{n}", "integrator": integrator, "scenario": "sheet",

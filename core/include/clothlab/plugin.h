@@ -5,11 +5,20 @@
  * integers, double, pointers to arrays and `const char*`. Rules:
  *  - A library exports exactly one symbol, `clothlab_plugin_entry`, returning a
  *    descriptor whose first field is the ABI version it was built against. The host
- *    checks that version before reading anything else: a different major is refused,
- *    any minor of the same major is accepted (a minor only appends fields).
- *  - Every struct that may grow carries `struct_size`; readers must not touch fields
- *    beyond it. A published struct is never edited in place: changes append fields in
- *    a new minor version, or get a new struct in a new major.
+ *    checks that version before reading anything else with clothlab_abi_is_compatible():
+ *    a different major is refused, any minor of the same major is accepted.
+ *  - Every struct carries `struct_size`; readers must not touch fields beyond it, and
+ *    accept any size from the smallest published one (CLOTHLAB_*_SIZE_1_0 below) up.
+ *    Minors 1.1 and 1.2 appended fields; since 1.2 the structs are frozen: the ABI grows
+ *    by extensions, optional interfaces looked up by a versioned string id
+ *    ("clothlab.jacobian/1") through `get_extension` on both sides, NULL when absent.
+ *    A new capability is a new id, a change of one is a new revision ("/2"); a published
+ *    extension struct is never edited. One header per extension, in clothlab/ext/:
+ *    host side topology, jacobian, reductions, external-forces; integrator side
+ *    integrator-traits, explicit-scheme.
+ *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
+ *    give the same results, because every reader accepts the smaller struct sizes below;
+ *    the only price is that the structs stop growing at 1.2.
  *  - Errors are status codes plus a message written into a caller-owned buffer.
  *    No exception, longjmp or C++ type ever crosses the boundary.
  *  - Ownership: the host owns the cloth state and every vector of a clothlab_system;
@@ -25,7 +34,7 @@
 #include <stdint.h>
 
 #define CLOTHLAB_ABI_VERSION_MAJOR 1u
-#define CLOTHLAB_ABI_VERSION_MINOR 1u
+#define CLOTHLAB_ABI_VERSION_MINOR 2u
 
 #if defined(__GNUC__) || defined(__clang__)
 #define CLOTHLAB_EXPORT __attribute__((visibility("default")))
@@ -185,6 +194,13 @@ typedef struct clothlab_system {
    * (x and v are then partly advanced). */
   clothlab_status (*step_rkn)(void *context, double t, double h,
                               const clothlab_rkn_scheme *scheme);
+
+  /* ---- since 1.2: present when struct_size covers it; the last field ever added ---- */
+
+  /* The host extension with this id ("clothlab.topology/1", ...), or NULL when the host
+   * does not offer it (unknown id, other revision, NULL id). The returned struct is
+   * static: valid while the host library is loaded. Any thread, any time. */
+  const void *(*get_extension)(void *context, const char *id);
 } clothlab_system;
 
 /* ------------------------------------------------------------ integrator */
@@ -219,6 +235,13 @@ typedef struct clothlab_integrator {
   clothlab_status (*step)(void *instance, const clothlab_system *system, double t, double dt,
                           clothlab_message *error);
   void (*destroy)(void *instance);
+
+  /* ---- since 1.2: present when struct_size covers it; the last field ever added ---- */
+
+  /* The integrator extension with this id ("clothlab.integrator-traits/1", ...), or
+   * NULL. May be NULL itself (no extensions). Returns static data; any thread, any time,
+   * without an instance. */
+  const void *(*get_extension)(const char *id);
 } clothlab_integrator;
 
 /* -------------------------------------------------------------- scenario */
@@ -294,6 +317,47 @@ typedef const clothlab_plugin_descriptor *(*clothlab_plugin_entry_fn)(void);
 
 /* The one symbol a plugin library exports. Returns a pointer to static data. */
 CLOTHLAB_EXPORT const clothlab_plugin_descriptor *clothlab_plugin_entry(void);
+
+/* ------------------------------------------------------------ compatibility */
+
+/* The one compatibility rule, used by the host's loader, the SDK and the conformance
+ * runner: same major, any minor. */
+static inline int clothlab_abi_is_compatible(clothlab_abi_version plugin_version) {
+  return plugin_version.major == CLOTHLAB_ABI_VERSION_MAJOR;
+}
+
+/* Smallest struct_size of each struct in each published version. A reader accepts any
+ * struct_size >= the 1.0 size and reads a field only when CLOTHLAB_HAS_FIELD says so. */
+#define CLOTHLAB_FIELD_END(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+#define CLOTHLAB_HAS_FIELD(pointer, type, field) \
+  ((size_t)(pointer)->struct_size >= CLOTHLAB_FIELD_END(type, field))
+
+#define CLOTHLAB_DESCRIPTOR_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_plugin_descriptor, scenarios)
+#define CLOTHLAB_INTEGRATOR_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_integrator, destroy)
+#define CLOTHLAB_INTEGRATOR_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_integrator, get_extension)
+#define CLOTHLAB_SCENARIO_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_scenario, destroy)
+#define CLOTHLAB_SCENE_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_scene, wind_strength)
+#define CLOTHLAB_PARAM_SPEC_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_param_spec, max_value)
+#define CLOTHLAB_SYSTEM_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_system, alloc_vector)
+#define CLOTHLAB_SYSTEM_SIZE_1_1 CLOTHLAB_FIELD_END(clothlab_system, step_rkn)
+#define CLOTHLAB_SYSTEM_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_system, get_extension)
+
+/* The one safe way to look an extension up: NULL when the struct predates 1.2 (its
+ * get_extension field is not there to read), when the field is NULL, or when the other
+ * side does not offer `id`. */
+static inline const void *clothlab_system_extension(const clothlab_system *system,
+                                                    const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(system, clothlab_system, get_extension) || !system->get_extension)
+    return NULL;
+  return system->get_extension(system->context, id);
+}
+static inline const void *clothlab_integrator_extension(const clothlab_integrator *integrator,
+                                                        const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(integrator, clothlab_integrator, get_extension) ||
+      !integrator->get_extension)
+    return NULL;
+  return integrator->get_extension(id);
+}
 
 #ifdef __cplusplus
 }

@@ -13,14 +13,25 @@
 //     template <class Real> void prepare(clothlab::sdk::System<Real>&);
 //     template <class Real> void step(clothlab::sdk::System<Real>&, double t, double dt);
 //   };
+//
+// Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(), reductions(),
+// external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED when the host lacks one;
+// system.extension<Table>(id) returns nullptr instead. An integrator offers its own
+// extensions by declaring `static constexpr clothlab_integrator_traits traits` or
+// `static constexpr clothlab_explicit_scheme explicit_scheme`.
+//
 //   CLOTHLAB_PLUGIN_ENTRY("my-plugin", "1.0.0",
 //                         clothlab::sdk::integrators<MyIntegrator>,
 //                         clothlab::sdk::scenarios<>)
 #pragma once
 
+#include <clothlab/ext/explicit_scheme.h>
+#include <clothlab/ext/integrator_traits.h>
 #include <clothlab/plugin.h>
 
 #include <array>
+#include <clothlab/sdk/error.hpp>
+#include <clothlab/sdk/extensions.hpp>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -31,48 +42,9 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace clothlab::sdk {
-
-// An error with a status code; thrown inside a plugin, returned across the ABI.
-class Error : public std::runtime_error {
- public:
-  Error(clothlab_status status, const std::string& message)
-      : std::runtime_error(message), status_(status) {}
-  clothlab_status status() const noexcept { return status_; }
-
- private:
-  clothlab_status status_;
-};
-
-inline void write_message(clothlab_message* out, std::string_view text) noexcept {
-  if (out == nullptr) return;
-  const size_t n =
-      text.size() < CLOTHLAB_MESSAGE_CAPACITY - 1 ? text.size() : CLOTHLAB_MESSAGE_CAPACITY - 1;
-  std::memcpy(out->text, text.data(), n);
-  out->text[n] = '\0';
-}
-
-// Runs `body`, converting any exception into a status and message.
-template <class Body>
-clothlab_status guarded(clothlab_message* error, Body&& body) noexcept {
-  try {
-    body();
-    return CLOTHLAB_OK;
-  } catch (const Error& e) {
-    write_message(error, e.what());
-    return e.status();
-  } catch (const std::bad_alloc&) {
-    write_message(error, "out of memory");
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  } catch (const std::exception& e) {
-    write_message(error, e.what());
-    return CLOTHLAB_ERROR_INTERNAL;
-  } catch (...) {
-    write_message(error, "unknown exception");
-    return CLOTHLAB_ERROR_INTERNAL;
-  }
-}
 
 // ------------------------------------------------------------------ parameters
 
@@ -182,7 +154,7 @@ struct RknScheme {
   std::array<double, Stages * Stages> x_coupling, v_coupling;  // row-major, strictly lower
   std::array<double, Stages> x_weights, v_weights;
 
-  clothlab_rkn_scheme raw() const {
+  constexpr clothlab_rkn_scheme raw() const {
     return {sizeof(clothlab_rkn_scheme),
             static_cast<uint32_t>(Stages),
             c.data(),
@@ -231,7 +203,7 @@ class System {
                                                              : "acceleration evaluation failed");
   }
   bool has_acceleration_at() const {
-    return raw_->struct_size >= offsetof(clothlab_system, eval_acceleration_at) + sizeof(void*) &&
+    return CLOTHLAB_HAS_FIELD(raw_, clothlab_system, eval_acceleration_at) &&
            raw_->eval_acceleration_at != nullptr;
   }
   // Readies step_rkn for schemes of up to `stages` stages: call from `prepare` (ABI 1.1).
@@ -251,8 +223,8 @@ class System {
                                                              : "step_rkn failed");
   }
   bool has_rkn() const {
-    return raw_->struct_size >= offsetof(clothlab_system, step_rkn) + sizeof(void*) &&
-           raw_->reserve_rkn != nullptr && raw_->step_rkn != nullptr;
+    return CLOTHLAB_HAS_FIELD(raw_, clothlab_system, step_rkn) && raw_->reserve_rkn != nullptr &&
+           raw_->step_rkn != nullptr;
   }
   void axpy(Real* y, double alpha, const Real* x) const { raw_->axpy(raw_->context, y, alpha, x); }
   // out = base + sum c_i * v_i
@@ -265,6 +237,32 @@ class System {
                   untyped.data());
   }
   void copy(Real* dst, const Real* src) const { raw_->copy(raw_->context, dst, src); }
+
+  // The host extension `id` (a clothlab/ext/ header's CLOTHLAB_EXT_* id) as its function
+  // table, or nullptr when the host does not offer it or predates extensions (ABI < 1.2).
+  template <class Table>
+  const Table* extension(const char* id) const {
+    return static_cast<const Table*>(clothlab_system_extension(raw_, id));
+  }
+  // The typed extensions; each throws CLOTHLAB_ERROR_UNSUPPORTED when the host lacks it.
+  // topology()'s first call may allocate: make it from `prepare`.
+  Topology topology() const {
+    clothlab_topology out{};
+    out.struct_size = sizeof out;
+    check(required<clothlab_topology_extension>(CLOTHLAB_EXT_TOPOLOGY).get(raw_->context, &out),
+          "topology failed");
+    return Topology(out);
+  }
+  Jacobian<Real> jacobian() const {
+    return {required<clothlab_jacobian_extension>(CLOTHLAB_EXT_JACOBIAN), raw_->context};
+  }
+  Reductions<Real> reductions() const {
+    return {required<clothlab_reductions_extension>(CLOTHLAB_EXT_REDUCTIONS), raw_->context};
+  }
+  ExternalForces<Real> external_forces() const {
+    return {required<clothlab_external_forces_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES),
+            raw_->context};
+  }
   Real* alloc_vector() const {
     void* p = raw_->alloc_vector(raw_->context);
     if (p == nullptr) throw std::bad_alloc();
@@ -281,6 +279,14 @@ class System {
     std::array<const void*, N> untyped{};
     clothlab_combination raw;
   };
+
+  template <class Table>
+  const Table& required(const char* id) const {
+    const Table* table = extension<Table>(id);
+    if (table == nullptr)
+      throw Error(CLOTHLAB_ERROR_UNSUPPORTED, std::string("the host lacks ") + id);
+    return *table;
+  }
 
   const clothlab_system* raw_;
 };
@@ -302,6 +308,33 @@ void with_precision(const clothlab_system& raw, Body&& body) {
 }
 
 // ------------------------------------------------------------ descriptor glue
+
+// An integrator's extensions: `static constexpr clothlab_integrator_traits traits` and
+// `static constexpr clothlab_explicit_scheme explicit_scheme` in the Impl class, when
+// declared (see explicit_scheme_of below); NULL for any other id.
+template <class Impl>
+const void* integrator_extension(const char* id) noexcept {
+  if (id == nullptr) return nullptr;
+  if constexpr (requires { Impl::traits; }) {
+    static_assert(
+        std::is_same_v<std::remove_cv_t<decltype(Impl::traits)>, clothlab_integrator_traits>);
+    if (std::strcmp(id, CLOTHLAB_EXT_INTEGRATOR_TRAITS) == 0) return &Impl::traits;
+  }
+  if constexpr (requires { Impl::explicit_scheme; }) {
+    static_assert(std::is_same_v<std::remove_cv_t<decltype(Impl::explicit_scheme)>,
+                                 clothlab_explicit_scheme>);
+    if (std::strcmp(id, CLOTHLAB_EXT_EXPLICIT_SCHEME) == 0) return &Impl::explicit_scheme;
+  }
+  return nullptr;
+}
+
+// The explicit-scheme extension for a scheme table held in a static constexpr raw scheme:
+//   static constexpr clothlab_rkn_scheme raw_scheme = scheme.raw();
+//   static constexpr clothlab_explicit_scheme explicit_scheme = explicit_scheme_of(raw_scheme);
+constexpr clothlab_explicit_scheme explicit_scheme_of(const clothlab_rkn_scheme& scheme,
+                                                      bool first_same_as_last = false) {
+  return {sizeof(clothlab_explicit_scheme), first_same_as_last ? 1u : 0u, &scheme};
+}
 
 template <class Impl>
 const clothlab_integrator* integrator_descriptor() {
@@ -340,6 +373,7 @@ const clothlab_integrator* integrator_descriptor() {
         });
       },
       [](void* instance) { delete static_cast<Impl*>(instance); },
+      &integrator_extension<Impl>,
   };
   return &descriptor;
 }
@@ -365,7 +399,8 @@ const clothlab_scenario* scenario_descriptor() {
       },
       [](void* instance, clothlab_scene* scene, clothlab_message* error) -> clothlab_status {
         return guarded(error, [&] {
-          if (scene == nullptr || scene->struct_size < sizeof(clothlab_scene))
+          // Every clothlab_scene field dates from 1.0: a 1.0-sized buffer holds them all.
+          if (scene == nullptr || scene->struct_size < CLOTHLAB_SCENE_SIZE_1_0)
             throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "scene buffer too small");
           static_cast<const Impl*>(instance)->describe(*scene);
         });

@@ -208,4 +208,18 @@ double predict_dt_max(Method method, const SpectralEstimate& estimate,
   return dt_max;
 }
 
+double predict_dt_max(const RknTable& table, const SpectralEstimate& estimate,
+                      bool velocity_forces) {
+  if (!velocity_forces) {
+    return predicted_dt_max(table, DampedMode{estimate.stiffest_mode.omega_squared, 0.0}, false);
+  }
+  double dt_max = std::min(predicted_dt_max(table, estimate.stiffest_mode, true),
+                           predicted_dt_max(table, estimate.most_damped_mode, true));
+  for (const Complex& eigenvalue : estimate.outer_eigenvalues) {
+    const DampedMode mode{std::norm(eigenvalue), -2.0 * std::min(eigenvalue.real(), 0.0)};
+    dt_max = std::min(dt_max, predicted_dt_max(table, mode, true));
+  }
+  return dt_max;
+}
+
 }  // namespace clothlab::analysis

@@ -75,18 +75,6 @@ const char* to_string(Method method) {
   return "unknown";
 }
 
-Method method_for_plugin(const char* integrator_id) {
-  const std::string id = integrator_id ? integrator_id : "";
-  if (id == "euler") return Method::SymplecticEuler;
-  if (id == "forward-euler" || id == "explicit-euler") return Method::ExplicitEuler;
-  if (id == "midpoint") return Method::Midpoint;
-  if (id == "rk4") return Method::RungeKutta4;
-  if (id == "verlet") return Method::PositionVerlet;
-  throw std::invalid_argument("stability prediction: integrator '" + id +
-                              "' has no known stability region (known: euler, forward-euler, "
-                              "midpoint, rk4, verlet)");
-}
-
 double VerletDamping::retention(double dt) const {
   return per_step_fraction > 0.0 ? 1.0 - per_step_fraction : std::exp(-rate_per_s * dt);
 }
@@ -142,6 +130,72 @@ double predicted_dt_max(Method method, Complex eigenvalue) {
   return first_unstable_dt(
       [&](double dt) { return std::abs(stability_polynomial(method, eigenvalue * dt)); },
       1.0 / std::abs(eigenvalue));
+}
+
+uint32_t RknTable::evaluations_per_step() const {
+  return first_same_as_last && stages > 1 ? stages - 1 : stages;
+}
+
+RknTable rkn_table(const clothlab_explicit_scheme& declared) {
+  const clothlab_rkn_scheme* scheme = declared.scheme;
+  if (scheme == nullptr || scheme->stages < 1 || scheme->stages > CLOTHLAB_RKN_MAX_STAGES ||
+      !scheme->c || !scheme->alpha || !scheme->x_coupling || !scheme->v_coupling ||
+      !scheme->x_weights || !scheme->v_weights) {
+    throw std::invalid_argument("explicit scheme: the table is missing or has " +
+                                std::to_string(scheme ? scheme->stages : 0) +
+                                " stages (allowed 1 .. 8, every array set)");
+  }
+  const uint32_t s = scheme->stages;
+  RknTable table;
+  table.stages = s;
+  table.c.assign(scheme->c, scheme->c + s);
+  table.alpha.assign(scheme->alpha, scheme->alpha + s);
+  table.x_coupling.assign(scheme->x_coupling, scheme->x_coupling + s * s);
+  table.v_coupling.assign(scheme->v_coupling, scheme->v_coupling + s * s);
+  table.x_weights.assign(scheme->x_weights, scheme->x_weights + s);
+  table.v_weights.assign(scheme->v_weights, scheme->v_weights + s);
+  table.first_same_as_last = declared.first_same_as_last != 0;
+  return table;
+}
+
+std::array<double, 4> amplification_matrix(const RknTable& table, const DampedMode& mode, double dt,
+                                           bool velocity_forces) {
+  const uint32_t s = table.stages;
+  const double damping = velocity_forces ? mode.damping_rate : 0.0;
+  // The step is linear in (x, v): its columns are the images of (1, 0) and (0, 1).
+  std::array<double, 4> matrix{};
+  for (int column = 0; column < 2; ++column) {
+    const double x = column == 0 ? 1.0 : 0.0, v = column == 0 ? 0.0 : 1.0;
+    std::array<double, CLOTHLAB_RKN_MAX_STAGES> a{};
+    double x_next = x + dt * v, v_next = v;
+    for (uint32_t i = 0; i < s; ++i) {
+      double stage_x = x + dt * table.alpha[i] * v, stage_v = v;
+      for (uint32_t j = 0; j < i; ++j) {
+        stage_x += dt * dt * table.x_coupling[i * s + j] * a[j];
+        stage_v += dt * table.v_coupling[i * s + j] * a[j];
+      }
+      a[i] = -mode.omega_squared * stage_x - damping * stage_v;
+      x_next += dt * dt * table.x_weights[i] * a[i];
+      v_next += dt * table.v_weights[i] * a[i];
+    }
+    matrix[column] = x_next;
+    matrix[2 + column] = v_next;
+  }
+  return matrix;
+}
+
+double amplification_radius(const RknTable& table, const DampedMode& mode, double dt,
+                            bool velocity_forces) {
+  const std::array<double, 4> m = amplification_matrix(table, mode, dt, velocity_forces);
+  return radius_2x2(m[0] + m[3], m[0] * m[3] - m[1] * m[2]);
+}
+
+double predicted_dt_max(const RknTable& table, const DampedMode& mode, bool velocity_forces) {
+  const double rate = std::max(std::sqrt(std::max(mode.omega_squared, 0.0)),
+                               velocity_forces ? mode.damping_rate : 0.0);
+  return first_unstable_dt(
+      [&](double dt) { return amplification_radius(table, mode, dt, velocity_forces); },
+      1.0 / rate);
 }
 
 }  // namespace clothlab::analysis

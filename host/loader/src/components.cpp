@@ -95,6 +95,10 @@ ComponentInfo IntegratorPlugin::info() const {
           path_};
 }
 
+const void* IntegratorPlugin::extension(const char* id) const {
+  return clothlab_integrator_extension(descriptor_, id);
+}
+
 bool IntegratorPlugin::uses_velocity_forces() const {
   return (descriptor_->flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
 }

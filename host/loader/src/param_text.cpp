@@ -163,9 +163,9 @@ bool in_range(const clothlab_param_spec& spec, const clothlab_param_value& value
 }
 
 std::optional<std::string> spec_problem(const clothlab_param_spec& spec) {
-  if (spec.struct_size < sizeof(clothlab_param_spec))
+  if (spec.struct_size < CLOTHLAB_PARAM_SPEC_SIZE_1_0)
     return "parameter spec struct_size " + std::to_string(spec.struct_size) + " < " +
-           std::to_string(sizeof(clothlab_param_spec));
+           std::to_string(CLOTHLAB_PARAM_SPEC_SIZE_1_0);
   if (spec.name == nullptr || !is_param_name(spec.name))
     return std::string("parameter name \"") + (spec.name ? spec.name : "(null)") +
            "\" is not [a-z0-9_.]+";

@@ -37,14 +37,14 @@ std::string dlopen_reason(const fs::path& path) {
 
 // Checks the parts common to integrators and scenarios; returns the problem or "".
 std::string component_problem(const char* kind, uint32_t index, uint32_t struct_size,
-                              size_t host_size, const char* id,
+                              size_t minimum_size, const char* id,
                               std::initializer_list<const char*> strings,
                               std::initializer_list<bool> functions,
                               const clothlab_param_spec* params, uint32_t param_count) {
   const std::string where = std::string(kind) + " #" + std::to_string(index);
-  if (struct_size < host_size)
-    return where + " has struct_size " + std::to_string(struct_size) + ", host needs at least " +
-           std::to_string(host_size);
+  if (struct_size < minimum_size)
+    return where + " has struct_size " + std::to_string(struct_size) + ", smaller than ABI 1.0's " +
+           std::to_string(minimum_size);
   if (id == nullptr || !is_plugin_id(id))
     return where + " has id \"" + (id ? id : "(null)") + "\", expected [a-z0-9_-]+";
   const std::string named = std::string(kind) + " " + id;
@@ -63,10 +63,9 @@ std::string component_problem(const char* kind, uint32_t index, uint32_t struct_
 }
 
 std::string descriptor_problem(const clothlab_plugin_descriptor& descriptor) {
-  if (descriptor.struct_size < sizeof(clothlab_plugin_descriptor))
+  if (descriptor.struct_size < CLOTHLAB_DESCRIPTOR_SIZE_1_0)
     return "descriptor struct_size " + std::to_string(descriptor.struct_size) +
-           " is smaller than the " + std::to_string(sizeof(clothlab_plugin_descriptor)) +
-           " bytes this host reads";
+           " is smaller than ABI 1.0's " + std::to_string(CLOTHLAB_DESCRIPTOR_SIZE_1_0) + " bytes";
   if (descriptor.library_name == nullptr || descriptor.library_version == nullptr)
     return "descriptor has a null library name or version";
   if ((descriptor.integrator_count > 0 && descriptor.integrators == nullptr) ||
@@ -77,7 +76,7 @@ std::string descriptor_problem(const clothlab_plugin_descriptor& descriptor) {
     const clothlab_integrator* c = descriptor.integrators[i];
     if (c == nullptr) return "integrator #" + std::to_string(i) + " is null";
     const std::string problem = component_problem(
-        "integrator", i, c->struct_size, sizeof(clothlab_integrator), c->id,
+        "integrator", i, c->struct_size, CLOTHLAB_INTEGRATOR_SIZE_1_0, c->id,
         {c->name, c->version, c->description},
         {c->create != nullptr, c->prepare != nullptr, c->step != nullptr, c->destroy != nullptr},
         c->params, c->param_count);
@@ -88,7 +87,7 @@ std::string descriptor_problem(const clothlab_plugin_descriptor& descriptor) {
     const clothlab_scenario* c = descriptor.scenarios[i];
     if (c == nullptr) return "scenario #" + std::to_string(i) + " is null";
     const std::string problem =
-        component_problem("scenario", i, c->struct_size, sizeof(clothlab_scenario), c->id,
+        component_problem("scenario", i, c->struct_size, CLOTHLAB_SCENARIO_SIZE_1_0, c->id,
                           {c->name, c->version, c->description},
                           {c->create != nullptr, c->describe != nullptr, c->destroy != nullptr},
                           c->params, c->param_count);
@@ -125,7 +124,7 @@ const Plugin& pick(const std::vector<Plugin>& plugins, const fs::path& path, con
 }  // namespace
 
 std::string abi_refusal(const clothlab_abi_version& version) {
-  if (version.major == CLOTHLAB_ABI_VERSION_MAJOR) return {};
+  if (clothlab_abi_is_compatible(version)) return {};
   return "plugin ABI version " + std::to_string(version.major) + "." +
          std::to_string(version.minor) + " is incompatible with host ABI version " +
          std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + "." +

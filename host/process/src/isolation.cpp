@@ -189,6 +189,7 @@ ChildOutcome run_isolated(const std::function<std::string()>& work,
     child_main(answer_pipe[1], work);
   }
   ::setpgid(child, child);  // also here: the child may not have run yet
+  if (options.on_child) options.on_child(child);
   ::close(answer_pipe[1]);
   if (error_pipe[1] >= 0) ::close(error_pipe[1]);
   Reader answer{answer_pipe[0], {}, 0, -1};
@@ -222,6 +223,7 @@ ChildOutcome run_isolated(const std::function<std::string()>& work,
   answer.drain();
   error_text.drain();
   ::kill(-child, SIGKILL);  // grandchildren end with the child
+  if (options.on_child) options.on_child(0);
   if (pidfd >= 0) ::close(pidfd);
   if (timed_out) {
     ChildOutcome outcome;

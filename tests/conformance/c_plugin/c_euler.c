@@ -107,6 +107,7 @@ static const clothlab_integrator c_euler_integrator = {
     c_euler_prepare,
     c_euler_step,
     c_euler_destroy,
+    NULL, /* get_extension: no integrator extensions */
 };
 
 static const clothlab_integrator* const c_euler_integrators[] = {&c_euler_integrator};

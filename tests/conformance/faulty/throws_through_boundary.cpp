@@ -45,6 +45,7 @@ const clothlab_integrator integrator = {
     prepare,
     step,
     destroy,
+    nullptr,
 };
 
 const clothlab_integrator* const integrators[] = {&integrator};

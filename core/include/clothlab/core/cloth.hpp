@@ -108,8 +108,13 @@ class Cloth {
     double total() const { return kinetic + spring + gravity; }
   };
   Energy energy() const;
-  // Largest ratio of current length to rest length over all springs.
-  double max_stretch() const;
+  // Current length over rest length, over all springs: the largest and the mean (whether the
+  // cloth hangs like cloth or like rubber). A cloth without springs counts as unstretched.
+  struct Stretch {
+    double max = 1, mean = 1;
+  };
+  Stretch stretch() const;
+  double max_stretch() const { return stretch().max; }
 
  private:
   struct Impl;

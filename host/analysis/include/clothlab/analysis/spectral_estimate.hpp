@@ -48,5 +48,11 @@ SpectralEstimate estimate_spectrum(const clothlab_system& system, double t,
 //    real part, noise on an undamped mode, is taken as 0).
 double predict_dt_max(Method method, const SpectralEstimate& estimate,
                       const VerletDamping& verlet = {});
+// The same for a declared table: the smallest limit over the stiffest and the most damped
+// mode and every outer eigenvalue lambda, taken as the mode with roots lambda and its
+// conjugate (w^2 = |lambda|^2, c = -2 Re lambda, a positive real part as 0). Without velocity
+// forces only the stiffest mode, undamped, counts: the integrator sees no damping.
+double predict_dt_max(const RknTable& table, const SpectralEstimate& estimate,
+                      bool velocity_forces);
 
 }  // namespace clothlab::analysis

@@ -17,5 +17,9 @@ struct StabilityPrediction {
 StabilityPrediction predict_stability(const Scene& scene, Method method,
                                       const VerletDamping& verlet = {}, int threads = 0,
                                       const SpectralOptions& options = {});
+// For an integrator's declared explicit scheme (see predict_dt_max for the table).
+StabilityPrediction predict_stability(const Scene& scene, const RknTable& table,
+                                      bool velocity_forces, int threads = 0,
+                                      const SpectralOptions& options = {});
 
 }  // namespace clothlab::analysis

@@ -1,5 +1,6 @@
-// Stability of each built-in integrator on the linear test problems, and the largest stable dt
-// they predict.
+// Stability on the linear test problems and the largest stable dt it predicts: of any declared
+// explicit Runge-Kutta-Nystrom table (RknTable, from the amplification matrix of one step on
+// the damped oscillator), and in closed form for the classic methods (Method).
 //
 // RK-type methods (explicit Euler, midpoint, RK4) act on y' = lambda y through their stability
 // polynomial R(z), z = lambda dt; stable when |R(z)| <= 1. Real-axis intervals: Euler 2, midpoint
@@ -10,15 +11,18 @@
 // oscillator x'' + c x' + w^2 x = 0 (undamped: both need w dt < 2).
 #pragma once
 
+#include <clothlab/ext/explicit_scheme.h>
+
+#include <array>
 #include <complex>
+#include <vector>
 
 namespace clothlab::analysis {
 
+// Closed forms of the classic methods: the oracle the declared-table analysis below is
+// tested against.
 enum class Method { ExplicitEuler, SymplecticEuler, Midpoint, RungeKutta4, PositionVerlet };
 const char* to_string(Method method);
-// Maps a built-in plugin id ("euler", "forward-euler", "midpoint", "rk4", "verlet"); throws
-// std::invalid_argument for an id it does not know.
-Method method_for_plugin(const char* integrator_id);
 
 // One mode of the linearised cloth: x'' + damping_rate x' + omega_squared x = 0.
 struct DampedMode {
@@ -48,5 +52,26 @@ double amplification_radius(Method method, const DampedMode& mode, double dt,
 double predicted_dt_max(Method method, const DampedMode& mode, const VerletDamping& verlet = {});
 // The same for an RK-type method on one eigenvalue of the first-order system y' = lambda y.
 double predicted_dt_max(Method method, std::complex<double> eigenvalue);
+
+// Any explicit Runge-Kutta-Nystrom scheme an integrator declares as data
+// (clothlab.explicit-scheme/1), copied out of the plugin.
+struct RknTable {
+  uint32_t stages = 0;
+  std::vector<double> c, alpha, x_coupling, v_coupling, x_weights, v_weights;
+  bool first_same_as_last = false;
+  // Evaluations of a per step: stages, one fewer when the last is the next step's first.
+  uint32_t evaluations_per_step() const;
+};
+// Throws std::invalid_argument for a malformed table (no arrays, stages outside 1 .. 8).
+RknTable rkn_table(const clothlab_explicit_scheme& declared);
+
+// One step of the table on x'' = -w^2 x - c x' (c = mode.damping_rate; 0 when the integrator
+// does not pass velocities, `velocity_forces` false): (x, v) -> M (x, v), M row-major.
+std::array<double, 4> amplification_matrix(const RknTable& table, const DampedMode& mode, double dt,
+                                           bool velocity_forces);
+double amplification_radius(const RknTable& table, const DampedMode& mode, double dt,
+                            bool velocity_forces);
+// Largest dt with every step in (0, dt] stable (spectral radius of M <= 1), as above.
+double predicted_dt_max(const RknTable& table, const DampedMode& mode, bool velocity_forces);
 
 }  // namespace clothlab::analysis

@@ -71,6 +71,10 @@ class IntegratorPlugin {
   uint32_t evals_per_step() const { return descriptor_->evals_per_step; }
   // CLOTHLAB_FLOAT32 or CLOTHLAB_FLOAT64.
   bool supports_precision(uint32_t precision) const;
+  // The integrator extension `id` (clothlab/ext/), or nullptr when the plugin predates
+  // ABI 1.2 or does not offer it.
+  const void* extension(const char* id) const;
+  const clothlab_integrator& descriptor() const { return *descriptor_; }
 
   ParamSet default_params() const;
   // Throws PluginError if the plugin refuses the values.

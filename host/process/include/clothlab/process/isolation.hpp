@@ -2,6 +2,8 @@
 // in plugin code ends only that child: the caller gets an outcome it can report and goes on.
 #pragma once
 
+#include <sys/types.h>
+
 #include <functional>
 #include <string>
 
@@ -10,6 +12,9 @@ namespace clothlab::process {
 struct IsolationOptions {
   double timeout_s = 600.0;     // the child (and its process group) is killed after this
   bool capture_stderr = false;  // keep the child's stderr (e.g. a sanitizer report) for problem
+  // Called in the parent with the child's pid once it runs, and with 0 once it has ended
+  // (e.g. to forward Ctrl-C to the child, which has a process group of its own).
+  std::function<void(pid_t)> on_child = nullptr;
 };
 
 struct ChildOutcome {

@@ -1,0 +1,36 @@
+/*
+ * Integrator extension "clothlab.integrator-traits/1": what the host and the
+ * conformance runner may expect of an integrator beyond its descriptor. Static data.
+ */
+#ifndef CLOTHLAB_EXT_INTEGRATOR_TRAITS_H
+#define CLOTHLAB_EXT_INTEGRATOR_TRAITS_H
+
+#include <clothlab/plugin.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define CLOTHLAB_EXT_INTEGRATOR_TRAITS "clothlab.integrator-traits/1"
+
+/* Stable at any step size on a damped cloth (implicit Euler, XPBD, projective
+ * dynamics): the conformance runner checks it at dt = 50 ms. */
+#define CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE (1u << 0)
+/* The result depends on an iteration count (parameter `iterations_param`): the order is
+ * measured with iterations at its maximum, and the method is allowed to be inexact. */
+#define CLOTHLAB_TRAIT_ITERATIVE (1u << 1)
+
+typedef struct clothlab_integrator_traits {
+  uint32_t struct_size;
+  uint32_t flags; /* CLOTHLAB_TRAIT_* */
+  /* Name of the parameter counting substeps per step ("substeps"), or NULL. */
+  const char *substeps_param;
+  /* Name of the parameter counting solver iterations ("iterations"), or NULL. */
+  const char *iterations_param;
+} clothlab_integrator_traits;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CLOTHLAB_EXT_INTEGRATOR_TRAITS_H */

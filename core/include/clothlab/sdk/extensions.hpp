@@ -1,0 +1,130 @@
+// Typed C++ views of the host extensions (clothlab/ext/*.h), returned by
+// System<Real>::topology(), jacobian(), reductions() and external_forces() in sdk.hpp.
+// Each wrapper holds the extension's function table and the system's context; a failing
+// call throws sdk::Error with the host's status.
+#pragma once
+
+#include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/reductions.h>
+#include <clothlab/ext/topology.h>
+
+#include <cstdint>
+#include <span>
+
+#include "error.hpp"
+
+namespace clothlab::sdk {
+
+// The cloth's springs, triangles, adjacency and colourings (host-owned, fixed while the
+// system lives).
+class Topology {
+ public:
+  explicit Topology(const clothlab_topology& raw) : raw_(raw) {}
+
+  uint32_t particle_count() const { return raw_.particle_count; }
+  uint32_t spring_count() const { return raw_.spring_count; }
+  uint32_t triangle_count() const { return raw_.triangle_count; }
+  std::span<const uint32_t> first() const { return {raw_.first, raw_.spring_count}; }
+  std::span<const uint32_t> second() const { return {raw_.second, raw_.spring_count}; }
+  std::span<const double> rest_length() const { return {raw_.rest_length, raw_.spring_count}; }
+  std::span<const double> ks() const { return {raw_.ks, raw_.spring_count}; }
+  std::span<const double> kd() const { return {raw_.kd, raw_.spring_count}; }
+  std::span<const uint8_t> family() const { return {raw_.family, raw_.spring_count}; }
+  std::span<const uint32_t> triangles() const { return {raw_.triangles, 3u * raw_.triangle_count}; }
+  // The springs touching particle i, ascending.
+  std::span<const uint32_t> springs_of(uint32_t particle) const {
+    const uint32_t begin = raw_.adjacency_offsets[particle];
+    return {raw_.adjacent_springs + begin, raw_.adjacency_offsets[particle + 1] - begin};
+  }
+  uint32_t spring_color_count() const { return raw_.spring_color_count; }
+  // The springs of one colour: no two share a particle.
+  std::span<const uint32_t> spring_color(uint32_t color) const {
+    const uint32_t begin = raw_.spring_color_offsets[color];
+    return {raw_.spring_color_members + begin, raw_.spring_color_offsets[color + 1] - begin};
+  }
+  uint32_t particle_color_count() const { return raw_.particle_color_count; }
+  // The particles of one colour: no spring joins two of them.
+  std::span<const uint32_t> particle_color(uint32_t color) const {
+    const uint32_t begin = raw_.particle_color_offsets[color];
+    return {raw_.particle_color_members + begin, raw_.particle_color_offsets[color + 1] - begin};
+  }
+  const clothlab_topology& raw() const { return raw_; }
+
+ private:
+  clothlab_topology raw_;
+};
+
+// J = c_x (da/dx) + c_v (da/dv) at a state (x, v); v = nullptr leaves out damping.
+template <class Real>
+class Jacobian {
+ public:
+  Jacobian(const clothlab_jacobian_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  // Readies the calls below; from `prepare` only (may allocate).
+  void reserve() const { check(table_->reserve(context_), "jacobian reserve failed"); }
+  // out = J u on active particles (0 on pinned ones); out must not alias u, x or v.
+  void apply(double t, const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+             Real* out) const {
+    check(table_->apply(context_, t, x, v, c_x, c_v, u, out), "jacobian apply failed");
+  }
+  // out[9 i + 3 r + c] = J_ii(r, c), 9 n doubles.
+  void diagonal_blocks(double t, const Real* x, const Real* v, double c_x, double c_v,
+                       double* out) const {
+    check(table_->diagonal_blocks(context_, t, x, v, c_x, c_v, out),
+          "jacobian diagonal_blocks failed");
+  }
+  // The fixed block-CSR pattern of J.
+  clothlab_block_pattern pattern() const {
+    clothlab_block_pattern out{};
+    out.struct_size = sizeof out;
+    check(table_->pattern(context_, &out), "jacobian pattern failed");
+    return out;
+  }
+  // All blocks in the pattern's order, 9 block_count doubles.
+  void blocks(double t, const Real* x, const Real* v, double c_x, double c_v,
+              double* values) const {
+    check(table_->blocks(context_, t, x, v, c_x, c_v, values), "jacobian blocks failed");
+  }
+
+ private:
+  const clothlab_jacobian_extension* table_;
+  void* context_;
+};
+
+// Deterministic reductions over the active particles (double, fixed summation order).
+template <class Real>
+class Reductions {
+ public:
+  Reductions(const clothlab_reductions_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  double dot(const Real* a, const Real* b) const { return table_->dot(context_, a, b); }
+  double mass_dot(const Real* a, const Real* b) const { return table_->mass_dot(context_, a, b); }
+  double max_abs(const Real* a) const { return table_->max_abs(context_, a); }
+
+ private:
+  const clothlab_reductions_extension* table_;
+  void* context_;
+};
+
+// Gravity and wind alone (no springs).
+template <class Real>
+class ExternalForces {
+ public:
+  ExternalForces(const clothlab_external_forces_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  void acceleration(double t, const Real* x, Real* a) const {
+    check(table_->acceleration(context_, t, x, a), "external acceleration failed");
+  }
+  // False when the external acceleration is constant (no wind): one evaluation per step.
+  bool depends_on_position() const { return table_->depends_on_position(context_) != 0; }
+
+ private:
+  const clothlab_external_forces_extension* table_;
+  void* context_;
+};
+
+}  // namespace clothlab::sdk

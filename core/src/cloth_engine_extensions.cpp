@@ -1,0 +1,213 @@
+// The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
+// spring Jacobian, deterministic reductions and the external forces alone.
+#include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/reductions.h>
+
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "cloth_engine.hpp"
+
+namespace clothlab::detail {
+
+template <class Real>
+const GridTopology& ClothEngine<Real>::topology() {
+  if (!topology_) topology_ = std::make_unique<GridTopology>(scene_);
+  return *topology_;
+}
+
+template <class Real>
+const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
+  if (!jacobian_) {
+    jacobian_ = std::make_unique<SpringJacobian<Real>>(topology(), inverse_mass_.data(), stride_,
+                                                       velocity_forces_, threads_, parallel_);
+  }
+  return *jacobian_;
+}
+
+template <class Real>
+const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
+  static constexpr clothlab_topology_extension topology_table{&topology_callback};
+  static constexpr clothlab_jacobian_extension jacobian_table{
+      &jacobian_reserve_callback, &jacobian_apply_callback, &jacobian_diagonal_callback,
+      &jacobian_pattern_callback, &jacobian_blocks_callback};
+  static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
+                                                                  &max_abs_callback};
+  static constexpr clothlab_external_forces_extension external_table{&external_callback,
+                                                                     &depends_on_position_callback};
+  if (id == nullptr) return nullptr;
+  if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+  return nullptr;
+}
+
+// ------------------------------------------------------------------- topology
+
+template <class Real>
+clothlab_status ClothEngine<Real>::topology_callback(void* context, clothlab_topology* out) {
+  if (out == nullptr || out->struct_size < sizeof(clothlab_topology))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    *out = static_cast<ClothEngine*>(context)->topology().view();
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+// ------------------------------------------------------------------- jacobian
+
+template <class Real>
+clothlab_status ClothEngine<Real>::jacobian_reserve_callback(void* context) {
+  try {
+    (void)static_cast<ClothEngine*>(context)->jacobian();
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::jacobian_apply_callback(void* context, double, const void* x,
+                                                           const void* v, double c_x, double c_v,
+                                                           const void* u, void* out) {
+  if (x == nullptr || u == nullptr || out == nullptr || out == u || out == x || out == v)
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    static_cast<ClothEngine*>(context)->jacobian().apply(
+        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
+        static_cast<const Real*>(u), static_cast<Real*>(out));
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::jacobian_diagonal_callback(void* context, double, const void* x,
+                                                              const void* v, double c_x, double c_v,
+                                                              double* out) {
+  if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    static_cast<ClothEngine*>(context)->jacobian().diagonal_blocks(
+        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, out);
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::jacobian_pattern_callback(void* context,
+                                                             clothlab_block_pattern* out) {
+  if (out == nullptr || out->struct_size < sizeof(clothlab_block_pattern))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    *out = static_cast<ClothEngine*>(context)->jacobian().pattern();
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, double, const void* x,
+                                                            const void* v, double c_x, double c_v,
+                                                            double* values) {
+  if (x == nullptr || values == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  try {
+    static_cast<ClothEngine*>(context)->jacobian().blocks(
+        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, values);
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+// ----------------------------------------------------------------- reductions
+
+template <class Real>
+template <class Term>
+double ClothEngine<Real>::chunked_sum(Term&& term) {
+  const auto chunks = static_cast<std::ptrdiff_t>(active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t shift = k * stride_;
+      for (std::size_t i = active_chunks_[chunk].begin; i < active_chunks_[chunk].end; ++i)
+        sum += term(shift + i, i);
+    }
+    chunk_sums_[chunk] = sum;
+  }
+  double total = 0.0;
+  for (const double sum : chunk_sums_) total += sum;
+  return total;
+}
+
+template <class Real>
+double ClothEngine<Real>::dot_callback(void* context, const void* a, const void* b) {
+  const Real* p = static_cast<const Real*>(a);
+  const Real* q = static_cast<const Real*>(b);
+  return static_cast<ClothEngine*>(context)->chunked_sum(
+      [&](std::size_t element, std::size_t) { return double{p[element]} * double{q[element]}; });
+}
+
+template <class Real>
+double ClothEngine<Real>::mass_dot_callback(void* context, const void* a, const void* b) {
+  auto* self = static_cast<ClothEngine*>(context);
+  const Real* p = static_cast<const Real*>(a);
+  const Real* q = static_cast<const Real*>(b);
+  const Real* inverse_mass = self->inverse_mass_.data();
+  return self->chunked_sum([&](std::size_t element, std::size_t particle) {
+    return double{p[element]} * double{q[element]} / double{inverse_mass[particle]};
+  });
+}
+
+template <class Real>
+double ClothEngine<Real>::max_abs_callback(void* context, const void* a) {
+  auto* self = static_cast<ClothEngine*>(context);
+  const Real* p = static_cast<const Real*>(a);
+  const auto chunks = static_cast<std::ptrdiff_t>(self->active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(self->threads_) if (self->parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    double worst = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Real* component = p + k * self->stride_;
+      for (std::size_t i = self->active_chunks_[chunk].begin; i < self->active_chunks_[chunk].end;
+           ++i) {
+        const double value = std::fabs(double{component[i]});
+        if (value > worst || std::isnan(value)) worst = value;  // a NaN stays: solvers see it
+      }
+    }
+    self->chunk_sums_[chunk] = worst;
+  }
+  double worst = 0.0;
+  for (const double value : self->chunk_sums_)
+    if (value > worst || std::isnan(value)) worst = value;
+  return worst;
+}
+
+// ------------------------------------------------------------ external forces
+
+template <class Real>
+clothlab_status ClothEngine<Real>::external_callback(void* context, double, const void* x,
+                                                     void* a) {
+  if (x == nullptr || a == nullptr || x == a) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const bool finite = static_cast<ClothEngine*>(context)->forces_->evaluate_external(
+      static_cast<const Real*>(x), static_cast<Real*>(a));
+  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
+}
+
+template <class Real>
+int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
+  return static_cast<ClothEngine*>(context)->forces_->has_wind() ? 1 : 0;
+}
+
+template class ClothEngine<float>;
+template class ClothEngine<double>;
+
+}  // namespace clothlab::detail

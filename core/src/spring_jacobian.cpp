@@ -1,0 +1,176 @@
+#include "spring_jacobian.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clothlab::detail {
+namespace {
+
+constexpr std::size_t kChunk = 2048;  // particles per thread work item, as the vector ops
+
+}  // namespace
+
+template <class Real>
+SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* inverse_mass,
+                                     std::size_t stride, bool damping, int threads, bool parallel)
+    : topology_(topology),
+      inverse_mass_(inverse_mass),
+      stride_(stride),
+      n_(topology.particle_count),
+      damping_(damping),
+      threads_(threads),
+      parallel_(parallel) {
+  const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
+  row_offsets_.assign(n_ + 1, 0);
+  entry_slot_.resize(topology.adjacent_springs.size());
+  diagonal_slot_.resize(n_);
+  std::vector<uint32_t> row;
+  for (uint32_t i = 0; i < n_; ++i) {
+    row.assign(1, i);
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
+      row.push_back(partner(i, topology.adjacent_springs[e]));
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    const auto base = static_cast<uint32_t>(columns_.size());
+    const auto slot = [&](uint32_t column) {
+      return base +
+             static_cast<uint32_t>(std::lower_bound(row.begin(), row.end(), column) - row.begin());
+    };
+    diagonal_slot_[i] = slot(i);
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
+      entry_slot_[e] = slot(partner(i, topology.adjacent_springs[e]));
+    columns_.insert(columns_.end(), row.begin(), row.end());
+    row_offsets_[i + 1] = static_cast<uint32_t>(columns_.size());
+  }
+}
+
+template <class Real>
+template <class Body>
+void SpringJacobian<Real>::for_particles(Body&& body) const {
+  const auto chunks = static_cast<std::ptrdiff_t>((n_ + kChunk - 1) / kChunk);
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(n_, begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+  }
+}
+
+template <class Real>
+void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t i, uint32_t entry,
+                                        const Weights& w, double (&m)[9]) const {
+  const uint32_t spring = topology_.adjacent_springs[entry];
+  const uint32_t j = partner(i, spring);
+  double d[3], dv[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < 3; ++k) {
+    d[k] = double{x[k * stride_ + j]} - double{x[k * stride_ + i]};
+    if (w.damped) dv[k] = double{v[k * stride_ + j]} - double{v[k * stride_ + i]};
+  }
+  const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  if (squared == 0.0) {  // the force pass gives a zero-length spring no force
+    std::fill(std::begin(m), std::end(m), 0.0);
+    return;
+  }
+  const double inverse_length = 1.0 / std::sqrt(squared);
+  const double u[3] = {d[0] * inverse_length, d[1] * inverse_length, d[2] * inverse_length};
+  const double ks = topology_.ks[spring];
+  const double kd = w.damped ? topology_.kd[spring] : 0.0;
+  const double ratio = topology_.rest_length[spring] * inverse_length;  // l0 / l
+  // K = a I + b u u^T + (kd/l) (u (P dv)^T + s P) with s = u . dv; D = kd u u^T.
+  const double s = u[0] * dv[0] + u[1] * dv[1] + u[2] * dv[2];
+  const double damping_scale = kd * inverse_length;
+  const double a = ks * (1.0 - ratio) + damping_scale * s;
+  const double b = ks * ratio - damping_scale * s;
+  const double projected_dv[3] = {dv[0] - s * u[0], dv[1] - s * u[1], dv[2] - s * u[2]};
+  for (std::size_t r = 0; r < 3; ++r) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double uu = u[r] * u[c];
+      const double k_rc = (r == c ? a : 0.0) + b * uu + damping_scale * u[r] * projected_dv[c];
+      m[3 * r + c] = w.c_x * k_rc + w.c_v * kd * uu;
+    }
+  }
+}
+
+template <class Real>
+void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, double c_v,
+                                 const Real* u, Real* out) const {
+  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
+  for_particles([&](uint32_t i) {
+    double sum[3] = {0, 0, 0};
+    const double inverse_mass = inverse_mass_[i];
+    if (inverse_mass > 0.0) {
+      for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+        double m[9];
+        spring_block(x, v, i, e, w, m);
+        const uint32_t j = partner(i, topology_.adjacent_springs[e]);
+        const bool j_active = inverse_mass_[j] > Real(0);  // pinned columns are zero
+        double du[3];
+        for (std::size_t k = 0; k < 3; ++k)
+          du[k] = (j_active ? double{u[k * stride_ + j]} : 0.0) - double{u[k * stride_ + i]};
+        for (std::size_t r = 0; r < 3; ++r)
+          sum[r] += m[3 * r] * du[0] + m[3 * r + 1] * du[1] + m[3 * r + 2] * du[2];
+      }
+    }
+    for (std::size_t k = 0; k < 3; ++k)
+      out[k * stride_ + i] = static_cast<Real>(inverse_mass * sum[k]);
+  });
+}
+
+template <class Real>
+void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v,
+                                           double* out) const {
+  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
+  for_particles([&](uint32_t i) {
+    double* block = out + 9 * std::size_t{i};
+    std::fill(block, block + 9, 0.0);
+    const double inverse_mass = inverse_mass_[i];
+    if (inverse_mass == 0.0) return;
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      double m[9];
+      spring_block(x, v, i, e, w, m);
+      for (std::size_t k = 0; k < 9; ++k) block[k] -= inverse_mass * m[k];
+    }
+  });
+}
+
+template <class Real>
+void SpringJacobian<Real>::blocks(const Real* x, const Real* v, double c_x, double c_v,
+                                  double* values) const {
+  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
+  for_particles([&](uint32_t i) {
+    std::fill(values + 9 * std::size_t{row_offsets_[i]},
+              values + 9 * std::size_t{row_offsets_[i + 1]}, 0.0);
+    const double inverse_mass = inverse_mass_[i];
+    if (inverse_mass == 0.0) return;
+    double* diagonal = values + 9 * std::size_t{diagonal_slot_[i]};
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      double m[9];
+      spring_block(x, v, i, e, w, m);
+      const bool j_active = inverse_mass_[partner(i, topology_.adjacent_springs[e])] > Real(0);
+      double* off_diagonal = values + 9 * std::size_t{entry_slot_[e]};
+      for (std::size_t k = 0; k < 9; ++k) {
+        diagonal[k] -= inverse_mass * m[k];
+        if (j_active) off_diagonal[k] += inverse_mass * m[k];
+      }
+    }
+  });
+}
+
+template <class Real>
+clothlab_block_pattern SpringJacobian<Real>::pattern() const {
+  clothlab_block_pattern out{};
+  out.struct_size = sizeof out;
+  out.row_count = static_cast<uint32_t>(n_);
+  out.block_count = static_cast<uint32_t>(columns_.size());
+  out.row_offsets = row_offsets_.data();
+  out.columns = columns_.data();
+  return out;
+}
+
+template class SpringJacobian<float>;
+template class SpringJacobian<double>;
+
+}  // namespace clothlab::detail

@@ -1,0 +1,99 @@
+#include "plugin_only_system.hpp"
+
+namespace clothlab::conformance {
+
+template <>
+const void* PluginOnlySystem::host_table<clothlab_topology_extension>() const {
+  return host_topology_;
+}
+template <>
+const void* PluginOnlySystem::host_table<clothlab_jacobian_extension>() const {
+  return host_jacobian_;
+}
+template <>
+const void* PluginOnlySystem::host_table<clothlab_reductions_extension>() const {
+  return host_reductions_;
+}
+template <>
+const void* PluginOnlySystem::host_table<clothlab_external_forces_extension>() const {
+  return host_external_forces_;
+}
+
+PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), system_(host) {
+  system_.context = this;
+  system_.eval_acceleration = [](void* self, double t, const void* x, const void* v, void* a) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    return host.eval_acceleration(host.context, t, x, v, a);
+  };
+  system_.eval_acceleration_at = [](void* self, double t, const clothlab_combination* x,
+                                    const clothlab_combination* v, void* a) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    return host.eval_acceleration_at(host.context, t, x, v, a);
+  };
+  system_.reserve_rkn = [](void* self, uint32_t stages) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    return host.reserve_rkn(host.context, stages);
+  };
+  system_.step_rkn = [](void* self, double t, double h, const clothlab_rkn_scheme* scheme) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    return host.step_rkn(host.context, t, h, scheme);
+  };
+  system_.axpy = [](void* self, void* y, double alpha, const void* x) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    host.axpy(host.context, y, alpha, x);
+  };
+  system_.lincomb = [](void* self, void* out, const void* base, uint32_t count,
+                       const double* coefficients, const void* const* vectors) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    host.lincomb(host.context, out, base, count, coefficients, vectors);
+  };
+  system_.copy = [](void* self, void* dst, const void* src) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    host.copy(host.context, dst, src);
+  };
+  system_.alloc_vector = [](void* self) {
+    const allocations::Pause pause;
+    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
+    return host.alloc_vector(host.context);
+  };
+  if (CLOTHLAB_HAS_FIELD(&host, clothlab_system, get_extension)) {
+    host_topology_ = clothlab_system_extension(&host, CLOTHLAB_EXT_TOPOLOGY);
+    host_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_JACOBIAN);
+    host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
+    host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    system_.get_extension = &get_extension;
+  }
+}
+
+const void* PluginOnlySystem::get_extension(void* self, const char* id) {
+  using T = clothlab_topology_extension;
+  using J = clothlab_jacobian_extension;
+  using R = clothlab_reductions_extension;
+  using E = clothlab_external_forces_extension;
+  static constexpr T topology{&Forward<T, &T::get>::call};
+  static constexpr J jacobian{&Forward<J, &J::reserve>::call, &Forward<J, &J::apply>::call,
+                              &Forward<J, &J::diagonal_blocks>::call,
+                              &Forward<J, &J::pattern>::call, &Forward<J, &J::blocks>::call};
+  static constexpr R reductions{&Forward<R, &R::dot>::call, &Forward<R, &R::mass_dot>::call,
+                                &Forward<R, &R::max_abs>::call};
+  static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
+                                     &Forward<E, &E::depends_on_position>::call};
+  const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
+  if (id == nullptr) return nullptr;
+  const allocations::Pause pause;
+  if (clothlab_system_extension(&wrapper.host_, id) == nullptr) return nullptr;
+  if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
+  if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
+  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
+  return nullptr;
+}
+
+}  // namespace clothlab::conformance

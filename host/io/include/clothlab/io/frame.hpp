@@ -1,0 +1,40 @@
+// One frame of a cloth run as the frame files hold it: float32 per-vertex data of a
+// rows x cols grid (particle r * cols + c), triangulated two triangles per grid cell.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace clothlab::io {
+
+struct FrameEnergy {
+  double kinetic = 0, spring = 0, gravity = 0;
+  double total() const { return kinetic + spring + gravity; }
+};
+
+struct Frame {
+  uint64_t index = 0;             // 0, 1, 2, ... in the sequence
+  uint64_t step = 0;              // simulation step it shows (0: the initial state)
+  double time = 0;                // simulated seconds
+  std::vector<float> positions;   // 3 per vertex
+  std::vector<float> velocities;  // 3 per vertex
+  // Per vertex: the largest length / rest length of its structural springs.
+  std::vector<float> stretch;
+  FrameEnergy energy;
+};
+
+struct GridMesh {
+  uint32_t rows = 0, cols = 0;
+  uint64_t vertex_count() const { return uint64_t{rows} * cols; }
+  uint64_t triangle_count() const {
+    return rows > 1 && cols > 1 ? 2 * uint64_t{rows - 1} * (cols - 1) : 0;
+  }
+  // Vertex indices, 3 per triangle, counter-clockwise seen from the front of the layout.
+  std::vector<int32_t> triangles() const;
+};
+
+// stretch[i] for every vertex from its positions and the rest lengths of its springs.
+void compute_stretch(const GridMesh& mesh, double column_rest, double row_rest,
+                     const std::vector<float>& positions, std::vector<float>& stretch);
+
+}  // namespace clothlab::io

@@ -1,0 +1,271 @@
+#include <algorithm>
+#include <array>
+#include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
+#include <clothlab/io/frame_formats.hpp>
+#include <clothlab/io/frame_writer.hpp>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <regex>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace clothlab::io {
+
+namespace {
+
+// The state as the stepping thread copied it.
+struct Snapshot {
+  uint64_t step = 0;
+  double time = 0;
+  std::vector<double> x, v;
+};
+
+std::string frame_name(uint64_t index, const char* extension) {
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%06llu.%s", static_cast<unsigned long long>(index),
+                extension);
+  return name;
+}
+
+bool has(const std::vector<std::string>& formats, const char* format) {
+  return std::find(formats.begin(), formats.end(), format) != formats.end();
+}
+
+constexpr const char* pc2_staging_name = ".frames.pc2.partial";
+
+// The files an earlier run left in the folder, so the folder shows one run.
+void remove_earlier_frames(const fs::path& dir) {
+  static const std::regex frame_file(
+      R"(frame_\d{6,}\.(vtp|obj)|frames\.(pvd|pc2)|\.frames\.pc2\.partial)");
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, error))
+    if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), frame_file))
+      fs::remove(entry.path(), error);
+}
+
+}  // namespace
+
+struct FrameWriter::Impl {
+  FrameWriterOptions options;
+  GridMesh mesh;
+  VtpTopology topology;
+  double column_rest = 0, row_rest = 0;
+  // A one-thread copy of the cloth: the energy of a frame from the same code as the run's.
+  Cloth energy_cloth;
+  bool vtp = false, obj = false, pc2 = false;
+
+  std::array<Snapshot, 2> buffers;
+  std::vector<int> free_buffers{0, 1};
+  std::deque<int> queued;
+  bool closing = false;
+  std::exception_ptr failure;
+  mutable std::mutex mutex;
+  std::condition_variable changed;
+
+  bool finished = false;  // finish() ran
+
+  // Writer thread only.
+  uint64_t frames = 0;
+  std::vector<CollectionEntry> index;
+  std::ofstream pc2_staging;
+  Frame frame;
+  std::thread thread;
+
+  Impl(const Scene& scene, Precision precision, FrameWriterOptions options_in)
+      : options(std::move(options_in)),
+        mesh{scene.rows, scene.cols},
+        topology(vtp_topology(mesh)),
+        column_rest(scene.cols > 1 ? scene.width / (scene.cols - 1) : 0.0),
+        row_rest(scene.rows > 1 ? scene.height / (scene.rows - 1) : 0.0),
+        energy_cloth(scene, precision, PipelineOptions{true, 1}),
+        vtp(has(options.formats, "vtp")),
+        obj(has(options.formats, "obj")),
+        pc2(has(options.formats, "pc2")) {}
+
+  void write_run_json(const nlohmann::json& json) {
+    io::write_file_atomically(options.dir / "run.json",
+                              [&](std::ostream& out) { out << json.dump(2) << "\n"; });
+  }
+
+  void write(const Snapshot& snapshot) {
+    frame.index = frames;
+    frame.step = snapshot.step;
+    frame.time = snapshot.time;
+    frame.positions.assign(snapshot.x.begin(), snapshot.x.end());
+    frame.velocities.assign(snapshot.v.begin(), snapshot.v.end());
+    compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
+    energy_cloth.set_state(snapshot.x, snapshot.v);
+    const Cloth::Energy energy = energy_cloth.energy();
+    frame.energy = {energy.kinetic, energy.spring, energy.gravity};
+    if (vtp) {
+      const std::string name = frame_name(frames, "vtp");
+      io::write_file_atomically(options.dir / name,
+                                [&](std::ostream& out) { write_vtp(out, topology, frame); });
+      index.push_back({frame.time, name});
+      io::write_file_atomically(options.dir / "frames.pvd",
+                                [&](std::ostream& out) { write_pvd(out, index); });
+    }
+    if (obj)
+      io::write_file_atomically(options.dir / frame_name(frames, "obj"),
+                                [&](std::ostream& out) { write_obj(out, mesh, frame); });
+    if (pc2) {
+      pc2_staging.write(reinterpret_cast<const char*>(frame.positions.data()),
+                        static_cast<std::streamsize>(frame.positions.size() * sizeof(float)));
+      if (!pc2_staging)
+        throw host::InputError("cannot write " + (options.dir / pc2_staging_name).string());
+    }
+    ++frames;
+  }
+
+  void write_loop() {
+    for (;;) {
+      int buffer = -1;
+      {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return !queued.empty() || closing; });
+        if (queued.empty()) return;
+        buffer = queued.front();
+        queued.pop_front();
+      }
+      bool failed;
+      {
+        std::lock_guard lock(mutex);
+        failed = failure != nullptr;
+      }
+      if (!failed) {
+        try {
+          write(buffers[buffer]);
+        } catch (...) {
+          std::lock_guard lock(mutex);
+          failure = std::current_exception();
+        }
+      }
+      std::lock_guard lock(mutex);
+      free_buffers.push_back(buffer);
+      changed.notify_all();
+    }
+  }
+
+  void stop_thread() {
+    {
+      std::lock_guard lock(mutex);
+      closing = true;
+    }
+    changed.notify_all();
+    if (thread.joinable()) thread.join();
+  }
+
+  void rethrow_failure() {
+    std::lock_guard lock(mutex);
+    if (failure) std::rethrow_exception(failure);
+  }
+
+  // The staged positions behind a header that counts exactly the frames written.
+  void write_point_cache() {
+    pc2_staging.close();
+    const fs::path staging = options.dir / pc2_staging_name;
+    io::write_file_atomically(options.dir / "frames.pc2", [&](std::ostream& out) {
+      write_pc2_header(out, mesh.vertex_count(), frames);
+      std::ifstream in(staging, std::ios::binary);
+      out << in.rdbuf();
+    });
+    fs::remove(staging);
+  }
+};
+
+FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOptions options) {
+  std::error_code error;
+  fs::create_directories(options.dir, error);
+  if (error || !fs::is_directory(options.dir))
+    throw host::InputError("frames folder " + options.dir.string() + ": cannot create it: " +
+                           (error ? error.message() : std::string("not a folder")));
+  impl_ = std::make_unique<Impl>(scene, precision, std::move(options));
+  Impl& impl = *impl_;
+  remove_earlier_frames(impl.options.dir);
+  nlohmann::json run = impl.options.run;
+  run["status"] = "running";
+  run["frames"] = {{"every_steps", impl.options.every_steps}, {"formats", impl.options.formats}};
+  try {
+    impl.write_run_json(run);
+  } catch (const io::WriteError& error) {
+    // Before any step: an unwritable folder is bad input, not a failed run.
+    throw host::InputError("frames folder " + impl.options.dir.string() + ": " + error.what());
+  }
+  if (impl.pc2) {
+    impl.pc2_staging.open(impl.options.dir / pc2_staging_name, std::ios::binary | std::ios::trunc);
+    if (!impl.pc2_staging)
+      throw host::InputError("cannot write " + (impl.options.dir / pc2_staging_name).string());
+  }
+  for (Snapshot& buffer : impl.buffers) {
+    buffer.x.reserve(3 * impl.mesh.vertex_count());
+    buffer.v.reserve(3 * impl.mesh.vertex_count());
+  }
+  impl.thread = std::thread([&impl] { impl.write_loop(); });
+}
+
+FrameWriter::~FrameWriter() {
+  if (!impl_) return;
+  impl_->stop_thread();
+  // A run ended by an exception never reached finish(): its point cache is still completed,
+  // so every format holds the frames written so far.
+  if (impl_->pc2 && !impl_->finished) {
+    try {
+      impl_->write_point_cache();
+    } catch (...) {  // nothing to report to from a destructor; the .vtp sequence stands
+    }
+  }
+}
+
+bool FrameWriter::is_frame_step(uint64_t step) const {
+  return step % impl_->options.every_steps == 0 || step == impl_->options.last_step;
+}
+
+void FrameWriter::submit(const Cloth& cloth, uint64_t step, double t) {
+  Impl& impl = *impl_;
+  int buffer = -1;
+  {
+    std::unique_lock lock(impl.mutex);
+    impl.changed.wait(lock, [&] { return !impl.free_buffers.empty() || impl.failure; });
+    if (impl.failure) std::rethrow_exception(impl.failure);
+    buffer = impl.free_buffers.back();
+    impl.free_buffers.pop_back();
+  }
+  Snapshot& snapshot = impl.buffers[buffer];
+  snapshot.step = step;
+  snapshot.time = t;
+  cloth.positions(snapshot.x);
+  cloth.velocities(snapshot.v);
+  {
+    std::lock_guard lock(impl.mutex);
+    impl.queued.push_back(buffer);
+  }
+  impl.changed.notify_all();
+}
+
+void FrameWriter::finish(const nlohmann::json& summary) {
+  Impl& impl = *impl_;
+  impl.stop_thread();
+  impl.rethrow_failure();
+  impl.finished = true;
+  if (impl.pc2) impl.write_point_cache();
+  nlohmann::json run = impl.options.run;
+  run["status"] = "finished";
+  run["frames"] = {{"every_steps", impl.options.every_steps},
+                   {"formats", impl.options.formats},
+                   {"written", impl.frames}};
+  run["summary"] = summary;
+  impl.write_run_json(run);
+}
+
+uint64_t FrameWriter::frames_written() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->frames;
+}
+
+}  // namespace clothlab::io

@@ -1,0 +1,107 @@
+// The external-forces extension: plus the springs (a plain loop over the topology) it is
+// eval_acceleration, with wind; without wind it is gravity, constant in x; the wind part
+// follows the triangle formula over the topology's triangles.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "extension_support.hpp"
+
+namespace clothlab {
+namespace {
+
+using testing::host_extension;
+using testing::values_of;
+
+template <class Real>
+void expect_external_plus_springs_is_the_acceleration(Precision precision, double tolerance) {
+  const Scene scene = testing::busy_scene(11, 9);
+  Cloth cloth(scene, precision, {});
+  const clothlab_system& system = cloth.system();
+  std::vector<double> x, v;
+  testing::move_off_rest(cloth, 3, 0.05, x, v);
+  const auto& external =
+      host_extension<clothlab_external_forces_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES);
+  EXPECT_EQ(external.depends_on_position(system.context), 1);
+  void* a = system.alloc_vector(system.context);
+  ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
+  const std::vector<double> external_part = values_of<Real>(system, a);
+  const std::vector<double> springs = testing::spring_acceleration(
+      testing::topology_of(system), testing::inverse_masses<Real>(system), x, v);
+  const std::vector<double> total = testing::acceleration<Real>(cloth);
+  double scale = 0;
+  for (double value : total) scale = std::max(scale, std::abs(value));
+  for (std::size_t e = 0; e < total.size(); ++e)
+    ASSERT_NEAR(external_part[e] + springs[e], total[e], tolerance * scale) << e;
+  // The wind is there: the external part is not gravity alone.
+  EXPECT_GT(std::abs(external_part[3 * 5 + 2]), 1e-3);
+}
+
+TEST(ExternalForces, PlusTheSpringsIsEvalAccelerationFloat64) {
+  expect_external_plus_springs_is_the_acceleration<double>(Precision::Float64, 1e-12);
+}
+
+TEST(ExternalForces, PlusTheSpringsIsEvalAccelerationFloat32) {
+  expect_external_plus_springs_is_the_acceleration<float>(Precision::Float32, 2e-5);
+}
+
+TEST(ExternalForces, WithoutWindItIsGravityOnActiveParticlesAndConstant) {
+  Scene scene = testing::busy_scene(6, 6);
+  scene.wind_strength = 0.0;
+  Cloth cloth(scene, Precision::Float64, {});
+  const clothlab_system& system = cloth.system();
+  std::vector<double> x, v;
+  testing::move_off_rest(cloth, 5, 0.2, x, v);
+  const auto& external =
+      host_extension<clothlab_external_forces_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES);
+  EXPECT_EQ(external.depends_on_position(system.context), 0);
+  void* a = system.alloc_vector(system.context);
+  ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
+  const std::vector<double> values = values_of<double>(system, a);
+  for (uint32_t i = 0; i < system.particle_count; ++i) {
+    const bool pinned = std::binary_search(scene.pinned.begin(), scene.pinned.end(), i);
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_EQ(values[3 * i + k], pinned ? 0.0 : scene.gravity[k]) << i;
+  }
+}
+
+TEST(ExternalForces, WindFollowsTheTriangleFormulaOverTheTopologysTriangles) {
+  Scene scene = testing::busy_scene(5, 7);
+  scene.gravity = {0, 0, 0};
+  Cloth cloth(scene, Precision::Float64, {});
+  const clothlab_system& system = cloth.system();
+  std::vector<double> x, v;
+  testing::move_off_rest(cloth, 9, 0.1, x, v);
+  const clothlab_topology topology = testing::topology_of(system);
+  const std::vector<double> inverse_mass = testing::inverse_masses<double>(system);
+  std::vector<double> expected(x.size(), 0.0);
+  for (uint32_t t = 0; t < topology.triangle_count; ++t) {
+    const uint32_t* p = topology.triangles + 3 * t;
+    double e1[3], e2[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      e1[k] = x[3 * p[1] + k] - x[3 * p[0] + k];
+      e2[k] = x[3 * p[2] + k] - x[3 * p[0] + k];
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double area = norm / 2;
+    const double facing = (n[0] * scene.wind_direction[0] + n[1] * scene.wind_direction[1] +
+                           n[2] * scene.wind_direction[2]) /
+                          norm;
+    for (std::size_t corner = 0; corner < 3; ++corner)
+      for (std::size_t k = 0; k < 3; ++k)
+        expected[3 * p[corner] + k] +=
+            scene.wind_strength * area * facing * n[k] / norm / 3 * inverse_mass[p[corner]];
+  }
+  const auto& external =
+      host_extension<clothlab_external_forces_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES);
+  void* a = system.alloc_vector(system.context);
+  ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
+  const std::vector<double> values = values_of<double>(system, a);
+  for (std::size_t e = 0; e < values.size(); ++e) EXPECT_NEAR(values[e], expected[e], 1e-12) << e;
+}
+
+}  // namespace
+}  // namespace clothlab

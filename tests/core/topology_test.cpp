@@ -1,0 +1,178 @@
+// The topology extension on the grid: spring counts per family against the seed's formula,
+// the springs' ends, rest lengths and laws, the adjacency, both colourings (independent,
+// covering, 12 and 5 colours) and the triangles.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "extension_support.hpp"
+
+namespace clothlab {
+namespace {
+
+using testing::busy_scene;
+using testing::topology_of;
+
+uint64_t family_count(const clothlab_topology& t, uint8_t family) {
+  return static_cast<uint64_t>(std::count(t.family, t.family + t.spring_count, family));
+}
+
+TEST(Topology, SpringCountsPerFamilyMatchTheSeedFormula) {
+  const uint32_t shapes[][2] = {{2, 2}, {2, 3}, {3, 2}, {5, 4}, {17, 13}, {50, 50}};
+  for (const auto& shape : shapes) {
+    Cloth cloth(busy_scene(shape[0], shape[1]), Precision::Float64, {});
+    const clothlab_topology t = topology_of(cloth.system());
+    const SpringCounts seed = testing::seed_equation_2_2(shape[0], shape[1]);
+    EXPECT_EQ(family_count(t, CLOTHLAB_SPRING_STRUCTURAL), seed.structural) << shape[0];
+    EXPECT_EQ(family_count(t, CLOTHLAB_SPRING_SHEAR), seed.shear) << shape[0];
+    EXPECT_EQ(family_count(t, CLOTHLAB_SPRING_FLEXION), seed.flexion) << shape[0];
+    EXPECT_EQ(t.spring_count, seed.total());
+    EXPECT_EQ(t.particle_count, shape[0] * shape[1]);
+  }
+}
+
+TEST(Topology, AFamilyWithoutStiffnessOrDampingIsLeftOut) {
+  Scene scene = busy_scene(6, 5);
+  scene.shear = {0.0, 0.0};
+  Cloth cloth(scene, Precision::Float32, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  EXPECT_EQ(family_count(t, CLOTHLAB_SPRING_SHEAR), 0u);
+  EXPECT_EQ(t.spring_count, count_springs(6, 5).total() - count_springs(6, 5).shear);
+}
+
+TEST(Topology, SpringsJoinLowerToHigherIndexWithTheirFamilysLawAndInitialLength) {
+  const Scene scene = busy_scene(7, 6);
+  Cloth cloth(scene, Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  std::vector<double> x;
+  cloth.positions(x);
+  std::set<std::pair<uint32_t, uint32_t>> pairs;
+  for (uint32_t s = 0; s < t.spring_count; ++s) {
+    ASSERT_LT(t.first[s], t.second[s]);
+    EXPECT_TRUE(pairs.insert({t.first[s], t.second[s]}).second) << "spring " << s << " twice";
+    const SpringFamily& law = t.family[s] == CLOTHLAB_SPRING_STRUCTURAL ? scene.structural
+                              : t.family[s] == CLOTHLAB_SPRING_SHEAR    ? scene.shear
+                                                                        : scene.flexion;
+    EXPECT_EQ(t.ks[s], law.ks);
+    EXPECT_EQ(t.kd[s], law.kd);
+    double squared = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double d = x[3 * t.second[s] + k] - x[3 * t.first[s] + k];
+      squared += d * d;
+    }
+    EXPECT_NEAR(t.rest_length[s], std::sqrt(squared), 1e-12);
+  }
+}
+
+TEST(Topology, AdjacencyListsEachSpringAtBothEndsAscending) {
+  Cloth cloth(busy_scene(8, 9), Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  ASSERT_EQ(t.adjacency_offsets[0], 0u);
+  ASSERT_EQ(t.adjacency_offsets[t.particle_count], 2 * t.spring_count);
+  std::vector<int> seen(t.spring_count, 0);
+  for (uint32_t i = 0; i < t.particle_count; ++i) {
+    for (uint32_t e = t.adjacency_offsets[i]; e < t.adjacency_offsets[i + 1]; ++e) {
+      const uint32_t s = t.adjacent_springs[e];
+      EXPECT_TRUE(t.first[s] == i || t.second[s] == i);
+      if (e > t.adjacency_offsets[i]) {
+        EXPECT_LT(t.adjacent_springs[e - 1], s);
+      }
+      ++seen[s];
+    }
+  }
+  for (int count : seen) EXPECT_EQ(count, 2);
+}
+
+TEST(Topology, TwelveSpringColoursOfIndependentSpringsCoverEverySpringOnce) {
+  Cloth cloth(busy_scene(9, 11), Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  ASSERT_EQ(t.spring_color_count, 12u);
+  ASSERT_EQ(t.spring_color_offsets[12], t.spring_count);
+  std::vector<int> seen(t.spring_count, 0);
+  for (uint32_t c = 0; c < t.spring_color_count; ++c) {
+    std::set<uint32_t> touched;
+    EXPECT_LT(t.spring_color_offsets[c], t.spring_color_offsets[c + 1]) << "colour " << c;
+    for (uint32_t m = t.spring_color_offsets[c]; m < t.spring_color_offsets[c + 1]; ++m) {
+      const uint32_t s = t.spring_color_members[m];
+      if (m > t.spring_color_offsets[c]) {
+        EXPECT_LT(t.spring_color_members[m - 1], s);
+      }
+      EXPECT_TRUE(touched.insert(t.first[s]).second) << "colour " << c << " shares a particle";
+      EXPECT_TRUE(touched.insert(t.second[s]).second) << "colour " << c << " shares a particle";
+      ++seen[s];
+    }
+  }
+  for (int count : seen) EXPECT_EQ(count, 1);
+}
+
+TEST(Topology, FiveParticleColoursRowPlusTwoColumnsAreIndependent) {
+  const uint32_t rows = 9, cols = 11;
+  Cloth cloth(busy_scene(rows, cols), Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  ASSERT_EQ(t.particle_color_count, 5u);
+  ASSERT_EQ(t.particle_color_offsets[5], t.particle_count);
+  std::vector<uint32_t> color(t.particle_count, 99);
+  for (uint32_t c = 0; c < 5; ++c) {
+    for (uint32_t m = t.particle_color_offsets[c]; m < t.particle_color_offsets[c + 1]; ++m) {
+      const uint32_t i = t.particle_color_members[m];
+      EXPECT_EQ(color[i], 99u) << "particle " << i << " in two colours";
+      color[i] = c;
+      EXPECT_EQ(c, (i / cols + 2 * (i % cols)) % 5);
+    }
+  }
+  for (uint32_t s = 0; s < t.spring_count; ++s)
+    EXPECT_NE(color[t.first[s]], color[t.second[s]]) << "spring " << s << " within a colour";
+}
+
+TEST(Topology, TwoTrianglesPerCellFacingTheSameWay) {
+  const uint32_t rows = 4, cols = 5;
+  Cloth cloth(busy_scene(rows, cols), Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  ASSERT_EQ(t.triangle_count, 2 * (rows - 1) * (cols - 1));
+  std::vector<double> x;
+  cloth.positions(x);
+  const auto normal = [&](uint32_t triangle) {
+    const uint32_t* p = t.triangles + 3 * triangle;
+    double e1[3], e2[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      e1[k] = x[3 * p[1] + k] - x[3 * p[0] + k];
+      e2[k] = x[3 * p[2] + k] - x[3 * p[0] + k];
+    }
+    return std::array<double, 3>{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0]};
+  };
+  const std::array<double, 3> first = normal(0);
+  for (uint32_t triangle = 0; triangle < t.triangle_count; ++triangle) {
+    const std::array<double, 3> n = normal(triangle);
+    EXPECT_GT(n[0] * first[0] + n[1] * first[1] + n[2] * first[2], 0.0) << triangle;
+  }
+}
+
+TEST(Topology, EveryCallReturnsTheSameArrays) {
+  Cloth cloth(busy_scene(5, 5), Precision::Float32, {});
+  const clothlab_topology a = topology_of(cloth.system());
+  const clothlab_topology b = topology_of(cloth.system());
+  EXPECT_EQ(a.first, b.first);
+  EXPECT_EQ(a.adjacent_springs, b.adjacent_springs);
+  EXPECT_EQ(a.particle_color_members, b.particle_color_members);
+}
+
+TEST(HostExtensions, AnUnknownIdOrRevisionIsNull) {
+  Cloth cloth(busy_scene(3, 3), Precision::Float64, {});
+  const clothlab_system& system = cloth.system();
+  ASSERT_TRUE(CLOTHLAB_HAS_FIELD(&system, clothlab_system, get_extension));
+  for (const char* id : {"clothlab.jacobian/2", "clothlab.jacobian", "clothlab.topology/0", "",
+                         "CLOTHLAB.TOPOLOGY/1", "clothlab.no-such/1"}) {
+    EXPECT_EQ(system.get_extension(system.context, id), nullptr) << id;
+  }
+  EXPECT_EQ(system.get_extension(system.context, nullptr), nullptr);
+  for (const char* id : {CLOTHLAB_EXT_TOPOLOGY, CLOTHLAB_EXT_JACOBIAN, CLOTHLAB_EXT_REDUCTIONS,
+                         CLOTHLAB_EXT_EXTERNAL_FORCES}) {
+    EXPECT_NE(system.get_extension(system.context, id), nullptr) << id;
+  }
+}
+
+}  // namespace
+}  // namespace clothlab
