@@ -205,6 +205,28 @@ void at_300_on_1_and_2_threads(benchmark::internal::Benchmark* benchmark) {
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
 }
 
+// A step of `id` on a sheet of rows x cols particles, one thread: a tall and a wide strip of the
+// same springs cost the same (the pipeline streams rows; a one-column grid goes as one row).
+void strip_step(benchmark::State& state, const std::string& id) {
+  const auto rows = static_cast<uint32_t>(state.range(0));
+  const auto cols = static_cast<uint32_t>(state.range(1));
+  const Scene scene =
+      make_scene("sheet", {{"rows", std::to_string(rows)}, {"cols", std::to_string(cols)}});
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{integrator_uses_velocity_forces(id), 1});
+  BoundIntegrator integrator(id, cloth);
+  double t = 0.0;
+  for (auto _ : state) {
+    integrator.step(t, 1e-4);
+    t += 1e-4;
+  }
+  state.counters["springs_per_s"] = benchmark::Counter(
+      static_cast<double>(cloth.springs().total()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void strips(benchmark::internal::Benchmark* benchmark) {
+  benchmark->Args({4096, 1})->Args({1, 4096})->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+
 void sizes(benchmark::internal::Benchmark* benchmark) {
   for (int side : kSides) benchmark->Arg(side);
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -229,6 +251,8 @@ BENCHMARK(reference_euler_step)->Apply(sizes);
 BENCHMARK(force_evaluation)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(cg_iteration)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
+BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);
 
 }  // namespace
 }  // namespace clothlab::bench

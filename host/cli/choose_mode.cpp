@@ -4,7 +4,7 @@
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/sweep/integrator_choice.hpp>
-#include <clothlab/sweep/number_text.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <iostream>
 
@@ -75,7 +75,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
   for (const Setting& setting : settings)
     if (!is_frame_or_choice_key(setting.key))
       spec.fixed.push_back({setting.key, setting.value, setting.source});
-  spec.fixed.push_back({"duration", sweep::format_number(choice.duration), "choose.duration"});
+  spec.fixed.push_back({"duration", host::format_number(choice.duration), "choose.duration"});
   spec.monitor.check_interval = config.stability_interval;
   spec.monitor.energy_margin = config.energy_margin;
   // The monitor's stretch check (all springs) catches divergence; the choice's limit is on the
@@ -126,19 +126,19 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
     out << "choose: " << config.scenario << ", "
         << (config.material ? "material " + config.material->name
                             : std::string("per-spring values"))
-        << ", " << sweep::format_number(choice.frame_rate)
-        << " Hz, T = " << sweep::format_number(choice.duration)
-        << " s; pass: stretch <= " << sweep::format_number(choice.stretch_limit)
-        << " x rest, error <= " << sweep::format_number(100 * choice.error_tolerance)
+        << ", " << host::format_number(choice.frame_rate)
+        << " Hz, T = " << host::format_number(choice.duration)
+        << " s; pass: stretch <= " << host::format_number(choice.stretch_limit)
+        << " x rest, error <= " << host::format_number(100 * choice.error_tolerance)
         << " % of the cloth diagonal"
         << " at T = "
-        << sweep::format_number(choice.error_duration > 0 ? choice.error_duration : choice.duration)
+        << host::format_number(choice.error_duration > 0 ? choice.error_duration : choice.duration)
         << " s"
         << (choice.error_mesh.empty() ? "" : " (error measured at " + choice.error_mesh + ")")
         << "\n  reference: " << reference.value("reference_integrator", std::string())
-        << " float64, dt " << sweep::format_number(reference.value("reference_dt", 0.0))
+        << " float64, dt " << host::format_number(reference.value("reference_dt", 0.0))
         << " s, estimated own error "
-        << sweep::format_number(100 * reference.value("reference_error_estimate", 0.0))
+        << host::format_number(100 * reference.value("reference_error_estimate", 0.0))
         << " % of the diagonal\n"
         << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "
         << ranked_base.string() << ".json (probes: " << store.csv_path().string() << ")\n";

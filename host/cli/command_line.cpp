@@ -38,7 +38,7 @@ po::options_description describe_options() {
       "steps", po::value<std::string>(), "number of steps")(
       "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
       "precision", po::value<std::string>(), "float32 or float64 (default float32)")(
-      "threads", po::value<std::string>(), "worker threads, 0 = all (default 0)")(
+      "threads", po::value<std::string>(), "worker threads, 0 = all, at most 256 (default 0)")(
       "config", po::value<std::string>(), "YAML config file; command-line values override it")(
       "set", po::value<std::vector<std::string>>()->composing(),
       "KEY=VALUE, repeatable; plugin parameters are integrator.KEY / scenario.KEY")(
@@ -73,11 +73,31 @@ std::optional<std::string> string_option(const po::variables_map& values, const 
   return values[name].as<std::string>();
 }
 
+// A file or folder option: an empty value would show up later as an error naming no path.
+std::optional<std::string> path_option(const po::variables_map& values, const char* name) {
+  std::optional<std::string> path = string_option(values, name);
+  if (path && path->empty())
+    throw host::InputError(std::string("--") + name + " = '': an empty path; allowed: a path");
+  return path;
+}
+
 Setting parse_set(const std::string& assignment) {
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0)
     throw host::InputError("--set " + assignment + ": expected KEY=VALUE, e.g. scenario.rows=50");
   return {canonical_key(assignment.substr(0, equals)), assignment.substr(equals + 1), "--set"};
+}
+
+// A flag and a --set naming the same key (--dt 0.001 --set dt=0.002) have no sensible order
+// between them, so neither wins: it is an error.
+void reject_flag_and_set_conflicts(const std::vector<Setting>& settings) {
+  for (const Setting& flag : settings) {
+    if (flag.source == "--set") continue;
+    for (const Setting& set : settings)
+      if (set.source == "--set" && set.key == flag.key)
+        throw host::InputError(flag.source + " " + flag.value + " conflicts with --set " + set.key +
+                               "=" + set.value + "; allowed: one of them");
+  }
 }
 
 }  // namespace
@@ -101,14 +121,14 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.help = values.count("help") > 0;
   command_line.list_plugins = values.count("list-plugins") > 0;
   command_line.quiet = values.count("quiet") > 0;
-  command_line.config_file = string_option(values, "config");
-  command_line.json_file = string_option(values, "json");
-  command_line.state_file = string_option(values, "state-out");
-  command_line.energy_file = string_option(values, "energy-out");
+  command_line.config_file = path_option(values, "config");
+  command_line.json_file = path_option(values, "json");
+  command_line.state_file = path_option(values, "state-out");
+  command_line.energy_file = path_option(values, "energy-out");
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
   command_line.choose = values.count("choose") > 0;
-  command_line.out_folder = string_option(values, "out");
+  command_line.out_folder = path_option(values, "out");
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const auto& [flag, key] : setting_flags)
@@ -118,6 +138,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
     for (const std::string& assignment : values["set"].as<std::vector<std::string>>())
       command_line.settings.push_back(parse_set(assignment));
   check_one_length(command_line.settings, "command line");
+  reject_flag_and_set_conflicts(command_line.settings);
   return command_line;
 }
 
@@ -129,9 +150,14 @@ std::string usage_text() {
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
           "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
-          "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input,\n"
-          "2 plugin error, 3 the run diverged or failed a stability check, 130 a run stopped\n"
-          "by Ctrl-C (SIGINT) or SIGTERM, its outputs written.\n\n"
+          "Runs and sweep cases run in a child process, killed after `timeout` seconds\n"
+          "(key timeout, default 600). Command-line values override the config file; a flag\n"
+          "and a --set for the same key are an error. A sweep checks every case (settings,\n"
+          "plugins, parameter values) before the first one runs.\n"
+          "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input (also\n"
+          "a sweep case's), 2 plugin error (also a crash or timeout of a single run), 3 the\n"
+          "run diverged or failed a stability check, 130 a run stopped by Ctrl-C (SIGINT)\n"
+          "or SIGTERM, its outputs written.\n\n"
        << describe_options();
   return text.str();
 }

@@ -38,7 +38,7 @@ enum ExitCode {
 };
 
 int fail(int code, const std::string& message) {
-  std::cerr << "clothlab: error: " << message << "\n";
+  std::cerr << "clothlab: error: " << clothlab::host::one_line(message) << "\n";
   return code;
 }
 

@@ -13,7 +13,8 @@ namespace {
 constexpr double max_dt_s = 10.0;
 constexpr double max_duration_s = 1e6;
 constexpr double max_steps = 1e9;
-constexpr double max_threads = 4096;
+// More threads than this make libgomp fail with its own message on ordinary machines.
+constexpr double max_threads = 256;
 constexpr double max_timeout_s = 1e6;
 
 // Validates host-owned values with the same parser and messages as plugin parameters.
@@ -204,6 +205,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   bool length_is_duration = true;
   double duration = 2.0;
   std::optional<Setting> duration_setting;
+  std::string bracket_source = "default find_max_dt bracket";  // the last of dt_min, dt_max set
   std::optional<Setting> dt_setting, frame_rate_setting, substeps_setting;
   Material material;
   std::vector<std::string> material_keys_seen;
@@ -213,7 +215,9 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       if (setting.value.empty())
         throw host::InputError(setting.source + ": " + key +
                                " is empty; allowed: a plugin name or path");
-      (key == "integrator.plugin" ? config.integrator : config.scenario) = setting.value;
+      const bool integrator = key == "integrator.plugin";
+      (integrator ? config.integrator : config.scenario) = setting.value;
+      (integrator ? config.integrator_source : config.scenario_source) = setting.source;
     } else if (key == "dt") {
       config.dt = read_positive(setting, max_dt_s);
       dt_setting = setting;
@@ -255,8 +259,10 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       config.search_tolerance = read_number(setting, CLOTHLAB_PARAM_REAL, 1e-6, 1.0, "");
     } else if (key == "find_max_dt.dt_min") {
       config.search_dt_min = read_positive(setting, max_dt_s);
+      bracket_source = setting.source;
     } else if (key == "find_max_dt.dt_max") {
       config.search_dt_max = read_positive(setting, max_dt_s);
+      bracket_source = setting.source;
     } else if (key == "frames.dir") {
       if (setting.value.empty())
         throw host::InputError(setting.source + ": frames.dir is empty; allowed: a folder path");
@@ -337,7 +343,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
           : static_cast<uint64_t>(std::max(1.0, std::round(1.0 / (frames_rate * config.dt))));
   if (config.search_dt_min >= config.search_dt_max)
     throw host::InputError(
-        "find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
+        bracket_source + ": find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
         " s is not below find_max_dt.dt_max = " + host::format_number(config.search_dt_max) +
         " s; allowed: dt_min < dt_max");
   return config;

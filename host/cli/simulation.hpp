@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/host/param_set.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
 #include <memory>
@@ -29,6 +30,8 @@ struct SolverTotals {
   void add(uint64_t step, const clothlab_solver_step_statistics& statistics);
 };
 
+inline constexpr size_t max_timing_samples = size_t{1} << 20;
+
 // What a run measured; the raw material of the summary.
 struct RunRecord {
   std::string integrator, scenario;  // component ids
@@ -44,8 +47,12 @@ struct RunRecord {
   int threads = 0;
   SpringCounts springs;
   StageCounters counters;
-  // Per step, seconds: the whole step and the core's force phases within it.
+  // Per step, seconds: the whole step and the core's force phases within it. At most
+  // max_timing_samples steps are kept, at an even stride over the run (10^9 steps would
+  // otherwise need ~24 GB); step_total_s sums every step.
   std::vector<double> step_s, internal_forces_s, external_forces_s;
+  uint64_t timing_stride = 1;  // the kept samples are steps 1, 1 + stride, 1 + 2 stride, ...
+  double step_total_s = 0;
   bool stable = true;
   bool interrupted = false;  // stopped early on request (SIGINT), not by a failed check
   std::string verdict;
@@ -64,6 +71,20 @@ struct RunRecord {
   std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
   nlohmann::json integrator_params, scenario_params;
 };
+
+// The plugins of a run, loaded, with the run's parameter values applied and checked.
+struct LoadedPlugins {
+  host::PluginLibrary integrator_library, scenario_library;
+  const host::IntegratorPlugin* integrator;
+  const host::ScenarioPlugin* scenario;
+  host::ParamSet integrator_params, scenario_params;
+};
+
+// The checks a run's settings get before it starts, the same for a single run and for every
+// case of a sweep: both plugins load (PluginLoadError naming the setting's source), their
+// parameters accept the values (InputError), the integrator supports the precision, and every
+// plugin_params.<id> names a plugin that exists (a typo'd id is an InputError).
+LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path);
 
 // Sees the state before the first step (step 0) and after every step that passed the
 // stability checks, on the stepping thread (frames output).
@@ -102,6 +123,8 @@ class Simulation {
   const nlohmann::json& scenario_params() const { return scenario_params_; }
 
  private:
+  Simulation(const RunConfig& config, LoadedPlugins plugins);
+
   RunConfig config_;
   host::PluginLibrary integrator_library_;
   host::PluginLibrary scenario_library_;

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/io/atomic_file.hpp>
-#include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
@@ -16,6 +16,7 @@
 #include "case_execution.hpp"
 #include "isolation.hpp"
 #include "run_config.hpp"
+#include "simulation.hpp"
 
 namespace clothlab::cli {
 
@@ -27,8 +28,8 @@ RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
   const std::string source = spec.source + ": sweep.monitor";
   std::vector<Setting> settings = {
       {"stability.interval", std::to_string(spec.monitor.check_interval), source},
-      {"stability.max_stretch", sweep::format_number(spec.monitor.stretch_limit), source},
-      {"stability.energy_margin", sweep::format_number(spec.monitor.energy_margin), source}};
+      {"stability.max_stretch", host::format_number(spec.monitor.stretch_limit), source},
+      {"stability.energy_margin", host::format_number(spec.monitor.energy_margin), source}};
   for (const sweep::Setting& setting : c.settings)
     settings.push_back({setting.key, setting.value, setting.source});
   return resolve_run_config(settings);
@@ -97,6 +98,36 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
   return result;
 }
 
+// Every case goes through the checks of a single run (its settings, then its plugins and
+// parameter values) before the first one runs: a sweep with bad input does nothing and
+// exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
+void check_every_case(const sweep::SweepSpec& spec, const std::vector<sweep::CaseSpec>& cases,
+                      const host::PluginSearchPath& search_path) {
+  std::vector<RunConfig> configs;
+  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(spec, c));
+  if (configs.empty()) return;
+  try {
+    run_isolated(
+        [&] {
+          for (size_t i = 0; i < configs.size(); ++i) {
+            try {
+              load_plugins(configs[i], search_path);
+            } catch (const std::exception& error) {
+              throw host::InputError(std::string(error.what()) + " (sweep case " + cases[i].key +
+                                     ")");
+            }
+          }
+          return nlohmann::json();
+        },
+        configs.front().timeout_s);
+  } catch (const host::InputError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                            "checking the sweep's cases: " + std::string(error.what()));
+  }
+}
+
 }  // namespace
 
 sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
@@ -112,8 +143,7 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
       spec.fixed.push_back({setting.key, setting.value, setting.source});
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
     const std::vector<sweep::CaseSpec> cases = sweep::expand_cases(spec);
-    // Every case's settings are checked before the first one runs.
-    for (const sweep::CaseSpec& c : cases) case_config(spec, c);
+    check_every_case(spec, cases, search_path);
     if (spec.output.has_parent_path())
       std::filesystem::create_directories(spec.output.parent_path());
 

@@ -1,6 +1,7 @@
 // numerics.*: integrators converge at their declared order on problems with known
 // solutions, respect pins, keep rest at rest and are bit-for-bit deterministic.
 #include <algorithm>
+#include <clothlab/analysis/order_fit.hpp>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -8,7 +9,6 @@
 #include "analytic.hpp"
 #include "check.hpp"
 #include "fixtures.hpp"
-#include "order_fit.hpp"
 
 namespace clothlab::conformance {
 namespace {
@@ -98,17 +98,21 @@ double free_fall_error(const clothlab_integrator& integrator, int steps) {
 
 template <class ErrorAt>
 Verdict converges_at_declared_order(const clothlab_integrator& integrator, ErrorAt error_at) {
-  std::vector<ErrorSample> samples;
+  std::vector<double> step_sizes, step_errors;
   std::string errors;
   double largest = 0;
   for (int steps = coarsest_steps(integrator.order), i = 0; i < 4; ++i, steps *= 2) {
     const double error = error_at(steps);
-    samples.push_back({1.0 / steps, error});
+    step_sizes.push_back(1.0 / steps);
+    step_errors.push_back(error);
     largest = std::max(largest, error);
     errors += (i ? ", " : "") + format("%.3g", error);
   }
   if (largest < roundoff_error) return {true, "exact to round-off (errors " + errors + ")"};
-  const double measured = observed_order(samples);
+  // The one order fit (analysis), over every point: four halvings are all asymptotic here.
+  const analysis::OrderFit fit = analysis::fit_order_all(step_sizes, step_errors);
+  require(fit.valid, "no order fit (" + fit.note + "; errors " + errors + ")");
+  const double measured = fit.slope;
   const std::string detail = "measured order " + format("%.2f", measured) + ", declared " +
                              std::to_string(integrator.order) + " (errors " + errors + ")";
   require(std::abs(measured - integrator.order) <= order_tolerance, detail);
@@ -160,11 +164,34 @@ Verdict repeatable(const clothlab_integrator& integrator) {
 }
 
 Verdict thread_count_independent(const clothlab_integrator& integrator, Precision precision) {
-  const Scene scene = sheet_scene(64, 48, true);
-  const State one = simulate(integrator, scene, precision, 1, 20, 1e-3);
-  const State two = simulate(integrator, scene, precision, 2, 20, 1e-3);
+  // Above the engine's threading threshold: below it both runs would be single-threaded.
+  constexpr uint32_t cols = 64;
+  const Scene scene = sheet_scene(parallel_from_particles / cols + 8, cols, true);
+  // Half the usual step: the finer grid is stiffer, and euler must stay finite for 20 steps.
+  const State one = simulate(integrator, scene, precision, 1, 20, 5e-4);
+  const State two = simulate(integrator, scene, precision, 2, 20, 5e-4);
   require(one == two, "1 and 2 threads give different bits");
   return {true, ""};
+}
+
+// The same motion in both precisions: an integrator wrong in only one of them (one that does
+// nothing in float32, say) fails here though each precision alone passes the other checks.
+Verdict precisions_agree(const clothlab_integrator& integrator) {
+  const Scene scene = sheet_scene(6, 5, true);
+  const State start = state_of(Cloth(scene, Precision::Float64, pipeline_for(integrator)));
+  const State wide = simulate(integrator, scene, Precision::Float64, 1, 30, 1e-3);
+  const State narrow = simulate(integrator, scene, Precision::Float32, 1, 30, 1e-3);
+  double moved = 0, difference = 0;
+  for (size_t i = 0; i < wide.x.size(); ++i) {
+    moved = std::max(moved, std::abs(wide.x[i] - start.x[i]));
+    difference = std::max(difference, std::abs(narrow.x[i] - wide.x[i]));
+  }
+  require(moved > 1e-6, "the cloth did not move in float64 (" + format("%.3g", moved) + " m)");
+  // float32 rounding over 30 steps stays far below a hundredth of the motion.
+  require(difference <= 1e-2 * moved, "float32 and float64 differ by " +
+                                          format("%.3g", difference) + " m after 30 steps (" +
+                                          format("%.3g", moved) + " m of motion)");
+  return {true, "float32 within " + format("%.2g", difference / moved) + " of float64's motion"};
 }
 
 }  // namespace
@@ -201,6 +228,7 @@ std::vector<Check> numerics_checks(const clothlab_integrator& integrator) {
         {c->id, "numerics.pinned-f32", [c] { return pins_untouched(*c, Precision::Float32); }});
     checks.push_back({c->id, "numerics.threads-f32",
                       [c] { return thread_count_independent(*c, Precision::Float32); }});
+    checks.push_back({c->id, "numerics.precisions-agree", [c] { return precisions_agree(*c); }});
   }
   return checks;
 }

@@ -4,20 +4,23 @@
 // simulation").
 //
 // Per substep of length h = dt / substeps:
-//   predict    v += h a_ext(x),  x_prev = x,  x += h v        (gravity, wind: the host's
+//   predict    v += h a_ext(x),  dx = h v,  x += dx            (gravity, wind: the host's
 //                                                             external-forces extension)
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
 //              in parallel: no two share a particle, so every thread count gives the same bits
-//   velocity   v = (x - x_prev) / h
+//   velocity   v = dx / h
+// The substep's displacement dx is kept beside x and moved with every correction, so v never
+// comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us) is
+// below the rounding of x itself and would be lost, and the cloth would not start to fall.
 //
 // One spring k joining i and j, C = |x_i - x_j| - rest, n = (x_i - x_j) / |x_i - x_j|:
 // compliance alpha = 1 / ks and Rayleigh damping beta = kd (the spring's damping force
 // -kd (n . (v_i - v_j)) n is -beta grad C dC/dt), so with alpha~ = alpha / h^2,
 // beta~ = h^2 beta and gamma = alpha~ beta~ / h = alpha beta / h the paper's eq. 26 reads
 //   dlambda = (-C - alpha~ lambda - gamma n.(dx_i - dx_j)) / ((1 + gamma)(w_i + w_j) + alpha~)
-// with dx = x - x_prev. Multiplied through by ks h^2 it needs no division by ks (a spring
-// with ks = 0 is a pure damper) and its denominator is >= 1:
+// with dx the substep's displacement. Multiplied through by ks h^2 it needs no division by ks (a
+// spring with ks = 0 is a pure damper) and its denominator is >= 1:
 //   dlambda = (-ks h^2 C - lambda - kd h n.(dx_i - dx_j)) / ((ks h^2 + kd h)(w_i + w_j) + 1)
 //   x_i += w_i dlambda n,  x_j -= w_j dlambda n.
 // lambda accumulates over the iterations of a substep and is reset once per substep, never
@@ -110,7 +113,7 @@ struct Xpbd {
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double dt) {
-    const auto [external_acceleration, previous] = scratch_.bind(system);
+    const auto [external_acceleration, displacement] = scratch_.bind(system);
     if (dt == 0.0) return;
     const sdk::ExternalForces<Real> external = system.external_forces();
     const bool wind = external.depends_on_position();
@@ -118,7 +121,7 @@ struct Xpbd {
     if (!wind) external.acceleration(t, system.x(), external_acceleration);
     for (int substep = 0; substep < substeps_; ++substep) {
       if (wind) external.acceleration(t + substep * h, system.x(), external_acceleration);
-      if (!advance_substep(system, h, external_acceleration, previous))
+      if (!advance_substep(system, h, external_acceleration, displacement))
         throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "non-finite velocity in the substep at t = " +
                                                        std::to_string(t + substep * h));
     }
@@ -159,12 +162,12 @@ struct Xpbd {
   // cost, no allocation).
   template <class Real>
   bool advance_substep(sdk::System<Real>& system, double h, const Real* external_acceleration,
-                       Real* previous) {
+                       Real* displacement) {
     const Substep<Real> substep{constraints_for<Real>().springs.data(),
                                 constraints_for<Real>().lambda.data(),
                                 system.inverse_mass(),
                                 external_acceleration,
-                                previous,
+                                displacement,
                                 system.x(),
                                 system.v(),
                                 system.particle_count(),
@@ -185,7 +188,7 @@ struct Xpbd {
     Real* lambda;
     const Real* inverse_mass;
     const Real* external_acceleration;
-    Real* previous;  // positions at the substep's start
+    Real* displacement;  // x's change in this substep, exact where x's rounding is not
     Real* x;
     Real* v;
     uint32_t particle_count;
@@ -202,17 +205,18 @@ struct Xpbd {
     for (long i = 0; i < n; ++i)
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
-        s.previous[e] = s.x[e];  // pinned too: their dx = x - previous must be 0
+        s.displacement[e] = 0;  // pinned too: their dx must be 0
         if (s.inverse_mass[i] == 0) continue;
         s.v[e] += s.h * s.external_acceleration[e];
-        s.x[e] += s.h * s.v[e];
+        s.displacement[e] = s.h * s.v[e];
+        s.x[e] += s.displacement[e];
       }
     for (int iteration = 0; iteration < iterations_; ++iteration)
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
         const long begin = color_offsets_[color], end = color_offsets_[color + 1];
 #pragma omp for schedule(static)
         for (long k = begin; k < end; ++k)
-          project(s.constraints[k], s.lambda[k], iteration == 0, s.x, s.previous, s.stride, s.h,
+          project(s.constraints[k], s.lambda[k], iteration == 0, s.x, s.displacement, s.stride, s.h,
                   s.h_squared);
       }
     bool finite = true;
@@ -221,7 +225,7 @@ struct Xpbd {
       if (s.inverse_mass[i] == 0) continue;
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
-        s.v[e] = (s.x[e] - s.previous[e]) * s.inverse_h;
+        s.v[e] = s.displacement[e] * s.inverse_h;
         finite = finite && std::isfinite(s.v[e]);
       }
     }
@@ -231,12 +235,12 @@ struct Xpbd {
   template <class Real>
   // lambda is reset at the substep's first iteration (`fresh`), then accumulates.
   static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, Real* x,
-                      const Real* previous, std::size_t stride, Real h, Real h_squared) {
+                      Real* displacement, std::size_t stride, Real h, Real h_squared) {
     std::array<Real, 3> d, moved;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
       d[c] = x[i] - x[j];
-      moved[c] = (x[i] - previous[i]) - (x[j] - previous[j]);
+      moved[c] = displacement[i] - displacement[j];
     }
     const Real accumulated = fresh ? Real(0) : lambda;
     lambda = accumulated;
@@ -251,8 +255,15 @@ struct Xpbd {
     const Real push_first = spring.first_weight * delta * inverse_length;
     const Real push_second = spring.second_weight * delta * inverse_length;
     for (std::size_t c = 0; c < 3; ++c) {
-      if (spring.first_weight != 0) x[c * stride + spring.first] += push_first * d[c];
-      if (spring.second_weight != 0) x[c * stride + spring.second] -= push_second * d[c];
+      const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
+      if (spring.first_weight != 0) {
+        x[i] += push_first * d[c];
+        displacement[i] += push_first * d[c];
+      }
+      if (spring.second_weight != 0) {
+        x[j] -= push_second * d[c];
+        displacement[j] -= push_second * d[c];
+      }
     }
   }
 
@@ -263,7 +274,7 @@ struct Xpbd {
   Constraints<float> constraints_f32_;
   Constraints<double> constraints_f64_;
   std::vector<uint32_t> color_offsets_;  // constraints of colour c: [offsets[c], offsets[c + 1])
-  ScratchVectors<2> scratch_;            // external acceleration, positions at the substep's start
+  ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
 };
 
 }  // namespace clothlab::builtin

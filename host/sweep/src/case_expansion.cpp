@@ -1,8 +1,8 @@
 #include <algorithm>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 
 #include "clothlab/sweep/case_spec.hpp"
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -46,7 +46,7 @@ void derive_views(CaseSpec& spec) {
   spec.duration = 0.0;
   spec.steps = 0;
   for (const Setting& setting : spec.settings) {
-    const auto number = parse_number(setting.value);
+    const auto number = host::parse_real(setting.value);
     if (setting.key == "integrator.plugin") {
       spec.integrator = setting.value;
     } else if (setting.key == "scenario.plugin") {
@@ -57,8 +57,8 @@ void derive_views(CaseSpec& spec) {
       }
       spec.precision = setting.value;
     } else if (setting.key == "scenario.rows" || setting.key == "scenario.cols") {
-      if (!number || *number < 1 || *number != std::floor(*number) || *number > 100000) {
-        bad_setting(setting, "a whole number in [1, 100000]");
+      if (!number || *number < 1 || *number != std::floor(*number) || *number > 4096) {
+        bad_setting(setting, "a whole number in [1, 4096]");
       }
       (setting.key == "scenario.rows" ? spec.rows : spec.cols) = static_cast<uint32_t>(*number);
     } else if (setting.key == "dt") {
@@ -90,8 +90,15 @@ std::string CaseSpec::setting(const std::string& key) const {
 }
 
 std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
+  // Checked as it grows: 64 two-valued axes wrapped the product to 0.
   std::size_t total = 1;
-  for (const Axis& axis : spec.axes) total *= axis.values.size();
+  for (const Axis& axis : spec.axes) {
+    total *= axis.values.size();
+    if (total > max_cases)
+      throw SweepError(spec.source + ": sweep.matrix has more than " + std::to_string(max_cases) +
+                       " cases (at axis " + axis.key + "); allowed: at most " +
+                       std::to_string(max_cases));
+  }
   std::vector<CaseSpec> cases;
   cases.reserve(total);
   std::vector<std::size_t> digit(spec.axes.size(), 0);  // mixed-radix counter, last axis fastest
@@ -101,7 +108,8 @@ std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
     c.settings = spec.fixed;
     for (std::size_t a = 0; a < spec.axes.size(); ++a) {
       const Setting& value = spec.axes[a].values[digit[a]];
-      c.coordinates.emplace_back(coordinate_name(spec.axes[a].key), canonical_value(value.value));
+      c.coordinates.emplace_back(coordinate_name(spec.axes[a].key),
+                                 host::canonical_value(value.value));
       append_setting(c.settings, value);
     }
     c.key = make_key(c.coordinates);
@@ -122,7 +130,7 @@ CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::s
   derive_views(c);
   if (!as_coordinate) return c;
   const std::string name = coordinate_name(key);
-  const std::string canonical = canonical_value(value);
+  const std::string canonical = host::canonical_value(value);
   auto found = std::find_if(c.coordinates.begin(), c.coordinates.end(),
                             [&](const auto& coordinate) { return coordinate.first == name; });
   if (found != c.coordinates.end()) {
@@ -135,7 +143,7 @@ CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::s
 }
 
 CaseSpec with_dt(const CaseSpec& base, double dt) {
-  return with_setting(base, "dt", format_number(dt));
+  return with_setting(base, "dt", host::format_number(dt));
 }
 
 }  // namespace clothlab::sweep

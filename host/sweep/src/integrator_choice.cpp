@@ -8,12 +8,14 @@
 #include <map>
 #include <optional>
 
-#include "clothlab/sweep/number_text.hpp"
+#include <clothlab/host/param_text.hpp>
 #include "clothlab/sweep/progress.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
 namespace {
+
+using host::format_number;
 
 struct Probe {
   bool passed = false;

@@ -1,12 +1,12 @@
 #include "clothlab/sweep/results_store.hpp"
 
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/io/atomic_file.hpp>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "clothlab/sweep/case_result.hpp"
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -18,7 +18,7 @@ std::string csv_field(const nlohmann::ordered_json& value) {
   if (value.is_string()) {
     text = value.get<std::string>();
   } else if (value.is_number_float()) {
-    text = format_number(value.get<double>());
+    text = host::format_number(value.get<double>());
   } else {
     text = value.dump();
   }

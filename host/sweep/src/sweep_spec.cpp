@@ -4,33 +4,26 @@
 
 #include <algorithm>
 #include <charconv>
+#include <clothlab/config/yaml_settings.hpp>
+#include <clothlab/host/errors.hpp>
 #include <clothlab/host/identifiers.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
 namespace {
 
 std::string location(const std::string& source, const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  if (mark.line < 0) return source;
-  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+  return config::location(source, node.Mark());
 }
 
 [[noreturn]] void fail(const std::string& source, const YAML::Node& node, const std::string& key,
                        const std::string& value, const std::string& allowed) {
   throw SweepError(location(source, node) + ": " + key + " = '" + value + "': allowed " + allowed);
-}
-
-std::string canonical_key(const std::string& key) {
-  if (key == "integrator" || key == "scenario") return key + ".plugin";
-  return key;
 }
 
 std::string scalar_text(const std::string& source, const YAML::Node& node, const std::string& key) {
@@ -46,25 +39,10 @@ std::string scalar_text(const std::string& source, const YAML::Node& node, const
   fail(source, node, key, "(empty)", "a value or a list of plain values");
 }
 
-void flatten(const std::string& source, const YAML::Node& map, const std::string& prefix,
-             std::vector<Setting>& out) {
-  for (const auto& entry : map) {
-    const std::string name = entry.first.as<std::string>();
-    const std::string key = prefix.empty() ? name : prefix + "." + name;
-    if (prefix.empty() && name == "sweep") continue;
-    if (entry.second.IsMap()) {
-      flatten(source, entry.second, key, out);
-    } else {
-      out.push_back({canonical_key(key), scalar_text(source, entry.second, key),
-                     location(source, entry.second)});
-    }
-  }
-}
-
 double number(const std::string& source, const YAML::Node& node, const std::string& key, double low,
               double high, const std::string& allowed) {
   const std::string text = node.IsScalar() ? node.Scalar() : "(not a value)";
-  const auto value = parse_number(text);
+  const auto value = host::parse_real(text);
   if (!value || *value < low || *value > high) fail(source, node, key, text, allowed);
   return *value;
 }
@@ -72,7 +50,7 @@ double number(const std::string& source, const YAML::Node& node, const std::stri
 double whole_number(const std::string& source, const YAML::Node& node, const std::string& key,
                     double low, double high) {
   const std::string allowed =
-      "a whole number in [" + format_number(low) + ", " + format_number(high) + "]";
+      "a whole number in [" + host::format_number(low) + ", " + host::format_number(high) + "]";
   const double value = number(source, node, key, low, high, allowed);
   if (value != std::floor(value)) fail(source, node, key, node.Scalar(), allowed);
   return value;
@@ -84,7 +62,7 @@ void for_each_key(const std::string& source, const YAML::Node& section, const st
                   const std::function<void(const std::string&, const YAML::Node&)>& visit) {
   if (!section.IsMap()) fail(source, section, name, "(not a map)", "a map of keys");
   for (const auto& entry : section) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = config::key_text(entry.first, source);
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
@@ -116,7 +94,7 @@ void check_axis_value(const std::string& source, const YAML::Node& node, const s
   } else if (key == "mesh") {
     if (!mesh_shape(text)) fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 4096]");
   } else if (key == "dt") {
-    const auto value = parse_number(text);
+    const auto value = host::parse_real(text);
     if (!value || *value <= 0.0 || *value > 10.0)
       fail(source, node, key, text, "a number in (0, 10] s");
   } else if (key == "precision") {
@@ -125,7 +103,7 @@ void check_axis_value(const std::string& source, const YAML::Node& node, const s
 }
 
 Axis read_axis(const std::string& source, const std::string& name, const YAML::Node& node) {
-  Axis axis{canonical_key(name), {}};
+  Axis axis{config::canonical_key(name), {}};
   const std::string key = "sweep.matrix." + name;
   if (node.IsScalar()) {
     axis.values.push_back({axis.key, node.Scalar(), location(source, node)});
@@ -140,7 +118,7 @@ Axis read_axis(const std::string& source, const std::string& name, const YAML::N
   for (std::size_t i = 0; i < axis.values.size(); ++i) {
     const YAML::Node item = node.IsSequence() ? node[i] : node;
     check_axis_value(source, item, axis.key, axis.values[i].value);
-    if (!seen.insert(canonical_value(axis.values[i].value)).second) {
+    if (!seen.insert(host::canonical_value(axis.values[i].value)).second) {
       fail(source, item, key, axis.values[i].value, "each value once");
     }
   }
@@ -228,8 +206,9 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
   if (!(st.dt_lower_limit < st.dt_upper_limit && st.dt_initial >= st.dt_lower_limit &&
         st.dt_initial <= st.dt_upper_limit)) {
     fail(source, node, "sweep.stability",
-         "dt_min " + format_number(st.dt_lower_limit) + ", dt_initial " +
-             format_number(st.dt_initial) + ", dt_max " + format_number(st.dt_upper_limit),
+         "dt_min " + host::format_number(st.dt_lower_limit) + ", dt_initial " +
+             host::format_number(st.dt_initial) + ", dt_max " +
+             host::format_number(st.dt_upper_limit),
          "dt_min < dt_max and dt_initial between them");
   }
 }
@@ -283,46 +262,49 @@ const char* to_string(SweepMode mode) {
 }
 
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& error) {
-    throw SweepError(source + ":" + std::to_string(error.mark.line + 1) + ":" +
-                     std::to_string(error.mark.column + 1) + ": YAML syntax error: " + error.msg);
-  }
+  return parse_sweep(config::load_yaml_text(yaml_text, source), source);
+}
+
+SweepSpec parse_sweep(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) fail(source, root, "(document)", "(not a map)", "a map of settings");
   const YAML::Node section = root["sweep"];
   if (!section) fail(source, root, "sweep", "(missing)", "a sweep: section");
   SweepSpec spec;
   spec.source = source;
-  flatten(source, root, "", spec.fixed);
+  // The one flattener checks the whole file (repeated keys, empty maps, bounds); the keys
+  // outside `sweep:` are the fixed settings of every case.
+  for (Setting& setting : config::flatten_settings(root, source))
+    if (!setting.key.starts_with("sweep.")) spec.fixed.push_back(std::move(setting));
   bool has_matrix = false;
-  for_each_key(
-      source, section, "sweep",
-      {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
-      [&](const std::string& key, const YAML::Node& value) {
-        if (key == "sweep.name") {
-          spec.name = scalar_text(source, value, key);
-          if (!host::is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
-        } else if (key == "sweep.mode") {
-          spec.mode = read_mode(source, value);
-        } else if (key == "sweep.output") {
-          spec.output = scalar_text(source, value, key);
-          if (spec.output.empty()) fail(source, value, key, "", "a path without extension");
-        } else if (key == "sweep.matrix") {
-          has_matrix = true;
-          if (!value.IsMap()) fail(source, value, key, "(not a map)", "a map of key: [values]");
-          for (const auto& entry : value) {
-            spec.axes.push_back(read_axis(source, entry.first.as<std::string>(), entry.second));
-          }
-        } else if (key == "sweep.monitor") {
-          read_monitor(source, value, spec);
-        } else if (key == "sweep.work_precision") {
-          read_work_precision(source, value, spec);
-        } else {
-          read_stability(source, value, spec);
-        }
-      });
+  for_each_key(source, section, "sweep",
+               {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key == "sweep.name") {
+                   spec.name = scalar_text(source, value, key);
+                   if (!host::is_plugin_id(spec.name))
+                     fail(source, value, key, spec.name, "[a-z0-9_-]+");
+                 } else if (key == "sweep.mode") {
+                   spec.mode = read_mode(source, value);
+                 } else if (key == "sweep.output") {
+                   spec.output = scalar_text(source, value, key);
+                   if (spec.output.empty())
+                     fail(source, value, key, "", "a path without extension");
+                 } else if (key == "sweep.matrix") {
+                   has_matrix = true;
+                   if (!value.IsMap())
+                     fail(source, value, key, "(not a map)", "a map of key: [values]");
+                   for (const auto& entry : value) {
+                     spec.axes.push_back(
+                         read_axis(source, config::key_text(entry.first, source), entry.second));
+                   }
+                 } else if (key == "sweep.monitor") {
+                   read_monitor(source, value, spec);
+                 } else if (key == "sweep.work_precision") {
+                   read_work_precision(source, value, spec);
+                 } else {
+                   read_stability(source, value, spec);
+                 }
+               });
   if (spec.name.empty()) fail(source, section, "sweep.name", "(missing)", "[a-z0-9_-]+");
   if (!has_matrix) fail(source, section, "sweep.matrix", "(missing)", "a map of key: [values]");
   if (spec.output.empty()) spec.output = std::filesystem::path("results") / spec.name;
@@ -332,19 +314,15 @@ SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
 }
 
 SweepSpec load_sweep(const std::filesystem::path& path) {
-  std::ifstream stream(path);
-  if (!stream) throw SweepError(path.string() + ": cannot open sweep file");
-  std::stringstream text;
-  text << stream.rdbuf();
-  return parse_sweep(text.str(), path.string());
+  return parse_sweep(config::load_yaml_file(path), path.string());
 }
 
 bool is_sweep_file(const std::filesystem::path& path) {
   try {
-    const YAML::Node root = YAML::LoadFile(path.string());
+    const YAML::Node root = config::load_yaml_file(path);
     return root.IsMap() && root["sweep"];
-  } catch (const YAML::Exception&) {
-    return false;
+  } catch (const host::InputError&) {
+    return false;  // reading it as a single-run config reports the problem
   }
 }
 

@@ -8,6 +8,7 @@
 #include <clothlab/plugin.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -54,6 +55,10 @@ struct SpringCounts {
   uint64_t total() const { return structural + shear + flexion; }
 };
 SpringCounts count_springs(uint32_t rows, uint32_t cols);
+
+// Clouds of fewer particles run on the calling thread whatever PipelineOptions::threads says
+// (a thread team costs more than it saves there). Checks of threaded behaviour use more.
+inline constexpr std::size_t parallel_from_particles = 4096;
 
 struct PipelineOptions {
   bool velocity_forces = true;  // false: no damping stage (integrator ignores v)
