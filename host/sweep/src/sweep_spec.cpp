@@ -55,7 +55,7 @@ void flatten(const std::string& source, const YAML::Node& map, const std::string
   for (const auto& entry : map) {
     const std::string name = entry.first.as<std::string>();
     const std::string key = prefix.empty() ? name : prefix + "." + name;
-    if (prefix.empty() && name == "sweep") continue;
+    if (prefix.empty() && (name == "sweep" || name == "slurm")) continue;
     if (entry.second.IsMap()) {
       flatten(source, entry.second, key, out);
     } else {
@@ -231,6 +231,20 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
   }
 }
 
+void read_slurm(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
+  for_each_key(source, node, "slurm", {"partition", "tasks", "time", "cpus_per_task", "sbatch"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key == "slurm.sbatch" && value.IsSequence()) {
+                   for (const YAML::Node& item : value)
+                     apply_slurm_setting(spec.slurm, key, scalar_text(source, item, key),
+                                         location(source, item));
+                 } else {
+                   apply_slurm_setting(spec.slurm, key, scalar_text(source, value, key),
+                                       location(source, value));
+                 }
+               });
+}
+
 void check_fixed(const std::string& source, const SweepSpec& spec, const YAML::Node& root) {
   bool has_steps = false, has_duration = false;
   for (const Setting& setting : spec.fixed) {
@@ -279,6 +293,41 @@ const char* to_string(SweepMode mode) {
   return "unknown";
 }
 
+void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
+                         const std::string& source) {
+  const auto bad = [&](const std::string& allowed) {
+    throw SweepError(source + ": " + key + " = '" + value + "': allowed " + allowed);
+  };
+  const auto count = [&](double high) {
+    const auto number = parse_number(value);
+    const std::string allowed = "a whole number in [1, " + format_number(high) + "]";
+    if (!number || *number < 1 || *number > high || *number != std::floor(*number)) bad(allowed);
+    return static_cast<std::size_t>(*number);
+  };
+  if (key == "slurm.partition") {
+    static const std::regex name("[A-Za-z0-9_.-]+");
+    if (!std::regex_match(value, name)) bad("a partition name ([A-Za-z0-9_.-]+)");
+    slurm.partition = value;
+  } else if (key == "slurm.tasks") {
+    slurm.tasks = count(100000);
+  } else if (key == "slurm.cpus_per_task") {
+    slurm.cpus_per_task = count(1024);
+  } else if (key == "slurm.time") {
+    // sbatch's forms: minutes, M:S, H:M:S, D-H, D-H:M, D-H:M:S.
+    static const std::regex duration(
+        "[0-9]+|[0-9]+:[0-9]{1,2}|[0-9]+:[0-9]{1,2}:[0-9]{1,2}|[0-9]+-[0-9]{1,2}(:[0-9]{1,2}){0,"
+        "2}");
+    if (!std::regex_match(value, duration)) bad("a Slurm time: MM, H:MM:SS or D-HH:MM:SS");
+    slurm.time = value;
+  } else if (key == "slurm.sbatch") {
+    if (!value.starts_with("--") || value.find_first_of(" \t\n") != std::string::npos)
+      bad("sbatch options of the form --name or --name=value, one per list item");
+    slurm.sbatch_options.push_back(value);
+  } else {
+    bad("keys slurm.partition, slurm.tasks, slurm.time, slurm.cpus_per_task, slurm.sbatch");
+  }
+}
+
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;
   try {
@@ -323,6 +372,7 @@ SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
   if (spec.name.empty()) fail(source, section, "sweep.name", "(missing)", "[a-z0-9_-]+");
   if (!has_matrix) fail(source, section, "sweep.matrix", "(missing)", "a map of key: [values]");
   if (spec.output.empty()) spec.output = std::filesystem::path("results") / spec.name;
+  if (root["slurm"]) read_slurm(source, root["slurm"], spec);
   check_mode_axes(source, section["matrix"], spec);
   check_fixed(source, spec, root);
   return spec;
