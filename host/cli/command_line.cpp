@@ -46,8 +46,16 @@ po::options_description describe_options() {
       "bisect dt to the largest stable step for the configured duration (keys "
       "find_max_dt.tolerance, .dt_min, .dt_max) and print the predicted dt_max beside it")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
-      "resume", "sweep: keep the results already written and run only the missing cases")(
-      "quiet", "print no summary");
+      "resume",
+      "sweep: keep the results already written and run only the missing cases (with --slurm: "
+      "resubmit only the shards with missing cases); refused if the sweep changed")(
+      "shard", po::value<std::string>(),
+      "sweep: run only shard K/N of the cases (case i is in shard i mod N + 1) into "
+      "<output>.shard-K-of-N.sqlite; join the shards with `clothlab merge OUTPUT`")(
+      "slurm",
+      "sweep: submit as one Slurm job array, one task per shard (keys slurm.tasks, "
+      "slurm.partition, slurm.time, slurm.cpus_per_task, slurm.sbatch), wait and merge")(
+      "no-wait", "--slurm: return once the job array is submitted")("quiet", "print no summary");
   return options;
 }
 
@@ -90,6 +98,9 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
   command_line.out_folder = string_option(values, "out");
+  command_line.shard = string_option(values, "shard");
+  command_line.slurm = values.count("slurm") > 0;
+  command_line.no_wait = values.count("no-wait") > 0;
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const auto& [flag, key] : setting_flags)
@@ -105,6 +116,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
 std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
+          "       clothlab merge OUTPUT...   (join the shard results of each sweep output)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"

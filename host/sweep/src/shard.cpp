@@ -1,5 +1,6 @@
 #include "clothlab/sweep/shard.hpp"
 
+#include <algorithm>
 #include <map>
 #include <regex>
 #include <unordered_set>
@@ -31,12 +32,36 @@ std::filesystem::path shard_base(const std::filesystem::path& base, Shard shard)
          std::to_string(shard.count);
 }
 
+std::filesystem::path shard_store(const std::filesystem::path& base, Shard shard) {
+  return shard_base(base, shard).string() + ".sqlite";
+}
+
+namespace {
+
+std::filesystem::path folder_of(const std::filesystem::path& base) {
+  return base.has_parent_path() ? base.parent_path() : std::filesystem::path(".");
+}
+
+// <name>.shard-K-of-N<suffix>, K and N captured.
+std::regex shard_file_pattern(const std::filesystem::path& base, const std::string& suffix) {
+  const std::string name =
+      std::regex_replace(base.filename().string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)");
+  return std::regex(name + R"(\.shard-([0-9]+)-of-([0-9]+))" + suffix);
+}
+
+}  // namespace
+
+void remove_shard_results(const std::filesystem::path& base) {
+  const std::regex pattern = shard_file_pattern(base, R"(\..*)");
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder_of(base), error))
+    if (std::regex_match(entry.path().filename().string(), pattern))
+      std::filesystem::remove_all(entry.path(), error);
+}
+
 MergeSummary merge_shards(const std::filesystem::path& base) {
-  const std::filesystem::path folder =
-      base.has_parent_path() ? base.parent_path() : std::filesystem::path(".");
-  const std::regex shard_name(
-      std::regex_replace(base.filename().string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-      R"(\.shard-([0-9]+)-of-([0-9]+)\.sqlite)");
+  const std::filesystem::path folder = folder_of(base);
+  const std::regex shard_name = shard_file_pattern(base, R"(\.sqlite)");
   std::map<std::size_t, std::map<std::size_t, std::filesystem::path>> by_count;
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
@@ -56,7 +81,7 @@ MergeSummary merge_shards(const std::filesystem::path& base) {
   for (std::size_t k = 1; k <= count; ++k) {
     const Shard shard{k, count};
     const auto found = stores.find(k);
-    const std::string name = shard_base(base, shard).string() + ".sqlite";
+    const std::string name = shard_store(base, shard).string();
     if (found == stores.end())
       throw SweepError(name + ": missing; run shard " + std::to_string(k) + "/" +
                        std::to_string(count));

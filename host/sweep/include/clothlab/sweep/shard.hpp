@@ -24,6 +24,12 @@ std::vector<CaseSpec> shard_cases(const std::vector<CaseSpec>& cases, Shard shar
 // <base>.shard-K-of-N (the store adds .sqlite).
 std::filesystem::path shard_base(const std::filesystem::path& base, Shard shard);
 
+// <base>.shard-K-of-N.sqlite
+std::filesystem::path shard_store(const std::filesystem::path& base, Shard shard);
+// Removes every <base>.shard-K-of-N.* file (stores of any shard count, their logs and locks),
+// so that a fresh sharded run does not meet stale shards at the merge.
+void remove_shard_results(const std::filesystem::path& base);
+
 struct MergeSummary {
   std::size_t shards = 0;
   std::size_t rows = 0;
