@@ -44,9 +44,8 @@ sweep::Row typical_row(std::size_t index) {
   row["fail_step"] = nullptr;
   row["check"] = "";
   row["reason"] = "";
-  for (const char* metric : {"steps", "sim_time_s", "wall_time_s", "ms_per_step",
-                             "ms_per_step_p90", "force_evals", "springs_per_second",
-                             "real_time_factor", "threads"})
+  for (const char* metric : {"steps", "sim_time_s", "wall_time_s", "ms_per_step", "ms_per_step_p90",
+                             "force_evals", "springs_per_second", "real_time_factor", "threads"})
     row[metric] = 1234.5678 + static_cast<double>(index);
   row["verdict"] = "stable: all checks passed";
   return row;
@@ -79,8 +78,9 @@ void BM_SweepPerCase(benchmark::State& state) {
   const auto count = static_cast<std::size_t>(state.range(0));
   const auto cases = trivial_cases(count);
   const auto trivial_case = [](const sweep::CaseSpec&) {
-    const nlohmann::json answer = clothlab::cli::run_isolated(
-        [] { return nlohmann::json{{"stable", true}, {"steps", 1}}; });
+    const nlohmann::json answer = clothlab::cli::run_isolated([] {
+      return nlohmann::json{{"stable", true}, {"steps", 1}};
+    });
     sweep::CaseResult result;
     result.metrics = {{"steps", answer["steps"].get<double>()}};
     return result;
