@@ -2,18 +2,17 @@
 //   BM_StoreAppend/N      one row appended to a results store that already holds N rows
 //                         (the store's cost per case; O(1) means flat in N);
 //   BM_SweepPerCase/N     a whole sweep of N trivial cases: each case forked through the
-//                         sweep's isolation (run_isolated) and its row stored; the
+//                         sweep's isolation (process::run_isolated) and its row stored; the
 //                         ms_per_case counter is the sweep's own overhead per case.
 // Run: build/bin/clothlab_sweep_bench (figures in docs/sweeps.md).
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
+#include <clothlab/process/isolation.hpp>
 #include <clothlab/sweep/results_store.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
 #include <filesystem>
 #include <string>
-
-#include "isolation.hpp"
 
 namespace {
 
@@ -78,11 +77,13 @@ void BM_SweepPerCase(benchmark::State& state) {
   const auto count = static_cast<std::size_t>(state.range(0));
   const auto cases = trivial_cases(count);
   const auto trivial_case = [](const sweep::CaseSpec&) {
-    const nlohmann::json answer = clothlab::cli::run_isolated([] {
-      return nlohmann::json{{"stable", true}, {"steps", 1}};
-    });
+    const auto outcome = clothlab::process::run_isolated(
+        [] {
+          return nlohmann::json{{"stable", true}, {"steps", 1}}.dump();
+        },
+        {});
     sweep::CaseResult result;
-    result.metrics = {{"steps", answer["steps"].get<double>()}};
+    result.metrics = {{"steps", nlohmann::json::parse(outcome.answer)["steps"].get<double>()}};
     return result;
   };
   for (auto _ : state) {

@@ -1,5 +1,6 @@
-// Runs work in a forked child so that a plugin crash (signal, abort, runaway exception)
-// ends only that child: a sweep records it as a failed case and goes on.
+// The clothlab program's use of the one child-process runner (clothlab::process): plugin
+// code runs in a child whose JSON answer comes back, so a crash, hang or runaway exception
+// ends only that child.
 #pragma once
 
 #include <functional>
@@ -7,11 +8,10 @@
 
 namespace clothlab::cli {
 
-// Forks; the child calls work() and sends its JSON back through a pipe. Returns that JSON.
-// Rethrows in the parent, as std::runtime_error with the message, an exception the child
-// threw, and throws std::runtime_error naming the signal or exit status when the child died
-// without answering. The parent must not have started OpenMP threads (a forked child of a
-// process with a live OpenMP pool can hang): run every simulation through this function.
-nlohmann::json run_isolated(const std::function<nlohmann::json()>& work);
+// Runs work() in a child and returns its JSON. Throws std::runtime_error with a one-line
+// reason when the child threw (its message), crashed (the signal or exit status) or
+// outlived timeout_s. Throws InputError / PluginLoadError / PluginError as the child did,
+// so exit codes do not depend on where the work ran.
+nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s);
 
 }  // namespace clothlab::cli

@@ -11,6 +11,7 @@
 
 #include "command_line.hpp"
 #include "config_file.hpp"
+#include "isolation.hpp"
 #include "max_dt_search.hpp"
 #include "output_file.hpp"
 #include "plugin_listing.hpp"
@@ -73,7 +74,7 @@ int run(int argc, const char* const argv[]) {
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
   for (const auto& output : {command_line.json_file, command_line.state_file})
-    if (output) check_output_folder(*output);
+    if (output) check_output_path(*output);
 
   if (command_line.find_max_dt) {
     if (command_line.state_file)
@@ -86,17 +87,27 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
 
-  Simulation simulation(config, search_path);
-  const RunRecord record = simulation.run();
-
-  if (command_line.json_file)
-    write_file_atomically(*command_line.json_file,
-                          [&](std::ostream& out) { out << summary_json(record).dump(2) << "\n"; });
-  if (command_line.state_file)
-    write_file_atomically(*command_line.state_file,
-                          [&](std::ostream& out) { write_state_csv(simulation.cloth(), out); });
-  if (!command_line.quiet) std::cout << human_summary(record);
-  if (!record.stable) return fail(exit_diverged, "run diverged: " + record.verdict);
+  // The run itself is plugin code: in a child, so a crash or hang is reported as one.
+  const nlohmann::json run = run_isolated(
+      [&] {
+        Simulation simulation(config, search_path);
+        const RunRecord record = simulation.run();
+        if (command_line.json_file)
+          write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
+            out << summary_json(record).dump(2) << "\n";
+          });
+        if (command_line.state_file)
+          write_file_atomically(*command_line.state_file, [&](std::ostream& out) {
+            write_state_csv(simulation.cloth(), out);
+          });
+        return nlohmann::json{{"summary", human_summary(record)},
+                              {"stable", record.stable},
+                              {"verdict", record.verdict}};
+      },
+      config.timeout_s);
+  if (!command_line.quiet) std::cout << run["summary"].get<std::string>();
+  if (!run["stable"].get<bool>())
+    return fail(exit_diverged, "run diverged: " + run["verdict"].get<std::string>());
   return exit_ok;
 }
 
@@ -107,6 +118,8 @@ int main(int argc, char* argv[]) {
     return run(argc, argv);
   } catch (const clothlab::host::InputError& error) {
     return fail(exit_bad_input, error.what());
+  } catch (const clothlab::io::WriteError& error) {
+    return fail(exit_bad_input, error.what());
   } catch (const clothlab::host::PluginLoadError& error) {
     return fail(exit_plugin_error, error.what());
   } catch (const clothlab::host::PluginError& error) {
@@ -114,6 +127,7 @@ int main(int argc, char* argv[]) {
   } catch (const std::bad_alloc&) {
     return fail(exit_plugin_error, "out of memory");
   } catch (const std::exception& error) {
+    // Also a run whose child process crashed or timed out: the plugin's fault.
     return fail(exit_plugin_error, error.what());
   }
 }

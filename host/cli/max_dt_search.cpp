@@ -32,7 +32,7 @@ nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath
   options.dt_initial = std::clamp(config.dt, config.search_dt_min, config.search_dt_max);
   try {
     const nlohmann::json prediction =
-        run_isolated([&] { return predict_case(config, search_path); });
+        run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
     result["predicted_dt_max"] = prediction["dt_max"];
     result["omega_max"] = prediction["omega_max"];
     result["dominant_eigenvalue"] = {prediction["dominant_re"], prediction["dominant_im"]};
@@ -49,8 +49,8 @@ nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath
       [&](double dt) {
         nlohmann::json probe = {{"dt", dt}};
         try {
-          const nlohmann::json run =
-              run_isolated([&] { return run_case(with_dt(config, dt), search_path); });
+          const nlohmann::json run = run_isolated(
+              [&] { return run_case(with_dt(config, dt), search_path); }, config.timeout_s);
           for (const char* field : {"integrator", "scenario", "rows", "cols", "precision"})
             result[field] = run[field];
           probe["stable"] = run["stable"];

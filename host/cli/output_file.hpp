@@ -1,20 +1,11 @@
-// Result files appear whole or not at all: written to a temporary file in the same
-// folder, then renamed over the target.
+// The program's output files go through the one atomic writer (clothlab/io).
 #pragma once
 
-#include <filesystem>
-#include <functional>
-#include <ostream>
+#include <clothlab/io/atomic_file.hpp>
 
 namespace clothlab::cli {
 
-// Calls write(stream) on a temporary file next to path, then renames it to path.
-// Throws InputError naming the file if it cannot be written; leaves no temporary file.
-void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& write);
-
-// Throws InputError if path's folder does not exist, so a long run does not end in a
-// write failure.
-void check_output_folder(const std::filesystem::path& path);
+using io::check_output_path;
+using io::write_file_atomically;
 
 }  // namespace clothlab::cli

@@ -13,6 +13,7 @@ constexpr double max_dt_s = 10.0;
 constexpr double max_duration_s = 1e6;
 constexpr double max_steps = 1e9;
 constexpr double max_threads = 4096;
+constexpr double max_timeout_s = 1e6;
 
 // Validates host-owned values with the same parser and messages as plugin parameters.
 double read_number(const Setting& setting, uint32_t type, double min_value, double max_value,
@@ -78,6 +79,8 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else if (key == "threads") {
       config.threads =
           static_cast<int>(read_number(setting, CLOTHLAB_PARAM_INT, 0, max_threads, ""));
+    } else if (key == "timeout") {
+      config.timeout_s = read_positive(setting, max_timeout_s);
     } else if (key == "stability.interval") {
       config.stability_interval =
           static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, "steps"));
@@ -100,7 +103,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
     } else {
       throw host::InputError(setting.source + ": unknown key " + key +
                              "; valid: integrator, scenario, dt, steps, duration, precision, "
-                             "threads, stability.interval, stability.max_stretch, "
+                             "threads, timeout, stability.interval, stability.max_stretch, "
                              "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
                              "find_max_dt.dt_max, integrator.<parameter>, scenario.<parameter>, "
                              "plugin_params.<plugin id>.<parameter>");

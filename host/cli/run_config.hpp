@@ -17,6 +17,9 @@ struct RunConfig {
   double duration = 2.0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;
+  // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
+  // takes longer is killed and reported as timed out.
+  double timeout_s = 600.0;
   // Plugin parameter settings with the "integrator." / "scenario." prefix removed, in
   // the order given; applied to the plugins' ParamSets once they are loaded.
   std::vector<Setting> integrator_params;

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/sweep/progress.hpp>
 #include <clothlab/sweep/results_store.hpp>
 #include <clothlab/sweep/shard.hpp>
@@ -143,6 +144,7 @@ void run_sweep_on_slurm(const SweepRequest& request, const sweep::SweepSpec& spe
   const std::filesystem::path& base = spec.output;
   const auto store_of = [&](std::size_t k) { return sweep::shard_store(base, {k, shard_count}); };
 
+  if (base.has_parent_path()) std::filesystem::create_directories(base.parent_path());
   std::set<std::size_t> to_submit;
   if (!request.resume) {
     sweep::remove_shard_results(base);
@@ -168,7 +170,7 @@ void run_sweep_on_slurm(const SweepRequest& request, const sweep::SweepSpec& spe
   std::string job;
   if (!to_submit.empty()) {
     const std::filesystem::path script = base.string() + ".slurm.sh";
-    sweep::write_file_atomically(script, task_script(request, shard_count));
+    io::write_file_atomically(script, task_script(request, shard_count));
     std::vector<std::string> argv = {sbatch.string(),
                                      "--parsable",
                                      "--job-name=clothlab-" + spec.name,

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/param_text.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <clothlab/sweep/fingerprint.hpp>
-#include <clothlab/sweep/number_text.hpp>
 #include <clothlab/sweep/shard.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
@@ -28,8 +29,8 @@ RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
   const std::string source = spec.source + ": sweep.monitor";
   std::vector<Setting> settings = {
       {"stability.interval", std::to_string(spec.monitor.check_interval), source},
-      {"stability.max_stretch", sweep::format_number(spec.monitor.stretch_limit), source},
-      {"stability.energy_margin", sweep::format_number(spec.monitor.energy_margin), source}};
+      {"stability.max_stretch", host::format_number(spec.monitor.stretch_limit), source},
+      {"stability.energy_margin", host::format_number(spec.monitor.energy_margin), source}};
   for (const sweep::Setting& setting : c.settings)
     settings.push_back({setting.key, setting.value, setting.source});
   return resolve_run_config(settings);
@@ -50,7 +51,8 @@ sweep::CaseResult verdict_of(const nlohmann::json& run) {
 sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                           const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path); });
+  const nlohmann::json run =
+      run_isolated([&] { return run_case(config, search_path); }, config.timeout_s);
   sweep::CaseResult result = verdict_of(run);
   result.metrics = {{"steps", run["steps"].get<double>()},
                     {"sim_time_s", run["sim_time_s"].get<double>()},
@@ -68,7 +70,8 @@ sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c
 sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                  const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json run = run_isolated([&] { return run_case(config, search_path, true); });
+  const nlohmann::json run =
+      run_isolated([&] { return run_case(config, search_path, true); }, config.timeout_s);
   sweep::Trajectory trajectory;
   trajectory.positions = run["positions"].get<std::vector<double>>();
   trajectory.diagonal = run["diagonal"].get<double>();
@@ -81,7 +84,8 @@ sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::Case
 sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                 const host::PluginSearchPath& search_path) {
   const RunConfig config = case_config(spec, c);
-  const nlohmann::json prediction = run_isolated([&] { return predict_case(config, search_path); });
+  const nlohmann::json prediction =
+      run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
   sweep::DtPrediction result;
   result.dt_max = prediction["dt_max"].is_number() ? prediction["dt_max"].get<double>()
                                                    : std::numeric_limits<double>::infinity();
@@ -127,6 +131,9 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
 
     sweep::ResultsStore store(shard ? sweep::shard_base(spec.output, *shard) : spec.output,
                               request.resume, fingerprint);
+    // An export that cannot be written is found before the first case runs.
+    if (!shard)
+      for (const auto& path : {store.csv_path(), store.json_path()}) io::check_output_path(path);
     store.set_metadata({{"name", spec.name},
                         {"mode", sweep::to_string(spec.mode)},
                         {"config", request.config_file.string()},

@@ -1,6 +1,6 @@
 // descriptor.*: the metadata a host relies on before calling anything is well formed.
+#include <clothlab/host/identifiers.hpp>
 #include <cmath>
-#include <regex>
 #include <set>
 #include <string>
 
@@ -12,26 +12,27 @@ namespace {
 bool non_empty(const char* text) { return text != nullptr && text[0] != '\0'; }
 
 std::string quoted(const char* text) {
-  return text == nullptr ? "null" : "\"" + std::string(text) + "\"";
+  if (text == nullptr) return "null";
+  std::string result(1, '"');
+  result += text;
+  result += '"';
+  return result;
 }
 
 void require_strings(const char* id, const char* name, const char* version,
                      const char* description) {
-  static const std::regex id_pattern("[a-z0-9_-]+");
-  require(id != nullptr && std::regex_match(id, id_pattern),
-          "id " + quoted(id) + " must match [a-z0-9_-]+");
+  require(id != nullptr && host::is_plugin_id(id), "id " + quoted(id) + " must match [a-z0-9_-]+");
   require(non_empty(name), "name " + quoted(name) + " is empty");
   require(non_empty(version), "version " + quoted(version) + " is empty");
   require(non_empty(description), "description " + quoted(description) + " is empty");
 }
 
 void require_spec(const clothlab_param_spec& spec) {
-  static const std::regex name_pattern("[a-z0-9_.]+");
   const std::string name = spec.name != nullptr ? spec.name : "(null)";
   require(spec.struct_size >= sizeof(clothlab_param_spec),
           name + ": struct_size " + std::to_string(spec.struct_size) + " < " +
               std::to_string(sizeof(clothlab_param_spec)));
-  require(spec.name != nullptr && std::regex_match(spec.name, name_pattern),
+  require(spec.name != nullptr && host::is_param_name(spec.name),
           "parameter name " + quoted(spec.name) + " must match [a-z0-9_.]+");
   require(spec.help != nullptr && spec.unit != nullptr, name + ": help or unit is null");
   const bool known = spec.type >= CLOTHLAB_PARAM_REAL && spec.type <= CLOTHLAB_PARAM_VEC3;

@@ -1,5 +1,6 @@
 // clothlab-conformance [options] PLUGIN.so... — validates integrator and scenario plugins.
 #include <boost/program_options.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -135,6 +136,13 @@ CommandLine parse(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   const CommandLine line = parse(argc, argv);
+  // A report that cannot be written is known before the checks run.
+  try {
+    for (const std::string& path : {line.json_path, line.junit_path})
+      if (!path.empty()) clothlab::io::check_output_path(path);
+  } catch (const clothlab::io::WriteError& e) {
+    usage_error(e.what());
+  }
   RunReport report;
   report.seed = line.options.settings.seed;
   report.timeout_s = line.options.timeout_s;
@@ -152,8 +160,10 @@ int main(int argc, char** argv) {
   }
   std::cout << summary_line(report) << std::endl;
   try {
-    if (!line.json_path.empty()) write_file_atomically(line.json_path, to_json(report));
-    if (!line.junit_path.empty()) write_file_atomically(line.junit_path, to_junit(report));
+    if (!line.json_path.empty())
+      clothlab::io::write_file_atomically(line.json_path, to_json(report));
+    if (!line.junit_path.empty())
+      clothlab::io::write_file_atomically(line.junit_path, to_junit(report));
   } catch (const std::exception& e) {
     std::cerr << "clothlab-conformance: " << e.what() << "\n";
     return exit_usage;

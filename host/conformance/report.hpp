@@ -26,8 +26,4 @@ std::string summary_line(const RunReport& report);
 std::string to_json(const RunReport& report);
 std::string to_junit(const RunReport& report);
 
-// Writes through a temporary file and a rename, so a failed run leaves no partial file.
-// Throws std::runtime_error naming the path.
-void write_file_atomically(const std::string& path, const std::string& text);
-
 }  // namespace clothlab::conformance

@@ -1,6 +1,7 @@
 // The clothlab program's stability verdict, sweeps and dt search end to end, on tiny grids.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -247,10 +248,10 @@ sweep:
 
 using clothlab::testing::address_sanitizer;
 
-// "exited with status N without a result", N > 0: the reason the sweep records for a child that
-// ended without answering (host/cli/isolation.cpp).
+// "crashed: exited with status N before reporting", N > 0: the reason the sweep records for a
+// child that ended without answering (host/process).
 bool is_failed_exit(std::string_view reason) {
-  constexpr std::string_view prefix = "exited with status ", suffix = " without a result";
+  constexpr std::string_view prefix = "crashed: exited with status ", suffix = " before reporting";
   if (reason.size() <= prefix.size() + suffix.size() || !reason.starts_with(prefix) ||
       !reason.ends_with(suffix))
     return false;
@@ -269,6 +270,68 @@ bool is_segfault_record(const std::string& reason, const std::string& err) {
   const bool reported = err.find("AddressSanitizer: SEGV") != std::string::npos ||
                         err.find("runtime error: store to null pointer") != std::string::npos;
   return address_sanitizer && is_failed_exit(reason) && reported;
+}
+
+// Item 5 of issue 12: an output path naming a FIFO or device was replaced by a regular file,
+// and a bad output was found only after the work. Now it is refused before anything runs.
+TEST_F(ClothlabStability, AnOutputThatIsNotARegularFileIsRefusedBeforeTheRun) {
+  write("fifo.yaml", R"(scenario: {rows: 4, cols: 4}
+duration: 0.01
+sweep:
+  name: fifo
+  mode: run
+  matrix:
+    integrator: [rk4]
+    dt: [0.001]
+)");
+  fs::create_directories(file("results"));
+  ASSERT_EQ(::mkfifo(file("results/fifo.json").c_str(), 0600), 0);
+  const Outcome sweep = run("--config fifo.yaml --out results");
+  EXPECT_EQ(sweep.exit_code, 1);
+  EXPECT_NE(sweep.err.find("results/fifo.json: it is a FIFO"), std::string::npos) << sweep.err;
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(file("results/fifo.json"))));
+  EXPECT_FALSE(fs::exists(file("results/fifo.csv")));
+
+  const Outcome single =
+      run("--steps 2 --set scenario.rows=4 --set scenario.cols=4 --json /dev/null");
+  EXPECT_EQ(single.exit_code, 1);
+  EXPECT_EQ(single.err,
+            "clothlab: error: cannot write /dev/null: it is a device; allowed: a "
+            "regular file or a new name\n");
+  EXPECT_EQ(single.out, "");
+}
+
+// Item 2 of issue 12: a hanging case hung the sweep forever. Now the `timeout` key bounds
+// every case's child; the case is a failed row and the sweep goes on.
+TEST_F(ClothlabStability, HangingCaseTimesOutAndTheSweepGoesOn) {
+  write("hang.yaml", R"(scenario: {rows: 4, cols: 4}
+duration: 0.01
+timeout: 0.5
+sweep:
+  name: hang
+  mode: run
+  matrix:
+    integrator: [clothlab_test_hang, rk4]
+    scenario: [sheet]
+    dt: [0.001]
+)");
+  const Outcome outcome =
+      run("--config hang.yaml --out results --plugin-path '" CLOTHLAB_HANG_PLUGIN_DIR "'");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto rows = read_json(file("results/hang.json"))["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["status"], "failed");
+  EXPECT_EQ(rows[0]["reason"], "timed out after 0.5 s");
+  EXPECT_EQ(rows[1]["status"], "stable");
+}
+
+// A single run whose plugin crashes exits 2 (a plugin error) with a one-line reason, not 139.
+TEST_F(ClothlabStability, CrashingSingleRunExitsTwoWithTheReason) {
+  const Outcome outcome = run(
+      "--integrator clothlab_test_crash --scenario sheet --steps 3 "
+      "--set scenario.rows=4 --set scenario.cols=4 --plugin-path '" CLOTHLAB_CRASH_PLUGIN_DIR "'");
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.err;
+  EXPECT_NE(outcome.err.find("clothlab: error: crashed: "), std::string::npos) << outcome.err;
 }
 
 TEST_F(ClothlabStability, CrashingCaseIsAFailedRowAndTheSweepGoesOn) {

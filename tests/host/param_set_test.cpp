@@ -2,6 +2,7 @@
 
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_set.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/sdk.hpp>
 
 namespace clothlab::host {
@@ -84,3 +85,19 @@ TEST(ParamSet, AComponentWithoutParametersSaysSo) {
 
 }  // namespace
 }  // namespace clothlab::host
+
+// Item 6 of issue 12: a sweep axis value 1e1 was keyed as 10, then failed as "not a whole
+// number". An int reads any spelling of a whole number; a fraction is still refused.
+TEST(ParamText, AnIntReadsEverySpellingOfAWholeNumber) {
+  clothlab_param_spec spec{};
+  spec.struct_size = sizeof spec;
+  spec.type = CLOTHLAB_PARAM_INT;
+  for (const char* text : {"10", "1e1", "10.0", "+10", " 10 "}) {
+    const clothlab::host::ParsedParam parsed = clothlab::host::parse_param_text(spec, text);
+    ASSERT_TRUE(parsed.value.has_value()) << text << ": " << parsed.problem;
+    EXPECT_EQ(parsed.value->v[0], 10.0) << text;
+    EXPECT_EQ(clothlab::host::canonical_value(text), "10") << text;
+  }
+  for (const char* text : {"1.5", "1e-1", "0x10", "ten", "1e400"})
+    EXPECT_EQ(clothlab::host::parse_param_text(spec, text).problem, "not a whole number") << text;
+}

@@ -76,6 +76,26 @@ TEST(SweepSpec, BadInputNamesSourceKeyValueAndAllowedRange) {
   expect_error("duration: 1\nsweep: {name: x, matrix: {integrator: [rk4], dt: [0.001]}", "YAML");
 }
 
+// Item 3 of issue 12: a 30 000-character plugin id, sweep name or mesh overflowed the stack
+// (std::regex recursed once per character). Now each is an ordinary value or a one-line error.
+TEST(SweepSpec, VeryLongValuesAreCheckedWithoutRecursion) {
+  const std::string letters(30000, 'a');
+  const std::string digits(30000, '1');
+  const std::string tail = "  matrix: {integrator: [rk4], dt: [0.001]}\n";
+  EXPECT_EQ(parse_sweep("duration: 1\nsweep:\n  name: " + letters + "\n" + tail, "long.yaml").name,
+            letters);
+  expect_error(
+      "duration: 1\nsweep:\n  name: x\n  matrix: {integrator: [" + letters + "B], dt: [0.001]}\n",
+      "allowed a plugin id");
+  expect_error(
+      "duration: 1\nsweep:\n  name: x\n  matrix: {integrator: [rk4], dt: [0.001], mesh: [" +
+          digits + "]}\n",
+      "ROWSxCOLS or N, each in [1, 4096]");
+  expect_error(
+      "duration: 1\nsweep:\n  name: x\n  matrix: {integrator: [rk4], dt: [0.001], mesh: [5000]}\n",
+      "each in [1, 4096]");
+}
+
 TEST(SweepSpec, SweepFilesAreToldApartFromSingleRunConfigs) {
   testing::ScratchFolder scratch;
   std::ofstream(scratch.path() / "sweep.yaml") << kValid;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "clothlab/host/identifiers.hpp"
+
 namespace clothlab::host {
 
 namespace {
@@ -16,24 +18,13 @@ std::string_view trim(std::string_view text) {
   return text;
 }
 
-std::optional<double> parse_real(std::string_view text) {
-  text = trim(text);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
-      !std::isfinite(value))
+// A whole number in any spelling a real has (300, 3e2, 300.0), so a value keyed as "300" by a
+// sweep reads the same way whatever its spelling.
+std::optional<double> parse_integer(std::string_view text) {
+  const std::optional<double> value = parse_real(text);
+  if (!value || *value != std::floor(*value) || std::fabs(*value) > 9007199254740992.0)
     return std::nullopt;
   return value;
-}
-
-std::optional<double> parse_integer(std::string_view text) {
-  text = trim(text);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  long long value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return static_cast<double>(value);
 }
 
 std::optional<double> parse_bool(std::string_view text) {
@@ -64,14 +55,6 @@ std::optional<std::array<double, 3>> parse_vec3(std::string_view text) {
   return vector;
 }
 
-bool valid_name(const char* name) {
-  if (name == nullptr || *name == '\0') return false;
-  for (const char* c = name; *c != '\0'; ++c)
-    if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_' || *c == '.'))
-      return false;
-  return true;
-}
-
 }  // namespace
 
 const char* param_type_name(uint32_t type) {
@@ -87,6 +70,22 @@ const char* param_type_name(uint32_t type) {
     default:
       return "unknown";
   }
+}
+
+std::optional<double> parse_real(std::string_view text) {
+  text = trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+std::string canonical_value(std::string_view text) {
+  const std::optional<double> number = parse_real(text);
+  return number ? format_number(*number) : std::string(text);
 }
 
 std::string format_number(double value) {
@@ -167,7 +166,7 @@ std::optional<std::string> spec_problem(const clothlab_param_spec& spec) {
   if (spec.struct_size < sizeof(clothlab_param_spec))
     return "parameter spec struct_size " + std::to_string(spec.struct_size) + " < " +
            std::to_string(sizeof(clothlab_param_spec));
-  if (!valid_name(spec.name))
+  if (spec.name == nullptr || !is_param_name(spec.name))
     return std::string("parameter name \"") + (spec.name ? spec.name : "(null)") +
            "\" is not [a-z0-9_.]+";
   const std::string name = spec.name;

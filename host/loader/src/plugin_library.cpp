@@ -7,6 +7,7 @@
 #include <set>
 
 #include "clothlab/host/errors.hpp"
+#include "clothlab/host/identifiers.hpp"
 #include "clothlab/host/param_text.hpp"
 
 namespace fs = std::filesystem;
@@ -34,14 +35,6 @@ std::string dlopen_reason(const fs::path& path) {
   return "Boost.DLL could not open it";
 }
 
-bool valid_id(const char* id) {
-  if (id == nullptr || *id == '\0') return false;
-  for (const char* c = id; *c != '\0'; ++c)
-    if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_' || *c == '-'))
-      return false;
-  return true;
-}
-
 // Checks the parts common to integrators and scenarios; returns the problem or "".
 std::string component_problem(const char* kind, uint32_t index, uint32_t struct_size,
                               size_t host_size, const char* id,
@@ -52,7 +45,7 @@ std::string component_problem(const char* kind, uint32_t index, uint32_t struct_
   if (struct_size < host_size)
     return where + " has struct_size " + std::to_string(struct_size) + ", host needs at least " +
            std::to_string(host_size);
-  if (!valid_id(id))
+  if (id == nullptr || !is_plugin_id(id))
     return where + " has id \"" + (id ? id : "(null)") + "\", expected [a-z0-9_-]+";
   const std::string named = std::string(kind) + " " + id;
   for (const char* text : strings)

@@ -1,8 +1,8 @@
 #include <algorithm>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 
 #include "clothlab/sweep/case_spec.hpp"
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -46,7 +46,7 @@ void derive_views(CaseSpec& spec) {
   spec.duration = 0.0;
   spec.steps = 0;
   for (const Setting& setting : spec.settings) {
-    const auto number = parse_number(setting.value);
+    const auto number = host::parse_real(setting.value);
     if (setting.key == "integrator.plugin") {
       spec.integrator = setting.value;
     } else if (setting.key == "scenario.plugin") {
@@ -101,7 +101,8 @@ std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
     c.settings = spec.fixed;
     for (std::size_t a = 0; a < spec.axes.size(); ++a) {
       const Setting& value = spec.axes[a].values[digit[a]];
-      c.coordinates.emplace_back(coordinate_name(spec.axes[a].key), canonical_value(value.value));
+      c.coordinates.emplace_back(coordinate_name(spec.axes[a].key),
+                                 host::canonical_value(value.value));
       append_setting(c.settings, value);
     }
     c.key = make_key(c.coordinates);
@@ -122,7 +123,7 @@ CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::s
   derive_views(c);
   if (!as_coordinate) return c;
   const std::string name = coordinate_name(key);
-  const std::string canonical = canonical_value(value);
+  const std::string canonical = host::canonical_value(value);
   auto found = std::find_if(c.coordinates.begin(), c.coordinates.end(),
                             [&](const auto& coordinate) { return coordinate.first == name; });
   if (found != c.coordinates.end()) {
@@ -135,7 +136,7 @@ CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::s
 }
 
 CaseSpec with_dt(const CaseSpec& base, double dt) {
-  return with_setting(base, "dt", format_number(dt));
+  return with_setting(base, "dt", host::format_number(dt));
 }
 
 }  // namespace clothlab::sweep

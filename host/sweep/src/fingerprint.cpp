@@ -1,11 +1,11 @@
 #include "clothlab/sweep/fingerprint.hpp"
 
+#include <clothlab/host/param_text.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <set>
 
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -18,7 +18,7 @@ Fingerprint sweep_fingerprint(const SweepSpec& spec, const PluginIdentity& plugi
   for (const Axis& axis : spec.axes) {
     std::string values;
     for (const Setting& value : axis.values) {
-      values += (values.empty() ? "" : ", ") + canonical_value(value.value);
+      values += (values.empty() ? "" : ", ") + host::canonical_value(value.value);
       if (axis.key == "integrator.plugin" || axis.key == "scenario.plugin")
         plugin_ids.insert(value.value);
     }
@@ -30,9 +30,9 @@ Fingerprint sweep_fingerprint(const SweepSpec& spec, const PluginIdentity& plugi
   }
   const auto& monitor = spec.monitor;
   fingerprint["monitor.check_interval"] = std::to_string(monitor.check_interval);
-  fingerprint["monitor.stretch_limit"] = format_number(monitor.stretch_limit);
-  fingerprint["monitor.energy_margin"] = format_number(monitor.energy_margin);
-  fingerprint["monitor.wind_work_safety"] = format_number(monitor.wind_work_safety);
+  fingerprint["monitor.stretch_limit"] = host::format_number(monitor.stretch_limit);
+  fingerprint["monitor.energy_margin"] = host::format_number(monitor.energy_margin);
+  fingerprint["monitor.wind_work_safety"] = host::format_number(monitor.wind_work_safety);
   if (spec.mode == SweepMode::WorkPrecision) {
     const auto& wp = spec.work_precision;
     fingerprint["work_precision.reference_integrator"] = wp.reference_integrator;
@@ -40,16 +40,16 @@ Fingerprint sweep_fingerprint(const SweepSpec& spec, const PluginIdentity& plugi
     std::string self;
     for (const std::string& id : wp.self_reference) self += (self.empty() ? "" : ", ") + id;
     fingerprint["work_precision.self_reference"] = "[" + self + "]";
-    fingerprint["work_precision.refinement"] = format_number(wp.refinement);
-    fingerprint["work_precision.dt_start"] = format_number(wp.dt_start);
+    fingerprint["work_precision.refinement"] = host::format_number(wp.refinement);
+    fingerprint["work_precision.dt_start"] = host::format_number(wp.dt_start);
     fingerprint["work_precision.levels"] = std::to_string(wp.levels);
   } else if (spec.mode == SweepMode::Stability) {
     const auto& st = spec.stability;
-    fingerprint["stability.dt_initial"] = format_number(st.dt_initial);
-    fingerprint["stability.dt_min"] = format_number(st.dt_lower_limit);
-    fingerprint["stability.dt_max"] = format_number(st.dt_upper_limit);
-    fingerprint["stability.tolerance"] = format_number(st.relative_tolerance);
-    fingerprint["stability.growth"] = format_number(st.growth);
+    fingerprint["stability.dt_initial"] = host::format_number(st.dt_initial);
+    fingerprint["stability.dt_min"] = host::format_number(st.dt_lower_limit);
+    fingerprint["stability.dt_max"] = host::format_number(st.dt_upper_limit);
+    fingerprint["stability.tolerance"] = host::format_number(st.relative_tolerance);
+    fingerprint["stability.growth"] = host::format_number(st.growth);
     fingerprint["stability.max_evaluations"] = std::to_string(st.max_evaluations);
   }
   if (plugin_identity) {

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <clothlab/host/param_text.hpp>
+#include <clothlab/io/atomic_file.hpp>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -14,7 +16,6 @@
 #include <sstream>
 
 #include "clothlab/sweep/case_result.hpp"
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "sqlite_database.hpp"
 
@@ -101,7 +102,7 @@ std::string csv_field(const nlohmann::ordered_json& value) {
   if (value.is_string()) {
     text = value.get<std::string>();
   } else if (value.is_number_float()) {
-    text = format_number(value.get<double>());
+    text = host::format_number(value.get<double>());
   } else {
     text = value.dump();
   }
@@ -123,30 +124,6 @@ const char* to_string(CaseStatus status) {
       return "failed";
   }
   return "unknown";
-}
-
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
-  std::error_code error;
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), error);
-  if (error) {
-    throw SweepError(path.parent_path().string() + ": cannot create folder: " + error.message());
-  }
-  std::filesystem::path temporary = path;
-  temporary += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-    stream << text;
-    stream.flush();
-    if (!stream) {
-      std::filesystem::remove(temporary, error);
-      throw SweepError(temporary.string() + ": cannot write results file");
-    }
-  }
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw SweepError(path.string() + ": cannot replace results file: " + error.message());
-  }
 }
 
 std::string rows_to_csv(const std::vector<Row>& rows) {
@@ -216,7 +193,8 @@ ResultsStore::ResultsStore(std::filesystem::path base, bool resume, const Finger
           " key TEXT NOT NULL UNIQUE, row TEXT NOT NULL)");
       write_meta(*database_, "format", store_format);
       write_meta(*database_, "fingerprint", fingerprint_json(fingerprint).dump());
-      write_meta(*database_, "metadata", metadata_.dump());
+      write_meta(*database_, "metadata",
+                 metadata_.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
       write_meta(*database_, "complete", "0");
       database_->execute("COMMIT");
     }
@@ -239,7 +217,8 @@ ResultsStore::~ResultsStore() {
 
 void ResultsStore::set_metadata(const nlohmann::ordered_json& metadata) {
   metadata_ = metadata;
-  write_meta(*database_, "metadata", metadata_.dump());
+  write_meta(*database_, "metadata",
+             metadata_.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 bool ResultsStore::contains(const std::string& key) const { return keys_.count(key) > 0; }
@@ -250,7 +229,9 @@ void ResultsStore::append(Row row, std::size_t case_index) {
   }
   const std::string key = row["key"].get<std::string>();
   if (keys_.count(key)) throw SweepError("results: duplicate case key '" + key + "'");
-  insert_->bind(1, static_cast<int64_t>(case_index)).bind(2, key).bind(3, row.dump());
+  insert_->bind(1, static_cast<int64_t>(case_index))
+      .bind(2, key)
+      .bind(3, row.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   insert_->run();
   keys_.insert(key);
   case_indices_.push_back(case_index);
@@ -263,8 +244,8 @@ void ResultsStore::write_exports() const {
   std::vector<Row> ordered;
   ordered.reserve(rows_.size());
   for (std::size_t i : case_order(case_indices_)) ordered.push_back(rows_[i]);
-  write_file_atomically(json_path_, rows_to_json(metadata_, ordered));
-  write_file_atomically(csv_path_, rows_to_csv(ordered));
+  io::write_file_atomically(json_path_, rows_to_json(metadata_, ordered));
+  io::write_file_atomically(csv_path_, rows_to_csv(ordered));
 }
 
 StoredResults read_results(const std::filesystem::path& database_path) {
@@ -295,7 +276,7 @@ std::string rows_to_json(const nlohmann::ordered_json& metadata, const std::vect
   nlohmann::ordered_json document;
   document["sweep"] = metadata;
   document["rows"] = rows;
-  return document.dump(1) + "\n";
+  return document.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace clothlab::sweep

@@ -3,14 +3,15 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <charconv>
+#include <clothlab/host/identifiers.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <fstream>
 #include <functional>
-#include <regex>
 #include <set>
 #include <sstream>
 
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
 namespace clothlab::sweep {
@@ -30,11 +31,6 @@ std::string location(const std::string& source, const YAML::Node& node) {
 std::string canonical_key(const std::string& key) {
   if (key == "integrator" || key == "scenario") return key + ".plugin";
   return key;
-}
-
-bool is_plugin_id(const std::string& text) {
-  static const std::regex id("[a-z0-9_-]+");
-  return std::regex_match(text, id);
 }
 
 std::string scalar_text(const std::string& source, const YAML::Node& node, const std::string& key) {
@@ -68,7 +64,7 @@ void flatten(const std::string& source, const YAML::Node& map, const std::string
 double number(const std::string& source, const YAML::Node& node, const std::string& key, double low,
               double high, const std::string& allowed) {
   const std::string text = node.IsScalar() ? node.Scalar() : "(not a value)";
-  const auto value = parse_number(text);
+  const auto value = host::parse_real(text);
   if (!value || *value < low || *value > high) fail(source, node, key, text, allowed);
   return *value;
 }
@@ -76,7 +72,7 @@ double number(const std::string& source, const YAML::Node& node, const std::stri
 double whole_number(const std::string& source, const YAML::Node& node, const std::string& key,
                     double low, double high) {
   const std::string allowed =
-      "a whole number in [" + format_number(low) + ", " + format_number(high) + "]";
+      "a whole number in [" + host::format_number(low) + ", " + host::format_number(high) + "]";
   const double value = number(source, node, key, low, high, allowed);
   if (value != std::floor(value)) fail(source, node, key, node.Scalar(), allowed);
   return value;
@@ -98,22 +94,29 @@ void for_each_key(const std::string& source, const YAML::Node& section, const st
   }
 }
 
+// "ROWSxCOLS" or "N", each a whole number in [1, 4096] (the scenarios' own range).
+bool mesh_shape(const std::string& text) {
+  const auto side = [](std::string_view digits) {
+    if (digits.empty() || digits.size() > 4) return false;
+    unsigned value = 0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    return error == std::errc() && end == digits.data() + digits.size() && value >= 1 &&
+           value <= 4096;
+  };
+  const std::string_view view(text);
+  const size_t cross = view.find('x');
+  if (cross == std::string_view::npos) return side(view);
+  return side(view.substr(0, cross)) && side(view.substr(cross + 1));
+}
+
 void check_axis_value(const std::string& source, const YAML::Node& node, const std::string& key,
                       const std::string& text) {
   if (key == "integrator.plugin" || key == "scenario.plugin") {
-    if (!is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
+    if (!host::is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
   } else if (key == "mesh") {
-    static const std::regex mesh("([0-9]+)(x([0-9]+))?");
-    std::smatch match;
-    const bool shaped = std::regex_match(text, match, mesh);
-    const auto in_range = [](const std::string& digits) {
-      return digits.size() <= 6 && std::stoul(digits) >= 1 && std::stoul(digits) <= 100000;
-    };
-    if (!shaped || !in_range(match[1]) || (match[3].matched && !in_range(match[3]))) {
-      fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 100000]");
-    }
+    if (!mesh_shape(text)) fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 4096]");
   } else if (key == "dt") {
-    const auto value = parse_number(text);
+    const auto value = host::parse_real(text);
     if (!value || *value <= 0.0 || *value > 10.0)
       fail(source, node, key, text, "a number in (0, 10] s");
   } else if (key == "precision") {
@@ -137,7 +140,7 @@ Axis read_axis(const std::string& source, const std::string& name, const YAML::N
   for (std::size_t i = 0; i < axis.values.size(); ++i) {
     const YAML::Node item = node.IsSequence() ? node[i] : node;
     check_axis_value(source, item, axis.key, axis.values[i].value);
-    if (!seen.insert(canonical_value(axis.values[i].value)).second) {
+    if (!seen.insert(host::canonical_value(axis.values[i].value)).second) {
       fail(source, item, key, axis.values[i].value, "each value once");
     }
   }
@@ -179,7 +182,7 @@ void read_work_precision(const std::string& source, const YAML::Node& node, Swee
                [&](const std::string& key, const YAML::Node& value) {
                  if (key.ends_with("reference_integrator")) {
                    wp.reference_integrator = scalar_text(source, value, key);
-                   if (!is_plugin_id(wp.reference_integrator)) {
+                   if (!host::is_plugin_id(wp.reference_integrator)) {
                      fail(source, value, key, wp.reference_integrator, "a plugin id");
                    }
                  } else if (key.ends_with("self_reference")) {
@@ -188,7 +191,7 @@ void read_work_precision(const std::string& source, const YAML::Node& node, Swee
                      fail(source, value, key, "(not a list)", "a list of ids");
                    for (const YAML::Node& item : list) {
                      const std::string id = scalar_text(source, item, key);
-                     if (!is_plugin_id(id)) fail(source, item, key, id, "a plugin id");
+                     if (!host::is_plugin_id(id)) fail(source, item, key, id, "a plugin id");
                      wp.self_reference.push_back(id);
                    }
                  } else if (key.ends_with("refinement")) {
@@ -225,8 +228,9 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
   if (!(st.dt_lower_limit < st.dt_upper_limit && st.dt_initial >= st.dt_lower_limit &&
         st.dt_initial <= st.dt_upper_limit)) {
     fail(source, node, "sweep.stability",
-         "dt_min " + format_number(st.dt_lower_limit) + ", dt_initial " +
-             format_number(st.dt_initial) + ", dt_max " + format_number(st.dt_upper_limit),
+         "dt_min " + host::format_number(st.dt_lower_limit) + ", dt_initial " +
+             host::format_number(st.dt_initial) + ", dt_max " +
+             host::format_number(st.dt_upper_limit),
          "dt_min < dt_max and dt_initial between them");
   }
 }
@@ -293,31 +297,54 @@ const char* to_string(SweepMode mode) {
   return "unknown";
 }
 
+namespace {
+
+// sbatch --time forms: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S (groups after the first: 1-2 digits).
+bool is_slurm_time(const std::string& text) {
+  const std::size_t dash = text.find('-');
+  if (dash != std::string::npos &&
+      (dash == 0 || dash > 4 || text.find_first_not_of("0123456789") < dash))
+    return false;
+  const std::string clock = dash == std::string::npos ? text : text.substr(dash + 1);
+  std::size_t groups = 0, start = 0;
+  while (start <= clock.size()) {
+    const std::size_t end = std::min(clock.find(':', start), clock.size());
+    const std::size_t digits = end - start;
+    if (digits == 0 || digits > (groups == 0 ? 6 : 2) ||
+        clock.substr(start, digits).find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    ++groups;
+    start = end + 1;
+  }
+  return groups <= 3;
+}
+
+}  // namespace
+
 void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
                          const std::string& source) {
   const auto bad = [&](const std::string& allowed) {
     throw SweepError(source + ": " + key + " = '" + value + "': allowed " + allowed);
   };
   const auto count = [&](double high) {
-    const auto number = parse_number(value);
-    const std::string allowed = "a whole number in [1, " + format_number(high) + "]";
+    const auto number = host::parse_real(value);
+    const std::string allowed = "a whole number in [1, " + host::format_number(high) + "]";
     if (!number || *number < 1 || *number > high || *number != std::floor(*number)) bad(allowed);
     return static_cast<std::size_t>(*number);
   };
   if (key == "slurm.partition") {
-    static const std::regex name("[A-Za-z0-9_.-]+");
-    if (!std::regex_match(value, name)) bad("a partition name ([A-Za-z0-9_.-]+)");
+    const bool plain = !value.empty() && value.size() <= 64 &&
+                       value.find_first_not_of(
+                           "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                           "0123456789_.-") == std::string::npos;
+    if (!plain) bad("a partition name: up to 64 of [A-Za-z0-9_.-]");
     slurm.partition = value;
   } else if (key == "slurm.tasks") {
     slurm.tasks = count(100000);
   } else if (key == "slurm.cpus_per_task") {
     slurm.cpus_per_task = count(1024);
   } else if (key == "slurm.time") {
-    // sbatch's forms: minutes, M:S, H:M:S, D-H, D-H:M, D-H:M:S.
-    static const std::regex duration(
-        "[0-9]+|[0-9]+:[0-9]{1,2}|[0-9]+:[0-9]{1,2}:[0-9]{1,2}|[0-9]+-[0-9]{1,2}(:[0-9]{1,2}){0,"
-        "2}");
-    if (!std::regex_match(value, duration)) bad("a Slurm time: MM, H:MM:SS or D-HH:MM:SS");
+    if (!is_slurm_time(value)) bad("a Slurm time: MM, MM:SS, H:MM:SS or D-HH[:MM[:SS]]");
     slurm.time = value;
   } else if (key == "slurm.sbatch") {
     if (!value.starts_with("--") || value.find_first_of(" \t\n") != std::string::npos)
@@ -349,7 +376,7 @@ SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
       [&](const std::string& key, const YAML::Node& value) {
         if (key == "sweep.name") {
           spec.name = scalar_text(source, value, key);
-          if (!is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
+          if (!host::is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
         } else if (key == "sweep.mode") {
           spec.mode = read_mode(source, value);
         } else if (key == "sweep.output") {

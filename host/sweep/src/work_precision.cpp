@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <clothlab/analysis/order_fit.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <exception>
 #include <map>
 
-#include "clothlab/sweep/number_text.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "clothlab/sweep/sweep_runner.hpp"
 
@@ -47,7 +47,7 @@ std::string reference_key(const WorkPrecisionSettings& wp, const CaseSpec& c) {
   return is_self_referenced(wp, c) ? key + ";integrator=" + c.integrator : key;
 }
 std::string ladder_key(const CaseSpec& c, double dt) {
-  return "work-precision;ladder;" + c.key + ";dt=" + format_number(dt);
+  return "work-precision;ladder;" + c.key + ";dt=" + host::format_number(dt);
 }
 std::string fit_key(const CaseSpec& c) { return "work-precision;fit;" + c.key; }
 
@@ -59,8 +59,8 @@ uint64_t whole_steps(double duration, double dt) {
   const double steps = duration / dt;
   const double rounded = std::round(steps);
   if (rounded < 1.0 || std::abs(steps - rounded) > 1e-6 * rounded) {
-    throw SweepError("work-precision: duration " + format_number(duration) +
-                     " s is not a whole number of steps of " + format_number(dt) +
+    throw SweepError("work-precision: duration " + host::format_number(duration) +
+                     " s is not a whole number of steps of " + host::format_number(dt) +
                      " s; choose dt_start, refinement and duration so that it is");
   }
   return static_cast<uint64_t>(rounded);
@@ -187,7 +187,8 @@ double relative_rms_error(const std::vector<double>& positions,
                      " position values against a reference of " + std::to_string(reference.size()));
   }
   if (!(diagonal > 0.0)) {
-    throw SweepError("work-precision: cloth diagonal " + format_number(diagonal) + ", needs > 0");
+    throw SweepError("work-precision: cloth diagonal " + host::format_number(diagonal) +
+                     ", needs > 0");
   }
   double sum = 0.0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -226,7 +227,7 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
       store.append(ladder_row(c, dt, duration, run, reference->second), c.index);
       ++summary.runs;
       if (progress)
-        progress->case_finished(c.integrator + " " + c.key + " dt=" + format_number(dt));
+        progress->case_finished(c.integrator + " " + c.key + " dt=" + host::format_number(dt));
     }
     if (!store.contains(fit_key(c))) store.append(fit_row(c, store, wp), c.index);
   }

@@ -12,6 +12,14 @@ namespace clothlab::host {
 // "real", "int", "bool", "vec3" (or "unknown").
 const char* param_type_name(uint32_t type);
 
+// The one number parser of the host: a finite double, optionally signed, surrounded by
+// spaces or not ("1e-3", "+2", " 0.5 "); nothing else (no "0x10", "inf", "1,5").
+std::optional<double> parse_real(std::string_view text);
+
+// Numbers in their shortest form ("1e1" and "10.0" give "10"), other text unchanged: the
+// spelling-independent form sweeps key cases by.
+std::string canonical_value(std::string_view text);
+
 // Shortest text that reads back to the same double.
 std::string format_number(double value);
 

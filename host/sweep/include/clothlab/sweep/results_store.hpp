@@ -56,7 +56,8 @@ class ResultsStore {
   void append(Row row, std::size_t case_index);
   // Records that every case this store was meant to hold has its row (merge checks it).
   void mark_complete();
-  // Writes <base>.csv and <base>.json atomically from the rows held, in case order.
+  // Writes <base>.csv and <base>.json atomically (clothlab/io) from the rows held, in case
+  // order. Throws io::WriteError when they cannot be written.
   void write_exports() const;
 
  private:
@@ -86,7 +87,5 @@ std::size_t stored_case_count(const std::filesystem::path& database);
 // JSON and CSV export texts of rows (in the order given).
 std::string rows_to_json(const nlohmann::ordered_json& metadata, const std::vector<Row>& rows);
 std::string rows_to_csv(const std::vector<Row>& rows);
-// Writes text to path through <path>.tmp-<pid> and rename. Throws SweepError.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace clothlab::sweep

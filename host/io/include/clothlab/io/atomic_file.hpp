@@ -1,0 +1,37 @@
+// Output files appear whole or not at all, and writing one never touches anything but it:
+// the bytes go to a new temporary file in the target's folder (created with O_EXCL at an
+// unpredictable name, so a planted symlink cannot redirect it), are fsynced, and the file is
+// renamed over the target. A replaced file keeps its permission bits. A target that exists
+// and is not a regular file (a symlink, FIFO, device, folder) is refused. Temporaries left by
+// killed processes (".NAME.tmp-PID-XXXXXX" whose PID is gone) are removed on the next write.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <stdexcept>
+#include <string_view>
+
+namespace clothlab::io {
+
+// "cannot write PATH: REASON", naming the target (never the temporary file).
+class WriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Calls write(stream), then stores what it wrote at path atomically. Throws WriteError (and
+// leaves neither a temporary nor a changed target) when it cannot; an exception from write()
+// propagates the same way.
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(std::ostream&)>& write);
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
+
+// Throws WriteError unless path could be written now: its folder exists, is a folder and is
+// writable, and path is absent or a regular file. Called before long work starts.
+void check_output_path(const std::filesystem::path& path);
+
+// Removes the temporaries of `path` whose writer process is gone; returns how many.
+int remove_stale_temporaries(const std::filesystem::path& path);
+
+}  // namespace clothlab::io

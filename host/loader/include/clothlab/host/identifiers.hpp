@@ -1,0 +1,13 @@
+// The spelling of plugin ids ([a-z0-9_-]+) and parameter names ([a-z0-9_.]+), checked by the
+// loader, the conformance runner and the sweep reader alike. Plain loops, so a 30 000-character
+// string cannot overflow the stack (std::regex recursed once per character).
+#pragma once
+
+#include <string_view>
+
+namespace clothlab::host {
+
+bool is_plugin_id(std::string_view text);
+bool is_param_name(std::string_view text);
+
+}  // namespace clothlab::host

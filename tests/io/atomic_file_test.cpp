@@ -1,0 +1,156 @@
+// Item 5 of issue 12: unsafe writes (predictable temporaries, device and FIFO targets
+// replaced, modes lost, temporaries of killed writers left forever).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <clothlab/io/atomic_file.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using clothlab::io::check_output_path;
+using clothlab::io::remove_stale_temporaries;
+using clothlab::io::write_file_atomically;
+using clothlab::io::WriteError;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream stream(path);
+  std::stringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+class AtomicFile : public testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ =
+        fs::temp_directory_path() / ("clothlab_io_" + std::to_string(getpid()) + "_" +
+                                     testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  std::vector<std::string> names() const {
+    std::vector<std::string> found;
+    for (const auto& entry : fs::directory_iterator(folder_))
+      found.push_back(entry.path().filename().string());
+    std::sort(found.begin(), found.end());
+    return found;
+  }
+
+  fs::path folder_;
+};
+
+// The message names the target and the reason; what() is one line.
+std::string message_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const WriteError& error) {
+    return error.what();
+  }
+  return "(no error)";
+}
+
+TEST_F(AtomicFile, WritesTheWholeFileAndLeavesNoTemporary) {
+  write_file_atomically(folder_ / "out.json", std::string_view("{}\n"));
+  write_file_atomically(folder_ / "out.json", [](std::ostream& out) { out << "{\"a\": 1}\n"; });
+  EXPECT_EQ(read_text(folder_ / "out.json"), "{\"a\": 1}\n");
+  EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
+}
+
+// The old writers used <name>.tmp-<pid> and .<name>.tmp.<pid> with O_TRUNC: a symlink planted
+// there made them overwrite its target.
+TEST_F(AtomicFile, APlantedSymlinkAtAPredictableNameIsNotFollowed) {
+  const fs::path victim = folder_ / "victim";
+  std::ofstream(victim) << "precious";
+  const std::string pid = std::to_string(getpid());
+  for (const std::string& name :
+       {"out.json.tmp-" + pid, ".out.json.tmp." + pid, ".out.json.tmp-" + pid, std::string("out.json.tmp")})
+    fs::create_symlink(victim, folder_ / name);
+  write_file_atomically(folder_ / "out.json", std::string_view("new"));
+  EXPECT_EQ(read_text(victim), "precious");
+  EXPECT_EQ(read_text(folder_ / "out.json"), "new");
+}
+
+TEST_F(AtomicFile, RefusesATargetThatIsNotARegularFile) {
+  const fs::path fifo = folder_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(
+      message_of([&] { write_file_atomically(fifo, std::string_view("x")); }),
+      "cannot write " + fifo.string() + ": it is a FIFO; allowed: a regular file or a new name");
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
+
+  const fs::path link = folder_ / "link";
+  std::ofstream(folder_ / "target") << "kept";
+  fs::create_symlink(folder_ / "target", link);
+  EXPECT_THROW(write_file_atomically(link, std::string_view("x")), WriteError);
+  EXPECT_EQ(read_text(folder_ / "target"), "kept");
+
+  EXPECT_THROW(write_file_atomically("/dev/null", std::string_view("x")), WriteError);
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_THROW(check_output_path("/dev/null"), WriteError);
+  EXPECT_THROW(write_file_atomically(folder_, std::string_view("x")), WriteError);
+}
+
+TEST_F(AtomicFile, AReplacedFileKeepsItsMode) {
+  const fs::path path = folder_ / "secret.json";
+  std::ofstream(path) << "old";
+  ASSERT_EQ(::chmod(path.c_str(), 0600), 0);
+  write_file_atomically(path, std::string_view("new"));
+  struct stat status {};
+  ASSERT_EQ(::stat(path.c_str(), &status), 0);
+  EXPECT_EQ(status.st_mode & 07777, 0600u);
+  EXPECT_EQ(read_text(path), "new");
+}
+
+// A writer killed between write and rename left its temporary forever.
+TEST_F(AtomicFile, TemporariesOfDeadWritersAreRemovedOnTheNextWrite) {
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ::waitpid(dead, nullptr, 0);
+  const std::string stale = ".out.csv.tmp-" + std::to_string(dead) + "-123456";
+  const std::string live = ".out.csv.tmp-" + std::to_string(getpid()) + "-654321";
+  std::ofstream(folder_ / stale) << "partial";
+  std::ofstream(folder_ / live) << "in progress";
+  write_file_atomically(folder_ / "out.csv", std::string_view("a,b\n"));
+  EXPECT_EQ(names(), (std::vector<std::string>{live, "out.csv"}));
+  EXPECT_EQ(remove_stale_temporaries(folder_ / "out.csv"), 0);
+}
+
+TEST_F(AtomicFile, AFailedWriteNamesTheTargetAndLeavesNothing) {
+  std::ofstream(folder_ / "out.json") << "old";
+  EXPECT_THROW(write_file_atomically(folder_ / "out.json",
+                                     [](std::ostream&) { throw std::runtime_error("no data"); }),
+               std::runtime_error);
+  EXPECT_EQ(read_text(folder_ / "out.json"), "old");
+  EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
+  const fs::path missing = folder_ / "no-such-folder" / "out.json";
+  EXPECT_EQ(message_of([&] { write_file_atomically(missing, std::string_view("x")); }),
+            "cannot write " + missing.string() + ": No such file or directory");
+}
+
+TEST_F(AtomicFile, OutputPathsAreCheckedBeforeWorkStarts) {
+  EXPECT_NO_THROW(check_output_path(folder_ / "new.json"));
+  const fs::path missing = folder_ / "no-such-folder" / "out.json";
+  EXPECT_EQ(message_of([&] { check_output_path(missing); }),
+            "cannot write " + missing.string() + ": folder " + missing.parent_path().string() +
+                ": No such file or directory");
+  if (::geteuid() == 0) GTEST_SKIP() << "root may write into a read-only folder";
+  ASSERT_EQ(::chmod(folder_.c_str(), 0500), 0);
+  EXPECT_EQ(message_of([&] { check_output_path(folder_ / "out.json"); }),
+            "cannot write " + (folder_ / "out.json").string() + ": folder " + folder_.string() +
+                ": Permission denied");
+  ::chmod(folder_.c_str(), 0700);
+}
+
+}  // namespace
