@@ -7,7 +7,7 @@
 //   sweep:
 //     name: seed-2016-matrix
 //     mode: run                        # run | work-precision | stability
-//     output: results/seed-2016-matrix # writes .csv and .json beside each other
+//     output: results/seed-2016-matrix # .sqlite store, .csv and .json exports beside it
 //     matrix:                          # every combination is one case, in this order:
 //       integrator: [euler, rk4]
 //       scenario: [sheet, flag]
