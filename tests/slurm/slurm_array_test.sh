@@ -29,15 +29,17 @@ shutdown() {
   set +e
   if [ -f "$SLURM_CONF" ]; then
     scontrol shutdown > /dev/null 2>&1
-    for _ in $(seq 50); do
-      pgrep -F "$work/slurmctld.pid" > /dev/null 2>&1 || pgrep -F "$work/slurmd.pid" > /dev/null 2>&1 || break
-      sleep 0.2
-    done
-    for daemon in slurmctld slurmd; do  # still there after 10 s: stop it hard
-      [ -f "$work/$daemon.pid" ] && pkill -KILL -F "$work/$daemon.pid" 2> /dev/null
+    for daemon in slurmctld slurmd; do
+      pid=$(cat "$work/$daemon.pid" 2> /dev/null)
+      [ -n "$pid" ] || continue
+      for _ in $(seq 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.2; done
+      kill -KILL "$pid" 2> /dev/null  # still there after 10 s: stop it hard
     done
   fi
-  [ -n "$munged_pid" ] && kill "$munged_pid" 2> /dev/null
+  if [ -n "$munged_pid" ]; then
+    kill "$munged_pid" 2> /dev/null
+    for _ in $(seq 50); do kill -0 "$munged_pid" 2> /dev/null || break; sleep 0.1; done
+  fi
   if [ "$status" -ne 0 ]; then
     for log in "$work"/*.log "$work"/munge/*.log "$work"/slurm/*.log; do
       [ -f "$log" ] && { echo "--- $log"; tail -n 20 "$log"; }

@@ -4,12 +4,14 @@
 
 #include <cmath>
 
+#include "clothlab/sweep/shard.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
 namespace {
 
+using testing::read_text;
 using testing::ScratchFolder;
 
 constexpr double kDuration = 0.04, kDiagonal = 2.0;
@@ -52,6 +54,29 @@ const Row* find_row(const ResultsStore& store, const std::string& key) {
     if (row["key"] == key) return &row;
   }
   return nullptr;
+}
+
+// Both cases need the same reference: each shard computes it, the merge keeps it once, where
+// the unsharded run wrote it (before the first case's ladder).
+TEST(WorkPrecision, MergedShardsExportTheSameFilesAsAnUnshardedRun) {
+  ScratchFolder scratch;
+  const SweepSpec spec = ladder_spec();
+  const auto cases = expand_cases(spec);
+  const auto run_into = [&](const std::filesystem::path& base, const std::vector<CaseSpec>& part) {
+    ResultsStore store(base, false, {{"mode", "work-precision"}});
+    FakeIntegrators fake;
+    run_work_precision(
+        spec, part, [&](const CaseSpec& c) { return fake(c); }, store, nullptr);
+    store.mark_complete();
+    store.write_exports();
+  };
+  run_into(scratch.path() / "whole" / "wp", cases);
+  const auto base = scratch.path() / "sharded" / "wp";
+  for (std::size_t k = 1; k <= 2; ++k)
+    run_into(shard_base(base, {k, 2}), shard_cases(cases, {k, 2}));
+  EXPECT_EQ(merge_shards(base).rows, 13u);  // 1 reference + 2 x (5 ladder rows + 1 fit)
+  EXPECT_EQ(read_text(base.string() + ".csv"), read_text(scratch.path() / "whole" / "wp.csv"));
+  EXPECT_EQ(read_text(base.string() + ".json"), read_text(scratch.path() / "whole" / "wp.json"));
 }
 
 TEST(WorkPrecision, RelativeRmsErrorIsOverParticlesAndDiagonal) {
