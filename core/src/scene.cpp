@@ -1,5 +1,6 @@
 // Copies a scenario's clothlab_scene into an owned Scene and rejects anything the core
-// cannot simulate, with a message naming the field, its value and the allowed range.
+// cannot simulate or the header's contract forbids, with a message naming the field, its
+// value and the allowed range. The one scene validation: the conformance runner uses it too.
 #include <algorithm>
 #include <clothlab/core/cloth.hpp>
 #include <cmath>
@@ -10,6 +11,8 @@
 
 namespace clothlab {
 namespace {
+
+constexpr double unit_tolerance = 1e-9;
 
 [[noreturn]] void reject(const std::string& field, const std::string& value,
                          const std::string& allowed) {
@@ -47,14 +50,20 @@ Vec3 require_finite(const char* field, const double (&v)[3]) {
   return {v[0], v[1], v[2]};
 }
 
-Vec3 require_direction(const char* field, const double (&v)[3]) {
+// The header's contract is a unit vector; rounding in the scenario's arithmetic is allowed
+// (and removed: the core renormalises).
+Vec3 require_unit(const char* field, const double (&v)[3]) {
   const Vec3 finite = require_finite(field, v);
   const double length =
       std::sqrt(finite[0] * finite[0] + finite[1] * finite[1] + finite[2] * finite[2]);
-  if (!(length > 0.0) || !std::isfinite(length)) {
-    reject(field, format(v), "a finite non-zero vector (normalised by the core)");
-  }
+  if (!(std::abs(length - 1.0) <= unit_tolerance)) reject(field, format(v), "a unit vector");
   return {finite[0] / length, finite[1] / length, finite[2] / length};
+}
+
+// Spacing along a dimension with two or more particles is positive; with one it is unused.
+double require_extent(const char* field, double value, uint32_t particles) {
+  if (particles > 1) return require_positive(field, value);
+  return require_non_negative(field, value);
 }
 
 SpringFamily require_family(const std::string& name, const clothlab_spring_family& family) {
@@ -79,11 +88,16 @@ Scene scene_from_abi(const clothlab_scene& abi) {
   if (in.cols < 1) reject("cols", std::to_string(in.cols), "integer >= 1");
   scene.rows = in.rows;
   scene.cols = in.cols;
-  scene.width = require_positive("width", in.width);
-  scene.height = require_positive("height", in.height);
+  scene.width = require_extent("width", in.width, in.cols);
+  scene.height = require_extent("height", in.height, in.rows);
   scene.origin = require_finite("origin", in.origin);
-  scene.col_axis = require_direction("col_axis", in.col_axis);
-  scene.row_axis = require_direction("row_axis", in.row_axis);
+  scene.col_axis = require_unit("col_axis", in.col_axis);
+  scene.row_axis = require_unit("row_axis", in.row_axis);
+  const double axes_dot = scene.col_axis[0] * scene.row_axis[0] +
+                          scene.col_axis[1] * scene.row_axis[1] +
+                          scene.col_axis[2] * scene.row_axis[2];
+  if (!(std::abs(std::abs(axes_dot) - 1.0) > unit_tolerance))
+    reject("row_axis", format(in.row_axis), "not parallel to col_axis " + format(in.col_axis));
   scene.total_mass = require_positive("total_mass", in.total_mass);
   scene.structural = require_family("structural", in.structural);
   scene.shear = require_family("shear", in.shear);
@@ -92,7 +106,7 @@ Scene scene_from_abi(const clothlab_scene& abi) {
   scene.wind_strength = require_non_negative("wind_strength", in.wind_strength);
   scene.wind_direction = {1.0, 0.0, 0.0};
   if (scene.wind_strength > 0.0) {
-    scene.wind_direction = require_direction("wind_direction", in.wind_direction);
+    scene.wind_direction = require_unit("wind_direction", in.wind_direction);
   }
 
   const uint64_t particles = uint64_t{in.rows} * in.cols;

@@ -32,7 +32,7 @@ po::options_description describe_options() {
       "steps", po::value<std::string>(), "number of steps")(
       "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
       "precision", po::value<std::string>(), "float32 or float64 (default float32)")(
-      "threads", po::value<std::string>(), "worker threads, 0 = all (default 0)")(
+      "threads", po::value<std::string>(), "worker threads, 0 = all, at most 256 (default 0)")(
       "config", po::value<std::string>(), "YAML config file; command-line values override it")(
       "set", po::value<std::vector<std::string>>()->composing(),
       "KEY=VALUE, repeatable; plugin parameters are integrator.KEY / scenario.KEY")(
@@ -69,6 +69,18 @@ Setting parse_set(const std::string& assignment) {
   if (equals == std::string::npos || equals == 0)
     throw host::InputError("--set " + assignment + ": expected KEY=VALUE, e.g. scenario.rows=50");
   return {canonical_key(assignment.substr(0, equals)), assignment.substr(equals + 1), "--set"};
+}
+
+// A flag and a --set naming the same key (--dt 0.001 --set dt=0.002) have no sensible order
+// between them, so neither wins: it is an error.
+void reject_flag_and_set_conflicts(const std::vector<Setting>& settings) {
+  for (const Setting& flag : settings) {
+    if (flag.source == "--set") continue;
+    for (const Setting& set : settings)
+      if (set.source == "--set" && set.key == flag.key)
+        throw host::InputError(flag.source + " " + flag.value + " conflicts with --set " + set.key +
+                               "=" + set.value + "; allowed: one of them");
+  }
 }
 
 }  // namespace
@@ -110,6 +122,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
     for (const std::string& assignment : values["set"].as<std::vector<std::string>>())
       command_line.settings.push_back(parse_set(assignment));
   check_one_length(command_line.settings, "command line");
+  reject_flag_and_set_conflicts(command_line.settings);
   return command_line;
 }
 
@@ -121,8 +134,13 @@ std::string usage_text() {
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
           "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
-          "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input,\n"
-          "2 plugin error, 3 the run diverged or failed a stability check.\n\n"
+          "Runs and sweep cases run in a child process, killed after `timeout` seconds\n"
+          "(key timeout, default 600). Command-line values override the config file; a flag\n"
+          "and a --set for the same key are an error. A sweep checks every case (settings,\n"
+          "plugins, parameter values) before the first one runs.\n"
+          "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input (also\n"
+          "a sweep case's), 2 plugin error (also a crash or timeout of a single run), 3 the\n"
+          "run diverged or failed a stability check.\n\n"
        << describe_options();
   return text.str();
 }

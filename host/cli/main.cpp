@@ -25,7 +25,7 @@ namespace {
 enum ExitCode { exit_ok = 0, exit_bad_input = 1, exit_plugin_error = 2, exit_diverged = 3 };
 
 int fail(int code, const std::string& message) {
-  std::cerr << "clothlab: error: " << message << "\n";
+  std::cerr << "clothlab: error: " << clothlab::host::one_line(message) << "\n";
   return code;
 }
 

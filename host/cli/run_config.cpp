@@ -12,7 +12,8 @@ namespace {
 constexpr double max_dt_s = 10.0;
 constexpr double max_duration_s = 1e6;
 constexpr double max_steps = 1e9;
-constexpr double max_threads = 4096;
+// More threads than this make libgomp fail with its own message on ordinary machines.
+constexpr double max_threads = 256;
 constexpr double max_timeout_s = 1e6;
 
 // Validates host-owned values with the same parser and messages as plugin parameters.
@@ -60,7 +61,9 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       if (setting.value.empty())
         throw host::InputError(setting.source + ": " + key +
                                " is empty; allowed: a plugin name or path");
-      (key == "integrator.plugin" ? config.integrator : config.scenario) = setting.value;
+      const bool integrator = key == "integrator.plugin";
+      (integrator ? config.integrator : config.scenario) = setting.value;
+      (integrator ? config.integrator_source : config.scenario_source) = setting.source;
     } else if (key == "dt") {
       config.dt = read_positive(setting, max_dt_s);
     } else if (key == "steps") {

@@ -12,11 +12,13 @@ namespace clothlab::cli {
 struct RunConfig {
   std::string integrator = "rk4";
   std::string scenario = "sheet";
+  // Where each plugin was named ("configs/x.yaml:2:13", "--integrator"), for load errors.
+  std::string integrator_source = "default integrator", scenario_source = "default scenario";
   double dt = 1e-3;
   uint64_t steps = 2000;  // default: 2 s at the default dt
   double duration = 2.0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
-  int threads = 0;
+  int threads = 0;  // 0: all cores; at most 256
   // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
   // takes longer is killed and reported as timed out.
   double timeout_s = 600.0;

@@ -1,25 +1,12 @@
-// A run is described by dotted-key settings, whatever their origin: the config file
-// (flattened YAML), the command-line flags and --set all produce the same keys.
-//   integrator.plugin, scenario.plugin, dt, steps, duration, precision, threads,
-//   integrator.<param>, scenario.<param>, plugin_params.<plugin id>.<param>
+// The program's settings are the configuration model's (clothlab/config).
 #pragma once
 
-#include <string>
-#include <vector>
+#include <clothlab/config/setting.hpp>
 
 namespace clothlab::cli {
 
-struct Setting {
-  std::string key;     // "scenario.structural.ks"
-  std::string value;   // text as written: "50", "[0, -9.81, 0]"
-  std::string source;  // "configs/x.yaml:4:9", "--set", "--dt"
-};
-
-// "integrator" and "scenario" alone name the plugin: they become "<kind>.plugin".
-std::string canonical_key(const std::string& key);
-
-// Throws InputError if one layer (config file or command line) sets both steps and
-// duration; across layers the later one simply wins.
-void check_one_length(const std::vector<Setting>& layer, const std::string& layer_name);
+using config::canonical_key;
+using config::check_one_length;
+using config::Setting;
 
 }  // namespace clothlab::cli

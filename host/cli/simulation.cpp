@@ -4,6 +4,7 @@
 #include <chrono>
 #include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/host/errors.hpp>
+#include <set>
 #include <stdexcept>
 
 namespace clothlab::cli {
@@ -63,25 +64,77 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+namespace {
+
+host::PluginLibrary find_plugin(const std::string& name, const std::string& source,
+                                const char* kind, const host::PluginSearchPath& search_path) {
+  try {
+    return host::PluginLibrary::find(name, search_path);
+  } catch (const host::PluginLoadError& error) {
+    throw host::PluginLoadError(source + ": " + kind + " = " + name + ": " + error.what());
+  }
+}
+
+// plugin_params.<id>.* addressed to no plugin that exists is a typo, not a setting for later.
+void check_plugin_param_ids(const RunConfig& config, const LoadedPlugins& plugins,
+                            const host::PluginSearchPath& search_path) {
+  if (config.plugin_params.empty()) return;
+  std::set<std::string, std::less<>> ids = {std::string(plugins.integrator->info().id),
+                                            std::string(plugins.scenario->info().id)};
+  for (const host::PluginLibrary& library : host::scan_libraries(search_path).libraries) {
+    for (const host::IntegratorPlugin& plugin : library.integrators())
+      ids.emplace(plugin.info().id);
+    for (const host::ScenarioPlugin& plugin : library.scenarios()) ids.emplace(plugin.info().id);
+  }
+  for (const Setting& setting : config.plugin_params) {
+    const std::string id = setting.key.substr(0, setting.key.find('.'));
+    if (ids.count(id) == 0) {
+      std::string known;
+      for (const std::string& name : ids) known += (known.empty() ? "" : ", ") + name;
+      throw host::InputError(setting.source + ": plugin_params." + setting.key +
+                             ": no plugin has the id " + id + "; allowed ids: " + known);
+    }
+  }
+}
+
+}  // namespace
+
+LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
+  host::PluginLibrary integrator_library =
+      find_plugin(config.integrator, config.integrator_source, "integrator", search_path);
+  host::PluginLibrary scenario_library =
+      find_plugin(config.scenario, config.scenario_source, "scenario", search_path);
+  const host::IntegratorPlugin* integrator = &integrator_library.integrator();
+  const host::ScenarioPlugin* scenario = &scenario_library.scenario();
+  host::ParamSet integrator_params = apply(integrator->default_params(), integrator->info().id,
+                                           config.plugin_params, config.integrator_params);
+  host::ParamSet scenario_params = apply(scenario->default_params(), scenario->info().id,
+                                         config.plugin_params, config.scenario_params);
+  const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
+  if (!integrator->supports_precision(precision))
+    throw host::InputError("precision = " + std::string(config.float64 ? "float64" : "float32") +
+                           ": integrator " + std::string(integrator->info().id) +
+                           " does not support it");
+  LoadedPlugins plugins{
+      std::move(integrator_library), std::move(scenario_library), integrator, scenario,
+      std::move(integrator_params),  std::move(scenario_params)};
+  check_plugin_param_ids(config, plugins, search_path);
+  return plugins;
+}
+
 Simulation::Simulation(const RunConfig& config, const host::PluginSearchPath& search_path)
+    : Simulation(config, load_plugins(config, search_path)) {}
+
+Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     : config_(config),
-      integrator_library_(host::PluginLibrary::find(config.integrator, search_path)),
-      scenario_library_(host::PluginLibrary::find(config.scenario, search_path)),
-      integrator_(&integrator_library_.integrator()),
-      scenario_(&scenario_library_.scenario()) {
-  const host::ParamSet integrator_params =
-      apply(integrator_->default_params(), integrator_->info().id, config.plugin_params,
-            config.integrator_params);
-  const host::ParamSet scenario_params = apply(scenario_->default_params(), scenario_->info().id,
-                                               config.plugin_params, config.scenario_params);
+      integrator_library_(std::move(plugins.integrator_library)),
+      scenario_library_(std::move(plugins.scenario_library)),
+      integrator_(plugins.integrator),
+      scenario_(plugins.scenario) {
+  const host::ParamSet& integrator_params = plugins.integrator_params;
+  const host::ParamSet& scenario_params = plugins.scenario_params;
   integrator_params_ = params_to_json(integrator_params);
   scenario_params_ = params_to_json(scenario_params);
-
-  const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
-  if (!integrator_->supports_precision(precision))
-    throw host::InputError("precision = " + std::string(config.float64 ? "float64" : "float32") +
-                           ": integrator " + std::string(integrator_->info().id) +
-                           " does not support it");
 
   {
     // The scene's pinned list lives in the scenario instance: copy it before it goes.
@@ -121,10 +174,9 @@ RunRecord Simulation::run() {
   record.springs = cloth_->springs();
   record.integrator_params = integrator_params_;
   record.scenario_params = scenario_params_;
-  // Reserved up front for ordinary runs; very long ones grow as they go.
-  constexpr uint64_t reserved_steps = 1u << 20;
-  for (auto* series : {&record.step_s, &record.internal_forces_s, &record.external_forces_s})
-    series->reserve(std::min(config_.steps, reserved_steps));
+  const auto timing_series = {&record.step_s, &record.internal_forces_s, &record.external_forces_s};
+  for (auto* series : timing_series)
+    series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
   analysis::MonitorOptions monitor_options;
   monitor_options.check_interval = config_.stability_interval;
@@ -152,10 +204,22 @@ RunRecord Simulation::run() {
       fail(step, "non-finite",
            "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")");
     }
-    record.step_s.push_back(seconds_since(start));
-    const StageCounters& after = cloth_->counters();
-    record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
-    record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
+    const double step_s = seconds_since(start);
+    record.step_total_s += step_s;
+    if ((step - 1) % record.timing_stride == 0) {
+      const StageCounters& after = cloth_->counters();
+      record.step_s.push_back(step_s);
+      record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
+      record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
+      if (record.step_s.size() == max_timing_samples) {
+        // Full: keep every second sample, and from now on every second step at the new stride.
+        for (auto* series : timing_series) {
+          for (size_t i = 0; 2 * i < series->size(); ++i) (*series)[i] = (*series)[2 * i];
+          series->resize(series->size() / 2);
+        }
+        record.timing_stride *= 2;
+      }
+    }
     record.steps_taken = step;
     if (!record.stable) break;
     const double t_end = static_cast<double>(step) * config_.dt;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/host/param_set.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
 #include <memory>
@@ -13,6 +14,8 @@
 #include "run_config.hpp"
 
 namespace clothlab::cli {
+
+inline constexpr size_t max_timing_samples = size_t{1} << 20;
 
 // What a run measured; the raw material of the summary.
 struct RunRecord {
@@ -26,8 +29,12 @@ struct RunRecord {
   int threads = 0;
   SpringCounts springs;
   StageCounters counters;
-  // Per step, seconds: the whole step and the core's force phases within it.
+  // Per step, seconds: the whole step and the core's force phases within it. At most
+  // max_timing_samples steps are kept, at an even stride over the run (10^9 steps would
+  // otherwise need ~24 GB); step_total_s sums every step.
   std::vector<double> step_s, internal_forces_s, external_forces_s;
+  uint64_t timing_stride = 1;  // the kept samples are steps 1, 1 + stride, 1 + 2 stride, ...
+  double step_total_s = 0;
   bool stable = true;
   std::string verdict;
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
@@ -35,6 +42,20 @@ struct RunRecord {
   uint64_t stability_checks = 0;
   nlohmann::json integrator_params, scenario_params;
 };
+
+// The plugins of a run, loaded, with the run's parameter values applied and checked.
+struct LoadedPlugins {
+  host::PluginLibrary integrator_library, scenario_library;
+  const host::IntegratorPlugin* integrator;
+  const host::ScenarioPlugin* scenario;
+  host::ParamSet integrator_params, scenario_params;
+};
+
+// The checks a run's settings get before it starts, the same for a single run and for every
+// case of a sweep: both plugins load (PluginLoadError naming the setting's source), their
+// parameters accept the values (InputError), the integrator supports the precision, and every
+// plugin_params.<id> names a plugin that exists (a typo'd id is an InputError).
+LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path);
 
 class Simulation {
  public:
@@ -53,6 +74,8 @@ class Simulation {
   const nlohmann::json& integrator_params() const { return integrator_params_; }
 
  private:
+  Simulation(const RunConfig& config, LoadedPlugins plugins);
+
   RunConfig config_;
   host::PluginLibrary integrator_library_;
   host::PluginLibrary scenario_library_;

@@ -17,6 +17,7 @@
 #include "case_execution.hpp"
 #include "isolation.hpp"
 #include "run_config.hpp"
+#include "simulation.hpp"
 #include "slurm_sweep.hpp"
 
 namespace clothlab::cli {
@@ -102,6 +103,36 @@ std::string plugin_identity(const host::PluginSearchPath& search_path, const std
          sweep::file_hash(path.string());
 }
 
+// Every case goes through the checks of a single run (its settings, then its plugins and
+// parameter values) before the first one runs: a sweep with bad input does nothing and
+// exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
+void check_every_case(const sweep::SweepSpec& spec, const std::vector<sweep::CaseSpec>& cases,
+                      const host::PluginSearchPath& search_path) {
+  std::vector<RunConfig> configs;
+  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(spec, c));
+  if (configs.empty()) return;
+  try {
+    run_isolated(
+        [&] {
+          for (size_t i = 0; i < configs.size(); ++i) {
+            try {
+              load_plugins(configs[i], search_path);
+            } catch (const std::exception& error) {
+              throw host::InputError(std::string(error.what()) + " (sweep case " + cases[i].key +
+                                     ")");
+            }
+          }
+          return nlohmann::json();
+        },
+        configs.front().timeout_s);
+  } catch (const host::InputError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                            "checking the sweep's cases: " + std::string(error.what()));
+  }
+}
+
 }  // namespace
 
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
@@ -116,8 +147,7 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     }
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
     const std::vector<sweep::CaseSpec> all_cases = sweep::expand_cases(spec);
-    // Every case's settings are checked before the first one runs.
-    for (const sweep::CaseSpec& c : all_cases) case_config(spec, c);
+    check_every_case(spec, all_cases, search_path);
     const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
         spec, [&](const std::string& id) { return plugin_identity(search_path, id); });
     if (request.slurm) {

@@ -1,6 +1,7 @@
 // numerics.*: integrators converge at their declared order on problems with known
 // solutions, respect pins, keep rest at rest and are bit-for-bit deterministic.
 #include <algorithm>
+#include <clothlab/analysis/order_fit.hpp>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -8,7 +9,6 @@
 #include "analytic.hpp"
 #include "check.hpp"
 #include "fixtures.hpp"
-#include "order_fit.hpp"
 
 namespace clothlab::conformance {
 namespace {
@@ -83,17 +83,21 @@ double free_fall_error(const clothlab_integrator& integrator, int steps) {
 
 template <class ErrorAt>
 Verdict converges_at_declared_order(const clothlab_integrator& integrator, ErrorAt error_at) {
-  std::vector<ErrorSample> samples;
+  std::vector<double> step_sizes, step_errors;
   std::string errors;
   double largest = 0;
   for (int steps = coarsest_steps(integrator.order), i = 0; i < 4; ++i, steps *= 2) {
     const double error = error_at(steps);
-    samples.push_back({1.0 / steps, error});
+    step_sizes.push_back(1.0 / steps);
+    step_errors.push_back(error);
     largest = std::max(largest, error);
     errors += (i ? ", " : "") + format("%.3g", error);
   }
   if (largest < roundoff_error) return {true, "exact to round-off (errors " + errors + ")"};
-  const double measured = observed_order(samples);
+  // The one order fit (analysis), over every point: four halvings are all asymptotic here.
+  const analysis::OrderFit fit = analysis::fit_order_all(step_sizes, step_errors);
+  require(fit.valid, "no order fit (" + fit.note + "; errors " + errors + ")");
+  const double measured = fit.slope;
   const std::string detail = "measured order " + format("%.2f", measured) + ", declared " +
                              std::to_string(integrator.order) + " (errors " + errors + ")";
   require(std::abs(measured - integrator.order) <= order_tolerance, detail);

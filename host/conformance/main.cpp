@@ -24,6 +24,7 @@ struct CommandLine {
   std::vector<std::string> plugins;
   std::string json_path, junit_path;
   std::vector<std::string> params;
+  std::string filter_text;
 };
 
 [[noreturn]] void usage_error(const std::string& message) {
@@ -102,6 +103,7 @@ CommandLine parse(int argc, char** argv) {
   if (!(timeout > 0) || timeout > 86400)
     usage_error("--timeout = " + std::to_string(timeout) + ": allowed (0, 86400] seconds");
   line.options.timeout_s = timeout;
+  line.filter_text = filter;
   if (!filter.empty()) {
     try {
       line.options.filter = std::make_shared<const CheckFilter>(filter);
@@ -126,9 +128,12 @@ CommandLine parse(int argc, char** argv) {
   for (const std::string& text : line.params) overrides.push_back(parse_override(text));
   set_parameter_overrides(std::move(overrides));
   if (line.plugins.empty()) usage_error("no plugin given (see --help)");
-  for (const std::string& plugin : line.plugins)
+  for (std::string& plugin : line.plugins) {
     if (!std::filesystem::is_regular_file(plugin))
       usage_error("plugin \"" + plugin + "\": no such file");
+    // A name without '/' would go to dlopen's library search, not to the file just checked.
+    plugin = std::filesystem::absolute(plugin).lexically_normal().string();
+  }
   return line;
 }
 
@@ -159,6 +164,10 @@ int main(int argc, char** argv) {
     usage_error(e.what());
   }
   std::cout << summary_line(report) << std::endl;
+  if (line.options.filter && report.results.empty())
+    usage_error("--filter = \"" + line.filter_text +
+                "\" matched no check (see the names in a run "
+                "without --filter)");
   try {
     if (!line.json_path.empty())
       clothlab::io::write_file_atomically(line.json_path, to_json(report));

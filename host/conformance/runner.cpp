@@ -113,6 +113,25 @@ void validate_overrides(const std::string& component, const clothlab_param_spec*
   }
 }
 
+// Only components whose parameter array is readable; a broken one fails descriptor.fields.
+void validate_all_overrides(const clothlab_plugin_descriptor& library) {
+  if (parameter_overrides().empty()) return;
+  const auto readable = [](const clothlab_param_spec* specs, uint32_t count) {
+    if (count > 0 && specs == nullptr) return false;
+    for (uint32_t i = 0; i < count; ++i)
+      if (specs[i].name == nullptr) return false;
+    return true;
+  };
+  for (uint32_t i = 0; i < library.integrator_count && library.integrators; ++i)
+    if (const clothlab_integrator* c = library.integrators[i];
+        c != nullptr && c->id != nullptr && readable(c->params, c->param_count))
+      validate_overrides(c->id, c->params, c->param_count);
+  for (uint32_t i = 0; i < library.scenario_count && library.scenarios; ++i)
+    if (const clothlab_scenario* c = library.scenarios[i];
+        c != nullptr && c->id != nullptr && readable(c->params, c->param_count))
+      validate_overrides(c->id, c->params, c->param_count);
+}
+
 void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
                     const RunOptions& options) {
   const std::vector<Check> descriptor = descriptor_checks(library);
@@ -126,7 +145,6 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
   for (uint32_t i = 0; i < library.integrator_count && library.integrators; ++i) {
     const clothlab_integrator* integrator = library.integrators[i];
     if (integrator == nullptr || integrator->id == nullptr || !fields_ok(integrator->id)) continue;
-    validate_overrides(integrator->id, integrator->params, integrator->param_count);
     run.run_all(parameter_checks(subject_of(*integrator), options.settings));
     run.run_all(lifecycle_checks(*integrator));
     run.run_all(numerics_checks(*integrator));
@@ -135,7 +153,6 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
   for (uint32_t i = 0; i < library.scenario_count && library.scenarios; ++i) {
     const clothlab_scenario* scenario = library.scenarios[i];
     if (scenario == nullptr || scenario->id == nullptr || !fields_ok(scenario->id)) continue;
-    validate_overrides(scenario->id, scenario->params, scenario->param_count);
     run.run_all(parameter_checks(subject_of(*scenario), options.settings));
     run.run_all(scenario_checks(*scenario));
   }
@@ -146,11 +163,16 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
 void run_plugin(const std::string& path, const RunOptions& options, const ResultSink& sink) {
   PluginRun run(path, options, sink);
   const std::vector<Check> loading = loading_checks(path);
-  run.run_all(loading);
   // The runner opens the library itself only after a child has opened it safely and the
   // version gate accepts it (later checks read the descriptor's layout).
-  if (!run.run(loading[0], false) || !run.run(loading[1], false)) return;
+  if (!run.run(loading[0], false) || !run.run(loading[1], false)) {
+    run.run_all(loading);
+    return;
+  }
   const PluginLibrary library(path);
+  // A bad --param is found before any check runs, not after a dozen.
+  validate_all_overrides(*library.descriptor());
+  run.run_all(loading);
   run_components(*library.descriptor(), run, options);
 }
 

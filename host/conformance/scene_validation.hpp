@@ -5,9 +5,8 @@
 
 namespace clothlab::conformance {
 
-// Fails the running check, naming the field and its value, when `scene` breaks a rule:
-// non-empty grid, pins inside it, positive mass, positive spacing (hence rest lengths)
-// where there are two or more particles, unit axes, non-negative springs, finite values.
+// Fails the running check, naming the field and its value, when the core's one scene
+// validation (scene_from_abi) rejects `scene`.
 void require_valid_scene(const clothlab_scene& scene);
 
 }  // namespace clothlab::conformance

@@ -208,4 +208,35 @@ TEST(ConformanceRun, RejectsBadOptionsWithOneLine) {
   EXPECT_NE(run.output.find("--param c-euler.substeps = 99"), std::string::npos) << run.output;
 }
 
+// Item 7 of issue 12: a bad --param was found after 11 checks ran; --filter nomatch reported
+// "0 passed, 0 failed" and exited 0; a plugin named without '/' went to dlopen's search.
+TEST(ConformanceRun, BadParamIsFoundBeforeAnyCheckRuns) {
+  const RunnerOutput run = run_conformance("--param c-euler.substeps=99 " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.output.find("PASS"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("FAIL"), std::string::npos) << run.output;
+}
+
+TEST(ConformanceRun, AFilterThatMatchesNothingIsAnError) {
+  const RunnerOutput run = run_conformance("--filter no-such-check " + plugin("c_euler"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.output.find("clothlab-conformance: --filter = \"no-such-check\" matched no check"),
+            std::string::npos)
+      << run.output;
+}
+
+TEST(ConformanceRun, APluginNamedInItsOwnFolderLoads) {
+  const std::string command = std::string("cd '") + CONFORMANCE_PLUGIN_DIR + "' && " +
+                              CONFORMANCE_RUNNER + " --seed 3 --filter loading c_euler.so 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  EXPECT_EQ(output.find("cannot open shared object file"), std::string::npos) << output;
+  EXPECT_NE(output.find("PASS"), std::string::npos) << output;
+}
+
 }  // namespace

@@ -272,6 +272,87 @@ bool is_segfault_record(const std::string& reason, const std::string& err) {
   return address_sanitizer && is_failed_exit(reason) && reported;
 }
 
+// Items 1 and 6 of issue 12: a bad value in a sweep (here a byte that is not UTF-8) was found
+// per case, after others ran; its error text made the forked child escape and fork again
+// (12 cases -> 4096 processes, exit 0). Now every case is checked before the first one runs.
+TEST_F(ClothlabStability, ASweepWithBadInputIsRefusedBeforeAnyCaseRuns) {
+  const std::string matrix = R"(duration: 0.01
+sweep:
+  name: bad
+  mode: run
+  matrix:
+    integrator: [euler, rk4, midpoint]
+    scenario: [sheet]
+    mesh: [3, 4]
+    dt: [0.001, 0.002]
+)";
+  write("bad.yaml", "scenario: {mass: \"\xff\"}\n" + matrix);
+  const Outcome bad_byte = run("--config bad.yaml --out results");
+  EXPECT_EQ(bad_byte.exit_code, 1) << bad_byte.err;
+  EXPECT_EQ(std::count(bad_byte.err.begin(), bad_byte.err.end(), '\n'), 1) << bad_byte.err;
+  EXPECT_NE(bad_byte.err.find("bad.yaml:1:18: scenario.mass = "), std::string::npos) << bad_byte.err;
+  EXPECT_EQ(bad_byte.out, "");
+  EXPECT_FALSE(fs::exists(file("results/bad.json")));
+
+  write("typo.yaml",
+        "plugin_params: {verlett: {damping: 0.5}}\nscenario: {rows: 3, cols: 3}\n" + matrix);
+  const Outcome typo = run("--config typo.yaml --out results");
+  EXPECT_EQ(typo.exit_code, 1) << typo.err;
+  EXPECT_NE(typo.err.find("typo.yaml:1:36: plugin_params.verlett.damping: no plugin has the id "
+                          "verlett; allowed ids: "),
+            std::string::npos)
+      << typo.err;
+
+  write("range.yaml", "scenario: {structural: {ks: -1}}\n" + matrix);
+  const Outcome range = run("--config range.yaml --out results");
+  EXPECT_EQ(range.exit_code, 1) << range.err;
+  EXPECT_NE(range.err.find("range.yaml:1:29: "), std::string::npos) << range.err;
+  EXPECT_FALSE(fs::exists(file("results")));
+}
+
+// Item 4: 64 two-valued axes wrapped the case count to 0 (exit 0, nothing checked), 20 took
+// 3.9 GB. The count is bounded while it is computed.
+TEST_F(ClothlabStability, AMatrixBeyondTheCaseLimitIsRefused) {
+  for (const int axes : {20, 64}) {
+    std::string yaml =
+        "duration: 0.01\nsweep:\n  name: big\n  matrix:\n    integrator: [rk4]\n"
+        "    dt: [0.001]\n";
+    for (int k = 0; k < axes; ++k) yaml += "    scenario.k" + std::to_string(k) + ": [1, 2]\n";
+    write("big.yaml", yaml);
+    const Outcome outcome = run("--config big.yaml --out results");
+    EXPECT_EQ(outcome.exit_code, 1) << outcome.err;
+    EXPECT_NE(outcome.err.find("big.yaml: sweep.matrix has more than 100000 cases (at axis "
+                               "scenario.k16); allowed: at most 100000"),
+              std::string::npos)
+        << outcome.err;
+  }
+}
+
+// Items 6 and 7: --set dt=0.002 --dt 0.001 took 0.002 silently; a value with a line break made
+// a two-line error; an unknown plugin in a config named no position.
+TEST_F(ClothlabStability, CommandLineAndConfigErrorsAreOneLineWithTheirSource) {
+  const Outcome conflict = run("--set dt=0.002 --dt 0.001 --steps 1");
+  EXPECT_EQ(conflict.exit_code, 1);
+  EXPECT_EQ(conflict.err,
+            "clothlab: error: --dt 0.001 conflicts with --set dt=0.002; allowed: one of them\n");
+  write("threads.yaml", "threads: \"a\\nb\"\nsteps: 1\n");
+  const Outcome threads = run("--config threads.yaml");
+  EXPECT_EQ(threads.exit_code, 1);
+  EXPECT_EQ(std::count(threads.err.begin(), threads.err.end(), '\n'), 1) << threads.err;
+  EXPECT_NE(threads.err.find("threads = a\\nb"), std::string::npos) << threads.err;
+  write("unknown.yaml", "integrator: nosuch\nsteps: 1\n");
+  const Outcome unknown = run("--config unknown.yaml");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.err.rfind("clothlab: error: unknown.yaml:1:13: integrator = nosuch: ", 0), 0u)
+      << unknown.err;
+  const Outcome many_threads = run("--threads 4096 --steps 1");
+  EXPECT_EQ(many_threads.exit_code, 1);
+  EXPECT_NE(
+      many_threads.err.find("--threads: threads = 4096: out of range; allowed: int in [0, 256]"),
+      std::string::npos)
+      << many_threads.err;
+}
+
 // Item 5 of issue 12: an output path naming a FIFO or device was replaced by a regular file,
 // and a bad output was found only after the work. Now it is refused before anything runs.
 TEST_F(ClothlabStability, AnOutputThatIsNotARegularFileIsRefusedBeforeTheRun) {

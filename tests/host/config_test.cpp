@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <clothlab/host/errors.hpp>
@@ -147,6 +148,46 @@ TEST(ConfigFile, PluginParamsAreKeptPerPluginId) {
 
 TEST(ConfigFile, MissingFileIsAnError) {
   EXPECT_THROW(read_config_file("/nonexistent/clothlab.yaml"), host::InputError);
+}
+
+std::string read_error(const fs::path& path) {
+  try {
+    read_config_file(path);
+  } catch (const host::InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// Items 4 and 7 of issue 12: --config /dev/zero read until out of memory, a FIFO blocked, a
+// folder gave "basic_filebuf::underflow" without the path.
+TEST(ConfigFile, OnlyARegularFileOfBoundedSizeIsRead) {
+  EXPECT_EQ(read_error("/dev/zero"),
+            "/dev/zero: is not a regular file (a FIFO or device); allowed: a YAML file");
+  const fs::path folder = fs::temp_directory_path() / ("clothlab_fifo_" + std::to_string(getpid()));
+  fs::create_directories(folder);
+  ASSERT_EQ(::mkfifo((folder / "fifo.yaml").c_str(), 0600), 0);
+  EXPECT_EQ(read_error(folder / "fifo.yaml"),
+            (folder / "fifo.yaml").string() +
+                ": is not a regular file (a FIFO or device); allowed: a YAML file");
+  EXPECT_EQ(read_error(folder), folder.string() + ": is a folder; allowed: a YAML file");
+  std::ofstream(folder / "big.yaml") << "# " << std::string(2 << 20, 'x') << "\n";
+  EXPECT_EQ(read_error(folder / "big.yaml"),
+            (folder / "big.yaml").string() + ": 2097155 bytes; allowed: at most 1 MiB");
+  fs::remove_all(folder);
+}
+
+TEST(ConfigFile, EmptyMapsSecondDocumentsAndComplexKeysAreErrors) {
+  const TempConfig empty_map("dt: {}\n");
+  EXPECT_EQ(
+      config_error(empty_map),
+      empty_map.at(1, 5) +
+          ": dt = {}: an empty map sets nothing; allowed: a value, a list or a map of settings");
+  const TempConfig second("dt: 0.001\n---\ndt: 0.002\n");
+  EXPECT_NE(config_error(second).find("a second YAML document"), std::string::npos);
+  const TempConfig complex_key("? [a, b]\n: 1\n");
+  EXPECT_EQ(config_error(complex_key),
+            complex_key.at(1, 3) + ": keys must be plain names; allowed: name: value");
 }
 
 CommandLine parse(std::vector<const char*> arguments) {

@@ -21,4 +21,25 @@ const char* status_name(clothlab_status status) {
   }
 }
 
+std::string one_line(std::string_view text) {
+  static constexpr char digits[] = "0123456789abcdef";
+  std::string line;
+  line.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      line += "\\n";
+    } else if (c == '\r') {
+      line += "\\r";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      line += "\\x";
+      line += digits[byte >> 4];
+      line += digits[byte & 15];
+    } else {
+      line += c;
+    }
+  }
+  return line;
+}
+
 }  // namespace clothlab::host

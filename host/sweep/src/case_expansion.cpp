@@ -57,8 +57,8 @@ void derive_views(CaseSpec& spec) {
       }
       spec.precision = setting.value;
     } else if (setting.key == "scenario.rows" || setting.key == "scenario.cols") {
-      if (!number || *number < 1 || *number != std::floor(*number) || *number > 100000) {
-        bad_setting(setting, "a whole number in [1, 100000]");
+      if (!number || *number < 1 || *number != std::floor(*number) || *number > 4096) {
+        bad_setting(setting, "a whole number in [1, 4096]");
       }
       (setting.key == "scenario.rows" ? spec.rows : spec.cols) = static_cast<uint32_t>(*number);
     } else if (setting.key == "dt") {
@@ -90,8 +90,15 @@ std::string CaseSpec::setting(const std::string& key) const {
 }
 
 std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
+  // Checked as it grows: 64 two-valued axes wrapped the product to 0.
   std::size_t total = 1;
-  for (const Axis& axis : spec.axes) total *= axis.values.size();
+  for (const Axis& axis : spec.axes) {
+    total *= axis.values.size();
+    if (total > max_cases)
+      throw SweepError(spec.source + ": sweep.matrix has more than " + std::to_string(max_cases) +
+                       " cases (at axis " + axis.key + "); allowed: at most " +
+                       std::to_string(max_cases));
+  }
   std::vector<CaseSpec> cases;
   cases.reserve(total);
   std::vector<std::size_t> digit(spec.axes.size(), 0);  // mixed-radix counter, last axis fastest

@@ -1,6 +1,7 @@
 #include "clothlab/sweep/sweep_runner.hpp"
 
 #include <chrono>
+#include <clothlab/host/errors.hpp>
 #include <exception>
 
 namespace clothlab::sweep {
@@ -45,7 +46,7 @@ SweepSummary run_sweep(const std::vector<CaseSpec>& cases, const CaseRunner& run
     } catch (const std::exception& error) {
       result = {};
       result.status = CaseStatus::Failed;
-      result.reason = error.what();
+      result.reason = host::one_line(error.what());
     } catch (...) {
       result = {};
       result.status = CaseStatus::Failed;

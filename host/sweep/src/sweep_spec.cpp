@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <clothlab/config/yaml_settings.hpp>
+#include <clothlab/host/errors.hpp>
 #include <clothlab/host/identifiers.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 
 #include "clothlab/sweep/sweep_error.hpp"
 
@@ -18,19 +18,12 @@ namespace clothlab::sweep {
 namespace {
 
 std::string location(const std::string& source, const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  if (mark.line < 0) return source;
-  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+  return config::location(source, node.Mark());
 }
 
 [[noreturn]] void fail(const std::string& source, const YAML::Node& node, const std::string& key,
                        const std::string& value, const std::string& allowed) {
   throw SweepError(location(source, node) + ": " + key + " = '" + value + "': allowed " + allowed);
-}
-
-std::string canonical_key(const std::string& key) {
-  if (key == "integrator" || key == "scenario") return key + ".plugin";
-  return key;
 }
 
 std::string scalar_text(const std::string& source, const YAML::Node& node, const std::string& key) {
@@ -44,21 +37,6 @@ std::string scalar_text(const std::string& source, const YAML::Node& node, const
     return text + "]";
   }
   fail(source, node, key, "(empty)", "a value or a list of plain values");
-}
-
-void flatten(const std::string& source, const YAML::Node& map, const std::string& prefix,
-             std::vector<Setting>& out) {
-  for (const auto& entry : map) {
-    const std::string name = entry.first.as<std::string>();
-    const std::string key = prefix.empty() ? name : prefix + "." + name;
-    if (prefix.empty() && (name == "sweep" || name == "slurm")) continue;
-    if (entry.second.IsMap()) {
-      flatten(source, entry.second, key, out);
-    } else {
-      out.push_back({canonical_key(key), scalar_text(source, entry.second, key),
-                     location(source, entry.second)});
-    }
-  }
 }
 
 double number(const std::string& source, const YAML::Node& node, const std::string& key, double low,
@@ -84,7 +62,7 @@ void for_each_key(const std::string& source, const YAML::Node& section, const st
                   const std::function<void(const std::string&, const YAML::Node&)>& visit) {
   if (!section.IsMap()) fail(source, section, name, "(not a map)", "a map of keys");
   for (const auto& entry : section) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = config::key_text(entry.first, source);
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
@@ -125,7 +103,7 @@ void check_axis_value(const std::string& source, const YAML::Node& node, const s
 }
 
 Axis read_axis(const std::string& source, const std::string& name, const YAML::Node& node) {
-  Axis axis{canonical_key(name), {}};
+  Axis axis{config::canonical_key(name), {}};
   const std::string key = "sweep.matrix." + name;
   if (node.IsScalar()) {
     axis.values.push_back({axis.key, node.Scalar(), location(source, node)});
@@ -356,46 +334,50 @@ void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std
 }
 
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& error) {
-    throw SweepError(source + ":" + std::to_string(error.mark.line + 1) + ":" +
-                     std::to_string(error.mark.column + 1) + ": YAML syntax error: " + error.msg);
-  }
+  return parse_sweep(config::load_yaml_text(yaml_text, source), source);
+}
+
+SweepSpec parse_sweep(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) fail(source, root, "(document)", "(not a map)", "a map of settings");
   const YAML::Node section = root["sweep"];
   if (!section) fail(source, root, "sweep", "(missing)", "a sweep: section");
   SweepSpec spec;
   spec.source = source;
-  flatten(source, root, "", spec.fixed);
+  // The one flattener checks the whole file (repeated keys, empty maps, bounds); the keys
+  // outside `sweep:` and `slurm:` are the fixed settings of every case.
+  for (Setting& setting : config::flatten_settings(root, source))
+    if (!setting.key.starts_with("sweep.") && !setting.key.starts_with("slurm."))
+      spec.fixed.push_back(std::move(setting));
   bool has_matrix = false;
-  for_each_key(
-      source, section, "sweep",
-      {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
-      [&](const std::string& key, const YAML::Node& value) {
-        if (key == "sweep.name") {
-          spec.name = scalar_text(source, value, key);
-          if (!host::is_plugin_id(spec.name)) fail(source, value, key, spec.name, "[a-z0-9_-]+");
-        } else if (key == "sweep.mode") {
-          spec.mode = read_mode(source, value);
-        } else if (key == "sweep.output") {
-          spec.output = scalar_text(source, value, key);
-          if (spec.output.empty()) fail(source, value, key, "", "a path without extension");
-        } else if (key == "sweep.matrix") {
-          has_matrix = true;
-          if (!value.IsMap()) fail(source, value, key, "(not a map)", "a map of key: [values]");
-          for (const auto& entry : value) {
-            spec.axes.push_back(read_axis(source, entry.first.as<std::string>(), entry.second));
-          }
-        } else if (key == "sweep.monitor") {
-          read_monitor(source, value, spec);
-        } else if (key == "sweep.work_precision") {
-          read_work_precision(source, value, spec);
-        } else {
-          read_stability(source, value, spec);
-        }
-      });
+  for_each_key(source, section, "sweep",
+               {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key == "sweep.name") {
+                   spec.name = scalar_text(source, value, key);
+                   if (!host::is_plugin_id(spec.name))
+                     fail(source, value, key, spec.name, "[a-z0-9_-]+");
+                 } else if (key == "sweep.mode") {
+                   spec.mode = read_mode(source, value);
+                 } else if (key == "sweep.output") {
+                   spec.output = scalar_text(source, value, key);
+                   if (spec.output.empty())
+                     fail(source, value, key, "", "a path without extension");
+                 } else if (key == "sweep.matrix") {
+                   has_matrix = true;
+                   if (!value.IsMap())
+                     fail(source, value, key, "(not a map)", "a map of key: [values]");
+                   for (const auto& entry : value) {
+                     spec.axes.push_back(
+                         read_axis(source, config::key_text(entry.first, source), entry.second));
+                   }
+                 } else if (key == "sweep.monitor") {
+                   read_monitor(source, value, spec);
+                 } else if (key == "sweep.work_precision") {
+                   read_work_precision(source, value, spec);
+                 } else {
+                   read_stability(source, value, spec);
+                 }
+               });
   if (spec.name.empty()) fail(source, section, "sweep.name", "(missing)", "[a-z0-9_-]+");
   if (!has_matrix) fail(source, section, "sweep.matrix", "(missing)", "a map of key: [values]");
   if (spec.output.empty()) spec.output = std::filesystem::path("results") / spec.name;
@@ -406,19 +388,15 @@ SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
 }
 
 SweepSpec load_sweep(const std::filesystem::path& path) {
-  std::ifstream stream(path);
-  if (!stream) throw SweepError(path.string() + ": cannot open sweep file");
-  std::stringstream text;
-  text << stream.rdbuf();
-  return parse_sweep(text.str(), path.string());
+  return parse_sweep(config::load_yaml_file(path), path.string());
 }
 
 bool is_sweep_file(const std::filesystem::path& path) {
   try {
-    const YAML::Node root = YAML::LoadFile(path.string());
+    const YAML::Node root = config::load_yaml_file(path);
     return root.IsMap() && root["sweep"];
-  } catch (const YAML::Exception&) {
-    return false;
+  } catch (const host::InputError&) {
+    return false;  // reading it as a single-run config reports the problem
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace clothlab::host {
 
@@ -30,6 +31,10 @@ class PluginError : public std::runtime_error {
  private:
   clothlab_status status_;
 };
+
+// The text with line breaks and other control bytes written as \n, \r, \xNN, so an error that
+// echoes a value (threads: "a\nb") stays one line.
+std::string one_line(std::string_view text);
 
 // "invalid argument", "numerical failure", ... for a status code.
 const char* status_name(clothlab_status status);

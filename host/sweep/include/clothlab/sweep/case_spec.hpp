@@ -37,8 +37,11 @@ struct CaseSpec {
   std::string setting(const std::string& key) const;
 };
 
-// Every combination of the matrix axes, first axis outermost. Throws SweepError for a fixed
-// setting with a bad value (dt, steps, duration, precision).
+// The most cases one sweep may expand to.
+inline constexpr std::size_t max_cases = 100000;
+
+// Every combination of the matrix axes, first axis outermost. Throws SweepError for more
+// than max_cases cases or a fixed setting with a bad value (dt, steps, duration, precision).
 std::vector<CaseSpec> expand_cases(const SweepSpec& spec);
 
 // The case with one axis replaced (or added): settings, coordinates, views and key follow.

@@ -1,13 +1,14 @@
 // Bad sweep input: a one-line message naming source, key, value and what is allowed.
 #pragma once
 
-#include <stdexcept>
+#include <clothlab/host/errors.hpp>
 
 namespace clothlab::sweep {
 
-class SweepError : public std::runtime_error {
+// An InputError: the program reports it as bad input (exit code 1).
+class SweepError : public host::InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using host::InputError::InputError;
 };
 
 }  // namespace clothlab::sweep

@@ -30,6 +30,7 @@
 
 #include <clothlab/analysis/find_max_dt.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
+#include <clothlab/config/setting.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -37,17 +38,17 @@
 #include <string>
 #include <vector>
 
+namespace YAML {
+class Node;
+}
+
 namespace clothlab::sweep {
 
 enum class SweepMode { Run, WorkPrecision, Stability };
 const char* to_string(SweepMode mode);
 
 // One setting as a single run would see it: "scenario.structural.ks" = "20".
-struct Setting {
-  std::string key;
-  std::string value;
-  std::string source;  // "file:line:column"
-};
+using Setting = config::Setting;
 
 // A matrix axis: a setting key and the values it takes, in file order.
 struct Axis {
@@ -91,8 +92,9 @@ struct SweepSpec {
 void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
                          const std::string& source);
 
-// Parses YAML text; `source` names it in messages. Throws SweepError.
+// Parses YAML text; `source` names it in messages. Throws SweepError (an InputError).
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source);
+SweepSpec parse_sweep(const YAML::Node& root, const std::string& source);
 // Reads and parses a file. Throws SweepError.
 SweepSpec load_sweep(const std::filesystem::path& path);
 // Whether a YAML file has a `sweep:` section (so it is a sweep, not a single run).

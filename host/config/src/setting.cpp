@@ -1,8 +1,8 @@
-#include "settings.hpp"
+#include "clothlab/config/setting.hpp"
 
 #include <clothlab/host/errors.hpp>
 
-namespace clothlab::cli {
+namespace clothlab::config {
 
 std::string canonical_key(const std::string& key) {
   if (key == "integrator" || key == "scenario") return key + ".plugin";
@@ -22,4 +22,4 @@ void check_one_length(const std::vector<Setting>& layer, const std::string& laye
                            " in the " + layer_name + "; allowed: steps or duration, not both");
 }
 
-}  // namespace clothlab::cli
+}  // namespace clothlab::config
