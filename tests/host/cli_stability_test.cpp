@@ -163,6 +163,41 @@ TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
   EXPECT_EQ(lines, 5);
 }
 
+// The rows without the columns that measure time (they differ from run to run).
+nlohmann::json without_timings(nlohmann::json document) {
+  for (auto& row : document["rows"])
+    for (const char* timing : {"wall_time_s", "ms_per_step", "ms_per_step_p90",
+                               "springs_per_second", "real_time_factor"})
+      row.erase(timing);
+  return document;
+}
+
+TEST_F(ClothlabStability, ShardsMergedByClothlabMergeEqualAnUnshardedRun) {
+  write("four.yaml", four_case_sweep);
+  ASSERT_EQ(run("--config four.yaml --out whole").exit_code, 0);
+  for (const char* shard : {"2/3", "1/3", "3/3"}) {
+    const Outcome part = run(std::string("--config four.yaml --out parts --shard ") + shard);
+    ASSERT_EQ(part.exit_code, 0) << part.err;
+    EXPECT_NE(part.out.find("clothlab merge parts/four"), std::string::npos) << part.out;
+  }
+  EXPECT_FALSE(fs::exists(file("parts/four.csv")));  // shards write only their stores
+  const Outcome merged = run_without_builtin_path("merge parts/four");
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(merged.out,
+            "merged 3 shards of parts/four: 4 rows\n  results: parts/four.csv, "
+            "parts/four.json\n");
+  const auto whole = read_json(file("whole/four.json")), parts = read_json(file("parts/four.json"));
+  ASSERT_EQ(parts["rows"].size(), 4u);
+  EXPECT_EQ(without_timings(parts), without_timings(whole));
+  // A shard missing: merge says which, in one line, exit 1.
+  fs::remove(file("parts/four.shard-2-of-3.sqlite"));
+  const Outcome incomplete = run_without_builtin_path("merge parts/four");
+  EXPECT_EQ(incomplete.exit_code, 1);
+  EXPECT_EQ(incomplete.err,
+            "clothlab: error: parts/four.shard-2-of-3.sqlite: missing; run shard "
+            "2/3\n");
+}
+
 TEST_F(ClothlabStability, SweepResumeAfterAConfigEditIsRefusedNamingWhatChanged) {
   write("four.yaml", four_case_sweep);
   ASSERT_EQ(run("--config four.yaml --out results").exit_code, 0);
@@ -290,7 +325,8 @@ sweep:
   const Outcome bad_byte = run("--config bad.yaml --out results");
   EXPECT_EQ(bad_byte.exit_code, 1) << bad_byte.err;
   EXPECT_EQ(std::count(bad_byte.err.begin(), bad_byte.err.end(), '\n'), 1) << bad_byte.err;
-  EXPECT_NE(bad_byte.err.find("bad.yaml:1:18: scenario.mass = "), std::string::npos) << bad_byte.err;
+  EXPECT_NE(bad_byte.err.find("bad.yaml:1:18: scenario.mass = "), std::string::npos)
+      << bad_byte.err;
   EXPECT_EQ(bad_byte.out, "");
   EXPECT_FALSE(fs::exists(file("results/bad.json")));
 
