@@ -81,7 +81,8 @@ TEST_P(Convergence, DampedOscillatorShowsTheDeclaredOrder) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIntegrators, Convergence,
-                         testing::Values("euler", "midpoint", "rk4", "verlet"));
+                         testing::Values("euler", "midpoint", "rk4", "verlet"),
+                         integrator_id_name<std::string>);
 
 }  // namespace
 }  // namespace clothlab::test

@@ -52,7 +52,8 @@ TEST_P(ExactFreeFall, MatchesTheParabolaToRoundOff) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SecondOrderAndAbove, ExactFreeFall,
-                         testing::Values("midpoint", "rk4", "verlet"));
+                         testing::Values("midpoint", "rk4", "verlet"),
+                         integrator_id_name<std::string>);
 
 TEST(EulerFreeFall, ErrorIsExactlyHalfGTimesTDt) {
   for (const double dt : {0.01, 0.005}) {

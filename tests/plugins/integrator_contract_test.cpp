@@ -225,7 +225,8 @@ TEST_P(IntegratorContract, RejectsAWrongNumberOfParameterValues) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIntegrators, IntegratorContract,
-                         testing::Values("euler", "midpoint", "rk4", "verlet"));
+                         testing::Values("euler", "midpoint", "rk4", "verlet"),
+                         integrator_id_name<std::string>);
 
 TEST(VerletParameters, OutOfRangeValuesAreRejectedByName) {
   const double nan = std::numeric_limits<double>::quiet_NaN();

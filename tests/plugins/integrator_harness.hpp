@@ -12,6 +12,12 @@
 
 namespace clothlab::test {
 
+// The test name suffix of a test parameterised by integrator id: "/rk4", stable across builds.
+template <class Id>
+std::string integrator_id_name(const ::testing::TestParamInfo<Id>& info) {
+  return std::string(info.param);
+}
+
 // Paths of the built plugins, passed in by CMake.
 inline std::string integrator_path(const std::string& id) {
   if (id == "euler") return CLOTHLAB_TEST_EULER_PLUGIN;

@@ -1,0 +1,22 @@
+# Fails when a CTest name could change from build to build: a parameter printed as bytes or a
+# pointer, a build path, or a bare index instead of a name generator's suffix.
+execute_process(COMMAND "${CTEST}" -N --test-dir "${BUILD_DIR}" OUTPUT_VARIABLE listing
+                RESULT_VARIABLE status)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "ctest -N failed (${status})")
+endif()
+string(REPLACE "\n" ";" lines "${listing}")
+set(unstable "")
+foreach(line IN LISTS lines)
+  if(line MATCHES "Test +#[0-9]+: (.*)$")
+    set(name "${CMAKE_MATCH_1}")
+    if(name MATCHES "GetParam|byte object|(^|[^0-9])0x[0-9a-fA-F]+|/work/|/tmp/|/[0-9]+$")
+      list(APPEND unstable "${name}")
+    endif()
+  endif()
+endforeach()
+list(LENGTH unstable count)
+if(count GREATER 0)
+  list(JOIN unstable "\n  " shown)
+  message(FATAL_ERROR "${count} unstable test names:\n  ${shown}")
+endif()
