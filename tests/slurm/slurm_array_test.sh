@@ -2,7 +2,8 @@
 # A sweep of 200 cases as a Slurm job array on a single-node Slurm started for this test:
 # munged, slurmctld and slurmd on localhost (no cgroups, no accounting), all state in a
 # temporary folder. Checks that the merged results equal a local run's, that --resume
-# submits only a shard whose results are missing, and shuts everything down on every exit.
+# submits only a shard whose results are missing, that --no-wait and `clothlab merge` give the
+# same rows, and shuts everything down on every exit.
 # Needs root and Debian's slurmctld slurmd slurm-client munge (tools/install-deps.sh); without
 # them it is skipped (exit 77), or fails when CLOTHLAB_REQUIRE_SLURM=1 (CI).
 # Usage: slurm_array_test.sh CLOTHLAB SWEEP_YAML SAME_RESULTS_PY
@@ -112,4 +113,13 @@ rm slurm/slurm-200.shard-3-of-4.sqlite* slurm/slurm-200.csv slurm/slurm-200.json
 "$clothlab" --config sweep.yaml --out slurm --slurm --set slurm.tasks=4 --resume | tee resume.txt
 grep -q "1 of 4 shard tasks submitted (--array=3)" resume.txt
 python3 "$same_results" local/slurm-200 slurm/slurm-200
+
+# --no-wait returns once submitted; `clothlab merge` joins the shards when the queue is empty.
+"$clothlab" --config sweep.yaml --out nowait --slurm --set slurm.tasks=5 --no-wait
+for _ in $(seq 120); do
+  [ -z "$(squeue -h -o %i)" ] && break
+  sleep 0.5
+done
+"$clothlab" merge nowait/slurm-200
+python3 "$same_results" local/slurm-200 nowait/slurm-200
 echo "slurm test: passed"
