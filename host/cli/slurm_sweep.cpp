@@ -10,7 +10,6 @@
 #include <clothlab/sweep/shard.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <set>

@@ -156,8 +156,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     }
     std::optional<sweep::Shard> shard;
     if (request.shard) shard = sweep::parse_shard(*request.shard, "--shard");
-    // A reference, not a copy: every byte the sweep holds is copied into the page tables of
-    // each case's child, so the parent stays as small as it can.
+    // A reference, not a copy: each case's fork copies the page tables of all the memory the
+    // parent holds, so the parent stays as small as it can.
     const std::vector<sweep::CaseSpec> shard_part =
         shard ? sweep::shard_cases(all_cases, *shard) : std::vector<sweep::CaseSpec>{};
     const std::vector<sweep::CaseSpec>& cases = shard ? shard_part : all_cases;
