@@ -43,17 +43,18 @@ TEST(SweepRunner, DivergenceAndExceptionsAreResultsNotAborts) {
   EXPECT_EQ(summary.stable, 3u);
   EXPECT_EQ(summary.unstable, 2u);
   EXPECT_EQ(summary.failed, 1u);
-  ASSERT_EQ(store.rows().size(), 6u);
-  const Row& failed = store.rows()[3];
+  const std::vector<Row> rows = store.rows();
+  ASSERT_EQ(rows.size(), 6u);
+  const Row& failed = rows[3];
   EXPECT_EQ(failed["key"], "integrator=rk4;dt=0.001");
   EXPECT_EQ(failed["status"], "failed");
   EXPECT_EQ(failed["reason"], "plugin exploded");
-  const Row& unstable = store.rows()[2];
+  const Row& unstable = rows[2];
   EXPECT_EQ(unstable["stable"], false);
   EXPECT_EQ(unstable["fail_step"], 42);
   EXPECT_EQ(unstable["check"], "stretch");
-  EXPECT_EQ(store.rows()[0]["ms_per_step"], 0.5);
-  EXPECT_EQ(store.rows()[0]["integrator"], "euler");
+  EXPECT_EQ(rows[0]["ms_per_step"], 0.5);
+  EXPECT_EQ(rows[0]["integrator"], "euler");
 }
 
 TEST(SweepRunner, StoreHoldsEveryFinishedCaseAndResumeSkipsDoneCases) {

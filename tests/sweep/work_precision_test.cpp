@@ -49,13 +49,6 @@ struct FakeIntegrators {
   }
 };
 
-const Row* find_row(const ResultsStore& store, const std::string& key) {
-  for (const Row& row : store.rows()) {
-    if (row["key"] == key) return &row;
-  }
-  return nullptr;
-}
-
 // Both cases need the same reference: each shard computes it, the merge keeps it once, where
 // the unsharded run wrote it (before the first case's ladder).
 TEST(WorkPrecision, MergedShardsExportTheSameFilesAsAnUnshardedRun) {
@@ -96,8 +89,8 @@ TEST(WorkPrecision, LaddersFitTheKnownOrdersAndReportTheReference) {
   EXPECT_EQ(summary.runs, 10u);
   EXPECT_EQ(fake.calls, 12);
 
-  const Row* reference = find_row(store, "work-precision;reference;scenario=sheet");
-  ASSERT_NE(reference, nullptr);
+  const std::optional<Row> reference = store.find("work-precision;reference;scenario=sheet");
+  ASSERT_TRUE(reference.has_value());
   const double h = 0.000625 / 16.0;
   const double difference = 5.0 * (std::pow(h, 4) - std::pow(h / 2.0, 4));
   EXPECT_NEAR((*reference)["reference_difference"].get<double>(),
@@ -105,16 +98,17 @@ TEST(WorkPrecision, LaddersFitTheKnownOrdersAndReportTheReference) {
   EXPECT_DOUBLE_EQ((*reference)["reference_dt"].get<double>(), h / 2.0);
   EXPECT_DOUBLE_EQ((*reference)["T"].get<double>(), kDuration);
 
-  const Row* diverged =
-      find_row(store, "work-precision;ladder;integrator=euler;scenario=sheet;dt=0.01");
-  ASSERT_NE(diverged, nullptr);
+  const std::optional<Row> diverged =
+      store.find("work-precision;ladder;integrator=euler;scenario=sheet;dt=0.01");
+  ASSERT_TRUE(diverged.has_value());
   EXPECT_TRUE((*diverged)["error"].is_null());
   EXPECT_EQ((*diverged)["status"], "unstable");
 
-  const Row* euler = find_row(store, "work-precision;fit;integrator=euler;scenario=sheet");
-  const Row* midpoint = find_row(store, "work-precision;fit;integrator=midpoint;scenario=sheet");
-  ASSERT_NE(euler, nullptr);
-  ASSERT_NE(midpoint, nullptr);
+  const std::optional<Row> euler = store.find("work-precision;fit;integrator=euler;scenario=sheet");
+  const std::optional<Row> midpoint =
+      store.find("work-precision;fit;integrator=midpoint;scenario=sheet");
+  ASSERT_TRUE(euler.has_value());
+  ASSERT_TRUE(midpoint.has_value());
   EXPECT_NEAR((*euler)["order"].get<double>(), 1.0, 1e-3);
   EXPECT_EQ((*euler)["fit_points"], 4);  // the diverged step is not fitted
   EXPECT_NEAR((*midpoint)["order"].get<double>(), 2.0, 1e-3);
@@ -159,14 +153,15 @@ TEST(WorkPrecision, SelfReferencedIntegratorsGetTheirOwnReference) {
       spec, expand_cases(spec), [&](const CaseSpec& c) { return fake(c); }, store, nullptr);
   EXPECT_EQ(summary.references, 2u);
   EXPECT_EQ(fake.calls, 14);
-  const Row* own = find_row(store, "work-precision;reference;scenario=sheet;integrator=midpoint");
-  ASSERT_NE(own, nullptr);
+  const std::optional<Row> own =
+      store.find("work-precision;reference;scenario=sheet;integrator=midpoint");
+  ASSERT_TRUE(own.has_value());
   EXPECT_EQ((*own)["reference_integrator"], "midpoint");
   EXPECT_TRUE((*own)["reference_error_estimate"].is_null());
   // Against itself at dt_ref the error is 5 (dt^2 - dt_ref^2) / sqrt(2) / diagonal.
-  const Row* ladder =
-      find_row(store, "work-precision;ladder;integrator=midpoint;scenario=sheet;dt=0.01");
-  ASSERT_NE(ladder, nullptr);
+  const std::optional<Row> ladder =
+      store.find("work-precision;ladder;integrator=midpoint;scenario=sheet;dt=0.01");
+  ASSERT_TRUE(ladder.has_value());
   const double h = 0.000625 / 16.0 / 2.0;
   EXPECT_NEAR((*ladder)["error"].get<double>(), 5.0 * (1e-4 - h * h) / std::sqrt(2.0) / kDiagonal,
               1e-15);

@@ -12,7 +12,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <numeric>
 #include <sstream>
 
 #include "clothlab/sweep/case_result.hpp"
@@ -85,15 +84,6 @@ int take_writer_lock(const std::filesystem::path& lock_path,
   const bool pid_written = ::ftruncate(fd, 0) == 0 && ::pwrite(fd, pid.data(), pid.size(), 0) > 0;
   static_cast<void>(pid_written);
   return fd;
-}
-
-// Every row's export order: by case index, then by when it was stored.
-std::vector<std::size_t> case_order(const std::vector<std::size_t>& case_indices) {
-  std::vector<std::size_t> order(case_indices.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return case_indices[a] < case_indices[b]; });
-  return order;
 }
 
 std::string csv_field(const nlohmann::ordered_json& value) {
@@ -173,14 +163,9 @@ ResultsStore::ResultsStore(std::filesystem::path base, bool resume, const Finger
                          ": cannot resume: the sweep changed since these results were written: " +
                          changes + "; run without --resume to replace them, or use another --out");
       metadata_ = nlohmann::ordered_json::parse(meta.at("metadata"));
-      SqliteStatement select =
-          database_->prepare("SELECT case_index, key, row FROM rows ORDER BY seq");
-      while (select.step()) {
-        keys_.insert(select.text(1));
-        case_indices_.push_back(static_cast<std::size_t>(select.integer(0)));
-        rows_.push_back(Row::parse(select.text(2)));
-      }
-      resumed_ = rows_.size();
+      SqliteStatement select = database_->prepare("SELECT key FROM rows");
+      while (select.step()) keys_.insert(select.text(0));
+      resumed_ = keys_.size();
       write_meta(*database_, "complete", "0");
     } else {
       // WAL: readers (merge, progress) never block the writer; NORMAL: a commit is one write
@@ -234,16 +219,31 @@ void ResultsStore::append(Row row, std::size_t case_index) {
       .bind(3, row.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   insert_->run();
   keys_.insert(key);
-  case_indices_.push_back(case_index);
-  rows_.push_back(std::move(row));
+}
+
+std::vector<Row> ResultsStore::rows() const {
+  return select_rows("SELECT row FROM rows ORDER BY seq");
+}
+
+std::optional<Row> ResultsStore::find(const std::string& key) const {
+  if (!keys_.count(key)) return std::nullopt;
+  SqliteStatement select = database_->prepare("SELECT row FROM rows WHERE key = ?");
+  select.bind(1, key);
+  if (!select.step()) return std::nullopt;
+  return Row::parse(select.text(0));
+}
+
+std::vector<Row> ResultsStore::select_rows(const std::string& sql) const {
+  std::vector<Row> rows;
+  SqliteStatement select = database_->prepare(sql);
+  while (select.step()) rows.push_back(Row::parse(select.text(0)));
+  return rows;
 }
 
 void ResultsStore::mark_complete() { write_meta(*database_, "complete", "1"); }
 
 void ResultsStore::write_exports() const {
-  std::vector<Row> ordered;
-  ordered.reserve(rows_.size());
-  for (std::size_t i : case_order(case_indices_)) ordered.push_back(rows_[i]);
+  const std::vector<Row> ordered = select_rows("SELECT row FROM rows ORDER BY case_index, seq");
   io::write_file_atomically(json_path_, rows_to_json(metadata_, ordered));
   io::write_file_atomically(csv_path_, rows_to_csv(ordered));
 }

@@ -107,7 +107,7 @@ MergeSummary merge_shards(const std::filesystem::path& base) {
     if (!merged.contains((*row)["key"].get<std::string>())) merged.append(*row, case_index);
   merged.mark_complete();
   merged.write_exports();
-  return {count, merged.rows().size()};
+  return {count, merged.size()};
 }
 
 }  // namespace clothlab::sweep

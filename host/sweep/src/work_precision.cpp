@@ -156,11 +156,10 @@ Row fit_row(const CaseSpec& c, const ResultsStore& store, const WorkPrecisionSet
   std::vector<double> dts, errors;
   for (int level = 0; level < wp.levels; ++level) {
     const std::string key = ladder_key(c, ladder_dt(wp, level));
-    for (const Row& row : store.rows()) {
-      if (row["key"] == key && row["error"].is_number()) {
-        dts.push_back(row["dt"].get<double>());
-        errors.push_back(row["error"].get<double>());
-      }
+    const std::optional<Row> row = store.find(key);
+    if (row && (*row)["error"].is_number()) {
+      dts.push_back((*row)["dt"].get<double>());
+      errors.push_back((*row)["error"].get<double>());
     }
   }
   const analysis::OrderFit fit = analysis::fit_order(dts, errors);

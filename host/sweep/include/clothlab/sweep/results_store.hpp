@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -47,8 +48,12 @@ class ResultsStore {
 
   void set_metadata(const nlohmann::ordered_json& metadata);
   bool contains(const std::string& key) const;
-  // In the order they were stored (resumed rows first).
-  const std::vector<Row>& rows() const { return rows_; }
+  // Read back from the database: only the keys are held in memory, because every case's fork
+  // copies the page tables of all the memory this process holds.
+  // All rows in the order they were stored (resumed rows first).
+  std::vector<Row> rows() const;
+  std::optional<Row> find(const std::string& key) const;
+  std::size_t size() const { return keys_.size(); }
   std::size_t resumed_rows() const { return resumed_; }
 
   // Stores a row (its "key" must be new) for the case at case_index of the expanded sweep.
@@ -56,7 +61,7 @@ class ResultsStore {
   void append(Row row, std::size_t case_index);
   // Records that every case this store was meant to hold has its row (merge checks it).
   void mark_complete();
-  // Writes <base>.csv and <base>.json atomically (clothlab/io) from the rows held, in case
+  // Writes <base>.csv and <base>.json atomically (clothlab/io) from the stored rows, in case
   // order. Throws io::WriteError when they cannot be written.
   void write_exports() const;
 
@@ -66,10 +71,10 @@ class ResultsStore {
   std::unique_ptr<SqliteDatabase> database_;
   std::unique_ptr<SqliteStatement> insert_;
   nlohmann::ordered_json metadata_ = nlohmann::ordered_json::object();
-  std::vector<Row> rows_;
-  std::vector<std::size_t> case_indices_;  // beside rows_
   std::unordered_set<std::string> keys_;
   std::size_t resumed_ = 0;
+
+  std::vector<Row> select_rows(const std::string& sql) const;
 };
 
 // A store read back without taking its lock (merge, progress of running shards).
