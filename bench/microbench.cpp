@@ -59,8 +59,7 @@ void fast_forces(benchmark::State& state, const std::string& scenario, bool with
   const clothlab_system& system = cloth.system();
   AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
   for (auto _ : state) {
-    system.eval_acceleration(system.context, 0.0, system.x, damped ? system.v : nullptr,
-                             a.get());
+    system.eval_acceleration(system.context, 0.0, system.x, damped ? system.v : nullptr, a.get());
     benchmark::ClobberMemory();
   }
   set_rates(state, with_springs ? cloth.springs().total() : 0);
@@ -105,7 +104,8 @@ void fast_step(benchmark::State& state, const std::string& id) {
   }
   const double evals_per_step = static_cast<double>(cloth.counters().force_evals - evals_before) /
                                 static_cast<double>(state.iterations());
-  set_rates(state, static_cast<uint64_t>(evals_per_step * static_cast<double>(cloth.springs().total())));
+  set_rates(state,
+            static_cast<uint64_t>(evals_per_step * static_cast<double>(cloth.springs().total())));
   state.counters["real_time_factor"] =
       benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -131,6 +131,28 @@ void reference_euler_step(benchmark::State& state) {
       benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A step of `id` on a sheet of rows x cols particles, one thread: a tall and a wide strip of the
+// same springs cost the same (the pipeline streams rows; a one-column grid goes as one row).
+void strip_step(benchmark::State& state, const std::string& id) {
+  const auto rows = static_cast<uint32_t>(state.range(0));
+  const auto cols = static_cast<uint32_t>(state.range(1));
+  const Scene scene =
+      make_scene("sheet", {{"rows", std::to_string(rows)}, {"cols", std::to_string(cols)}});
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{integrator_uses_velocity_forces(id), 1});
+  BoundIntegrator integrator(id, cloth);
+  double t = 0.0;
+  for (auto _ : state) {
+    integrator.step(t, 1e-4);
+    t += 1e-4;
+  }
+  state.counters["springs_per_s"] = benchmark::Counter(
+      static_cast<double>(cloth.springs().total()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void strips(benchmark::internal::Benchmark* benchmark) {
+  benchmark->Args({4096, 1})->Args({1, 4096})->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+
 void sizes(benchmark::internal::Benchmark* benchmark) {
   for (int side : kSides) benchmark->Arg(side);
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -152,6 +174,8 @@ BENCHMARK_CAPTURE(fast_step, verlet, std::string("verlet"))->Apply(sizes);
 BENCHMARK_CAPTURE(fast_step, midpoint, std::string("midpoint"))->Apply(sizes);
 BENCHMARK_CAPTURE(fast_step, rk4, std::string("rk4"))->Apply(sizes);
 BENCHMARK(reference_euler_step)->Apply(sizes);
+BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
+BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);
 
 }  // namespace
 }  // namespace clothlab::bench

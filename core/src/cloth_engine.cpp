@@ -8,14 +8,27 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "vector_kernels.hpp"
 
 namespace clothlab::detail {
 namespace {
 
-constexpr std::size_t kChunk = 2048;         // particles per thread work item
-constexpr std::size_t kParallelFrom = 4096;  // smaller clouds run on the calling thread
+// The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings).
+// A one-column grid is stored exactly as the one-row grid it turns into by a quarter turn
+// (particle r at index r either way), so it is handed over as that row: one long row instead of
+// `rows` rows of one particle (4096x1 was 27x slower than 1x4096, docs/performance.md).
+Scene pipeline_scene(const Scene& scene) {
+  if (scene.cols != 1 || scene.rows == 1) return scene;
+  Scene turned = scene;
+  std::swap(turned.rows, turned.cols);
+  std::swap(turned.width, turned.height);
+  std::swap(turned.col_axis, turned.row_axis);
+  return turned;
+}
+
+constexpr std::size_t kChunk = 2048;  // particles per thread work item
 
 std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
@@ -58,7 +71,7 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     }
   }
   threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
-  parallel_ = threads_ > 1 && n_ >= kParallelFrom;
+  parallel_ = threads_ > 1 && n_ >= parallel_from_particles;
   if (parallel_) {
     // Start the thread team now: its first start allocates, which a step must not do.
 #pragma omp parallel num_threads(threads_)
@@ -94,8 +107,9 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     active_particles_ += range.end - range.begin;
   }
 
-  forces_ = std::make_unique<ForcePipeline<Real>>(scene, stride_, inverse_mass_.data(),
-                                                  options.velocity_forces, threads_, parallel_);
+  forces_ =
+      std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
+                                            options.velocity_forces, threads_, parallel_);
 
   system_.struct_size = sizeof(clothlab_system);
   system_.precision = sizeof(Real) == sizeof(float) ? CLOTHLAB_FLOAT32 : CLOTHLAB_FLOAT64;

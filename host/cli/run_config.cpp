@@ -55,6 +55,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   bool length_is_duration = true;
   double duration = 2.0;
   std::optional<Setting> duration_setting;
+  std::string bracket_source = "default find_max_dt bracket";  // the last of dt_min, dt_max set
   for (const Setting& setting : settings) {
     const std::string& key = setting.key;
     if (key == "integrator.plugin" || key == "scenario.plugin") {
@@ -95,8 +96,10 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
       config.search_tolerance = read_number(setting, CLOTHLAB_PARAM_REAL, 1e-6, 1.0, "");
     } else if (key == "find_max_dt.dt_min") {
       config.search_dt_min = read_positive(setting, max_dt_s);
+      bracket_source = setting.source;
     } else if (key == "find_max_dt.dt_max") {
       config.search_dt_max = read_positive(setting, max_dt_s);
+      bracket_source = setting.source;
     } else if (starts_with(key, "integrator.")) {
       config.integrator_params.push_back({key.substr(11), setting.value, setting.source});
     } else if (starts_with(key, "scenario.")) {
@@ -127,7 +130,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   }
   if (config.search_dt_min >= config.search_dt_max)
     throw host::InputError(
-        "find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
+        bracket_source + ": find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
         " s is not below find_max_dt.dt_max = " + host::format_number(config.search_dt_max) +
         " s; allowed: dt_min < dt_max");
   return config;

@@ -58,6 +58,39 @@ Verdict grid_runs(const clothlab_integrator& integrator, uint32_t rows, uint32_t
   return {true, std::to_string(grid_steps) + " steps, finite"};
 }
 
+// The header allows rebinding: an instance prepared on one system, then on another, steps the
+// second exactly as a fresh instance would.
+Verdict prepare_twice(const clothlab_integrator& integrator) {
+  const Precision precision = preferred_precision(integrator);
+  const Scene scene = sheet_scene(4, 5, true);
+  const State fresh = simulate(integrator, scene, precision, 1, grid_steps, step_size);
+  Cloth first(sheet_scene(3, 3), precision, pipeline_for(integrator));
+  Cloth second(scene, precision, pipeline_for(integrator));
+  IntegratorInstance instance(integrator, defaults_of(integrator));
+  instance.prepare(first);
+  instance.run(first, 3, step_size);
+  instance.prepare(second);
+  instance.run(second, grid_steps, step_size);
+  require(state_of(second) == fresh,
+          "after a second prepare the instance steps differently from a fresh one");
+  return {true, "a rebound instance matches a fresh one bit for bit"};
+}
+
+// evals_per_step is what hosts budget by (work-precision plots count it): it must be exact.
+Verdict declared_evaluations(const clothlab_integrator& integrator) {
+  Cloth cloth(sheet_scene(4, 5, true), preferred_precision(integrator), pipeline_for(integrator));
+  IntegratorInstance instance(integrator, defaults_of(integrator));
+  instance.prepare(cloth);
+  cloth.reset_counters();
+  constexpr int steps = 10;
+  instance.run(cloth, steps, step_size);
+  const uint64_t made = cloth.counters().force_evals;
+  require(made == uint64_t{steps} * integrator.evals_per_step,
+          std::to_string(made) + " force evaluations in " + std::to_string(steps) +
+              " steps; declared evals_per_step " + std::to_string(integrator.evals_per_step));
+  return {true, std::to_string(made) + " evaluations in " + std::to_string(steps) + " steps"};
+}
+
 bool supports(const clothlab_integrator& integrator, uint32_t precision) {
   return (integrator.precisions & (1u << precision)) != 0;
 }
@@ -70,6 +103,8 @@ std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator) {
       {c->id, "lifecycle.repeat", [c] { return repeated_lifecycle(*c); }},
       {c->id, "lifecycle.zero-steps", [c] { return zero_steps(*c); }},
       {c->id, "lifecycle.dt-zero", [c] { return zero_dt(*c); }},
+      {c->id, "lifecycle.prepare-twice", [c] { return prepare_twice(*c); }},
+      {c->id, "lifecycle.evals-per-step", [c] { return declared_evaluations(*c); }},
   };
   const std::pair<uint32_t, uint32_t> grids[] = {{1, 1}, {2, 1}, {1, 7}, {3, 3}, {64, 48}};
   for (auto [rows, cols] : grids) {

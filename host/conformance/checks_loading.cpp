@@ -32,31 +32,37 @@ Verdict opens(const std::string& path) {
 Verdict abi_version_accepted(const std::string& path) {
   const PluginLibrary library(path);
   const clothlab_abi_version version = library.descriptor()->abi_version;
-  require(abi_accepted(version), "built for ABI " + to_string(version) + "; this host accepts " +
-                                     std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
+  require(host::abi_refusal(version).empty(),
+          "built for ABI " + to_string(version) + "; this host accepts " +
+              std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
   return {true, "ABI " + to_string(version)};
 }
 
-// The host's gate, applied to copies of this plugin's descriptor with edited versions.
+// The real loader's gate (host::descriptor_refusal, what PluginLibrary::load applies), applied
+// to copies of this plugin's descriptor with edited versions.
 Verdict abi_policy(const std::string& path) {
   const PluginLibrary library(path);
   // A descriptor of another major may have another layout: copy only its version then.
   const clothlab_plugin_descriptor& original = *library.descriptor();
   clothlab_plugin_descriptor copy{};
   copy.abi_version = original.abi_version;
-  if (abi_accepted(original.abi_version)) copy = original;
-  copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR + 1, 0};
-  require(!abi_accepted(copy.abi_version),
-          "a newer major " + to_string(copy.abi_version) + " is accepted");
-  copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR - 1, 0};
-  require(!abi_accepted(copy.abi_version),
-          "an older major " + to_string(copy.abi_version) + " is accepted");
+  const bool same_major = host::abi_refusal(original.abi_version).empty();
+  if (same_major) copy = original;
+  for (const clothlab_abi_version other :
+       {clothlab_abi_version{CLOTHLAB_ABI_VERSION_MAJOR + 1, 0},
+        clothlab_abi_version{CLOTHLAB_ABI_VERSION_MAJOR - 1, CLOTHLAB_ABI_VERSION_MINOR}}) {
+    copy.abi_version = other;
+    require(!host::descriptor_refusal(copy).empty(),
+            "the host loader accepts major " + to_string(other));
+  }
+  if (!same_major) return {true, "other majors refused (this plugin's own layout is not read)"};
   for (uint32_t minor = 0; minor <= CLOTHLAB_ABI_VERSION_MINOR + 1; ++minor) {
     copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR, minor};
-    require(abi_accepted(copy.abi_version),
-            "minor version " + to_string(copy.abi_version) + " of the same major is refused");
+    const std::string refusal = host::descriptor_refusal(copy);
+    require(refusal.empty(), "the host loader refuses minor version " +
+                                 to_string(copy.abi_version) + ": " + refusal);
   }
-  return {true, ""};
+  return {true, "the host loader refuses other majors and accepts every minor"};
 }
 
 // The real host's loader (Boost.DLL, its own descriptor checks) accepts the library.

@@ -149,11 +149,34 @@ Verdict repeatable(const clothlab_integrator& integrator) {
 }
 
 Verdict thread_count_independent(const clothlab_integrator& integrator, Precision precision) {
-  const Scene scene = sheet_scene(64, 48, true);
-  const State one = simulate(integrator, scene, precision, 1, 20, 1e-3);
-  const State two = simulate(integrator, scene, precision, 2, 20, 1e-3);
+  // Above the engine's threading threshold: below it both runs would be single-threaded.
+  constexpr uint32_t cols = 64;
+  const Scene scene = sheet_scene(parallel_from_particles / cols + 8, cols, true);
+  // Half the usual step: the finer grid is stiffer, and euler must stay finite for 20 steps.
+  const State one = simulate(integrator, scene, precision, 1, 20, 5e-4);
+  const State two = simulate(integrator, scene, precision, 2, 20, 5e-4);
   require(one == two, "1 and 2 threads give different bits");
   return {true, ""};
+}
+
+// The same motion in both precisions: an integrator wrong in only one of them (one that does
+// nothing in float32, say) fails here though each precision alone passes the other checks.
+Verdict precisions_agree(const clothlab_integrator& integrator) {
+  const Scene scene = sheet_scene(6, 5, true);
+  const State start = state_of(Cloth(scene, Precision::Float64, pipeline_for(integrator)));
+  const State wide = simulate(integrator, scene, Precision::Float64, 1, 30, 1e-3);
+  const State narrow = simulate(integrator, scene, Precision::Float32, 1, 30, 1e-3);
+  double moved = 0, difference = 0;
+  for (size_t i = 0; i < wide.x.size(); ++i) {
+    moved = std::max(moved, std::abs(wide.x[i] - start.x[i]));
+    difference = std::max(difference, std::abs(narrow.x[i] - wide.x[i]));
+  }
+  require(moved > 1e-6, "the cloth did not move in float64 (" + format("%.3g", moved) + " m)");
+  // float32 rounding over 30 steps stays far below a hundredth of the motion.
+  require(difference <= 1e-2 * moved, "float32 and float64 differ by " +
+                                          format("%.3g", difference) + " m after 30 steps (" +
+                                          format("%.3g", moved) + " m of motion)");
+  return {true, "float32 within " + format("%.2g", difference / moved) + " of float64's motion"};
 }
 
 }  // namespace
@@ -190,6 +213,7 @@ std::vector<Check> numerics_checks(const clothlab_integrator& integrator) {
         {c->id, "numerics.pinned-f32", [c] { return pins_untouched(*c, Precision::Float32); }});
     checks.push_back({c->id, "numerics.threads-f32",
                       [c] { return thread_count_independent(*c, Precision::Float32); }});
+    checks.push_back({c->id, "numerics.precisions-agree", [c] { return precisions_agree(*c); }});
   }
   return checks;
 }

@@ -20,10 +20,6 @@ PluginLibrary::~PluginLibrary() { dlclose(handle_); }
 
 const clothlab_plugin_descriptor* PluginLibrary::descriptor() const { return entry_(); }
 
-bool abi_accepted(const clothlab_abi_version& plugin_version) {
-  return plugin_version.major == CLOTHLAB_ABI_VERSION_MAJOR;
-}
-
 std::string to_string(const clothlab_abi_version& version) {
   return std::to_string(version.major) + "." + std::to_string(version.minor);
 }

@@ -25,9 +25,6 @@ class PluginLibrary {
   clothlab_plugin_entry_fn entry_ = nullptr;
 };
 
-// The host's rule: the same major is accepted, any minor; a different major is refused.
-bool abi_accepted(const clothlab_abi_version& plugin_version);
-
 std::string to_string(const clothlab_abi_version& version);
 
 }  // namespace clothlab::conformance

@@ -104,7 +104,14 @@ INSTANTIATE_TEST_SUITE_P(
                    "robustness.no-throw", "exception escaped the C boundary from step",
                    "--filter robustness"},
         FaultyCase{"faulty_allocates_every_step", "allocates-every-step", "robustness.no-alloc",
-                   "heap allocator calls during 10 steps", "--filter robustness"}),
+                   "heap allocator calls during 10 steps", "--filter robustness"},
+        FaultyCase{"faulty_idle_in_float32", "idle-in-float32", "numerics.precisions-agree",
+                   "float32 and float64 differ by", "--filter numerics"},
+        FaultyCase{"faulty_rebinds_badly", "rebinds-badly", "lifecycle.prepare-twice",
+                   "after a second prepare", "--filter lifecycle"},
+        FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",
+                   "20 force evaluations in 10 steps; declared evals_per_step 1",
+                   "--filter lifecycle"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.plugin);
     });

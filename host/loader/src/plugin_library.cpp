@@ -124,6 +124,20 @@ const Plugin& pick(const std::vector<Plugin>& plugins, const fs::path& path, con
 
 }  // namespace
 
+std::string abi_refusal(const clothlab_abi_version& version) {
+  if (version.major == CLOTHLAB_ABI_VERSION_MAJOR) return {};
+  return "plugin ABI version " + std::to_string(version.major) + "." +
+         std::to_string(version.minor) + " is incompatible with host ABI version " +
+         std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + "." +
+         std::to_string(CLOTHLAB_ABI_VERSION_MINOR) + " (major versions differ)";
+}
+
+std::string descriptor_refusal(const clothlab_plugin_descriptor& descriptor) {
+  // The version comes first and is checked before any other field is read.
+  if (std::string refusal = abi_refusal(descriptor.abi_version); !refusal.empty()) return refusal;
+  return descriptor_problem(descriptor);
+}
+
 PluginLibrary PluginLibrary::load(const fs::path& path, std::string_view searched) {
   const std::string suffix =
       searched.empty() ? std::string() : " (plugin search path: " + std::string(searched) + ")";
@@ -146,14 +160,7 @@ PluginLibrary PluginLibrary::load(const fs::path& path, std::string_view searche
       handle->library.get<const clothlab_plugin_descriptor*()>(CLOTHLAB_PLUGIN_ENTRY_SYMBOL);
   const clothlab_plugin_descriptor* descriptor = entry();
   if (descriptor == nullptr) throw fail(CLOTHLAB_PLUGIN_ENTRY_SYMBOL " returned null");
-  // The version comes first and is checked before any other field is read.
-  const clothlab_abi_version version = descriptor->abi_version;
-  if (version.major != CLOTHLAB_ABI_VERSION_MAJOR)
-    throw fail("plugin ABI version " + std::to_string(version.major) + "." +
-               std::to_string(version.minor) + " is incompatible with host ABI version " +
-               std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + "." +
-               std::to_string(CLOTHLAB_ABI_VERSION_MINOR) + " (major versions differ)");
-  if (const std::string problem = descriptor_problem(*descriptor); !problem.empty())
+  if (const std::string problem = descriptor_refusal(*descriptor); !problem.empty())
     throw fail(problem);
 
   PluginLibrary library;

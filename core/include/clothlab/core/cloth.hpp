@@ -8,6 +8,7 @@
 #include <clothlab/plugin.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -55,6 +56,10 @@ struct SpringCounts {
 };
 SpringCounts count_springs(uint32_t rows, uint32_t cols);
 
+// Clouds of fewer particles run on the calling thread whatever PipelineOptions::threads says
+// (a thread team costs more than it saves there). Checks of threaded behaviour use more.
+inline constexpr std::size_t parallel_from_particles = 4096;
+
 struct PipelineOptions {
   bool velocity_forces = true;  // false: no damping stage (integrator ignores v)
   int threads = 0;              // 0: all hardware threads
@@ -63,12 +68,12 @@ struct PipelineOptions {
 // Cumulative counters since construction (or reset_counters), for the run summary.
 struct StageCounters {
   uint64_t force_evals = 0;
-  uint64_t springs_evaluated = 0;   // Hooke terms computed
-  uint64_t springs_damped = 0;      // damping terms computed
-  uint64_t normals_computed = 0;    // triangle normals for wind
+  uint64_t springs_evaluated = 0;     // Hooke terms computed
+  uint64_t springs_damped = 0;        // damping terms computed
+  uint64_t normals_computed = 0;      // triangle normals for wind
   uint64_t particles_integrated = 0;  // active particle updates by vector helpers
-  double internal_forces_s = 0.0;   // wall time in spring forces
-  double external_forces_s = 0.0;   // wall time in gravity + wind
+  double internal_forces_s = 0.0;     // wall time in spring forces
+  double external_forces_s = 0.0;     // wall time in gravity + wind
 };
 
 class Cloth {

@@ -49,6 +49,13 @@ class PluginLibrary {
   std::vector<ScenarioPlugin> scenarios_;
 };
 
+// The loader's gate, as load() applies it: why a plugin of this ABI version is refused (another
+// major), or "" when it is accepted (the same major, any minor).
+std::string abi_refusal(const clothlab_abi_version& version);
+// The version gate, then the descriptor's fields (sizes, strings, functions, parameter specs,
+// unique ids); "" when load() would accept the descriptor.
+std::string descriptor_refusal(const clothlab_plugin_descriptor& descriptor);
+
 // Load errors for one of several libraries, and ids that appear in more than one.
 struct LibraryScan {
   std::vector<PluginLibrary> libraries;
