@@ -8,6 +8,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib binutils
   python3-vtk9 python3-numpy python3-pil chromium
+  libsqlite3-dev
+  slurmctld slurmd slurm-client munge
 )
 # The viewer's three.js comes from npm (host/viewer/package-lock.json). Debian's nodejs and
 # npm unless a Node.js with npm is already installed (e.g. from NodeSource).

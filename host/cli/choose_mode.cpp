@@ -100,7 +100,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         spec, base, candidates, choice,
         [&](const sweep::CaseSpec& c) { return run_sweep_trajectory(spec, c, search_path); }, store,
         std::cerr);
-    store.flush();
+    store.write_exports();
 
     nlohmann::ordered_json ranked;
     ranked["scene"] =

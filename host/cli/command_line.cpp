@@ -63,8 +63,16 @@ po::options_description describe_options() {
       "(1.1) and within choose.error_tolerance (1 % of the diagonal at T = choose.duration, 1 s) "
       "of a converged reference; ranked table to stdout and choose.output (results/choose)")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
-      "resume", "sweep: keep the results already written and run only the missing cases")(
-      "quiet", "print no summary");
+      "resume",
+      "sweep: keep the results already written and run only the missing cases (with --slurm: "
+      "resubmit only the shards with missing cases); refused if the sweep changed")(
+      "shard", po::value<std::string>(),
+      "sweep: run only shard K/N of the cases (case i is in shard i mod N + 1) into "
+      "<output>.shard-K-of-N.sqlite; join the shards with `clothlab merge OUTPUT`")(
+      "slurm",
+      "sweep: submit as one Slurm job array, one task per shard (keys slurm.tasks, "
+      "slurm.partition, slurm.time, slurm.cpus_per_task, slurm.sbatch), wait and merge")(
+      "no-wait", "--slurm: return once the job array is submitted")("quiet", "print no summary");
   return options;
 }
 
@@ -129,6 +137,9 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.resume = values.count("resume") > 0;
   command_line.choose = values.count("choose") > 0;
   command_line.out_folder = path_option(values, "out");
+    command_line.shard = string_option(values, "shard");
+  command_line.slurm = values.count("slurm") > 0;
+  command_line.no_wait = values.count("no-wait") > 0;
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const auto& [flag, key] : setting_flags)
@@ -146,6 +157,7 @@ std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
           "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
+          "       clothlab merge OUTPUT...   (join the shard results of each sweep output)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"

@@ -23,6 +23,9 @@ struct CommandLine {
   bool resume = false;  // sweep: skip cases already in the results
   // Sweep: results folder (files <out>/<sweep name>.csv/.json) instead of sweep.output.
   std::optional<std::string> out_folder;
+  std::optional<std::string> shard;  // sweep: "K/N", run only shard K of N
+  bool slurm = false;                // sweep: submit as a Slurm job array
+  bool no_wait = false;              // --slurm: return once submitted
   // --integrator, --dt, ... and --set key=value, in command-line order.
   std::vector<Setting> settings;
 };

@@ -48,6 +48,12 @@ int run(int argc, const char* const argv[]) {
     clothlab::viewer::run_view_command(argc - 1, argv + 1, std::cout);
     return exit_ok;
   }
+  if (argc >= 2 && std::string(argv[1]) == "merge") {
+    if (argc == 2)
+      throw clothlab::host::InputError("merge: expected OUTPUT..., e.g. results/stress");
+    merge_sweep_outputs(std::vector<std::string>(argv + 2, argv + argc), std::cout);
+    return exit_ok;
+  }
   const CommandLine command_line = parse_command_line(argc, argv);
   if (command_line.help) {
     std::cout << usage_text();
@@ -64,14 +70,22 @@ int run(int argc, const char* const argv[]) {
       throw clothlab::host::InputError(
           "--config " + *command_line.config_file +
           " is a sweep: --find-max-dt, --json, --state-out and --frames are for single runs");
-    SweepRequest request{*command_line.config_file, command_line.settings, std::nullopt,
-                         command_line.resume};
+    SweepRequest request;
+    request.config_file = *command_line.config_file;
+    request.overrides = command_line.settings;
+    request.resume = command_line.resume;
     if (command_line.out_folder) request.out_folder = *command_line.out_folder;
+    request.shard = command_line.shard;
+    request.slurm = command_line.slurm;
+    request.wait = !command_line.no_wait;
+    request.plugin_paths = command_line.plugin_paths;
     run_sweep_file(request, search_path, std::cout);
     return exit_ok;
   }
-  if (command_line.resume || command_line.out_folder)
-    throw clothlab::host::InputError("--resume and --out need a sweep config (a `sweep:` section)");
+  if (command_line.resume || command_line.out_folder || command_line.shard || command_line.slurm ||
+      command_line.no_wait)
+    throw clothlab::host::InputError(
+        "--resume, --out, --shard, --slurm and --no-wait need a sweep config (a `sweep:` section)");
 
   std::vector<Setting> settings;
   if (command_line.config_file) settings = read_config_file(*command_line.config_file);

@@ -4,6 +4,8 @@
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/io/atomic_file.hpp>
+#include <clothlab/sweep/fingerprint.hpp>
+#include <clothlab/sweep/shard.hpp>
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
@@ -17,6 +19,7 @@
 #include "isolation.hpp"
 #include "run_config.hpp"
 #include "simulation.hpp"
+#include "slurm_sweep.hpp"
 
 namespace clothlab::cli {
 
@@ -98,6 +101,13 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
   return result;
 }
 
+// A plugin file's identity for the fingerprint: where it was found, its size and content hash.
+std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id) {
+  const std::filesystem::path path = search_path.resolve(id);
+  return path.string() + " size " + std::to_string(std::filesystem::file_size(path)) + " fnv1a " +
+         sweep::file_hash(path.string());
+}
+
 // Every case goes through the checks of a single run (its settings, then its plugins and
 // parameter values) before the first one runs: a sweep with bad input does nothing and
 // exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
@@ -139,21 +149,38 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
                     std::ostream& out) {
   try {
     sweep::SweepSpec spec = sweep::load_sweep(request.config_file);
-    for (const Setting& setting : request.overrides)
-      spec.fixed.push_back({setting.key, setting.value, setting.source});
+    for (const Setting& setting : request.overrides) {
+      if (setting.key.starts_with("slurm."))
+        sweep::apply_slurm_setting(spec.slurm, setting.key, setting.value, setting.source);
+      else
+        spec.fixed.push_back({setting.key, setting.value, setting.source});
+    }
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
-    const std::vector<sweep::CaseSpec> cases = sweep::expand_cases(spec);
-    check_every_case(spec, cases, search_path);
-    if (spec.output.has_parent_path())
-      std::filesystem::create_directories(spec.output.parent_path());
+    const std::vector<sweep::CaseSpec> all_cases = sweep::expand_cases(spec);
+    check_every_case(spec, all_cases, search_path);
+    const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
+        spec, [&](const std::string& id) { return plugin_identity(search_path, id); });
+    if (request.slurm) {
+      run_sweep_on_slurm(request, spec, all_cases.size(), fingerprint, out);
+      return;
+    }
+    std::optional<sweep::Shard> shard;
+    if (request.shard) shard = sweep::parse_shard(*request.shard, "--shard");
+    // A reference, not a copy: each case's fork copies the page tables of all the memory the
+    // parent holds, so the parent stays as small as it can.
+    const std::vector<sweep::CaseSpec> shard_part =
+        shard ? sweep::shard_cases(all_cases, *shard) : std::vector<sweep::CaseSpec>{};
+    const std::vector<sweep::CaseSpec>& cases = shard ? shard_part : all_cases;
 
-    sweep::ResultsStore store(spec.output, request.resume);
-    // A results file that cannot be written is found before the first case runs.
-    for (const auto& path : {store.csv_path(), store.json_path()}) io::check_output_path(path);
+    sweep::ResultsStore store(shard ? sweep::shard_base(spec.output, *shard) : spec.output,
+                              request.resume, fingerprint);
+    // An export that cannot be written is found before the first case runs.
+    if (!shard)
+      for (const auto& path : {store.csv_path(), store.json_path()}) io::check_output_path(path);
     store.set_metadata({{"name", spec.name},
                         {"mode", sweep::to_string(spec.mode)},
                         {"config", request.config_file.string()},
-                        {"cases", cases.size()}});
+                        {"cases", all_cases.size()}});
     const bool terminal = sweep::stderr_is_terminal();
     std::string counts;
     if (spec.mode == sweep::SweepMode::Run) {
@@ -184,10 +211,32 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
       counts = std::to_string(summary.searched) + " searched, " + std::to_string(summary.skipped) +
                " already done";
     }
-    store.flush();
+    store.mark_complete();
+    if (shard) {
+      out << "sweep " << spec.name << " (" << sweep::to_string(spec.mode) << ") shard "
+          << shard->index << "/" << shard->count << ": " << counts
+          << "\n  results: " << store.database_path().string() << " (join the shards with "
+          << "clothlab merge " << spec.output.string() << ")\n";
+      return;
+    }
+    store.write_exports();
     out << "sweep " << spec.name << " (" << sweep::to_string(spec.mode) << "): " << counts
         << "\n  results: " << store.csv_path().string() << ", " << store.json_path().string()
-        << "\n";
+        << " (store " << store.database_path().string() << ")\n";
+  } catch (const sweep::SweepError& error) {
+    throw host::InputError(error.what());
+  } catch (const std::filesystem::filesystem_error& error) {
+    throw host::InputError(error.what());
+  }
+}
+
+void merge_sweep_outputs(const std::vector<std::string>& outputs, std::ostream& out) {
+  try {
+    for (const std::string& output : outputs) {
+      const sweep::MergeSummary merged = sweep::merge_shards(output);
+      out << "merged " << merged.shards << " shards of " << output << ": " << merged.rows
+          << " rows\n  results: " << output << ".csv, " << output << ".json\n";
+    }
   } catch (const sweep::SweepError& error) {
     throw host::InputError(error.what());
   } catch (const std::filesystem::filesystem_error& error) {

@@ -20,6 +20,10 @@ struct SweepRequest {
   std::vector<Setting> overrides;
   std::optional<std::filesystem::path> out_folder;  // replaces sweep.output's folder
   bool resume = false;
+  std::optional<std::string> shard;  // "K/N" as given
+  bool slurm = false;
+  bool wait = true;                       // --slurm without --no-wait
+  std::vector<std::string> plugin_paths;  // --plugin-path entries, passed on to Slurm tasks
 };
 
 // One case of `spec` run to its end in a child process, with its final positions: the
@@ -31,5 +35,9 @@ sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep
 // that cannot be resumed or written. Unstable and failed cases are results, not errors.
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out);
+
+// `clothlab merge OUTPUT...`: merges each output's shard stores into its CSV/JSON/SQLite.
+// Throws InputError when a shard is missing, incomplete or of another sweep.
+void merge_sweep_outputs(const std::vector<std::string>& outputs, std::ostream& out);
 
 }  // namespace clothlab::cli

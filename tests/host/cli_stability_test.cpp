@@ -1,5 +1,6 @@
 // The clothlab program's stability verdict, sweeps and dt search end to end, on tiny grids.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/wait.h>
@@ -49,9 +50,12 @@ class ClothlabStability : public testing::Test {
   fs::path file(const std::string& name) const { return folder_ / name; }
 
   Outcome run(const std::string& arguments) const {
+    return run_without_builtin_path("--plugin-path '" CLOTHLAB_BUILTIN_PLUGIN_DIR "' " + arguments);
+  }
+
+  Outcome run_without_builtin_path(const std::string& arguments) const {
     const std::string command = "cd '" + folder_.string() +
-                                "' && env -u CLOTHLAB_PLUGIN_PATH '" CLOTHLAB_EXECUTABLE
-                                "' --plugin-path '" CLOTHLAB_BUILTIN_PLUGIN_DIR "' " +
+                                "' && env -u CLOTHLAB_PLUGIN_PATH '" CLOTHLAB_EXECUTABLE "' " +
                                 arguments + " > stdout.txt 2> stderr.txt";
     const int status = std::system(command.c_str());
     Outcome outcome;
@@ -135,26 +139,147 @@ TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
   // Same rows, same measurements: nothing was re-run.
   EXPECT_EQ(read_json(file("results/four.json"))["rows"], rows);
 
-  // Drop the last row: resuming runs that case alone.
-  auto document = read_json(file("results/four.json"));
-  document["rows"].erase(document["rows"].end() - 1);
-  std::ofstream(file("results/four.json")) << document.dump();
+  // An interrupted sweep: the store lacks its last row. Resuming runs that case alone.
+  sqlite3* store = nullptr;
+  ASSERT_EQ(sqlite3_open(file("results/four.sqlite").c_str(), &store), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(store, "DELETE FROM rows WHERE seq = (SELECT max(seq) FROM rows)", nullptr,
+                         nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(store);
   const Outcome partial = run("--config four.yaml --out results --resume");
   ASSERT_EQ(partial.exit_code, 0) << partial.err;
   EXPECT_NE(partial.out.find("1 stable, 0 unstable, 0 failed, 3 already done"), std::string::npos)
       << partial.out;
   EXPECT_EQ(read_json(file("results/four.json"))["rows"].size(), 4u);
 
-  // Atomic writes: only the two results files, no temporaries, and the CSV has 4 rows.
+  // Atomic writes: the store, its lock and the two exports, no temporaries; the CSV has 4 rows.
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(file("results")))
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"four.csv", "four.json"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"four.csv", "four.json", "four.lock", "four.sqlite"}));
   std::ifstream csv(file("results/four.csv"));
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, 5);
+}
+
+// The rows without the columns that measure time (they differ from run to run).
+nlohmann::json without_timings(nlohmann::json document) {
+  for (auto& row : document["rows"])
+    for (const char* timing : {"wall_time_s", "ms_per_step", "ms_per_step_p90",
+                               "springs_per_second", "real_time_factor"})
+      row.erase(timing);
+  return document;
+}
+
+TEST_F(ClothlabStability, ShardsMergedByClothlabMergeEqualAnUnshardedRun) {
+  write("four.yaml", four_case_sweep);
+  ASSERT_EQ(run("--config four.yaml --out whole").exit_code, 0);
+  for (const char* shard : {"2/3", "1/3", "3/3"}) {
+    const Outcome part = run(std::string("--config four.yaml --out parts --shard ") + shard);
+    ASSERT_EQ(part.exit_code, 0) << part.err;
+    EXPECT_NE(part.out.find("clothlab merge parts/four"), std::string::npos) << part.out;
+  }
+  EXPECT_FALSE(fs::exists(file("parts/four.csv")));  // shards write only their stores
+  const Outcome merged = run_without_builtin_path("merge parts/four");
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(merged.out,
+            "merged 3 shards of parts/four: 4 rows\n  results: parts/four.csv, "
+            "parts/four.json\n");
+  const auto whole = read_json(file("whole/four.json")), parts = read_json(file("parts/four.json"));
+  ASSERT_EQ(parts["rows"].size(), 4u);
+  EXPECT_EQ(without_timings(parts), without_timings(whole));
+  // A shard missing: merge says which, in one line, exit 1.
+  fs::remove(file("parts/four.shard-2-of-3.sqlite"));
+  const Outcome incomplete = run_without_builtin_path("merge parts/four");
+  EXPECT_EQ(incomplete.exit_code, 1);
+  EXPECT_EQ(incomplete.err,
+            "clothlab: error: parts/four.shard-2-of-3.sqlite: missing; run shard "
+            "2/3\n");
+}
+
+TEST_F(ClothlabStability, SweepResumeAfterAConfigEditIsRefusedNamingWhatChanged) {
+  write("four.yaml", four_case_sweep);
+  ASSERT_EQ(run("--config four.yaml --out results").exit_code, 0);
+  const std::string rows_before = read_text(file("results/four.json"));
+  std::string edited = four_case_sweep;
+  edited.replace(edited.find("duration: 0.05"), 14, "duration: 0.005");
+  write("four.yaml", edited);
+  const Outcome resumed = run("--config four.yaml --out results --resume");
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_EQ(resumed.err,
+            "clothlab: error: results/four.sqlite: cannot resume: the sweep changed since these "
+            "results were written: setting.duration '0.05' -> '0.005'; run without --resume to "
+            "replace them, or use another --out\n");
+  EXPECT_EQ(read_text(file("results/four.json")), rows_before);  // nothing mixed in
+  // Without --resume the edited sweep starts a new result set.
+  const Outcome fresh = run("--config four.yaml --out results");
+  ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
+  for (const auto& row : read_json(file("results/four.json"))["rows"])
+    EXPECT_EQ(row["sim_time_s"].get<double>(), 0.005) << row.dump();
+}
+
+TEST_F(ClothlabStability, SweepResumeWithARebuiltPluginIsRefusedNamingThePlugin) {
+  write("four.yaml", four_case_sweep);
+  fs::create_directories(file("plugins"));
+  for (const char* plugin : {"euler.so", "rk4.so", "sheet.so"})
+    fs::copy_file(fs::path(CLOTHLAB_BUILTIN_PLUGIN_DIR) / plugin, file("plugins") / plugin);
+  const std::string sweep = "--config four.yaml --out results --plugin-path plugins";
+  ASSERT_EQ(run_without_builtin_path(sweep).exit_code, 0);
+  std::ofstream(file("plugins/rk4.so"), std::ios::app | std::ios::binary) << '\0';
+  const Outcome resumed = run_without_builtin_path(sweep + " --resume");
+  EXPECT_EQ(resumed.exit_code, 1);
+  const std::string change =
+      "cannot resume: the sweep changed since these results were "
+      "written: plugin.rk4 '" +
+      fs::absolute(file("plugins/rk4.so")).string() + " size ";
+  EXPECT_NE(resumed.err.find(change), std::string::npos) << resumed.err;
+  EXPECT_EQ(resumed.err.find("plugin.euler"), std::string::npos) << resumed.err;
+}
+
+// The same 36 cases twice (different dt), both writing results/same.*, started together: one
+// sweep gets the results, the other is refused in one line; no row is lost or mixed in.
+TEST_F(ClothlabStability, TwoSweepsWritingTheSameOutputAtOnceLoseNoRows) {
+  const std::string sweep = R"(scenario: {rows: 6, cols: 6}
+steps: 4000
+threads: 1
+sweep:
+  name: same
+  mode: run
+  matrix:
+    integrator: [euler, midpoint, rk4]
+    scenario: [sheet]
+    scenario.structural.ks: [10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000]
+    dt: [DT]
+)";
+  for (const char* dt : {"0.001", "0.002"}) {
+    std::string text = sweep;
+    text.replace(text.find("DT"), 2, dt);
+    write(std::string("dt-") + dt + ".yaml", text);
+  }
+  const std::string clothlab = "env -u CLOTHLAB_PLUGIN_PATH '" CLOTHLAB_EXECUTABLE
+                               "' --plugin-path '" CLOTHLAB_BUILTIN_PLUGIN_DIR "' --out results";
+  const std::string both =
+      "cd '" + folder_.string() + "' && { (" + clothlab +
+      " --config dt-0.001.yaml > a.out 2> a.err; echo $? > a.status) & (" + clothlab +
+      " --config dt-0.002.yaml > b.out 2> b.err; echo $? > b.status) & wait; }";
+  ASSERT_EQ(std::system(both.c_str()), 0);
+  const std::string a_status = read_text(file("a.status")), b_status = read_text(file("b.status"));
+  ASSERT_TRUE((a_status == "0\n") != (b_status == "0\n"))
+      << "a: " << a_status << read_text(file("a.err")) << "b: " << b_status
+      << read_text(file("b.err"));
+  const std::string loser = a_status == "0\n" ? "b" : "a";
+  const std::string winner_dt = a_status == "0\n" ? "0.001" : "0.002";
+  EXPECT_EQ(read_text(file(loser + ".status")), "1\n");
+  const std::string refusal = read_text(file(loser + ".err"));
+  EXPECT_NE(refusal.find("clothlab: error: results/same.sqlite: another clothlab process (pid "),
+            std::string::npos)
+      << refusal;
+  EXPECT_EQ(std::count(refusal.begin(), refusal.end(), '\n'), 1) << refusal;
+  const auto rows = read_json(file("results/same.json"))["rows"];
+  ASSERT_EQ(rows.size(), 36u);
+  for (const auto& row : rows) EXPECT_EQ(row["dt"], winner_dt) << row.dump();
 }
 
 using clothlab::testing::address_sanitizer;

@@ -45,8 +45,9 @@ TEST(StabilitySearch, FindsTheLimitAndSetsItBesideThePrediction) {
   const auto summary =
       run_stability_search(spec, expand_cases(spec), probe, predictor, store, nullptr);
   EXPECT_EQ(summary.searched, 2u);
-  ASSERT_EQ(store.rows().size(), 2u);
-  for (const Row& row : store.rows()) {
+  const std::vector<Row> rows = store.rows();
+  ASSERT_EQ(rows.size(), 2u);
+  for (const Row& row : rows) {
     const double limit = row["integrator"] == "euler" ? 0.0042 : 0.011;
     EXPECT_EQ(row["outcome"], "bracketed");
     EXPECT_LE(row["dt_max"].get<double>(), limit);
@@ -55,10 +56,10 @@ TEST(StabilitySearch, FindsTheLimitAndSetsItBesideThePrediction) {
               0.01 * row["dt_max"].get<double>());
     EXPECT_EQ(row["check"], "energy");
   }
-  const Row& euler = store.rows()[0];
+  const Row& euler = rows[0];
   EXPECT_NEAR(euler["measured_over_predicted"].get<double>(), 1.0 / 1.25, 0.01);
   EXPECT_DOUBLE_EQ(euler["omega_max"].get<double>(), 300.0);
-  const Row& rk4 = store.rows()[1];
+  const Row& rk4 = rows[1];
   EXPECT_EQ(rk4["prediction_error"], "no spectrum");
   EXPECT_TRUE(rk4["measured_over_predicted"].is_null());
 }
@@ -72,7 +73,7 @@ TEST(StabilitySearch, AProbeThatThrowsCountsAsUnstableWithItsReason) {
     return {};
   };
   run_stability_search(spec, expand_cases(spec), throwing, nullptr, store, nullptr);
-  const Row& row = store.rows()[0];
+  const Row row = store.rows().at(0);
   EXPECT_LE(row["dt_max"].get<double>(), 0.002);
   EXPECT_EQ(row["fail_status"], "failed");
   EXPECT_EQ(row["reason"], "NaN from plugin");

@@ -10,7 +10,6 @@
 namespace clothlab::sweep {
 namespace {
 
-using testing::read_text;
 using testing::ScratchFolder;
 
 std::vector<CaseSpec> six_cases() {
@@ -44,31 +43,27 @@ TEST(SweepRunner, DivergenceAndExceptionsAreResultsNotAborts) {
   EXPECT_EQ(summary.stable, 3u);
   EXPECT_EQ(summary.unstable, 2u);
   EXPECT_EQ(summary.failed, 1u);
-  ASSERT_EQ(store.rows().size(), 6u);
-  const Row& failed = store.rows()[3];
+  const std::vector<Row> rows = store.rows();
+  ASSERT_EQ(rows.size(), 6u);
+  const Row& failed = rows[3];
   EXPECT_EQ(failed["key"], "integrator=rk4;dt=0.001");
   EXPECT_EQ(failed["status"], "failed");
   EXPECT_EQ(failed["reason"], "plugin exploded");
-  const Row& unstable = store.rows()[2];
+  const Row& unstable = rows[2];
   EXPECT_EQ(unstable["stable"], false);
   EXPECT_EQ(unstable["fail_step"], 42);
   EXPECT_EQ(unstable["check"], "stretch");
-  EXPECT_EQ(store.rows()[0]["ms_per_step"], 0.5);
-  EXPECT_EQ(store.rows()[0]["integrator"], "euler");
+  EXPECT_EQ(rows[0]["ms_per_step"], 0.5);
+  EXPECT_EQ(rows[0]["integrator"], "euler");
 }
 
-TEST(SweepRunner, FilesAreCompleteAfterEveryCaseAndResumeSkipsDoneCases) {
+TEST(SweepRunner, StoreHoldsEveryFinishedCaseAndResumeSkipsDoneCases) {
   ScratchFolder scratch;
   const auto cases = six_cases();
   std::size_t calls = 0;
   auto observing_run = [&](const CaseSpec& c) {
-    // Before each case, what is on disk is whole and holds exactly the cases finished so far.
-    if (calls > 0) {
-      const auto document = nlohmann::json::parse(read_text(scratch.path() / "results.json"));
-      EXPECT_EQ(document["rows"].size(), calls);
-      const std::string csv = read_text(scratch.path() / "results.csv");
-      EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), calls + 1);
-    }
+    // Before each case, the store on disk holds exactly the cases finished so far.
+    EXPECT_EQ(read_results(scratch.path() / "results.sqlite").rows.size(), calls);
     ++calls;
     CaseResult result;
     result.metrics = {{"dt_seen", c.dt}};

@@ -78,6 +78,33 @@ TEST(SweepSpec, BadInputNamesSourceKeyValueAndAllowedRange) {
   expect_error("duration: 1\nsweep: {name: x, matrix: {integrator: [rk4], dt: [0.001]}", "YAML");
 }
 
+TEST(SweepSpec, SlurmSectionIsReadAndIsNoCaseSetting) {
+  const std::string sweep =
+      "duration: 1\nsweep:\n  name: x\n  matrix: {integrator: [rk4], dt: "
+      "[0.001]}\n";
+  const SweepSpec spec = parse_sweep(sweep +
+                                         "slurm: {tasks: 8, partition: short.q, time: "
+                                         "\"1-02:30\", cpus_per_task: 2, sbatch: "
+                                         "[--mem=4G, --qos=low]}\n",
+                                     "slurm.yaml");
+  EXPECT_EQ(spec.slurm.tasks, 8u);
+  EXPECT_EQ(spec.slurm.partition, "short.q");
+  EXPECT_EQ(spec.slurm.time, "1-02:30");
+  EXPECT_EQ(spec.slurm.cpus_per_task, 2u);
+  EXPECT_EQ(spec.slurm.sbatch_options, (std::vector<std::string>{"--mem=4G", "--qos=low"}));
+  for (const Setting& setting : spec.fixed) EXPECT_FALSE(setting.key.starts_with("slurm"));
+  EXPECT_EQ(parse_sweep(sweep, "plain.yaml").slurm.tasks, 4u);  // the default
+
+  expect_error(sweep + "slurm: {tasks: 0}\n", "slurm.tasks = '0': allowed a whole number in [1,");
+  expect_error(sweep + "slurm: {time: 1:2:3:4}\n", "slurm.time = '1:2:3:4': allowed a Slurm time");
+  expect_error(sweep + "slurm: {time: 90x}\n", "slurm.time = '90x'");
+  expect_error(sweep + "slurm: {partition: \"a b\"}\n", "slurm.partition = 'a b'");
+  expect_error(sweep + "slurm: {sbatch: [-N 2]}\n", "slurm.sbatch = '-N 2'");
+  expect_error(sweep + "slurm: {nodes: 2}\n", "slurm.nodes");
+  for (const char* time : {"30", "5:00", "1:00:00", "2-0", "2-12:00", "2-12:00:00"})
+    EXPECT_EQ(parse_sweep(sweep + "slurm: {time: \"" + time + "\"}\n", "t.yaml").slurm.time, time);
+}
+
 // Item 3 of issue 12: a 30 000-character plugin id, sweep name or mesh overflowed the stack
 // (std::regex recursed once per character). Now each is an ordinary value or a one-line error.
 TEST(SweepSpec, VeryLongValuesAreCheckedWithoutRecursion) {

@@ -4,12 +4,14 @@
 
 #include <cmath>
 
+#include "clothlab/sweep/shard.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
 namespace {
 
+using testing::read_text;
 using testing::ScratchFolder;
 
 constexpr double kDuration = 0.04, kDiagonal = 2.0;
@@ -47,11 +49,27 @@ struct FakeIntegrators {
   }
 };
 
-const Row* find_row(const ResultsStore& store, const std::string& key) {
-  for (const Row& row : store.rows()) {
-    if (row["key"] == key) return &row;
-  }
-  return nullptr;
+// Both cases need the same reference: each shard computes it, the merge keeps it once, where
+// the unsharded run wrote it (before the first case's ladder).
+TEST(WorkPrecision, MergedShardsExportTheSameFilesAsAnUnshardedRun) {
+  ScratchFolder scratch;
+  const SweepSpec spec = ladder_spec();
+  const auto cases = expand_cases(spec);
+  const auto run_into = [&](const std::filesystem::path& base, const std::vector<CaseSpec>& part) {
+    ResultsStore store(base, false, {{"mode", "work-precision"}});
+    FakeIntegrators fake;
+    run_work_precision(
+        spec, part, [&](const CaseSpec& c) { return fake(c); }, store, nullptr);
+    store.mark_complete();
+    store.write_exports();
+  };
+  run_into(scratch.path() / "whole" / "wp", cases);
+  const auto base = scratch.path() / "sharded" / "wp";
+  for (std::size_t k = 1; k <= 2; ++k)
+    run_into(shard_base(base, {k, 2}), shard_cases(cases, {k, 2}));
+  EXPECT_EQ(merge_shards(base).rows, 13u);  // 1 reference + 2 x (5 ladder rows + 1 fit)
+  EXPECT_EQ(read_text(base.string() + ".csv"), read_text(scratch.path() / "whole" / "wp.csv"));
+  EXPECT_EQ(read_text(base.string() + ".json"), read_text(scratch.path() / "whole" / "wp.json"));
 }
 
 TEST(WorkPrecision, RelativeRmsErrorIsOverParticlesAndDiagonal) {
@@ -71,8 +89,8 @@ TEST(WorkPrecision, LaddersFitTheKnownOrdersAndReportTheReference) {
   EXPECT_EQ(summary.runs, 10u);
   EXPECT_EQ(fake.calls, 12);
 
-  const Row* reference = find_row(store, "work-precision;reference;scenario=sheet");
-  ASSERT_NE(reference, nullptr);
+  const std::optional<Row> reference = store.find("work-precision;reference;scenario=sheet");
+  ASSERT_TRUE(reference.has_value());
   const double h = 0.000625 / 16.0;
   const double difference = 5.0 * (std::pow(h, 4) - std::pow(h / 2.0, 4));
   EXPECT_NEAR((*reference)["reference_difference"].get<double>(),
@@ -80,16 +98,17 @@ TEST(WorkPrecision, LaddersFitTheKnownOrdersAndReportTheReference) {
   EXPECT_DOUBLE_EQ((*reference)["reference_dt"].get<double>(), h / 2.0);
   EXPECT_DOUBLE_EQ((*reference)["T"].get<double>(), kDuration);
 
-  const Row* diverged =
-      find_row(store, "work-precision;ladder;integrator=euler;scenario=sheet;dt=0.01");
-  ASSERT_NE(diverged, nullptr);
+  const std::optional<Row> diverged =
+      store.find("work-precision;ladder;integrator=euler;scenario=sheet;dt=0.01");
+  ASSERT_TRUE(diverged.has_value());
   EXPECT_TRUE((*diverged)["error"].is_null());
   EXPECT_EQ((*diverged)["status"], "unstable");
 
-  const Row* euler = find_row(store, "work-precision;fit;integrator=euler;scenario=sheet");
-  const Row* midpoint = find_row(store, "work-precision;fit;integrator=midpoint;scenario=sheet");
-  ASSERT_NE(euler, nullptr);
-  ASSERT_NE(midpoint, nullptr);
+  const std::optional<Row> euler = store.find("work-precision;fit;integrator=euler;scenario=sheet");
+  const std::optional<Row> midpoint =
+      store.find("work-precision;fit;integrator=midpoint;scenario=sheet");
+  ASSERT_TRUE(euler.has_value());
+  ASSERT_TRUE(midpoint.has_value());
   EXPECT_NEAR((*euler)["order"].get<double>(), 1.0, 1e-3);
   EXPECT_EQ((*euler)["fit_points"], 4);  // the diverged step is not fitted
   EXPECT_NEAR((*midpoint)["order"].get<double>(), 2.0, 1e-3);
@@ -134,14 +153,15 @@ TEST(WorkPrecision, SelfReferencedIntegratorsGetTheirOwnReference) {
       spec, expand_cases(spec), [&](const CaseSpec& c) { return fake(c); }, store, nullptr);
   EXPECT_EQ(summary.references, 2u);
   EXPECT_EQ(fake.calls, 14);
-  const Row* own = find_row(store, "work-precision;reference;scenario=sheet;integrator=midpoint");
-  ASSERT_NE(own, nullptr);
+  const std::optional<Row> own =
+      store.find("work-precision;reference;scenario=sheet;integrator=midpoint");
+  ASSERT_TRUE(own.has_value());
   EXPECT_EQ((*own)["reference_integrator"], "midpoint");
   EXPECT_TRUE((*own)["reference_error_estimate"].is_null());
   // Against itself at dt_ref the error is 5 (dt^2 - dt_ref^2) / sqrt(2) / diagonal.
-  const Row* ladder =
-      find_row(store, "work-precision;ladder;integrator=midpoint;scenario=sheet;dt=0.01");
-  ASSERT_NE(ladder, nullptr);
+  const std::optional<Row> ladder =
+      store.find("work-precision;ladder;integrator=midpoint;scenario=sheet;dt=0.01");
+  ASSERT_TRUE(ladder.has_value());
   const double h = 0.000625 / 16.0 / 2.0;
   EXPECT_NEAR((*ladder)["error"].get<double>(), 5.0 * (1e-4 - h * h) / std::sqrt(2.0) / kDiagonal,
               1e-15);

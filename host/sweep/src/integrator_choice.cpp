@@ -216,7 +216,7 @@ class IntegratorSearch {
     row["error_mesh"] = settings_.error_mesh.empty() ? "same" : settings_.error_mesh;
     row["passed"] = probe.passed;
     row["why"] = probe.why;
-    if (!store_.contains(row["key"].get<std::string>())) store_.append(row);
+    if (!store_.contains(row["key"].get<std::string>())) store_.append(row, c.index);
   }
 
   void print(uint32_t substeps, uint32_t iterations, const Probe& probe) {

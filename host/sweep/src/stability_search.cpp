@@ -76,7 +76,7 @@ StabilitySummary run_stability_search(const SweepSpec& spec, const std::vector<C
     row["check"] = first_failure.check;
     row["fail_status"] = failure_dt > 0.0 ? to_string(first_failure.status) : "";
     row["reason"] = first_failure.reason;
-    store.append(row);
+    store.append(row, c.index);
     ++summary.searched;
     if (progress) progress->case_finished(case_label(c));
   }

@@ -63,7 +63,7 @@ SweepSummary run_sweep(const std::vector<CaseSpec>& cases, const CaseRunner& run
         ++summary.failed;
         break;
     }
-    store.append(case_row(spec, result));
+    store.append(case_row(spec, result), spec.index);
     if (progress) progress->case_finished(case_label(spec));
   }
   if (progress) progress->finish();

@@ -213,6 +213,20 @@ void read_stability(const std::string& source, const YAML::Node& node, SweepSpec
   }
 }
 
+void read_slurm(const std::string& source, const YAML::Node& node, SweepSpec& spec) {
+  for_each_key(source, node, "slurm", {"partition", "tasks", "time", "cpus_per_task", "sbatch"},
+               [&](const std::string& key, const YAML::Node& value) {
+                 if (key == "slurm.sbatch" && value.IsSequence()) {
+                   for (const YAML::Node& item : value)
+                     apply_slurm_setting(spec.slurm, key, scalar_text(source, item, key),
+                                         location(source, item));
+                 } else {
+                   apply_slurm_setting(spec.slurm, key, scalar_text(source, value, key),
+                                       location(source, value));
+                 }
+               });
+}
+
 void check_fixed(const std::string& source, const SweepSpec& spec, const YAML::Node& root) {
   bool has_steps = false, has_duration = false;
   for (const Setting& setting : spec.fixed) {
@@ -261,6 +275,64 @@ const char* to_string(SweepMode mode) {
   return "unknown";
 }
 
+namespace {
+
+// sbatch --time forms: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S (groups after the first: 1-2 digits).
+bool is_slurm_time(const std::string& text) {
+  const std::size_t dash = text.find('-');
+  if (dash != std::string::npos &&
+      (dash == 0 || dash > 4 || text.find_first_not_of("0123456789") < dash))
+    return false;
+  const std::string clock = dash == std::string::npos ? text : text.substr(dash + 1);
+  std::size_t groups = 0, start = 0;
+  while (start <= clock.size()) {
+    const std::size_t end = std::min(clock.find(':', start), clock.size());
+    const std::size_t digits = end - start;
+    if (digits == 0 || digits > (groups == 0 ? 6 : 2) ||
+        clock.substr(start, digits).find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    ++groups;
+    start = end + 1;
+  }
+  return groups <= 3;
+}
+
+}  // namespace
+
+void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
+                         const std::string& source) {
+  const auto bad = [&](const std::string& allowed) {
+    throw SweepError(source + ": " + key + " = '" + value + "': allowed " + allowed);
+  };
+  const auto count = [&](double high) {
+    const auto number = host::parse_real(value);
+    const std::string allowed = "a whole number in [1, " + host::format_number(high) + "]";
+    if (!number || *number < 1 || *number > high || *number != std::floor(*number)) bad(allowed);
+    return static_cast<std::size_t>(*number);
+  };
+  if (key == "slurm.partition") {
+    const bool plain = !value.empty() && value.size() <= 64 &&
+                       value.find_first_not_of(
+                           "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                           "0123456789_.-") == std::string::npos;
+    if (!plain) bad("a partition name: up to 64 of [A-Za-z0-9_.-]");
+    slurm.partition = value;
+  } else if (key == "slurm.tasks") {
+    slurm.tasks = count(100000);
+  } else if (key == "slurm.cpus_per_task") {
+    slurm.cpus_per_task = count(1024);
+  } else if (key == "slurm.time") {
+    if (!is_slurm_time(value)) bad("a Slurm time: MM, MM:SS, H:MM:SS or D-HH[:MM[:SS]]");
+    slurm.time = value;
+  } else if (key == "slurm.sbatch") {
+    if (!value.starts_with("--") || value.find_first_of(" \t\n") != std::string::npos)
+      bad("sbatch options of the form --name or --name=value, one per list item");
+    slurm.sbatch_options.push_back(value);
+  } else {
+    bad("keys slurm.partition, slurm.tasks, slurm.time, slurm.cpus_per_task, slurm.sbatch");
+  }
+}
+
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source) {
   return parse_sweep(config::load_yaml_text(yaml_text, source), source);
 }
@@ -272,9 +344,10 @@ SweepSpec parse_sweep(const YAML::Node& root, const std::string& source) {
   SweepSpec spec;
   spec.source = source;
   // The one flattener checks the whole file (repeated keys, empty maps, bounds); the keys
-  // outside `sweep:` are the fixed settings of every case.
+  // outside `sweep:` and `slurm:` are the fixed settings of every case.
   for (Setting& setting : config::flatten_settings(root, source))
-    if (!setting.key.starts_with("sweep.")) spec.fixed.push_back(std::move(setting));
+    if (!setting.key.starts_with("sweep.") && !setting.key.starts_with("slurm."))
+      spec.fixed.push_back(std::move(setting));
   bool has_matrix = false;
   for_each_key(source, section, "sweep",
                {"name", "mode", "output", "matrix", "monitor", "work_precision", "stability"},
@@ -308,6 +381,7 @@ SweepSpec parse_sweep(const YAML::Node& root, const std::string& source) {
   if (spec.name.empty()) fail(source, section, "sweep.name", "(missing)", "[a-z0-9_-]+");
   if (!has_matrix) fail(source, section, "sweep.matrix", "(missing)", "a map of key: [values]");
   if (spec.output.empty()) spec.output = std::filesystem::path("results") / spec.name;
+  if (root["slurm"]) read_slurm(source, root["slurm"], spec);
   check_mode_axes(source, section["matrix"], spec);
   check_fixed(source, spec, root);
   return spec;

@@ -119,7 +119,7 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
     // reference's order is what is being measured, so it gets no estimate.
     row["reference_error_estimate"] = is_self_referenced(wp, base) ? Row() : Row(difference / 15.0);
     row["wall_s"] = coarse.wall_s + fine.wall_s;
-    store.append(row);
+    store.append(row, base.index);
   }
   return fine;
 }
@@ -158,11 +158,10 @@ Row fit_row(const CaseSpec& c, const ResultsStore& store, const WorkPrecisionSet
   std::vector<double> dts, errors;
   for (int level = 0; level < wp.levels; ++level) {
     const std::string key = ladder_key(c, ladder_dt(wp, level));
-    for (const Row& row : store.rows()) {
-      if (row["key"] == key && row["error"].is_number()) {
-        dts.push_back(row["dt"].get<double>());
-        errors.push_back(row["error"].get<double>());
-      }
+    const std::optional<Row> row = store.find(key);
+    if (row && (*row)["error"].is_number()) {
+      dts.push_back((*row)["dt"].get<double>());
+      errors.push_back((*row)["error"].get<double>());
     }
   }
   const analysis::OrderFit fit = analysis::fit_order(dts, errors);
@@ -229,12 +228,12 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
         ++summary.references;
       }
       const Trajectory run = run_guarded(runner, run_spec(c, dt, duration));
-      store.append(ladder_row(c, dt, duration, run, reference->second));
+      store.append(ladder_row(c, dt, duration, run, reference->second), c.index);
       ++summary.runs;
       if (progress)
         progress->case_finished(c.integrator + " " + c.key + " dt=" + host::format_number(dt));
     }
-    if (!store.contains(fit_key(c))) store.append(fit_row(c, store, wp));
+    if (!store.contains(fit_key(c))) store.append(fit_row(c, store, wp), c.index);
   }
   if (progress) progress->finish();
   return summary;

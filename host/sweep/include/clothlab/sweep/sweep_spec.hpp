@@ -7,7 +7,7 @@
 //   sweep:
 //     name: seed-2016-matrix
 //     mode: run                        # run | work-precision | stability
-//     output: results/seed-2016-matrix # writes .csv and .json beside each other
+//     output: results/seed-2016-matrix # .sqlite store, .csv and .json exports beside it
 //     matrix:                          # every combination is one case, in this order:
 //       integrator: [euler, rk4]
 //       scenario: [sheet, flag]
@@ -20,11 +20,18 @@
 //                      self_reference: [verlet]}
 //     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
 //                 growth: 2, max_evaluations: 40}   # growth: bracketing factor
+//   slurm:                             # for --slurm only; not part of any case
+//     partition: batch                 # sbatch --partition (default: the cluster's)
+//     tasks: 8                         # array tasks = shards (--array=1-8)
+//     time: "1:00:00"                  # sbatch --time per task
+//     cpus_per_task: 2                 # sbatch --cpus-per-task
+//     sbatch: [--mem=4G, --qos=short]  # further sbatch options, passed as given
 #pragma once
 
 #include <clothlab/analysis/find_max_dt.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/config/setting.hpp>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -59,6 +66,14 @@ struct WorkPrecisionSettings {
   int levels = 6;            // ladder length (dt_start, dt_start/2, ...)
 };
 
+struct SlurmSettings {
+  std::string partition;
+  std::size_t tasks = 4;
+  std::string time;
+  std::size_t cpus_per_task = 1;
+  std::vector<std::string> sbatch_options;
+};
+
 struct SweepSpec {
   std::string source;  // file name, for messages
   std::string name;
@@ -69,7 +84,13 @@ struct SweepSpec {
   analysis::MonitorOptions monitor;
   WorkPrecisionSettings work_precision;
   analysis::MaxDtOptions stability;
+  SlurmSettings slurm;
 };
+
+// Sets slurm.<name> (partition, tasks, time, cpus_per_task, sbatch) from text, as a `slurm:`
+// key or a --set does; source names it in messages. Throws SweepError.
+void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
+                         const std::string& source);
 
 // Parses YAML text; `source` names it in messages. Throws SweepError (an InputError).
 SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source);
