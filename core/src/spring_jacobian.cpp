@@ -24,6 +24,8 @@ SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* i
   row_offsets_.assign(n_ + 1, 0);
   entry_slot_.resize(topology.adjacent_springs.size());
   diagonal_slot_.resize(n_);
+  entry_partner_.resize(topology.adjacent_springs.size());
+  spring_products_.resize(3 * topology.spring_count());
   std::vector<uint32_t> row;
   for (uint32_t i = 0; i < n_; ++i) {
     row.assign(1, i);
@@ -37,8 +39,10 @@ SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* i
              static_cast<uint32_t>(std::lower_bound(row.begin(), row.end(), column) - row.begin());
     };
     diagonal_slot_[i] = slot(i);
-    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-      entry_slot_[e] = slot(partner(i, topology.adjacent_springs[e]));
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      entry_partner_[e] = partner(i, topology.adjacent_springs[e]);
+      entry_slot_[e] = slot(entry_partner_[e]);
+    }
     columns_.insert(columns_.end(), row.begin(), row.end());
     row_offsets_[i + 1] = static_cast<uint32_t>(columns_.size());
   }
@@ -46,21 +50,21 @@ SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* i
 
 template <class Real>
 template <class Body>
-void SpringJacobian<Real>::for_particles(Body&& body) const {
-  const auto chunks = static_cast<std::ptrdiff_t>((n_ + kChunk - 1) / kChunk);
+void SpringJacobian<Real>::for_range(std::size_t count, Body&& body) const {
+  const auto chunks = static_cast<std::ptrdiff_t>((count + kChunk - 1) / kChunk);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(n_, begin + kChunk);
+    const std::size_t end = std::min(count, begin + kChunk);
     for (std::size_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
   }
 }
 
 template <class Real>
-void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t i, uint32_t entry,
-                                        const Weights& w, double (&m)[9]) const {
-  const uint32_t spring = topology_.adjacent_springs[entry];
-  const uint32_t j = partner(i, spring);
+void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t spring,
+                                        const Weights& w, double* m) const {
+  const uint32_t i = topology_.first[spring];
+  const uint32_t j = topology_.second[spring];
   double d[3], dv[3] = {0, 0, 0};
   for (std::size_t k = 0; k < 3; ++k) {
     d[k] = double{x[k * stride_ + j]} - double{x[k * stride_ + i]};
@@ -68,7 +72,7 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t i
   }
   const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
   if (squared == 0.0) {  // the force pass gives a zero-length spring no force
-    std::fill(std::begin(m), std::end(m), 0.0);
+    std::fill(m, m + 9, 0.0);
     return;
   }
   const double inverse_length = 1.0 / std::sqrt(squared);
@@ -96,20 +100,35 @@ void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, doubl
                                  const Real* u, Real* out) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
+  double* spring_products = spring_products_.data();
+  for_range(topology_.spring_count(), [&](uint32_t spring) {
+    const uint32_t first = topology_.first[spring], second = topology_.second[spring];
+    double* product = spring_products + 3 * std::size_t{spring};
+    if (inverse_mass_[first] == Real(0) && inverse_mass_[second] == Real(0)) return;  // unread
+    double m[9];
+    spring_block(x, v, spring, w, m);
+    const bool first_active = inverse_mass_[first] > Real(0);  // pinned columns are zero
+    const bool second_active = inverse_mass_[second] > Real(0);
+    double du[3];
+    for (std::size_t k = 0; k < 3; ++k)
+      du[k] = (second_active ? double{u[k * stride_ + second]} : 0.0) -
+              (first_active ? double{u[k * stride_ + first]} : 0.0);
+    for (std::size_t r = 0; r < 3; ++r)
+      product[r] = m[3 * r] * du[0] + m[3 * r + 1] * du[1] + m[3 * r + 2] * du[2];
+  });
   for_particles([&](uint32_t i) {
     double sum[3] = {0, 0, 0};
     const double inverse_mass = inverse_mass_[i];
     if (inverse_mass > 0.0) {
       for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
-        double m[9];
-        spring_block(x, v, i, e, w, m);
-        const uint32_t j = partner(i, topology_.adjacent_springs[e]);
-        const bool j_active = inverse_mass_[j] > Real(0);  // pinned columns are zero
-        double du[3];
-        for (std::size_t k = 0; k < 3; ++k)
-          du[k] = (j_active ? double{u[k * stride_ + j]} : 0.0) - double{u[k * stride_ + i]};
-        for (std::size_t r = 0; r < 3; ++r)
-          sum[r] += m[3 * r] * du[0] + m[3 * r + 1] * du[1] + m[3 * r + 2] * du[2];
+        const uint32_t spring = topology_.adjacent_springs[e];
+        const double* product = spring_products + 3 * std::size_t{spring};
+        // Seen from the second particle du changes sign (exactly).
+        if (topology_.first[spring] == i) {
+          for (std::size_t r = 0; r < 3; ++r) sum[r] += product[r];
+        } else {
+          for (std::size_t r = 0; r < 3; ++r) sum[r] -= product[r];
+        }
       }
     }
     for (std::size_t k = 0; k < 3; ++k)
@@ -129,7 +148,7 @@ void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, double 
     if (inverse_mass == 0.0) return;
     for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
       double m[9];
-      spring_block(x, v, i, e, w, m);
+      spring_block(x, v, topology_.adjacent_springs[e], w, m);
       for (std::size_t k = 0; k < 9; ++k) block[k] -= inverse_mass * m[k];
     }
   });
@@ -148,8 +167,8 @@ void SpringJacobian<Real>::blocks(const Real* x, const Real* v, double c_x, doub
     double* diagonal = values + 9 * std::size_t{diagonal_slot_[i]};
     for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
       double m[9];
-      spring_block(x, v, i, e, w, m);
-      const bool j_active = inverse_mass_[partner(i, topology_.adjacent_springs[e])] > Real(0);
+      spring_block(x, v, topology_.adjacent_springs[e], w, m);
+      const bool j_active = inverse_mass_[entry_partner_[e]] > Real(0);
       double* off_diagonal = values + 9 * std::size_t{entry_slot_[e]};
       for (std::size_t k = 0; k < 9; ++k) {
         diagonal[k] -= inverse_mass * m[k];

@@ -6,8 +6,11 @@
 // P = I - u u^T (the second term is the damping force's dependence on x); M is the same
 // seen from either end. Gravity is constant and wind's x-dependence is left out.
 //
-// Every product is a gather over each particle's springs (CSR adjacency): no scatter, no
-// atomics, threads split the particles, results do not depend on the thread count.
+// apply computes each spring's M (u_j - u_i) once (a pass over the springs into scratch),
+// then gathers it over each particle's springs (CSR adjacency): no scatter, no atomics, threads
+// split the springs and then the particles, results do not depend on the thread count. M is
+// computed from the spring's own orientation; seen from the other end d, u and dv only change sign,
+// which is exact, so both ends see the very same block.
 // Everything is allocated by the constructor; the calls never allocate.
 #pragma once
 
@@ -40,15 +43,20 @@ class SpringJacobian {
     double c_x, c_v;
     bool damped;
   };
-  // M of the adjacency entry `entry` of particle i (see above); 0 for a zero-length spring.
-  void spring_block(const Real* x, const Real* v, uint32_t i, uint32_t entry, const Weights& w,
-                    double (&m)[9]) const;
+  // M of spring `spring` (see above); 0 for a zero-length spring.
+  void spring_block(const Real* x, const Real* v, uint32_t spring, const Weights& w,
+                    double* m) const;
   uint32_t partner(uint32_t i, uint32_t spring) const {
     return topology_.first[spring] == i ? topology_.second[spring] : topology_.first[spring];
   }
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
-  void for_particles(Body&& body) const;
+  void for_particles(Body&& body) const {
+    for_range(n_, body);
+  }
+  // Calls body(k) for k in [0, count), threads over chunks.
+  template <class Body>
+  void for_range(std::size_t count, Body&& body) const;
 
   const GridTopology& topology_;
   const Real* inverse_mass_;
@@ -60,6 +68,10 @@ class SpringJacobian {
   // Block CSR pattern: row i's columns, ascending; the slot of each adjacency entry's
   // block and of each diagonal block in it.
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;
+  // The other particle of each adjacency entry.
+  std::vector<uint32_t> entry_partner_;
+  // apply's M (u_second - u_first) per spring, 3 each (scratch; apply is not reentrant).
+  mutable std::vector<double> spring_products_;
 };
 
 }  // namespace clothlab::detail
