@@ -103,18 +103,38 @@ void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, doubl
   double* spring_products = spring_products_.data();
   for_range(topology_.spring_count(), [&](uint32_t spring) {
     const uint32_t first = topology_.first[spring], second = topology_.second[spring];
-    double* product = spring_products + 3 * std::size_t{spring};
-    if (inverse_mass_[first] == Real(0) && inverse_mass_[second] == Real(0)) return;  // unread
-    double m[9];
-    spring_block(x, v, spring, w, m);
     const bool first_active = inverse_mass_[first] > Real(0);  // pinned columns are zero
     const bool second_active = inverse_mass_[second] > Real(0);
-    double du[3];
-    for (std::size_t k = 0; k < 3; ++k)
+    double* product = spring_products + 3 * std::size_t{spring};
+    if (!first_active && !second_active) return;  // no row reads it
+    double d[3], dv[3] = {0, 0, 0}, du[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = double{x[k * stride_ + second]} - double{x[k * stride_ + first]};
+      if (w.damped) dv[k] = double{v[k * stride_ + second]} - double{v[k * stride_ + first]};
       du[k] = (second_active ? double{u[k * stride_ + second]} : 0.0) -
               (first_active ? double{u[k * stride_ + first]} : 0.0);
-    for (std::size_t r = 0; r < 3; ++r)
-      product[r] = m[3 * r] * du[0] + m[3 * r + 1] * du[1] + m[3 * r + 2] * du[2];
+    }
+    const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (squared == 0.0) {  // the force pass gives a zero-length spring no force
+      std::fill(product, product + 3, 0.0);
+      return;
+    }
+    // M du without forming M: c_x (a du + (b (u.du) + (kd/l) (P dv).du) u) + c_v kd (u.du) u.
+    const double inverse_length = 1.0 / std::sqrt(squared);
+    const double n[3] = {d[0] * inverse_length, d[1] * inverse_length, d[2] * inverse_length};
+    const double ks = topology_.ks[spring];
+    const double kd = w.damped ? topology_.kd[spring] : 0.0;
+    const double ratio = topology_.rest_length[spring] * inverse_length;
+    const double s = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
+    const double damping_scale = kd * inverse_length;
+    const double a = ks * (1.0 - ratio) + damping_scale * s;
+    const double b = ks * ratio - damping_scale * s;
+    const double n_du = n[0] * du[0] + n[1] * du[1] + n[2] * du[2];
+    const double dv_du = dv[0] * du[0] + dv[1] * du[1] + dv[2] * du[2];
+    const double projected_dv_du = dv_du - s * n_du;
+    const double along = w.c_x * (b * n_du + damping_scale * projected_dv_du) + w.c_v * kd * n_du;
+    const double across = w.c_x * a;
+    for (std::size_t r = 0; r < 3; ++r) product[r] = across * du[r] + along * n[r];
   });
   for_particles([&](uint32_t i) {
     double sum[3] = {0, 0, 0};

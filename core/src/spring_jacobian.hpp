@@ -6,11 +6,12 @@
 // P = I - u u^T (the second term is the damping force's dependence on x); M is the same
 // seen from either end. Gravity is constant and wind's x-dependence is left out.
 //
-// apply computes each spring's M (u_j - u_i) once (a pass over the springs into scratch),
-// then gathers it over each particle's springs (CSR adjacency): no scatter, no atomics, threads
-// split the springs and then the particles, results do not depend on the thread count. M is
-// computed from the spring's own orientation; seen from the other end d, u and dv only change sign,
-// which is exact, so both ends see the very same block.
+// apply computes each spring's M (u_j - u_i) once, from the spring's own orientation and
+// without forming M, in a pass over the springs into scratch; each particle then gathers it
+// over its springs (CSR adjacency), negated at the spring's second end (seen from there d, u,
+// dv and du only change sign, which is exact). The block forms build M per adjacency entry.
+// No scatter, no atomics, threads split the springs and then the particles: results do not
+// depend on the thread count.
 // Everything is allocated by the constructor; the calls never allocate.
 #pragma once
 
