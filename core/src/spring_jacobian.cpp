@@ -50,14 +50,21 @@ SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* i
 
 template <class Real>
 template <class Body>
-void SpringJacobian<Real>::for_range(std::size_t count, Body&& body) const {
+void SpringJacobian<Real>::for_chunks(std::size_t count, Body&& body) const {
   const auto chunks = static_cast<std::ptrdiff_t>((count + kChunk - 1) / kChunk);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(count, begin + kChunk);
-    for (std::size_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+    body(begin, std::min(count, begin + kChunk));
   }
+}
+
+template <class Real>
+template <class Body>
+void SpringJacobian<Real>::for_particles(Body&& body) const {
+  for_chunks(n_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+  });
 }
 
 template <class Real>
@@ -96,45 +103,65 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
 }
 
 template <class Real>
+template <bool Damped>
+void SpringJacobian<Real>::spring_products(const Real* x, const Real* v, const Real* u,
+                                           const Weights& w, std::size_t begin,
+                                           std::size_t end) const {
+  const std::size_t springs = topology_.spring_count();
+  const uint32_t* first = topology_.first.data();
+  const uint32_t* second = topology_.second.data();
+  const double* rest_length = topology_.rest_length.data();
+  const double* ks = topology_.ks.data();
+  const double* kd = topology_.kd.data();
+  double* products = spring_products_.data();
+  // Branch-free so that it vectorises; a spring with both ends pinned gets a value no row reads.
+#pragma omp simd
+  for (std::size_t spring = begin; spring < end; ++spring) {
+    const uint32_t i = first[spring], j = second[spring];
+    // Pinned columns are zero.
+    const double i_active = inverse_mass_[i] > Real(0) ? 1.0 : 0.0;
+    const double j_active = inverse_mass_[j] > Real(0) ? 1.0 : 0.0;
+    double d[3], dv[3], du[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = double{x[k * stride_ + j]} - double{x[k * stride_ + i]};
+      dv[k] = Damped ? double{v[k * stride_ + j]} - double{v[k * stride_ + i]} : 0.0;
+      du[k] = j_active * double{u[k * stride_ + j]} - i_active * double{u[k * stride_ + i]};
+    }
+    const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    // The force pass gives a zero-length spring no force.
+    const double inverse_length = squared > 0.0 ? 1.0 / std::sqrt(squared) : 0.0;
+    const double live = squared > 0.0 ? 1.0 : 0.0;
+    // M du without forming M: c_x (a du + (b (n.du) + (kd/l) (P dv).du) n) + c_v kd (n.du) n.
+    const double n[3] = {d[0] * inverse_length, d[1] * inverse_length, d[2] * inverse_length};
+    const double damping = Damped ? kd[spring] : 0.0;
+    const double ratio = rest_length[spring] * inverse_length;
+    const double s = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
+    const double damping_scale = damping * inverse_length;
+    const double a = ks[spring] * (1.0 - ratio) + damping_scale * s;
+    const double b = ks[spring] * ratio - damping_scale * s;
+    const double n_du = n[0] * du[0] + n[1] * du[1] + n[2] * du[2];
+    const double dv_du = dv[0] * du[0] + dv[1] * du[1] + dv[2] * du[2];
+    const double projected_dv_du = dv_du - s * n_du;
+    const double along =
+        w.c_x * (b * n_du + damping_scale * projected_dv_du) + w.c_v * damping * n_du;
+    const double across = live * w.c_x * a;
+    for (std::size_t r = 0; r < 3; ++r)
+      products[r * springs + spring] = across * du[r] + along * n[r];
+  }
+}
+
+template <class Real>
 void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, double c_v,
                                  const Real* u, Real* out) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
-  double* spring_products = spring_products_.data();
-  for_range(topology_.spring_count(), [&](uint32_t spring) {
-    const uint32_t first = topology_.first[spring], second = topology_.second[spring];
-    const bool first_active = inverse_mass_[first] > Real(0);  // pinned columns are zero
-    const bool second_active = inverse_mass_[second] > Real(0);
-    double* product = spring_products + 3 * std::size_t{spring};
-    if (!first_active && !second_active) return;  // no row reads it
-    double d[3], dv[3] = {0, 0, 0}, du[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = double{x[k * stride_ + second]} - double{x[k * stride_ + first]};
-      if (w.damped) dv[k] = double{v[k * stride_ + second]} - double{v[k * stride_ + first]};
-      du[k] = (second_active ? double{u[k * stride_ + second]} : 0.0) -
-              (first_active ? double{u[k * stride_ + first]} : 0.0);
-    }
-    const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    if (squared == 0.0) {  // the force pass gives a zero-length spring no force
-      std::fill(product, product + 3, 0.0);
-      return;
-    }
-    // M du without forming M: c_x (a du + (b (u.du) + (kd/l) (P dv).du) u) + c_v kd (u.du) u.
-    const double inverse_length = 1.0 / std::sqrt(squared);
-    const double n[3] = {d[0] * inverse_length, d[1] * inverse_length, d[2] * inverse_length};
-    const double ks = topology_.ks[spring];
-    const double kd = w.damped ? topology_.kd[spring] : 0.0;
-    const double ratio = topology_.rest_length[spring] * inverse_length;
-    const double s = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
-    const double damping_scale = kd * inverse_length;
-    const double a = ks * (1.0 - ratio) + damping_scale * s;
-    const double b = ks * ratio - damping_scale * s;
-    const double n_du = n[0] * du[0] + n[1] * du[1] + n[2] * du[2];
-    const double dv_du = dv[0] * du[0] + dv[1] * du[1] + dv[2] * du[2];
-    const double projected_dv_du = dv_du - s * n_du;
-    const double along = w.c_x * (b * n_du + damping_scale * projected_dv_du) + w.c_v * kd * n_du;
-    const double across = w.c_x * a;
-    for (std::size_t r = 0; r < 3; ++r) product[r] = across * du[r] + along * n[r];
+  const double* products = spring_products_.data();
+  const std::size_t springs = topology_.spring_count();
+  for_chunks(springs, [&](std::size_t begin, std::size_t end) {
+    if (w.damped)
+      spring_products<true>(x, v, u, w, begin, end);
+    else
+      spring_products<false>(x, v, u, w, begin, end);
   });
   for_particles([&](uint32_t i) {
     double sum[3] = {0, 0, 0};
@@ -142,12 +169,11 @@ void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, doubl
     if (inverse_mass > 0.0) {
       for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
         const uint32_t spring = topology_.adjacent_springs[e];
-        const double* product = spring_products + 3 * std::size_t{spring};
         // Seen from the second particle du changes sign (exactly).
         if (topology_.first[spring] == i) {
-          for (std::size_t r = 0; r < 3; ++r) sum[r] += product[r];
+          for (std::size_t r = 0; r < 3; ++r) sum[r] += products[r * springs + spring];
         } else {
-          for (std::size_t r = 0; r < 3; ++r) sum[r] -= product[r];
+          for (std::size_t r = 0; r < 3; ++r) sum[r] -= products[r * springs + spring];
         }
       }
     }

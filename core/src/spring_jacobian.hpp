@@ -50,14 +50,16 @@ class SpringJacobian {
   uint32_t partner(uint32_t i, uint32_t spring) const {
     return topology_.first[spring] == i ? topology_.second[spring] : topology_.first[spring];
   }
+  // The products M (u_j - u_i) of springs [begin, end) into spring_products_.
+  template <bool Damped>
+  void spring_products(const Real* x, const Real* v, const Real* u, const Weights& w,
+                       std::size_t begin, std::size_t end) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
-  void for_particles(Body&& body) const {
-    for_range(n_, body);
-  }
-  // Calls body(k) for k in [0, count), threads over chunks.
+  void for_particles(Body&& body) const;
+  // Calls body(begin, end) for chunks covering [0, count), threads over the chunks.
   template <class Body>
-  void for_range(std::size_t count, Body&& body) const;
+  void for_chunks(std::size_t count, Body&& body) const;
 
   const GridTopology& topology_;
   const Real* inverse_mass_;
@@ -71,7 +73,7 @@ class SpringJacobian {
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;
   // The other particle of each adjacency entry.
   std::vector<uint32_t> entry_partner_;
-  // apply's M (u_second - u_first) per spring, 3 each (scratch; apply is not reentrant).
+  // apply's M (u_second - u_first), component-major (scratch; apply is not reentrant).
   mutable std::vector<double> spring_products_;
 };
 
