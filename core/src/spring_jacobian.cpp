@@ -26,6 +26,18 @@ SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* i
   diagonal_slot_.resize(n_);
   entry_partner_.resize(topology.adjacent_springs.size());
   spring_products_.resize(3 * topology.spring_count());
+  for (uint32_t spring = 0; spring < topology.spring_count(); ++spring) {
+    const uint32_t first = topology.first[spring], second = topology.second[spring];
+    if (!runs_.empty()) {
+      SpringRun& run = runs_.back();
+      if (run.count < kChunk && first == run.first + run.count &&
+          second == run.second + run.count) {
+        ++run.count;
+        continue;
+      }
+    }
+    runs_.push_back({spring, 1, first, second});
+  }
   std::vector<uint32_t> row;
   for (uint32_t i = 0; i < n_; ++i) {
     row.assign(1, i);
@@ -105,19 +117,16 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
 template <class Real>
 template <bool Damped>
 void SpringJacobian<Real>::spring_products(const Real* x, const Real* v, const Real* u,
-                                           const Weights& w, std::size_t begin,
-                                           std::size_t end) const {
+                                           const Weights& w, const SpringRun& run) const {
   const std::size_t springs = topology_.spring_count();
-  const uint32_t* first = topology_.first.data();
-  const uint32_t* second = topology_.second.data();
-  const double* rest_length = topology_.rest_length.data();
-  const double* ks = topology_.ks.data();
-  const double* kd = topology_.kd.data();
-  double* products = spring_products_.data();
+  const double* rest_length = topology_.rest_length.data() + run.spring;
+  const double* ks = topology_.ks.data() + run.spring;
+  const double* kd = topology_.kd.data() + run.spring;
+  double* products = spring_products_.data() + run.spring;
   // Branch-free so that it vectorises; a spring with both ends pinned gets a value no row reads.
 #pragma omp simd
-  for (std::size_t spring = begin; spring < end; ++spring) {
-    const uint32_t i = first[spring], j = second[spring];
+  for (std::size_t spring = 0; spring < run.count; ++spring) {
+    const std::size_t i = run.first + spring, j = run.second + spring;
     // Pinned columns are zero.
     const double i_active = inverse_mass_[i] > Real(0) ? 1.0 : 0.0;
     const double j_active = inverse_mass_[j] > Real(0) ? 1.0 : 0.0;
@@ -157,12 +166,14 @@ void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, doubl
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
   const double* products = spring_products_.data();
   const std::size_t springs = topology_.spring_count();
-  for_chunks(springs, [&](std::size_t begin, std::size_t end) {
+  const auto runs = static_cast<std::ptrdiff_t>(runs_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t run = 0; run < runs; ++run) {
     if (w.damped)
-      spring_products<true>(x, v, u, w, begin, end);
+      spring_products<true>(x, v, u, w, runs_[static_cast<std::size_t>(run)]);
     else
-      spring_products<false>(x, v, u, w, begin, end);
-  });
+      spring_products<false>(x, v, u, w, runs_[static_cast<std::size_t>(run)]);
+  }
   for_particles([&](uint32_t i) {
     double sum[3] = {0, 0, 0};
     const double inverse_mass = inverse_mass_[i];

@@ -50,10 +50,15 @@ class SpringJacobian {
   uint32_t partner(uint32_t i, uint32_t spring) const {
     return topology_.first[spring] == i ? topology_.second[spring] : topology_.first[spring];
   }
-  // The products M (u_j - u_i) of springs [begin, end) into spring_products_.
+  // Springs run.spring + k, k < run.count, join run.first + k to run.second + k: contiguous
+  // loads in the spring pass instead of gathers.
+  struct SpringRun {
+    uint32_t spring, count, first, second;
+  };
+  // The products M (u_j - u_i) of the run's springs into spring_products_.
   template <bool Damped>
   void spring_products(const Real* x, const Real* v, const Real* u, const Weights& w,
-                       std::size_t begin, std::size_t end) const;
+                       const SpringRun& run) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -73,6 +78,8 @@ class SpringJacobian {
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;
   // The other particle of each adjacency entry.
   std::vector<uint32_t> entry_partner_;
+  // The springs cut into runs of at most one work item each.
+  std::vector<SpringRun> runs_;
   // apply's M (u_second - u_first), component-major (scratch; apply is not reentrant).
   mutable std::vector<double> spring_products_;
 };
