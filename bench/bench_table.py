@@ -65,7 +65,7 @@ def main(results_dir, machine):
     summary = {
         "machine": machine,
         "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "config": "configs/bench-300.yaml",
+        "config": "configs/bench-300-soft.yaml",
         "rows": rows,
         "speedup_euler_flag": speedup,
         "scaling_euler_flag": scaling,

@@ -1,6 +1,6 @@
 // clothlab_speedup CONFIG [REPETITIONS STEPS]: the in-run baseline comparison of issue 4.
 //
-// Builds the flag of CONFIG's `scenario:` map (configs/bench-300.yaml), then alternates
+// Builds the flag of CONFIG's `scenario:` map (configs/bench-300-soft.yaml), then alternates
 // blocks of STEPS semi-implicit Euler steps of (a) the seed-style reference force
 // evaluation, one thread, and (b) the fast core with the euler plugin, REPETITIONS times
 // each, so both see the same machine load. Prints one JSON object: per-step medians of

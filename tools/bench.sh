@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Issue-4 benchmark table from one run: builds Release with -march=native, then measures
-#   - each integrator x scenario at 300 x 300, dt 1 ms, float32 (configs/bench-300.yaml):
+#   - each integrator x scenario at 300 x 300, dt 1 ms, float32 (configs/bench-300-soft.yaml):
 #     ms/step (median of REPS runs' median step times), real-time factor = dt / that,
 #     internal-force throughput (springs/s, median over runs);
 #   - the euler flag step of the fast core vs the in-run baseline (seed-style reference
@@ -58,20 +58,20 @@ fi
 for rep in $(seq 1 "$reps"); do
   for scenario in sheet flag; do
     for integrator in euler verlet midpoint rk4; do
-      "$bin/clothlab" --config configs/bench-300.yaml --integrator "$integrator" \
+      "$bin/clothlab" --config configs/bench-300-soft.yaml --integrator "$integrator" \
         --scenario "$scenario" --steps "$steps" --threads "$threads" --quiet \
         --json "$results/runs/$scenario-$integrator-$rep.json"
     done
   done
 done
 
-"$bin/clothlab_speedup" configs/bench-300.yaml "$reps" "$steps" >"$results/speedup.json"
+"$bin/clothlab_speedup" configs/bench-300-soft.yaml "$reps" "$steps" >"$results/speedup.json"
 
 # Same material and spacing as bench-300 (2 cm, 0.6 kg/m^2) at every size.
 for side in 50 100 200 300 500 1000; do
   size=$(python3 -c "print(6.0 * $side / 300)")
   mass=$(python3 -c "print(0.6 * (6.0 * $side / 300) ** 2)")
-  "$bin/clothlab" --config configs/bench-300.yaml --integrator euler --scenario flag \
+  "$bin/clothlab" --config configs/bench-300-soft.yaml --integrator euler --scenario flag \
     --set scenario.rows="$side" --set scenario.cols="$side" --set scenario.width="$size" \
     --set scenario.height="$size" --set scenario.mass="$mass" --steps "$steps" \
     --threads "$threads" --quiet --json "$results/runs/scaling-$side.json"

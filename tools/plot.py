@@ -12,6 +12,13 @@
       60 Hz and 30 Hz frame steps (16.7 ms, 33.3 ms) as horizontal lines.
   plot.py cost results/seed-2016-matrix.json [--metric ms_per_step] [--dt 0.001] --out plots/
       per scenario: the metric against particle count, one line per integrator.
+  plot.py choose results/choose-cotton-flag-200.json --out plots/
+      clothlab --choose probes: cost per frame against position error, one colour per
+      integrator (filled: the probe passed every criterion; hollow: it failed one), with the
+      tolerance as a line.
+  plot.py energy energy-verlet.csv energy-xpbd.csv ... --out plots/
+      total energy over time from clothlab --energy-out files, one line per file (named by
+      the run's integrator): numerical damping made visible.
 
 Every plot names the mesh, the cloth, the precision and the machine under its title
 (--cloth, --matrix-cloth, --machine; the machine defaults to this one's CPU).
@@ -291,6 +298,62 @@ def plot_cost(args):
     return written
 
 
+def plot_choose(args):
+    rows = read_rows(args.results)
+    probes = [r for r in rows if r.get("kind") == "probe" and number(r.get("error")) is not None
+              and number(r.get("ms_per_frame")) is not None]
+    if not probes:
+        raise InputProblem(f"{args.results}: no choose probes with an error and a cost")
+    tolerance = None
+    with open(args.results) as stream:
+        document = json.load(stream) if args.results.endswith(".json") else {}
+    tolerance = number(document.get("sweep", {}).get("error_tolerance"))
+    figure, axis = plt.subplots(figsize=(6.5, 4.5))
+    for integrator in sorted({str(r.get("integrator")) for r in probes}):
+        mine = [r for r in probes if str(r.get("integrator")) == integrator]
+        colour = COLOURS.get(integrator)
+        for passed, marker in ((True, "o"), (False, "o")):
+            chosen = [r for r in mine if bool(r.get("passed")) == passed]
+            if chosen:
+                axis.loglog([r["error"] for r in chosen], [r["ms_per_frame"] for r in chosen],
+                            marker, color=colour, markerfacecolor=colour if passed else "none",
+                            linestyle="none", label=integrator if passed or len(chosen) == len(mine)
+                            else None)
+    if tolerance is not None:
+        axis.axvline(tolerance, color="grey", linestyle="--", label=f"tolerance {tolerance:g}")
+    axis.set_xlabel("RMS position error / cloth diagonal")
+    axis.set_ylabel("ms per frame")
+    axis.set_title("choose: cost per frame vs error (filled: passed)")
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=8)
+    return save(figure, args.out, "choose-cost-error")
+
+
+def read_energy(path):
+    try:
+        with open(path, newline="") as stream:
+            rows = list(csv.DictReader(stream))
+    except OSError as error:
+        raise InputProblem(f"{path}: cannot read energy trace: {error.strerror}")
+    if not rows or "t" not in rows[0] or "total" not in rows[0]:
+        raise InputProblem(f"{path}: expected clothlab --energy-out CSV (t, ..., total)")
+    return [float(r["t"]) for r in rows], [float(r["total"]) for r in rows], rows[0].get("integrator")
+
+
+def plot_energy(args):
+    figure, axis = plt.subplots(figsize=(6.5, 4.5))
+    for path in args.traces:
+        times, totals, integrator = read_energy(path)
+        label = integrator or os.path.splitext(os.path.basename(path))[0]
+        axis.plot(times, totals, color=COLOURS.get(label), label=label)
+    axis.set_xlabel("t (s)")
+    axis.set_ylabel("total energy (J): kinetic + springs + gravity")
+    axis.set_title("energy over time per integrator")
+    axis.grid(True, alpha=0.3)
+    axis.legend(fontsize=8)
+    return save(figure, args.out, "energy")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     commands = parser.add_subparsers(dest="command", required=True)
@@ -308,7 +371,13 @@ def main(argv=None):
     cost.set_defaults(run=plot_cost)
     st.add_argument("--matrix-cloth", default="the matrix's cloth",
                     help="the cloth of the --matrix runs, for their panels' titles")
-    for command in (wp, st, cost):
+    choose = commands.add_parser("choose", help="clothlab --choose: cost per frame vs error")
+    choose.add_argument("results")
+    choose.set_defaults(run=plot_choose)
+    energy = commands.add_parser("energy", help="energy over time per integrator")
+    energy.add_argument("traces", nargs="+")
+    energy.set_defaults(run=plot_energy)
+    for command in (wp, st, cost, choose, energy):
         command.add_argument("--out", default="plots", help="output folder (default plots)")
         command.add_argument("--cloth", default="default cloth (plugins/README.md)",
                              help="the cloth (material) of the results, for the caption")

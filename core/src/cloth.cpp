@@ -34,6 +34,6 @@ void Cloth::set_state(const std::vector<double>& x, const std::vector<double>& v
 }
 bool Cloth::state_is_finite() const { return impl_->engine->state_is_finite(); }
 Cloth::Energy Cloth::energy() const { return impl_->engine->energy(); }
-Cloth::Stretch Cloth::stretch() const { return impl_->engine->stretch(); }
+Cloth::Stretch Cloth::stretch(Springs springs) const { return impl_->engine->stretch(springs); }
 
 }  // namespace clothlab

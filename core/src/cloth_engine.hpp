@@ -31,7 +31,7 @@ class ClothEngine final : public Engine {
   void set_state(const std::vector<double>& x, const std::vector<double>& v) override;
   bool state_is_finite() const override;
   Cloth::Energy energy() const override;
-  Cloth::Stretch stretch() const override;
+  Cloth::Stretch stretch(Cloth::Springs springs) const override;
 
  private:
   struct Span {

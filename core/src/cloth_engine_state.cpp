@@ -105,7 +105,7 @@ Cloth::Energy ClothEngine<Real>::energy() const {
 }
 
 template <class Real>
-Cloth::Stretch ClothEngine<Real>::stretch() const {
+Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
   const Real* x = x_.data();
   const std::size_t cols = scene_.cols;
   double worst = 0.0;
@@ -114,6 +114,7 @@ Cloth::Stretch ClothEngine<Real>::stretch() const {
   for (const Stencil& stencil : kProvotStencils) {
     const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
     if (extent.count() == 0) continue;
+    if (which == Cloth::Springs::Structural && stencil.family != &Scene::structural) continue;
     springs += extent.count();
     const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
     const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));

@@ -20,7 +20,7 @@ class Engine {
   virtual void set_state(const std::vector<double>& x, const std::vector<double>& v) = 0;
   virtual bool state_is_finite() const = 0;
   virtual Cloth::Energy energy() const = 0;
-  virtual Cloth::Stretch stretch() const = 0;
+  virtual Cloth::Stretch stretch(Cloth::Springs springs) const = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,

@@ -47,6 +47,9 @@ po::options_description describe_options() {
       "CLOTHLAB_PLUGIN_PATH, then ../lib/clothlab/plugins beside the executable")(
       "json", po::value<std::string>(), "write the run summary as JSON to FILE")(
       "state-out", po::value<std::string>(), "write the final state as CSV to FILE")(
+      "energy-out", po::value<std::string>(),
+      "write the energy at t = 0 and at every stability check as CSV to FILE "
+      "(integrator,t,kinetic,spring,gravity,total; tools/plot.py energy draws it)")(
       "frames", po::value<std::string>(),
       "write the cloth every frame to DIR (keys frames.every | frames.rate (default 60 Hz), "
       "frames.format: vtp, obj, pc2); `clothlab view DIR` plays it")(
@@ -54,6 +57,11 @@ po::options_description describe_options() {
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
       "find_max_dt.tolerance, .dt_min, .dt_max) and print the predicted dt_max beside it")(
+      "choose",
+      "which integrator for this scene: for each integrator on the plugin path the cheapest "
+      "substeps (and iterations) at --frame-rate that stay stable, within choose.stretch_limit "
+      "(1.1) and within choose.error_tolerance (1 % of the diagonal at T = choose.duration, 1 s) "
+      "of a converged reference; ranked table to stdout and choose.output (results/choose)")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
       "resume", "sweep: keep the results already written and run only the missing cases")(
       "quiet", "print no summary");
@@ -96,8 +104,10 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.config_file = string_option(values, "config");
   command_line.json_file = string_option(values, "json");
   command_line.state_file = string_option(values, "state-out");
+  command_line.energy_file = string_option(values, "energy-out");
   command_line.find_max_dt = values.count("find-max-dt") > 0;
   command_line.resume = values.count("resume") > 0;
+  command_line.choose = values.count("choose") > 0;
   command_line.out_folder = string_option(values, "out");
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();

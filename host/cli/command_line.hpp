@@ -17,8 +17,10 @@ struct CommandLine {
   std::vector<std::string> plugin_paths;
   std::optional<std::string> json_file;
   std::optional<std::string> state_file;
-  bool find_max_dt = false;  // search the largest stable dt instead of one run
-  bool resume = false;       // sweep: skip cases already in the results
+  std::optional<std::string> energy_file;  // energy over time as CSV
+  bool find_max_dt = false;                // search the largest stable dt instead of one run
+  bool choose = false;  // which integrator for this scene and frame rate (choose_mode.hpp)
+  bool resume = false;  // sweep: skip cases already in the results
   // Sweep: results folder (files <out>/<sweep name>.csv/.json) instead of sweep.output.
   std::optional<std::string> out_folder;
   // --integrator, --dt, ... and --set key=value, in command-line order.

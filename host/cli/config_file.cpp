@@ -29,6 +29,8 @@ std::string sequence_text(const YAML::Node& node, const std::string& file, const
   return text + "]";
 }
 
+std::vector<Setting> read_material_file(const std::filesystem::path& path, const std::string& from);
+
 void flatten(const YAML::Node& map, const std::string& prefix, const std::string& file,
              std::vector<Setting>& out) {
   for (const auto& entry : map) {
@@ -46,6 +48,16 @@ void flatten(const YAML::Node& map, const std::string& prefix, const std::string
             {canonical_key(key), sequence_text(value, file, key), location(file, value.Mark())});
         break;
       case YAML::NodeType::Scalar:
+        if (key == "material") {
+          // `material: materials/cotton.yaml` takes a preset's material.* values (the path is
+          // relative to this file's folder), so presets are written once.
+          const std::filesystem::path preset =
+              std::filesystem::path(file).parent_path() / value.Scalar();
+          const std::vector<Setting> values =
+              read_material_file(preset, location(file, value.Mark()));
+          out.insert(out.end(), values.begin(), values.end());
+          break;
+        }
         out.push_back({canonical_key(key), value.Scalar(), location(file, value.Mark())});
         break;
       default:
@@ -66,6 +78,21 @@ void reject_repeated_keys(const std::vector<Setting>& settings) {
                              " repeats the key already set at " + it->second->source +
                              "; allowed: each key once per file");
   }
+}
+
+std::vector<Setting> read_material_file(const std::filesystem::path& path,
+                                        const std::string& from) {
+  std::vector<Setting> settings;
+  try {
+    settings = read_config_file(path);
+  } catch (const host::InputError& error) {
+    throw host::InputError(from + ": material " + path.string() + ": " + error.what());
+  }
+  for (const Setting& setting : settings)
+    if (!setting.key.starts_with("material."))
+      throw host::InputError(setting.source + ": " + setting.key +
+                             " in a material file; allowed: material.* keys only");
+  return settings;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <new>
 #include <optional>
 
+#include "choose_mode.hpp"
 #include "command_line.hpp"
 #include "config_file.hpp"
 #include "frames_output.hpp"
@@ -77,9 +78,17 @@ int run(int argc, const char* const argv[]) {
   // Command-line values come after the file's, so they win.
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
   const RunConfig config = resolve_run_config(settings);
-  for (const auto& output : {command_line.json_file, command_line.state_file})
+  for (const auto& output :
+       {command_line.json_file, command_line.state_file, command_line.energy_file})
     if (output) check_output_path(*output);
 
+  if (command_line.choose) {
+    if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
+      throw clothlab::host::InputError(
+          "--choose writes its own results (choose.output): no --find-max-dt, --json, --state-out");
+    run_choose(settings, search_path, std::cout);
+    return exit_ok;
+  }
   if (command_line.find_max_dt) {
     if (command_line.state_file || !config.frames.dir.empty())
       throw clothlab::host::InputError(
@@ -101,8 +110,12 @@ int run(int argc, const char* const argv[]) {
         std::optional<FramesOutput> frames;
         if (!config.frames.dir.empty()) frames.emplace(config, simulation);
         const RunRecord record =
-            simulation.run({frames ? &*frames : nullptr, &interrupt_requested()});
+            simulation.run({frames ? &*frames : nullptr, &interrupt_requested(),
+                             command_line.energy_file.has_value()});
         if (frames) frames->finish(record);
+        if (command_line.energy_file)
+          write_file_atomically(*command_line.energy_file,
+                                [&](std::ostream& out) { write_energy_csv(record, out); });
         if (command_line.json_file)
           write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
             out << summary_json(record).dump(2) << "\n";

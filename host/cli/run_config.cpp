@@ -116,6 +116,82 @@ void check_material_complete(const Material& material, const std::vector<std::st
                            " N/m; allowed: shear < stretch (the grid's axes carry E - G)");
 }
 
+// "[a, b]" or "a" -> {"a", "b"}.
+std::vector<std::string> word_list(const Setting& setting) {
+  std::string text = setting.value;
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']')
+    text = text.substr(1, text.size() - 2);
+  std::vector<std::string> words;
+  std::string word;
+  for (const char c : text + ",") {
+    if (c == ',') {
+      if (word.empty())
+        throw host::InputError(setting.source + ": " + setting.key + " = " + setting.value +
+                               ": empty name; allowed: a list of plugin names [a, b]");
+      words.push_back(word);
+      word.clear();
+    } else if (c != ' ') {
+      word += c;
+    }
+  }
+  return words;
+}
+
+// ROWSxCOLS or N, each in [1, 4096].
+std::string mesh_text(const Setting& setting) {
+  const size_t cross = setting.value.find('x');
+  const std::string rows = setting.value.substr(0, cross);
+  const std::string cols = cross == std::string::npos ? rows : setting.value.substr(cross + 1);
+  for (const std::string& part : {rows, cols}) {
+    const Setting number{setting.key, part, setting.source};
+    try {
+      read_number(number, CLOTHLAB_PARAM_INT, 1, 4096, "");
+    } catch (const host::InputError&) {
+      throw host::InputError(setting.source + ": " + setting.key + " = " + setting.value +
+                             ": not a mesh; allowed: ROWSxCOLS or N, each a whole number in "
+                             "[1, 4096]");
+    }
+  }
+  return rows + "x" + cols;
+}
+
+// choose.* keys into the choice settings; false when the key is not one.
+bool read_choice_key(const Setting& setting, RunConfig& config) {
+  sweep::ChoiceSettings& choice = config.choice;
+  const std::string& key = setting.key;
+  if (key == "choose.duration") {
+    choice.duration = read_positive(setting, 1e3);
+  } else if (key == "choose.probe_timeout") {
+    choice.probe_timeout_s = read_positive(setting, 1e6);
+  } else if (key == "choose.error_duration") {
+    choice.error_duration = read_positive(setting, 1e3);
+  } else if (key == "choose.stretch_limit") {
+    choice.stretch_limit = read_number(setting, CLOTHLAB_PARAM_REAL, 1.0, 1e6, "x rest length");
+  } else if (key == "choose.error_tolerance") {
+    choice.error_tolerance = read_positive(setting, 1.0, "of the cloth diagonal");
+  } else if (key == "choose.max_substeps") {
+    choice.max_substeps =
+        static_cast<uint32_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_substeps, ""));
+  } else if (key == "choose.max_iterations") {
+    choice.max_iterations =
+        static_cast<uint32_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, 1e5, ""));
+  } else if (key == "choose.reference_substeps") {
+    choice.reference_substeps =
+        static_cast<uint32_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_substeps, ""));
+  } else if (key == "choose.reference_integrator") {
+    choice.reference_integrator = word_list(setting).at(0);
+  } else if (key == "choose.error_mesh") {
+    choice.error_mesh = mesh_text(setting);
+  } else if (key == "choose.integrators") {
+    config.choice_integrators = word_list(setting);
+  } else if (key == "choose.output") {
+    config.choice_output = setting.value;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 bool starts_with(const std::string& text, const std::string& prefix) {
   return text.size() > prefix.size() && text.compare(0, prefix.size(), prefix) == 0;
 }
@@ -149,6 +225,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
           read_number(setting, CLOTHLAB_PARAM_INT, 1, max_substeps, "steps per frame"));
       substeps_setting = setting;
     } else if (read_material_key(setting, material, material_keys_seen)) {
+    } else if (read_choice_key(setting, config)) {
     } else if (key == "steps") {
       config.steps =
           static_cast<uint64_t>(read_number(setting, CLOTHLAB_PARAM_INT, 1, max_steps, ""));
@@ -204,7 +281,12 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "duration, precision, threads, timeout, material.name, "
                              "material.areal_density, material.stretch_stiffness, "
                              "material.shear_stiffness, material.bending_stiffness, "
-                             "material.damping_time, stability.interval, stability.max_stretch, "
+                             "material.damping_time, choose.duration, choose.error_duration, "
+                             "choose.probe_timeout, choose.stretch_limit, "
+                             "choose.error_tolerance, choose.max_substeps, choose.max_iterations, "
+                             "choose.reference_substeps, choose.reference_integrator, "
+                             "choose.error_mesh, choose.integrators, choose.output, "
+                             "stability.interval, stability.max_stretch, "
                              "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
                              "find_max_dt.dt_max, frames.dir, frames.every, frames.rate, "
                              "frames.format, integrator.<parameter>, scenario.<parameter>, "
@@ -223,6 +305,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "; allowed: dt, or frame_rate and substeps (dt = 1 / (frame_rate "
                              "substeps)), not both");
     config.dt = 1.0 / (config.frame_rate * static_cast<double>(config.substeps));
+    config.choice.frame_rate = config.frame_rate;
   } else if (substeps_setting) {
     throw host::InputError(substeps_setting->source + ": substeps = " + substeps_setting->value +
                            " without frame_rate; allowed: substeps together with frame_rate "

@@ -1,6 +1,7 @@
 // The settings of one run, merged from the config file and the command line and checked.
 #pragma once
 
+#include <clothlab/sweep/integrator_choice.hpp>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -50,6 +51,11 @@ struct RunConfig {
   uint64_t stability_interval = 10;  // steps between checks
   double max_stretch = 5.0;          // longest spring / rest length (see MonitorOptions)
   double energy_margin = 1.0;        // times the cloth's energy scale
+  // choose.*: the --choose search (clothlab::sweep::ChoiceSettings; frame_rate from the key
+  // frame_rate); integrators: empty = every integrator on the plugin path.
+  sweep::ChoiceSettings choice;
+  std::vector<std::string> choice_integrators;
+  std::string choice_output = "results/choose";
   // find_max_dt.*: the --find-max-dt search.
   double search_tolerance = 0.02;  // relative width of the final bracket
   double search_dt_min = 1e-7;     // s: nothing stable below gives up

@@ -166,6 +166,14 @@ std::string human_summary(const RunRecord& record) {
   return text;
 }
 
+void write_energy_csv(const RunRecord& record, std::ostream& out) {
+  out << "integrator,t,kinetic,spring,gravity,total\n";
+  for (const RunRecord::EnergySample& sample : record.energy_trace)
+    out << record.integrator
+        << printf_text(",%.17g,%.17g,%.17g,%.17g,%.17g\n", sample.t, sample.energy.kinetic,
+                       sample.energy.spring, sample.energy.gravity, sample.energy.total());
+}
+
 void write_state_csv(const Cloth& cloth, std::ostream& out) {
   std::vector<double> x, v;
   cloth.positions(x);

@@ -25,6 +25,8 @@ RunFigures compute_figures(const RunRecord& record);
 
 nlohmann::json summary_json(const RunRecord& record);
 std::string human_summary(const RunRecord& record);
+// Header integrator,t,kinetic,spring,gravity,total (J); 17 significant digits.
+void write_energy_csv(const RunRecord& record, std::ostream& out);
 // Header row,col,x,y,z,vx,vy,vz; values with 17 significant digits.
 void write_state_csv(const Cloth& cloth, std::ostream& out);
 

@@ -161,6 +161,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     record.verdict = std::move(verdict);
   };
 
+  if (hooks.trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
   if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
@@ -197,11 +198,14 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
     // Sampled where the monitor looks, so the maximum over the run costs no extra passes
     // beyond one per check.
+    if (hooks.trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
+      record.energy_trace.push_back({t_end, cloth_->energy()});
     if (step % config_.stability_interval == 0 || step == config_.steps)
-      record.max_stretch_over_run = std::max(record.max_stretch_over_run, cloth_->max_stretch());
+      record.max_stretch_over_run =
+          std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
     if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
-  const Cloth::Stretch final_stretch = cloth_->stretch();
+  const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
   record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);
   record.stability_checks = monitor.checks();

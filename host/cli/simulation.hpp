@@ -52,10 +52,16 @@ struct RunRecord {
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;
   uint64_t stability_checks = 0;
-  std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
-  // Spring length / rest length: at the end, and the largest seen at the monitor's checks.
+  // Structural spring length / rest length (warp and weft): at the end, and the largest seen
+  // at the monitor's checks.
   Cloth::Stretch final_stretch;
   double max_stretch_over_run = 1.0;
+  struct EnergySample {
+    double t;
+    Cloth::Energy energy;
+  };
+  std::vector<EnergySample> energy_trace;
+  std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
   nlohmann::json integrator_params, scenario_params;
 };
 
@@ -71,6 +77,9 @@ struct RunHooks {
   StepObserver* observer = nullptr;
   // Checked before every step; once true the run stops with a verdict saying so.
   const std::atomic<bool>* stop_requested = nullptr;
+  // Energy at t = 0 and at every monitor check into the record's energy_trace (an extra pass
+  // over the springs there, outside the timed steps).
+  bool trace_energy = false;
 };
 
 class Simulation {

@@ -9,6 +9,7 @@
 #include <clothlab/sweep/sweep_runner.hpp>
 #include <clothlab/sweep/sweep_spec.hpp>
 #include <clothlab/sweep/work_precision.hpp>
+#include <cmath>
 #include <iostream>
 #include <limits>
 
@@ -70,10 +71,14 @@ sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::Case
   const nlohmann::json run =
       run_isolated([&] { return run_case(config, search_path, true); }, config.timeout_s);
   sweep::Trajectory trajectory;
-  trajectory.positions = run["positions"].get<std::vector<double>>();
+  // A diverged run's non-finite positions are JSON nulls; its verdict says enough.
+  if (run["stable"].get<bool>()) trajectory.positions = run["positions"].get<std::vector<double>>();
   trajectory.diagonal = run["diagonal"].get<double>();
   trajectory.wall_s = run["wall_time_s"].get<double>();
   trajectory.force_evals = run["force_evals"].get<uint64_t>();
+  const nlohmann::json& stretch = run["max_stretch"]["over_run"];
+  trajectory.max_stretch = stretch.is_number() ? stretch.get<double>() : NAN;
+  trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();
   trajectory.verdict = verdict_of(run);
   return trajectory;
 }
@@ -93,6 +98,11 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
 }
 
 }  // namespace
+
+sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+                                       const host::PluginSearchPath& search_path) {
+  return run_trajectory(spec, c, search_path);
+}
 
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out) {

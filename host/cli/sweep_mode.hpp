@@ -4,6 +4,7 @@
 #pragma once
 
 #include <clothlab/host/plugin_search_path.hpp>
+#include <clothlab/sweep/work_precision.hpp>
 #include <filesystem>
 #include <optional>
 #include <ostream>
@@ -20,6 +21,11 @@ struct SweepRequest {
   std::optional<std::filesystem::path> out_folder;  // replaces sweep.output's folder
   bool resume = false;
 };
+
+// One case of `spec` run to its end in a child process, with its final positions: the
+// trajectory runner of the work-precision and choose drivers.
+sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+                                       const host::PluginSearchPath& search_path);
 
 // Runs the sweep, prints a summary to out. Throws InputError for a bad sweep file or results
 // that cannot be resumed or written. Unstable and failed cases are results, not errors.

@@ -2,6 +2,8 @@
 // stretched to 1.5 m, worked out by hand.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "cloth_test_support.hpp"
 
 namespace clothlab {
@@ -96,6 +98,20 @@ TEST(Energy, MeanStretchAveragesOverEverySpring) {
   cloth.set_state({0, 0, 0, 0, -1, 0, 0, -3, 0}, std::vector<double>(9, 0.0));
   EXPECT_NEAR(cloth.stretch().max, 2.0, 1e-12);
   EXPECT_NEAR(cloth.stretch().mean, 1.5, 1e-12);
+  // The structural springs alone: (1 + 2) / 2.
+  EXPECT_NEAR(cloth.stretch(Cloth::Springs::Structural).mean, 1.5, 1e-12);
+  EXPECT_NEAR(cloth.stretch(Cloth::Springs::Structural).max, 2.0, 1e-12);
+}
+
+TEST(Energy, StructuralStretchLeavesShearOut) {
+  // A 2x2 square sheared into a rhombus keeps its four sides (structural, rest 1) and
+  // lengthens one diagonal: all springs see that, the structural ones do not.
+  Scene scene = testing::bare_scene(2, 2);
+  Cloth cloth(scene, Precision::Float64, {});
+  const double s = std::sqrt(0.5);  // top row shifted so that the sides stay 1
+  cloth.set_state({0, 0, 0, 1, 0, 0, s, -s, 0, 1 + s, -s, 0}, std::vector<double>(12, 0.0));
+  EXPECT_NEAR(cloth.stretch(Cloth::Springs::Structural).max, 1.0, 1e-12);
+  EXPECT_GT(cloth.stretch().max, 1.2);
 }
 
 }  // namespace

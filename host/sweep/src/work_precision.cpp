@@ -86,15 +86,15 @@ double duration_of(const SweepSpec& spec, const CaseSpec& c) {
   throw SweepError(spec.source + ": work-precision needs duration (T), not steps");
 }
 
-// Runs the reference and its one-halving check; stores the reference row; returns the finer run.
-Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base,
+}  // namespace
+
+Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double dt,
                              const TrajectoryRunner& runner, ResultsStore& store) {
   const auto& wp = spec.work_precision;
   const double duration = duration_of(spec, base);
   const std::string integrator = reference_integrator(wp, base);
   CaseSpec reference = with_setting(base, "integrator.plugin", integrator);
   reference = with_setting(reference, "precision", "float64");
-  const double dt = ladder_dt(wp, wp.levels - 1) / wp.refinement;
   const Trajectory coarse = run_guarded(runner, run_spec(reference, dt, duration));
   const Trajectory fine = run_guarded(runner, run_spec(reference, dt / 2.0, duration));
   for (const Trajectory* run : {&coarse, &fine}) {
@@ -123,6 +123,8 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base,
   }
   return fine;
 }
+
+namespace {
 
 Row ladder_row(const CaseSpec& c, double dt, double duration, const Trajectory& run,
                const Trajectory& reference) {
@@ -218,7 +220,10 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
       auto reference = references.find(reference_key(wp, c));
       if (reference == references.end()) {
         reference =
-            references.emplace(reference_key(wp, c), compute_reference(spec, c, runner, store))
+            references
+                .emplace(reference_key(wp, c),
+                         compute_reference(spec, c, ladder_dt(wp, wp.levels - 1) / wp.refinement,
+                                           runner, store))
                 .first;
         ++summary.references;
       }

@@ -103,12 +103,15 @@ class Cloth {
     double total() const { return kinetic + spring + gravity; }
   };
   Energy energy() const;
-  // Current length over rest length, over all springs: the largest and the mean (whether the
-  // cloth hangs like cloth or like rubber). A cloth without springs counts as unstretched.
+  // Current length over rest length: the largest and the mean, over all springs or over the
+  // structural ones alone (the warp and weft threads: whether the cloth hangs like cloth or
+  // like rubber; shear springs lengthen when the weave shears, which real cloth does easily).
+  // A cloth without such springs counts as unstretched.
   struct Stretch {
     double max = 1, mean = 1;
   };
-  Stretch stretch() const;
+  enum class Springs { All, Structural };
+  Stretch stretch(Springs springs = Springs::All) const;
   double max_stretch() const { return stretch().max; }
 
  private:

@@ -19,8 +19,9 @@ using Row = nlohmann::ordered_json;  // an object with at least a string "key"
 
 class ResultsStore {
  public:
-  // Creates base's folder. Without resume, existing files are replaced at the first write. With resume, rows are
-  // loaded from <base>.json if it exists; throws SweepError if it cannot be read or parsed.
+  // Creates base's folder. Without resume, existing files are replaced at the first write. With
+  // resume, rows are loaded from <base>.json if it exists; throws SweepError if it cannot be read
+  // or parsed.
   ResultsStore(std::filesystem::path base, bool resume);
 
   const std::filesystem::path& csv_path() const { return csv_path_; }

@@ -28,7 +28,9 @@ struct Trajectory {
   double diagonal = 0.0;          // cloth diagonal, m (sqrt(width^2 + height^2))
   double wall_s = 0.0;            // wall time spent stepping
   uint64_t force_evals = 0;
-  CaseResult verdict;  // status Stable, or Unstable/Failed with step and reason
+  double max_stretch = 0.0;   // largest spring length / rest length seen over the run
+  double ms_per_frame = 0.0;  // median wall time of a frame (substeps steps), ms
+  CaseResult verdict;         // status Stable, or Unstable/Failed with step and reason
 };
 // Runs the case (its dt, precision and steps settings are set by the driver) to the end.
 using TrajectoryRunner = std::function<Trajectory(const CaseSpec&)>;
@@ -53,6 +55,13 @@ struct WorkPrecisionSummary {
 WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector<CaseSpec>& cases,
                                         const TrajectoryRunner& runner, ResultsStore& store,
                                         Progress* progress);
+
+// The converged reference for `base`'s problem: the reference integrator (or the case's own,
+// when self-referenced) in float64 at dt and at dt / 2 to T = base's duration. Stores the
+// reference row (reference_difference between the two, and its error estimate) unless stored;
+// returns the finer run. Throws SweepError when either run is not stable.
+Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double dt,
+                             const TrajectoryRunner& runner, ResultsStore& store);
 
 // Units of work run_work_precision performs (for a Progress total).
 std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSpec>& cases);

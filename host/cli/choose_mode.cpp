@@ -1,0 +1,150 @@
+#include "choose_mode.hpp"
+
+#include <algorithm>
+#include <clothlab/host/errors.hpp>
+#include <clothlab/host/plugin_library.hpp>
+#include <clothlab/sweep/integrator_choice.hpp>
+#include <clothlab/sweep/number_text.hpp>
+#include <clothlab/sweep/sweep_error.hpp>
+#include <iostream>
+
+#include "output_file.hpp"
+#include "run_config.hpp"
+#include "sweep_mode.hpp"
+
+namespace clothlab::cli {
+
+namespace {
+
+// The integrators to search, in plugin-path order unless choose.integrators names them.
+std::vector<sweep::ChoiceCandidate> candidates_for(const RunConfig& config,
+                                                   const host::PluginSearchPath& search_path) {
+  const host::LibraryScan scan = host::scan_libraries(search_path);
+  std::vector<sweep::ChoiceCandidate> found;
+  const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
+  for (const host::PluginLibrary& library : scan.libraries)
+    for (const host::IntegratorPlugin& integrator : library.integrators()) {
+      if (!integrator.supports_precision(precision)) continue;
+      sweep::ChoiceCandidate candidate{std::string(integrator.info().id), false};
+      const host::ParamSet params = integrator.default_params();
+      for (const clothlab_param_spec& spec : params.specs()) {
+        if (std::string_view(spec.name) == "iterations") candidate.has_iterations = true;
+        if (std::string_view(spec.name) == "substeps") candidate.has_own_substeps = true;
+      }
+      found.push_back(candidate);
+    }
+  if (config.choice_integrators.empty()) return found;
+  std::vector<sweep::ChoiceCandidate> chosen;
+  for (const std::string& id : config.choice_integrators) {
+    const auto match = std::find_if(found.begin(), found.end(), [&](const auto& candidate) {
+      return candidate.integrator == id;
+    });
+    if (match == found.end())
+      throw host::InputError("choose.integrators: " + id +
+                             " is not an integrator on the plugin path (" + search_path.describe() +
+                             ")");
+    chosen.push_back(*match);
+  }
+  return chosen;
+}
+
+bool is_frame_or_choice_key(const std::string& key) {
+  return key == "frame_rate" || key == "substeps" || key == "dt" || key.starts_with("choose.") ||
+         key == "integrator.plugin";
+}
+
+}  // namespace
+
+void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPath& search_path,
+                std::ostream& out) {
+  const RunConfig config = resolve_run_config(settings);
+  if (std::none_of(settings.begin(), settings.end(),
+                   [](const Setting& setting) { return setting.key == "frame_rate"; }))
+    throw host::InputError("--choose needs frame_rate (Hz): --frame-rate 60 or frame_rate: 60");
+  const sweep::ChoiceSettings& choice = config.choice;
+  const std::vector<sweep::ChoiceCandidate> candidates = candidates_for(config, search_path);
+  if (candidates.empty())
+    throw host::InputError("--choose: no integrator on the plugin path (" + search_path.describe() +
+                           ")");
+
+  // The scene as every case sees it; frame settings are per candidate, the integrator per search.
+  sweep::SweepSpec spec;
+  spec.source = "--choose";
+  spec.name = "choose";
+  spec.output = config.choice_output;
+  for (const Setting& setting : settings)
+    if (!is_frame_or_choice_key(setting.key))
+      spec.fixed.push_back({setting.key, setting.value, setting.source});
+  spec.fixed.push_back({"duration", sweep::format_number(choice.duration), "choose.duration"});
+  spec.monitor.check_interval = config.stability_interval;
+  spec.monitor.energy_margin = config.energy_margin;
+  // The monitor's stretch check (all springs) catches divergence; the choice's limit is on the
+  // structural springs (max_stretch of the run), judged after the run.
+  spec.monitor.stretch_limit = config.max_stretch;
+  spec.work_precision.reference_integrator = choice.reference_integrator;
+  const sweep::CaseSpec base = sweep::expand_cases(spec).at(0);
+
+  try {
+    if (spec.output.has_parent_path())
+      std::filesystem::create_directories(spec.output.parent_path());
+    sweep::ResultsStore store(spec.output, false);
+    store.set_metadata({{"name", "choose"},
+                        {"frame_rate", choice.frame_rate},
+                        {"T", choice.duration},
+                        {"stretch_limit", choice.stretch_limit},
+                        {"error_tolerance", choice.error_tolerance},
+                        {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
+                        {"reference_integrator", choice.reference_integrator},
+                        {"reference_substeps", choice.reference_substeps}});
+    const std::vector<sweep::Choice> choices = sweep::choose_integrators(
+        spec, base, candidates, choice,
+        [&](const sweep::CaseSpec& c) { return run_sweep_trajectory(spec, c, search_path); }, store,
+        std::cerr);
+    store.flush();
+
+    nlohmann::ordered_json ranked;
+    ranked["scene"] =
+        base.key.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(base.key);
+    ranked["settings"] = {
+        {"frame_rate", choice.frame_rate},
+        {"T", choice.duration},
+        {"error_T", choice.error_duration > 0 ? choice.error_duration : choice.duration},
+        {"stretch_limit", choice.stretch_limit},
+        {"error_tolerance", choice.error_tolerance},
+        {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh}};
+    for (const sweep::Row& row : store.rows())
+      if (row["kind"] == "reference") ranked["reference"] = row;
+    const std::vector<sweep::Row> rows = sweep::choice_rows(choices, choice);
+    ranked["ranking"] = rows;
+    const std::filesystem::path ranked_base = spec.output.string() + "-ranked";
+    write_file_atomically(ranked_base.string() + ".json",
+                          [&](std::ostream& file) { file << ranked.dump(2) << "\n"; });
+    write_file_atomically(ranked_base.string() + ".csv",
+                          [&](std::ostream& file) { file << sweep::rows_to_csv(rows); });
+
+    const sweep::Row& reference = ranked["reference"];
+    out << "choose: " << config.scenario << ", "
+        << (config.material ? "material " + config.material->name
+                            : std::string("per-spring values"))
+        << ", " << sweep::format_number(choice.frame_rate)
+        << " Hz, T = " << sweep::format_number(choice.duration)
+        << " s; pass: stretch <= " << sweep::format_number(choice.stretch_limit)
+        << " x rest, error <= " << sweep::format_number(100 * choice.error_tolerance)
+        << " % of the cloth diagonal"
+        << " at T = "
+        << sweep::format_number(choice.error_duration > 0 ? choice.error_duration : choice.duration)
+        << " s"
+        << (choice.error_mesh.empty() ? "" : " (error measured at " + choice.error_mesh + ")")
+        << "\n  reference: " << reference.value("reference_integrator", std::string())
+        << " float64, dt " << sweep::format_number(reference.value("reference_dt", 0.0))
+        << " s, estimated own error "
+        << sweep::format_number(100 * reference.value("reference_error_estimate", 0.0))
+        << " % of the diagonal\n"
+        << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "
+        << ranked_base.string() << ".json (probes: " << store.csv_path().string() << ")\n";
+  } catch (const sweep::SweepError& error) {
+    throw host::InputError(error.what());
+  }
+}
+
+}  // namespace clothlab::cli

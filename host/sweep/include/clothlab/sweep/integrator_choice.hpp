@@ -1,0 +1,86 @@
+// "Which integrator for my game": for one scene (scenario x mesh x material x frame rate), the
+// cheapest setting of each integrator that is stable, keeps the cloth's stretch under a limit
+// and its positions at T within a tolerance of a converged reference.
+//
+// Per integrator, a candidate (substeps, iterations) runs T at the scene's mesh; it passes when
+//   - the run is stable by the monitor (finite, energy, divergence-sized stretch) and the
+//     largest structural (warp / weft) spring stretch over the run is at most stretch_limit,
+//     and
+//   - the RMS position error at T over the cloth diagonal, against the reference, is at most
+//     error_tolerance. The error is measured on error_mesh (a smaller mesh where the scene's own
+//     would make the reference too expensive; the rows say which) with the same setting.
+// The reference is compute_reference (work_precision.hpp): reference_integrator in float64 at
+// dt = 1 / (frame_rate reference_substeps), checked against dt / 2; its estimated own error is
+// stored with it. When the reference's two runs differ by more than the tolerance it is not
+// converged at that T (the flag's wind makes its motion chaotic within ~0.5 s): SweepError.
+// Search: substeps double from 1 until a candidate passes, then bisect down to the fewest that
+// pass (criteria assumed monotone in the step). For an integrator with an `iterations`
+// parameter, each substep count gets the fewest iterations (doubling, then bisection) that
+// pass, and substep counts grow until the cost per frame stops improving. Cost = median wall
+// time per frame of the run at the scene's mesh.
+// Early stops: a probe that times out ends the integrator's search ("too slow"); so does an
+// error that stays above the tolerance while halving the step changes it by less than 10 %
+// (the method converges to another solution, e.g. other damping: "converges elsewhere").
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "clothlab/sweep/case_spec.hpp"
+#include "clothlab/sweep/results_store.hpp"
+#include "clothlab/sweep/work_precision.hpp"
+
+namespace clothlab::sweep {
+
+struct ChoiceSettings {
+  double frame_rate = 60.0;       // Hz
+  double duration = 1.0;          // T of the runs judged for stability, stretch and cost, s
+  double error_duration = 0.0;    // T of the error; 0: duration (the flag needs it shorter)
+  double stretch_limit = 1.10;    // x rest length
+  double error_tolerance = 0.01;  // RMS position error / cloth diagonal
+  uint32_t max_substeps = 4096;
+  uint32_t max_iterations = 32;
+  // Wall-clock limit of one probe run (s): a setting that slow is no answer for a game, and
+  // more substeps or iterations only cost more, so the integrator's search stops there.
+  double probe_timeout_s = 60.0;
+  uint32_t reference_substeps = 512;  // reference dt = 1 / (frame_rate reference_substeps)
+  std::string reference_integrator = "rk4";
+  std::string error_mesh;  // "ROWSxCOLS"; empty: the scene's mesh
+};
+
+struct ChoiceCandidate {
+  std::string integrator;
+  bool has_iterations = false;
+  // A method with its own `substeps` parameter (xpbd) gets 1 there, so that the host's substeps
+  // per frame are its only substeps.
+  bool has_own_substeps = false;
+};
+
+struct Choice {
+  std::string integrator;
+  bool passed = false;
+  uint32_t substeps = 0;
+  uint32_t iterations = 0;  // 0: the method has none
+  double ms_per_frame = 0, error = 0, max_stretch = 0;
+  std::string verdict;  // "real time", "slower than real time" or why nothing passed
+  int probes = 0;
+};
+
+// `base`: the scene's case (its settings without frame_rate / substeps / dt, duration T).
+// `scene` is written to every row ("scenario=flag;mesh=200x200;material=cotton;..."); rows go
+// to the store (reference, probe), the returned choices are ranked: passing ones by cost, then
+// the rest. Progress, one line per probe, on `progress`.
+std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
+                                       const std::vector<ChoiceCandidate>& candidates,
+                                       const ChoiceSettings& settings,
+                                       const TrajectoryRunner& runner, ResultsStore& store,
+                                       std::ostream& progress);
+
+// The ranked table as rows (integrator, substeps, iterations, ms_per_frame, error, max_stretch,
+// verdict, ...) and as a fixed-width text table.
+std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSettings& settings);
+std::string choice_table(const std::vector<Choice>& choices, const ChoiceSettings& settings);
+
+}  // namespace clothlab::sweep
