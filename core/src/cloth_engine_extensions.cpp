@@ -10,6 +10,21 @@
 #include "cloth_engine.hpp"
 
 namespace clothlab::detail {
+namespace {
+
+// Running out of memory in a callback (the first topology or jacobian call builds its data) is a
+// status, never an exception across the ABI.
+template <class Body>
+clothlab_status status_of(Body&& body) noexcept {
+  try {
+    body();
+    return CLOTHLAB_OK;
+  } catch (const std::bad_alloc&) {
+    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
+  }
+}
+
+}  // namespace
 
 template <class Real>
 const GridTopology& ClothEngine<Real>::topology() {
@@ -50,24 +65,14 @@ template <class Real>
 clothlab_status ClothEngine<Real>::topology_callback(void* context, clothlab_topology* out) {
   if (out == nullptr || out->struct_size < sizeof(clothlab_topology))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  try {
-    *out = static_cast<ClothEngine*>(context)->topology().view();
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  return status_of([&] { *out = static_cast<ClothEngine*>(context)->topology().view(); });
 }
 
 // ------------------------------------------------------------------- jacobian
 
 template <class Real>
 clothlab_status ClothEngine<Real>::jacobian_reserve_callback(void* context) {
-  try {
-    (void)static_cast<ClothEngine*>(context)->jacobian();
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  return status_of([&] { (void)static_cast<ClothEngine*>(context)->jacobian(); });
 }
 
 template <class Real>
@@ -76,14 +81,11 @@ clothlab_status ClothEngine<Real>::jacobian_apply_callback(void* context, double
                                                            const void* u, void* out) {
   if (x == nullptr || u == nullptr || out == nullptr || out == u || out == x || out == v)
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  try {
+  return status_of([&] {
     static_cast<ClothEngine*>(context)->jacobian().apply(
         static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
         static_cast<const Real*>(u), static_cast<Real*>(out));
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  });
 }
 
 template <class Real>
@@ -91,13 +93,10 @@ clothlab_status ClothEngine<Real>::jacobian_diagonal_callback(void* context, dou
                                                               const void* v, double c_x, double c_v,
                                                               double* out) {
   if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  try {
+  return status_of([&] {
     static_cast<ClothEngine*>(context)->jacobian().diagonal_blocks(
         static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, out);
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  });
 }
 
 template <class Real>
@@ -105,12 +104,7 @@ clothlab_status ClothEngine<Real>::jacobian_pattern_callback(void* context,
                                                              clothlab_block_pattern* out) {
   if (out == nullptr || out->struct_size < sizeof(clothlab_block_pattern))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  try {
-    *out = static_cast<ClothEngine*>(context)->jacobian().pattern();
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  return status_of([&] { *out = static_cast<ClothEngine*>(context)->jacobian().pattern(); });
 }
 
 template <class Real>
@@ -118,13 +112,10 @@ clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, doubl
                                                             const void* v, double c_x, double c_v,
                                                             double* values) {
   if (x == nullptr || values == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  try {
+  return status_of([&] {
     static_cast<ClothEngine*>(context)->jacobian().blocks(
         static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, values);
-    return CLOTHLAB_OK;
-  } catch (const std::bad_alloc&) {
-    return CLOTHLAB_ERROR_OUT_OF_MEMORY;
-  }
+  });
 }
 
 // ----------------------------------------------------------------- reductions

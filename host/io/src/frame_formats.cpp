@@ -1,4 +1,5 @@
 #include <charconv>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <cstdio>
 #include <cstring>
@@ -11,15 +12,10 @@ namespace clothlab::io {
 
 namespace {
 
-std::string number_text(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
 void field(std::ostream& out, const char* name, double value) {
   out << "      <DataArray type=\"Float64\" Name=\"" << name
-      << "\" NumberOfTuples=\"1\" format=\"ascii\">" << number_text(value) << "</DataArray>\n";
+      << "\" NumberOfTuples=\"1\" format=\"ascii\">" << host::format_number(value)
+      << "</DataArray>\n";
 }
 
 // Raw appended arrays: each is a UInt32 byte count and the bytes, at its offset from the
@@ -170,7 +166,7 @@ void write_pvd(std::ostream& out, const std::vector<CollectionEntry>& entries) {
          "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
          "  <Collection>\n";
   for (const CollectionEntry& entry : entries)
-    out << "    <DataSet timestep=\"" << number_text(entry.time)
+    out << "    <DataSet timestep=\"" << host::format_number(entry.time)
         << "\" group=\"\" part=\"0\" file=\"" << entry.file << "\"/>\n";
   out << "  </Collection>\n</VTKFile>\n";
 }
@@ -195,7 +191,7 @@ std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path) {
 
 void write_obj(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
   out << "# ClothLab frame " << frame.index << ", step " << frame.step
-      << ", t = " << number_text(frame.time) << " s\no cloth\n";
+      << ", t = " << host::format_number(frame.time) << " s\no cloth\n";
   std::string line;
   char buffer[32];
   const auto append = [&](float value) {
