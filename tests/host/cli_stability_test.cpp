@@ -216,7 +216,8 @@ TEST_F(ClothlabStability, SweepResumeAfterAConfigEditIsRefusedNamingWhatChanged)
   // Without --resume the edited sweep starts a new result set.
   const Outcome fresh = run("--config four.yaml --out results");
   ASSERT_EQ(fresh.exit_code, 0) << fresh.err;
-  for (const auto& row : read_json(file("results/four.json"))["rows"])
+  const auto fresh_rows = read_json(file("results/four.json"));  // the loop must not outlive it
+  for (const auto& row : fresh_rows["rows"])
     EXPECT_EQ(row["sim_time_s"].get<double>(), 0.005) << row.dump();
 }
 
