@@ -61,7 +61,8 @@ po::options_description describe_options() {
       "which integrator for this scene: for each integrator on the plugin path the cheapest "
       "substeps (and iterations) at --frame-rate that stay stable, within choose.stretch_limit "
       "(1.1) and within choose.error_tolerance (1 % of the diagonal at T = choose.duration, 1 s) "
-      "of a converged reference; ranked table to stdout and choose.output (results/choose)")(
+      "of a converged reference; ranked table to stdout and choose.output (results/choose); a "
+      "probe slower than choose.stop_factor (3) x the best so far is stopped and reported")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
       "resume",
       "sweep: keep the results already written and run only the missing cases (with --slurm: "
@@ -137,7 +138,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.resume = values.count("resume") > 0;
   command_line.choose = values.count("choose") > 0;
   command_line.out_folder = path_option(values, "out");
-    command_line.shard = string_option(values, "shard");
+  command_line.shard = string_option(values, "shard");
   command_line.slurm = values.count("slurm") > 0;
   command_line.no_wait = values.count("no-wait") > 0;
   if (values.count("plugin-path"))

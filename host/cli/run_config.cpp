@@ -164,6 +164,13 @@ bool read_choice_key(const Setting& setting, RunConfig& config) {
     choice.duration = read_positive(setting, 1e3);
   } else if (key == "choose.probe_timeout") {
     choice.probe_timeout_s = read_positive(setting, 1e6);
+  } else if (key == "choose.stop_factor") {
+    // Below 2 the budget could stop a setting cheaper than the best (integrator_choice.hpp).
+    const char* allowed = "0 (no cost budget) or a real in [2, 1000]";
+    choice.stop_factor = read_number(setting, CLOTHLAB_PARAM_REAL, 0, 1e3, "", allowed);
+    if (choice.stop_factor > 0 && choice.stop_factor < 2)
+      throw host::InputError(setting.source + ": " + key + " = " + setting.value +
+                             ": out of range; allowed: " + allowed);
   } else if (key == "choose.error_duration") {
     choice.error_duration = read_positive(setting, 1e3);
   } else if (key == "choose.stretch_limit") {
@@ -288,7 +295,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "material.areal_density, material.stretch_stiffness, "
                              "material.shear_stiffness, material.bending_stiffness, "
                              "material.damping_time, choose.duration, choose.error_duration, "
-                             "choose.probe_timeout, choose.stretch_limit, "
+                             "choose.probe_timeout, choose.stop_factor, choose.stretch_limit, "
                              "choose.error_tolerance, choose.max_substeps, choose.max_iterations, "
                              "choose.reference_substeps, choose.reference_integrator, "
                              "choose.error_mesh, choose.integrators, choose.output, "

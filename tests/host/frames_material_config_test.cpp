@@ -1,4 +1,5 @@
-// frame_rate / substeps and material.* keys: how they resolve, and their one-line errors.
+// frame_rate / substeps, material.* and choose.* keys: how they resolve, and their one-line
+// errors.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -84,6 +85,19 @@ TEST(Frames, SubstepsNeedAFrameRateAndDtConflictsWithIt) {
   EXPECT_NE(error_of("dt: 0.001\nframe_rate: 60\n")
                 .find("FILE:1:5: dt = 0.001 conflicts with FILE:2:13: frame_rate = 60"),
             std::string::npos);
+}
+
+// Below 2 the cost budget could stop a setting cheaper than the best (integrator_choice.hpp).
+TEST(ChooseConfig, StopFactorIsZeroOrAtLeastTwo) {
+  EXPECT_EQ(resolve_run_config({{"choose.stop_factor", "0", "--set"}}).choice.stop_factor, 0.0);
+  EXPECT_EQ(resolve_run_config({{"choose.stop_factor", "2", "--set"}}).choice.stop_factor, 2.0);
+  EXPECT_EQ(resolve_run_config({}).choice.stop_factor, 3.0);
+  EXPECT_EQ(error_of("choose:\n  stop_factor: 1.5\n"),
+            "FILE:2:16: choose.stop_factor = 1.5: out of range; allowed: 0 (no cost budget) or a "
+            "real in [2, 1000]");
+  EXPECT_EQ(error_of("choose:\n  stop_factor: -1\n"),
+            "FILE:2:16: choose.stop_factor = -1: out of range; allowed: 0 (no cost budget) or a "
+            "real in [2, 1000]");
 }
 
 TEST(Material, ResolvesEveryField) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -14,16 +15,22 @@ namespace {
 using testing::ScratchFolder;
 
 // Fake integrators with known limits, on one particle of a cloth whose diagonal is 1 (so the
-// error is the particle's x). Costs: 1 ms per substep plus 0.1 ms per iteration.
+// error is the particle's x). Costs: 1 ms per substep plus 0.1 ms per iteration, times
+// `time_scale`; a run takes its frames' time (T x the frame rate) and times out past the
+// case's `timeout` setting like a child process would.
 //   explicit:  unstable below 37 substeps; error 0.5 / substeps (1 % from 50 substeps)
 //   stretchy:  always stable, stretch 1 + 0.5 / substeps (10 % from 5 substeps)
 //   iterative: passes when substeps x iterations >= 8; cheapest is 1 substep x 8 iterations
+//   plateau:   has iterations, error 0.5 / substeps + 0.001 / iterations: iterations barely
+//              help, 1 % from 64 substeps x 1 iteration
 //   never:     always unstable
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
-// steps.
+// steps. `runs` lists every run as "integrator rows substeps".
 struct FakeRuns {
   double reference_gap = 0.0;
+  double time_scale = 1.0;
   int calls = 0;
+  std::vector<std::string> runs;
   Trajectory operator()(const CaseSpec& c) {
     ++calls;
     Trajectory run;
@@ -33,15 +40,24 @@ struct FakeRuns {
       return run;
     }
     const double substeps = std::stod(c.setting("substeps"));
+    runs.push_back(c.integrator + " " + std::to_string(c.rows) + " " + c.setting("substeps"));
     const std::string text = c.setting("integrator.iterations");
     const double iterations = text.empty() ? 0.0 : std::stod(text);
-    run.ms_per_frame = substeps * (1.0 + 0.1 * iterations);
+    run.ms_per_frame = time_scale * substeps * (1.0 + 0.1 * iterations);
+    run.wall_s = run.ms_per_frame * c.duration * std::stod(c.setting("frame_rate")) / 1e3;
+    const std::string timeout = c.setting("timeout");
+    if (!timeout.empty() && run.wall_s > std::stod(timeout)) {
+      run.verdict.status = CaseStatus::Failed;
+      run.verdict.reason = "timed out after " + timeout + " s";
+      return run;
+    }
     run.max_stretch = 1.01;
     double error = 0.001;
     const bool unstable = (c.integrator == "explicit" && substeps < 37) ||
                           (c.integrator == "iterative" && substeps * iterations < 8) ||
                           c.integrator == "never";
     if (c.integrator == "explicit") error = 0.5 / substeps;
+    if (c.integrator == "plateau") error = 0.5 / substeps + 0.001 / iterations;
     if (c.integrator == "stretchy") run.max_stretch = 1.0 + 0.5 / substeps;
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
@@ -93,7 +109,7 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
   EXPECT_FALSE(choices[3].passed);
   EXPECT_EQ(choices[3].integrator, "never");
   EXPECT_NE(choices[3].verdict.find("no setting passed up to 256 substeps"), std::string::npos);
-  EXPECT_NE(progress.str().find("choose: explicit 64 substeps: passes"), std::string::npos);
+  EXPECT_NE(progress.str().find("choose [2/4] explicit 64 substeps: passes"), std::string::npos);
   // One reference row, with its estimated error; rows for every probe.
   int references = 0, probes = 0;
   for (const Row& row : store.rows()) {
@@ -106,6 +122,106 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
   EXPECT_EQ(ranked[0]["rank"], 1);
   EXPECT_TRUE(ranked[3]["rank"].is_null());
   EXPECT_NE(choice_table(choices, fixture.settings).find("iterative"), std::string::npos);
+}
+
+// Once a setting passed, a probe that takes stop_factor x its time is stopped, and the table
+// says so; a cheaper integrator searched later is still found.
+TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.settings.stop_factor = 3;
+  FakeRuns runs;
+  runs.time_scale = 100;  // iterative 1 x 8: 180 ms/frame, 9 s for T = 1 s at 50 Hz
+  std::ostringstream progress;
+  const std::vector<Choice> choices = choose_integrators(
+      fixture.spec, fixture.base, {{"stretchy", false}, {"iterative", true}, {"explicit", false}},
+      fixture.settings, std::ref(runs), store, progress);
+  ASSERT_EQ(choices.size(), 3u);
+  // stretchy has no yardstick yet (first searched): found in full, 5 substeps, 25 s a run.
+  EXPECT_EQ(choices[1].integrator, "stretchy");
+  EXPECT_EQ(choices[1].substeps, 5u);
+  // iterative's probes (at most 1 x 8: 9 s) stay within 3 x 25 s: found in full.
+  EXPECT_EQ(choices[0].integrator, "iterative");
+  EXPECT_EQ(choices[0].iterations, 8u);
+  // explicit: 8 substeps take 40 s, past 1 + 3 x 9 s: stopped there, not searched to 50.
+  EXPECT_FALSE(choices[2].passed);
+  EXPECT_EQ(choices[2].verdict.rfind("slower than iterative at 1 substep x 8 iterations (180 "
+                                     "ms/frame)",
+                                     0),
+            0u)
+      << choices[2].verdict;
+  EXPECT_NE(choices[2].verdict.find("stopped at 8 substeps"), std::string::npos);
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 16"), 0);
+  int stopped = 0;
+  for (const Row& row : store.rows()) stopped += row["kind"] == "probe" && row["stopped"] == true;
+  EXPECT_EQ(stopped, 1);
+  EXPECT_NE(progress.str().find("choose [3/3] explicit 8 substeps: slower than iterative"),
+            std::string::npos);
+  EXPECT_NE(choice_table(choices, fixture.settings).find("slower than iterative"),
+            std::string::npos);
+
+  // stop_factor 0: no budget, explicit is searched to its answer.
+  ScratchFolder unbounded_folder;
+  ResultsStore unbounded(unbounded_folder.path() / "choose", false);
+  fixture.settings.stop_factor = 0;
+  runs.time_scale = 1;  // explicit's 50 substeps within the probe timeout
+  const std::vector<Choice> all =
+      choose_integrators(fixture.spec, fixture.base, {{"iterative", true}, {"explicit", false}},
+                         fixture.settings, std::ref(runs), unbounded, progress);
+  EXPECT_TRUE(all[1].passed);
+  EXPECT_GE(all[1].substeps, 50u);
+}
+
+// The error (on the smaller error mesh) is measured first: a setting that fails it is never run
+// at the scene's mesh.
+TEST(IntegratorChoice, RunsTheSceneMeshOnlyWhereTheErrorPasses) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
+  fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
+  fixture.base = expand_cases(fixture.spec).at(0);
+  fixture.settings.error_mesh = "10x10";
+  fixture.settings.error_duration = 0.5;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
+                         std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed);
+  EXPECT_GE(choices[0].substeps, 50u);
+  // Doubling 1 .. 32 fails on the error mesh (unstable there): no 40 x 40 run for them.
+  for (const char* substeps : {"1", "2", "4", "8", "16", "32"}) {
+    EXPECT_EQ(
+        std::count(runs.runs.begin(), runs.runs.end(), std::string("explicit 10 ") + substeps), 1);
+    EXPECT_EQ(
+        std::count(runs.runs.begin(), runs.runs.end(), std::string("explicit 40 ") + substeps), 0);
+  }
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 40 64"), 1)
+      << ::testing::PrintToString(runs.runs);
+  EXPECT_NE(progress.str().find("on the error mesh 10x10: unstable"), std::string::npos);
+}
+
+// Where doubling the iterations changes the error by under 10 %, the substep count is left
+// after two probes; the answer is the same.
+TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"plateau", true}}, fixture.settings,
+                         std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed);
+  EXPECT_EQ(choices[0].substeps, 64u);
+  EXPECT_EQ(choices[0].iterations, 1u);
+  for (const char* substeps : {"1", "2", "32"})
+    EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), std::string("plateau 0 ") + substeps),
+              2)
+        << substeps;
+  EXPECT_NE(progress.str().find("more iterations do not lower the error"), std::string::npos);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

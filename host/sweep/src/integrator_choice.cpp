@@ -1,6 +1,7 @@
 #include "clothlab/sweep/integrator_choice.hpp"
 
 #include <chrono>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -8,7 +9,6 @@
 #include <map>
 #include <optional>
 
-#include <clothlab/host/param_text.hpp>
 #include "clothlab/sweep/progress.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
@@ -19,17 +19,44 @@ using host::format_number;
 
 struct Probe {
   bool passed = false;
+  bool stopped = false;  // killed by the cost budget: slower than the best verdict so far
   double ms_per_frame = 0, error = NAN, max_stretch = NAN;
   std::string why;  // the failed criterion; empty when passed
 };
 
+// The cheapest passing probe of any integrator so far: the yardstick of the cost budget.
+struct BestSoFar {
+  std::string label;  // "verlet at 1536 substeps"
+  double ms_per_frame = INFINITY;
+  double wall_s = 0;  // stepping wall time of its run over T at the scene's mesh
+  bool found() const { return std::isfinite(ms_per_frame); }
+};
+
+// What every integrator's search shares: the scene, the reference, the budget's yardstick.
+struct SearchContext {
+  const ChoiceSettings& settings;
+  const TrajectoryRunner& runner;
+  const Trajectory& reference;
+  ResultsStore& store;
+  std::ostream& progress;
+  std::chrono::steady_clock::time_point start;
+  // Error-mesh particles over scene particles (1 when either mesh is not known).
+  double error_mesh_fraction = 1.0;
+  BestSoFar best;
+};
+
+// A child process needs this long beyond its stepping (start, plugins, scene, the JSON with
+// the final positions); the cost budget allows it on top of its multiple of the best's time.
+constexpr double startup_allowance_s = 1.0;
+
 // The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
+// `stop` ends the doubling early (nothing found).
 std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>& passes,
-                               const bool& give_up) {
+                               const std::function<bool()>& stop) {
   uint32_t failing = 0, n = 1;
   while (!passes(n)) {
-    if (n >= max || give_up) return std::nullopt;
+    if (n >= max || stop()) return std::nullopt;
     failing = n;
     n = std::min(max, 2 * n);
   }
@@ -47,41 +74,51 @@ std::string percent(double fraction) {
   return text;
 }
 
+std::string label_of(uint32_t substeps, uint32_t iterations) {
+  return std::to_string(substeps) + (substeps == 1 ? " substep" : " substeps") +
+         (iterations ? " x " + std::to_string(iterations) + " iterations" : "");
+}
+
 double error_duration(const ChoiceSettings& settings) {
   return settings.error_duration > 0 ? settings.error_duration : settings.duration;
 }
 
+bool timed_out(const Trajectory& run) {
+  return run.verdict.status == CaseStatus::Failed &&
+         run.verdict.reason.find("timed out") != std::string::npos;
+}
+
 class IntegratorSearch {
  public:
-  IntegratorSearch(const SweepSpec& spec, const CaseSpec& base, const ChoiceCandidate& candidate,
-                   const ChoiceSettings& settings, const TrajectoryRunner& runner,
-                   const Trajectory& reference, ResultsStore& store, std::ostream& progress)
-      : spec_(spec),
-        base_(with_setting(base, "integrator.plugin", candidate.integrator)),
+  IntegratorSearch(const CaseSpec& base, const ChoiceCandidate& candidate, std::string position,
+                   SearchContext& context)
+      : base_(with_setting(base, "integrator.plugin", candidate.integrator)),
         candidate_(candidate),
-        settings_(settings),
-        runner_(runner),
-        reference_(reference),
-        store_(store),
-        progress_(progress),
-        start_(std::chrono::steady_clock::now()) {}
+        position_(std::move(position)),
+        context_(context),
+        settings_(context.settings) {}
 
   Choice run() {
     Choice choice;
     choice.integrator = candidate_.integrator;
     std::optional<std::pair<uint32_t, uint32_t>> best;  // (substeps, iterations)
+    const auto stop = [&] { return give_up_ || stop_substeps_; };
     if (!candidate_.has_iterations) {
       if (const auto substeps = fewest(
-              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, give_up_))
+              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, stop))
         best = {{*substeps, 0}};
     } else {
       // Cost ~ substeps x iterations: walk the substeps up while the cheapest passing
       // iteration count keeps lowering the cost per frame.
       for (uint32_t substeps = 1; substeps <= settings_.max_substeps; substeps *= 2) {
+        stop_substeps_ = false;
+        stopped_iterations_ = 0;
         const auto iterations = fewest(
             settings_.max_iterations, [&](uint32_t it) { return probe(substeps, it).passed; },
-            give_up_);
+            stop);
         if (give_up_) break;
+        // Over the budget at one iteration: more substeps only cost more.
+        if (stopped_iterations_ == 1) break;
         if (!iterations) continue;
         const double cost = probes_.at({substeps, *iterations}).ms_per_frame;
         if (best && cost >= probes_.at(*best).ms_per_frame) break;
@@ -92,6 +129,10 @@ class IntegratorSearch {
     choice.probes = static_cast<int>(probes_.size());
     if (!best && !give_up_reason_.empty()) {
       choice.verdict = give_up_reason_;
+      return choice;
+    }
+    if (!best && !stopped_label_.empty()) {
+      choice.verdict = stopped_reason_ + " (stopped at " + stopped_label_ + ")";
       return choice;
     }
     if (!best) {
@@ -118,7 +159,6 @@ class IntegratorSearch {
  private:
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
-    c = with_setting(c, "timeout", format_number(settings_.probe_timeout_s), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
     if (candidate_.has_own_substeps) c = with_setting(c, "integrator.substeps", "1", false);
     if (iterations > 0) c = with_setting(c, "integrator.iterations", std::to_string(iterations));
@@ -132,10 +172,24 @@ class IntegratorSearch {
     CaseSpec e = with_setting(c, "duration", format_number(error_duration(settings_)), false);
     return settings_.error_mesh.empty() ? e : with_setting(e, "mesh", settings_.error_mesh);
   }
+  // The error run's share of the work of the run over T at the scene's mesh (same setting).
+  double error_work_fraction() const {
+    return error_duration(settings_) / settings_.duration *
+           (settings_.error_mesh.empty() ? 1.0 : context_.error_mesh_fraction);
+  }
 
-  Trajectory run_guarded(const CaseSpec& c) const {
+  // The wall-clock limit of a run doing `work_fraction` of a full probe's work: the probe
+  // timeout, or, once some setting passed, stop_factor x the best's time (see the header).
+  double budget_s(double work_fraction) const {
+    const BestSoFar& best = context_.best;
+    if (!best.found() || settings_.stop_factor <= 0) return settings_.probe_timeout_s;
+    return std::min(settings_.probe_timeout_s,
+                    startup_allowance_s + settings_.stop_factor * best.wall_s * work_fraction);
+  }
+
+  Trajectory run_guarded(const CaseSpec& c, double timeout_s) const {
     try {
-      return runner_(c);
+      return context_.runner(with_setting(c, "timeout", format_number(timeout_s), false));
     } catch (const std::exception& error) {
       Trajectory failed;
       failed.verdict.status = CaseStatus::Failed;
@@ -144,62 +198,118 @@ class IntegratorSearch {
     }
   }
 
+  // A run killed by the cost budget (not by the probe timeout) marks the probe stopped.
+  bool stopped_by_budget(const Trajectory& run, double timeout_s, const std::string& where,
+                         Probe& probe) const {
+    if (!timed_out(run) || timeout_s >= settings_.probe_timeout_s) return false;
+    probe.stopped = true;
+    probe.why = "slower than " + context_.best.label + " (" +
+                format_number(context_.best.ms_per_frame) + " ms/frame): " + where + " ran past " +
+                format_number(timeout_s) + " s, " + format_number(settings_.stop_factor) +
+                " x its time";
+    return true;
+  }
+
   const Probe& probe(uint32_t substeps, uint32_t iterations) {
     const auto known = probes_.find({substeps, iterations});
     if (known != probes_.end()) return known->second;
     const CaseSpec c = candidate_case(substeps, iterations);
     Probe probe;
-    const Trajectory run = run_guarded(c);
-    probe.ms_per_frame = run.ms_per_frame;
-    probe.max_stretch = run.max_stretch;
-    if (!run.verdict.stable()) {
-      probe.why = std::string(to_string(run.verdict.status)) + ": " + run.verdict.reason;
-    } else if (run.max_stretch > settings_.stretch_limit) {
-      probe.why = "stretch " + format_number(run.max_stretch) + " above " +
-                  format_number(settings_.stretch_limit);
-    } else {
-      const Trajectory measured = same_error_run() ? run : run_guarded(error_case(c));
-      if (!measured.verdict.stable()) {
-        probe.why = "on the error mesh " + settings_.error_mesh + ": " + measured.verdict.reason;
+    // The error run is the cheaper one (smaller mesh, shorter T): a setting it fails needs no
+    // run at the scene's mesh.
+    if (!same_error_run()) {
+      const double timeout_s = budget_s(error_work_fraction());
+      const Trajectory measured = run_guarded(error_case(c), timeout_s);
+      if (stopped_by_budget(measured, timeout_s, "its run on the error mesh", probe)) {
+      } else if (!measured.verdict.stable()) {
+        probe.why = "on the error mesh " +
+                    (settings_.error_mesh.empty()
+                         ? std::string("(T = ") + format_number(error_duration(settings_)) + " s)"
+                         : settings_.error_mesh) +
+                    ": " + to_string(measured.verdict.status) + ": " + measured.verdict.reason;
       } else {
-        probe.error =
-            relative_rms_error(measured.positions, reference_.positions, reference_.diagonal);
-        probe.passed = probe.error <= settings_.error_tolerance;
-        if (!probe.passed)
-          probe.why = "error " + format_number(probe.error) + " above " +
-                      format_number(settings_.error_tolerance);
+        judge_error(measured, probe);
       }
     }
-    if (!probe.passed) last_failure_ = std::to_string(substeps) + " substeps: " + probe.why;
-    judge_give_up(substeps, iterations, run, probe);
+    if (probe.why.empty()) {
+      const double timeout_s = budget_s(1.0);
+      const Trajectory run = run_guarded(c, timeout_s);
+      probe.ms_per_frame = run.ms_per_frame;
+      probe.max_stretch = run.max_stretch;
+      if (stopped_by_budget(run, timeout_s, "its run", probe)) {
+      } else if (!run.verdict.stable()) {
+        probe.why = std::string(to_string(run.verdict.status)) + ": " + run.verdict.reason;
+        if (timed_out(run))
+          give_up("too slow: a probe at " + label_of(substeps, iterations) + " ran past " +
+                  format_number(settings_.probe_timeout_s) + " s");
+      } else if (run.max_stretch > settings_.stretch_limit) {
+        probe.why = "stretch " + format_number(run.max_stretch) + " above " +
+                    format_number(settings_.stretch_limit);
+      } else if (same_error_run()) {
+        judge_error(run, probe);
+      }
+      probe.passed = probe.why.empty();
+      if (probe.passed) record_best(substeps, iterations, probe, run.wall_s);
+    }
+    if (!probe.passed) last_failure_ = label_of(substeps, iterations) + ": " + probe.why;
+    if (probe.stopped) {
+      stop_substeps_ = true;
+      if (candidate_.has_iterations) stopped_iterations_ = iterations;
+      stopped_label_ = label_of(substeps, iterations);
+      stopped_reason_ = probe.why.substr(0, probe.why.find(':'));
+    }
+    const std::string note = judge_progress(substeps, iterations, probe);
     store_row(c, substeps, iterations, probe);
-    print(substeps, iterations, probe);
+    print(substeps, iterations, probe, note);
     return probes_.emplace(std::make_pair(substeps, iterations), probe).first->second;
   }
 
-  // Sets give_up_ when going on cannot help (see the header).
-  void judge_give_up(uint32_t substeps, uint32_t iterations, const Trajectory& run,
-                     const Probe& probe) {
-    const std::string label =
-        std::to_string(substeps) + " substeps" +
-        (iterations ? " x " + std::to_string(iterations) + " iterations" : "");
-    if (run.verdict.status == CaseStatus::Failed &&
-        run.verdict.reason.find("timed out") != std::string::npos) {
-      give_up_ = true;
-      give_up_reason_ = "too slow: a probe at " + label + " ran past " +
-                        format_number(settings_.probe_timeout_s) + " s";
-      return;
-    }
-    if (!std::isfinite(probe.error) || probe.passed) return;
+  void judge_error(const Trajectory& measured, Probe& probe) const {
+    probe.error = relative_rms_error(measured.positions, context_.reference.positions,
+                                     context_.reference.diagonal);
+    if (probe.error > settings_.error_tolerance)
+      probe.why = "error " + format_number(probe.error) + " above " +
+                  format_number(settings_.error_tolerance);
+  }
+
+  void record_best(uint32_t substeps, uint32_t iterations, const Probe& probe, double wall_s) {
+    BestSoFar& best = context_.best;
+    if (probe.ms_per_frame >= best.ms_per_frame) return;
+    best.label = candidate_.integrator + " at " + label_of(substeps, iterations);
+    best.ms_per_frame = probe.ms_per_frame;
+    best.wall_s = wall_s;
+  }
+
+  void give_up(std::string reason) {
+    give_up_ = true;
+    give_up_reason_ = std::move(reason);
+  }
+
+  // Early stops when going on cannot help (see the header); returns a note for the progress
+  // line when it stops something.
+  std::string judge_progress(uint32_t substeps, uint32_t iterations, const Probe& probe) {
+    if (give_up_ || !std::isfinite(probe.error) || probe.passed) return "";
+    const auto similar = [&](const Probe& other) {
+      return std::isfinite(other.error) && !other.passed &&
+             std::abs(probe.error - other.error) < 0.1 * probe.error;
+    };
     // Same iterations, half the step: compare with the probe at substeps / 2.
     const auto coarser = probes_.find({substeps / 2, iterations});
-    if (substeps >= 2 && coarser != probes_.end() && std::isfinite(coarser->second.error) &&
-        !coarser->second.passed &&
-        std::abs(probe.error - coarser->second.error) < 0.1 * probe.error) {
-      give_up_ = true;
-      give_up_reason_ = "converges elsewhere: error " + percent(probe.error) + " at " + label +
-                        ", " + percent(coarser->second.error) + " at half the substeps";
+    if (substeps >= 2 && coarser != probes_.end() && similar(coarser->second)) {
+      give_up("converges elsewhere: error " + percent(probe.error) + " at " +
+              label_of(substeps, iterations) + ", " + percent(coarser->second.error) +
+              " at half the substeps");
+      return "";
     }
+    // Same substeps, half the iterations: the solver has converged, more iterations cannot
+    // lower this error; the next substep count may.
+    const auto fewer = probes_.find({substeps, iterations / 2});
+    if (iterations >= 2 && fewer != probes_.end() && similar(fewer->second)) {
+      stop_substeps_ = true;
+      return "; more iterations do not lower the error (" + percent(fewer->second.error) + " at " +
+             std::to_string(iterations / 2) + "), next substep count";
+    }
+    return "";
   }
 
   void store_row(const CaseSpec& c, uint32_t substeps, uint32_t iterations, const Probe& probe) {
@@ -210,40 +320,41 @@ class IntegratorSearch {
     for (const auto& [name, value] : c.coordinates) row[name] = value;
     row["substeps"] = substeps;
     row["iterations"] = iterations;
-    row["ms_per_frame"] = probe.ms_per_frame;
+    row["ms_per_frame"] = probe.ms_per_frame > 0 ? Row(probe.ms_per_frame) : Row();
     row["max_stretch"] = std::isfinite(probe.max_stretch) ? Row(probe.max_stretch) : Row();
     row["error"] = std::isfinite(probe.error) ? Row(probe.error) : Row();
     row["error_mesh"] = settings_.error_mesh.empty() ? "same" : settings_.error_mesh;
     row["passed"] = probe.passed;
+    row["stopped"] = probe.stopped;
     row["why"] = probe.why;
-    if (!store_.contains(row["key"].get<std::string>())) store_.append(row, c.index);
+    if (!context_.store.contains(row["key"].get<std::string>()))
+      context_.store.append(row, c.index);
   }
 
-  void print(uint32_t substeps, uint32_t iterations, const Probe& probe) {
+  void print(uint32_t substeps, uint32_t iterations, const Probe& probe, const std::string& note) {
     const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    char line[256];
-    std::snprintf(line, sizeof line, "choose: %s %u substeps%s%s: %s (%.3g ms/frame) [%s]\n",
-                  candidate_.integrator.c_str(), substeps, iterations ? " x " : "",
-                  iterations ? (std::to_string(iterations) + " iterations").c_str() : "",
-                  probe.passed ? "passes" : probe.why.substr(0, 120).c_str(), probe.ms_per_frame,
-                  Progress::format_duration(elapsed).c_str());
-    progress_ << line << std::flush;
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - context_.start).count();
+    const std::string cost =
+        probe.ms_per_frame > 0 ? " (" + format_number(probe.ms_per_frame) + " ms/frame)" : "";
+    context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
+                      << label_of(substeps, iterations) << ": "
+                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 160)) << cost
+                      << note << " [" << Progress::format_duration(elapsed) << "]\n"
+                      << std::flush;
   }
 
-  const SweepSpec& spec_;
   CaseSpec base_;
   ChoiceCandidate candidate_;
+  std::string position_;  // "[2/7]"
+  SearchContext& context_;
   const ChoiceSettings& settings_;
-  const TrajectoryRunner& runner_;
-  const Trajectory& reference_;
-  ResultsStore& store_;
-  std::ostream& progress_;
-  std::chrono::steady_clock::time_point start_;
   std::map<std::pair<uint32_t, uint32_t>, Probe> probes_;
   std::string last_failure_;
-  bool give_up_ = false;
+  bool give_up_ = false;  // the whole search ends
   std::string give_up_reason_;
+  bool stop_substeps_ = false;                  // the search at this substep count ends
+  uint32_t stopped_iterations_ = 0;             // the iterations of a probe stopped by the budget
+  std::string stopped_label_, stopped_reason_;  // the last probe stopped by the budget
 };
 
 }  // namespace
@@ -258,6 +369,7 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
   if (!settings.error_mesh.empty())
     error_base = with_setting(error_base, "mesh", settings.error_mesh);
   const double reference_dt = 1.0 / (settings.frame_rate * settings.reference_substeps);
+  const auto start = std::chrono::steady_clock::now();
   progress << "choose: reference " << settings.reference_integrator << " float64 at dt "
            << format_number(reference_dt)
            << " s and half that, to T = " << format_number(error_duration(settings)) << " s"
@@ -276,12 +388,23 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
                        percent(settings.error_tolerance) +
                        "; allowed: a shorter choose.error_duration (wind makes the flag's motion "
                        "chaotic) or more choose.reference_substeps");
+    progress << "choose: reference done, estimated own error "
+             << row["reference_error_estimate"].dump() << " of the diagonal ["
+             << Progress::format_duration(
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
+             << "]\n"
+             << std::flush;
   }
+  SearchContext context{settings, runner, reference, store, progress, start, 1.0, {}};
+  if (base.rows > 0 && base.cols > 0 && error_base.rows > 0 && error_base.cols > 0)
+    context.error_mesh_fraction = static_cast<double>(error_base.rows) * error_base.cols /
+                                  (static_cast<double>(base.rows) * base.cols);
   std::vector<Choice> choices;
-  for (const ChoiceCandidate& candidate : candidates)
-    choices.push_back(
-        IntegratorSearch(spec, base, candidate, settings, runner, reference, store, progress)
-            .run());
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const std::string position =
+        "[" + std::to_string(i + 1) + "/" + std::to_string(candidates.size()) + "]";
+    choices.push_back(IntegratorSearch(base, candidates[i], position, context).run());
+  }
   std::stable_sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
     if (a.passed != b.passed) return a.passed;
     return a.passed && a.ms_per_frame < b.ms_per_frame;

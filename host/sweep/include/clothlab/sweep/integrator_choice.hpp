@@ -17,10 +17,22 @@
 // pass (criteria assumed monotone in the step). For an integrator with an `iterations`
 // parameter, each substep count gets the fewest iterations (doubling, then bisection) that
 // pass, and substep counts grow until the cost per frame stops improving. Cost = median wall
-// time per frame of the run at the scene's mesh.
-// Early stops: a probe that times out ends the integrator's search ("too slow"); so does an
-// error that stays above the tolerance while halving the step changes it by less than 10 %
-// (the method converges to another solution, e.g. other damping: "converges elsewhere").
+// time per frame of the run at the scene's mesh. A probe runs the error first (the smaller
+// mesh, the shorter T): a setting that fails there needs no run at the scene's mesh.
+// Early stops, each reported in the probe's row and the integrator's verdict:
+//   - cost budget: once some setting of any integrator passed (the best so far), a probe's run
+//     gets stop_factor x the best's stepping time over T (scaled to the run's share of that
+//     work: the error run's mesh and T) plus a start-up allowance; a run killed there is
+//     "slower than <best>". Cost grows at least linearly in substeps (and iterations), so a
+//     run stopped at n while n / 2 failed leaves nothing in (n / 2, n] within
+//     stop_factor / 2 of the best: stop_factor >= 2 never loses a cheaper setting to the
+//     doubling. Ends the search (an iterations method: the substep count, and the search
+//     when it was at 1 iteration). stop_factor 0: no budget.
+//   - a probe past probe_timeout ends the integrator's search ("too slow");
+//   - an error that stays above the tolerance while halving the step changes it by less than
+//     10 % ends the search (the method converges to another solution, e.g. other damping:
+//     "converges elsewhere"); one that changes by less than 10 % when the iterations double
+//     ends that substep count (the solver has converged there).
 #pragma once
 
 #include <cstdint>
@@ -45,6 +57,8 @@ struct ChoiceSettings {
   // Wall-clock limit of one probe run (s): a setting that slow is no answer for a game, and
   // more substeps or iterations only cost more, so the integrator's search stops there.
   double probe_timeout_s = 60.0;
+  // A probe slower than this multiple of the best passing setting so far is stopped (header).
+  double stop_factor = 3.0;
   uint32_t reference_substeps = 512;  // reference dt = 1 / (frame_rate reference_substeps)
   std::string reference_integrator = "rk4";
   std::string error_mesh;  // "ROWSxCOLS"; empty: the scene's mesh
@@ -64,14 +78,18 @@ struct Choice {
   uint32_t substeps = 0;
   uint32_t iterations = 0;  // 0: the method has none
   double ms_per_frame = 0, error = 0, max_stretch = 0;
-  std::string verdict;  // "real time", "slower than real time" or why nothing passed
+  // "real time", "slower than real time" or why nothing passed ("slower than <best> ...
+  // (stopped at ...)", "too slow: ...", "converges elsewhere: ...", "no setting passed ...")
+  std::string verdict;
   int probes = 0;
 };
 
 // `base`: the scene's case (its settings without frame_rate / substeps / dt, duration T).
 // `scene` is written to every row ("scenario=flag;mesh=200x200;material=cotton;..."); rows go
 // to the store (reference, probe), the returned choices are ranked: passing ones by cost, then
-// the rest. Progress, one line per probe, on `progress`.
+// the rest. Progress on `progress`: a line when the reference starts and when it is done, one
+// per probe ("choose [2/7] euler 1024 substeps: passes (669 ms/frame) [3:05]", elapsed since
+// the start).
 std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
                                        const std::vector<ChoiceCandidate>& candidates,
                                        const ChoiceSettings& settings,
