@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/sweep/integrator_choice.hpp>
-#include <clothlab/host/param_text.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
+#include <clothlab/sweep/trajectory_cache.hpp>
 #include <iostream>
 
 #include "output_file.hpp"
@@ -96,10 +97,18 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                         {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
                         {"reference_integrator", choice.reference_integrator},
                         {"reference_substeps", choice.reference_substeps}});
+    const std::filesystem::path cache_folder =
+        config.choice_reference_cache.empty()
+            ? spec.output.parent_path() / "choose-references"
+            : std::filesystem::path(config.choice_reference_cache);
+    sweep::TrajectoryCache cache(
+        cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
+    const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {
+      return run_sweep_trajectory(spec, c, search_path);
+    };
     const std::vector<sweep::Choice> choices = sweep::choose_integrators(
-        spec, base, candidates, choice,
-        [&](const sweep::CaseSpec& c) { return run_sweep_trajectory(spec, c, search_path); }, store,
-        std::cerr);
+        spec, base, candidates, choice, runner,
+        [&](const sweep::CaseSpec& c) { return cache.run(runner, c); }, store, std::cerr);
     store.write_exports();
 
     nlohmann::ordered_json ranked;
@@ -139,7 +148,9 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         << " float64, dt " << host::format_number(reference.value("reference_dt", 0.0))
         << " s, estimated own error "
         << host::format_number(100 * reference.value("reference_error_estimate", 0.0))
-        << " % of the diagonal\n"
+        << " % of the diagonal"
+        << (cache.hits() > 0 ? " (from the cache " + cache_folder.string() + ")" : std::string())
+        << "\n"
         << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "
         << ranked_base.string() << ".json (probes: " << store.csv_path().string() << ")\n";
   } catch (const sweep::SweepError& error) {

@@ -194,6 +194,11 @@ bool read_choice_key(const Setting& setting, RunConfig& config) {
     config.choice_integrators = word_list(setting);
   } else if (key == "choose.output") {
     config.choice_output = setting.value;
+  } else if (key == "choose.reference_cache") {
+    if (setting.value.empty())
+      throw host::InputError(setting.source +
+                             ": choose.reference_cache is empty; allowed: a folder path");
+    config.choice_reference_cache = setting.value;
   } else {
     return false;
   }
@@ -299,6 +304,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "choose.error_tolerance, choose.max_substeps, choose.max_iterations, "
                              "choose.reference_substeps, choose.reference_integrator, "
                              "choose.error_mesh, choose.integrators, choose.output, "
+                             "choose.reference_cache, "
                              "stability.interval, stability.max_stretch, "
                              "stability.energy_margin, find_max_dt.tolerance, find_max_dt.dt_min, "
                              "find_max_dt.dt_max, frames.dir, frames.every, frames.rate, "

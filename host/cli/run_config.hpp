@@ -58,6 +58,9 @@ struct RunConfig {
   sweep::ChoiceSettings choice;
   std::vector<std::string> choice_integrators;
   std::string choice_output = "results/choose";
+  // Folder of cached references (trajectory_cache.hpp); empty: choose-references beside the
+  // output.
+  std::string choice_reference_cache;
   // find_max_dt.*: the --find-max-dt search.
   double search_tolerance = 0.02;  // relative width of the final bracket
   double search_dt_min = 1e-7;     // s: nothing stable below gives up

@@ -101,13 +101,6 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
   return result;
 }
 
-// A plugin file's identity for the fingerprint: where it was found, its size and content hash.
-std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id) {
-  const std::filesystem::path path = search_path.resolve(id);
-  return path.string() + " size " + std::to_string(std::filesystem::file_size(path)) + " fnv1a " +
-         sweep::file_hash(path.string());
-}
-
 // Every case goes through the checks of a single run (its settings, then its plugins and
 // parameter values) before the first one runs: a sweep with bad input does nothing and
 // exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
@@ -139,6 +132,13 @@ void check_every_case(const sweep::SweepSpec& spec, const std::vector<sweep::Cas
 }
 
 }  // namespace
+
+// A plugin file's identity for the fingerprint: where it was found, its size and content hash.
+std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id) {
+  const std::filesystem::path path = search_path.resolve(id);
+  return path.string() + " size " + std::to_string(std::filesystem::file_size(path)) + " fnv1a " +
+         sweep::file_hash(path.string());
+}
 
 sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                        const host::PluginSearchPath& search_path) {

@@ -31,6 +31,10 @@ struct SweepRequest {
 sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
                                        const host::PluginSearchPath& search_path);
 
+// A plugin file's identity for fingerprints and caches: where it was found, its size and
+// content hash.
+std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id);
+
 // Runs the sweep, prints a summary to out. Throws InputError for a bad sweep file or results
 // that cannot be resumed or written. Unstable and failed cases are results, not errors.
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,

@@ -90,7 +90,7 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
   const std::vector<Choice> choices = choose_integrators(
       fixture.spec, fixture.base,
       {{"never", false}, {"explicit", false}, {"stretchy", false}, {"iterative", true}},
-      fixture.settings, std::ref(runs), store, progress);
+      fixture.settings, std::ref(runs), std::ref(runs), store, progress);
   ASSERT_EQ(choices.size(), 4u);
   // Ranked by ms per frame: iterative (1 x 8: 1.8 ms), stretchy (5 substeps), explicit (>= 50).
   EXPECT_EQ(choices[0].integrator, "iterative");
@@ -136,7 +136,7 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
   std::ostringstream progress;
   const std::vector<Choice> choices = choose_integrators(
       fixture.spec, fixture.base, {{"stretchy", false}, {"iterative", true}, {"explicit", false}},
-      fixture.settings, std::ref(runs), store, progress);
+      fixture.settings, std::ref(runs), std::ref(runs), store, progress);
   ASSERT_EQ(choices.size(), 3u);
   // stretchy has no yardstick yet (first searched): found in full, 5 substeps, 25 s a run.
   EXPECT_EQ(choices[1].integrator, "stretchy");
@@ -144,14 +144,18 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
   // iterative's probes (at most 1 x 8: 9 s) stay within 3 x 25 s: found in full.
   EXPECT_EQ(choices[0].integrator, "iterative");
   EXPECT_EQ(choices[0].iterations, 8u);
-  // explicit: 8 substeps take 40 s, past 1 + 3 x 9 s: stopped there, not searched to 50.
+  // explicit: 8 substeps cost 800 ms/frame, over 3 x 180: stopped after its first frames, not
+  // searched to 50.
   EXPECT_FALSE(choices[2].passed);
   EXPECT_EQ(choices[2].verdict.rfind("slower than iterative at 1 substep x 8 iterations (180 "
                                      "ms/frame)",
                                      0),
             0u)
       << choices[2].verdict;
-  EXPECT_NE(choices[2].verdict.find("stopped at 8 substeps"), std::string::npos);
+  EXPECT_NE(choices[2].verdict.find("800 ms/frame over its first 5 frames, over 3 x; stopped at "
+                                    "8 substeps"),
+            std::string::npos)
+      << choices[2].verdict;
   EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 16"), 0);
   int stopped = 0;
   for (const Row& row : store.rows()) stopped += row["kind"] == "probe" && row["stopped"] == true;
@@ -168,7 +172,7 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
   runs.time_scale = 1;  // explicit's 50 substeps within the probe timeout
   const std::vector<Choice> all =
       choose_integrators(fixture.spec, fixture.base, {{"iterative", true}, {"explicit", false}},
-                         fixture.settings, std::ref(runs), unbounded, progress);
+                         fixture.settings, std::ref(runs), std::ref(runs), unbounded, progress);
   EXPECT_TRUE(all[1].passed);
   EXPECT_GE(all[1].substeps, 50u);
 }
@@ -188,7 +192,7 @@ TEST(IntegratorChoice, RunsTheSceneMeshOnlyWhereTheErrorPasses) {
   std::ostringstream progress;
   const std::vector<Choice> choices =
       choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
-                         std::ref(runs), store, progress);
+                         std::ref(runs), std::ref(runs), store, progress);
   ASSERT_TRUE(choices[0].passed);
   EXPECT_GE(choices[0].substeps, 50u);
   // Doubling 1 .. 32 fails on the error mesh (unstable there): no 40 x 40 run for them.
@@ -213,7 +217,7 @@ TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {
   std::ostringstream progress;
   const std::vector<Choice> choices =
       choose_integrators(fixture.spec, fixture.base, {{"plateau", true}}, fixture.settings,
-                         std::ref(runs), store, progress);
+                         std::ref(runs), std::ref(runs), store, progress);
   ASSERT_TRUE(choices[0].passed);
   EXPECT_EQ(choices[0].substeps, 64u);
   EXPECT_EQ(choices[0].iterations, 1u);
@@ -231,9 +235,10 @@ TEST(IntegratorChoice, RefusesAnUnconvergedReference) {
   FakeRuns runs;
   runs.reference_gap = 0.05;  // the two reference runs differ by 5 % of the diagonal
   std::ostringstream progress;
-  EXPECT_THROW(choose_integrators(fixture.spec, fixture.base, {{"explicit", false}},
-                                  fixture.settings, std::ref(runs), store, progress),
-               SweepError);
+  EXPECT_THROW(
+      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
+                         std::ref(runs), std::ref(runs), store, progress),
+      SweepError);
   EXPECT_EQ(runs.calls, 2);  // nothing judged against it
 }
 

@@ -77,20 +77,38 @@ std::string describe_changes(const Fingerprint& before, const Fingerprint& after
   return changes;
 }
 
-std::string file_hash(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) throw SweepError(path + ": cannot read plugin file for the sweep fingerprint");
-  uint64_t hash = 14695981039346656037ull;
-  char buffer[1 << 16];
-  while (stream.read(buffer, sizeof buffer) || stream.gcount() > 0) {
-    for (std::streamsize i = 0; i < stream.gcount(); ++i) {
-      hash ^= static_cast<unsigned char>(buffer[i]);
-      hash *= 1099511628211ull;
-    }
+namespace {
+
+constexpr uint64_t fnv1a_offset = 14695981039346656037ull;
+
+uint64_t fnv1a(uint64_t hash, const char* bytes, std::size_t size) {
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= static_cast<unsigned char>(bytes[i]);
+    hash *= 1099511628211ull;
   }
+  return hash;
+}
+
+std::string hex(uint64_t hash) {
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
   return text;
+}
+
+}  // namespace
+
+std::string file_hash(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw SweepError(path + ": cannot read plugin file for the sweep fingerprint");
+  uint64_t hash = fnv1a_offset;
+  char buffer[1 << 16];
+  while (stream.read(buffer, sizeof buffer) || stream.gcount() > 0)
+    hash = fnv1a(hash, buffer, static_cast<std::size_t>(stream.gcount()));
+  return hex(hash);
+}
+
+std::string text_hash(std::string_view text) {
+  return hex(fnv1a(fnv1a_offset, text.data(), text.size()));
 }
 
 }  // namespace clothlab::sweep

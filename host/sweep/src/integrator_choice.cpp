@@ -48,6 +48,9 @@ struct SearchContext {
 // A child process needs this long beyond its stepping (start, plugins, scene, the JSON with
 // the final positions); the cost budget allows it on top of its multiple of the best's time.
 constexpr double startup_allowance_s = 1.0;
+// Frames of the first, short run that measures a setting's cost: the median of 5 leaves out
+// a first frame that sets up (a factorisation, page faults).
+constexpr int cost_frames = 5;
 
 // The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
@@ -132,7 +135,7 @@ class IntegratorSearch {
       return choice;
     }
     if (!best && !stopped_label_.empty()) {
-      choice.verdict = stopped_reason_ + " (stopped at " + stopped_label_ + ")";
+      choice.verdict = stopped_reason_ + "; stopped at " + stopped_label_;
       return choice;
     }
     if (!best) {
@@ -202,12 +205,74 @@ class IntegratorSearch {
   bool stopped_by_budget(const Trajectory& run, double timeout_s, const std::string& where,
                          Probe& probe) const {
     if (!timed_out(run) || timeout_s >= settings_.probe_timeout_s) return false;
-    probe.stopped = true;
-    probe.why = "slower than " + context_.best.label + " (" +
-                format_number(context_.best.ms_per_frame) + " ms/frame): " + where + " ran past " +
-                format_number(timeout_s) + " s, " + format_number(settings_.stop_factor) +
-                " x its time";
+    stop(probe, where + " ran past " + format_number(timeout_s) + " s");
     return true;
+  }
+  void stop(Probe& probe, const std::string& why) const {
+    char best[64];
+    std::snprintf(best, sizeof best, " (%.4g ms/frame): ", context_.best.ms_per_frame);
+    probe.stopped = true;
+    probe.why = "slower than " + context_.best.label + best + why + ", over " +
+                format_number(settings_.stop_factor) + " x";
+  }
+
+  // Stage 1, once some setting passed: the first frames at the scene's mesh. A setting whose
+  // frames already cost stop_factor x the best's is stopped there; one that diverges fails.
+  bool judge_first_frames(const CaseSpec& c, Probe& probe) {
+    if (!context_.best.found() || settings_.stop_factor <= 0) return true;
+    const double frames = std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
+    const double timeout_s = budget_s(frames / (settings_.duration * settings_.frame_rate));
+    const Trajectory first = run_guarded(
+        with_setting(c, "duration", format_number(frames / settings_.frame_rate), false),
+        timeout_s);
+    probe.ms_per_frame = first.ms_per_frame;
+    if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
+    if (!judge_run(first, probe, "in its first frames: ")) return false;
+    if (first.ms_per_frame <= settings_.stop_factor * context_.best.ms_per_frame) return true;
+    char cost[80];
+    std::snprintf(cost, sizeof cost, "%.4g ms/frame over its first %g frames", first.ms_per_frame,
+                  frames);
+    stop(probe, cost);
+    return false;
+  }
+
+  // Stage 2: the error, on the error mesh to the error T (the cheaper run).
+  bool judge_error_run(const CaseSpec& c, Probe& probe) {
+    if (same_error_run()) return true;
+    const double timeout_s = budget_s(error_work_fraction());
+    const Trajectory measured = run_guarded(error_case(c), timeout_s);
+    if (stopped_by_budget(measured, timeout_s, "its run on the error mesh", probe)) return false;
+    const std::string where = settings_.error_mesh.empty()
+                                  ? "to T = " + format_number(error_duration(settings_)) + " s: "
+                                  : "on the error mesh " + settings_.error_mesh + ": ";
+    return judge_run(measured, probe, where) && judge_error(measured, probe);
+  }
+
+  // Stage 3: the run over T at the scene's mesh: stability, stretch, cost.
+  bool judge_full_run(const CaseSpec& c, Probe& probe, double& wall_s) {
+    const double timeout_s = budget_s(1.0);
+    const Trajectory run = run_guarded(c, timeout_s);
+    probe.ms_per_frame = run.ms_per_frame;
+    probe.max_stretch = run.max_stretch;
+    wall_s = run.wall_s;
+    if (stopped_by_budget(run, timeout_s, "its run", probe) || !judge_run(run, probe, ""))
+      return false;
+    if (run.max_stretch > settings_.stretch_limit) {
+      probe.why = "stretch " + format_number(run.max_stretch) + " above " +
+                  format_number(settings_.stretch_limit);
+      return false;
+    }
+    return !same_error_run() || judge_error(run, probe);
+  }
+
+  // False with probe.why set when the run was not stable; a probe-timeout ends the search.
+  bool judge_run(const Trajectory& run, Probe& probe, const std::string& where) {
+    if (run.verdict.stable()) return true;
+    probe.why = where + to_string(run.verdict.status) + ": " + run.verdict.reason;
+    if (timed_out(run))
+      give_up("too slow: a run ran past " + format_number(settings_.probe_timeout_s) + " s (" +
+              where + "choose.probe_timeout)");
+    return false;
   }
 
   const Probe& probe(uint32_t substeps, uint32_t iterations) {
@@ -215,48 +280,17 @@ class IntegratorSearch {
     if (known != probes_.end()) return known->second;
     const CaseSpec c = candidate_case(substeps, iterations);
     Probe probe;
-    // The error run is the cheaper one (smaller mesh, shorter T): a setting it fails needs no
-    // run at the scene's mesh.
-    if (!same_error_run()) {
-      const double timeout_s = budget_s(error_work_fraction());
-      const Trajectory measured = run_guarded(error_case(c), timeout_s);
-      if (stopped_by_budget(measured, timeout_s, "its run on the error mesh", probe)) {
-      } else if (!measured.verdict.stable()) {
-        probe.why = "on the error mesh " +
-                    (settings_.error_mesh.empty()
-                         ? std::string("(T = ") + format_number(error_duration(settings_)) + " s)"
-                         : settings_.error_mesh) +
-                    ": " + to_string(measured.verdict.status) + ": " + measured.verdict.reason;
-      } else {
-        judge_error(measured, probe);
-      }
-    }
-    if (probe.why.empty()) {
-      const double timeout_s = budget_s(1.0);
-      const Trajectory run = run_guarded(c, timeout_s);
-      probe.ms_per_frame = run.ms_per_frame;
-      probe.max_stretch = run.max_stretch;
-      if (stopped_by_budget(run, timeout_s, "its run", probe)) {
-      } else if (!run.verdict.stable()) {
-        probe.why = std::string(to_string(run.verdict.status)) + ": " + run.verdict.reason;
-        if (timed_out(run))
-          give_up("too slow: a probe at " + label_of(substeps, iterations) + " ran past " +
-                  format_number(settings_.probe_timeout_s) + " s");
-      } else if (run.max_stretch > settings_.stretch_limit) {
-        probe.why = "stretch " + format_number(run.max_stretch) + " above " +
-                    format_number(settings_.stretch_limit);
-      } else if (same_error_run()) {
-        judge_error(run, probe);
-      }
-      probe.passed = probe.why.empty();
-      if (probe.passed) record_best(substeps, iterations, probe, run.wall_s);
-    }
+    // Cheapest stages first: a setting that fails one needs none of the later runs.
+    double wall_s = 0;
+    probe.passed = judge_first_frames(c, probe) && judge_error_run(c, probe) &&
+                   judge_full_run(c, probe, wall_s);
+    if (probe.passed) record_best(substeps, iterations, probe, wall_s);
     if (!probe.passed) last_failure_ = label_of(substeps, iterations) + ": " + probe.why;
     if (probe.stopped) {
       stop_substeps_ = true;
       if (candidate_.has_iterations) stopped_iterations_ = iterations;
       stopped_label_ = label_of(substeps, iterations);
-      stopped_reason_ = probe.why.substr(0, probe.why.find(':'));
+      stopped_reason_ = probe.why;
     }
     const std::string note = judge_progress(substeps, iterations, probe);
     store_row(c, substeps, iterations, probe);
@@ -264,12 +298,12 @@ class IntegratorSearch {
     return probes_.emplace(std::make_pair(substeps, iterations), probe).first->second;
   }
 
-  void judge_error(const Trajectory& measured, Probe& probe) const {
+  bool judge_error(const Trajectory& measured, Probe& probe) const {
     probe.error = relative_rms_error(measured.positions, context_.reference.positions,
                                      context_.reference.diagonal);
-    if (probe.error > settings_.error_tolerance)
-      probe.why = "error " + format_number(probe.error) + " above " +
-                  format_number(settings_.error_tolerance);
+    if (probe.error <= settings_.error_tolerance) return true;
+    probe.why = "error " + percent(probe.error) + " above " + percent(settings_.error_tolerance);
+    return false;
   }
 
   void record_best(uint32_t substeps, uint32_t iterations, const Probe& probe, double wall_s) {
@@ -334,8 +368,9 @@ class IntegratorSearch {
   void print(uint32_t substeps, uint32_t iterations, const Probe& probe, const std::string& note) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - context_.start).count();
-    const std::string cost =
-        probe.ms_per_frame > 0 ? " (" + format_number(probe.ms_per_frame) + " ms/frame)" : "";
+    char cost[48] = "";
+    if (probe.ms_per_frame > 0)
+      std::snprintf(cost, sizeof cost, " (%.4g ms/frame)", probe.ms_per_frame);
     context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
                       << label_of(substeps, iterations) << ": "
                       << (probe.passed ? std::string("passes") : probe.why.substr(0, 160)) << cost
@@ -362,8 +397,9 @@ class IntegratorSearch {
 std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
                                        const std::vector<ChoiceCandidate>& candidates,
                                        const ChoiceSettings& settings,
-                                       const TrajectoryRunner& runner, ResultsStore& store,
-                                       std::ostream& progress) {
+                                       const TrajectoryRunner& runner,
+                                       const TrajectoryRunner& reference_runner,
+                                       ResultsStore& store, std::ostream& progress) {
   CaseSpec error_base =
       with_setting(base, "duration", format_number(error_duration(settings)), false);
   if (!settings.error_mesh.empty())
@@ -375,7 +411,8 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
            << " s and half that, to T = " << format_number(error_duration(settings)) << " s"
            << (settings.error_mesh.empty() ? "" : " on " + settings.error_mesh) << "\n"
            << std::flush;
-  const Trajectory reference = compute_reference(spec, error_base, reference_dt, runner, store);
+  const Trajectory reference =
+      compute_reference(spec, error_base, reference_dt, reference_runner, store);
   for (const Row& row : store.rows()) {
     if (row["kind"] != "reference") continue;
     const double difference = row["reference_difference"].get<double>();

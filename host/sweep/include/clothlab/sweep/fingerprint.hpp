@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include "clothlab/sweep/sweep_spec.hpp"
 
@@ -26,5 +27,7 @@ std::string describe_changes(const Fingerprint& before, const Fingerprint& after
 
 // 64-bit FNV-1a of a file's bytes, as 16 hex digits. Throws SweepError if it cannot be read.
 std::string file_hash(const std::string& path);
+// The same hash of a text.
+std::string text_hash(std::string_view text);
 
 }  // namespace clothlab::sweep

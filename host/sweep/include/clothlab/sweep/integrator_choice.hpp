@@ -87,14 +87,16 @@ struct Choice {
 // `base`: the scene's case (its settings without frame_rate / substeps / dt, duration T).
 // `scene` is written to every row ("scenario=flag;mesh=200x200;material=cotton;..."); rows go
 // to the store (reference, probe), the returned choices are ranked: passing ones by cost, then
-// the rest. Progress on `progress`: a line when the reference starts and when it is done, one
-// per probe ("choose [2/7] euler 1024 substeps: passes (669 ms/frame) [3:05]", elapsed since
-// the start).
+// the rest. The reference's two runs go through reference_runner (a TrajectoryCache in
+// clothlab --choose), the probes through runner. Progress on `progress`: a line when the
+// reference starts and when it is done, one per probe ("choose [2/7] euler 1024 substeps:
+// passes (669 ms/frame) [3:05]", elapsed since the start).
 std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
                                        const std::vector<ChoiceCandidate>& candidates,
                                        const ChoiceSettings& settings,
-                                       const TrajectoryRunner& runner, ResultsStore& store,
-                                       std::ostream& progress);
+                                       const TrajectoryRunner& runner,
+                                       const TrajectoryRunner& reference_runner,
+                                       ResultsStore& store, std::ostream& progress);
 
 // The ranked table as rows (integrator, substeps, iterations, ms_per_frame, error, max_stretch,
 // verdict, ...) and as a fixed-width text table.

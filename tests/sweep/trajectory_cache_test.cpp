@@ -1,0 +1,92 @@
+#include "clothlab/sweep/trajectory_cache.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "sweep_test_support.hpp"
+
+namespace clothlab::sweep {
+namespace {
+
+using testing::ScratchFolder;
+
+CaseSpec reference_case(const std::vector<Setting>& extra) {
+  SweepSpec spec;
+  spec.source = "test";
+  spec.fixed = {{"integrator.plugin", "rk4", "test"},
+                {"scenario.plugin", "flag", "test"},
+                {"scenario.rows", "20", "test"}};
+  for (const Setting& setting : extra) spec.fixed.push_back(setting);
+  return expand_cases(spec).at(0);
+}
+
+struct CountingRuns {
+  int calls = 0;
+  bool stable = true;
+  Trajectory operator()(const CaseSpec&) {
+    ++calls;
+    Trajectory run;
+    run.positions = {0.1, 0.2, 1.0 / 3.0};
+    run.diagonal = 1.5;
+    run.max_stretch = 1.02;
+    if (!stable) run.verdict.status = CaseStatus::Unstable;
+    return run;
+  }
+};
+
+TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
+  ScratchFolder folder;
+  std::string rk4_build = "rk4.so size 1 fnv1a 01";
+  const PluginIdentity identity = [&](const std::string& id) {
+    return id == "rk4" ? rk4_build : "flag.so";
+  };
+  CountingRuns runs;
+  {
+    TrajectoryCache cache(folder.path() / "references", identity);
+    const Trajectory first = cache.run(std::ref(runs), reference_case({}));
+    EXPECT_EQ(runs.calls, 1);
+    EXPECT_EQ(cache.hits(), 0);
+    EXPECT_TRUE(std::filesystem::exists(cache.path_of(reference_case({}))));
+  }
+  // A later session: the same effective settings (a repeated key's last value, another
+  // timeout) are served, bit for bit.
+  TrajectoryCache cache(folder.path() / "references", identity);
+  const Trajectory again =
+      cache.run(std::ref(runs), reference_case({{"scenario.rows", "30", "test"},
+                                                {"scenario.rows", "20", "test"},
+                                                {"timeout", "5", "test"}}));
+  EXPECT_EQ(runs.calls, 1);
+  EXPECT_EQ(cache.hits(), 1);
+  EXPECT_EQ(again.positions, (std::vector<double>{0.1, 0.2, 1.0 / 3.0}));
+  EXPECT_EQ(again.diagonal, 1.5);
+  // Another setting or a rebuilt plugin is a miss.
+  cache.run(std::ref(runs), reference_case({{"scenario.rows", "30", "test"}}));
+  EXPECT_EQ(runs.calls, 2);
+  rk4_build = "rk4.so size 2 fnv1a 02";
+  cache.run(std::ref(runs), reference_case({}));
+  EXPECT_EQ(runs.calls, 3);
+  EXPECT_EQ(cache.hits(), 1);
+}
+
+TEST(TrajectoryCache, KeepsNeitherUnstableRunsNorUnreadableFiles) {
+  ScratchFolder folder;
+  TrajectoryCache cache(folder.path(), nullptr);
+  CountingRuns runs;
+  runs.stable = false;
+  cache.run(std::ref(runs), reference_case({}));
+  cache.run(std::ref(runs), reference_case({}));
+  EXPECT_EQ(runs.calls, 2);
+  EXPECT_FALSE(std::filesystem::exists(cache.path_of(reference_case({}))));
+  // A damaged file is a miss, and is replaced.
+  std::ofstream(cache.path_of(reference_case({}))) << "{\"identity\": 3";
+  runs.stable = true;
+  cache.run(std::ref(runs), reference_case({}));
+  EXPECT_EQ(runs.calls, 3);
+  cache.run(std::ref(runs), reference_case({}));
+  EXPECT_EQ(runs.calls, 3);
+  EXPECT_EQ(cache.hits(), 1);
+}
+
+}  // namespace
+}  // namespace clothlab::sweep
