@@ -132,27 +132,27 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
   Fixture fixture;
   fixture.settings.stop_factor = 3;
   FakeRuns runs;
-  runs.time_scale = 100;  // iterative 1 x 8: 180 ms/frame, 9 s for T = 1 s at 50 Hz
+  runs.time_scale = 10;  // iterative 1 x 8: 18 ms/frame, 0.9 s for T = 1 s at 50 Hz
   std::ostringstream progress;
   const std::vector<Choice> choices = choose_integrators(
       fixture.spec, fixture.base, {{"stretchy", false}, {"iterative", true}, {"explicit", false}},
       fixture.settings, std::ref(runs), std::ref(runs), store, progress);
   ASSERT_EQ(choices.size(), 3u);
-  // stretchy has no yardstick yet (first searched): found in full, 5 substeps, 25 s a run.
+  // stretchy has no yardstick yet (first searched): found in full, 5 substeps, 2.5 s a run.
   EXPECT_EQ(choices[1].integrator, "stretchy");
   EXPECT_EQ(choices[1].substeps, 5u);
-  // iterative's probes (at most 1 x 8: 9 s) stay within 3 x 25 s: found in full.
+  // iterative's probes (at most 1 x 8: 18 ms/frame) stay within 3 x 50: found in full.
   EXPECT_EQ(choices[0].integrator, "iterative");
   EXPECT_EQ(choices[0].iterations, 8u);
-  // explicit: 8 substeps cost 800 ms/frame, over 3 x 180: stopped after its first frames, not
+  // explicit: 8 substeps cost 80 ms/frame, over 3 x 18: stopped after its first frames, not
   // searched to 50.
   EXPECT_FALSE(choices[2].passed);
-  EXPECT_EQ(choices[2].verdict.rfind("slower than iterative at 1 substep x 8 iterations (180 "
+  EXPECT_EQ(choices[2].verdict.rfind("slower than iterative at 1 substep x 8 iterations (18 "
                                      "ms/frame)",
                                      0),
             0u)
       << choices[2].verdict;
-  EXPECT_NE(choices[2].verdict.find("800 ms/frame over its first 5 frames, over 3 x; stopped at "
+  EXPECT_NE(choices[2].verdict.find("80 ms/frame over its first 5 frames, over 3 x; stopped at "
                                     "8 substeps"),
             std::string::npos)
       << choices[2].verdict;
