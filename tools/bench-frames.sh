@@ -1,29 +1,91 @@
 #!/usr/bin/env bash
-# Issue-10 benchmark: real cloth in a real frame budget. For each scenario x mesh x frame rate,
-# `clothlab --choose` on configs/bench-300.yaml (cotton, Earth gravity, float32, all threads)
-# finds every integrator's cheapest setting that stays stable over 1 s, keeps the warp/weft
-# stretch <= 5 % and the position error <= 1 % of the diagonal (measured at 100 x 100, or at
-# the mesh itself when it is smaller), and reports ms per frame and the real-time factor.
+# Issue-10 tables: real cloth in a real frame budget, for every integrator on the plugin path.
+# For each scenario x mesh x frame rate, `clothlab --choose` on configs/bench-300.yaml (cotton,
+# Earth gravity, float32, all threads) finds every integrator's cheapest setting that stays
+# stable over 1 s, keeps the warp/weft stretch <= STRETCH_LIMIT and the position error <= 1 %
+# of the diagonal at T = 0.25 s (measured at 100 x 100, or at the mesh itself when smaller),
+# and reports ms per frame and the real-time factor. The reference step is the same at every
+# frame rate (512 substeps at 60 Hz, 1024 at 30 Hz), so one float64 reference per error mesh
+# serves every table (cached in $RESULTS_DIR/references). Then, per table, tools/plot.py draws
+# the probes' cost per frame against their error, and, where the mesh is at most ENERGY_MESH,
+# each passing setting is run once more with --energy-out for the energy-over-time plot.
 # Usage: tools/bench-frames.sh
-# Environment: BUILD_DIR (build), RESULTS_DIR (results/bench-frames), SCENARIOS ("sheet flag"),
-#              MESHES ("300"), FRAME_RATES ("60"), INTEGRATORS (empty: every one on the path).
-# Results: $RESULTS_DIR/choose-<scenario>-<mesh>-<rate>Hz{,-ranked}.{csv,json} and .txt tables.
+# Environment: BUILD_DIR (build), RESULTS_DIR (results/bench-frames), SCENARIOS ("flag"),
+#              MESHES ("50 100 200"), FRAME_RATES ("60 30"), INTEGRATORS (empty: every one on
+#              the path, in the 200 x 200 preset's order), STRETCH_LIMIT (1.10), STOP_FACTOR (3),
+#              ENERGY_MESH (50), PLOTS (1: draw the plots; needs python3-matplotlib).
+# Results: $RESULTS_DIR/choose-<scenario>-<mesh>-<rate>Hz{,-ranked}.{csv,json}, the printed
+#          table (.txt), plots/, energy-*.csv, and summary.md (machine, date, load, wall times
+#          and every table, for docs/real-cloth.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${BUILD_DIR:-build}
 results=${RESULTS_DIR:-results/bench-frames}
+integrators=${INTEGRATORS:-xpbd verlet euler rk4 midpoint projective_dynamics implicit_euler}
+bin="$build_dir/bin/clothlab"
+# On a machine shared with other jobs, OpenMP threads that spin at their barriers lose their
+# core for whole time slices (docs/real-cloth.md: 20-35x slower steps at load 8 on 2 cores);
+# waiting passively costs little when the machine is idle. Set OMP_WAIT_POLICY to override.
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 mkdir -p "$results"
-for rate in ${FRAME_RATES:-60}; do
-  for mesh in ${MESHES:-300}; do
-    for scenario in ${SCENARIOS:-sheet flag}; do
+summary="$results/summary.md"
+{
+  echo "Machine: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores;" \
+    "$(date -u '+%Y-%m-%d %H:%M UTC'); load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "Commit: $(git rev-parse --short HEAD)$(git diff --quiet || echo ' (with local changes)')"
+  echo "OMP_WAIT_POLICY=$OMP_WAIT_POLICY"
+} >"$summary"
+
+for rate in ${FRAME_RATES:-60 30}; do
+  for mesh in ${MESHES:-50 100 200}; do
+    for scenario in ${SCENARIOS:-flag}; do
       error_mesh=$((mesh < 100 ? mesh : 100))
       name="choose-$scenario-$mesh-${rate}Hz"
-      extra=()
-      [[ -n ${INTEGRATORS:-} ]] && extra+=(--set "choose.integrators=[${INTEGRATORS// /, }]")
-      "$build_dir/bin/clothlab" --choose --config configs/bench-300.yaml --scenario "$scenario" \
+      started=$(date +%s)
+      "$bin" --choose --config configs/bench-300.yaml --scenario "$scenario" \
         --set scenario.rows="$mesh" --set scenario.cols="$mesh" --frame-rate "$rate" \
         --set choose.error_mesh="${error_mesh}x${error_mesh}" \
-        --set choose.output="$results/$name" "${extra[@]}" | tee "$results/$name.txt"
+        --set choose.reference_substeps=$((512 * 60 / rate)) \
+        --set choose.stretch_limit="${STRETCH_LIMIT:-1.10}" \
+        --set choose.stop_factor="${STOP_FACTOR:-3}" \
+        --set "choose.integrators=[${integrators// /, }]" \
+        --set choose.reference_cache="$results/references" \
+        --set choose.output="$results/$name" | tee "$results/$name.txt"
+      wall=$(($(date +%s) - started))
+      {
+        echo
+        echo "### $scenario ${mesh}x$mesh, $rate Hz ($((wall / 60)) min $((wall % 60)) s wall," \
+          "load average after: $(cut -d' ' -f1-3 /proc/loadavg))"
+        echo
+        echo '```'
+        cat "$results/$name.txt"
+        echo '```'
+      } >>"$summary"
+      [[ ${PLOTS:-1} == 1 ]] || continue
+      python3 tools/plot.py choose "$results/$name.json" --out "$results/plots/$name" \
+        --cloth "cotton $scenario ${mesh}x$mesh, $rate Hz" >/dev/null
+      ((mesh <= ${ENERGY_MESH:-50})) || continue
+      # Each passing setting once more, with its energy trace.
+      traces=()
+      while IFS=, read -r integrator substeps iterations; do
+        extra=()
+        [[ -n $iterations ]] && extra+=(--set integrator.iterations="$iterations")
+        # --choose holds xpbd's own substeps parameter at 1 (the frame's substeps are its only).
+        [[ $integrator == xpbd ]] && extra+=(--set integrator.substeps=1)
+        trace="$results/energy-$name-$integrator.csv"
+        "$bin" --config configs/bench-300.yaml --scenario "$scenario" --integrator "$integrator" \
+          --set scenario.rows="$mesh" --set scenario.cols="$mesh" --frame-rate "$rate" \
+          --substeps "$substeps" --duration 1 "${extra[@]}" --energy-out "$trace" --quiet
+        traces+=("$trace")
+      done < <(python3 -c '
+import csv, sys
+for row in csv.DictReader(open(sys.argv[1])):
+    if row["rank"]:
+        print(row["integrator"], row["substeps"], row["iterations"], sep=",")
+' "$results/$name-ranked.csv")
+      ((${#traces[@]} > 0)) && python3 tools/plot.py energy "${traces[@]}" \
+        --out "$results/plots/$name" --cloth "cotton $scenario ${mesh}x$mesh, $rate Hz" >/dev/null
     done
   done
 done
+echo "summary: $summary"

@@ -23,6 +23,8 @@ using testing::ScratchFolder;
 //   iterative: passes when substeps x iterations >= 8; cheapest is 1 substep x 8 iterations
 //   plateau:   has iterations, error 0.5 / substeps + 0.001 / iterations: iterations barely
 //              help, 1 % from 64 substeps x 1 iteration
+//   steady:    passes at 1 substep, 25 ms/frame whatever the substeps
+//   stiff:     error 0.001, unstable below 37 substeps at the 40 x 40 scene mesh only
 //   never:     always unstable
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
 // steps. `runs` lists every run as "integrator rows substeps".
@@ -43,7 +45,8 @@ struct FakeRuns {
     runs.push_back(c.integrator + " " + std::to_string(c.rows) + " " + c.setting("substeps"));
     const std::string text = c.setting("integrator.iterations");
     const double iterations = text.empty() ? 0.0 : std::stod(text);
-    run.ms_per_frame = time_scale * substeps * (1.0 + 0.1 * iterations);
+    run.ms_per_frame =
+        time_scale * (c.integrator == "steady" ? 25.0 : substeps) * (1.0 + 0.1 * iterations);
     run.wall_s = run.ms_per_frame * c.duration * std::stod(c.setting("frame_rate")) / 1e3;
     const std::string timeout = c.setting("timeout");
     if (!timeout.empty() && run.wall_s > std::stod(timeout)) {
@@ -55,6 +58,7 @@ struct FakeRuns {
     double error = 0.001;
     const bool unstable = (c.integrator == "explicit" && substeps < 37) ||
                           (c.integrator == "iterative" && substeps * iterations < 8) ||
+                          (c.integrator == "stiff" && c.rows == 40 && substeps < 37) ||
                           c.integrator == "never";
     if (c.integrator == "explicit") error = 0.5 / substeps;
     if (c.integrator == "plateau") error = 0.5 / substeps + 0.001 / iterations;
@@ -226,6 +230,48 @@ TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {
               2)
         << substeps;
   EXPECT_NE(progress.str().find("more iterations do not lower the error"), std::string::npos);
+}
+
+// An error that does not change with the step is no reason to stop while the scene's mesh is
+// still unstable: the error is measured first, but only an error failure counts.
+TEST(IntegratorChoice, KeepsSearchingWhileOnlyTheSceneMeshIsUnstable) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
+  fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
+  fixture.base = expand_cases(fixture.spec).at(0);
+  fixture.settings.error_mesh = "10x10";
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"stiff", false}}, fixture.settings,
+                         std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_GE(choices[0].substeps, 37u);
+  EXPECT_LE(choices[0].substeps, 41u) << progress.str();
+}
+
+// Once another integrator's best is cheaper than anything a bracket can hold, the bisection
+// ends at its passing end, and the verdict says so.
+TEST(IntegratorChoice, StopsBisectingABracketThatCannotBeatTheBest) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"explicit", false}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[0].integrator, "steady");
+  ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
+  // 64 substeps pass at 64 ms/frame; 33 or more cost at least 33, over steady's 25.
+  EXPECT_EQ(choices[1].substeps, 64u);
+  EXPECT_NE(choices[1].verdict.find("not refined below 64 substeps: 33 or more cost at least 33 "
+                                    "ms/frame, more than steady at 1 substep"),
+            std::string::npos)
+      << choices[1].verdict;
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 48"), 0);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

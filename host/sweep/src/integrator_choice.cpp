@@ -19,13 +19,15 @@ using host::format_number;
 
 struct Probe {
   bool passed = false;
-  bool stopped = false;  // killed by the cost budget: slower than the best verdict so far
+  bool error_failed = false;  // failed on the error criterion (the other runs were fine)
+  bool stopped = false;       // killed by the cost budget: slower than the best verdict so far
   double ms_per_frame = 0, error = NAN, max_stretch = NAN;
   std::string why;  // the failed criterion; empty when passed
 };
 
 // The cheapest passing probe of any integrator so far: the yardstick of the cost budget.
 struct BestSoFar {
+  std::string integrator;
   std::string label;  // "verlet at 1536 substeps"
   double ms_per_frame = INFINITY;
   double wall_s = 0;  // stepping wall time of its run over T at the scene's mesh
@@ -40,8 +42,6 @@ struct SearchContext {
   ResultsStore& store;
   std::ostream& progress;
   std::chrono::steady_clock::time_point start;
-  // Error-mesh particles over scene particles (1 when either mesh is not known).
-  double error_mesh_fraction = 1.0;
   BestSoFar best;
 };
 
@@ -54,9 +54,11 @@ constexpr int cost_frames = 5;
 
 // The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
-// `stop` ends the doubling early (nothing found).
+// `stop` ends the doubling early (nothing found); `refine(failing, passing)` false ends the
+// bisection early (the passing end is returned).
 std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>& passes,
-                               const std::function<bool()>& stop) {
+                               const std::function<bool()>& stop,
+                               const std::function<bool(uint32_t, uint32_t)>& refine) {
   uint32_t failing = 0, n = 1;
   while (!passes(n)) {
     if (n >= max || stop()) return std::nullopt;
@@ -64,7 +66,7 @@ std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>
     n = std::min(max, 2 * n);
   }
   uint32_t passing = n;
-  while (passing - failing > 1 && passing > failing + failing / 10) {
+  while (passing - failing > 1 && passing > failing + failing / 10 && refine(failing, passing)) {
     const uint32_t middle = failing + (passing - failing) / 2;
     (passes(middle) ? passing : failing) = middle;
   }
@@ -79,7 +81,9 @@ std::string percent(double fraction) {
 
 std::string label_of(uint32_t substeps, uint32_t iterations) {
   return std::to_string(substeps) + (substeps == 1 ? " substep" : " substeps") +
-         (iterations ? " x " + std::to_string(iterations) + " iterations" : "");
+         (iterations ? " x " + std::to_string(iterations) +
+                           (iterations == 1 ? " iteration" : " iterations")
+                     : "");
 }
 
 double error_duration(const ChoiceSettings& settings) {
@@ -108,7 +112,8 @@ class IntegratorSearch {
     const auto stop = [&] { return give_up_ || stop_substeps_; };
     if (!candidate_.has_iterations) {
       if (const auto substeps = fewest(
-              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, stop))
+              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, stop,
+              [&](uint32_t failing, uint32_t passing) { return worth_refining(failing, passing); }))
         best = {{*substeps, 0}};
     } else {
       // Cost ~ substeps x iterations: walk the substeps up while the cheapest passing
@@ -117,8 +122,8 @@ class IntegratorSearch {
         stop_substeps_ = false;
         stopped_iterations_ = 0;
         const auto iterations = fewest(
-            settings_.max_iterations, [&](uint32_t it) { return probe(substeps, it).passed; },
-            stop);
+            settings_.max_iterations, [&](uint32_t it) { return probe(substeps, it).passed; }, stop,
+            [](uint32_t, uint32_t) { return true; });
         if (give_up_) break;
         // Over the budget at one iteration: more substeps only cost more.
         if (stopped_iterations_ == 1) break;
@@ -156,10 +161,30 @@ class IntegratorSearch {
     choice.max_stretch = chosen.max_stretch;
     choice.verdict =
         chosen.ms_per_frame <= 1e3 / settings_.frame_rate ? "real time" : "slower than real time";
+    if (!unrefined_.empty()) choice.verdict += "; " + unrefined_;
     return choice;
   }
 
  private:
+  // Bisecting (failing, passing] further is worth it unless another integrator's best is
+  // cheaper than the bracket can be: a frame's cost grows at least linearly in substeps, so
+  // failing + 1 substeps cost at least cost(passing) (failing + 1) / passing.
+  bool worth_refining(uint32_t failing, uint32_t passing) {
+    const BestSoFar& best = context_.best;
+    if (!best.found() || best.integrator == candidate_.integrator || settings_.stop_factor <= 0)
+      return true;
+    const double cost = probes_.at({passing, 0}).ms_per_frame;
+    const double floor = cost * (failing + 1) / passing;
+    if (floor <= best.ms_per_frame) return true;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "not refined below %u substeps: %u or more cost at least %.4g ms/frame, more "
+                  "than ",
+                  passing, failing + 1, floor);
+    unrefined_ = text + best.label;
+    return false;
+  }
+
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
@@ -175,11 +200,10 @@ class IntegratorSearch {
     CaseSpec e = with_setting(c, "duration", format_number(error_duration(settings_)), false);
     return settings_.error_mesh.empty() ? e : with_setting(e, "mesh", settings_.error_mesh);
   }
-  // The error run's share of the work of the run over T at the scene's mesh (same setting).
-  double error_work_fraction() const {
-    return error_duration(settings_) / settings_.duration *
-           (settings_.error_mesh.empty() ? 1.0 : context_.error_mesh_fraction);
-  }
+  // An upper bound on the error run's share of the work of the run over T at the scene's
+  // mesh: its share of T. (A step on a smaller mesh costs less, but not in proportion to the
+  // particles: per-step overheads stay.)
+  double error_work_fraction() const { return error_duration(settings_) / settings_.duration; }
 
   // The wall-clock limit of a run doing `work_fraction` of a full probe's work: the probe
   // timeout, or, once some setting passed, stop_factor x the best's time (see the header).
@@ -305,6 +329,7 @@ class IntegratorSearch {
     probe.error = relative_rms_error(measured.positions, context_.reference.positions,
                                      context_.reference.diagonal);
     if (probe.error <= settings_.error_tolerance) return true;
+    probe.error_failed = true;
     probe.why = "error " + percent(probe.error) + " above " + percent(settings_.error_tolerance);
     return false;
   }
@@ -312,6 +337,7 @@ class IntegratorSearch {
   void record_best(uint32_t substeps, uint32_t iterations, const Probe& probe, double wall_s) {
     BestSoFar& best = context_.best;
     if (probe.ms_per_frame >= best.ms_per_frame) return;
+    best.integrator = candidate_.integrator;
     best.label = candidate_.integrator + " at " + label_of(substeps, iterations);
     best.ms_per_frame = probe.ms_per_frame;
     best.wall_s = wall_s;
@@ -325,10 +351,9 @@ class IntegratorSearch {
   // Early stops when going on cannot help (see the header); returns a note for the progress
   // line when it stops something.
   std::string judge_progress(uint32_t substeps, uint32_t iterations, const Probe& probe) {
-    if (give_up_ || !std::isfinite(probe.error) || probe.passed) return "";
+    if (give_up_ || !probe.error_failed) return "";
     const auto similar = [&](const Probe& other) {
-      return std::isfinite(other.error) && !other.passed &&
-             std::abs(probe.error - other.error) < 0.1 * probe.error;
+      return other.error_failed && std::abs(probe.error - other.error) < 0.1 * probe.error;
     };
     // Same iterations, half the step: compare with the probe at substeps / 2.
     const auto coarser = probes_.find({substeps / 2, iterations});
@@ -393,6 +418,7 @@ class IntegratorSearch {
   bool stop_substeps_ = false;                  // the search at this substep count ends
   uint32_t stopped_iterations_ = 0;             // the iterations of a probe stopped by the budget
   std::string stopped_label_, stopped_reason_;  // the last probe stopped by the budget
+  std::string unrefined_;                       // why the bisection ended early, if it did
 };
 
 }  // namespace
@@ -435,10 +461,7 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
              << "]\n"
              << std::flush;
   }
-  SearchContext context{settings, runner, reference, store, progress, start, 1.0, {}};
-  if (base.rows > 0 && base.cols > 0 && error_base.rows > 0 && error_base.cols > 0)
-    context.error_mesh_fraction = static_cast<double>(error_base.rows) * error_base.cols /
-                                  (static_cast<double>(base.rows) * base.cols);
+  SearchContext context{settings, runner, reference, store, progress, start, {}};
   std::vector<Choice> choices;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     const std::string position =

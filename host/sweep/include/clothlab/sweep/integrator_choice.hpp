@@ -17,17 +17,21 @@
 // pass (criteria assumed monotone in the step). For an integrator with an `iterations`
 // parameter, each substep count gets the fewest iterations (doubling, then bisection) that
 // pass, and substep counts grow until the cost per frame stops improving. Cost = median wall
-// time per frame of the run at the scene's mesh. A probe runs the error first (the smaller
-// mesh, the shorter T): a setting that fails there needs no run at the scene's mesh.
+// time per frame of the run at the scene's mesh. A probe's runs go cheapest first, and a
+// setting that fails one needs none of the later ones: its first 5 frames at the scene's mesh
+// (only once a best exists, below), the error run (error mesh, error T), the run over T.
 // Early stops, each reported in the probe's row and the integrator's verdict:
-//   - cost budget: once some setting of any integrator passed (the best so far), a probe's run
-//     gets stop_factor x the best's stepping time over T (scaled to the run's share of that
-//     work: the error run's mesh and T) plus a start-up allowance; a run killed there is
-//     "slower than <best>". Cost grows at least linearly in substeps (and iterations), so a
-//     run stopped at n while n / 2 failed leaves nothing in (n / 2, n] within
-//     stop_factor / 2 of the best: stop_factor >= 2 never loses a cheaper setting to the
-//     doubling. Ends the search (an iterations method: the substep count, and the search
-//     when it was at 1 iteration). stop_factor 0: no budget.
+//   - cost budget: once some setting of any integrator passed (the best so far), a setting
+//     whose first 5 frames cost over stop_factor x the best's ms/frame (median) is "slower
+//     than <best>", stopped; each run is also killed past stop_factor x the best's stepping
+//     time over T (times the run's share of T) plus a start-up allowance. A frame's cost grows
+//     at least linearly in substeps (and iterations), so a setting stopped at n while n / 2
+//     failed leaves nothing in (n / 2, n] within stop_factor / 2 of the best: stop_factor >= 2
+//     never loses a cheaper setting to the doubling (up to timing noise). A stop ends the
+//     search (an iterations method's: that substep count, and the search when it was at 1
+//     iteration). By the same bound, a bisection bracket (f, p] whose cheapest possible cost,
+//     cost(p) (f + 1) / p, exceeds another integrator's best is not bisected further: p is
+//     returned and the verdict says "not refined". stop_factor 0: no budget.
 //   - a probe past probe_timeout ends the integrator's search ("too slow");
 //   - an error that stays above the tolerance while halving the step changes it by less than
 //     10 % ends the search (the method converges to another solution, e.g. other damping:
