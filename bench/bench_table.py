@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Turns the raw runs of tools/bench.sh into the issue-4 table (markdown), summary.json and
-runs.csv.  Usage: bench_table.py RESULTS_DIR MACHINE_NAME"""
+"""Turns the raw runs of tools/bench.sh into its tables (markdown: cotton, then the issue-4
+soft-cloth kernel table), summary.json and runs.csv.  Usage: bench_table.py RESULTS_DIR MACHINE_NAME"""
 import csv
 import datetime
 import json
@@ -18,13 +18,12 @@ def load(path):
         return json.load(file)
 
 
-def main(results_dir, machine):
-    results = pathlib.Path(results_dir)
-    runs = results / "runs"
+def table_rows(runs, prefix):
+    """One row per scenario x integrator from the runs named PREFIX<scenario>-<integrator>-N."""
     rows, csv_rows = [], []
     for scenario in SCENARIOS:
         for integrator in INTEGRATORS:
-            reps = [load(p) for p in sorted(runs.glob(f"{scenario}-{integrator}-*.json"))]
+            reps = [load(p) for p in sorted(runs.glob(f"{prefix}{scenario}-{integrator}-*.json"))]
             step_ms = [r["ms_per_step"]["median"] for r in reps]
             p10_ms = [r["ms_per_step"]["p10"] for r in reps]
             springs = [r["springs_per_second"] for r in reps]
@@ -39,6 +38,8 @@ def main(results_dir, machine):
                 "runs": len(reps),
                 "steps_per_run": reps[0]["steps"],
                 "threads": reps[0]["threads"],
+                "dt": dt,
+                "substeps": reps[0].get("substeps", 1),
                 "ms_per_step_median": statistics.median(step_ms),
                 "ms_per_step_p10": statistics.median(p10_ms),
                 "real_time_factor": dt * 1e3 / statistics.median(step_ms),
@@ -48,10 +49,30 @@ def main(results_dir, machine):
             }
             rows.append(row)
             for index, r in enumerate(reps):
-                csv_rows.append([scenario, integrator, index + 1, r["steps"], r["threads"],
-                                 r["ms_per_step"]["median"], r["ms_per_step"]["p10"],
-                                 r["phase_ms"]["internal_forces"], r["springs_per_second"],
-                                 r["stable"]])
+                csv_rows.append([prefix + scenario, integrator, index + 1, r["steps"],
+                                 r["threads"], r["ms_per_step"]["median"],
+                                 r["ms_per_step"]["p10"], r["phase_ms"]["internal_forces"],
+                                 r["springs_per_second"], r["stable"]])
+    return rows, csv_rows
+
+
+def markdown_rows(rows, per_frame):
+    lines = []
+    for r in rows:
+        frame = (f"{r['ms_per_step_median'] * r['substeps']:.1f} | " if per_frame else "")
+        lines.append(f"| {r['scenario']} | {r['integrator']} | {r['ms_per_step_median']:.3f} | "
+                     f"{r['ms_per_step_p10']:.3f} | {frame}{r['real_time_factor']:.3g} | "
+                     f"{r['springs_per_second_median']:.3g} | "
+                     f"{r['springs_per_second_total_time']:.3g} | {r['all_finite']} |")
+    return lines
+
+
+def main(results_dir, machine):
+    results = pathlib.Path(results_dir)
+    runs = results / "runs"
+    cotton, cotton_csv = table_rows(runs, "cotton-")
+    rows, csv_rows = table_rows(runs, "")
+    csv_rows = cotton_csv + csv_rows
     speedup = load(results / "speedup.json")
     scaling = []
     for side in SIDES:
@@ -67,6 +88,8 @@ def main(results_dir, machine):
         "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "config": "configs/bench-300-soft.yaml",
         "rows": rows,
+        "cotton_config": "configs/bench-300.yaml",
+        "cotton_rows": cotton,
         "speedup_euler_flag": speedup,
         "scaling_euler_flag": scaling,
         "targets": {
@@ -83,17 +106,21 @@ def main(results_dir, machine):
                          "springs_per_second_total_time", "finite"])
         writer.writerows(csv_rows)
 
-    lines = [f"Machine: {machine}; {summary['date_utc']}; 300 x 300, dt 1 ms, float32, "
-             f"{rows[0]['runs']} runs x {rows[0]['steps_per_run']} steps, "
-             f"{rows[0]['threads']} threads (medians)", "",
-             "| scenario | integrator | ms/step (median) | ms/step (p10) | real-time factor | "
-             "springs/s (median step) | springs/s (total time) | finite |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for r in rows:
-        lines.append(f"| {r['scenario']} | {r['integrator']} | {r['ms_per_step_median']:.3f} | "
-                     f"{r['ms_per_step_p10']:.3f} | {r['real_time_factor']:.2f} | "
-                     f"{r['springs_per_second_median']:.3g} | "
-                     f"{r['springs_per_second_total_time']:.3g} | {r['all_finite']} |")
+    c = cotton[0]
+    lines = [f"Machine: {machine}; {summary['date_utc']}; {c['runs']} runs x "
+             f"{c['steps_per_run']} steps, {c['threads']} threads (medians)", "",
+             f"Cotton (configs/bench-300.yaml), 300 x 300, float32, 60 Hz x {c['substeps']} "
+             f"substeps (dt {c['dt'] * 1e6:.3g} us):", "",
+             "| scenario | integrator | ms/step (median) | ms/step (p10) | ms/frame | "
+             "real-time factor | springs/s (median step) | springs/s (total time) | finite |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    lines += markdown_rows(cotton, True)
+    lines += ["", "Soft cloth (configs/bench-300-soft.yaml: cotton diverges with every explicit "
+              "method at this step), 300 x 300, float32, dt 1 ms:", "",
+              "| scenario | integrator | ms/step (median) | ms/step (p10) | real-time factor | "
+              "springs/s (median step) | springs/s (total time) | finite |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    lines += markdown_rows(rows, False)
     lines += ["", f"Euler flag, in-run baseline (reference forces + same Euler update, 1 thread): "
               f"{speedup['baseline_ms_per_step_median']:.3f} ms/step; fast: "
               f"{speedup['fast_ms_per_step_median']:.3f} ms/step ({speedup['fast_threads']} "

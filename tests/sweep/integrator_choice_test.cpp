@@ -25,6 +25,8 @@ using testing::ScratchFolder;
 //              help, 1 % from 64 substeps x 1 iteration
 //   steady:    passes at 1 substep, 25 ms/frame whatever the substeps
 //   stiff:     error 0.001, unstable below 37 substeps at the 40 x 40 scene mesh only
+//   damped:    error 0.03 + 0.001 / substeps: never within 1 %, whatever the step
+//   saturated: error 0.2 up to 2 substeps, then 0.5 / substeps^2 (1 % from 8 substeps)
 //   never:     always unstable
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
 // steps. `runs` lists every run as "integrator rows substeps".
@@ -62,6 +64,8 @@ struct FakeRuns {
                           c.integrator == "never";
     if (c.integrator == "explicit") error = 0.5 / substeps;
     if (c.integrator == "plateau") error = 0.5 / substeps + 0.001 / iterations;
+    if (c.integrator == "damped") error = 0.03 + 0.001 / substeps;
+    if (c.integrator == "saturated") error = substeps <= 2 ? 0.2 : 0.5 / (substeps * substeps);
     if (c.integrator == "stretchy") run.max_stretch = 1.0 + 0.5 / substeps;
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
@@ -272,6 +276,29 @@ TEST(IntegratorChoice, StopsBisectingABracketThatCannotBeatTheBest) {
             std::string::npos)
       << choices[1].verdict;
   EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 48"), 0);
+}
+
+// An error that two halvings of the step leave flat ends the search; one flat halving (an
+// error saturated at the coarsest steps) does not.
+TEST(IntegratorChoice, GivesUpOnlyOnAnErrorFlatOverTwoHalvings) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"damped", false}, {"saturated", false}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[0].integrator, "saturated");
+  EXPECT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_EQ(choices[0].substeps, 8u);
+  EXPECT_FALSE(choices[1].passed);
+  EXPECT_EQ(choices[1].verdict.rfind("converges elsewhere: error 3.02 % at 4 substeps, 3.05 % "
+                                     "and 3.1 % at 2 and 4 x the step",
+                                     0),
+            0u)
+      << choices[1].verdict;
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "damped 0 8"), 0);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

@@ -260,7 +260,7 @@ class IntegratorSearch {
       stop(probe, cost);
       return false;
     }
-    return judge_run(first, probe, "in its first frames: ");
+    return judge_run(first, probe, "in its first frames");
   }
 
   // Stage 2: the error, on the error mesh to the error T (the cheaper run).
@@ -270,8 +270,8 @@ class IntegratorSearch {
     const Trajectory measured = run_guarded(error_case(c), timeout_s);
     if (stopped_by_budget(measured, timeout_s, "its run on the error mesh", probe)) return false;
     const std::string where = settings_.error_mesh.empty()
-                                  ? "to T = " + format_number(error_duration(settings_)) + " s: "
-                                  : "on the error mesh " + settings_.error_mesh + ": ";
+                                  ? "to T = " + format_number(error_duration(settings_)) + " s"
+                                  : "on the error mesh " + settings_.error_mesh;
     return judge_run(measured, probe, where) && judge_error(measured, probe);
   }
 
@@ -295,10 +295,12 @@ class IntegratorSearch {
   // False with probe.why set when the run was not stable; a probe-timeout ends the search.
   bool judge_run(const Trajectory& run, Probe& probe, const std::string& where) {
     if (run.verdict.stable()) return true;
-    probe.why = where + to_string(run.verdict.status) + ": " + run.verdict.reason;
+    probe.why = (where.empty() ? "" : where + ": ") + to_string(run.verdict.status) + ": " +
+                run.verdict.reason;
     if (timed_out(run))
-      give_up("too slow: a run ran past " + format_number(settings_.probe_timeout_s) + " s (" +
-              where + "choose.probe_timeout)");
+      give_up("too slow: the run at " + current_label_ + (where.empty() ? "" : " " + where) +
+              " ran past " + format_number(settings_.probe_timeout_s) +
+              " s (choose.probe_timeout)");
     return false;
   }
 
@@ -306,6 +308,7 @@ class IntegratorSearch {
     const auto known = probes_.find({substeps, iterations});
     if (known != probes_.end()) return known->second;
     const CaseSpec c = candidate_case(substeps, iterations);
+    current_label_ = label_of(substeps, iterations);
     Probe probe;
     // Cheapest stages first: a setting that fails one needs none of the later runs.
     double wall_s = 0;
@@ -355,12 +358,16 @@ class IntegratorSearch {
     const auto similar = [&](const Probe& other) {
       return other.error_failed && std::abs(probe.error - other.error) < 0.1 * probe.error;
     };
-    // Same iterations, half the step: compare with the probe at substeps / 2.
+    // Same iterations, two and four times the step: an error that two halvings leave flat is
+    // the method's own limit (one halving is not enough: at the coarsest steps the error can
+    // saturate at the size of the motion itself).
     const auto coarser = probes_.find({substeps / 2, iterations});
-    if (substeps >= 2 && coarser != probes_.end() && similar(coarser->second)) {
+    const auto coarsest = probes_.find({substeps / 4, iterations});
+    if (substeps >= 4 && coarser != probes_.end() && coarsest != probes_.end() &&
+        similar(coarser->second) && similar(coarsest->second)) {
       give_up("converges elsewhere: error " + percent(probe.error) + " at " +
-              label_of(substeps, iterations) + ", " + percent(coarser->second.error) +
-              " at half the substeps");
+              label_of(substeps, iterations) + ", " + percent(coarser->second.error) + " and " +
+              percent(coarsest->second.error) + " at 2 and 4 x the step");
       return "";
     }
     // Same substeps, half the iterations: the solver has converged, more iterations cannot
@@ -419,6 +426,7 @@ class IntegratorSearch {
   uint32_t stopped_iterations_ = 0;             // the iterations of a probe stopped by the budget
   std::string stopped_label_, stopped_reason_;  // the last probe stopped by the budget
   std::string unrefined_;                       // why the bisection ended early, if it did
+  std::string current_label_;                   // the setting being probed
 };
 
 }  // namespace

@@ -33,10 +33,10 @@
 //     cost(p) (f + 1) / p, exceeds another integrator's best is not bisected further: p is
 //     returned and the verdict says "not refined". stop_factor 0: no budget.
 //   - a probe past probe_timeout ends the integrator's search ("too slow");
-//   - an error that stays above the tolerance while halving the step changes it by less than
-//     10 % ends the search (the method converges to another solution, e.g. other damping:
-//     "converges elsewhere"); one that changes by less than 10 % when the iterations double
-//     ends that substep count (the solver has converged there).
+//   - an error that stays above the tolerance while two halvings of the step change it by
+//     less than 10 % each ends the search (the method converges to another solution, e.g. other
+//     damping: "converges elsewhere"); one that changes by less than 10 % when the iterations
+//     double ends that substep count (the solver has converged there).
 #pragma once
 
 #include <cstdint>
@@ -94,7 +94,7 @@ struct Choice {
 // the rest. The reference's two runs go through reference_runner (a TrajectoryCache in
 // clothlab --choose), the probes through runner. Progress on `progress`: a line when the
 // reference starts and when it is done, one per probe ("choose [2/7] euler 1024 substeps:
-// passes (669 ms/frame) [3:05]", elapsed since the start).
+// passes (<ms> ms/frame) [<elapsed>]", elapsed since the start).
 std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
                                        const std::vector<ChoiceCandidate>& candidates,
                                        const ChoiceSettings& settings,
