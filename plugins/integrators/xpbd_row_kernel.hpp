@@ -98,8 +98,19 @@ struct SpringLanes {
   __mmask16 pushed;
 };
 
+// The colour's spring law in registers, read once per row: the kernels' stores go through
+// float pointers, which could alias the row's float fields.
+struct LawLanes {
+  __m512 rest, stiffness, damping, compliance_scale;
+};
+
+inline LawLanes law_lanes(const ColorRow<float>& row) {
+  return {_mm512_set1_ps(row.rest), _mm512_set1_ps(row.stiffness), _mm512_set1_ps(row.damping),
+          _mm512_set1_ps(row.stiffness + row.damping)};
+}
+
 // The update of the springs in `lanes` from both ends' positions and displacements.
-inline SpringLanes spring_update(const ColorRow<float>& row, __mmask16 lanes, const __m512 (&xi)[3],
+inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3],
                                  const __m512 (&xj)[3], const __m512 (&dxi)[3],
                                  const __m512 (&dxj)[3], __m512 wi, __m512 wj, __m512 accumulated) {
   SpringLanes out;
@@ -116,23 +127,19 @@ inline SpringLanes spring_update(const ColorRow<float>& row, __mmask16 lanes, co
   const __m512 closing =
       (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2]) *
       out.inverse_length;
-  const __m512 denominator =
-      _mm512_set1_ps(row.stiffness + row.damping) * (wi + wj) + _mm512_set1_ps(1.0f);
+  const __m512 denominator = law.compliance_scale * (wi + wj) + _mm512_set1_ps(1.0f);
   const __m512 reciprocal = _mm512_maskz_rcp14_ps(__mmask16(0xFFFF), denominator);
   const __m512 inverse_denominator =
       reciprocal * _mm512_fnmadd_ps(denominator, reciprocal, _mm512_set1_ps(2.0f));
-  const __m512 numerator = _mm512_setzero_ps() -
-                           _mm512_set1_ps(row.stiffness) * (length - _mm512_set1_ps(row.rest)) -
-                           accumulated - _mm512_set1_ps(row.damping) * closing;
+  const __m512 numerator = _mm512_setzero_ps() - law.stiffness * (length - law.rest) - accumulated -
+                           law.damping * closing;
   out.delta = numerator * inverse_denominator;
   return out;
 }
 
-inline void store_lambda(const ColorRow<float>& row, float* lambda, __mmask16 lanes,
-                         const SpringLanes& u, __m512 accumulated) {
-  if (row.keep_lambda)
-    _mm512_mask_storeu_ps(lambda, lanes,
-                          _mm512_mask_add_ps(accumulated, u.pushed, accumulated, u.delta));
+inline void store_lambda(float* lambda, __mmask16 lanes, const SpringLanes& u, __m512 accumulated) {
+  _mm512_mask_storeu_ps(lambda, lanes,
+                        _mm512_mask_add_ps(accumulated, u.pushed, accumulated, u.delta));
 }
 
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
@@ -140,10 +147,13 @@ inline void project_rows_avx512(const ColorRow<float>& row) {
   float* x = row.x + row.first;
   float* dx = row.displacement + row.first;
   const float* w = row.inverse_mass + row.first;
-  const std::size_t o = row.offset, s = row.stride;
+  float* const lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
+  const std::size_t o = row.offset, s = row.stride, count = row.count;
+  const bool fresh = row.fresh, keep_lambda = row.keep_lambda;
+  const LawLanes law = law_lanes(row);
   const __m512 zero = _mm512_setzero_ps();
-  for (std::size_t c = 0; c < row.count; c += 16) {
-    const std::size_t left = row.count - c;
+  for (std::size_t c = 0; c < count; c += 16) {
+    const std::size_t left = count - c;
     const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1u);
     __m512 xi[3], xj[3], dxi[3], dxj[3];
     for (std::size_t k = 0; k < 3; ++k) {
@@ -155,10 +165,9 @@ inline void project_rows_avx512(const ColorRow<float>& row) {
     }
     const __m512 wi = _mm512_maskz_loadu_ps(lanes, w + c),
                  wj = _mm512_maskz_loadu_ps(lanes, w + c + o);
-    const __m512 accumulated =
-        row.fresh ? zero : _mm512_maskz_loadu_ps(lanes, row.lambda + row.first + c);
-    const SpringLanes u = spring_update(row, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
-    if (row.keep_lambda) store_lambda(row, row.lambda + row.first + c, lanes, u, accumulated);
+    const __m512 accumulated = fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda + c);
+    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
+    if (keep_lambda) store_lambda(lambda + c, lanes, u, accumulated);
     const __m512 scale = u.delta * u.inverse_length;
     const __m512 push_first = wi * scale, push_second = wj * scale;
     const __mmask16 moves_first = _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ);
@@ -216,22 +225,28 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
   float* x = row.x + row.first + skip;
   float* dx = row.displacement + row.first + skip;
   const float* w = row.inverse_mass + row.first + skip;
+  float* const lambda_row = row.lambda == nullptr ? nullptr : row.lambda + row.first;
   const std::size_t s = row.stride;
+  const bool fresh = row.fresh, keep_lambda = row.keep_lambda;
+  const LawLanes law = law_lanes(row);
   static const InRowLanes lanes_of_step[2] = {in_row_lanes(1), in_row_lanes(2)};
-  const InRowLanes& map = lanes_of_step[row.alternation_shift];
+  // Copies in registers: __m512i may alias the floats stored below.
+  const InRowLanes& lanes_of_row = lanes_of_step[row.alternation_shift];
+  const __m512i to_starts = lanes_of_row.starts, to_partners = lanes_of_row.partners,
+                to_low = lanes_of_row.low, to_high = lanes_of_row.high;
+  const uint32_t start_bits = lanes_of_row.start_bits;
   const __m512 zero = _mm512_setzero_ps();
   for (std::size_t c = 0; c < count; c += 32) {
     const std::size_t left = count - c;
-    const uint32_t springs =
-        left >= 32 ? map.start_bits : map.start_bits & ((uint32_t{1} << left) - 1u);
+    const uint32_t springs = left >= 32 ? start_bits : start_bits & ((uint32_t{1} << left) - 1u);
     const uint32_t touched = springs | springs << step;
     const auto low = static_cast<__mmask16>(touched), high = static_cast<__mmask16>(touched >> 16);
-    const auto lanes = static_cast<__mmask16>(_pext_u32(springs, map.start_bits));
+    const auto lanes = static_cast<__mmask16>(_pext_u32(springs, start_bits));
     __m512 xi[3], xj[3], dxi[3], dxj[3];
     const auto split = [&](const float* p, __m512& first, __m512& partner) {
       const __m512 a = _mm512_maskz_loadu_ps(low, p), b = _mm512_maskz_loadu_ps(high, p + 16);
-      first = _mm512_permutex2var_ps(a, map.starts, b);
-      partner = _mm512_permutex2var_ps(a, map.partners, b);
+      first = _mm512_permutex2var_ps(a, to_starts, b);
+      partner = _mm512_permutex2var_ps(a, to_partners, b);
     };
     for (std::size_t k = 0; k < 3; ++k) {
       split(x + c + k * s, xi[k], xj[k]);
@@ -240,10 +255,10 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
     __m512 wi, wj;
     split(w + c, wi, wj);
     // Multipliers by spring, 16 per run: unique within the colour's row.
-    float* lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first + c / 2;
-    const __m512 accumulated = row.fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
-    const SpringLanes u = spring_update(row, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
-    if (row.keep_lambda) store_lambda(row, lambda, lanes, u, accumulated);
+    float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
+    const __m512 accumulated = fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
+    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
+    if (keep_lambda) store_lambda(lambda, lanes, u, accumulated);
     const __m512 scale = u.delta * u.inverse_length;
     const __m512 push_first = wi * scale, push_second = wj * scale;
     const __mmask16 moves_first = _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ);
@@ -251,8 +266,8 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
     const auto merge = [&](float* p, __m512 first, __m512 partner, __m512 d) {
       const __m512 moved_first = _mm512_mask3_fmadd_ps(push_first, d, first, moves_first);
       const __m512 moved_partner = _mm512_mask3_fnmadd_ps(push_second, d, partner, moves_second);
-      const __m512 a = _mm512_permutex2var_ps(moved_first, map.low, moved_partner);
-      const __m512 b = _mm512_permutex2var_ps(moved_first, map.high, moved_partner);
+      const __m512 a = _mm512_permutex2var_ps(moved_first, to_low, moved_partner);
+      const __m512 b = _mm512_permutex2var_ps(moved_first, to_high, moved_partner);
       if (left >= 32) {
         _mm512_storeu_ps(p, a);
         _mm512_storeu_ps(p + 16, b);
