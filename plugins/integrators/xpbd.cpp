@@ -4,17 +4,19 @@
 // simulation").
 //
 // Per substep of length h = dt / substeps:
-//   predict    v += h a_ext(x),  dx = h v,  x += dx            (gravity, wind: the host's
+//   predict    v += h a_ext(x),  dx = h v                      (gravity, wind: the host's
 //                                                             external-forces extension)
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
 //              in parallel: no two share a particle, so every thread count gives the same bits
-//   velocity   v = dx / h
-// The substep's displacement dx is kept beside x and moved with every correction, so v never
-// comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us) is
-// below the rounding of x itself and would be lost, and the cloth would not start to fall.
+//   velocity   v = dx / h,  x += dx
+// x stays at the substep's start while the projections move only dx, the substep's
+// displacement; the springs see the positions x + dx as (x_i - x_j) + (dx_i - dx_j). So v
+// never comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us)
+// is below the rounding of x itself and would be lost, and the cloth would not start to fall.
 //
-// One spring k joining i and j, C = |x_i - x_j| - rest, n = (x_i - x_j) / |x_i - x_j|:
+// One spring k joining i and j at positions p = x + dx, C = |p_i - p_j| - rest,
+// n = (p_i - p_j) / |p_i - p_j|:
 // compliance alpha = 1 / ks and Rayleigh damping beta = kd (the spring's damping force
 // -kd (n . (v_i - v_j)) n is -beta grad C dC/dt), so with alpha~ = alpha / h^2,
 // beta~ = h^2 beta and gamma = alpha~ beta~ / h = alpha beta / h the paper's eq. 26 reads
@@ -22,7 +24,7 @@
 // with dx the substep's displacement. Multiplied through by ks h^2 it needs no division by ks (a
 // spring with ks = 0 is a pure damper) and its denominator is >= 1:
 //   dlambda = (-ks h^2 C - lambda - kd h n.(dx_i - dx_j)) / ((ks h^2 + kd h)(w_i + w_j) + 1)
-//   x_i += w_i dlambda n,  x_j -= w_j dlambda n.
+//   dx_i += w_i dlambda n,  dx_j -= w_j dlambda n.
 // lambda accumulates over the iterations of a substep and is reset once per substep, never
 // per iteration: resetting it per iteration would make the stiffness grow with the iteration
 // count (the peer bug newton#2933).
@@ -323,11 +325,10 @@ struct Xpbd {
     return finite;
   }
 
-  // One component of one row: v += h a, dx = h v, x += dx (pinned: dx = 0, nothing moves).
+  // One component of one row: v += h a, dx = h v (pinned: dx = 0).
   template <class Real>
-  static void predict_row(Real* __restrict x, Real* __restrict v, Real* __restrict dx,
-                          const Real* __restrict a, const Real* __restrict inverse_mass,
-                          std::size_t count, Real h) {
+  static void predict_row(Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
+                          const Real* __restrict inverse_mass, std::size_t count, Real h) {
 #pragma omp simd
     for (std::size_t i = 0; i < count; ++i) {
       const bool free = inverse_mass[i] != 0;
@@ -335,14 +336,14 @@ struct Xpbd {
       const Real moved = free ? h * speed : Real(0);
       v[i] = speed;
       dx[i] = moved;
-      x[i] += moved;
     }
   }
 
-  // One component of one row: v = dx / h on the free particles; false if one is not finite
+  // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
+  // bits); false if a velocity is not finite
   // (all exponent bits set). An integer OR vectorises where a flag or a sum would not.
   template <class Real>
-  static bool velocity_row(Real* __restrict v, const Real* __restrict dx,
+  static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
                            const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
     using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
     constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
@@ -350,6 +351,7 @@ struct Xpbd {
     for (std::size_t i = 0; i < count; ++i) {
       const bool free = inverse_mass[i] != 0;
       const Real speed = free ? dx[i] * inverse_h : v[i];
+      x[i] = free ? x[i] + dx[i] : x[i];
       v[i] = speed;
       non_finite |= free && (std::bit_cast<Bits>(speed) & exponent) == exponent;
     }
@@ -362,15 +364,14 @@ struct Xpbd {
     switch (phase.kind) {
       case Phase::Kind::predict:
         for (std::size_t c = 0; c < 3; ++c)
-          predict_row(s.x + c * s.stride + row_begin, s.v + c * s.stride + row_begin,
-                      s.displacement + c * s.stride + row_begin,
+          predict_row(s.v + c * s.stride + row_begin, s.displacement + c * s.stride + row_begin,
                       s.external_acceleration + c * s.stride + row_begin,
                       s.inverse_mass + row_begin, grid_->cols, s.h);
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
         for (std::size_t c = 0; c < 3; ++c)
-          bad |= !velocity_row(s.v + c * s.stride + row_begin,
+          bad |= !velocity_row(s.x + c * s.stride + row_begin, s.v + c * s.stride + row_begin,
                                s.displacement + c * s.stride + row_begin,
                                s.inverse_mass + row_begin, grid_->cols, s.inverse_h);
         finite = finite && !bad;
@@ -407,7 +408,6 @@ struct Xpbd {
         if (s.inverse_mass[i] == 0) continue;
         s.v[e] += s.h * s.external_acceleration[e];
         s.displacement[e] = s.h * s.v[e];
-        s.x[e] += s.displacement[e];
       }
     for (int iteration = 0; iteration < iterations_; ++iteration)
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
@@ -423,6 +423,7 @@ struct Xpbd {
       if (s.inverse_mass[i] == 0) continue;
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+        s.x[e] += s.displacement[e];
         s.v[e] = s.displacement[e] * s.inverse_h;
         finite = finite && std::isfinite(s.v[e]);
       }
@@ -432,13 +433,13 @@ struct Xpbd {
 
   template <class Real>
   // lambda is reset at the substep's first iteration (`fresh`), then accumulates.
-  static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, Real* x,
+  static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, const Real* x,
                       Real* displacement, std::size_t stride, Real h, Real h_squared) {
     std::array<Real, 3> d, moved;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
-      d[c] = x[i] - x[j];
       moved[c] = displacement[i] - displacement[j];
+      d[c] = (x[i] - x[j]) + moved[c];
     }
     const Real accumulated = fresh ? Real(0) : lambda;
     lambda = accumulated;
@@ -455,11 +456,9 @@ struct Xpbd {
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
       if (spring.first_weight != 0) {
-        x[i] += push_first * d[c];
         displacement[i] += push_first * d[c];
       }
       if (spring.second_weight != 0) {
-        x[j] -= push_second * d[c];
         displacement[j] -= push_second * d[c];
       }
     }

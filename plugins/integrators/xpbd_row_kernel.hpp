@@ -1,7 +1,8 @@
 // XPBD's projection of the springs of one colour that start in one grid row (xpbd.cpp has
 // the derivation of the update):
 //   dlambda = (-ks h^2 C - lambda - kd h n.(dx_i - dx_j)) / ((ks h^2 + kd h)(w_i + w_j) + 1)
-//   x_i += w_i dlambda n,  x_j -= w_j dlambda n  (dx likewise).
+//   dx_i += w_i dlambda n,  dx_j -= w_j dlambda n,
+// the springs at the positions x + dx (x stays at the substep's start).
 // Spring c of the row joins particle first + c to first + c + offset, so both ends load
 // as contiguous runs. In-row stencils alternate by column: a lane mask keeps the colour's
 // columns (the others are computed and dropped; no two kept lanes share a particle, so
@@ -22,7 +23,7 @@ namespace clothlab::builtin {
 
 template <class Real>
 struct ColorRow {
-  Real* x;
+  const Real* x;
   Real* displacement;
   const Real* inverse_mass;
   // The colour's multipliers, n of them; the springs of a row keep theirs at indices from
@@ -47,7 +48,7 @@ struct ColorRow {
 
 template <class Real>
 inline void project_row_portable(const ColorRow<Real>& row) {
-  Real* __restrict x = row.x + row.first;
+  const Real* __restrict x = row.x + row.first;
   Real* __restrict dx = row.displacement + row.first;
   const Real* __restrict w = row.inverse_mass + row.first;
   Real* __restrict lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
@@ -56,9 +57,10 @@ inline void project_row_portable(const ColorRow<Real>& row) {
 #pragma omp simd
   for (std::size_t c = 0; c < row.count; ++c) {
     if (row.alternates && ((c >> row.alternation_shift) & 1u) != row.parity) continue;
-    const Real d0 = x[c] - x[c + o], d1 = x[c + y] - x[c + y + o], d2 = x[c + z] - x[c + z + o];
     const Real m0 = dx[c] - dx[c + o], m1 = dx[c + y] - dx[c + y + o],
                m2 = dx[c + z] - dx[c + z + o];
+    const Real d0 = (x[c] - x[c + o]) + m0, d1 = (x[c + y] - x[c + y + o]) + m1,
+               d2 = (x[c + z] - x[c + z + o]) + m2;
     const Real accumulated = row.fresh ? Real(0) : lambda[c];
     const Real length = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
     if (!(length > 0)) {  // coincident ends: no direction to push along
@@ -74,12 +76,9 @@ inline void project_row_portable(const ColorRow<Real>& row) {
     if (row.keep_lambda) lambda[c] = accumulated + delta;
     const Real push_first = wi * delta * inverse_length, push_second = wj * delta * inverse_length;
     if (wi != 0) {
-      x[c] += push_first * d0, x[c + y] += push_first * d1, x[c + z] += push_first * d2;
       dx[c] += push_first * d0, dx[c + y] += push_first * d1, dx[c + z] += push_first * d2;
     }
     if (wj != 0) {
-      x[c + o] -= push_second * d0, x[c + y + o] -= push_second * d1;
-      x[c + z + o] -= push_second * d2;
       dx[c + o] -= push_second * d0, dx[c + y + o] -= push_second * d1;
       dx[c + z + o] -= push_second * d2;
     }
@@ -115,8 +114,8 @@ inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m
                                  const __m512 (&dxj)[3], __m512 wi, __m512 wj, __m512 accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
-    out.d[k] = xi[k] - xj[k];
     out.moved[k] = dxi[k] - dxj[k];
+    out.d[k] = (xi[k] - xj[k]) + out.moved[k];
   }
   const __m512 squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
   out.pushed = _mm512_mask_cmp_ps_mask(lanes, squared, _mm512_set1_ps(FLT_MIN), _CMP_NLT_UQ);
@@ -144,7 +143,7 @@ inline void store_lambda(float* lambda, __mmask16 lanes, const SpringLanes& u, _
 
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
 inline void project_rows_avx512(const ColorRow<float>& row) {
-  float* x = row.x + row.first;
+  const float* x = row.x + row.first;
   float* dx = row.displacement + row.first;
   const float* w = row.inverse_mass + row.first;
   float* const lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
@@ -174,12 +173,8 @@ inline void project_rows_avx512(const ColorRow<float>& row) {
     const __mmask16 moves_second = _mm512_mask_cmp_ps_mask(u.pushed, wj, zero, _CMP_NEQ_UQ);
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t i = c + k * s;
-      _mm512_mask_storeu_ps(x + i, lanes,
-                            _mm512_mask3_fmadd_ps(push_first, u.d[k], xi[k], moves_first));
       _mm512_mask_storeu_ps(dx + i, lanes,
                             _mm512_mask3_fmadd_ps(push_first, u.d[k], dxi[k], moves_first));
-      _mm512_mask_storeu_ps(x + i + o, lanes,
-                            _mm512_mask3_fnmadd_ps(push_second, u.d[k], xj[k], moves_second));
       _mm512_mask_storeu_ps(dx + i + o, lanes,
                             _mm512_mask3_fnmadd_ps(push_second, u.d[k], dxj[k], moves_second));
     }
@@ -189,7 +184,8 @@ inline void project_rows_avx512(const ColorRow<float>& row) {
 // In-row stencils (step 1 or 2 columns): a run of 32 particles from a start holds 16
 // springs of the colour with both ends inside it (the starts are the first `step` of
 // every 2 step particles), so two loads and two permutations give the 16 starts and the
-// 16 partners, and two permutations merge the moved ends back for two stores.
+// 16 partners, and two permutations merge the moved ends' displacements back for two
+// stores.
 struct InRowLanes {
   __m512i starts, partners;  // positions (0..31) of the springs' ends
   __m512i low, high;         // positions 0..15 and 16..31 from (starts, partners)
@@ -222,7 +218,7 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
   const std::size_t skip = std::size_t{row.parity} * step;
   if (row.count <= skip) return;
   const std::size_t count = row.count - skip;
-  float* x = row.x + row.first + skip;
+  const float* x = row.x + row.first + skip;
   float* dx = row.displacement + row.first + skip;
   const float* w = row.inverse_mass + row.first + skip;
   float* const lambda_row = row.lambda == nullptr ? nullptr : row.lambda + row.first;
@@ -277,7 +273,6 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
       }
     };
     for (std::size_t k = 0; k < 3; ++k) {
-      merge(x + c + k * s, xi[k], xj[k], u.d[k]);
       merge(dx + c + k * s, dxi[k], dxj[k], u.d[k]);
     }
   }
