@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__BMI2__)
 #include <immintrin.h>
 #endif
 
@@ -85,7 +85,7 @@ inline void project_row_portable(const ColorRow<Real>& row) {
   }
 }
 
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__BMI2__)  // _pext_u32 for the in-row tail
 // 16 lanes per iteration, without loading what the lanes just stored (a masked store
 // blocks store forwarding). 1 / length from the 14-bit estimate and one Newton step, and
 // the denominator (>= 1) from its reciprocal estimate and one Newton step: about 2 ulp
@@ -288,7 +288,7 @@ inline void project_row_avx512(const ColorRow<float>& row) {
 
 template <class Real>
 inline void project_row(const ColorRow<Real>& row) {
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__BMI2__)
   if constexpr (std::is_same_v<Real, float>) {
     project_row_avx512(row);
     return;
