@@ -340,8 +340,8 @@ struct Xpbd {
   }
 
   // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
-  // bits); false if a velocity is not finite
-  // (all exponent bits set). An integer OR vectorises where a flag or a sum would not.
+  // bits); false if a velocity is not finite (all exponent bits set): an integer OR
+  // vectorises where a flag or a sum would not.
   template <class Real>
   static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
                            const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
