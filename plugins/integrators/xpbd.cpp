@@ -4,7 +4,7 @@
 // simulation").
 //
 // Per substep of length h = dt / substeps:
-//   predict    v += h a_ext(x),  dx = h v                      (gravity, wind: the host's
+//   predict    dx = h (v + h a_ext(x))                        (gravity, wind: the host's
 //                                                             external-forces extension)
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
@@ -325,18 +325,14 @@ struct Xpbd {
     return finite;
   }
 
-  // One component of one row: v += h a, dx = h v (pinned: dx = 0).
+  // One component of one row: dx = h (v + h a) (pinned: dx = 0). The predicted velocity
+  // itself is not stored: the velocity phase overwrites every free particle's v.
   template <class Real>
-  static void predict_row(Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
+  static void predict_row(const Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
                           const Real* __restrict inverse_mass, std::size_t count, Real h) {
 #pragma omp simd
-    for (std::size_t i = 0; i < count; ++i) {
-      const bool free = inverse_mass[i] != 0;
-      const Real speed = free ? v[i] + h * a[i] : v[i];
-      const Real moved = free ? h * speed : Real(0);
-      v[i] = speed;
-      dx[i] = moved;
-    }
+    for (std::size_t i = 0; i < count; ++i)
+      dx[i] = inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
   }
 
   // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
@@ -406,8 +402,7 @@ struct Xpbd {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
         s.displacement[e] = 0;  // pinned too: their dx must be 0
         if (s.inverse_mass[i] == 0) continue;
-        s.v[e] += s.h * s.external_acceleration[e];
-        s.displacement[e] = s.h * s.v[e];
+        s.displacement[e] = s.h * (s.v[e] + s.h * s.external_acceleration[e]);
       }
     for (int iteration = 0; iteration < iterations_; ++iteration)
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
