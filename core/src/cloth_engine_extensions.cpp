@@ -35,8 +35,8 @@ const GridTopology& ClothEngine<Real>::topology() {
 template <class Real>
 const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
   if (!jacobian_) {
-    jacobian_ = std::make_unique<SpringJacobian<Real>>(topology(), inverse_mass_.data(), stride_,
-                                                       velocity_forces_, threads_, parallel_);
+    jacobian_ = std::make_unique<SpringJacobian<Real>>(
+        scene_, topology(), inverse_mass_.data(), stride_, velocity_forces_, threads_, parallel_);
   }
   return *jacobian_;
 }
