@@ -101,6 +101,7 @@ class ClothEngine final : public Engine {
   std::unique_ptr<GridTopology> topology_;
   std::unique_ptr<SpringJacobian<Real>> jacobian_;
   std::vector<double> chunk_sums_;  // one per active chunk: the reductions' partial results
+  std::vector<double> mass_;        // 1 / inverse mass (0 where pinned), for mass_dot
 
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};
