@@ -24,7 +24,9 @@ enum class JacobianForm { kExact, kDefinite };
 
 // Inputs are vectors of the system (component k of column c at [c + k * stride], already
 // offset to the row; partner pointers shifted so that column c lines up with the partner).
-// p holds its components `span` apart.
+// Stored: p holds its components `span` apart. Direct (a stencil reaching another row, both
+// ends wanted): own[c] += p and partner[c] -= p straight into the product, a vector of the
+// system like the inputs, with the same rounding as adding the stored p.
 template <class Real>
 struct JacobianRow {
   const Real* x;
@@ -36,6 +38,8 @@ struct JacobianRow {
   const Real* inverse_mass;  // of the row's particles, and of the partners
   const Real* inverse_mass_partner;
   Real* p;
+  Real* own;
+  Real* partner;
   std::size_t stride;
   std::size_t span;
   std::size_t col_begin;
@@ -82,7 +86,7 @@ inline void spring_product(const Lane (&d)[3], const Lane (&dv)[3], const Lane (
   for (int k = 0; k < 3; ++k) p[k] = across * du[k] + along * d[k];
 }
 
-template <class Real, JacobianForm Form, bool Damped>
+template <class Real, JacobianForm Form, bool Damped, bool Direct>
 inline void jacobian_row_portable(const JacobianRow<Real>& row) {
   const Real* __restrict x = row.x;
   const Real* __restrict xp = row.x_partner;
@@ -93,6 +97,8 @@ inline void jacobian_row_portable(const JacobianRow<Real>& row) {
   const Real* __restrict m = row.inverse_mass;
   const Real* __restrict mp = row.inverse_mass_partner;
   Real* __restrict p = row.p;
+  Real* __restrict own = row.own;
+  Real* __restrict partner = row.partner;
   const std::size_t stride = row.stride, span = row.span;
 #pragma omp simd
   for (std::size_t c = row.col_begin; c < row.col_end; ++c) {
@@ -105,12 +111,19 @@ inline void jacobian_row_portable(const JacobianRow<Real>& row) {
     }
     spring_product<Form, Damped>(d, dv, du, row.rest, row.ks, row.kd, row.c_x, row.c_v, Real(0),
                                  out);
-    for (std::size_t k = 0; k < 3; ++k) p[c + k * span] = out[k];
+    for (std::size_t k = 0; k < 3; ++k) {
+      if constexpr (Direct) {
+        own[c + k * stride] += out[k];
+        partner[c + k * stride] -= out[k];
+      } else {
+        p[c + k * span] = out[k];
+      }
+    }
   }
 }
 
 #if defined(__AVX512F__)
-template <JacobianForm Form, bool Damped>
+template <JacobianForm Form, bool Damped, bool Direct>
 inline void jacobian_row_avx512(const JacobianRow<float>& row) {
   const __m512 rest = _mm512_set1_ps(row.rest), ks = _mm512_set1_ps(row.ks),
                kd = _mm512_set1_ps(row.kd), c_x = _mm512_set1_ps(row.c_x),
@@ -130,20 +143,28 @@ inline void jacobian_row_avx512(const JacobianRow<float>& row) {
               _mm512_maskz_mov_ps(own_active, lanes.load(row.u + e));
     }
     spring_product<Form, Damped>(d, dv, du, rest, ks, kd, c_x, c_v, zero, out);
-    for (std::size_t k = 0; k < 3; ++k) lanes.store(row.p + c + k * span, out[k]);
+    for (std::size_t k = 0; k < 3; ++k) {
+      if constexpr (Direct) {
+        const std::size_t e = c + k * stride;
+        lanes.store(row.own + e, lanes.load(row.own + e) + out[k]);
+        lanes.store(row.partner + e, lanes.load(row.partner + e) - out[k]);
+      } else {
+        lanes.store(row.p + c + k * span, out[k]);
+      }
+    }
   });
 }
 #endif
 
-template <class Real, JacobianForm Form, bool Damped>
+template <class Real, JacobianForm Form, bool Damped, bool Direct>
 inline void jacobian_row(const JacobianRow<Real>& row) {
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
-    jacobian_row_avx512<Form, Damped>(row);
+    jacobian_row_avx512<Form, Damped, Direct>(row);
     return;
   }
 #endif
-  jacobian_row_portable<Real, Form, Damped>(row);
+  jacobian_row_portable<Real, Form, Damped, Direct>(row);
 }
 
 }  // namespace clothlab::detail

@@ -133,7 +133,7 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
       if (row >= stencil.extent.row_end) continue;
       const std::size_t partner_row = row + stencil.row_step;
       const bool in_row = stencil.row_step == 0;
-      const bool partner = !in_row && partner_row < end;
+      const bool partner = !in_row && partner_row >= begin && partner_row < end;
       if (!own && !partner) continue;
       const std::size_t offset =
           stencil.row_step * cols + static_cast<std::size_t>(stencil.col_step);
@@ -147,6 +147,8 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
                                   inverse_mass_ + base,
                                   inverse_mass_ + base + offset,
                                   p,
+                                  out + base,
+                                  out + base + offset,
                                   stride_,
                                   span_,
                                   stencil.extent.col_begin,
@@ -160,10 +162,17 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
       if (in_row)
         for (std::size_t k = 0; k < 3; ++k)
           std::fill(p + k * span_ + job.col_end, p + k * span_ + cols, Real(0));
+      if (own && partner) {
+        if (damped)
+          jacobian_row<Real, Form, true, true>(job);
+        else
+          jacobian_row<Real, Form, false, true>(job);
+        continue;
+      }
       if (damped)
-        jacobian_row<Real, Form, true>(job);
+        jacobian_row<Real, Form, true, false>(job);
       else
-        jacobian_row<Real, Form, false>(job);
+        jacobian_row<Real, Form, false, false>(job);
       for (std::size_t k = 0; k < 3; ++k) {
         const Real* __restrict product = p + k * span_;
         Real* __restrict own_row = out + k * stride_ + base;
@@ -177,7 +186,7 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
 #pragma omp simd
           for (std::size_t c = job.col_begin; c < job.col_end; ++c) own_row[c] += product[c];
         }
-        if (partner && partner_row >= begin) {
+        if (partner) {
           Real* __restrict partner_row_out = out + k * stride_ + base + offset;
 #pragma omp simd
           for (std::size_t c = job.col_begin; c < job.col_end; ++c)
