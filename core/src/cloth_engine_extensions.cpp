@@ -1,5 +1,6 @@
 // The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
-// spring Jacobian, deterministic reductions and the external forces alone.
+// spring Jacobian and its definite form, deterministic reductions and the external forces alone.
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
 
@@ -45,8 +46,10 @@ template <class Real>
 const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_topology_extension topology_table{&topology_callback};
   static constexpr clothlab_jacobian_extension jacobian_table{
-      &jacobian_reserve_callback, &jacobian_apply_callback, &jacobian_diagonal_callback,
-      &jacobian_pattern_callback, &jacobian_blocks_callback};
+      &jacobian_reserve_callback, &jacobian_apply_callback<false>,
+      &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
+  static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
+      &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -54,6 +57,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
   return nullptr;
@@ -76,26 +80,38 @@ clothlab_status ClothEngine<Real>::jacobian_reserve_callback(void* context) {
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ClothEngine<Real>::jacobian_apply_callback(void* context, double, const void* x,
                                                            const void* v, double c_x, double c_v,
                                                            const void* u, void* out) {
   if (x == nullptr || u == nullptr || out == nullptr || out == u || out == x || out == v)
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    static_cast<ClothEngine*>(context)->jacobian().apply(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
-        static_cast<const Real*>(u), static_cast<Real*>(out));
+    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
+    const auto* xs = static_cast<const Real*>(x);
+    const auto* vs = static_cast<const Real*>(v);
+    if constexpr (Definite)
+      jacobian.apply_definite(xs, vs, c_x, c_v, static_cast<const Real*>(u),
+                              static_cast<Real*>(out));
+    else
+      jacobian.apply(xs, vs, c_x, c_v, static_cast<const Real*>(u), static_cast<Real*>(out));
   });
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ClothEngine<Real>::jacobian_diagonal_callback(void* context, double, const void* x,
                                                               const void* v, double c_x, double c_v,
                                                               double* out) {
   if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    static_cast<ClothEngine*>(context)->jacobian().diagonal_blocks(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, out);
+    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
+    const auto* xs = static_cast<const Real*>(x);
+    const auto* vs = static_cast<const Real*>(v);
+    if constexpr (Definite)
+      jacobian.diagonal_blocks_definite(xs, vs, c_x, c_v, out);
+    else
+      jacobian.diagonal_blocks(xs, vs, c_x, c_v, out);
   });
 }
 

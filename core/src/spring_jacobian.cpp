@@ -102,6 +102,16 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
   const double ks = topology_.ks[spring];
   const double kd = w.damped ? topology_.kd[spring] : 0.0;
   const double ratio = topology_.rest_length[spring] * inverse_length;  // l0 / l
+  if (w.definite) {  // ks (t (I - u u^T) + u u^T), t = max(0, 1 - l0/l); kd u u^T
+    const double transverse = std::max(0.0, 1.0 - ratio);
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double uu = u[r] * u[c];
+        m[3 * r + c] =
+            w.c_x * ks * ((r == c ? transverse : 0.0) + (1.0 - transverse) * uu) + w.c_v * kd * uu;
+      }
+    return;
+  }
   // K = a I + b u u^T + (kd/l) (u (P dv)^T + s P) with s = u . dv; D = kd u u^T.
   const double s = u[0] * dv[0] + u[1] * dv[1] + u[2] * dv[2];
   const double damping_scale = kd * inverse_length;
@@ -235,7 +245,18 @@ void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c
 template <class Real>
 void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v,
                                            double* out) const {
-  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  diagonal_blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr}, out);
+}
+
+template <class Real>
+void SpringJacobian<Real>::diagonal_blocks_definite(const Real* x, const Real* v, double c_x,
+                                                    double c_v, double* out) const {
+  diagonal_blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr, true}, out);
+}
+
+template <class Real>
+void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, const Weights& w,
+                                           double* out) const {
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
   for_particles([&](uint32_t i) {
     double* block = out + 9 * std::size_t{i};

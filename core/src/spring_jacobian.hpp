@@ -38,9 +38,12 @@ class SpringJacobian {
 
   // out = J u (Real vectors of the system); v == nullptr: no damping terms.
   void apply(const Real* x, const Real* v, double c_x, double c_v, const Real* u, Real* out) const;
-  // As apply, with J in Baraff and Witkin's definite form (jacobian_row_kernel.hpp).
+  // As apply and diagonal_blocks, with J in Baraff and Witkin's definite form
+  // (clothlab/ext/definite_jacobian.h, jacobian_row_kernel.hpp).
   void apply_definite(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                       Real* out) const;
+  void diagonal_blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
+                                double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
   void diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v, double* out) const;
   void blocks(const Real* x, const Real* v, double c_x, double c_v, double* values) const;
@@ -50,7 +53,9 @@ class SpringJacobian {
   struct Weights {
     double c_x, c_v;
     bool damped;
+    bool definite = false;
   };
+  void diagonal_blocks(const Real* x, const Real* v, const Weights& w, double* out) const;
   // M of spring `spring` (see above); 0 for a zero-length spring.
   void spring_block(const Real* x, const Real* v, uint32_t spring, const Weights& w,
                     double* m) const;
