@@ -7,9 +7,10 @@
 // seen from either end. Gravity is constant and wind's x-dependence is left out.
 //
 // apply runs over the grid rows as the force pipeline does: per row and stencil it computes
-// each spring's M (u_j - u_i) once, without forming M (jacobian_row_kernel.hpp), into a
-// scratch row, and moves it onto both ends by shifted adds (negated at the second end: seen
-// from there d, u, dv and du only change sign, which is exact). Each thread owns a block of
+// each spring's M (u_j - u_i) once, without forming M (jacobian_row_kernel.hpp), and adds it
+// at both ends, straight into the two rows of `out` (a stencil within one row through a
+// scratch row and a shifted add), negated at the second end (seen from there d, u, dv and du
+// only change sign, which is exact). Each thread owns a block of
 // rows of `out` and first runs the two rows above it for their springs into it: no scatter
 // between threads, no atomics, and every particle sums its springs in the same order for
 // any thread count. The block forms build M per adjacency entry.
