@@ -107,10 +107,14 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     active_particles_ += range.end - range.begin;
   }
 
-  forces_ = std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
-                                                  options.velocity_forces, threads_, parallel_);
+  forces_ =
+      std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
+                                            options.velocity_forces, threads_, parallel_);
   velocity_forces_ = options.velocity_forces;
   chunk_sums_.assign(active_chunks_.size(), 0.0);
+  mass_.assign(n_, 0.0);
+  for (std::size_t i = 0; i < n_; ++i)
+    if (inverse_mass_[i] > 0) mass_[i] = 1.0 / double{inverse_mass_[i]};
 
   system_.struct_size = sizeof(clothlab_system);
   system_.precision = sizeof(Real) == sizeof(float) ? CLOTHLAB_FLOAT32 : CLOTHLAB_FLOAT64;
