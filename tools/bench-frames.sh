@@ -67,9 +67,9 @@ for rate in ${FRAME_RATES:-60 30}; do
       ((mesh <= ${ENERGY_MESH:-50})) || continue
       # Each passing setting once more, with its energy trace.
       traces=()
-      while IFS=, read -r integrator substeps iterations; do
+      while IFS=, read -r integrator substeps iterations parameter; do
         extra=()
-        [[ -n $iterations ]] && extra+=(--set integrator.iterations="$iterations")
+        [[ -n $iterations ]] && extra+=(--set integrator."$parameter"="$iterations")
         # --choose holds xpbd's own substeps parameter at 1 (the frame's substeps are its only).
         [[ $integrator == xpbd ]] && extra+=(--set integrator.substeps=1)
         trace="$results/energy-$name-$integrator.csv"
@@ -81,7 +81,8 @@ for rate in ${FRAME_RATES:-60 30}; do
 import csv, sys
 for row in csv.DictReader(open(sys.argv[1])):
     if row["rank"]:
-        print(row["integrator"], row["substeps"], row["iterations"], sep=",")
+        print(row["integrator"], row["substeps"], row["iterations"],
+              row["iterations_parameter"], sep=",")
 ' "$results/$name-ranked.csv")
       ((${#traces[@]} > 0)) && python3 tools/plot.py energy "${traces[@]}" \
         --out "$results/plots/$name" --cloth "cotton $scenario ${mesh}x$mesh, $rate Hz" >/dev/null

@@ -1,5 +1,7 @@
 #include "choose_mode.hpp"
 
+#include <clothlab/ext/integrator_traits.h>
+
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
@@ -27,10 +29,21 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const RunConfig& config,
     for (const host::IntegratorPlugin& integrator : library.integrators()) {
       if (!integrator.supports_precision(precision)) continue;
       sweep::ChoiceCandidate candidate{std::string(integrator.info().id), false};
+      // The plugin names its substeps and iterations parameters in its traits (ABI 1.2);
+      // older plugins are read by the parameters' conventional names.
+      const auto* traits = static_cast<const clothlab_integrator_traits*>(
+          integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+      if (traits != nullptr && traits->struct_size >= sizeof(clothlab_integrator_traits)) {
+        candidate.iterations_param = traits->iterations_param ? traits->iterations_param : "";
+        candidate.substeps_param = traits->substeps_param ? traits->substeps_param : "";
+      }
       const host::ParamSet params = integrator.default_params();
       for (const clothlab_param_spec& spec : params.specs()) {
-        if (std::string_view(spec.name) == "iterations") candidate.has_iterations = true;
-        if (std::string_view(spec.name) == "substeps") candidate.has_own_substeps = true;
+        if (spec.name == candidate.iterations_param) {
+          candidate.has_iterations = true;
+          candidate.iterations_limit = static_cast<uint32_t>(std::min(spec.max_value, 1e9));
+        }
+        if (spec.name == candidate.substeps_param) candidate.has_own_substeps = true;
       }
       found.push_back(candidate);
     }

@@ -45,7 +45,9 @@ struct FakeRuns {
     }
     const double substeps = std::stod(c.setting("substeps"));
     runs.push_back(c.integrator + " " + std::to_string(c.rows) + " " + c.setting("substeps"));
-    const std::string text = c.setting("integrator.iterations");
+    const std::string text = c.setting("integrator.iterations").empty()
+                                 ? c.setting("integrator.cap")
+                                 : c.setting("integrator.iterations");
     const double iterations = text.empty() ? 0.0 : std::stod(text);
     run.ms_per_frame =
         time_scale * (c.integrator == "steady" ? 25.0 : substeps) * (1.0 + 0.1 * iterations);
@@ -75,6 +77,11 @@ struct FakeRuns {
     return run;
   }
 };
+
+std::string choose_rows_parameter(const std::vector<Choice>& choices,
+                                  const ChoiceSettings& settings) {
+  return choice_rows(choices, settings).at(0)["iterations_parameter"].get<std::string>();
+}
 
 struct Fixture {
   SweepSpec spec;
@@ -299,6 +306,28 @@ TEST(IntegratorChoice, GivesUpOnlyOnAnErrorFlatOverTwoHalvings) {
             0u)
       << choices[1].verdict;
   EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "damped 0 8"), 0);
+}
+
+// The iterations parameter is the plugin's (implicit_euler's CG cap, max_iterations), searched
+// up to its own maximum.
+TEST(IntegratorChoice, SearchesThePluginsIterationsParameterWithinItsRange) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  ChoiceCandidate capped{"iterative", true};
+  capped.iterations_param = "cap";
+  capped.iterations_limit = 4;  // 1 x 8 is out of range: 2 x 4 is the cheapest left
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {capped}, fixture.settings, std::ref(runs),
+                         std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_EQ(choices[0].substeps, 2u);
+  EXPECT_EQ(choices[0].iterations, 4u);
+  EXPECT_EQ(choose_rows_parameter(choices, fixture.settings), "cap");
+  EXPECT_NE(choice_table(choices, fixture.settings).find(" cap=4 "), std::string::npos);
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "iterative 0 1"), 3);  // 1, 2, 4
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

@@ -122,7 +122,7 @@ class IntegratorSearch {
         stop_substeps_ = false;
         stopped_iterations_ = 0;
         const auto iterations = fewest(
-            settings_.max_iterations, [&](uint32_t it) { return probe(substeps, it).passed; }, stop,
+            max_iterations(), [&](uint32_t it) { return probe(substeps, it).passed; }, stop,
             [](uint32_t, uint32_t) { return true; });
         if (give_up_) break;
         // Over the budget at one iteration: more substeps only cost more.
@@ -144,18 +144,18 @@ class IntegratorSearch {
       return choice;
     }
     if (!best) {
-      choice.verdict = "no setting passed up to " + std::to_string(settings_.max_substeps) +
-                       " substeps" +
-                       (candidate_.has_iterations
-                            ? " x " + std::to_string(settings_.max_iterations) + " iterations"
-                            : std::string()) +
-                       "; last: " + last_failure_;
+      choice.verdict =
+          "no setting passed up to " + std::to_string(settings_.max_substeps) + " substeps" +
+          (candidate_.has_iterations ? " x " + std::to_string(max_iterations()) + " iterations"
+                                     : std::string()) +
+          "; last: " + last_failure_;
       return choice;
     }
     const Probe& chosen = probes_.at(*best);
     choice.passed = true;
     choice.substeps = best->first;
     choice.iterations = best->second;
+    choice.iterations_param = candidate_.iterations_param;
     choice.ms_per_frame = chosen.ms_per_frame;
     choice.error = chosen.error;
     choice.max_stretch = chosen.max_stretch;
@@ -185,11 +185,17 @@ class IntegratorSearch {
     return false;
   }
 
+  uint32_t max_iterations() const {
+    return std::min(settings_.max_iterations, candidate_.iterations_limit);
+  }
+
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
-    if (candidate_.has_own_substeps) c = with_setting(c, "integrator.substeps", "1", false);
-    if (iterations > 0) c = with_setting(c, "integrator.iterations", std::to_string(iterations));
+    if (candidate_.has_own_substeps)
+      c = with_setting(c, "integrator." + candidate_.substeps_param, "1", false);
+    if (iterations > 0)
+      c = with_setting(c, "integrator." + candidate_.iterations_param, std::to_string(iterations));
     return c;
   }
 
@@ -493,6 +499,8 @@ std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSet
     row["integrator"] = choice.integrator;
     row["substeps"] = choice.passed ? Row(choice.substeps) : Row();
     row["iterations"] = choice.passed && choice.iterations ? Row(choice.iterations) : Row();
+    row["iterations_parameter"] =
+        choice.passed && choice.iterations ? Row(choice.iterations_param) : Row();
     row["dt"] = choice.passed ? Row(1.0 / (settings.frame_rate * choice.substeps)) : Row();
     row["ms_per_frame"] = choice.passed ? Row(choice.ms_per_frame) : Row();
     row["real_time_factor"] =
@@ -517,9 +525,14 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
   int rank = 0;
   for (const Choice& c : choices) {
     if (c.passed) {
+      // implicit_euler's iterations are its CG cap: the cell names a parameter other than
+      // "iterations".
+      const std::string iterations = !c.iterations ? "-"
+                                     : c.iterations_param == "iterations"
+                                         ? std::to_string(c.iterations)
+                                         : c.iterations_param + "=" + std::to_string(c.iterations);
       std::snprintf(line, sizeof line, "%-4d %-20s %8u %10s %12.4g %8.3g %10s %11s  %s\n", ++rank,
-                    c.integrator.c_str(), c.substeps,
-                    c.iterations ? std::to_string(c.iterations).c_str() : "-", c.ms_per_frame,
+                    c.integrator.c_str(), c.substeps, iterations.c_str(), c.ms_per_frame,
                     1e3 / settings.frame_rate / c.ms_per_frame, percent(c.error).c_str(),
                     percent(c.max_stretch - 1).c_str(), c.verdict.c_str());
     } else {

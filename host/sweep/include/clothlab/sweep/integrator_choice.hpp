@@ -57,7 +57,7 @@ struct ChoiceSettings {
   double stretch_limit = 1.10;    // x rest length
   double error_tolerance = 0.01;  // RMS position error / cloth diagonal
   uint32_t max_substeps = 4096;
-  uint32_t max_iterations = 32;
+  uint32_t max_iterations = 32;  // and at most the parameter's own maximum
   // Wall-clock limit of one probe run (s): a setting that slow is no answer for a game, and
   // more substeps or iterations only cost more, so the integrator's search stops there.
   double probe_timeout_s = 60.0;
@@ -71,16 +71,22 @@ struct ChoiceSettings {
 struct ChoiceCandidate {
   std::string integrator;
   bool has_iterations = false;
-  // A method with its own `substeps` parameter (xpbd) gets 1 there, so that the host's substeps
+  // A method with its own substeps parameter (xpbd) gets 1 there, so that the host's substeps
   // per frame are its only substeps.
   bool has_own_substeps = false;
+  // The parameters' names (the plugin's clothlab.integrator-traits/1: implicit_euler's is its
+  // CG cap, max_iterations), and the most iterations the parameter allows.
+  std::string iterations_param = "iterations";
+  std::string substeps_param = "substeps";
+  uint32_t iterations_limit = UINT32_MAX;
 };
 
 struct Choice {
   std::string integrator;
   bool passed = false;
   uint32_t substeps = 0;
-  uint32_t iterations = 0;  // 0: the method has none
+  uint32_t iterations = 0;       // 0: the method has none
+  std::string iterations_param;  // the parameter they set ("iterations", "max_iterations")
   double ms_per_frame = 0, error = 0, max_stretch = 0;
   // "real time", "slower than real time" or why nothing passed ("slower than <best> ...
   // (stopped at ...)", "too slow: ...", "converges elsewhere: ...", "no setting passed ...")
