@@ -62,7 +62,7 @@ for rate in ${FRAME_RATES:-60 30}; do
         echo '```'
       } >>"$summary"
       [[ ${PLOTS:-1} == 1 ]] || continue
-      python3 tools/plot.py choose "$results/$name.json" --out "$results/plots/$name" \
+      /usr/bin/python3 tools/plot.py choose "$results/$name.json" --out "$results/plots/$name" \
         --cloth "cotton $scenario ${mesh}x$mesh, $rate Hz" >/dev/null
       ((mesh <= ${ENERGY_MESH:-50})) || continue
       # Each passing setting once more, with its energy trace.
@@ -84,7 +84,7 @@ for row in csv.DictReader(open(sys.argv[1])):
         print(row["integrator"], row["substeps"], row["iterations"],
               row["iterations_parameter"], sep=",")
 ' "$results/$name-ranked.csv")
-      ((${#traces[@]} > 0)) && python3 tools/plot.py energy "${traces[@]}" \
+      ((${#traces[@]} > 0)) && /usr/bin/python3 tools/plot.py energy "${traces[@]}" \
         --out "$results/plots/$name" --cloth "cotton $scenario ${mesh}x$mesh, $rate Hz" >/dev/null
     done
   done
