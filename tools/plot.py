@@ -323,7 +323,11 @@ def plot_choose(args):
         axis.axvline(tolerance, color="grey", linestyle="--", label=f"tolerance {tolerance:g}")
     axis.set_xlabel("RMS position error / cloth diagonal")
     axis.set_ylabel("ms per frame")
-    axis.set_title("choose: cost per frame vs error (filled: passed)")
+    # The probes carry no mesh coordinate (the scene's mesh is the --cloth text); the error
+    # mesh is theirs.
+    axis.set_title("choose: cost per frame vs error (filled: passed)\n"
+                   + caption(probes, args.cloth, args.machine)
+                   + f"; error measured at {values_of(probes, 'error_mesh')}", fontsize=8)
     axis.grid(True, which="both", alpha=0.3)
     axis.legend(fontsize=8)
     return save(figure, args.out, "choose-cost-error")
@@ -348,7 +352,8 @@ def plot_energy(args):
         axis.plot(times, totals, color=COLOURS.get(label), label=label)
     axis.set_xlabel("t (s)")
     axis.set_ylabel("total energy (J): kinetic + springs + gravity")
-    axis.set_title("energy over time per integrator")
+    axis.set_title(f"energy over time per integrator\ncloth: {args.cloth}; machine: {args.machine}",
+                   fontsize=8)
     axis.grid(True, alpha=0.3)
     axis.legend(fontsize=8)
     return save(figure, args.out, "energy")
