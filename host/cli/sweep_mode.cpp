@@ -83,6 +83,7 @@ sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::Case
   const nlohmann::json& stretch = run["max_stretch"]["over_run"];
   trajectory.max_stretch = stretch.is_number() ? stretch.get<double>() : NAN;
   trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();
+  trajectory.ms_per_frame_p10 = run["ms_per_frame"]["p10"].get<double>();
   trajectory.verdict = verdict_of(run);
   return trajectory;
 }

@@ -28,9 +28,10 @@ struct Trajectory {
   double diagonal = 0.0;          // cloth diagonal, m (sqrt(width^2 + height^2))
   double wall_s = 0.0;            // wall time spent stepping
   uint64_t force_evals = 0;
-  double max_stretch = 0.0;   // largest spring length / rest length seen over the run
-  double ms_per_frame = 0.0;  // median wall time of a frame (substeps steps), ms
-  CaseResult verdict;         // status Stable, or Unstable/Failed with step and reason
+  double max_stretch = 0.0;       // largest spring length / rest length seen over the run
+  double ms_per_frame = 0.0;      // median wall time of a frame (substeps steps), ms
+  double ms_per_frame_p10 = 0.0;  // its 10th percentile: the least disturbed by other jobs
+  CaseResult verdict;             // status Stable, or Unstable/Failed with step and reason
 };
 // Runs the case (its dt, precision and steps settings are set by the driver) to the end.
 using TrajectoryRunner = std::function<Trajectory(const CaseSpec&)>;
