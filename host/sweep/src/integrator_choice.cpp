@@ -212,12 +212,13 @@ class IntegratorSearch {
   double error_work_fraction() const { return error_duration(settings_) / settings_.duration; }
 
   // The wall-clock limit of a run doing `work_fraction` of a full probe's work: the probe
-  // timeout, or, once some setting passed, stop_factor x the best's time (see the header).
+  // timeout, or, once some setting passed, 2 x stop_factor x the best's time (see the header).
+  // Twice the factor of the cost check: a wall time carries every stall other jobs cause.
   double budget_s(double work_fraction) const {
     const BestSoFar& best = context_.best;
     if (!best.found() || settings_.stop_factor <= 0) return settings_.probe_timeout_s;
     return std::min(settings_.probe_timeout_s,
-                    startup_allowance_s + settings_.stop_factor * best.wall_s * work_fraction);
+                    startup_allowance_s + 2 * settings_.stop_factor * best.wall_s * work_fraction);
   }
 
   Trajectory run_guarded(const CaseSpec& c, double timeout_s) const {
@@ -251,7 +252,9 @@ class IntegratorSearch {
   bool judge_first_frames(const CaseSpec& c, Probe& probe) {
     if (!context_.best.found() || settings_.stop_factor <= 0) return true;
     const double frames = std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
-    const double timeout_s = budget_s(frames / (settings_.duration * settings_.frame_rate));
+    // The first frames are measured, not timed: they get the best's whole run as their wall
+    // limit, a backstop for a setting whose frames take seconds each.
+    const double timeout_s = budget_s(1.0);
     const Trajectory first = run_guarded(
         with_setting(c, "duration", format_number(frames / settings_.frame_rate), false),
         timeout_s);

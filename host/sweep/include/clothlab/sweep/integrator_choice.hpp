@@ -23,8 +23,10 @@
 // Early stops, each reported in the probe's row and the integrator's verdict:
 //   - cost budget: once some setting of any integrator passed (the best so far), a setting
 //     whose first 5 frames cost over stop_factor x the best's ms/frame (median) is "slower
-//     than <best>", stopped; each run is also killed past stop_factor x the best's stepping
-//     time over T (times the run's share of T) plus a start-up allowance. A frame's cost grows
+//     than <best>", stopped (judged on the fastest of them, p10, as other jobs only slow frames
+//     down); the error run and the run over T are also killed past 2 x stop_factor x the
+//     best's stepping time over T (times the run's share of T) plus a start-up allowance, and
+//     the first frames past that for the whole T. A frame's cost grows
 //     at least linearly in substeps (and iterations), so a setting stopped at n while n / 2
 //     failed leaves nothing in (n / 2, n] within stop_factor / 2 of the best: stop_factor >= 2
 //     never loses a cheaper setting to the doubling (up to timing noise). A stop ends the
