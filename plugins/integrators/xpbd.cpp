@@ -312,7 +312,7 @@ struct Xpbd {
   // finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
-    const auto [begin, end] = phases_of(thread, threads);
+    auto [begin, end] = phases_of(thread, threads);
     bool finite = true;
     for (uint32_t time = 0; time < wavefront_length_; ++time) {
       if (thread > 0) wait_until(progress_[thread - 1], time + 1);
@@ -320,7 +320,10 @@ struct Xpbd {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
         const uint32_t row = time - phase.lag;
-        if (row < grid_->rows) run_phase(phase, row, s, finite);
+        if (row < grid_->rows)
+          run_phase(phase, row, s, finite);
+        else if (q == begin)
+          ++begin;  // past its last row, as every earlier one: not visited again
       }
       const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == wavefront_length_;
       if (thread + 1 < threads && publish)
