@@ -35,8 +35,8 @@
 // colour's row reach (0, 1 or 2 rows), so every spring sees its ends exactly as the
 // colour-by-colour order leaves them while the rows in flight stay in cache. With several
 // threads each takes a contiguous run of phases and waits only for its predecessor to
-// finish the same wavefront time: a pipeline, no barrier per colour, and the same
-// operations on the same values as on one thread.
+// finish the same wavefront time (published every few rows): a pipeline, no barrier per
+// colour, and the same operations on the same values as on one thread.
 //
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
@@ -286,6 +286,9 @@ struct Xpbd {
       }
     phases_.push_back({Phase::Kind::velocity, 0, 0, lag, grid.rows * row_of_particles / 3});
     wavefront_length_ = grid.rows + lag;
+    // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
+    // can cost a context switch on a loaded machine, one per narrow row would dominate.
+    publish_every_ = std::max<uint32_t>(1, 2048 / grid.cols);
   }
 
   // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
@@ -309,7 +312,7 @@ struct Xpbd {
   // finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
-    const auto [begin, end] = phases_of(thread, threads);
+    auto [begin, end] = phases_of(thread, threads);
     bool finite = true;
     for (uint32_t time = 0; time < wavefront_length_; ++time) {
       if (thread > 0) wait_until(progress_[thread - 1], time + 1);
@@ -317,9 +320,13 @@ struct Xpbd {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
         const uint32_t row = time - phase.lag;
-        if (row < grid_->rows) run_phase(phase, row, s, finite);
+        if (row < grid_->rows)
+          run_phase(phase, row, s, finite);
+        else if (q == begin)
+          ++begin;  // past its last row, as every earlier one: not visited again
       }
-      if (thread + 1 < threads)
+      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == wavefront_length_;
+      if (thread + 1 < threads && publish)
         progress_[thread].completed.store(time + 1, std::memory_order_release);
     }
     return finite;
@@ -470,6 +477,7 @@ struct Xpbd {
   std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
   std::vector<Phase> phases_;
   uint32_t wavefront_length_ = 0;
+  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;  // one per thread
 };
 

@@ -9,10 +9,12 @@
 // path runs the same Gauss-Seidel as the general one.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace clothlab::builtin {

@@ -46,43 +46,58 @@ struct ColorRow {
   bool keep_lambda;
 };
 
-template <class Real>
+// Branch-free but for the stores, so it vectorises: a lane's ends are stored only where
+// the lane is kept and pushes, since a dropped in-row lane's partner is a kept lane's start.
+template <class Real, bool Fresh, bool KeepLambda>
 inline void project_row_portable(const ColorRow<Real>& row) {
   const Real* __restrict x = row.x + row.first;
   Real* __restrict dx = row.displacement + row.first;
   const Real* __restrict w = row.inverse_mass + row.first;
   Real* __restrict lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
-  const std::size_t o = row.offset, y = row.stride, z = 2 * row.stride;
-  const Real compliance_scale = row.stiffness + row.damping;
+  const std::size_t o = row.offset, y = row.stride, z = 2 * row.stride, count = row.count;
+  const bool alternates = row.alternates;
+  const uint32_t shift = row.alternation_shift, parity = row.parity;
+  const Real rest = row.rest, stiffness = row.stiffness, damping = row.damping;
+  const Real compliance_scale = stiffness + damping;
 #pragma omp simd
-  for (std::size_t c = 0; c < row.count; ++c) {
-    if (row.alternates && ((c >> row.alternation_shift) & 1u) != row.parity) continue;
+  for (std::size_t c = 0; c < count; ++c) {
+    const bool kept = !alternates | (((c >> shift) & 1u) == parity);  // | : no branch
     const Real m0 = dx[c] - dx[c + o], m1 = dx[c + y] - dx[c + y + o],
                m2 = dx[c + z] - dx[c + z + o];
     const Real d0 = (x[c] - x[c + o]) + m0, d1 = (x[c + y] - x[c + y + o]) + m1,
                d2 = (x[c + z] - x[c + z + o]) + m2;
-    const Real accumulated = row.fresh ? Real(0) : lambda[c];
+    Real accumulated = 0;
+    if constexpr (!Fresh) accumulated = lambda[c];
     const Real length = std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-    if (!(length > 0)) {  // coincident ends: no direction to push along
-      if (row.keep_lambda) lambda[c] = accumulated;
-      continue;
-    }
-    const Real inverse_length = 1 / length;
+    const bool pushed = kept & (length > 0);  // coincident ends: no direction to push along
+    const Real inverse_length = pushed ? 1 / length : Real(0);
     const Real closing = (d0 * m0 + d1 * m1 + d2 * m2) * inverse_length;
     const Real wi = w[c], wj = w[c + o];
-    const Real delta =
-        (-row.stiffness * (length - row.rest) - accumulated - row.damping * closing) /
-        (compliance_scale * (wi + wj) + 1);
-    if (row.keep_lambda) lambda[c] = accumulated + delta;
+    const Real delta = pushed ? (-stiffness * (length - rest) - accumulated - damping * closing) /
+                                    (compliance_scale * (wi + wj) + 1)
+                              : Real(0);
+    if constexpr (KeepLambda) {
+      if (kept) lambda[c] = accumulated + delta;
+    }
     const Real push_first = wi * delta * inverse_length, push_second = wj * delta * inverse_length;
-    if (wi != 0) {
+    if (pushed & (wi != 0)) {
       dx[c] += push_first * d0, dx[c + y] += push_first * d1, dx[c + z] += push_first * d2;
     }
-    if (wj != 0) {
+    if (pushed & (wj != 0)) {
       dx[c + o] -= push_second * d0, dx[c + y + o] -= push_second * d1;
       dx[c + z + o] -= push_second * d2;
     }
   }
+}
+
+template <class Real>
+inline void project_row_portable(const ColorRow<Real>& row) {
+  if (row.fresh)
+    row.keep_lambda ? project_row_portable<Real, true, true>(row)
+                    : project_row_portable<Real, true, false>(row);
+  else
+    row.keep_lambda ? project_row_portable<Real, false, true>(row)
+                    : project_row_portable<Real, false, false>(row);
 }
 
 #if defined(__AVX512F__) && defined(__BMI2__)  // _pext_u32 for the in-row tail
