@@ -255,22 +255,27 @@ class IntegratorSearch {
     // The first frames are measured, not timed: they get the best's whole run as their wall
     // limit, a backstop for a setting whose frames take seconds each.
     const double timeout_s = budget_s(1.0);
-    const Trajectory first = run_guarded(
-        with_setting(c, "duration", format_number(frames / settings_.frame_rate), false),
-        timeout_s);
+    const CaseSpec short_case =
+        with_setting(c, "duration", format_number(frames / settings_.frame_rate), false);
+    const Trajectory first = run_guarded(short_case, timeout_s);
     probe.ms_per_frame = first.ms_per_frame;
     if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
     // Cost first: over the budget, whether the setting is stable does not matter (more
-    // substeps, which might be stable, cost more still). Judged on the fastest frames: other
-    // jobs on the machine only ever slow a frame down.
-    if (first.ms_per_frame_p10 > settings_.stop_factor * context_.best.ms_per_frame) {
-      char cost[96];
-      std::snprintf(cost, sizeof cost, "its fastest of %g first frames took %.4g ms", frames,
-                    first.ms_per_frame_p10);
-      stop(probe, cost);
-      return false;
-    }
-    return judge_run(first, probe, "in its first frames");
+    // substeps, which might be stable, cost more still). Judged on the fastest frames, and on
+    // a second run before a stop: other jobs on the machine only ever slow frames down, and a
+    // burst of them can outlast five frames.
+    const double limit = settings_.stop_factor * context_.best.ms_per_frame;
+    if (first.ms_per_frame_p10 <= limit) return judge_run(first, probe, "in its first frames");
+    const Trajectory again = run_guarded(short_case, timeout_s);
+    const double fastest = again.verdict.stable() || !timed_out(again)
+                               ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
+                               : first.ms_per_frame_p10;
+    if (fastest <= limit) return judge_run(first, probe, "in its first frames");
+    char cost[112];
+    std::snprintf(cost, sizeof cost, "its fastest of %g first frames took %.4g ms (twice)", frames,
+                  fastest);
+    stop(probe, cost);
+    return false;
   }
 
   // Stage 2: the error, on the error mesh to the error T (the cheaper run).
