@@ -10,7 +10,8 @@
 #     forces + the same Euler update, one thread), alternating in one process;
 #   - euler flag cost vs mesh size (50^2 ... 1000^2) to show linear scaling;
 #   - the cost of --frames: euler and rk4 flag at 300 x 300 with and without frames at 60
-#     frames per simulated second (.vtp + .pvd), FRAME_STEPS steps, runs in alternation.
+#     frames per simulated second (.vtp + .pvd), FRAME_STEPS steps of 1 ms on the soft cloth
+#     (a frame every 17 steps; cotton would need 2048 steps per frame), runs in alternation.
 # Usage: tools/bench.sh [--micro | --frames]   (--micro also runs the Google Benchmark
 #        suite; --frames runs only the frames comparison)
 # Environment: BUILD_DIR (build-bench), RESULTS_DIR ($BUILD_DIR/bench-results), REPS (5), STEPS (200),
@@ -46,7 +47,7 @@ frames_comparison() {
       for frames in off on; do
         local extra=()
         [[ $frames == on ]] && extra=(--frames "$results/frames-$integrator" --set frames.rate=60)
-        "$bin/clothlab" --config configs/bench-300.yaml --integrator "$integrator" --scenario flag \
+        "$bin/clothlab" --config configs/bench-300-soft.yaml --integrator "$integrator" --scenario flag \
           --steps "$frame_steps" --threads "$threads" --quiet "${extra[@]}" \
           --json "$results/runs/frames-$frames-flag-$integrator-$rep.json"
       done
