@@ -68,6 +68,21 @@ TEST_F(AtomicFile, WritesTheWholeFileAndLeavesNoTemporary) {
   EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
 }
 
+// Without fsync (frames) the same guarantees hold for readers and a killed writer: a whole
+// new file, no temporary, and a target that is not a regular file refused.
+TEST_F(AtomicFile, RenamedWritesAreWholeAndRefuseWhatSyncedWritesRefuse) {
+  using clothlab::io::Durability;
+  write_file_atomically(folder_ / "frame.vtp", std::string_view("old"), Durability::Renamed);
+  write_file_atomically(
+      folder_ / "frame.vtp", [](std::ostream& out) { out << "new frame"; }, Durability::Renamed);
+  EXPECT_EQ(read_text(folder_ / "frame.vtp"), "new frame");
+  EXPECT_EQ(names(), std::vector<std::string>{"frame.vtp"});
+  fs::create_directory(folder_ / "folder.vtp");
+  EXPECT_THROW(
+      write_file_atomically(folder_ / "folder.vtp", std::string_view("x"), Durability::Renamed),
+      WriteError);
+}
+
 // The old writers used <name>.tmp-<pid> and .<name>.tmp.<pid> with O_TRUNC: a symlink planted
 // there made them overwrite its target.
 TEST_F(AtomicFile, APlantedSymlinkAtAPredictableNameIsNotFollowed) {
