@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/read_text.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,7 @@ struct Outcome {
   std::string out, err;
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 // A fresh folder per test for outputs, removed afterwards.
 class Clothlab : public testing::Test {

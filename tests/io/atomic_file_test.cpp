@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/read_text.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -22,12 +24,7 @@ using clothlab::io::remove_stale_temporaries;
 using clothlab::io::write_file_atomically;
 using clothlab::io::WriteError;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 class AtomicFile : public testing::Test {
  protected:
