@@ -109,7 +109,10 @@ def this_machine():
 
 
 def values_of(rows, key):
-    return ", ".join(sorted({str(r.get(key)) for r in rows if r.get(key) not in (None, "")}))
+    values = {str(r.get(key)) for r in rows if r.get(key) not in (None, "")}
+    # Meshes by size (50x50, 100x100, 200x200), not as text (100x100 first).
+    order = (lambda mesh: (mesh_particles(mesh), mesh)) if key == "mesh" else None
+    return ", ".join(sorted(values, key=order))
 
 
 def caption(rows, cloth, machine):

@@ -109,6 +109,7 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(svg.count(">60 Hz frame (16.7 ms)<"), 4)  # in every panel's legend
         self.assertEqual(svg.count(">30 Hz frame (33.3 ms)<"), 4)
         self.assertIn("machine: test machine", svg)
+        self.assertIn("mesh 50x50, 100x100, 200x200;", svg)  # by size, not as text
 
     def test_cost_vs_mesh(self):
         rows = [{"key": f"{integrator}{n}", "integrator": integrator, "scenario": "sheet",
