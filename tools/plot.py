@@ -263,7 +263,9 @@ def plot_stability(args):
                     + caption(search + matrix, args.cloth + (f" / {args.matrix_cloth}"
                                                               if matrix else ""), args.machine),
                     fontsize=10)
-    figure.tight_layout()  # else each row's x label runs into the titles below it
+    # Else each row's x label runs into the titles below it; the top half inch stays for the
+    # two-line title, which tight_layout does not place.
+    figure.tight_layout(rect=(0, 0, 1, 1 - 0.5 / figure.get_figheight()))
     return save(figure, args.out, "stability-map")
 
 
