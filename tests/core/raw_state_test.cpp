@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <stdexcept>
+#include <string>
 
 #include "cloth_test_support.hpp"
 
@@ -12,7 +13,10 @@ namespace {
 
 class RawState : public ::testing::TestWithParam<Precision> {};
 INSTANTIATE_TEST_SUITE_P(Precisions, RawState,
-                         ::testing::Values(Precision::Float32, Precision::Float64));
+                         ::testing::Values(Precision::Float32, Precision::Float64),
+                         [](const ::testing::TestParamInfo<Precision>& info) {
+                           return std::string(to_string(info.param));
+                         });
 
 TEST_P(RawState, RoundTripsIntoAnotherClothOfTheSameScene) {
   const Scene scene = testing::busy_scene(7, 5);
