@@ -115,6 +115,26 @@ TEST(VtkCollection, ATimeThatIsNotANumberIsAnErrorNamingTheFile) {
   fs::remove(path);
 }
 
+TEST(VtkCollection, ADataSetWithoutTimestepOrFileIsAnErrorNamingTheFile) {
+  const fs::path path = fs::path(testing::TempDir()) / "frame_formats_bad_dataset.pvd";
+  for (const char* element : {"<DataSet file=\"frame_000000.vtp\"/>", "<DataSet timestep=\"0\"/>",
+                              "<DataSet mytimestep=\"0\" file=\"a\"/>"}) {
+    {
+      std::ofstream out(path);
+      out << "<VTKFile type=\"Collection\"><Collection>\n"
+          << element << "\n</Collection></VTKFile>\n";
+    }
+    try {
+      read_pvd(path);
+      ADD_FAILURE() << element << " was accepted";
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(std::string(error.what()),
+                path.string() + ": DataSet without timestep or file: " + element);
+    }
+  }
+  fs::remove(path);
+}
+
 TEST(PointCache, HeaderFollowsThePc2Layout) {
   std::ostringstream out;
   write_pc2_header(out, 2500, 7);

@@ -6,9 +6,9 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace clothlab::io {
 
@@ -185,21 +185,39 @@ void write_pvd(std::ostream& out, const std::vector<CollectionEntry>& entries) {
   out << "  </Collection>\n</VTKFile>\n";
 }
 
+namespace {
+
+// The value of attribute `name` in one XML start tag, or nullopt when it has none.
+std::optional<std::string> attribute(std::string_view element, std::string_view name) {
+  const std::string key = std::string(name) + "=\"";
+  for (std::size_t at = element.find(key); at != std::string_view::npos;
+       at = element.find(key, at + 1)) {
+    const char before = element[at - 1];  // the tag's name comes first, so at > 0
+    if (before != ' ' && before != '\t' && before != '\n' && before != '\r') continue;
+    const std::size_t begin = at + key.size();
+    const std::size_t end = element.find('"', begin);
+    if (end == std::string_view::npos) return std::nullopt;
+    return std::string(element.substr(begin, end - begin));
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path) {
   const std::string text = read_text(path);
-  static const std::regex dataset(R"(<DataSet\s[^>]*>)");
-  static const std::regex timestep(R"(timestep="([^"]*)\")");
-  static const std::regex file(R"(file="([^"]*)\")");
   std::vector<CollectionEntry> entries;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset);
-       it != std::sregex_iterator(); ++it) {
-    const std::string element = it->str();
-    std::smatch time_match, file_match;
-    if (!std::regex_search(element, time_match, timestep) ||
-        !std::regex_search(element, file_match, file))
+  for (std::size_t at = text.find("<DataSet"); at != std::string::npos;
+       at = text.find("<DataSet", at + 1)) {
+    const std::size_t end = text.find('>', at);
+    const std::string element = text.substr(at, end == std::string::npos ? end : end - at + 1);
+    const char after = element.size() > 8 ? element[8] : '\0';
+    if (after != ' ' && after != '\t' && after != '\n' && after != '\r') continue;
+    const auto time = attribute(element, "timestep");
+    const auto file = attribute(element, "file");
+    if (!time || !file)
       throw std::runtime_error(path.string() + ": DataSet without timestep or file: " + element);
-    entries.push_back(
-        {number_in(time_match[1].str(), "the timestep of " + element, path), file_match[1].str()});
+    entries.push_back({number_in(*time, "the timestep of " + element, path), *file});
   }
   return entries;
 }

@@ -10,7 +10,7 @@
 #include <exception>
 #include <fstream>
 #include <mutex>
-#include <regex>
+#include <string_view>
 #include <thread>
 
 namespace fs = std::filesystem;
@@ -47,13 +47,22 @@ constexpr const char* pc2_staging_name = ".frames.pc2.partial";
 // stops, leaves whole files); run.json and the point cache, written once or twice, are synced.
 constexpr Durability frame_durability = Durability::Renamed;
 
+// frame_NNNNNN.vtp or .obj (six digits or more), frames.pvd, frames.pc2 or the staging file.
+bool is_frame_file(std::string_view name) {
+  if (name == "frames.pvd" || name == "frames.pc2" || name == pc2_staging_name) return true;
+  constexpr std::string_view prefix = "frame_";
+  if (!name.starts_with(prefix) || !(name.ends_with(".vtp") || name.ends_with(".obj")))
+    return false;
+  const std::string_view digits = name.substr(prefix.size(), name.size() - prefix.size() - 4);
+  return digits.size() >= 6 &&
+         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 // The files an earlier run left in the folder, so the folder shows one run.
 void remove_earlier_frames(const fs::path& dir) {
-  static const std::regex frame_file(
-      R"(frame_\d{6,}\.(vtp|obj)|frames\.(pvd|pc2)|\.frames\.pc2\.partial)");
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(dir, error))
-    if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), frame_file))
+    if (entry.is_regular_file() && is_frame_file(entry.path().filename().string()))
       fs::remove(entry.path(), error);
 }
 
