@@ -2,8 +2,8 @@
 // the integrator extensions a plugin declares (ABI 1.2) are sound.
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
-
 #include <clothlab/host/identifiers.hpp>
+
 #include <cmath>
 #include <set>
 #include <string>
