@@ -187,8 +187,10 @@ INSTANTIATE_TEST_SUITE_P(
         FaultyCase{"faulty_ruffles_at_random", "ruffles-at-random", "scenario.deterministic",
                    "two describe calls on one instance differ", "--filter scenario.deterministic"},
         FaultyCase{"faulty_ignores_wind", "ignores-wind", "scenario.params",
-                   "setting wind = 1.250000 does not change the scene",
-                   "--filter scenario.params"}),
+                   "setting wind = 1.250000 does not change the scene", "--filter scenario.params"},
+        FaultyCase{"faulty_offers_only_float32", "offers-only-float32", "numerics.float64",
+                   "numerics are measured in float64, which it lacks",
+                   "--filter numerics.float64"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.test_name != nullptr ? info.param.test_name
                                                          : info.param.plugin);

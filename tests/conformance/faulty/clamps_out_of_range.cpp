@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "edited_library.hpp"
 #include "substeps_euler.hpp"
 
 struct ClampsOutOfRange : clothlab::faulty::SubstepsEulerBase {

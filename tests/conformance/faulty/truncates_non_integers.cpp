@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "edited_library.hpp"
 #include "substeps_euler.hpp"
 
 struct TruncatesNonIntegers : clothlab::faulty::SubstepsEulerBase {
