@@ -166,8 +166,8 @@ void run_plugin(const std::string& path, const RunOptions& options, const Result
   PluginRun run(path, options, sink);
   const std::vector<Check> loading = loading_checks(path);
   // The runner opens the library itself only after a child has opened it safely, the version
-  // gate accepts it (later checks read the descriptor's layout) and a child has unloaded and
-  // loaded it again (a library that fails that could fail the runner's own second open).
+  // gate accepts it (later checks read the descriptor's layout) and a child has loaded it
+  // again after unloading it (the runner itself opens it twice).
   const auto gate = [&](const char* name) {
     for (const Check& check : loading)
       if (check.name == name) return run.run(check, false);
