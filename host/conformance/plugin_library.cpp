@@ -20,6 +20,13 @@ PluginLibrary::~PluginLibrary() { dlclose(handle_); }
 
 const clothlab_plugin_descriptor* PluginLibrary::descriptor() const { return entry_(); }
 
+bool PluginLibrary::is_loaded(const std::string& path) {
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NOLOAD);
+  if (handle == nullptr) return false;
+  dlclose(handle);
+  return true;
+}
+
 std::string to_string(const clothlab_abi_version& version) {
   return std::to_string(version.major) + "." + std::to_string(version.minor);
 }

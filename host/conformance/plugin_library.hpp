@@ -20,6 +20,9 @@ class PluginLibrary {
   // Calls the entry point; the pointer stays valid while the library is open.
   const clothlab_plugin_descriptor* descriptor() const;
 
+  // Whether the library at `path` is mapped in this process (RTLD_NOLOAD: opens nothing).
+  static bool is_loaded(const std::string& path);
+
  private:
   void* handle_ = nullptr;
   clothlab_plugin_entry_fn entry_ = nullptr;

@@ -64,8 +64,9 @@ struct FaultyCase {
   const char* plugin;
   const char* component;
   const char* check;
-  const char* reason;     // expected inside the failure reason
-  const char* arguments;  // filters keep the runs short
+  const char* reason;               // expected inside the failure reason
+  const char* arguments;            // filters keep the runs short
+  const char* test_name = nullptr;  // when one plugin is caught by several checks; else plugin
 };
 
 class FaultyPlugin : public ::testing::TestWithParam<FaultyCase> {};
@@ -115,11 +116,83 @@ INSTANTIATE_TEST_SUITE_P(
                    "float32 and float64 differ by", "--filter numerics"},
         FaultyCase{"faulty_rebinds_badly", "rebinds-badly", "lifecycle.prepare-twice",
                    "after a second prepare", "--filter lifecycle"},
+        // One for every check (host/conformance/README.md, "Which faulty plugin each check
+        // catches").
+        FaultyCase{"faulty_lies_about_order", "lies-about-order", "numerics.order-free-fall",
+                   "measured order 1.", "--filter numerics.order-free-fall",
+                   "faulty_lies_about_order_free_fall"},
+        FaultyCase{"faulty_lies_about_order", "lies-about-order", "numerics.order-damped-spring",
+                   "measured order 1.", "--filter numerics.order-damped-spring",
+                   "faulty_lies_about_order_damped_spring"},
+        FaultyCase{"faulty_moves_pinned", "moves-pinned", "numerics.pinned-f32",
+                   "pinned particle 0 moved", "--filter numerics.pinned-f32",
+                   "faulty_moves_pinned_f32"},
+        FaultyCase{"faulty_claims_unconditional_stability", "claims-unconditional-stability",
+                   "stability.unconditional-flag", "declares unconditional stability, but",
+                   "--filter stability.unconditional-flag",
+                   "faulty_claims_unconditional_stability_flag"},
+        FaultyCase{"faulty_damps_per_step", "damps-per-step", "lifecycle.dt-zero",
+                   "a step with dt = 0 changed the state", "--filter lifecycle.dt-zero"},
+        FaultyCase{"faulty_kicks_in_prepare", "kicks-in-prepare", "lifecycle.zero-steps",
+                   "create/prepare/destroy without a step changed the state",
+                   "--filter lifecycle.zero-steps"},
+        FaultyCase{"faulty_starts_once_per_process", "starts-once-per-process", "lifecycle.repeat",
+                   "round 2 of create/prepare/step/destroy differs from round 1",
+                   "--filter lifecycle.repeat"},
+        FaultyCase{"faulty_starts_once_per_process", "starts-once-per-process",
+                   "numerics.deterministic", "two identical runs give different bits",
+                   "--filter numerics.deterministic", "faulty_starts_once_per_process_numerics"},
+        FaultyCase{"faulty_adds_own_gravity", "adds-own-gravity", "numerics.rest",
+                   "a cloth at rest without external forces moved", "--filter numerics.rest"},
+        FaultyCase{"faulty_chunks_by_process_threads", "chunks-by-process-threads",
+                   "numerics.threads-f64", "1 and 2 threads give different bits",
+                   "--filter numerics.threads-f64"},
+        FaultyCase{"faulty_chunks_by_process_threads", "chunks-by-process-threads",
+                   "numerics.threads-f32", "1 and 2 threads give different bits",
+                   "--filter numerics.threads-f32", "faulty_chunks_by_process_threads_f32"},
+        FaultyCase{"faulty_shares_state_between_instances", "shares-state-between-instances",
+                   "robustness.concurrent",
+                   "instance 1 stepped by turns with another differs from its run alone",
+                   "--filter robustness.concurrent"},
+        FaultyCase{"faulty_refuses_its_default", "refuses-its-default", "params.defaults",
+                   "create failed: INVALID_ARGUMENT: substeps = 1", "--filter params.defaults"},
+        FaultyCase{"faulty_clamps_out_of_range", "clamps-out-of-range", "params.out-of-range",
+                   "was accepted", "--filter params.out-of-range"},
+        FaultyCase{"faulty_truncates_non_integers", "truncates-non-integers", "params.wrong-type",
+                   "substeps = 1.5 (not an integer) was accepted", "--filter params.wrong-type"},
+        FaultyCase{"faulty_supports_fewer_substeps", "supports-fewer-substeps", "params.fuzz",
+                   "at most 16 substeps supported with substeps=64", "--filter params.fuzz"},
+        FaultyCase{"faulty_malformed_id", "SymplecticEuler", "descriptor.fields",
+                   "id \"SymplecticEuler\" must match", "--filter descriptor.fields"},
+        FaultyCase{"faulty_duplicates_an_id", "library", "descriptor.ids-unique",
+                   "id \"duplicated-euler\" is used twice", "--filter descriptor.ids-unique"},
+        FaultyCase{"faulty_declares_order_zero", "declares-order-zero", "descriptor.order",
+                   "declared order 0 < 1", "--filter descriptor.order"},
+        FaultyCase{"faulty_default_outside_range", "default-outside-range", "descriptor.params",
+                   "substeps: default 0.000000 outside [1.000000, 64.000000]",
+                   "--filter descriptor.params"},
+        FaultyCase{"faulty_needs_a_missing_library", "library", "loading.dlopen",
+                   "undefined symbol: clothlab_faulty_helper_never_linked",
+                   "--filter loading.dlopen"},
+        FaultyCase{"faulty_exports_its_helpers", "library", "loading.exports",
+                   "clothlab_faulty_halve", "--filter loading.exports"},
+        FaultyCase{"faulty_refuses_second_load", "library", "loading.reload",
+                   "entry returned null on load 2", "--filter loading.reload"},
+        FaultyCase{"faulty_pins_past_the_grid", "pins-past-the-grid", "scenario.valid",
+                   "scene.pinned = 64: allowed indices < rows*cols = 64",
+                   "--filter scenario.valid"},
+        FaultyCase{"faulty_ruffles_at_random", "ruffles-at-random", "scenario.deterministic",
+                   "two describe calls on one instance differ", "--filter scenario.deterministic"},
+        FaultyCase{"faulty_ignores_wind", "ignores-wind", "scenario.params",
+                   "setting wind = 1.250000 does not change the scene", "--filter scenario.params"},
+        FaultyCase{"faulty_offers_only_float32", "offers-only-float32", "numerics.float64",
+                   "numerics are measured in float64, which it lacks", "--filter numerics.float64"},
         FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",
                    "20 force evaluations in 10 steps; declared evals_per_step 1",
                    "--filter lifecycle"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
-      return std::string(info.param.plugin);
+      return std::string(info.param.test_name != nullptr ? info.param.test_name
+                                                         : info.param.plugin);
     });
 
 TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
@@ -130,6 +203,23 @@ TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
   const nlohmann::json* after = find_check(run, "c-euler", "lifecycle.grid-3x3-f64");
   ASSERT_NE(after, nullptr) << run.output;
   EXPECT_EQ((*after)["passed"], true);
+}
+
+// The grid checks share one mechanism (step, then require a finite state): each of them, in
+// each precision, fails on the plugin that writes NaN.
+TEST(ConformanceRun, EveryGridCheckCatchesANonFiniteState) {
+  const RunnerOutput run =
+      run_conformance("--filter lifecycle.grid " + plugin("faulty_produces_nan"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  int grids = 0;
+  for (const nlohmann::json& result : run.report["checks"]) {
+    EXPECT_EQ(result["passed"], false) << result["check"];
+    EXPECT_NE(result["reason"].get<std::string>().find("non-finite"), std::string::npos)
+        << result["reason"];
+    ++grids;
+  }
+  EXPECT_EQ(grids, 10) << run.output;  // 5 shapes x 2 precisions
 }
 
 TEST(ConformanceRun, AbiMajorTwoIsNotReadBeyondItsVersion) {

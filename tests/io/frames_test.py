@@ -6,7 +6,8 @@
                        listed in the .pvd; point and triangle counts, frame times, the last
                        frame against --state-out, the OBJ and PC2 files against the .vtp
         sigint         Ctrl-C in the middle of a run: exit 130, the index lists exactly the
-                       frames on disk and every one of them reads back whole
+                       frames on disk and every one of them reads back whole; an earlier
+                       run's frame in the folder is gone, a file of the user's stays
         memory         peak memory of a run with 10x more frames grows by less than 5 frames
                        data (allocator noise is ~2 frames; keeping them all would be 180)
         bad-folder     an unwritable frames folder: one line naming it, exit 1, no steps run
@@ -123,6 +124,10 @@ def sigint():
     import vtk  # noqa: F401  (fail early if missing)
     out = fresh("sigint")
     frames = os.path.join(out, "frames")
+    # An earlier run's frame goes (the folder shows one run); a file of the user's stays.
+    os.makedirs(frames)
+    for planted in ("frame_000999.vtp", "notes.txt"):
+        open(os.path.join(frames, planted), "w").close()
     process = subprocess.Popen(clothlab_command(
         frames, "--integrator", "rk4", "--scenario", "flag", "--set", "scenario.rows=60",
         "--set", "scenario.cols=60", "--dt", "0.0005", "--duration", "1000",
@@ -140,6 +145,7 @@ def sigint():
     on_disk = sorted(f for f in os.listdir(frames) if f.endswith(".vtp"))
     check(sorted(name for _, name in entries) == on_disk, f"index {entries} vs files {on_disk}")
     check(not [f for f in os.listdir(frames) if f.startswith(".")], "temporary files left")
+    check(os.path.exists(os.path.join(frames, "notes.txt")), "notes.txt was removed")
     for _, name in entries:
         data, _ = read_vtp(os.path.join(frames, name))
         check(data.GetNumberOfPoints() == 3600, f"{name} is incomplete")

@@ -1,12 +1,14 @@
 #include <charconv>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/io/frame_formats.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <regex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace clothlab::io {
 
@@ -49,6 +51,16 @@ class AppendedArrays {
   uint64_t offset_ = 0;
 };
 
+// A number the file holds, read by the host's one number parser (host::parse_real).
+double number_in(std::string_view text, const std::string& what,
+                 const std::filesystem::path& path) {
+  const std::optional<double> value = host::parse_real(text);
+  if (!value)
+    throw std::runtime_error(path.string() + ": " + what + " is not a number: \"" +
+                             std::string(text) + "\"");
+  return *value;
+}
+
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw std::runtime_error(path.string() + ": cannot open");
@@ -83,7 +95,14 @@ std::vector<T> appended_values(const std::string& text, const std::string& name,
   const size_t base = section == std::string::npos ? section : text.find('_', section);
   if (offset_at == std::string::npos || offset_at > tag_end || base == std::string::npos)
     throw std::runtime_error(path.string() + ": DataArray " + name + " is not raw appended data");
-  const size_t begin = base + 1 + std::stoull(text.substr(offset_at + 8));
+  const size_t offset_end = text.find('"', offset_at + 8);
+  const double offset =
+      number_in(std::string_view(text).substr(offset_at + 8, offset_end - (offset_at + 8)),
+                "the offset of DataArray " + name, path);
+  if (offset < 0 || offset != std::floor(offset) || offset > static_cast<double>(text.size()))
+    throw std::runtime_error(path.string() + ": DataArray " + name + " has offset " +
+                             host::format_number(offset) + ", not a byte offset in the file");
+  const size_t begin = base + 1 + static_cast<size_t>(offset);
   uint32_t bytes = 0;
   if (begin + sizeof bytes > text.size())
     throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
@@ -97,12 +116,7 @@ std::vector<T> appended_values(const std::string& text, const std::string& name,
 
 double ascii_value(const std::string& text, const std::string& name,
                    const std::filesystem::path& path) {
-  const std::string body(array_body(text, name, path));
-  try {
-    return std::stod(body);
-  } catch (const std::exception&) {
-    throw std::runtime_error(path.string() + ": DataArray " + name + " is not a number");
-  }
+  return number_in(array_body(text, name, path), "DataArray " + name, path);
 }
 
 }  // namespace
@@ -171,20 +185,39 @@ void write_pvd(std::ostream& out, const std::vector<CollectionEntry>& entries) {
   out << "  </Collection>\n</VTKFile>\n";
 }
 
+namespace {
+
+// The value of attribute `name` in one XML start tag, or nullopt when it has none.
+std::optional<std::string> attribute(std::string_view element, std::string_view name) {
+  const std::string key = std::string(name) + "=\"";
+  for (std::size_t at = element.find(key); at != std::string_view::npos;
+       at = element.find(key, at + 1)) {
+    const char before = element[at - 1];  // the tag's name comes first, so at > 0
+    if (before != ' ' && before != '\t' && before != '\n' && before != '\r') continue;
+    const std::size_t begin = at + key.size();
+    const std::size_t end = element.find('"', begin);
+    if (end == std::string_view::npos) return std::nullopt;
+    return std::string(element.substr(begin, end - begin));
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path) {
   const std::string text = read_text(path);
-  static const std::regex dataset(R"(<DataSet\s[^>]*>)");
-  static const std::regex timestep(R"(timestep="([^"]*)\")");
-  static const std::regex file(R"(file="([^"]*)\")");
   std::vector<CollectionEntry> entries;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset);
-       it != std::sregex_iterator(); ++it) {
-    const std::string element = it->str();
-    std::smatch time_match, file_match;
-    if (!std::regex_search(element, time_match, timestep) ||
-        !std::regex_search(element, file_match, file))
+  for (std::size_t at = text.find("<DataSet"); at != std::string::npos;
+       at = text.find("<DataSet", at + 1)) {
+    const std::size_t end = text.find('>', at);
+    const std::string element = text.substr(at, end == std::string::npos ? end : end - at + 1);
+    const char after = element.size() > 8 ? element[8] : '\0';
+    if (after != ' ' && after != '\t' && after != '\n' && after != '\r') continue;
+    const auto time = attribute(element, "timestep");
+    const auto file = attribute(element, "file");
+    if (!time || !file)
       throw std::runtime_error(path.string() + ": DataSet without timestep or file: " + element);
-    entries.push_back({std::stod(time_match[1].str()), file_match[1].str()});
+    entries.push_back({number_in(*time, "the timestep of " + element, path), *file});
   }
   return entries;
 }
