@@ -118,7 +118,11 @@ INSTANTIATE_TEST_SUITE_P(
                    "after a second prepare", "--filter lifecycle"},
         FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",
                    "20 force evaluations in 10 steps; declared evals_per_step 1",
-                   "--filter lifecycle"}),
+                   "--filter lifecycle"},
+        FaultyCase{"faulty_lacks_step", "library", "loading.abi-policy",
+                   "the host loader refuses it at its own version 1.2: integrator lacks-step has a "
+                   "null function pointer",
+                   "--filter loading"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.plugin);
     });
