@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds ClothLab with AddressSanitizer and UndefinedBehaviorSanitizer (CLOTHLAB_SANITIZE) into
 # ./build-asan and runs the test suite there: about 15 minutes on 2 cores. Prints one summary
-# line at the end; the exit status is ctest's. Extra arguments go to ctest (e.g. -R conformance).
+# line at the end (and, on failure, the failed tests with the lines that say why); the exit
+# status is ctest's. Extra arguments go to ctest (e.g. -R conformance).
 # UBSan halts on its first report (it only logs by default), so undefined behaviour fails a test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,4 +16,10 @@ status=0
 ctest --test-dir "$build" --output-on-failure -j2 "$@" >"$log" 2>&1 || status=$?
 summary=$(grep -E "tests passed|No tests were found" "$log" | tail -n 1 || true)
 echo "sanitize: ${summary:-no ctest summary}; ctest exit status $status; log $log"
+if [ "$status" -ne 0 ]; then
+  # The log stays in the build tree, which CI throws away: show what failed and why.
+  sed -n '/The following tests FAILED/,$p' "$log"
+  grep -n -E "^[0-9]+/[0-9]+ Test +#[0-9]+: .*\*\*\*|ERROR: AddressSanitizer|runtime error:|Failure$|\[  FAILED  \]" "$log" |
+    head -n 60 || true
+fi
 exit "$status"

@@ -1,8 +1,10 @@
 #include "clothlab/sweep/shard.hpp"
 
 #include <algorithm>
+#include <clothlab/host/param_text.hpp>
 #include <map>
-#include <regex>
+#include <optional>
+#include <string_view>
 #include <unordered_set>
 
 #include "clothlab/sweep/results_store.hpp"
@@ -10,12 +12,27 @@
 
 namespace clothlab::sweep {
 
+namespace {
+
+// A run of 1 to 6 decimal digits, the whole of text; nullopt otherwise.
+std::optional<std::size_t> parse_digits(std::string_view text) {
+  if (text.empty() || text.size() > 6 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  return static_cast<std::size_t>(*host::parse_real(text));
+}
+
+}  // namespace
+
 Shard parse_shard(const std::string& text, const std::string& source) {
-  static const std::regex shape("([0-9]{1,6})/([0-9]{1,6})");
-  std::smatch match;
-  if (std::regex_match(text, match, shape)) {
-    const Shard shard{std::stoul(match[1]), std::stoul(match[2])};
-    if (shard.index >= 1 && shard.index <= shard.count && shard.count <= 100000) return shard;
+  const std::size_t slash = text.find('/');
+  if (slash != std::string::npos) {
+    const auto index = parse_digits(std::string_view(text).substr(0, slash));
+    const auto count = parse_digits(std::string_view(text).substr(slash + 1));
+    if (index && count) {
+      const Shard shard{*index, *count};
+      if (shard.index >= 1 && shard.index <= shard.count && shard.count <= 100000) return shard;
+    }
   }
   throw SweepError(source + " " + text + ": allowed K/N with 1 <= K <= N <= 100000, e.g. 2/8");
 }
@@ -42,33 +59,46 @@ std::filesystem::path folder_of(const std::filesystem::path& base) {
   return base.has_parent_path() ? base.parent_path() : std::filesystem::path(".");
 }
 
-// <name>.shard-K-of-N<suffix>, K and N captured.
-std::regex shard_file_pattern(const std::filesystem::path& base, const std::string& suffix) {
-  const std::string name =
-      std::regex_replace(base.filename().string(), std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)");
-  return std::regex(name + R"(\.shard-([0-9]+)-of-([0-9]+))" + suffix);
+// The shard of a file named <base>.shard-K-of-N.<extension>, with its extension; nullopt for
+// any other name.
+struct ShardFile {
+  Shard shard;
+  std::string_view extension;
+};
+
+std::optional<ShardFile> parse_shard_file(const std::filesystem::path& base,
+                                          std::string_view name) {
+  const std::string prefix = base.filename().string() + ".shard-";
+  if (name.substr(0, prefix.size()) != prefix) return std::nullopt;
+  name.remove_prefix(prefix.size());
+  const std::size_t of = name.find("-of-");
+  if (of == std::string_view::npos) return std::nullopt;
+  const std::size_t dot = name.find('.', of);
+  if (dot == std::string_view::npos) return std::nullopt;
+  const auto index = parse_digits(name.substr(0, of));
+  const auto count = parse_digits(name.substr(of + 4, dot - of - 4));
+  if (!index || !count) return std::nullopt;
+  return ShardFile{{*index, *count}, name.substr(dot)};
 }
 
 }  // namespace
 
 void remove_shard_results(const std::filesystem::path& base) {
-  const std::regex pattern = shard_file_pattern(base, R"(\..*)");
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(folder_of(base), error))
-    if (std::regex_match(entry.path().filename().string(), pattern))
+    if (parse_shard_file(base, entry.path().filename().string()))
       std::filesystem::remove_all(entry.path(), error);
 }
 
 MergeSummary merge_shards(const std::filesystem::path& base) {
   const std::filesystem::path folder = folder_of(base);
-  const std::regex shard_name = shard_file_pattern(base, R"(\.sqlite)");
   std::map<std::size_t, std::map<std::size_t, std::filesystem::path>> by_count;
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
-    std::smatch match;
     const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, match, shard_name))
-      by_count[std::stoul(match[2])][std::stoul(match[1])] = entry.path();
+    const auto file = parse_shard_file(base, name);
+    if (file && file->extension == ".sqlite")
+      by_count[file->shard.count][file->shard.index] = entry.path();
   }
   const std::string what = base.string() + ".shard-K-of-N.sqlite";
   if (by_count.empty()) throw SweepError(what + ": no shard results to merge");
