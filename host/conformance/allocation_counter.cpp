@@ -23,7 +23,7 @@ void* __libc_realloc(void* pointer, size_t size);
 void* __libc_memalign(size_t alignment, size_t size);
 void __libc_free(void* pointer);
 
-// Defined only when a sanitizer runtime is loaded (GCC's libasan, Clang's before 17): its
+// Defined only when a sanitizer runtime is loaded (GCC's libasan): its
 // allocator, under the names its interceptors keep beside the malloc they export.
 __attribute__((weak)) void* __interceptor_malloc(size_t size);
 __attribute__((weak)) void* __interceptor_calloc(size_t count, size_t size);
