@@ -6,12 +6,15 @@
 #   - the euler flag step of the fast core vs the in-run baseline (seed-style reference
 #     forces + the same Euler update, one thread), alternating in one process;
 #   - euler flag cost vs mesh size (50^2 ... 1000^2) to show linear scaling;
-#   - the cost of --frames: euler and rk4 flag at 300 x 300 with and without frames at 60
-#     frames per simulated second (.vtp + .pvd), FRAME_STEPS steps, runs in alternation.
+#   - the cost of --frames (bench/frames_bench.py): euler and rk4 flag at 300 x 300 (the soft
+#     cloth, dt 1 ms: cotton diverges with explicit methods at that step) without
+#     frames and with frames at 60 per simulated second (.vtp + .pvd) for FRAME_STEPS and
+#     2 x FRAME_STEPS steps, interleaved, FRAME_REPS times per FRAME_THREADS thread count:
+#     loop ms/step, paired slowdown, writer ms/frame, peak RSS for N and 2N frames.
 # Usage: tools/bench.sh [--micro | --frames]   (--micro also runs the Google Benchmark
 #        suite; --frames runs only the frames comparison)
 # Environment: BUILD_DIR (build-bench), RESULTS_DIR ($BUILD_DIR/bench-results), REPS (5), STEPS (200),
-#              THREADS (0 = all), FRAME_STEPS (1000).
+#              THREADS (0 = all), FRAME_STEPS (1000), FRAME_REPS (7), FRAME_THREADS ("1 0").
 # Results: $RESULTS_DIR/table.md, summary.json, runs.csv, speedup.json, frames.md, frames.json,
 #          raw JSON per run.
 set -euo pipefail
@@ -22,6 +25,8 @@ reps=${REPS:-5}
 steps=${STEPS:-200}
 threads=${THREADS:-0}
 frame_steps=${FRAME_STEPS:-1000}
+frame_reps=${FRAME_REPS:-7}
+frame_threads=${FRAME_THREADS:-1 0}
 micro=0 frames_only=0
 [[ ${1:-} == --micro ]] && micro=1
 [[ ${1:-} == --frames ]] && frames_only=1
@@ -37,18 +42,8 @@ bin="$build_dir/bin"
 machine="$(lscpu | sed -n 's/^Model name: *//p' | head -1)"
 
 frames_comparison() {
-  for rep in $(seq 1 "$reps"); do
-    for integrator in euler rk4; do
-      for frames in off on; do
-        local extra=()
-        [[ $frames == on ]] && extra=(--frames "$results/frames-$integrator" --set frames.rate=60)
-        "$bin/clothlab" --config configs/bench-300.yaml --integrator "$integrator" --scenario flag \
-          --steps "$frame_steps" --threads "$threads" --quiet "${extra[@]}" \
-          --json "$results/runs/frames-$frames-flag-$integrator-$rep.json"
-      done
-    done
-  done
-  python3 bench/frames_table.py "$results" "$machine"
+  python3 bench/frames_bench.py --bin "$bin" --config configs/bench-300-soft.yaml --results "$results" \
+    --reps "$frame_reps" --steps "$frame_steps" --threads $frame_threads
 }
 if [[ $frames_only == 1 ]]; then
   frames_comparison

@@ -4,7 +4,7 @@
   plot.py work-precision results/work-precision.json --out plots/
       per scenario: error at T against wall time per simulated second, and against dt,
       log-log, one line per integrator (solid float64, dashed float32), the fitted order in
-      the legend where the fit is in the asymptotic range (r^2 >= 0.99).
+      the legend where the fit is in the asymptotic range (r^2 >= 0.99 over >= 4 points).
   plot.py stability results/stability.json [--matrix results/seed-2016-matrix.json] --out plots/
       per scenario and integrator: largest stable dt against mesh size, measured (bisection)
       and predicted (linearised system); with --matrix, each run of a run-mode sweep as a
@@ -42,6 +42,8 @@ plt.rcParams["legend.framealpha"] = 0.85
 # Frame steps a reader compares dt_max with: 60 and 30 frames per second.
 FRAME_STEPS = ((1 / 60, "60 Hz frame (16.7 ms)"), (1 / 30, "30 Hz frame (33.3 ms)"))
 ASYMPTOTIC_R_SQUARED = 0.99
+# Three points cannot tell a power law from a curve bending onto its round-off floor.
+ASYMPTOTIC_POINTS = 4
 
 FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
@@ -109,7 +111,10 @@ def this_machine():
 
 
 def values_of(rows, key):
-    return ", ".join(sorted({str(r.get(key)) for r in rows if r.get(key) not in (None, "")}))
+    values = {str(r.get(key)) for r in rows if r.get(key) not in (None, "")}
+    # Meshes by size (50x50, 100x100, 200x200), not as text (100x100 first).
+    order = (lambda mesh: (mesh_particles(mesh), mesh)) if key == "mesh" else None
+    return ", ".join(sorted(values, key=order))
 
 
 def caption(rows, cloth, machine):
@@ -125,6 +130,9 @@ def asymptotic_order(fit):
     if order is None or fit.get("fit_valid") is False:
         return None
     if r_squared is not None and r_squared < ASYMPTOTIC_R_SQUARED:
+        return None
+    points = number(fit.get("fit_points"))
+    if points is not None and points < ASYMPTOTIC_POINTS:
         return None
     return order
 
@@ -199,7 +207,8 @@ def plot_work_precision(args):
         for axis in (by_cost, by_dt):
             axis.set_ylabel("RMS position error / diagonal")
             axis.grid(True, which="both", alpha=0.3)
-            axis.legend(loc="best")
+            # Below the axes: with a dozen curves a legend inside hides some of them.
+            axis.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
         mine = [r for r in ladder if str(r.get("scenario")) == scenario]
         figure.suptitle(title + "\n" + caption(mine, args.cloth, args.machine), fontsize=10)
         written += save(figure, args.out, f"work-precision-{scenario}")
@@ -260,7 +269,9 @@ def plot_stability(args):
                     + caption(search + matrix, args.cloth + (f" / {args.matrix_cloth}"
                                                               if matrix else ""), args.machine),
                     fontsize=10)
-    figure.tight_layout()  # else each row's x label runs into the titles below it
+    # Else each row's x label runs into the titles below it; the top half inch stays for the
+    # two-line title, which tight_layout does not place.
+    figure.tight_layout(rect=(0, 0, 1, 1 - 0.5 / figure.get_figheight()))
     return save(figure, args.out, "stability-map")
 
 

@@ -32,6 +32,8 @@ void Cloth::velocities(std::vector<double>& out) const { impl_->engine->velociti
 void Cloth::set_state(const std::vector<double>& x, const std::vector<double>& v) {
   impl_->engine->set_state(x, v);
 }
+void Cloth::copy_raw_state(RawState& out) const { impl_->engine->copy_raw_state(out); }
+void Cloth::set_raw_state(const RawState& state) { impl_->engine->set_raw_state(state); }
 bool Cloth::state_is_finite() const { return impl_->engine->state_is_finite(); }
 Cloth::Energy Cloth::energy() const { return impl_->engine->energy(); }
 Cloth::Stretch Cloth::stretch(Springs springs) const { return impl_->engine->stretch(springs); }

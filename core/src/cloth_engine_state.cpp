@@ -2,6 +2,7 @@
 // finiteness, energy and stretch. None of this runs inside a step.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -52,6 +53,27 @@ void ClothEngine<Real>::set_state(const std::vector<double>& x, const std::vecto
       v_[k * stride_ + i] = static_cast<Real>(v[3 * i + k]);
     }
   }
+}
+
+template <class Real>
+void ClothEngine<Real>::copy_raw_state(Cloth::RawState& out) const {
+  const std::size_t bytes = x_.size() * sizeof(Real);
+  out.x.resize(bytes);
+  out.v.resize(bytes);
+  std::memcpy(out.x.data(), x_.data(), bytes);
+  std::memcpy(out.v.data(), v_.data(), bytes);
+}
+
+template <class Real>
+void ClothEngine<Real>::set_raw_state(const Cloth::RawState& state) {
+  const std::size_t bytes = x_.size() * sizeof(Real);
+  if (state.x.size() != bytes || state.v.size() != bytes) {
+    throw std::invalid_argument("set_raw_state: got " + std::to_string(state.x.size()) + " and " +
+                                std::to_string(state.v.size()) + " bytes, expected " +
+                                std::to_string(bytes) + " each (a state of another cloth)");
+  }
+  std::memcpy(x_.data(), state.x.data(), bytes);
+  std::memcpy(v_.data(), state.v.data(), bytes);
 }
 
 template <class Real>

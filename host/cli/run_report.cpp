@@ -93,6 +93,7 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["steps_requested"] = record.steps_requested;
   json["sim_time_s"] = figures.sim_time_s;
   json["wall_time_s"] = figures.wall_time_s;
+  json["loop_time_s"] = record.loop_total_s;
   json["ms_per_step"] = {
       {"median", figures.ms_median}, {"p10", figures.ms_p10}, {"p90", figures.ms_p90}};
   json["phase_ms"] = {{"internal_forces", figures.internal_ms},

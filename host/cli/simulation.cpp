@@ -216,6 +216,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   if (hooks.trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
   cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
+  const auto loop_start = std::chrono::steady_clock::now();
   if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
   for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
     if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
@@ -269,6 +270,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
           std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
     if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
+  record.loop_total_s = seconds_since(loop_start);
   const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
   record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);

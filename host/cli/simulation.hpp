@@ -53,6 +53,9 @@ struct RunRecord {
   std::vector<double> step_s, internal_forces_s, external_forces_s;
   uint64_t timing_stride = 1;  // the kept samples are steps 1, 1 + stride, 1 + 2 stride, ...
   double step_total_s = 0;
+  // The whole step loop: steps, stability checks and observers (--frames: the state copies
+  // and any wait for the writer), which step_total_s leaves out.
+  double loop_total_s = 0;
   bool stable = true;
   bool interrupted = false;  // stopped early on request (SIGINT), not by a failed check
   std::string verdict;

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/io/atomic_file.hpp>
+#include <clothlab/process/program.hpp>
 #include <clothlab/sweep/progress.hpp>
 #include <clothlab/sweep/results_store.hpp>
 #include <clothlab/sweep/shard.hpp>
@@ -17,11 +18,13 @@
 #include <stdexcept>
 #include <thread>
 
-#include "external_program.hpp"
-
 namespace clothlab::cli {
 
 namespace {
+
+using process::find_on_path;
+using process::ProgramOutput;
+using process::run_program;
 
 std::filesystem::path slurm_program(const std::string& name) {
   const auto found = find_on_path(name);

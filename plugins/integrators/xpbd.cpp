@@ -4,17 +4,19 @@
 // simulation").
 //
 // Per substep of length h = dt / substeps:
-//   predict    v += h a_ext(x),  dx = h v,  x += dx            (gravity, wind: the host's
+//   predict    dx = h (v + h a_ext(x))                        (gravity, wind: the host's
 //                                                             external-forces extension)
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
 //              in parallel: no two share a particle, so every thread count gives the same bits
-//   velocity   v = dx / h
-// The substep's displacement dx is kept beside x and moved with every correction, so v never
-// comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us) is
-// below the rounding of x itself and would be lost, and the cloth would not start to fall.
+//   velocity   v = dx / h,  x += dx
+// x stays at the substep's start while the projections move only dx, the substep's
+// displacement; the springs see the positions x + dx as (x_i - x_j) + (dx_i - dx_j). So v
+// never comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us)
+// is below the rounding of x itself and would be lost, and the cloth would not start to fall.
 //
-// One spring k joining i and j, C = |x_i - x_j| - rest, n = (x_i - x_j) / |x_i - x_j|:
+// One spring k joining i and j at positions p = x + dx, C = |p_i - p_j| - rest,
+// n = (p_i - p_j) / |p_i - p_j|:
 // compliance alpha = 1 / ks and Rayleigh damping beta = kd (the spring's damping force
 // -kd (n . (v_i - v_j)) n is -beta grad C dC/dt), so with alpha~ = alpha / h^2,
 // beta~ = h^2 beta and gamma = alpha~ beta~ / h = alpha beta / h the paper's eq. 26 reads
@@ -22,10 +24,19 @@
 // with dx the substep's displacement. Multiplied through by ks h^2 it needs no division by ks (a
 // spring with ks = 0 is a pure damper) and its denominator is >= 1:
 //   dlambda = (-ks h^2 C - lambda - kd h n.(dx_i - dx_j)) / ((ks h^2 + kd h)(w_i + w_j) + 1)
-//   x_i += w_i dlambda n,  x_j -= w_j dlambda n.
+//   dx_i += w_i dlambda n,  dx_j -= w_j dlambda n.
 // lambda accumulates over the iterations of a substep and is reset once per substep, never
 // per iteration: resetting it per iteration would make the stiffness grow with the iteration
 // count (the peer bug newton#2933).
+//
+// On the Provot grid (xpbd_grid.hpp) a substep runs as one wavefront down the rows instead
+// of one pass over the cloth per colour: the phases (predict, each iteration's colours,
+// velocity) visit row T - lag(phase) at wavefront time T, the lags growing by each
+// colour's row reach (0, 1 or 2 rows), so every spring sees its ends exactly as the
+// colour-by-colour order leaves them while the rows in flight stay in cache. With several
+// threads each takes a contiguous run of phases and waits only for its predecessor to
+// finish the same wavefront time (published every few rows): a pipeline, no barrier per
+// colour, and the same operations on the same values as on one thread.
 //
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
@@ -35,12 +46,22 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <clothlab/sdk.hpp>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "scratch_vectors.hpp"
+#include "xpbd_grid.hpp"
+#include "xpbd_row_kernel.hpp"
 
 namespace clothlab::builtin {
 namespace {
@@ -57,12 +78,42 @@ struct Constraint {
   Real first_weight, second_weight;  // inverse masses; 0 for a pinned end
 };
 
-// The constraints of one precision and their multipliers (lambda, one per constraint).
+// The constraints of one precision and their multipliers: one lambda per constraint, or on
+// the grid n per colour (from the row's first particle on, see ColorRow), kept only when
+// a substep runs more than one iteration.
 template <class Real>
 struct Constraints {
   std::vector<Constraint<Real>> springs;
   std::vector<Real> lambda;
 };
+
+// One stage of a substep on the grid, applied row by row.
+struct Phase {
+  enum class Kind : uint8_t { predict, project, velocity };
+  Kind kind;
+  uint32_t color;      // project: the grid layout's colour
+  uint32_t iteration;  // project
+  uint32_t lag;        // wavefront times before its row 0
+  uint64_t cost;       // work units, for splitting the phases between threads
+};
+
+// A thread's wavefront time, on its own cache line: its successor spins on it.
+struct alignas(64) Progress {
+  std::atomic<uint32_t> completed{0};
+};
+
+inline void wait_until(const Progress& progress, uint32_t time) {
+  for (int spins = 0; progress.completed.load(std::memory_order_acquire) < time; ++spins) {
+    // The machine may be shared: after a short spin, give the core to the thread waited on.
+    if (spins < 64) {
+#if defined(__x86_64__)
+      __builtin_ia32_pause();
+#endif
+    } else {
+      std::this_thread::yield();
+    }
+  }
+}
 
 }  // namespace
 
@@ -100,10 +151,19 @@ struct Xpbd {
     (void)system.external_forces();  // fails here, not in step, when the host lacks it
     scratch_.allocate(system);
     Constraints<Real>& constraints = constraints_for<Real>();
-    build_constraints(system, topology, constraints.springs);
-    constraints.lambda.assign(constraints.springs.size(), 0);
+    grid_ = recognise_grid(topology);
+    if (grid_) {
+      constraints.springs.clear();
+      constraints.lambda.assign(
+          iterations_ > 1 ? grid_->colors.size() * system.particle_count() : 0, 0);
+      build_phases();
+    } else {
+      build_constraints(system, topology, constraints.springs);
+      constraints.lambda.assign(constraints.springs.size(), 0);
+    }
     const int threads = requested_threads_ == 0 ? omp_get_max_threads() : requested_threads_;
     threads_ = topology.spring_count() >= parallel_from_springs ? std::max(threads, 1) : 1;
+    progress_ = std::make_unique<Progress[]>(static_cast<std::size_t>(threads_));
     // The first parallel region builds the thread team (allocates): here, not in step.
     if (threads_ > 1) {
 #pragma omp parallel num_threads(threads_)
@@ -128,6 +188,20 @@ struct Xpbd {
   }
 
  private:
+  template <class Real>
+  struct Substep {
+    const Constraint<Real>* constraints;
+    Real* lambda;
+    const Real* inverse_mass;
+    const Real* external_acceleration;
+    Real* displacement;  // x's change in this substep, exact where x's rounding is not
+    Real* x;
+    Real* v;
+    uint32_t particle_count;
+    std::size_t stride;
+    Real h, h_squared, inverse_h;
+  };
+
   template <class Real>
   Constraints<Real>& constraints_for() {
     if constexpr (sizeof(Real) == 4)
@@ -163,8 +237,9 @@ struct Xpbd {
   template <class Real>
   bool advance_substep(sdk::System<Real>& system, double h, const Real* external_acceleration,
                        Real* displacement) {
-    const Substep<Real> substep{constraints_for<Real>().springs.data(),
-                                constraints_for<Real>().lambda.data(),
+    Constraints<Real>& constraints = constraints_for<Real>();
+    const Substep<Real> substep{constraints.springs.data(),
+                                constraints.lambda.empty() ? nullptr : constraints.lambda.data(),
                                 system.inverse_mass(),
                                 external_acceleration,
                                 displacement,
@@ -175,6 +250,15 @@ struct Xpbd {
                                 static_cast<Real>(h),
                                 static_cast<Real>(h * h),
                                 static_cast<Real>(1.0 / h)};
+    if (grid_) {
+      if (threads_ == 1) return grid_sweep(substep, 0, 1);
+      for (int thread = 0; thread < threads_; ++thread)
+        progress_[thread].completed.store(0, std::memory_order_relaxed);
+      bool finite = true;
+#pragma omp parallel num_threads(threads_) reduction(&& : finite)
+      finite = grid_sweep(substep, omp_get_thread_num(), omp_get_num_threads());
+      return finite;
+    }
     if (threads_ == 1) return sweep(substep);
     bool finite = true;
 #pragma omp parallel num_threads(threads_) reduction(&& : finite)
@@ -182,19 +266,137 @@ struct Xpbd {
     return finite;
   }
 
+  // The phases of a substep in Gauss-Seidel order and their lags: a phase may visit a row
+  // once every earlier phase is done with all rows its springs reach (its row step below),
+  // and a later phase reaches no row it has yet to visit.
+  void build_phases() {
+    const GridLayout& grid = *grid_;
+    phases_.clear();
+    const uint64_t row_of_particles = grid.cols;
+    phases_.push_back({Phase::Kind::predict, 0, 0, 0, grid.rows * row_of_particles / 3});
+    uint32_t lag = 0;
+    for (uint32_t iteration = 0; iteration < static_cast<uint32_t>(iterations_); ++iteration)
+      for (uint32_t c = 0; c < grid.colors.size(); ++c) {
+        const GridColor& color = grid.colors[c];
+        lag += color.step().row_step;
+        uint64_t rows = 0;
+        for (uint32_t r = 0; r < grid.rows; ++r) rows += color.starts_in_row(r);
+        phases_.push_back(
+            {Phase::Kind::project, c, iteration, lag, rows * (color.col_end - color.col_begin)});
+      }
+    phases_.push_back({Phase::Kind::velocity, 0, 0, lag, grid.rows * row_of_particles / 3});
+    wavefront_length_ = grid.rows + lag;
+    // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
+    // can cost a context switch on a loaded machine, one per narrow row would dominate.
+    publish_every_ = std::max<uint32_t>(1, 2048 / grid.cols);
+  }
+
+  // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
+  std::pair<std::size_t, std::size_t> phases_of(int thread, int threads) const {
+    uint64_t total = 0;
+    for (const Phase& phase : phases_) total += phase.cost;
+    std::size_t begin = phases_.size(), end = 0;
+    uint64_t before = 0;
+    for (std::size_t q = 0; q < phases_.size(); ++q) {
+      const uint64_t middle = 2 * before + phases_[q].cost;  // twice the phase's midpoint
+      const auto owner = static_cast<int>(
+          std::min<uint64_t>(static_cast<uint64_t>(threads - 1),
+                             middle * static_cast<uint64_t>(threads) / (2 * total)));
+      if (owner == thread) begin = std::min(begin, q), end = q + 1;
+      before += phases_[q].cost;
+    }
+    return {std::min(begin, end), end};
+  }
+
+  // This thread's phases over the whole wavefront; returns its share of "every velocity is
+  // finite".
   template <class Real>
-  struct Substep {
-    const Constraint<Real>* constraints;
-    Real* lambda;
-    const Real* inverse_mass;
-    const Real* external_acceleration;
-    Real* displacement;  // x's change in this substep, exact where x's rounding is not
-    Real* x;
-    Real* v;
-    uint32_t particle_count;
-    std::size_t stride;
-    Real h, h_squared, inverse_h;
-  };
+  bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
+    auto [begin, end] = phases_of(thread, threads);
+    bool finite = true;
+    for (uint32_t time = 0; time < wavefront_length_; ++time) {
+      if (thread > 0) wait_until(progress_[thread - 1], time + 1);
+      for (std::size_t q = begin; q < end; ++q) {
+        const Phase& phase = phases_[q];
+        if (time < phase.lag) break;  // lags ascend: the later phases start later still
+        const uint32_t row = time - phase.lag;
+        if (row < grid_->rows)
+          run_phase(phase, row, s, finite);
+        else if (q == begin)
+          ++begin;  // past its last row, as every earlier one: not visited again
+      }
+      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == wavefront_length_;
+      if (thread + 1 < threads && publish)
+        progress_[thread].completed.store(time + 1, std::memory_order_release);
+    }
+    return finite;
+  }
+
+  // One component of one row: dx = h (v + h a) (pinned: dx = 0). The predicted velocity
+  // itself is not stored: the velocity phase overwrites every free particle's v.
+  template <class Real>
+  static void predict_row(const Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
+                          const Real* __restrict inverse_mass, std::size_t count, Real h) {
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i)
+      dx[i] = inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
+  }
+
+  // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
+  // bits); false if a velocity is not finite (all exponent bits set): an integer OR
+  // vectorises where a flag or a sum would not.
+  template <class Real>
+  static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
+                           const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
+    using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
+    constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
+    Bits non_finite = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool free = inverse_mass[i] != 0;
+      const Real speed = free ? dx[i] * inverse_h : v[i];
+      x[i] = free ? x[i] + dx[i] : x[i];
+      v[i] = speed;
+      non_finite |= free && (std::bit_cast<Bits>(speed) & exponent) == exponent;
+    }
+    return non_finite == 0;
+  }
+
+  template <class Real>
+  void run_phase(const Phase& phase, uint32_t row, const Substep<Real>& s, bool& finite) const {
+    const std::size_t row_begin = std::size_t{row} * grid_->cols;
+    switch (phase.kind) {
+      case Phase::Kind::predict:
+        for (std::size_t c = 0; c < 3; ++c)
+          predict_row(s.v + c * s.stride + row_begin, s.displacement + c * s.stride + row_begin,
+                      s.external_acceleration + c * s.stride + row_begin,
+                      s.inverse_mass + row_begin, grid_->cols, s.h);
+        return;
+      case Phase::Kind::velocity: {
+        bool bad = false;
+        for (std::size_t c = 0; c < 3; ++c)
+          bad |= !velocity_row(s.x + c * s.stride + row_begin, s.v + c * s.stride + row_begin,
+                               s.displacement + c * s.stride + row_begin,
+                               s.inverse_mass + row_begin, grid_->cols, s.inverse_h);
+        finite = finite && !bad;
+        return;
+      }
+      case Phase::Kind::project: {
+        const GridColor& color = grid_->colors[phase.color];
+        if (!color.starts_in_row(row)) return;
+        const GridStencil& step = color.step();
+        project_row(ColorRow<Real>{
+            s.x, s.displacement, s.inverse_mass,
+            s.lambda == nullptr ? nullptr : s.lambda + std::size_t{phase.color} * s.particle_count,
+            s.stride, row_begin + color.col_begin, color.col_end - color.col_begin,
+            static_cast<std::size_t>(int64_t{step.row_step} * grid_->cols + step.col_step),
+            color.in_row(), step.col_step == 2 ? 1u : 0u, color.parity,
+            static_cast<Real>(color.rest), static_cast<Real>(color.ks) * s.h_squared,
+            static_cast<Real>(color.kd) * s.h, phase.iteration == 0,
+            phase.iteration + 1 < static_cast<uint32_t>(iterations_)});
+        return;
+      }
+    }
+  }
 
   // Predict, project colour by colour, update velocities. Returns this thread's share of
   // "every velocity is finite".
@@ -207,9 +409,7 @@ struct Xpbd {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
         s.displacement[e] = 0;  // pinned too: their dx must be 0
         if (s.inverse_mass[i] == 0) continue;
-        s.v[e] += s.h * s.external_acceleration[e];
-        s.displacement[e] = s.h * s.v[e];
-        s.x[e] += s.displacement[e];
+        s.displacement[e] = s.h * (s.v[e] + s.h * s.external_acceleration[e]);
       }
     for (int iteration = 0; iteration < iterations_; ++iteration)
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
@@ -225,6 +425,7 @@ struct Xpbd {
       if (s.inverse_mass[i] == 0) continue;
       for (std::size_t c = 0; c < 3; ++c) {
         const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+        s.x[e] += s.displacement[e];
         s.v[e] = s.displacement[e] * s.inverse_h;
         finite = finite && std::isfinite(s.v[e]);
       }
@@ -234,13 +435,13 @@ struct Xpbd {
 
   template <class Real>
   // lambda is reset at the substep's first iteration (`fresh`), then accumulates.
-  static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, Real* x,
+  static void project(const Constraint<Real>& spring, Real& lambda, bool fresh, const Real* x,
                       Real* displacement, std::size_t stride, Real h, Real h_squared) {
     std::array<Real, 3> d, moved;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
-      d[c] = x[i] - x[j];
       moved[c] = displacement[i] - displacement[j];
+      d[c] = (x[i] - x[j]) + moved[c];
     }
     const Real accumulated = fresh ? Real(0) : lambda;
     lambda = accumulated;
@@ -257,11 +458,9 @@ struct Xpbd {
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t i = c * stride + spring.first, j = c * stride + spring.second;
       if (spring.first_weight != 0) {
-        x[i] += push_first * d[c];
         displacement[i] += push_first * d[c];
       }
       if (spring.second_weight != 0) {
-        x[j] -= push_second * d[c];
         displacement[j] -= push_second * d[c];
       }
     }
@@ -275,6 +474,11 @@ struct Xpbd {
   Constraints<double> constraints_f64_;
   std::vector<uint32_t> color_offsets_;  // constraints of colour c: [offsets[c], offsets[c + 1])
   ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
+  std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
+  std::vector<Phase> phases_;
+  uint32_t wavefront_length_ = 0;
+  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
+  std::unique_ptr<Progress[]> progress_;  // one per thread
 };
 
 }  // namespace clothlab::builtin

@@ -221,7 +221,9 @@ TEST(ConformanceRun, TheHostLoaderRefusesAnotherMajor) {
 class SoundPlugin : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SoundPlugin, PassesEveryCheck) {
-  const RunnerOutput run = run_conformance(GetParam());
+  // The per-check deadline detects hangs (tested above with 1 s); here the cores are shared
+  // with ctest -j2 and maybe sanitizers, and a sound plugin must not fail on the clock.
+  const RunnerOutput run = run_conformance("--timeout 90 " + GetParam());
   EXPECT_EQ(run.exit_code, 0) << run.output;
   ASSERT_FALSE(run.report.is_null()) << run.output;
   EXPECT_EQ(run.report["failed"], 0) << run.output;

@@ -16,6 +16,7 @@
 #include <string>
 #include <string_view>
 
+#include "../support/read_text.hpp"
 #include "../support/sanitizer.hpp"
 
 namespace {
@@ -27,12 +28,7 @@ struct Outcome {
   std::string out, err;
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 nlohmann::json read_json(const fs::path& path) { return nlohmann::json::parse(read_text(path)); }
 

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/read_text.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,7 @@ struct Outcome {
   std::string out, err;
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 // A fresh folder per test for outputs, removed afterwards.
 class Clothlab : public testing::Test {
@@ -90,6 +87,7 @@ TEST_F(Clothlab, JsonSummaryHasEveryKey) {
                           "steps",
                           "sim_time_s",
                           "wall_time_s",
+                          "loop_time_s",
                           "ms_per_step",
                           "phase_ms",
                           "springs",
@@ -116,6 +114,9 @@ TEST_F(Clothlab, JsonSummaryHasEveryKey) {
   EXPECT_EQ(json["cols"], 5);
   EXPECT_EQ(json["steps"], 20);
   EXPECT_DOUBLE_EQ(json["sim_time_s"].get<double>(), 0.02);
+  // The loop holds the steps and more (the checks between them).
+  EXPECT_GE(json["loop_time_s"].get<double>(), json["wall_time_s"].get<double>());
+  EXPECT_GT(json["wall_time_s"].get<double>(), 0.0);
   // Seed eq. 2.2 for 4 x 5: structural 4*4 + 3*5 = 31, shear 2*3*4 = 24, flexion 4*3 + 2*5 = 22.
   EXPECT_EQ(json["springs"], 77);
   EXPECT_EQ(json["force_evals"], 80);  // 4 per RK4 step

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/read_text.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,7 @@ using clothlab::io::remove_stale_temporaries;
 using clothlab::io::write_file_atomically;
 using clothlab::io::WriteError;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 class AtomicFile : public testing::Test {
  protected:
@@ -69,6 +66,21 @@ TEST_F(AtomicFile, WritesTheWholeFileAndLeavesNoTemporary) {
   write_file_atomically(folder_ / "out.json", [](std::ostream& out) { out << "{\"a\": 1}\n"; });
   EXPECT_EQ(read_text(folder_ / "out.json"), "{\"a\": 1}\n");
   EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
+}
+
+// Without fsync (frames) the same guarantees hold for readers and a killed writer: a whole
+// new file, no temporary, and a target that is not a regular file refused.
+TEST_F(AtomicFile, RenamedWritesAreWholeAndRefuseWhatSyncedWritesRefuse) {
+  using clothlab::io::Durability;
+  write_file_atomically(folder_ / "frame.vtp", std::string_view("old"), Durability::Renamed);
+  write_file_atomically(
+      folder_ / "frame.vtp", [](std::ostream& out) { out << "new frame"; }, Durability::Renamed);
+  EXPECT_EQ(read_text(folder_ / "frame.vtp"), "new frame");
+  EXPECT_EQ(names(), std::vector<std::string>{"frame.vtp"});
+  fs::create_directory(folder_ / "folder.vtp");
+  EXPECT_THROW(
+      write_file_atomically(folder_ / "folder.vtp", std::string_view("x"), Durability::Renamed),
+      WriteError);
 }
 
 // The old writers used <name>.tmp-<pid> and .<name>.tmp.<pid> with O_TRUNC: a symlink planted

@@ -91,6 +91,30 @@ TEST(VtkCollection, ListsTheFramesWithTheirTimes) {
   fs::remove(path);
 }
 
+// Times are read by the host's number parser: "1,5" and "0x10" are errors naming the file,
+// not 1 and 16 (what std::stod makes of them).
+TEST(VtkCollection, ATimeThatIsNotANumberIsAnErrorNamingTheFile) {
+  const fs::path path = fs::path(testing::TempDir()) / "frame_formats_bad_time.pvd";
+  for (const char* time : {"1,5", "0x10", "inf", ""}) {
+    {
+      std::ofstream out(path);
+      out << "<VTKFile type=\"Collection\"><Collection>\n"
+          << "<DataSet timestep=\"" << time << "\" file=\"frame_000000.vtp\"/>\n"
+          << "</Collection></VTKFile>\n";
+    }
+    try {
+      read_pvd(path);
+      ADD_FAILURE() << "timestep \"" << time << "\" was accepted";
+    } catch (const std::runtime_error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+      EXPECT_NE(message.find("is not a number: \"" + std::string(time) + "\""), std::string::npos)
+          << message;
+    }
+  }
+  fs::remove(path);
+}
+
 TEST(PointCache, HeaderFollowsThePc2Layout) {
   std::ostringstream out;
   write_pc2_header(out, 2500, 7);

@@ -32,7 +32,8 @@ def work_precision_rows():
             rows.append({"key": f"fit{integrator}{precision}", "kind": "fit", "scenario": "sheet",
                          "integrator": integrator, "mesh": "20x20", "precision": precision,
                          "order": float(order), "fit_valid": True,
-                         "r_squared": 0.5 if integrator == "euler" else 0.9999})
+                         "r_squared": 0.5 if integrator == "euler" else 0.9999,
+                         "fit_points": 3 if precision == "float32" else 5})
     return rows
 
 
@@ -79,6 +80,8 @@ class PlotTest(unittest.TestCase):
         self.assertIn("rk4 float64 (order 4.00)", svg)
         self.assertIn("euler float64", svg)
         self.assertNotIn("euler float64 (order", svg)  # r^2 0.5: not asymptotic
+        self.assertIn("rk4 float32", svg)
+        self.assertNotIn("rk4 float32 (order", svg)  # a fit over 3 points only
         for fact in ("mesh 20x20", "cloth: test cloth", "precision float32, float64",
                      "machine: test machine"):
             self.assertIn(fact, svg)
@@ -109,6 +112,7 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(svg.count(">60 Hz frame (16.7 ms)<"), 4)  # in every panel's legend
         self.assertEqual(svg.count(">30 Hz frame (33.3 ms)<"), 4)
         self.assertIn("machine: test machine", svg)
+        self.assertIn("mesh 50x50, 100x100, 200x200;", svg)  # by size, not as text
 
     def test_cost_vs_mesh(self):
         rows = [{"key": f"{integrator}{n}", "integrator": integrator, "scenario": "sheet",

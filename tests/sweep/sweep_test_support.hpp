@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/read_text.hpp"
+
 namespace clothlab::sweep::testing {
 
 class ScratchFolder {
@@ -27,11 +29,6 @@ class ScratchFolder {
   std::filesystem::path path_;
 };
 
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream stream(path);
-  std::stringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using clothlab::testing::read_text;
 
 }  // namespace clothlab::sweep::testing

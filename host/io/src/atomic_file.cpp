@@ -119,7 +119,7 @@ void check_output_path(const fs::path& path) {
   existing_mode(path);
 }
 
-void write_file_atomically(const fs::path& path, std::string_view bytes) {
+void write_file_atomically(const fs::path& path, std::string_view bytes, Durability durability) {
   const std::optional<mode_t> mode = existing_mode(path);
   remove_stale_temporaries(path);
   fs::path temporary;
@@ -131,7 +131,7 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
   };
   if (mode && ::fchmod(fd, *mode) != 0) abandon(std::strerror(errno));
   if (!write_all(fd, bytes)) abandon(std::strerror(errno));
-  if (::fsync(fd) != 0) abandon(std::strerror(errno));
+  if (durability == Durability::Synced && ::fsync(fd) != 0) abandon(std::strerror(errno));
   if (::close(fd) != 0) {
     const int close_error = errno;
     ::unlink(temporary.c_str());
@@ -142,14 +142,15 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
     ::unlink(temporary.c_str());
     fail(path, std::strerror(rename_error));
   }
-  sync_folder(folder_of(path));
+  if (durability == Durability::Synced) sync_folder(folder_of(path));
 }
 
-void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write,
+                           Durability durability) {
   std::ostringstream text;
   write(text);
   if (!text) fail(path, "formatting the contents failed");
-  write_file_atomically(path, text.view());
+  write_file_atomically(path, text.view(), durability);
 }
 
 }  // namespace clothlab::io

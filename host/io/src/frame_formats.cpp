@@ -1,9 +1,11 @@
 #include <charconv>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/io/frame_formats.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -49,6 +51,16 @@ class AppendedArrays {
   uint64_t offset_ = 0;
 };
 
+// A number the file holds, read by the host's one number parser (host::parse_real).
+double number_in(std::string_view text, const std::string& what,
+                 const std::filesystem::path& path) {
+  const std::optional<double> value = host::parse_real(text);
+  if (!value)
+    throw std::runtime_error(path.string() + ": " + what + " is not a number: \"" +
+                             std::string(text) + "\"");
+  return *value;
+}
+
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw std::runtime_error(path.string() + ": cannot open");
@@ -83,7 +95,14 @@ std::vector<T> appended_values(const std::string& text, const std::string& name,
   const size_t base = section == std::string::npos ? section : text.find('_', section);
   if (offset_at == std::string::npos || offset_at > tag_end || base == std::string::npos)
     throw std::runtime_error(path.string() + ": DataArray " + name + " is not raw appended data");
-  const size_t begin = base + 1 + std::stoull(text.substr(offset_at + 8));
+  const size_t offset_end = text.find('"', offset_at + 8);
+  const double offset =
+      number_in(std::string_view(text).substr(offset_at + 8, offset_end - (offset_at + 8)),
+                "the offset of DataArray " + name, path);
+  if (offset < 0 || offset != std::floor(offset) || offset > static_cast<double>(text.size()))
+    throw std::runtime_error(path.string() + ": DataArray " + name + " has offset " +
+                             host::format_number(offset) + ", not a byte offset in the file");
+  const size_t begin = base + 1 + static_cast<size_t>(offset);
   uint32_t bytes = 0;
   if (begin + sizeof bytes > text.size())
     throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
@@ -97,12 +116,7 @@ std::vector<T> appended_values(const std::string& text, const std::string& name,
 
 double ascii_value(const std::string& text, const std::string& name,
                    const std::filesystem::path& path) {
-  const std::string body(array_body(text, name, path));
-  try {
-    return std::stod(body);
-  } catch (const std::exception&) {
-    throw std::runtime_error(path.string() + ": DataArray " + name + " is not a number");
-  }
+  return number_in(array_body(text, name, path), "DataArray " + name, path);
 }
 
 }  // namespace
@@ -184,7 +198,8 @@ std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path) {
     if (!std::regex_search(element, time_match, timestep) ||
         !std::regex_search(element, file_match, file))
       throw std::runtime_error(path.string() + ": DataSet without timestep or file: " + element);
-    entries.push_back({std::stod(time_match[1].str()), file_match[1].str()});
+    entries.push_back(
+        {number_in(time_match[1].str(), "the timestep of " + element, path), file_match[1].str()});
   }
   return entries;
 }

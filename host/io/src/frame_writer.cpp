@@ -1,12 +1,12 @@
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/io/atomic_file.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <clothlab/io/frame_writer.hpp>
 #include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -19,12 +19,16 @@ namespace clothlab::io {
 
 namespace {
 
-// The state as the stepping thread copied it.
+// The state as the stepping thread copied it: raw bytes, decoded on the writer thread.
 struct Snapshot {
   uint64_t step = 0;
   double time = 0;
-  std::vector<double> x, v;
+  Cloth::RawState state;
 };
+
+// Frames the stepping thread may be ahead of the writer before it waits: enough to ride out
+// a slow write (a disk flush) without holding more than a few frames' state.
+constexpr std::size_t ring_slots = 4;
 
 std::string frame_name(uint64_t index, const char* extension) {
   char name[64];
@@ -38,6 +42,10 @@ bool has(const std::vector<std::string>& formats, const char* format) {
 }
 
 constexpr const char* pc2_staging_name = ".frames.pc2.partial";
+
+// Frames many times a second: atomic renames without fsync (a run that stops, however it
+// stops, leaves whole files); run.json and the point cache, written once or twice, are synced.
+constexpr Durability frame_durability = Durability::Renamed;
 
 // The files an earlier run left in the folder, so the folder shows one run.
 void remove_earlier_frames(const fs::path& dir) {
@@ -60,9 +68,10 @@ struct FrameWriter::Impl {
   Cloth energy_cloth;
   bool vtp = false, obj = false, pc2 = false;
 
-  std::array<Snapshot, 2> buffers;
-  std::vector<int> free_buffers{0, 1};
-  std::deque<int> queued;
+  // Snapshot k lives in ring[k % ring_slots]; the stepping thread fills slot `submitted`
+  // while fewer than ring_slots are unwritten, the writer empties slot `consumed`.
+  std::array<Snapshot, ring_slots> ring;
+  uint64_t submitted = 0, consumed = 0;
   bool closing = false;
   std::exception_ptr failure;
   mutable std::mutex mutex;
@@ -74,6 +83,8 @@ struct FrameWriter::Impl {
   uint64_t frames = 0;
   std::vector<CollectionEntry> index;
   std::ofstream pc2_staging;
+  std::vector<double> decoded;
+  double writing_s = 0;  // time spent writing frames, for run.json
   Frame frame;
   std::thread thread;
 
@@ -97,23 +108,28 @@ struct FrameWriter::Impl {
     frame.index = frames;
     frame.step = snapshot.step;
     frame.time = snapshot.time;
-    frame.positions.assign(snapshot.x.begin(), snapshot.x.end());
-    frame.velocities.assign(snapshot.v.begin(), snapshot.v.end());
+    energy_cloth.set_raw_state(snapshot.state);
+    energy_cloth.positions(decoded);
+    frame.positions.assign(decoded.begin(), decoded.end());
+    energy_cloth.velocities(decoded);
+    frame.velocities.assign(decoded.begin(), decoded.end());
     compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
-    energy_cloth.set_state(snapshot.x, snapshot.v);
     const Cloth::Energy energy = energy_cloth.energy();
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
-      io::write_file_atomically(options.dir / name,
-                                [&](std::ostream& out) { write_vtp(out, topology, frame); });
+      io::write_file_atomically(
+          options.dir / name, [&](std::ostream& out) { write_vtp(out, topology, frame); },
+          frame_durability);
       index.push_back({frame.time, name});
-      io::write_file_atomically(options.dir / "frames.pvd",
-                                [&](std::ostream& out) { write_pvd(out, index); });
+      io::write_file_atomically(
+          options.dir / "frames.pvd", [&](std::ostream& out) { write_pvd(out, index); },
+          frame_durability);
     }
     if (obj)
-      io::write_file_atomically(options.dir / frame_name(frames, "obj"),
-                                [&](std::ostream& out) { write_obj(out, mesh, frame); });
+      io::write_file_atomically(
+          options.dir / frame_name(frames, "obj"),
+          [&](std::ostream& out) { write_obj(out, mesh, frame); }, frame_durability);
     if (pc2) {
       pc2_staging.write(reinterpret_cast<const char*>(frame.positions.data()),
                         static_cast<std::streamsize>(frame.positions.size() * sizeof(float)));
@@ -125,29 +141,30 @@ struct FrameWriter::Impl {
 
   void write_loop() {
     for (;;) {
-      int buffer = -1;
+      uint64_t slot = 0;
+      bool failed = false;
       {
         std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return !queued.empty() || closing; });
-        if (queued.empty()) return;
-        buffer = queued.front();
-        queued.pop_front();
-      }
-      bool failed;
-      {
-        std::lock_guard lock(mutex);
+        changed.wait(lock, [&] { return consumed < submitted || closing; });
+        if (consumed == submitted) return;
+        slot = consumed % ring_slots;
         failed = failure != nullptr;
       }
       if (!failed) {
         try {
-          write(buffers[buffer]);
+          const auto start = std::chrono::steady_clock::now();
+          write(ring[slot]);
+          writing_s +=
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         } catch (...) {
           std::lock_guard lock(mutex);
           failure = std::current_exception();
         }
       }
-      std::lock_guard lock(mutex);
-      free_buffers.push_back(buffer);
+      {
+        std::lock_guard lock(mutex);
+        ++consumed;
+      }
       changed.notify_all();
     }
   }
@@ -202,10 +219,8 @@ FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOpt
     if (!impl.pc2_staging)
       throw host::InputError("cannot write " + (impl.options.dir / pc2_staging_name).string());
   }
-  for (Snapshot& buffer : impl.buffers) {
-    buffer.x.reserve(3 * impl.mesh.vertex_count());
-    buffer.v.reserve(3 * impl.mesh.vertex_count());
-  }
+  // Sized now, so a submit copies into memory it already has.
+  for (Snapshot& slot : impl.ring) impl.energy_cloth.copy_raw_state(slot.state);
   impl.thread = std::thread([&impl] { impl.write_loop(); });
 }
 
@@ -228,22 +243,22 @@ bool FrameWriter::is_frame_step(uint64_t step) const {
 
 void FrameWriter::submit(const Cloth& cloth, uint64_t step, double t) {
   Impl& impl = *impl_;
-  int buffer = -1;
+  uint64_t slot = 0;
   {
     std::unique_lock lock(impl.mutex);
-    impl.changed.wait(lock, [&] { return !impl.free_buffers.empty() || impl.failure; });
+    impl.changed.wait(lock,
+                      [&] { return impl.submitted - impl.consumed < ring_slots || impl.failure; });
     if (impl.failure) std::rethrow_exception(impl.failure);
-    buffer = impl.free_buffers.back();
-    impl.free_buffers.pop_back();
+    slot = impl.submitted % ring_slots;
   }
-  Snapshot& snapshot = impl.buffers[buffer];
+  // The slot is the stepping thread's until submitted moves past it: no lock for the copy.
+  Snapshot& snapshot = impl.ring[slot];
   snapshot.step = step;
   snapshot.time = t;
-  cloth.positions(snapshot.x);
-  cloth.velocities(snapshot.v);
+  cloth.copy_raw_state(snapshot.state);
   {
     std::lock_guard lock(impl.mutex);
-    impl.queued.push_back(buffer);
+    ++impl.submitted;
   }
   impl.changed.notify_all();
 }
@@ -258,7 +273,8 @@ void FrameWriter::finish(const nlohmann::json& summary) {
   run["status"] = "finished";
   run["frames"] = {{"every_steps", impl.options.every_steps},
                    {"formats", impl.options.formats},
-                   {"written", impl.frames}};
+                   {"written", impl.frames},
+                   {"writer_s_per_frame", impl.frames ? impl.writing_s / impl.frames : 0.0}};
   run["summary"] = summary;
   impl.write_run_json(run);
 }

@@ -1,16 +1,11 @@
 #include "clothlab/process/isolation.hpp"
 
 #include <fcntl.h>
-#include <poll.h>
 #include <sys/prctl.h>
-#include <sys/syscall.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -18,28 +13,19 @@
 #include <sstream>
 #include <string_view>
 
+#include "child_supervision.hpp"
+
 namespace clothlab::process {
 namespace {
 
+using detail::ChildEnd;
+using detail::Reader;
+using detail::signal_text;
+using detail::supervise;
+using detail::write_all;
+
 constexpr size_t stderr_kept_bytes = 64 * 1024;
 constexpr int child_could_not_answer = 125;  // exit status of a child whose answer failed
-
-double monotonic_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-bool write_all(int fd, const char* bytes, size_t size) {
-  size_t written = 0;
-  while (written < size) {
-    const ssize_t n = ::write(fd, bytes + written, size - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;  // the parent is gone: nothing to tell
-    written += static_cast<size_t>(n);
-  }
-  return true;
-}
 
 // Child side: a tag byte ('A' answer, 'E' exception text) and the bytes. Nothing here may
 // return or throw into the caller's code: the caller is the parent's loop, copied.
@@ -64,41 +50,6 @@ bool write_all(int fd, const char* bytes, size_t size) {
   }
   // No exit handlers or static destructors: they belong to the parent.
   ::_exit(0);
-}
-
-// A pipe end being read without blocking; fd -1 once it reached its end.
-struct Reader {
-  int fd = -1;
-  std::string bytes;
-  size_t keep = 0;   // 0: keep everything; else only the last `keep` bytes
-  int forward = -1;  // also copy what arrives to this fd
-
-  // Reads what is available now; closes at end of file.
-  void drain() {
-    char buffer[65536];
-    while (fd >= 0) {
-      const ssize_t n = ::read(fd, buffer, sizeof buffer);
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) return;  // EAGAIN: nothing more for now
-      if (n == 0) {
-        ::close(fd);
-        fd = -1;
-        return;
-      }
-      if (forward >= 0) write_all(forward, buffer, static_cast<size_t>(n));
-      bytes.append(buffer, static_cast<size_t>(n));
-      if (keep > 0 && bytes.size() > keep) bytes.erase(0, bytes.size() - keep);
-    }
-  }
-  ~Reader() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string signal_text(int signal_number) {
-  const char* name = sigabbrev_np(signal_number);
-  return "signal " + std::to_string(signal_number) +
-         (name != nullptr ? std::string(" (SIG") + name + ")" : std::string());
 }
 
 // "==12==..." : how AddressSanitizer and LeakSanitizer begin each line of their own.
@@ -143,15 +94,6 @@ ChildOutcome outcome_of(int status, const std::string& answer, const std::string
   const std::string report = sanitizer_report(child_stderr);
   if (!report.empty()) outcome.problem += ": " + report;
   return outcome;
-}
-
-int open_pidfd(pid_t child) {
-#ifdef SYS_pidfd_open
-  return static_cast<int>(::syscall(SYS_pidfd_open, child, 0));
-#else
-  (void)child;
-  return -1;
-#endif
 }
 
 }  // namespace
@@ -210,47 +152,18 @@ ChildOutcome run_isolated(const std::function<std::string()>& work,
   if (options.on_child) options.on_child(child);
   ::close(answer_pipe[1]);
   if (error_pipe[1] >= 0) ::close(error_pipe[1]);
-  Reader answer{answer_pipe[0], {}, 0, -1};
-  Reader error_text{error_pipe[0], {}, stderr_kept_bytes, STDERR_FILENO};
-  for (const Reader* reader : {&answer, &error_text})
-    if (reader->fd >= 0) ::fcntl(reader->fd, F_SETFL, O_NONBLOCK);
-  const int pidfd = open_pidfd(child);
-
-  const double deadline = monotonic_seconds() + options.timeout_s;
-  int status = 0;
-  bool timed_out = false;
-  for (;;) {
-    const pid_t reaped = ::waitpid(child, &status, WNOHANG);
-    if (reaped == child) break;
-    const double left = deadline - monotonic_seconds();
-    if (left <= 0) {
-      timed_out = true;
-      ::kill(-child, SIGKILL);
-      ::kill(child, SIGKILL);
-      while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-      }
-      break;
-    }
-    pollfd watched[3] = {{answer.fd, POLLIN, 0}, {error_text.fd, POLLIN, 0}, {pidfd, POLLIN, 0}};
-    // Without a pidfd the child's exit is seen by polling waitpid.
-    const double slice_s = pidfd >= 0 ? left : std::min(left, 0.01);
-    ::poll(watched, 3, static_cast<int>(std::ceil(slice_s * 1000.0)));
-    answer.drain();
-    error_text.drain();
-  }
-  answer.drain();
-  error_text.drain();
-  ::kill(-child, SIGKILL);  // grandchildren end with the child
+  Reader answer(answer_pipe[0]);
+  Reader error_text(error_pipe[0], stderr_kept_bytes, STDERR_FILENO);
+  const ChildEnd end = supervise(child, {&answer, &error_text}, options.timeout_s);
   if (options.on_child) options.on_child(0);
-  if (pidfd >= 0) ::close(pidfd);
-  if (timed_out) {
+  if (end.timed_out) {
     ChildOutcome outcome;
     outcome.end = ChildOutcome::End::TimedOut;
     outcome.problem = "timed out after " + format_seconds(options.timeout_s);
     outcome.child_stderr = error_text.bytes;
     return outcome;
   }
-  return outcome_of(status, answer.bytes, error_text.bytes);
+  return outcome_of(end.status, answer.bytes, error_text.bytes);
 }
 
 }  // namespace clothlab::process

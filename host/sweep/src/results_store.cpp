@@ -268,6 +268,10 @@ StoredResults read_results(const std::filesystem::path& database_path) {
 std::size_t stored_case_count(const std::filesystem::path& database_path) {
   if (!std::filesystem::exists(database_path)) return 0;
   SqliteDatabase database(database_path, SqliteDatabase::Access::ReadOnly);
+  // A shard task that has just started may have created the file but not yet its tables.
+  SqliteStatement tables =
+      database.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'rows'");
+  if (!tables.step() || tables.integer(0) == 0) return 0;
   SqliteStatement count = database.prepare("SELECT count(DISTINCT case_index) FROM rows");
   return count.step() ? static_cast<std::size_t>(count.integer(0)) : 0;
 }

@@ -99,6 +99,15 @@ class Cloth {
   void positions(std::vector<double>& out) const;
   void velocities(std::vector<double>& out) const;
   void set_state(const std::vector<double>& x, const std::vector<double>& v);
+  // The state as the cloth stores it (structure of arrays, its precision, padding included):
+  // copying it out is two memcpy's, cheap enough for the step loop, and only a Cloth of the
+  // same scene and precision can read it back (FrameWriter decodes frames on its own thread).
+  struct RawState {
+    std::vector<std::byte> x, v;
+  };
+  void copy_raw_state(RawState& out) const;
+  // Throws std::invalid_argument if the state has another size than this cloth's.
+  void set_raw_state(const RawState& state);
   bool state_is_finite() const;
 
   // Energy of the current state (J): kinetic, spring potential, gravitational potential

@@ -1,9 +1,10 @@
 // Output files appear whole or not at all, and writing one never touches anything but it:
 // the bytes go to a new temporary file in the target's folder (created with O_EXCL at an
-// unpredictable name, so a planted symlink cannot redirect it), are fsynced, and the file is
-// renamed over the target. A replaced file keeps its permission bits. A target that exists
-// and is not a regular file (a symlink, FIFO, device, folder) is refused. Temporaries left by
-// killed processes (".NAME.tmp-PID-XXXXXX" whose PID is gone) are removed on the next write.
+// unpredictable name, so a planted symlink cannot redirect it), are fsynced (unless the
+// caller asks for Durability::Renamed), and the file is renamed over the target. A replaced file
+// keeps its permission bits. A target that exists and is not a regular file (a symlink, FIFO,
+// device, folder) is refused. Temporaries left by killed processes (".NAME.tmp-PID-XXXXXX" whose
+// PID is gone) are removed on the next write.
 #pragma once
 
 #include <filesystem>
@@ -20,12 +21,21 @@ class WriteError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Synced: the file and its folder are fsynced, so the new file also survives a power loss.
+// Renamed: no fsync; the rename is still atomic for every reader and against the writer
+// being killed (whole old file or whole new one), but after an operating-system crash the
+// file may be empty. For files written many times a second (frames: 4 fsyncs per frame
+// would cost more than the frame).
+enum class Durability { Synced, Renamed };
+
 // Calls write(stream), then stores what it wrote at path atomically. Throws WriteError (and
 // leaves neither a temporary nor a changed target) when it cannot; an exception from write()
 // propagates the same way.
 void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& write);
-void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
+                           const std::function<void(std::ostream&)>& write,
+                           Durability durability = Durability::Synced);
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes,
+                           Durability durability = Durability::Synced);
 
 // Throws WriteError unless path could be written now: its folder exists, is a folder and is
 // writable, and path is absent or a regular file. Called before long work starts.

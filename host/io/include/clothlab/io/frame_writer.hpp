@@ -1,11 +1,11 @@
 // Writes a run's frames off the stepping thread.
 //
-// The stepping thread copies the state into one of two buffers (double buffering: it waits
-// only when the writer is still busy with both) and goes on; a writer thread computes the
-// per-vertex stretch and the energy, writes the frame files atomically and rewrites the
-// .pvd index after every frame, so a run that stops at any point leaves a complete
-// sequence and an index of exactly the frames written. Memory is two frames, whatever the
-// number of frames. The folder holds:
+// The stepping thread copies the state as the cloth stores it into the next slot of a ring
+// of four (two memcpy's; it waits only when the writer is four frames behind) and goes on; a
+// writer thread decodes it, computes the per-vertex stretch and the energy, writes the
+// frame files atomically and rewrites the .pvd index after every frame, so a run that stops
+// at any point leaves a complete sequence and an index of exactly the frames written. Memory
+// is the four slots, whatever the number of frames. The folder holds:
 //   run.json          the run: integrator, scenario, parameters, mesh, dt, frame times; its
 //                     verdict and summary once finished ("status": running | finished)
 //   frames.pvd        index of frame_NNNNNN.vtp with their times        (format vtp)
@@ -41,7 +41,7 @@ class FrameWriter {
   FrameWriter& operator=(const FrameWriter&) = delete;
 
   bool is_frame_step(uint64_t step) const;
-  // Copies the cloth's state for the writer thread. Rethrows a failure of the writer.
+  // Copies the cloth's raw state for the writer thread. Rethrows a failure of the writer.
   void submit(const Cloth& cloth, uint64_t step, double t);
   // Writes what is queued, the point cache and run.json with the summary added.
   void finish(const nlohmann::json& summary);

@@ -86,7 +86,8 @@ struct StoredResults {
 };
 // Throws SweepError if the file is missing or not a results store.
 StoredResults read_results(const std::filesystem::path& database);
-// How many distinct cases have rows; 0 if the file does not exist yet.
+// How many distinct cases have rows; 0 if the file or its tables do not exist yet (a shard
+// task that has only just started: --slurm counts progress while the tasks run).
 std::size_t stored_case_count(const std::filesystem::path& database);
 
 // JSON and CSV export texts of rows (in the order given).
