@@ -1,4 +1,5 @@
 // The reference system's host extensions: plain serial loops, springs scattered one by one.
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
 
@@ -12,8 +13,11 @@ namespace clothlab::reference {
 
 template <class Real>
 const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id) {
-  static constexpr clothlab_jacobian_extension jacobian{
-      &jacobian_reserve, &jacobian_apply, &jacobian_diagonal, &jacobian_pattern, &jacobian_blocks};
+  static constexpr clothlab_jacobian_extension jacobian{&jacobian_reserve, &jacobian_apply<false>,
+                                                        &jacobian_diagonal<false>,
+                                                        &jacobian_pattern, &jacobian_blocks<false>};
+  static constexpr clothlab_definite_jacobian_extension definite_jacobian{&jacobian_apply<true>,
+                                                                          &jacobian_diagonal<true>};
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
@@ -21,6 +25,7 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   return nullptr;
@@ -135,7 +140,8 @@ clothlab_status ReferenceSystem<Real>::topology_get(void* context, clothlab_topo
 
 template <class Real>
 void ReferenceSystem<Real>::spring_block(const Spring<Real>& s, const Real* x, const Real* v,
-                                         double c_x, double c_v, double (&m)[9]) const {
+                                         double c_x, double c_v, bool definite,
+                                         double (&m)[9]) const {
   double d[3], dv[3] = {0, 0, 0};
   for (std::size_t k = 0; k < 3; ++k) {
     d[k] = double{x[k * stride_ + s.j]} - double{x[k * stride_ + s.i]};
@@ -148,13 +154,16 @@ void ReferenceSystem<Real>::spring_block(const Spring<Real>& s, const Real* x, c
   const double u[3] = {d[0] / l, d[1] / l, d[2] / l};
   const double closing = u[0] * dv[0] + u[1] * dv[1] + u[2] * dv[2];
   // dF/dd = ks ((1 - l0/l) I + (l0/l) u u^T) + (kd/l) (closing I + u dv^T - 2 closing u u^T),
-  // dF/d(dv) = kd u u^T.
+  // dF/d(dv) = kd u u^T. Definite: ks (max(0, 1 - l0/l) (I - u u^T) + u u^T) for dF/dd.
+  const double transverse = definite ? std::max(0.0, 1.0 - s.rest / l) : 1.0 - s.rest / l;
   for (std::size_t r = 0; r < 3; ++r) {
     for (std::size_t c = 0; c < 3; ++c) {
       const double identity = r == c ? 1.0 : 0.0;
+      const double hooke = s.ks * (transverse * (identity - u[r] * u[c]) + u[r] * u[c]);
       const double stiffness =
-          s.ks * ((1.0 - s.rest / l) * identity + s.rest / l * u[r] * u[c]) +
-          kd / l * (closing * identity + u[r] * dv[c] - 2 * closing * u[r] * u[c]);
+          definite
+              ? hooke
+              : hooke + kd / l * (closing * identity + u[r] * dv[c] - 2 * closing * u[r] * u[c]);
       m[3 * r + c] = c_x * stiffness + c_v * kd * u[r] * u[c];
     }
   }
@@ -166,6 +175,7 @@ clothlab_status ReferenceSystem<Real>::jacobian_reserve(void*) {
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ReferenceSystem<Real>::jacobian_apply(void* context, double, const void* x,
                                                       const void* v, double c_x, double c_v,
                                                       const void* u, void* out) {
@@ -179,7 +189,7 @@ clothlab_status ReferenceSystem<Real>::jacobian_apply(void* context, double, con
   };
   for (const Spring<Real>& s : self.cloth_.springs()) {
     double m[9];
-    self.spring_block(s, xs, vs, c_x, c_v, m);
+    self.spring_block(s, xs, vs, c_x, c_v, Definite, m);
     for (std::size_t r = 0; r < 3; ++r) {
       double change = 0;
       for (std::size_t c = 0; c < 3; ++c)
@@ -204,6 +214,7 @@ uint32_t ReferenceSystem<Real>::slot(uint32_t row, uint32_t column) const {
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ReferenceSystem<Real>::jacobian_blocks(void* context, double, const void* x,
                                                        const void* v, double c_x, double c_v,
                                                        double* values) {
@@ -211,7 +222,8 @@ clothlab_status ReferenceSystem<Real>::jacobian_blocks(void* context, double, co
   std::fill(values, values + 9 * self.columns_.size(), 0.0);
   for (const Spring<Real>& s : self.cloth_.springs()) {
     double m[9];
-    self.spring_block(s, static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, m);
+    self.spring_block(s, static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
+                      Definite, m);
     for (const auto& [row, column] : {std::pair{s.i, s.j}, std::pair{s.j, s.i}}) {
       const double weight = self.inverse_mass_[row];
       const bool column_active = self.inverse_mass_[column] != Real(0);
@@ -225,11 +237,12 @@ clothlab_status ReferenceSystem<Real>::jacobian_blocks(void* context, double, co
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ReferenceSystem<Real>::jacobian_diagonal(void* context, double t, const void* x,
                                                          const void* v, double c_x, double c_v,
                                                          double* out) {
   auto& self = *static_cast<ReferenceSystem*>(context);
-  jacobian_blocks(context, t, x, v, c_x, c_v, self.blocks_.data());
+  jacobian_blocks<Definite>(context, t, x, v, c_x, c_v, self.blocks_.data());
   for (uint32_t i = 0; i < self.n_; ++i)
     std::copy_n(self.blocks_.begin() + 9 * std::size_t{self.slot(i, i)}, 9,
                 out + 9 * std::size_t{i});

@@ -62,16 +62,20 @@ class ReferenceSystem {
   void build_topology(const Scene& scene);
   static clothlab_status topology_get(void* context, clothlab_topology* out);
   void to_aos(const void* soa, std::vector<Real>& aos) const;
-  // M = c_x dF_i/dx_j + c_v dF_i/dv_j of spring s at (x, v), row-major.
+  // M = c_x dF_i/dx_j + c_v dF_i/dv_j of spring s at (x, v), row-major; definite: the form
+  // of clothlab.definite-jacobian/1 (no compressive transverse stiffness, no damping x-term).
   void spring_block(const Spring<Real>& s, const Real* x, const Real* v, double c_x, double c_v,
-                    double (&m)[9]) const;
+                    bool definite, double (&m)[9]) const;
   uint32_t slot(uint32_t row, uint32_t column) const;
   static clothlab_status jacobian_reserve(void* context);
+  template <bool Definite>
   static clothlab_status jacobian_apply(void* context, double t, const void* x, const void* v,
                                         double c_x, double c_v, const void* u, void* out);
+  template <bool Definite>
   static clothlab_status jacobian_diagonal(void* context, double t, const void* x, const void* v,
                                            double c_x, double c_v, double* out);
   static clothlab_status jacobian_pattern(void* context, clothlab_block_pattern* out);
+  template <bool Definite>
   static clothlab_status jacobian_blocks(void* context, double t, const void* x, const void* v,
                                          double c_x, double c_v, double* values);
   static double dot(void* context, const void* a, const void* b);

@@ -60,8 +60,8 @@ class ClothEngine final : public Engine {
   static void copy_callback(void* context, void* dst, const void* src);
   static void* alloc_callback(void* context);
 
-  // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, reductions and
-  // external forces. The topology and the Jacobian's pattern are built on first use.
+  // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, definite jacobian,
+  // reductions and external forces. The topology and the Jacobian's pattern are built on first use.
   static const void* get_extension_callback(void* context, const char* id);
   const GridTopology& topology();
   const SpringJacobian<Real>& jacobian();
@@ -71,9 +71,12 @@ class ClothEngine final : public Engine {
   double chunked_sum(Term&& term);
   static clothlab_status topology_callback(void* context, clothlab_topology* out);
   static clothlab_status jacobian_reserve_callback(void* context);
+  // Definite: the form of clothlab.definite-jacobian/1.
+  template <bool Definite>
   static clothlab_status jacobian_apply_callback(void* context, double t, const void* x,
                                                  const void* v, double c_x, double c_v,
                                                  const void* u, void* out);
+  template <bool Definite>
   static clothlab_status jacobian_diagonal_callback(void* context, double t, const void* x,
                                                     const void* v, double c_x, double c_v,
                                                     double* out);
@@ -103,6 +106,7 @@ class ClothEngine final : public Engine {
   std::unique_ptr<GridTopology> topology_;
   std::unique_ptr<SpringJacobian<Real>> jacobian_;
   std::vector<double> chunk_sums_;  // one per active chunk: the reductions' partial results
+  std::vector<double> mass_;        // 1 / inverse mass (0 where pinned), for mass_dot
 
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};

@@ -1,5 +1,6 @@
 // The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
-// spring Jacobian, deterministic reductions and the external forces alone.
+// spring Jacobian and its definite form, deterministic reductions and the external forces alone.
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
 
@@ -35,8 +36,8 @@ const GridTopology& ClothEngine<Real>::topology() {
 template <class Real>
 const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
   if (!jacobian_) {
-    jacobian_ = std::make_unique<SpringJacobian<Real>>(topology(), inverse_mass_.data(), stride_,
-                                                       velocity_forces_, threads_, parallel_);
+    jacobian_ = std::make_unique<SpringJacobian<Real>>(
+        scene_, topology(), inverse_mass_.data(), stride_, velocity_forces_, threads_, parallel_);
   }
   return *jacobian_;
 }
@@ -45,8 +46,10 @@ template <class Real>
 const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_topology_extension topology_table{&topology_callback};
   static constexpr clothlab_jacobian_extension jacobian_table{
-      &jacobian_reserve_callback, &jacobian_apply_callback, &jacobian_diagonal_callback,
-      &jacobian_pattern_callback, &jacobian_blocks_callback};
+      &jacobian_reserve_callback, &jacobian_apply_callback<false>,
+      &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
+  static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
+      &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -54,6 +57,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
   return nullptr;
@@ -76,26 +80,38 @@ clothlab_status ClothEngine<Real>::jacobian_reserve_callback(void* context) {
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ClothEngine<Real>::jacobian_apply_callback(void* context, double, const void* x,
                                                            const void* v, double c_x, double c_v,
                                                            const void* u, void* out) {
   if (x == nullptr || u == nullptr || out == nullptr || out == u || out == x || out == v)
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    static_cast<ClothEngine*>(context)->jacobian().apply(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
-        static_cast<const Real*>(u), static_cast<Real*>(out));
+    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
+    const auto* xs = static_cast<const Real*>(x);
+    const auto* vs = static_cast<const Real*>(v);
+    if constexpr (Definite)
+      jacobian.apply_definite(xs, vs, c_x, c_v, static_cast<const Real*>(u),
+                              static_cast<Real*>(out));
+    else
+      jacobian.apply(xs, vs, c_x, c_v, static_cast<const Real*>(u), static_cast<Real*>(out));
   });
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ClothEngine<Real>::jacobian_diagonal_callback(void* context, double, const void* x,
                                                               const void* v, double c_x, double c_v,
                                                               double* out) {
   if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    static_cast<ClothEngine*>(context)->jacobian().diagonal_blocks(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, out);
+    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
+    const auto* xs = static_cast<const Real*>(x);
+    const auto* vs = static_cast<const Real*>(v);
+    if constexpr (Definite)
+      jacobian.diagonal_blocks_definite(xs, vs, c_x, c_v, out);
+    else
+      jacobian.diagonal_blocks(xs, vs, c_x, c_v, out);
   });
 }
 
@@ -120,19 +136,29 @@ clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, doubl
 
 // ----------------------------------------------------------------- reductions
 
+// Each chunk sums into 8 interleaved partial sums (element i into lane i mod 8 of its
+// chunk), combined pairwise, then the chunks in order: vectorised, and the chunks are fixed
+// by the active ranges, so the result does not depend on the thread count.
 template <class Real>
 template <class Term>
 double ClothEngine<Real>::chunked_sum(Term&& term) {
+  constexpr std::size_t kLanes = 8;
   const auto chunks = static_cast<std::ptrdiff_t>(active_chunks_.size());
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    double sum = 0.0;
+    const std::size_t begin = active_chunks_[chunk].begin, end = active_chunks_[chunk].end;
+    double lanes[kLanes] = {};
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t shift = k * stride_;
-      for (std::size_t i = active_chunks_[chunk].begin; i < active_chunks_[chunk].end; ++i)
-        sum += term(shift + i, i);
+      std::size_t i = begin;
+      for (; i + kLanes <= end; i += kLanes) {
+#pragma omp simd
+        for (std::size_t l = 0; l < kLanes; ++l) lanes[l] += term(shift + i + l, i + l);
+      }
+      for (std::size_t l = 0; i < end; ++i, ++l) lanes[l] += term(shift + i, i);
     }
-    chunk_sums_[chunk] = sum;
+    chunk_sums_[chunk] = ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) +
+                         ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
   }
   double total = 0.0;
   for (const double sum : chunk_sums_) total += sum;
@@ -152,9 +178,9 @@ double ClothEngine<Real>::mass_dot_callback(void* context, const void* a, const 
   auto* self = static_cast<ClothEngine*>(context);
   const Real* p = static_cast<const Real*>(a);
   const Real* q = static_cast<const Real*>(b);
-  const Real* inverse_mass = self->inverse_mass_.data();
+  const double* mass = self->mass_.data();
   return self->chunked_sum([&](std::size_t element, std::size_t particle) {
-    return double{p[element]} * double{q[element]} / double{inverse_mass[particle]};
+    return double{p[element]} * double{q[element]} * mass[particle];
   });
 }
 

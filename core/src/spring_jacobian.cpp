@@ -1,5 +1,7 @@
 #include "spring_jacobian.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,37 +9,38 @@ namespace clothlab::detail {
 namespace {
 
 constexpr std::size_t kChunk = 2048;  // particles per thread work item, as the vector ops
+constexpr std::size_t kMargin = 16;   // zeros left of a scratch row's column 0
 
 }  // namespace
 
 template <class Real>
-SpringJacobian<Real>::SpringJacobian(const GridTopology& topology, const Real* inverse_mass,
-                                     std::size_t stride, bool damping, int threads, bool parallel)
+SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& topology,
+                                     const Real* inverse_mass, std::size_t stride, bool damping,
+                                     int threads, bool parallel)
     : topology_(topology),
       inverse_mass_(inverse_mass),
       stride_(stride),
       n_(topology.particle_count),
+      rows_(scene.rows),
+      cols_(scene.cols),
       damping_(damping),
       threads_(threads),
-      parallel_(parallel) {
+      parallel_(parallel),
+      span_(kMargin + (cols_ + kMargin + 15) / 16 * 16),
+      product_rows_(static_cast<std::size_t>(threads) * 3 * span_) {
+  for (const Stencil& stencil : kProvotStencils) {  // as GridTopology lists the springs
+    const SpringFamily& law = scene.*stencil.family;
+    const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
+    if ((law.ks == 0.0 && law.kd == 0.0) || extent.count() == 0) continue;
+    stencils_.push_back({extent, stencil.row_step, stencil.col_step,
+                         static_cast<Real>(stencil_rest_length(scene, stencil)),
+                         static_cast<Real>(law.ks), static_cast<Real>(law.kd)});
+  }
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
   row_offsets_.assign(n_ + 1, 0);
   entry_slot_.resize(topology.adjacent_springs.size());
   diagonal_slot_.resize(n_);
   entry_partner_.resize(topology.adjacent_springs.size());
-  spring_products_.resize(3 * topology.spring_count());
-  for (uint32_t spring = 0; spring < topology.spring_count(); ++spring) {
-    const uint32_t first = topology.first[spring], second = topology.second[spring];
-    if (!runs_.empty()) {
-      SpringRun& run = runs_.back();
-      if (run.count < kChunk && first == run.first + run.count &&
-          second == run.second + run.count) {
-        ++run.count;
-        continue;
-      }
-    }
-    runs_.push_back({spring, 1, first, second});
-  }
   std::vector<uint32_t> row;
   for (uint32_t i = 0; i < n_; ++i) {
     row.assign(1, i);
@@ -99,6 +102,16 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
   const double ks = topology_.ks[spring];
   const double kd = w.damped ? topology_.kd[spring] : 0.0;
   const double ratio = topology_.rest_length[spring] * inverse_length;  // l0 / l
+  if (w.definite) {  // ks (t (I - u u^T) + u u^T), t = max(0, 1 - l0/l); kd u u^T
+    const double transverse = std::max(0.0, 1.0 - ratio);
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double uu = u[r] * u[c];
+        m[3 * r + c] =
+            w.c_x * ks * ((r == c ? transverse : 0.0) + (1.0 - transverse) * uu) + w.c_v * kd * uu;
+      }
+    return;
+  }
   // K = a I + b u u^T + (kd/l) (u (P dv)^T + s P) with s = u . dv; D = kd u u^T.
   const double s = u[0] * dv[0] + u[1] * dv[1] + u[2] * dv[2];
   const double damping_scale = kd * inverse_length;
@@ -115,88 +128,135 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
 }
 
 template <class Real>
-template <bool Damped>
-void SpringJacobian<Real>::spring_products(const Real* x, const Real* v, const Real* u,
-                                           const Weights& w, const SpringRun& run) const {
-  const std::size_t springs = topology_.spring_count();
-  const double* rest_length = topology_.rest_length.data() + run.spring;
-  const double* ks = topology_.ks.data() + run.spring;
-  const double* kd = topology_.kd.data() + run.spring;
-  double* products = spring_products_.data() + run.spring;
-  // Branch-free so that it vectorises; a spring with both ends pinned gets a value no row reads.
+template <JacobianForm Form>
+void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u,
+                                      Real* out, std::size_t begin, std::size_t end,
+                                      Real* p) const {
+  const std::size_t cols = cols_;
+  for (std::size_t k = 0; k < 3; ++k)
+    std::fill(out + k * stride_ + begin * cols, out + k * stride_ + end * cols, Real(0));
+  // Springs starting in the two rows above the block reach into it.
+  for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
+    const std::size_t base = row * cols;
+    const bool own = row >= begin;
+    for (const StencilSprings& stencil : stencils_) {
+      if (row >= stencil.extent.row_end) continue;
+      const std::size_t partner_row = row + stencil.row_step;
+      const bool in_row = stencil.row_step == 0;
+      const bool partner = !in_row && partner_row >= begin && partner_row < end;
+      if (!own && !partner) continue;
+      const std::size_t offset =
+          stencil.row_step * cols + static_cast<std::size_t>(stencil.col_step);
+      const bool damped = w.damped && stencil.kd > Real(0);
+      const JacobianRow<Real> job{x + base,
+                                  x + base + offset,
+                                  damped ? v + base : nullptr,
+                                  damped ? v + base + offset : nullptr,
+                                  u + base,
+                                  u + base + offset,
+                                  inverse_mass_ + base,
+                                  inverse_mass_ + base + offset,
+                                  p,
+                                  out + base,
+                                  out + base + offset,
+                                  stride_,
+                                  span_,
+                                  stencil.extent.col_begin,
+                                  stencil.extent.col_end,
+                                  stencil.rest,
+                                  stencil.ks,
+                                  stencil.kd,
+                                  static_cast<Real>(w.c_x),
+                                  static_cast<Real>(w.c_v)};
+      // An in-row stencil's shifted add reads the columns after its last spring: they hold 0.
+      if (in_row)
+        for (std::size_t k = 0; k < 3; ++k)
+          std::fill(p + k * span_ + job.col_end, p + k * span_ + cols, Real(0));
+      if (own && partner) {
+        if (damped)
+          jacobian_row<Real, Form, true, true>(job);
+        else
+          jacobian_row<Real, Form, false, true>(job);
+        continue;
+      }
+      if (damped)
+        jacobian_row<Real, Form, true, false>(job);
+      else
+        jacobian_row<Real, Form, false, false>(job);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Real* __restrict product = p + k * span_;
+        Real* __restrict own_row = out + k * stride_ + base;
+        if (in_row) {
+          const Real* __restrict back = product - stencil.col_step;
 #pragma omp simd
-  for (std::size_t spring = 0; spring < run.count; ++spring) {
-    const std::size_t i = run.first + spring, j = run.second + spring;
-    // Pinned columns are zero.
-    const double i_active = inverse_mass_[i] > Real(0) ? 1.0 : 0.0;
-    const double j_active = inverse_mass_[j] > Real(0) ? 1.0 : 0.0;
-    double d[3], dv[3], du[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = double{x[k * stride_ + j]} - double{x[k * stride_ + i]};
-      dv[k] = Damped ? double{v[k * stride_ + j]} - double{v[k * stride_ + i]} : 0.0;
-      du[k] = j_active * double{u[k * stride_ + j]} - i_active * double{u[k * stride_ + i]};
+          for (std::size_t c = 0; c < cols; ++c) own_row[c] += product[c] - back[c];
+          continue;
+        }
+        if (own) {
+#pragma omp simd
+          for (std::size_t c = job.col_begin; c < job.col_end; ++c) own_row[c] += product[c];
+        }
+        if (partner) {
+          Real* __restrict partner_row_out = out + k * stride_ + base + offset;
+#pragma omp simd
+          for (std::size_t c = job.col_begin; c < job.col_end; ++c)
+            partner_row_out[c] -= product[c];
+        }
+      }
     }
-    const double squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    // The force pass gives a zero-length spring no force.
-    const double inverse_length = squared > 0.0 ? 1.0 / std::sqrt(squared) : 0.0;
-    const double live = squared > 0.0 ? 1.0 : 0.0;
-    // M du without forming M: c_x (a du + (b (n.du) + (kd/l) (P dv).du) n) + c_v kd (n.du) n.
-    const double n[3] = {d[0] * inverse_length, d[1] * inverse_length, d[2] * inverse_length};
-    const double damping = Damped ? kd[spring] : 0.0;
-    const double ratio = rest_length[spring] * inverse_length;
-    const double s = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
-    const double damping_scale = damping * inverse_length;
-    const double a = ks[spring] * (1.0 - ratio) + damping_scale * s;
-    const double b = ks[spring] * ratio - damping_scale * s;
-    const double n_du = n[0] * du[0] + n[1] * du[1] + n[2] * du[2];
-    const double dv_du = dv[0] * du[0] + dv[1] * du[1] + dv[2] * du[2];
-    const double projected_dv_du = dv_du - s * n_du;
-    const double along =
-        w.c_x * (b * n_du + damping_scale * projected_dv_du) + w.c_v * damping * n_du;
-    const double across = live * w.c_x * a;
-    for (std::size_t r = 0; r < 3; ++r)
-      products[r * springs + spring] = across * du[r] + along * n[r];
+    if (!own) continue;
+    // Row complete: every spring reaching it starts in it or in the two rows above.
+    const Real* __restrict inverse_mass = inverse_mass_ + base;
+    for (std::size_t k = 0; k < 3; ++k) {
+      Real* __restrict row_out = out + k * stride_ + base;
+#pragma omp simd
+      for (std::size_t c = 0; c < cols; ++c)
+        row_out[c] = inverse_mass[c] > Real(0) ? inverse_mass[c] * row_out[c] : Real(0);
+    }
+  }
+}
+
+template <class Real>
+template <JacobianForm Form>
+void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
+                                      const Real* u, Real* out) const {
+  const Weights w{c_x, c_v, damping_ && v != nullptr};
+#pragma omp parallel num_threads(threads_) if (parallel_)
+  {
+    const auto thread = static_cast<std::size_t>(omp_get_thread_num());
+    const auto team = static_cast<std::size_t>(omp_get_num_threads());
+    apply_rows<Form>(x, v, w, u, out, rows_ * thread / team, rows_ * (thread + 1) / team,
+                     product_rows_.data() + thread * 3 * span_ + kMargin);
   }
 }
 
 template <class Real>
 void SpringJacobian<Real>::apply(const Real* x, const Real* v, double c_x, double c_v,
                                  const Real* u, Real* out) const {
-  const Weights w{c_x, c_v, damping_ && v != nullptr};
-  const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
-  const double* products = spring_products_.data();
-  const std::size_t springs = topology_.spring_count();
-  const auto runs = static_cast<std::ptrdiff_t>(runs_.size());
-#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-  for (std::ptrdiff_t run = 0; run < runs; ++run) {
-    if (w.damped)
-      spring_products<true>(x, v, u, w, runs_[static_cast<std::size_t>(run)]);
-    else
-      spring_products<false>(x, v, u, w, runs_[static_cast<std::size_t>(run)]);
-  }
-  for_particles([&](uint32_t i) {
-    double sum[3] = {0, 0, 0};
-    const double inverse_mass = inverse_mass_[i];
-    if (inverse_mass > 0.0) {
-      for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
-        const uint32_t spring = topology_.adjacent_springs[e];
-        // Seen from the second particle du changes sign (exactly).
-        if (topology_.first[spring] == i) {
-          for (std::size_t r = 0; r < 3; ++r) sum[r] += products[r * springs + spring];
-        } else {
-          for (std::size_t r = 0; r < 3; ++r) sum[r] -= products[r * springs + spring];
-        }
-      }
-    }
-    for (std::size_t k = 0; k < 3; ++k)
-      out[k * stride_ + i] = static_cast<Real>(inverse_mass * sum[k]);
-  });
+  apply_form<JacobianForm::kExact>(x, v, c_x, c_v, u, out);
+}
+
+template <class Real>
+void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c_x, double c_v,
+                                          const Real* u, Real* out) const {
+  apply_form<JacobianForm::kDefinite>(x, v, c_x, c_v, u, out);
 }
 
 template <class Real>
 void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v,
                                            double* out) const {
-  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  diagonal_blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr}, out);
+}
+
+template <class Real>
+void SpringJacobian<Real>::diagonal_blocks_definite(const Real* x, const Real* v, double c_x,
+                                                    double c_v, double* out) const {
+  diagonal_blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr, true}, out);
+}
+
+template <class Real>
+void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, const Weights& w,
+                                           double* out) const {
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
   for_particles([&](uint32_t i) {
     double* block = out + 9 * std::size_t{i};

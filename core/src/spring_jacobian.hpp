@@ -6,12 +6,14 @@
 // P = I - u u^T (the second term is the damping force's dependence on x); M is the same
 // seen from either end. Gravity is constant and wind's x-dependence is left out.
 //
-// apply computes each spring's M (u_j - u_i) once, from the spring's own orientation and
-// without forming M, in a pass over the springs into scratch; each particle then gathers it
-// over its springs (CSR adjacency), negated at the spring's second end (seen from there d, u,
-// dv and du only change sign, which is exact). The block forms build M per adjacency entry.
-// No scatter, no atomics, threads split the springs and then the particles: results do not
-// depend on the thread count.
+// apply runs over the grid rows as the force pipeline does: per row and stencil it computes
+// each spring's M (u_j - u_i) once, without forming M (jacobian_row_kernel.hpp), and adds it
+// at both ends, straight into the two rows of `out` (a stencil within one row through a
+// scratch row and a shifted add), negated at the second end (seen from there d, u, dv and du
+// only change sign, which is exact). Each thread owns a block of
+// rows of `out` and first runs the two rows above it for their springs into it: no scatter
+// between threads, no atomics, and every particle sums its springs in the same order for
+// any thread count. The block forms build M per adjacency entry.
 // Everything is allocated by the constructor; the calls never allocate.
 #pragma once
 
@@ -21,7 +23,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "aligned_buffer.hpp"
+#include "grid.hpp"
 #include "grid_topology.hpp"
+#include "jacobian_row_kernel.hpp"
 
 namespace clothlab::detail {
 
@@ -29,11 +34,17 @@ template <class Real>
 class SpringJacobian {
  public:
   // damping: whether eval_acceleration applies spring damping when given velocities.
-  SpringJacobian(const GridTopology& topology, const Real* inverse_mass, std::size_t stride,
-                 bool damping, int threads, bool parallel);
+  SpringJacobian(const Scene& scene, const GridTopology& topology, const Real* inverse_mass,
+                 std::size_t stride, bool damping, int threads, bool parallel);
 
   // out = J u (Real vectors of the system); v == nullptr: no damping terms.
   void apply(const Real* x, const Real* v, double c_x, double c_v, const Real* u, Real* out) const;
+  // As apply and diagonal_blocks, with J in Baraff and Witkin's definite form
+  // (clothlab/ext/definite_jacobian.h, jacobian_row_kernel.hpp).
+  void apply_definite(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+                      Real* out) const;
+  void diagonal_blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
+                                double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
   void diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v, double* out) const;
   void blocks(const Real* x, const Real* v, double c_x, double c_v, double* values) const;
@@ -43,22 +54,29 @@ class SpringJacobian {
   struct Weights {
     double c_x, c_v;
     bool damped;
+    bool definite = false;
   };
+  void diagonal_blocks(const Real* x, const Real* v, const Weights& w, double* out) const;
   // M of spring `spring` (see above); 0 for a zero-length spring.
   void spring_block(const Real* x, const Real* v, uint32_t spring, const Weights& w,
                     double* m) const;
   uint32_t partner(uint32_t i, uint32_t spring) const {
     return topology_.first[spring] == i ? topology_.second[spring] : topology_.first[spring];
   }
-  // Springs run.spring + k, k < run.count, join run.first + k to run.second + k: contiguous
-  // loads in the spring pass instead of gathers.
-  struct SpringRun {
-    uint32_t spring, count, first, second;
+  // The springs of one Provot stencil that exert force (all of a stencil share rest, ks, kd).
+  struct StencilSprings {
+    StencilExtent extent;
+    uint32_t row_step;
+    int32_t col_step;
+    Real rest, ks, kd;
   };
-  // The products M (u_j - u_i) of the run's springs into spring_products_.
-  template <bool Damped>
-  void spring_products(const Real* x, const Real* v, const Real* u, const Weights& w,
-                       const SpringRun& run) const;
+  template <JacobianForm Form>
+  void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+                  Real* out) const;
+  // out's grid rows [begin, end) of the product; p is the thread's scratch row.
+  template <JacobianForm Form>
+  void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
+                  std::size_t begin, std::size_t end, Real* p) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -70,6 +88,8 @@ class SpringJacobian {
   const Real* inverse_mass_;
   std::size_t stride_;
   std::size_t n_;
+  std::size_t rows_, cols_;
+  std::vector<StencilSprings> stencils_;
   bool damping_;
   int threads_;
   bool parallel_;
@@ -78,10 +98,10 @@ class SpringJacobian {
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;
   // The other particle of each adjacency entry.
   std::vector<uint32_t> entry_partner_;
-  // The springs cut into runs of at most one work item each.
-  std::vector<SpringRun> runs_;
-  // apply's M (u_second - u_first), component-major (scratch; apply is not reentrant).
-  mutable std::vector<double> spring_products_;
+  // Per thread a scratch row of M (u_j - u_i), components span_ apart, zero margins
+  // (apply is not reentrant).
+  std::size_t span_;
+  mutable AlignedBuffer<Real> product_rows_;
 };
 
 }  // namespace clothlab::detail

@@ -11,6 +11,10 @@ const void* PluginOnlySystem::host_table<clothlab_jacobian_extension>() const {
   return host_jacobian_;
 }
 template <>
+const void* PluginOnlySystem::host_table<clothlab_definite_jacobian_extension>() const {
+  return host_definite_jacobian_;
+}
+template <>
 const void* PluginOnlySystem::host_table<clothlab_reductions_extension>() const {
   return host_reductions_;
 }
@@ -66,6 +70,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
   if (CLOTHLAB_HAS_FIELD(&host, clothlab_system, get_extension)) {
     host_topology_ = clothlab_system_extension(&host, CLOTHLAB_EXT_TOPOLOGY);
     host_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_JACOBIAN);
+    host_definite_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_DEFINITE_JACOBIAN);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
     system_.get_extension = &get_extension;
@@ -75,12 +80,15 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
 const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using T = clothlab_topology_extension;
   using J = clothlab_jacobian_extension;
+  using D = clothlab_definite_jacobian_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
   static constexpr J jacobian{&Forward<J, &J::reserve>::call, &Forward<J, &J::apply>::call,
                               &Forward<J, &J::diagonal_blocks>::call,
                               &Forward<J, &J::pattern>::call, &Forward<J, &J::blocks>::call};
+  static constexpr D definite_jacobian{&Forward<D, &D::apply>::call,
+                                       &Forward<D, &D::diagonal_blocks>::call};
   static constexpr R reductions{&Forward<R, &R::dot>::call, &Forward<R, &R::mass_dot>::call,
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
@@ -91,6 +99,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (clothlab_system_extension(&wrapper.host_, id) == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   return nullptr;

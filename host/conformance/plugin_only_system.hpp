@@ -9,6 +9,7 @@
 // (never a table that would be called with the wrong context).
 #pragma once
 
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
@@ -51,6 +52,7 @@ class PluginOnlySystem {
   clothlab_system system_;
   const void* host_topology_ = nullptr;
   const void* host_jacobian_ = nullptr;
+  const void* host_definite_jacobian_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
 };

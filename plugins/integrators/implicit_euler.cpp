@@ -24,11 +24,15 @@
 // stiffness -ks (1 - l0/l) (I - n n^T) > 0, and the damping force's x-derivative is not
 // symmetric. As Baraff and Witkin (and Choi & Ko 2002 for compression), the matrix then
 // keeps the springs' Hooke stiffness without that compressive term plus the damping's
-// velocity derivative: the host's product is taken twice, with v = NULL (Hooke only) for
-// c_x and with c_x = 0 for c_v, and the plugin subtracts the compressed springs' term for
-// the springs it finds compressed at the linearisation state (topology extension). The
-// Newton matrix changes, not the equation: still first order, and newton_steps > 1 still
-// converges to backward Euler. `definite` = 0 uses the exact Jacobian, one product.
+// velocity derivative: the host's clothlab.definite-jacobian/1, one product per CG
+// iteration. The Newton matrix changes, not the equation: still first order, and
+// newton_steps > 1 still converges to backward Euler. `definite` = 0 uses the exact
+// Jacobian (clothlab.jacobian/1).
+//
+// Warm start (`warm_start`, on by default): the first solve of a step starts from the
+// previous step's dv, scaled by the ratio of the steps (dv ~ h a), instead of 0; the
+// tolerance stays relative to the right-hand side, so a good guess saves iterations and
+// never loosens the solve. It costs one product for the initial residual.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
@@ -36,6 +40,8 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "scratch_vectors.hpp"
@@ -52,7 +58,7 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 4> params{
+  static constexpr std::array<clothlab_param_spec, 5> params{
       sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
                       "CG stops when the residual's mass norm falls below tolerance x the "
                       "right-hand side's"),
@@ -64,6 +70,9 @@ struct ImplicitEuler {
       sdk::bool_param("definite", true,
                       "Baraff-Witkin's definite matrix: no compressive transverse stiffness, no "
                       "damping x-derivative; 0 = the exact Jacobian"),
+      sdk::bool_param("warm_start", true,
+                      "CG starts from the previous step's dv (scaled by the step ratio); 0 = "
+                      "from 0"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -73,24 +82,18 @@ struct ImplicitEuler {
       : tolerance_(values.real("tolerance")),
         max_iterations_(values.integer("max_iterations")),
         newton_steps_(values.integer("newton_steps")),
-        definite_(values.flag("definite")) {}
+        definite_(values.flag("definite")),
+        warm_start_(values.flag("warm_start")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
     system.jacobian().reserve();
-    (void)system.reductions();  // checked here, so a host without it fails in prepare
+    // Checked here, so a host without them fails in prepare.
+    if (definite_) (void)system.definite_jacobian();
+    (void)system.reductions();
     scratch_.allocate(system);
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
-    damping_blocks_.assign(definite_ ? inverse_blocks_.size() : 0, 0.0);
-    springs_ = {};
-    compressed_.clear();
-    if (definite_) {
-      springs_ = system.topology().raw();
-      compressed_.reserve(springs_.spring_count);  // filled per solve, never beyond
-    }
-    inverse_mass_.resize(system.particle_count());
-    for (uint32_t i = 0; i < system.particle_count(); ++i)
-      inverse_mass_[i] = system.inverse_mass()[i];
+    previous_h_ = 0.0;
     last_ = {};
   }
 
@@ -102,17 +105,23 @@ struct ImplicitEuler {
     Real *const acceleration = vectors[0], *const dv = vectors[1], *const rhs = vectors[2],
                 *const delta = vectors[3], *const x1 = vectors[4], *const v1 = vectors[5],
                 *const zero = vectors[6];
-    const Solver<Real> solver{system, vectors};
+    const Solver<Real> solver{system, vectors, definite_};
     Real* x = system.x();
     Real* v = system.v();
 
     // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
     system.acceleration(t, x, v, acceleration);
-    find_compressed_springs(system, x);
-    solver.jacobian.apply(t, x, definite_ ? nullptr : v, h * h, 0.0, v, rhs);
-    subtract_compressed_stiffness(system, h * h, v, rhs);
+    apply_jacobian(solver, t, x, v, h * h, 0.0, v, rhs);
     system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
-    solve(solver, t, h, x, v, rhs, dv);
+    // Cleared until the step completes: a step that throws leaves no dv to start from.
+    const double previous_h = std::exchange(previous_h_, 0.0);
+    const bool warm = warm_start_ && previous_h > 0.0;
+    if (warm) {
+      system.template lincomb<1>(dv, zero, {h / previous_h}, {dv});
+    } else {
+      system.copy(dv, zero);
+    }
+    solve(solver, t, h, x, v, rhs, dv, warm);
 
     for (long newton = 1; newton < newton_steps_; ++newton) {
       // Whole copies first: the pinned particles' entries of the iterate are theirs.
@@ -121,41 +130,43 @@ struct ImplicitEuler {
       system.copy(x1, x);
       system.axpy(x1, h, v1);
       system.acceleration(t + h, x1, v1, acceleration);
-      find_compressed_springs(system, x1);
       system.template lincomb<2>(rhs, zero, {h, -1.0}, {acceleration, dv});
-      solve(solver, t + h, h, x1, v1, rhs, delta);
+      system.copy(delta, zero);
+      solve(solver, t + h, h, x1, v1, rhs, delta, false);
       system.axpy(dv, 1.0, delta);
     }
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
+    previous_h_ = h;
   }
 
   void last_step_statistics(clothlab_solver_step_statistics& out) const { out = last_; }
 
  private:
-  // Scratch: acceleration, dv, rhs, delta, x1, v1, zero (never written), then CG's r, z, p, q and
-  // the damping part of a product.
+  // Scratch: acceleration, dv (kept from step to step for the warm start), rhs, delta, x1, v1,
+  // zero (never written), then CG's r, z, p, q.
   static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = 5;
+  static constexpr size_t cg_vectors = 4;
 
   template <class Real>
   struct Solver {
     Solver(const sdk::System<Real>& system,
-           const std::array<Real*, step_vectors + cg_vectors>& vectors)
+           const std::array<Real*, step_vectors + cg_vectors>& vectors, bool definite_form)
         : system(system),
           jacobian(system.jacobian()),
+          definite(definite_form ? std::optional{system.definite_jacobian()} : std::nullopt),
           reductions(system.reductions()),
           zero(vectors[6]),
           r(vectors[step_vectors]),
           z(vectors[step_vectors + 1]),
           p(vectors[step_vectors + 2]),
-          q(vectors[step_vectors + 3]),
-          damping_product(vectors[step_vectors + 4]) {}
+          q(vectors[step_vectors + 3]) {}
     const sdk::System<Real>& system;
     sdk::Jacobian<Real> jacobian;
+    std::optional<sdk::DefiniteJacobian<Real>> definite;  // with `definite` only
     sdk::Reductions<Real> reductions;
     const Real* zero;
-    Real *r, *z, *p, *q, *damping_product;
+    Real *r, *z, *p, *q;
   };
 
   // q = J u, J the exact Jacobian or (definite) the Baraff-Witkin matrix.
@@ -163,26 +174,28 @@ struct ImplicitEuler {
   void apply_jacobian(const Solver<Real>& s, double t, const Real* x, const Real* v, double c_x,
                       double c_v, const Real* u, Real* q) const {
     if (!definite_) return s.jacobian.apply(t, x, v, c_x, c_v, u, q);
-    s.jacobian.apply(t, x, nullptr, c_x, 0.0, u, q);
-    s.jacobian.apply(t, x, v, 0.0, c_v, u, s.damping_product);
-    s.system.axpy(q, 1.0, s.damping_product);
-    subtract_compressed_stiffness(s.system, c_x, u, q);
+    s.definite->apply(t, x, v, c_x, c_v, u, q);
   }
 
   // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs by block-Jacobi PCG in
-  // the mass inner product, from solution = 0, with compressed_ found at x; adds to last_.
+  // the mass inner product, from the solution's entries (guess) or 0 (solution zeroed by the
+  // caller); adds to last_.
   template <class Real>
   void solve(const Solver<Real>& s, double t, double h, const Real* x, const Real* v,
-             const Real* rhs, Real* solution) {
+             const Real* rhs, Real* solution, bool guess) {
     const sdk::System<Real>& system = s.system;
     const double c_x = -h * h, c_v = -h;  // A u = u + J u with these weights
     invert_diagonal_blocks(s, t, x, v, c_x, c_v);
 
-    system.copy(solution, s.zero);
-    system.copy(s.r, rhs);
+    if (guess) {  // r = rhs - A solution
+      apply_jacobian(s, t, x, v, c_x, c_v, solution, s.q);
+      system.template lincomb<2>(s.r, rhs, {-1.0, -1.0}, {solution, s.q});
+    } else {
+      system.copy(s.r, rhs);
+    }
     const double rhs_norm = std::sqrt(s.reductions.mass_dot(rhs, rhs));
-    double residual_norm = rhs_norm;
-    bool converged = rhs_norm == 0.0;
+    double residual_norm = guess ? std::sqrt(s.reductions.mass_dot(s.r, s.r)) : rhs_norm;
+    bool converged = residual_norm <= tolerance_ * rhs_norm;
     long iterations = 0;
     if (!converged) {
       precondition(system, s.r, s.z);
@@ -221,21 +234,10 @@ struct ImplicitEuler {
   void invert_diagonal_blocks(const Solver<Real>& s, double t, const Real* x, const Real* v,
                               double c_x, double c_v) {
     if (definite_) {
-      s.jacobian.diagonal_blocks(t, x, nullptr, c_x, 0.0, inverse_blocks_.data());
-      s.jacobian.diagonal_blocks(t, x, v, 0.0, c_v, damping_blocks_.data());
-      for (size_t k = 0; k < inverse_blocks_.size(); ++k) inverse_blocks_[k] += damping_blocks_[k];
+      s.definite->diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
     } else {
       s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
     }
-    for (const CompressedSpring& spring : compressed_)
-      for (const uint32_t end : {spring.first, spring.second}) {
-        const double scale = c_x * spring.stiffness * inverse_mass_[end];
-        double* b = &inverse_blocks_[9 * size_t{end}];
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c)
-            b[3 * r + c] -=
-                scale * ((r == c ? 1.0 : 0.0) - spring.direction[r] * spring.direction[c]);
-      }
     for (const clothlab_range& range : s.system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) {
         double* b = &inverse_blocks_[9 * size_t{i}];
@@ -255,55 +257,6 @@ struct ImplicitEuler {
       }
   }
 
-  // compressed_ = the springs shorter than their rest length at x, with
-  // ks (l0/l - 1) and their direction n; none when definite_springs is off.
-  template <class Real>
-  void find_compressed_springs(const sdk::System<Real>& system, const Real* x) {
-    compressed_.clear();
-    if (!definite_) return;
-    const size_t stride = system.stride();
-    for (uint32_t k = 0; k < springs_.spring_count; ++k) {
-      const uint32_t i = springs_.first[k], j = springs_.second[k];
-      if (inverse_mass_[i] == 0.0 && inverse_mass_[j] == 0.0) continue;
-      std::array<double, 3> d{};
-      for (size_t c = 0; c < 3; ++c) d[c] = double{x[c * stride + i]} - double{x[c * stride + j]};
-      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      const double rest = springs_.rest_length[k];
-      if (!(length < rest) || length == 0.0) continue;
-      compressed_.push_back({i,
-                             j,
-                             springs_.ks[k] * (rest / length - 1.0),
-                             {d[0] / length, d[1] / length, d[2] / length}});
-    }
-  }
-
-  // out -= c_x (the compressed springs' transverse part of da/dx) u: for each, at its
-  // active ends, (c_x ks (l0/l - 1) / m) (I - n n^T) (u_end - u_other). Pinned entries of u
-  // count as 0, as in the host's product.
-  template <class Real>
-  void subtract_compressed_stiffness(const sdk::System<Real>& system, double c_x, const Real* u,
-                                     Real* out) const {
-    const size_t stride = system.stride();
-    const auto entry = [&](uint32_t i, size_t c) {
-      return inverse_mass_[i] == 0.0 ? 0.0 : double{u[c * stride + i]};
-    };
-    for (const CompressedSpring& spring : compressed_) {
-      std::array<double, 3> du{};
-      for (size_t c = 0; c < 3; ++c) du[c] = entry(spring.first, c) - entry(spring.second, c);
-      const double along =
-          spring.direction[0] * du[0] + spring.direction[1] * du[1] + spring.direction[2] * du[2];
-      for (size_t c = 0; c < 3; ++c) {
-        const double transverse = c_x * spring.stiffness * (du[c] - along * spring.direction[c]);
-        if (inverse_mass_[spring.first] != 0.0)
-          out[c * stride + spring.first] -=
-              static_cast<Real>(transverse * inverse_mass_[spring.first]);
-        if (inverse_mass_[spring.second] != 0.0)
-          out[c * stride + spring.second] +=
-              static_cast<Real>(transverse * inverse_mass_[spring.second]);
-      }
-    }
-  }
-
   // z = blockdiag(A)^-1 r on the active particles.
   template <class Real>
   void precondition(const sdk::System<Real>& system, const Real* r, Real* z) const {
@@ -318,22 +271,14 @@ struct ImplicitEuler {
       }
   }
 
-  struct CompressedSpring {
-    uint32_t first, second;
-    double stiffness;                 // ks (l0/l - 1) > 0
-    std::array<double, 3> direction;  // unit, first minus second
-  };
-
   double tolerance_;
   long max_iterations_;
   long newton_steps_;
   bool definite_;
-  clothlab_topology springs_{};  // the host's arrays, when definite_springs
-  std::vector<CompressedSpring> compressed_;
-  std::vector<double> inverse_mass_;
+  bool warm_start_;
+  double previous_h_ = 0.0;  // the last step's h; 0: no dv to start from
   ScratchVectors<step_vectors + cg_vectors> scratch_;
   std::vector<double> inverse_blocks_;  // 9 n, row-major 3x3 per particle
-  std::vector<double> damping_blocks_;  // 9 n: the damping's diagonal blocks (definite)
   clothlab_solver_step_statistics last_{};
 };
 

@@ -3,15 +3,18 @@
 //   1/(2 h^2) |x - y|_M^2 + sum_s ks_s/2 |x_i - x_j - d_s|^2,   y = x0 + h v0 + h^2 a_ext(x0),
 // over positions x and spring vectors d_s of rest length. Alternating, for `iterations`:
 //   local:  d_s = rest_s (x_i - x_j) / |x_i - x_j|    (each spring projected to its rest length)
-//   global: (M + h D + h^2 K) x = M y + h D x0 + h^2 sum_s ks_s A_s^T d_s
+//   global: (M + h D + h^2 K) x = M y + h D x0 + h^2 sum_s ks_s A_s^T d_s + h c(x)
 // with K (and D) the spring graph's Laplacian weighted by ks (and kd), the same matrix for x,
-// y and z. Converged, this is backward Euler on the same springs (with the damping below);
+// y and z. Converged, this is backward Euler on the same springs and the same damping as
+// eval_acceleration (below), the step implicit_euler converges to with more Newton steps;
 // each iteration lowers the energy, so few iterations give a damped but stable step.
 //
-// Damping: kd enters the global matrix as h D, i.e. the force -kd (v_i - v_j) on the
-// spring's ends, damping their relative velocity in every direction, not only along the
-// spring as eval_acceleration does: that keeps the matrix constant, at the price of also
-// damping the ends' relative motion across the spring. External forces (gravity, wind)
+// Damping: eval_acceleration damps each spring along its direction n only,
+// -kd n n^T (v_i - v_j). In the matrix it enters isotropically, as h D (-kd (v_i - v_j)),
+// which keeps the matrix constant; the local step hands back what the isotropic term damps
+// across the spring, c = sum_s kd_s A_s^T (I - n n^T) A_s (x - x0), with n and x from the
+// current iterate. The matrix dominates that correction (D >= the transverse part), so the
+// iteration still converges, to damping along n alone. External forces (gravity, wind)
 // come from clothlab.external-forces/1 at x0, explicitly.
 //
 // Pinned particles are eliminated: the unknowns are the active particles, numbered in the
@@ -107,7 +110,7 @@ struct ProjectiveDynamics {
     positions_ = inertial_;
     for (long iteration = 0; iteration < iterations_; ++iteration) {
       rhs_ = fixed_rhs_;
-      project_springs(h * h);
+      project_springs(h);
       if (iteration + 1 == iterations_) previous_ = positions_;
       positions_ = rhs_;
       solve_in_place(positions_);
@@ -165,7 +168,7 @@ struct ProjectiveDynamics {
   struct Spring {
     int32_t first, second;
     uint32_t first_particle, second_particle;
-    double rest_length, ks;
+    double rest_length, ks, kd;
   };
 
   // unknown_of_[particle] = its row in the global system in AMD order, -1 when pinned.
@@ -221,7 +224,7 @@ struct ProjectiveDynamics {
       const int32_t a = unknown_of_[i], b = unknown_of_[j];
       if (a < 0 && b < 0) continue;
       const double ks = topology.ks()[s], kd = topology.kd()[s];
-      springs_.push_back({a, b, i, j, topology.rest_length()[s], ks});
+      springs_.push_back({a, b, i, j, topology.rest_length()[s], ks, kd});
       if (a >= 0) entries.push_back({a, a, 0, kd, ks});
       if (b >= 0) entries.push_back({b, b, 0, kd, ks});
       if (a >= 0 && b >= 0)
@@ -294,19 +297,27 @@ struct ProjectiveDynamics {
     }
   }
 
-  // rhs_ += weight sum_s ks_s A_s^T d_s, d_s the spring's current vector at its rest length.
-  void project_springs(double weight) {
+  // rhs_ += h^2 sum_s ks_s A_s^T d_s, d_s the spring's current vector at its rest length,
+  // and h c: the isotropic damping's part across each spring, handed back (see the top).
+  void project_springs(double h) {
     for (const Spring& s : springs_) {
-      std::array<double, 3> d{};
-      for (size_t k = 0; k < 3; ++k)
+      std::array<double, 3> d{}, moved{};
+      for (size_t k = 0; k < 3; ++k) {
         d[k] = end_position(s.first, s.first_particle, k) -
                end_position(s.second, s.second_particle, k);
+        moved[k] = end_motion(s.first, k) - end_motion(s.second, k);
+      }
       const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      // A spring of zero length has no direction: it keeps its (zero) vector.
-      const double scale = length > 0.0 ? weight * s.ks * s.rest_length / length : 0.0;
+      // A spring of zero length has no direction: it keeps its (zero) vector and is damped
+      // isotropically.
+      const double scale = length > 0.0 ? h * h * s.ks * s.rest_length / length : 0.0;
+      const double along =
+          length > 0.0 ? (d[0] * moved[0] + d[1] * moved[1] + d[2] * moved[2]) / (length * length)
+                       : 0.0;
       for (size_t k = 0; k < 3; ++k) {
-        if (s.first >= 0) rhs_(s.first, k) += scale * d[k];
-        if (s.second >= 0) rhs_(s.second, k) -= scale * d[k];
+        const double change = scale * d[k] + h * s.kd * (moved[k] - along * d[k]);
+        if (s.first >= 0) rhs_(s.first, k) += change;
+        if (s.second >= 0) rhs_(s.second, k) -= change;
       }
     }
   }
@@ -325,6 +336,10 @@ struct ProjectiveDynamics {
 
   double end_position(int32_t unknown, uint32_t particle, size_t k) const {
     return unknown >= 0 ? positions_(unknown, k) : pinned_position_[3 * size_t{particle} + k];
+  }
+  // x - x0 of a spring's end over the step so far (a pinned end does not move).
+  double end_motion(int32_t unknown, size_t k) const {
+    return unknown >= 0 ? positions_(unknown, k) - start_(unknown, k) : 0.0;
   }
 
   long iterations_;

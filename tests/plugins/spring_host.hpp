@@ -1,10 +1,11 @@
 // A small spring network as a MockSystem that offers the host extensions implicit and
-// projective integrators need: topology, jacobian (matrix-free products and diagonal
-// blocks), reductions and external forces, written here from the same force law as its
-// eval_acceleration (Hooke + damping along each spring, gravity; every mass 1 kg), so the
-// plugins can be tested against analytic solutions without the core.
+// projective integrators need: topology, jacobian and its definite form (matrix-free
+// products and diagonal blocks), reductions and external forces, written here from the same force
+// law as its eval_acceleration (Hooke + damping along each spring, gravity; every mass 1 kg), so
+// the plugins can be tested against analytic solutions without the core.
 #pragma once
 
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
@@ -40,6 +41,7 @@ class SpringHost {
     system_.extensions = [](const char* id) -> const void* {
       if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
       if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
       if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
       if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
       return nullptr;
@@ -50,7 +52,7 @@ class SpringHost {
   SpringHost& operator=(const SpringHost&) = delete;
 
   MockSystem<Real>& system() { return system_; }
-  int jacobian_products = 0;
+  int jacobian_products = 0;  // of either form
 
   // Replaces the trivial spring colouring (one spring per colour) with `colors`, spring
   // indices per colour; the test vouches that no two springs of a colour share a particle.
@@ -63,13 +65,14 @@ class SpringHost {
     }
   }
 
-  // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0).
+  // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0);
+  // definite: clothlab.definite-jacobian/1's form.
   void jacobian_product(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
-                        Real* out) const {
+                        Real* out, bool definite = false) const {
     const uint32_t stride = system_.stride();
     std::vector<double> sum(3 * size_t{stride}, 0.0);
     for (const TestSpring& s : springs_) {
-      const Block b = spring_block(s, x, v, c_x, c_v);
+      const Block b = spring_block(s, x, v, c_x, c_v, definite);
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) {
           const double du = value(u, s.first, c) - value(u, s.second, c);
@@ -125,9 +128,10 @@ class SpringHost {
 
   // d f_first / d x_first (times c_x) + d f_first / d v_first (times c_v): Hooke
   // -ks ((1 - l0/l) I + (l0/l) n n^T), damping -kd n n^T in v and, in x, the turning of n:
-  // -kd (n w^T + (n.w) I) (I - n n^T) / l, w = v_first - v_second.
-  Block spring_block(const TestSpring& s, const Real* x, const Real* v, double c_x,
-                     double c_v) const {
+  // -kd (n w^T + (n.w) I) (I - n n^T) / l, w = v_first - v_second. Definite: Hooke
+  // -ks (max(0, 1 - l0/l) (I - n n^T) + n n^T) and no turning term.
+  Block spring_block(const TestSpring& s, const Real* x, const Real* v, double c_x, double c_v,
+                     bool definite = false) const {
     Vec3 d{}, w{};
     for (int k = 0; k < 3; ++k) {
       d[k] = value(x, s.first, k) - value(x, s.second, k);
@@ -142,9 +146,12 @@ class SpringHost {
       for (int c = 0; c < 3; ++c) {
         const double identity = r == c ? 1.0 : 0.0;
         const double hooke =
-            -s.ks * ((1 - s.rest_length / l) * identity + s.rest_length / l * n[r] * n[c]);
+            definite
+                ? -s.ks * (std::max(0.0, 1 - s.rest_length / l) * (identity - n[r] * n[c]) +
+                           n[r] * n[c])
+                : -s.ks * ((1 - s.rest_length / l) * identity + s.rest_length / l * n[r] * n[c]);
         double turning = 0.0;
-        for (int m = 0; m < 3; ++m)
+        for (int m = 0; m < 3 && !definite; ++m)
           turning +=
               (n[r] * w[m] + nw * (r == m ? 1.0 : 0.0)) * ((m == c ? 1.0 : 0.0) - n[m] * n[c]) / l;
         b[3 * r + c] = c_x * (hooke - kd * turning) + c_v * (-kd * n[r] * n[c]);
@@ -206,14 +213,16 @@ class SpringHost {
   }
 
   static clothlab_status reserve(void*) { return CLOTHLAB_OK; }
+  template <bool Definite>
   static clothlab_status apply(void* context, double, const void* x, const void* v, double c_x,
                                double c_v, const void* u, void* out) {
     SpringHost& s = self(context);
     ++s.jacobian_products;
     s.jacobian_product(static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
-                       static_cast<const Real*>(u), static_cast<Real*>(out));
+                       static_cast<const Real*>(u), static_cast<Real*>(out), Definite);
     return CLOTHLAB_OK;
   }
+  template <bool Definite>
   static clothlab_status diagonal_blocks(void* context, double, const void* x, const void* v,
                                          double c_x, double c_v, double* out) {
     const SpringHost& s = self(context);
@@ -221,7 +230,7 @@ class SpringHost {
     std::fill(out, out + 9 * size_t{n}, 0.0);
     for (const TestSpring& spring : s.springs_) {
       const Block b = s.spring_block(spring, static_cast<const Real*>(x),
-                                     static_cast<const Real*>(v), c_x, c_v);
+                                     static_cast<const Real*>(v), c_x, c_v, Definite);
       for (uint32_t end : {spring.first, spring.second})
         if (s.active(end))
           for (int k = 0; k < 9; ++k) out[9 * size_t{end} + k] += b[k];
@@ -275,8 +284,10 @@ class SpringHost {
   static int32_t constant_external(void*) { return 0; }
 
   static constexpr clothlab_topology_extension topology_table{&get_topology};
-  static constexpr clothlab_jacobian_extension jacobian_table{&reserve, &apply, &diagonal_blocks,
-                                                              &no_pattern, &no_blocks};
+  static constexpr clothlab_jacobian_extension jacobian_table{
+      &reserve, &apply<false>, &diagonal_blocks<false>, &no_pattern, &no_blocks};
+  static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
+      &apply<true>, &diagonal_blocks<true>};
   static constexpr clothlab_reductions_extension reductions_table{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_table{&external_acceleration,
                                                                      &constant_external};

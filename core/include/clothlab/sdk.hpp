@@ -14,9 +14,9 @@
 //     template <class Real> void step(clothlab::sdk::System<Real>&, double t, double dt);
 //   };
 //
-// Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(), reductions(),
-// external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED when the host lacks one;
-// system.extension<Table>(id) returns nullptr instead. An integrator offers its own
+// Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(),
+// definite_jacobian(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED when the
+// host lacks one; system.extension<Table>(id) returns nullptr instead. An integrator offers its own
 // extensions by declaring `static constexpr clothlab_integrator_traits traits` or
 // `static constexpr clothlab_explicit_scheme explicit_scheme`, and solver statistics
 // (clothlab.solver-statistics/1) by a member
@@ -258,6 +258,10 @@ class System {
   }
   Jacobian<Real> jacobian() const {
     return {required<clothlab_jacobian_extension>(CLOTHLAB_EXT_JACOBIAN), raw_->context};
+  }
+  DefiniteJacobian<Real> definite_jacobian() const {
+    return {required<clothlab_definite_jacobian_extension>(CLOTHLAB_EXT_DEFINITE_JACOBIAN),
+            raw_->context};
   }
   Reductions<Real> reductions() const {
     return {required<clothlab_reductions_extension>(CLOTHLAB_EXT_REDUCTIONS), raw_->context};

@@ -1,9 +1,11 @@
 // Typed C++ views of the host extensions (clothlab/ext/*.h), returned by
-// System<Real>::topology(), jacobian(), reductions() and external_forces() in sdk.hpp.
+// System<Real>::topology(), jacobian(), definite_jacobian(), reductions() and external_forces()
+// in sdk.hpp.
 // Each wrapper holds the extension's function table and the system's context; a failing
 // call throws sdk::Error with the host's status.
 #pragma once
 
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
@@ -90,6 +92,31 @@ class Jacobian {
 
  private:
   const clothlab_jacobian_extension* table_;
+  void* context_;
+};
+
+// D = c_x K + c_v (da/dv), Baraff and Witkin's definite form of the Jacobian (see
+// clothlab/ext/definite_jacobian.h); readied by Jacobian::reserve.
+template <class Real>
+class DefiniteJacobian {
+ public:
+  DefiniteJacobian(const clothlab_definite_jacobian_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  // out = D u on active particles (0 on pinned ones); out must not alias u, x or v.
+  void apply(double t, const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+             Real* out) const {
+    check(table_->apply(context_, t, x, v, c_x, c_v, u, out), "definite jacobian apply failed");
+  }
+  // out[9 i + 3 r + c] = D_ii(r, c), 9 n doubles.
+  void diagonal_blocks(double t, const Real* x, const Real* v, double c_x, double c_v,
+                       double* out) const {
+    check(table_->diagonal_blocks(context_, t, x, v, c_x, c_v, out),
+          "definite jacobian diagonal_blocks failed");
+  }
+
+ private:
+  const clothlab_definite_jacobian_extension* table_;
   void* context_;
 };
 

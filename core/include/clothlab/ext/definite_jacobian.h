@@ -1,0 +1,43 @@
+/*
+ * Host extension "clothlab.definite-jacobian/1": Baraff and Witkin's definite
+ * approximation of the Jacobian of clothlab.jacobian/1, in one product, for implicit
+ * integrators that solve with conjugate gradients at large steps.
+ *
+ * The linear map is D = c_x K + c_v (da/dv) at a state (x, v), with da/dv exact (as in
+ * clothlab.jacobian/1; v NULL: no damping) and K the springs' Hooke stiffness without the
+ * two terms that make the exact da/dx indefinite or unsymmetric: per spring of rest length
+ * l0, length l and direction n, K = M^-1 ks (max(0, 1 - l0/l) (I - n n^T) + n n^T)
+ * (a compressed spring keeps no transverse stiffness), and no x-derivative of the damping
+ * force. M D is symmetric; for c_x, c_v <= 0, I + D is positive definite in the mass inner
+ * product. Rows and columns of pinned particles are zero.
+ *
+ * Call `reserve` of clothlab.jacobian/1 from `prepare` first (it readies both). Thread
+ * rule: as eval_acceleration. No allocation.
+ */
+#ifndef CLOTHLAB_EXT_DEFINITE_JACOBIAN_H
+#define CLOTHLAB_EXT_DEFINITE_JACOBIAN_H
+
+#include <clothlab/plugin.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define CLOTHLAB_EXT_DEFINITE_JACOBIAN "clothlab.definite-jacobian/1"
+
+typedef struct clothlab_definite_jacobian_extension {
+  /* out = D u on active particles; out is 0 on pinned ones, u's pinned entries are
+   * ignored. u and out are vectors of the system; out must not alias u, x or v. */
+  clothlab_status (*apply)(void* context, double t, const void* x, const void* v, double c_x,
+                           double c_v, const void* u, void* out);
+  /* The 3x3 diagonal blocks of D: out[9 i + 3 r + c] = D_ii(r, c), n blocks, row-major,
+   * double; pinned blocks are zero. out is caller-owned, 9 n doubles. */
+  clothlab_status (*diagonal_blocks)(void* context, double t, const void* x, const void* v,
+                                     double c_x, double c_v, double* out);
+} clothlab_definite_jacobian_extension;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CLOTHLAB_EXT_DEFINITE_JACOBIAN_H */

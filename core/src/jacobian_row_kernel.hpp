@@ -1,0 +1,170 @@
+// The spring Jacobian's product along one grid row for one stencil: for each spring from
+// column c of the row to its partner, p[c] = M (du) with du = u_partner - u_own (pinned
+// entries of u count as 0) and M the spring's block of J (spring_jacobian.hpp). Each
+// spring once, from the state; the caller moves p onto both ends by shifted adds.
+//
+// The formula is written once over a lane type (a scalar Real inside `omp simd`, or 16
+// floats on AVX-512), in raw dot products of d = x_partner - x_own so that a zero-length
+// spring (inverse length 0) gives exactly 0 without a branch:
+//   q = 1/l^2, a = (1/l) (ks (l - l0) + kd (d.dv)/l), b = (1/l) (ks l0 - kd (d.dv)/l),
+//   p = c_x a du + d [c_x q (b (d.du) + kd (dv.du - q (d.dv)(d.du))) + c_v kd q (d.du)].
+// The definite form (Baraff & Witkin) keeps ks n n^T and the transverse ks (1 - l0/l) only
+// where it is >= 0 (a compressed spring has none), and no x-derivative of the damping:
+//   p = c_x t du + d q (d.du) (c_x (ks - t) + c_v kd),   t = max(0, ks (1 - l0/l)).
+#pragma once
+
+#include <cstddef>
+#include <type_traits>
+
+#include "inverse_sqrt.hpp"
+
+namespace clothlab::detail {
+
+enum class JacobianForm { kExact, kDefinite };
+
+// Inputs are vectors of the system (component k of column c at [c + k * stride], already
+// offset to the row; partner pointers shifted so that column c lines up with the partner).
+// Stored: p holds its components `span` apart. Direct (a stencil reaching another row, both
+// ends wanted): own[c] += p and partner[c] -= p straight into the product, a vector of the
+// system like the inputs, with the same rounding as adding the stored p.
+template <class Real>
+struct JacobianRow {
+  const Real* x;
+  const Real* x_partner;
+  const Real* v;  // read only when damped
+  const Real* v_partner;
+  const Real* u;
+  const Real* u_partner;
+  const Real* inverse_mass;  // of the row's particles, and of the partners
+  const Real* inverse_mass_partner;
+  Real* p;
+  Real* own;
+  Real* partner;
+  std::size_t stride;
+  std::size_t span;
+  std::size_t col_begin;
+  std::size_t col_end;
+  Real rest, ks, kd, c_x, c_v;
+};
+
+inline float lane_max(float a, float b) { return a > b ? a : b; }
+inline double lane_max(double a, double b) { return a > b ? a : b; }
+#if defined(__AVX512F__)
+// A blend rather than _mm512_max_ps, whose header trips GCC 12's -Wmaybe-uninitialized.
+inline __m512 lane_max(__m512 a, __m512 b) {
+  return _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, b, _CMP_GT_OQ), b, a);
+}
+#endif
+
+template <JacobianForm Form, bool Damped, class Lane>
+inline void spring_product(const Lane (&d)[3], const Lane (&dv)[3], const Lane (&du)[3], Lane rest,
+                           Lane ks, Lane kd, Lane c_x, Lane c_v, Lane zero, Lane (&p)[3]) {
+  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  const Lane inverse_length = inverse_sqrt_or_zero(squared);
+  const Lane q = inverse_length * inverse_length;
+  const Lane d_du = d[0] * du[0] + d[1] * du[1] + d[2] * du[2];
+  Lane across, along;
+  if constexpr (Form == JacobianForm::kDefinite) {
+    // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
+    const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
+    across = c_x * transverse;
+    along = q * d_du * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+  } else {
+    Lane d_dv = zero, dv_du = zero;
+    if constexpr (Damped) {
+      d_dv = d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2];
+      dv_du = dv[0] * du[0] + dv[1] * du[1] + dv[2] * du[2];
+    }
+    const Lane rate = kd * d_dv * inverse_length;  // kd (n . dv)
+    const Lane a = inverse_length * (ks * (squared * inverse_length - rest) + rate);
+    const Lane b = inverse_length * (ks * rest - rate);
+    Lane bracket = b * d_du;
+    if constexpr (Damped) bracket = bracket + kd * (dv_du - q * d_dv * d_du);
+    across = c_x * a;
+    along = q * (c_x * bracket + (Damped ? c_v * kd * d_du : zero));
+  }
+  for (int k = 0; k < 3; ++k) p[k] = across * du[k] + along * d[k];
+}
+
+template <class Real, JacobianForm Form, bool Damped, bool Direct>
+inline void jacobian_row_portable(const JacobianRow<Real>& row) {
+  const Real* __restrict x = row.x;
+  const Real* __restrict xp = row.x_partner;
+  const Real* __restrict v = row.v;
+  const Real* __restrict vp = row.v_partner;
+  const Real* __restrict u = row.u;
+  const Real* __restrict up = row.u_partner;
+  const Real* __restrict m = row.inverse_mass;
+  const Real* __restrict mp = row.inverse_mass_partner;
+  Real* __restrict p = row.p;
+  Real* __restrict own = row.own;
+  Real* __restrict partner = row.partner;
+  const std::size_t stride = row.stride, span = row.span;
+#pragma omp simd
+  for (std::size_t c = row.col_begin; c < row.col_end; ++c) {
+    Real d[3], dv[3] = {0, 0, 0}, du[3], out[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t e = c + k * stride;
+      d[k] = xp[e] - x[e];
+      if constexpr (Damped) dv[k] = vp[e] - v[e];
+      du[k] = (mp[c] > Real(0) ? up[e] : Real(0)) - (m[c] > Real(0) ? u[e] : Real(0));
+    }
+    spring_product<Form, Damped>(d, dv, du, row.rest, row.ks, row.kd, row.c_x, row.c_v, Real(0),
+                                 out);
+    for (std::size_t k = 0; k < 3; ++k) {
+      if constexpr (Direct) {
+        own[c + k * stride] += out[k];
+        partner[c + k * stride] -= out[k];
+      } else {
+        p[c + k * span] = out[k];
+      }
+    }
+  }
+}
+
+#if defined(__AVX512F__)
+template <JacobianForm Form, bool Damped, bool Direct>
+inline void jacobian_row_avx512(const JacobianRow<float>& row) {
+  const __m512 rest = _mm512_set1_ps(row.rest), ks = _mm512_set1_ps(row.ks),
+               kd = _mm512_set1_ps(row.kd), c_x = _mm512_set1_ps(row.c_x),
+               c_v = _mm512_set1_ps(row.c_v), zero = _mm512_setzero_ps();
+  const std::size_t stride = row.stride, span = row.span;
+  for_each_16(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
+    const __mmask16 own_active =
+        _mm512_cmp_ps_mask(lanes.load(row.inverse_mass + c), zero, _CMP_GT_OQ);
+    const __mmask16 partner_active =
+        _mm512_cmp_ps_mask(lanes.load(row.inverse_mass_partner + c), zero, _CMP_GT_OQ);
+    __m512 d[3], dv[3] = {zero, zero, zero}, du[3], out[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t e = c + k * stride;
+      d[k] = lanes.load(row.x_partner + e) - lanes.load(row.x + e);
+      if constexpr (Damped) dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
+      du[k] = _mm512_maskz_mov_ps(partner_active, lanes.load(row.u_partner + e)) -
+              _mm512_maskz_mov_ps(own_active, lanes.load(row.u + e));
+    }
+    spring_product<Form, Damped>(d, dv, du, rest, ks, kd, c_x, c_v, zero, out);
+    for (std::size_t k = 0; k < 3; ++k) {
+      if constexpr (Direct) {
+        const std::size_t e = c + k * stride;
+        lanes.store(row.own + e, lanes.load(row.own + e) + out[k]);
+        lanes.store(row.partner + e, lanes.load(row.partner + e) - out[k]);
+      } else {
+        lanes.store(row.p + c + k * span, out[k]);
+      }
+    }
+  });
+}
+#endif
+
+template <class Real, JacobianForm Form, bool Damped, bool Direct>
+inline void jacobian_row(const JacobianRow<Real>& row) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<Real, float>) {
+    jacobian_row_avx512<Form, Damped, Direct>(row);
+    return;
+  }
+#endif
+  jacobian_row_portable<Real, Form, Damped, Direct>(row);
+}
+
+}  // namespace clothlab::detail
