@@ -12,6 +12,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_setup.hpp"
@@ -261,7 +262,10 @@ void strip_step(benchmark::State& state, const std::string& id) {
 }
 
 void strips(benchmark::internal::Benchmark* benchmark) {
-  benchmark->Args({4096, 1})->Args({1, 4096})->Unit(benchmark::kMicrosecond)->UseRealTime();
+  for (const auto& [rows, cols] :
+       {std::pair{4096, 1}, {1, 4096}, {4096, 2}, {2, 4096}, {4096, 8}, {8, 4096}})
+    benchmark->Args({rows, cols});
+  benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
 }
 
 void sizes(benchmark::internal::Benchmark* benchmark) {

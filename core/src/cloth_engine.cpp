@@ -15,12 +15,19 @@
 namespace clothlab::detail {
 namespace {
 
-// The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings).
-// A one-column grid is stored exactly as the one-row grid it turns into by a quarter turn
-// (particle r at index r either way), so it is handed over as that row: one long row instead of
-// `rows` rows of one particle (4096x1 was 27x slower than 1x4096, docs/performance.md).
+// The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings,
+// kernels whose SIMD lanes fill only from 16 columns on). A grid narrower than that and taller
+// than wide is handed over turned a quarter, as `cols` long rows instead of `rows` short ones
+// (4096x2 took 40x as long as 2x4096, docs/performance.md); the pipeline then reads each of
+// its rows as a column of the state, particles `cols` apart (for one column: contiguous).
+constexpr uint32_t kNarrowGrid = 16;
+
+bool turned_for_pipeline(const Scene& scene) {
+  return scene.cols < kNarrowGrid && scene.rows > scene.cols;
+}
+
 Scene pipeline_scene(const Scene& scene) {
-  if (scene.cols != 1 || scene.rows == 1) return scene;
+  if (!turned_for_pipeline(scene)) return scene;
   Scene turned = scene;
   std::swap(turned.rows, turned.cols);
   std::swap(turned.width, turned.height);
@@ -107,9 +114,9 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     active_particles_ += range.end - range.begin;
   }
 
-  forces_ =
-      std::make_unique<ForcePipeline<Real>>(pipeline_scene(scene), stride_, inverse_mass_.data(),
-                                            options.velocity_forces, threads_, parallel_);
+  forces_ = std::make_unique<ForcePipeline<Real>>(
+      pipeline_scene(scene), stride_, inverse_mass_.data(), options.velocity_forces, threads_,
+      parallel_, turned_for_pipeline(scene) ? scene.cols : 1);
   velocity_forces_ = options.velocity_forces;
   chunk_sums_.assign(active_chunks_.size(), 0.0);
   mass_.assign(n_, 0.0);

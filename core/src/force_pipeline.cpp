@@ -29,13 +29,22 @@ std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
 template <class Real>
 ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const Real* inverse_mass,
-                                   bool velocity_forces, int threads, bool parallel)
+                                   bool velocity_forces, int threads, bool parallel,
+                                   std::size_t col_pitch)
     : rows_(scene.rows),
       cols_(scene.cols),
       stride_(stride),
+      col_pitch_(col_pitch),
       inverse_mass_(inverse_mass),
       threads_(threads),
       parallel_(parallel) {
+  if (col_pitch_ != 1) {
+    turned_inverse_mass_ = AlignedBuffer<Real>(rows_ * cols_);
+    for (std::size_t r = 0; r < rows_; ++r)
+      for (std::size_t c = 0; c < cols_; ++c)
+        turned_inverse_mass_[r * cols_ + c] = inverse_mass[r + c * col_pitch_];
+    inverse_mass_ = turned_inverse_mass_.data();
+  }
   for (int k = 0; k < 3; ++k) {
     gravity_[k] = static_cast<Real>(scene.gravity[k]);
     wind_direction_[k] = static_cast<Real>(scene.wind_direction[k]);
@@ -76,7 +85,7 @@ void ForcePipeline<Real>::reserve_stages(uint32_t stages) {
   reserved_stages_ = stages;
   // Per thread: a ring per stage, then for the fused step an acceleration ring per stage,
   // the halo rows and two update rows (see rkn_sweep.cpp).
-  const std::size_t rows = update_from() + 2;
+  const std::size_t rows = turned_from() + 7 + StateCombination<Real>::kMaxTerms;
   // Each thread's scratch starts 64 KiB after the end of the previous one's: with the
   // regions closer than ~40 KiB the second thread ran ~35 % slower on this 2-core AMD
   // EPYC VM (300 x 300 force pass: 230 vs 350 us; cause not isolated, likely prefetch or
@@ -123,19 +132,58 @@ Real* ForcePipeline<Real>::staged_row(Real* ring, std::size_t row, int quantity,
 }
 
 template <class Real>
-void ForcePipeline<Real>::stage_row(Real* ring, const StateCombination<Real>* const (&state)[2],
+void ForcePipeline<Real>::stage_row(int thread, Real* ring,
+                                    const StateCombination<Real>* const (&state)[2],
                                     std::size_t row) {
   for (int quantity = 0; quantity < 2; ++quantity) {
     if (state[quantity] == nullptr) continue;
     const StateCombination<Real>& sum = *state[quantity];
     for (int k = 0; k < 3; ++k) {
-      const std::size_t first = k * stride_ + row * cols_;
+      const std::size_t first = k * stride_ + row_start(row);
       const Real* vectors[StateCombination<Real>::kMaxTerms];
+      const Real* base = sum.base + first;
       for (uint32_t term = 0; term < sum.count; ++term) vectors[term] = sum.vectors[term] + first;
-      combine_row(staged_row(ring, row, quantity, k), sum.base + first, sum.count, sum.coefficients,
-                  vectors, inverse_mass_ + row * cols_, cols_);
+      if (col_pitch_ != 1) {
+        // A turned grid's row is a column of the state: contiguous copies of it go through
+        // the same kernel, so the sums are the same, bit for bit.
+        Real* copy = thread_row(thread, turned_from() + 6);
+        gather_component(base, copy);
+        base = copy;
+        for (uint32_t term = 0; term < sum.count; ++term) {
+          copy = thread_row(thread, turned_from() + 7 + term);
+          gather_component(vectors[term], copy);
+          vectors[term] = copy;
+        }
+      }
+      combine_row(staged_row(ring, row, quantity, k), base, sum.count, sum.coefficients, vectors,
+                  inverse_mass_ + row * cols_, cols_);
     }
   }
+}
+
+template <class Real>
+void ForcePipeline<Real>::gather_component(const Real* from, Real* to) const {
+  for (std::size_t c = 0; c < cols_; ++c) to[c] = from[c * col_pitch_];
+}
+
+template <class Real>
+void ForcePipeline<Real>::gather_row(const Real* state, std::size_t row, Real* to) const {
+  const Real* from = state + row_start(row);
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (col_pitch_ == 1) {
+      std::copy_n(from + k * stride_, cols_, to + k * row_span_);
+    } else {
+      gather_component(from + k * stride_, to + k * row_span_);
+    }
+  }
+}
+
+template <class Real>
+void ForcePipeline<Real>::scatter_row(const Real* from, Real* state, std::size_t row) const {
+  Real* to = state + row_start(row);
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t c = 0; c < cols_; ++c)
+      to[k * stride_ + c * col_pitch_] = from[k * row_span_ + c];
 }
 
 template <class Real>
@@ -304,13 +352,17 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
   std::size_t staged = first;
   for (std::size_t row = first; row < end; ++row) {
     // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
-    for (; staged < std::min(row + 3, rows_); ++staged) stage_row(own, state, staged);
+    for (; staged < std::min(row + 3, rows_); ++staged) stage_row(thread, own, state, staged);
     add_springs(own, row, pass);
     add_wind(own, row, pass);
     if (row < begin) {
       clear_row(own, row);
-    } else {
+    } else if (col_pitch_ == 1) {
       probe += finish_row(own, row, a + row * cols_, stride_);
+    } else {
+      Real* finished = thread_row(thread, turned_from());
+      probe += finish_row(own, row, finished, row_span_);
+      scatter_row(finished, a, row);
     }
   }
   // Forces already added to the rows after the block belong to the next thread's rows.

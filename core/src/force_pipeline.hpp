@@ -14,6 +14,11 @@
 // never stored. In every scratch row the three components lie one row span apart, which
 // keeps the kernels to a few base pointers. (Reading the state in place instead measured
 // ~10 % slower: the kernels then stream 18 rows from outside L1.)
+//
+// A pipeline row is a row of the state (col_pitch 1) or, for a grid the engine hands over
+// turned a quarter (narrow and tall: few long rows instead of many short ones), a column of
+// it: its particles lie col_pitch = the grid's cols apart. Only the copies between the state
+// and the scratch rows (staging, halo, finished accelerations, the update) see the pitch.
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -32,8 +37,10 @@ namespace clothlab::detail {
 template <class Real>
 class ForcePipeline {
  public:
+  // `scene` as the pipeline sweeps it (turned or not); particle c of pipeline row r is at
+  // r * cols + c of the state (col_pitch 1) or at r + c * col_pitch (a turned grid).
   ForcePipeline(const Scene& scene, std::size_t stride, const Real* inverse_mass,
-                bool velocity_forces, int threads, bool parallel);
+                bool velocity_forces, int threads, bool parallel, std::size_t col_pitch = 1);
 
   // a = M^-1 F(x, v) on every particle (0 where the inverse mass is 0). v == nullptr
   // skips damping. Returns false when some acceleration is not finite. No allocation.
@@ -97,7 +104,15 @@ class ForcePipeline {
   Real* wind_row(Real* ring, int triangle, int k);
   Real* staged_row(Real* ring, std::size_t row, int quantity, int k);
   // Forms grid row `row` of x and v into the staged rows.
-  void stage_row(Real* ring, StatePair state, std::size_t row);
+  void stage_row(int thread, Real* ring, StatePair state, std::size_t row);
+  // Where pipeline row `row` starts in a state vector.
+  std::size_t row_start(std::size_t row) const { return col_pitch_ == 1 ? row * cols_ : row; }
+  // The 3 components of pipeline row `row` of a state vector to a scratch row (components
+  // row_span_ apart), and back.
+  void gather_row(const Real* state, std::size_t row, Real* to) const;
+  // One component: `cols_` particles col_pitch_ apart to a contiguous row.
+  void gather_component(const Real* from, Real* to) const;
+  void scatter_row(const Real* from, Real* state, std::size_t row) const;
 
   void add_springs(Real* ring, std::size_t row, const Pass& pass);
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
@@ -115,10 +130,13 @@ class ForcePipeline {
   // v rows of other threads' blocks, copied before anything is written) and the sweep.
   std::size_t rkn_window() const { return 2 * std::size_t{reserved_stages_}; }
   std::size_t rkn_halo() const { return 4 * std::size_t{reserved_stages_}; }
-  // Thread rows after the rings: acceleration windows, halo rows, two update rows.
+  // Thread rows after the rings: acceleration windows, halo rows, two update rows, then for a
+  // turned grid contiguous copies: of an x and a v row (6 rows), of a combination's base and
+  // terms (1 + kMaxTerms rows).
   std::size_t windows_from() const { return reserved_stages_ * scratch::kRowsPerRing; }
   std::size_t halo_from() const { return windows_from() + reserved_stages_ * rkn_window() * 3; }
   std::size_t update_from() const { return halo_from() + rkn_halo() * 6; }
+  std::size_t turned_from() const { return update_from() + 2; }
   // Halo slot of grid row `row` outside the block [begin, end) of a `stages`-stage step:
   // the 2 * stages rows above it first, then those below.
   std::size_t halo_slot(std::size_t row, std::size_t begin, std::size_t end,
@@ -137,7 +155,9 @@ class ForcePipeline {
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
   std::size_t stride_ = 0;
-  const Real* inverse_mass_ = nullptr;
+  std::size_t col_pitch_ = 1;
+  const Real* inverse_mass_ = nullptr;       // in pipeline row order
+  AlignedBuffer<Real> turned_inverse_mass_;  // a turned grid's inverse masses, row by row
   int threads_ = 1;
   bool parallel_ = false;
   Real gravity_[3] = {0, 0, 0};

@@ -45,13 +45,21 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
     last[s] = std::min(rows_ - 1, end - 1 + ahead);
     staged[s] = first[s];
   }
-  // Component k of row `row` of x (quantity 0) or v (1): in place in the block, else halo.
+  // Component k of row `row` of x (quantity 0) or v (1): in place in the block (of a turned
+  // grid: its copy, gathered by stage_rkn_row), else halo.
+  const bool turned = col_pitch_ != 1;
   const auto source = [&](int quantity, std::size_t row, std::size_t k) -> const Real* {
-    if (row >= begin && row < end) return (quantity == 0 ? x : v) + k * stride_ + row * cols_;
-    return halo_row(thread, halo_slot(row, begin, end, stages), quantity) + k * row_span_;
+    if (row < begin || row >= end)
+      return halo_row(thread, halo_slot(row, begin, end, stages), quantity) + k * row_span_;
+    if (turned) return thread_row(thread, turned_from() + 3 * quantity) + k * row_span_;
+    return (quantity == 0 ? x : v) + k * stride_ + row * cols_;
   };
   const auto stage_rkn_row = [&](std::size_t s, std::size_t row) {
     Real* const stage_ring = ring(thread, s);
+    if (turned && row >= begin && row < end) {
+      gather_row(x, row, thread_row(thread, turned_from()));
+      gather_row(v, row, thread_row(thread, turned_from() + 3));
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       Real x_weights[RknStep<Real>::kMaxStages + 1], v_weights[RknStep<Real>::kMaxStages];
       const Real* x_terms[RknStep<Real>::kMaxStages + 1];
@@ -85,13 +93,19 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
     Real* __restrict dv = thread_row(thread, update_from() + 1);
     const Real* __restrict inverse_mass = inverse_mass_ + row * cols_;
     const Real h = step.h;
+    const std::size_t pitch = col_pitch_;
     for (std::size_t k = 0; k < 3; ++k) {
-      Real* __restrict xr = x + k * stride_ + row * cols_;
-      Real* __restrict vr = v + k * stride_ + row * cols_;
+      Real* __restrict xr = x + k * stride_ + row_start(row);
+      Real* __restrict vr = v + k * stride_ + row_start(row);
+      if (turned) {
+        for (std::size_t c = 0; c < cols_; ++c) dx[c] = h * vr[c * pitch];
+        std::fill_n(dv, cols_, Real(0));
+      } else {
 #pragma omp simd
-      for (std::size_t c = 0; c < cols_; ++c) {
-        dx[c] = h * vr[c];
-        dv[c] = 0;
+        for (std::size_t c = 0; c < cols_; ++c) {
+          dx[c] = h * vr[c];
+          dv[c] = 0;
+        }
       }
       for (std::size_t s = 0; s < stages; ++s) {
         const Real* __restrict a = window_row(thread, s, row) + k * row_span_;
@@ -102,11 +116,19 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
           dv[c] += wv * a[c];
         }
       }
+      if (turned) {
+        for (std::size_t c = 0; c < cols_; ++c) {
+          const bool active = inverse_mass[c] > Real(0);
+          xr[c * pitch] += active ? dx[c] : Real(0);
+          vr[c * pitch] += active ? dv[c] : Real(0);
+        }
+      } else {
 #pragma omp simd
-      for (std::size_t c = 0; c < cols_; ++c) {
-        const bool active = inverse_mass[c] > Real(0);
-        xr[c] += active ? dx[c] : Real(0);
-        vr[c] += active ? dv[c] : Real(0);
+        for (std::size_t c = 0; c < cols_; ++c) {
+          const bool active = inverse_mass[c] > Real(0);
+          xr[c] += active ? dx[c] : Real(0);
+          vr[c] += active ? dv[c] : Real(0);
+        }
       }
     }
   };
@@ -157,12 +179,8 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
     const std::size_t below = std::min(rows_, end + reach);
     const auto copy_row = [&](std::size_t row) {
       const std::size_t slot = halo_slot(row, begin, end, step.stages);
-      for (int quantity = 0; quantity < 2; ++quantity) {
-        const Real* from = (quantity == 0 ? x : v) + row * cols_;
-        Real* to = halo_row(thread, slot, quantity);
-        for (std::size_t k = 0; k < 3; ++k)
-          std::copy_n(from + k * stride_, cols_, to + k * row_span_);
-      }
+      gather_row(x, row, halo_row(thread, slot, 0));
+      gather_row(v, row, halo_row(thread, slot, 1));
     };
     for (std::size_t row = above; row < begin; ++row) copy_row(row);
     for (std::size_t row = end; row < below; ++row) copy_row(row);

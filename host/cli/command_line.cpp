@@ -4,42 +4,28 @@
 #include <clothlab/host/errors.hpp>
 #include <sstream>
 
+#include "run_keys.hpp"
+
 namespace po = boost::program_options;
 
 namespace clothlab::cli {
 
 namespace {
 
-// Flags that are shorthands for settings; their values are validated with everything else.
-constexpr const char* setting_flags[][2] = {
-    {"integrator", "integrator.plugin"},
-    {"scenario", "scenario.plugin"},
-    {"dt", "dt"},
-    {"frame-rate", "frame_rate"},
-    {"substeps", "substeps"},
-    {"steps", "steps"},
-    {"duration", "duration"},
-    {"precision", "precision"},
-    {"threads", "threads"},
-    {"frames", "frames.dir"},
-};
-
 po::options_description describe_options() {
   po::options_description options("Options");
-  options.add_options()("help,h", "show this help and exit")(
-      "integrator", po::value<std::string>(),
-      "integrator plugin: NAME, NAME.so (searched) or a path with '/' (default rk4)")(
-      "scenario", po::value<std::string>(),
-      "scenario plugin, found like --integrator (default sheet)")(
-      "dt", po::value<std::string>(), "time step in seconds (default 0.001)")(
-      "frame-rate", po::value<std::string>(),
-      "frames per second (Hz), instead of --dt: dt = 1 / (frame rate * substeps)")(
-      "substeps", po::value<std::string>(), "steps per frame, with --frame-rate (default 1)")(
-      "steps", po::value<std::string>(), "number of steps")(
-      "duration", po::value<std::string>(), "simulated seconds, instead of --steps (default 2)")(
-      "precision", po::value<std::string>(), "float32 or float64 (default float32)")(
-      "threads", po::value<std::string>(), "worker threads, 0 = all, at most 256 (default 0)")(
-      "config", po::value<std::string>(), "YAML config file; command-line values override it")(
+  options.add_options()("help,h", "show this help and exit");
+  // The flags that stand for a key, described by the key table.
+  for (const KeyInfo& info : run_keys())
+    if (info.flag)
+      options.add_options()(
+          info.flag, po::value<std::string>(),
+          (std::string(info.help) + " (key " + info.key + ": " + describe_allowed(info) +
+           (info.default_value ? std::string(", default ") + info.default_value : std::string()) +
+           ")")
+              .c_str());
+  options.add_options()("config", po::value<std::string>(),
+                        "YAML config file; command-line values override it")(
       "set", po::value<std::vector<std::string>>()->composing(),
       "KEY=VALUE, repeatable; plugin parameters are integrator.KEY / scenario.KEY")(
       "plugin-path", po::value<std::vector<std::string>>()->composing(),
@@ -50,9 +36,6 @@ po::options_description describe_options() {
       "energy-out", po::value<std::string>(),
       "write the energy at t = 0 and at every stability check as CSV to FILE "
       "(integrator,t,kinetic,spring,gravity,total; tools/plot.py energy draws it)")(
-      "frames", po::value<std::string>(),
-      "write the cloth every frame to DIR (keys frames.every | frames.rate (default 60 Hz), "
-      "frames.format: vtp, obj, pc2); `clothlab view DIR` plays it")(
       "list-plugins", "list the plugins on the search path with their parameters")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
@@ -60,9 +43,8 @@ po::options_description describe_options() {
       "choose",
       "which integrator for this scene: for each integrator on the plugin path the cheapest "
       "substeps (and iterations) at --frame-rate that stay stable, within choose.stretch_limit "
-      "(1.1) and within choose.error_tolerance (1 % of the diagonal at T = choose.duration, 1 s) "
-      "of a converged reference; ranked table to stdout and choose.output (results/choose); a "
-      "probe slower than choose.stop_factor (3) x the best so far is stopped and reported")(
+      "and within choose.error_tolerance of a converged reference at T = choose.duration (see "
+      "Keys below); ranked table to stdout and choose.output")(
       "out", po::value<std::string>(), "sweep: folder for the results files")(
       "resume",
       "sweep: keep the results already written and run only the missing cases (with --slurm: "
@@ -143,9 +125,10 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.no_wait = values.count("no-wait") > 0;
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
-  for (const auto& [flag, key] : setting_flags)
-    if (const auto value = string_option(values, flag))
-      command_line.settings.push_back({key, *value, std::string("--") + flag});
+  for (const KeyInfo& info : run_keys())
+    if (info.flag)
+      if (const auto value = string_option(values, info.flag))
+        command_line.settings.push_back({info.key, *value, std::string("--") + info.flag});
   if (values.count("set"))
     for (const std::string& assignment : values["set"].as<std::vector<std::string>>())
       command_line.settings.push_back(parse_set(assignment));
@@ -164,14 +147,15 @@ std::string usage_text() {
           "Every run is judged by the stability monitor (keys stability.interval,\n"
           "stability.max_stretch, stability.energy_margin); a failed check stops the run.\n"
           "Runs and sweep cases run in a child process, killed after `timeout` seconds\n"
-          "(key timeout, default 600). Command-line values override the config file; a flag\n"
+          "(key timeout). Command-line values override the config file; a flag\n"
           "and a --set for the same key are an error. A sweep checks every case (settings,\n"
           "plugins, parameter values) before the first one runs.\n"
           "Exit codes: 0 ok (a sweep: finished, whatever its cases did), 1 bad input (also\n"
           "a sweep case's), 2 plugin error (also a crash or timeout of a single run), 3 the\n"
           "run diverged or failed a stability check, 130 a run stopped by Ctrl-C (SIGINT)\n"
           "or SIGTERM, its outputs written.\n\n"
-       << describe_options();
+       << describe_options() << "\n"
+       << keys_help_text();
   return text.str();
 }
 

@@ -18,27 +18,28 @@ struct FramesConfig {
   std::optional<uint64_t> every;  // frames.every (steps); else from rate
   // frames.rate, Hz of simulated time; unset: frame_rate when given, else 60 Hz.
   std::optional<double> rate;
-  std::vector<std::string> formats{"vtp"};  // vtp (+ .pvd index), obj, pc2
-  uint64_t every_steps = 1;                 // resolved: steps between frames
+  std::vector<std::string> formats;  // vtp (+ .pvd index), obj, pc2
+  uint64_t every_steps = 1;          // resolved: steps between frames
 };
 
+// The defaults are the key table's (run_keys.cpp), applied by resolve_run_config.
 struct RunConfig {
-  std::string integrator = "rk4";
-  std::string scenario = "sheet";
+  std::string integrator;
+  std::string scenario;
   // Where each plugin was named ("configs/x.yaml:2:13", "--integrator"), for load errors.
-  std::string integrator_source = "default integrator", scenario_source = "default scenario";
-  double dt = 1e-3;
+  std::string integrator_source, scenario_source;
+  double dt = 0;
   // Frames: with frame_rate given, dt = 1 / (frame_rate * substeps); without, every step is
   // a frame (frame_rate = 1 / dt, substeps = 1).
-  double frame_rate = 1e3;  // Hz
-  uint64_t substeps = 1;    // steps per frame
-  uint64_t steps = 2000;    // default: 2 s at the default dt
-  double duration = 2.0;    // s; when the length was given as steps: steps * dt
+  double frame_rate = 0;  // Hz
+  uint64_t substeps = 0;  // steps per frame
+  uint64_t steps = 0;
+  double duration = 0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
-  int threads = 0;  // 0: all cores; at most 256
+  int threads = 0;  // 0: all cores
   // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
   // takes longer is killed and reported as timed out.
-  double timeout_s = 600.0;
+  double timeout_s = 0;
   // Plugin parameter settings with the "integrator." / "scenario." prefix removed, in
   // the order given; applied to the plugins' ParamSets once they are loaded.
   std::vector<Setting> integrator_params;
@@ -50,26 +51,26 @@ struct RunConfig {
   // material.*: when set, decides the scenario's mass and every spring's ks and kd.
   std::optional<Material> material;
   // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
-  uint64_t stability_interval = 10;  // steps between checks
-  double max_stretch = 5.0;          // longest spring / rest length (see MonitorOptions)
-  double energy_margin = 1.0;        // times the cloth's energy scale
+  uint64_t stability_interval = 0;  // steps between checks
+  double max_stretch = 0;           // longest spring / rest length (see MonitorOptions)
+  double energy_margin = 0;         // times the cloth's energy scale
   // choose.*: the --choose search (clothlab::sweep::ChoiceSettings; frame_rate from the key
   // frame_rate); integrators: empty = every integrator on the plugin path.
   sweep::ChoiceSettings choice;
   std::vector<std::string> choice_integrators;
-  std::string choice_output = "results/choose";
+  std::string choice_output;
   // Folder of cached references (trajectory_cache.hpp); empty: choose-references beside the
   // output.
   std::string choice_reference_cache;
   // find_max_dt.*: the --find-max-dt search.
-  double search_tolerance = 0.02;  // relative width of the final bracket
-  double search_dt_min = 1e-7;     // s: nothing stable below gives up
-  double search_dt_max = 1.0;      // s: everything stable up to it gives up
+  double search_tolerance = 0;  // relative width of the final bracket
+  double search_dt_min = 0;     // s: nothing stable below gives up
+  double search_dt_max = 0;     // s: everything stable up to it gives up
   FramesConfig frames;
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the
-// defaults. Throws InputError naming source, key, value and what is allowed for an
+// key table's defaults. Throws InputError naming source, key, value and what is allowed for an
 // unknown key or a bad value.
 RunConfig resolve_run_config(const std::vector<Setting>& settings);
 

@@ -1,6 +1,9 @@
 // Counts allocator calls process-wide. Normally it replaces the allocator entry points with
-// counting forwarders to glibc's implementation (__libc_*). Under AddressSanitizer, which
-// owns the allocator, it registers ASan's allocation hooks instead.
+// counting forwarders to glibc's implementation (__libc_*). In a runner built with
+// AddressSanitizer, which owns the allocator, it registers ASan's allocation hooks instead.
+// A runner built without it but run with the sanitizer runtime preloaded (LD_PRELOAD=libasan.so,
+// to test an ASan-built plugin) forwards to the runtime's allocator: the runtime's own
+// interceptors (strdup, ...) allocate there, so a block must be freed there too.
 #include "allocation_counter.hpp"
 
 #include <cerrno>
@@ -19,6 +22,14 @@ void* __libc_calloc(size_t count, size_t size);
 void* __libc_realloc(void* pointer, size_t size);
 void* __libc_memalign(size_t alignment, size_t size);
 void __libc_free(void* pointer);
+
+// Defined only when a sanitizer runtime is loaded (GCC's libasan): its
+// allocator, under the names its interceptors keep beside the malloc they export.
+__attribute__((weak)) void* __interceptor_malloc(size_t size);
+__attribute__((weak)) void* __interceptor_calloc(size_t count, size_t size);
+__attribute__((weak)) void* __interceptor_realloc(void* pointer, size_t size);
+__attribute__((weak)) void* __interceptor_memalign(size_t alignment, size_t size);
+__attribute__((weak)) void __interceptor_free(void* pointer);
 }
 #endif
 
@@ -66,44 +77,59 @@ namespace {
 bool valid_alignment(size_t alignment) {
   return alignment >= sizeof(void*) && (alignment & (alignment - 1)) == 0;
 }
+
+// The sanitizer runtime's allocator when one is preloaded, else glibc's. Tested on every call
+// (a load from the GOT), not once at start-up: allocations come before any initialiser runs.
+void* allocate(size_t size) {
+  return __interceptor_malloc ? __interceptor_malloc(size) : __libc_malloc(size);
+}
+
+void* allocate_aligned(size_t alignment, size_t size) {
+  return __interceptor_memalign ? __interceptor_memalign(alignment, size)
+                                : __libc_memalign(alignment, size);
+}
 }  // namespace
 
 extern "C" {
 
 void* malloc(size_t size) {
   note();
-  return __libc_malloc(size);
+  return allocate(size);
 }
 
 void* calloc(size_t count, size_t size) {
   note();
-  return __libc_calloc(count, size);
+  return __interceptor_calloc ? __interceptor_calloc(count, size) : __libc_calloc(count, size);
 }
 
 void* realloc(void* pointer, size_t size) {
   note();
-  return __libc_realloc(pointer, size);
+  return __interceptor_realloc ? __interceptor_realloc(pointer, size)
+                               : __libc_realloc(pointer, size);
 }
 
 void free(void* pointer) {
   if (pointer != nullptr) note();
-  __libc_free(pointer);
+  if (__interceptor_free)
+    __interceptor_free(pointer);
+  else
+    __libc_free(pointer);
 }
 
 void* memalign(size_t alignment, size_t size) {
   note();
-  return __libc_memalign(alignment, size);
+  return allocate_aligned(alignment, size);
 }
 
 void* aligned_alloc(size_t alignment, size_t size) {
   note();
-  return __libc_memalign(alignment, size);
+  return allocate_aligned(alignment, size);
 }
 
 int posix_memalign(void** out, size_t alignment, size_t size) {
   note();
   if (!valid_alignment(alignment)) return EINVAL;
-  void* pointer = __libc_memalign(alignment, size);
+  void* pointer = allocate_aligned(alignment, size);
   if (pointer == nullptr) return ENOMEM;
   *out = pointer;
   return 0;

@@ -56,6 +56,10 @@ Verdict abi_policy(const std::string& path) {
             "the host loader accepts major " + to_string(other));
   }
   if (!same_major) return {true, "other majors refused (this plugin's own layout is not read)"};
+  // A descriptor the loader refuses as it is says nothing about the version rule.
+  const std::string as_built = host::descriptor_refusal(original);
+  require(as_built.empty(), "the host loader refuses it at its own version " +
+                                to_string(original.abi_version) + ": " + as_built);
   for (uint32_t minor = 0; minor <= CLOTHLAB_ABI_VERSION_MINOR + 1; ++minor) {
     copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR, minor};
     const std::string refusal = host::descriptor_refusal(copy);

@@ -33,12 +33,13 @@ std::string plugin(const std::string& name) {
   return std::string(CONFORMANCE_PLUGIN_DIR) + "/" + name + ".so";
 }
 
-RunnerOutput run_conformance(const std::string& arguments) {
+// `environment`: assignments put before the command, e.g. "LD_PRELOAD=...".
+RunnerOutput run_conformance(const std::string& arguments, const std::string& environment = "") {
   const std::string report_path =
       ::testing::TempDir() + "conformance-" + std::to_string(getpid()) + ".json";
   std::remove(report_path.c_str());
-  const std::string command = std::string(CONFORMANCE_RUNNER) + " --seed 11 --json " + report_path +
-                              " " + arguments + " 2>&1";
+  const std::string command = environment + " " + CONFORMANCE_RUNNER + " --seed 11 --json " +
+                              report_path + " " + arguments + " 2>&1";
   RunnerOutput run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -189,11 +190,68 @@ INSTANTIATE_TEST_SUITE_P(
                    "numerics are measured in float64, which it lacks", "--filter numerics.float64"},
         FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",
                    "20 force evaluations in 10 steps; declared evals_per_step 1",
-                   "--filter lifecycle"}),
+                   "--filter lifecycle"},
+        FaultyCase{"faulty_lacks_step", "library", "loading.abi-policy",
+                   "the host loader refuses it at its own version 1.2: integrator lacks-step has a "
+                   "null function pointer",
+                   "--filter loading"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.test_name != nullptr ? info.param.test_name
                                                          : info.param.plugin);
     });
+
+// The plugin author's recipe of docs/sanitizers.md: the installed (Release) runner with the
+// AddressSanitizer runtime preloaded, so that an ASan-built plugin loads.
+std::string asan_runtime_preloaded() {
+  EXPECT_TRUE(std::ifstream(ASAN_RUNTIME).good())
+      << "no AddressSanitizer runtime: " << ASAN_RUNTIME;
+  return std::string("LD_PRELOAD=") + ASAN_RUNTIME;
+}
+
+// The allocation counter forwards to the preloaded runtime's allocator (the runtime's own
+// interceptors allocate there): the stepping checks pass, and the counter still counts.
+TEST(ConformanceRun, AsanRuntimePreloadedTheSteppingChecksRunAndAllocationsAreCounted) {
+  const RunnerOutput sound = run_conformance(
+      "--filter 'params.defaults|lifecycle.grid-3x3|robustness' " + plugin("c_euler"),
+      asan_runtime_preloaded());
+  EXPECT_EQ(sound.exit_code, 0) << sound.output;
+  ASSERT_NE(find_check(sound, "c-euler", "robustness.no-alloc"), nullptr) << sound.output;
+  EXPECT_EQ((*find_check(sound, "c-euler", "robustness.no-alloc"))["passed"], true);
+  const RunnerOutput allocating =
+      run_conformance("--filter robustness.no-alloc " + plugin("faulty_allocates_every_step"),
+                      asan_runtime_preloaded());
+  const nlohmann::json* no_alloc =
+      find_check(allocating, "allocates-every-step", "robustness.no-alloc");
+  ASSERT_NE(no_alloc, nullptr) << allocating.output;
+  EXPECT_NE((*no_alloc)["reason"].get<std::string>().find("heap allocator calls during 10 steps"),
+            std::string::npos)
+      << (*no_alloc)["reason"];
+}
+
+// An ASan-built plugin with a heap overflow: the failed check's reason holds the report's first
+// line (as the sanitizer printed it) and its summary line.
+TEST(ConformanceRun, AsanReportOfAPluginReachesTheFailReason) {
+  const RunnerOutput run =
+      run_conformance("--filter lifecycle.grid-3x3-f64 " + plugin("faulty_overflows_heap_in_step"),
+                      asan_runtime_preloaded());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  const nlohmann::json* result =
+      find_check(run, "overflows-heap-in-step", "lifecycle.grid-3x3-f64");
+  ASSERT_NE(result, nullptr) << run.output;
+  EXPECT_EQ((*result)["passed"], false);
+  const std::string reason = (*result)["reason"];
+  // The runner also passes the child's stderr through: the report's first line is there.
+  const size_t error = run.output.find("==ERROR: AddressSanitizer: heap-buffer-overflow on ");
+  ASSERT_NE(error, std::string::npos) << run.output;
+  const size_t line_start = run.output.rfind('\n', error) + 1;
+  const std::string first_line =
+      run.output.substr(line_start, run.output.find('\n', error) - line_start);
+  EXPECT_NE(reason.find(first_line + "; SUMMARY: AddressSanitizer: heap-buffer-overflow"),
+            std::string::npos)
+      << first_line << "\n"
+      << reason;
+  EXPECT_NE(reason.find("overflows_heap_in_step"), std::string::npos) << reason;
+}
 
 TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
   const RunnerOutput run =

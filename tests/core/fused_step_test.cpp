@@ -354,7 +354,10 @@ INSTANTIATE_TEST_SUITE_P(Grids, FusedStep,
                                            Case{130, 40, 3, Pins::ColumnAndSingles, true, true},
                                            Case{4100, 1, 2, Pins::Singles, false, true},
                                            Case{4100, 1, 3, Pins::None, false, true},
-                                           Case{1, 4100, 3, Pins::ColumnAndSingles, false, true}),
+                                           Case{1, 4100, 3, Pins::ColumnAndSingles, false, true},
+                                           Case{4100, 2, 2, Pins::ColumnAndSingles, true, true},
+                                           Case{300, 7, 3, Pins::Singles, true, true},
+                                           Case{300, 15, 1, Pins::ColumnAndSingles, false, true}),
                          case_name);
 
 // Each row's arithmetic is the same whichever thread sweeps it (a block recomputes the
@@ -383,7 +386,8 @@ TEST_P(FusedStepThreads, GiveBitwiseTheSameStateAsOneThread) {
 INSTANTIATE_TEST_SUITE_P(Grids, FusedStepThreads,
                          ::testing::Values(Case{70, 70, 0, Pins::ColumnAndSingles, true, true},
                                            Case{130, 40, 0, Pins::Singles, true, true},
-                                           Case{4100, 1, 0, Pins::Singles, false, true}),
+                                           Case{4100, 1, 0, Pins::Singles, false, true},
+                                           Case{4100, 3, 0, Pins::ColumnAndSingles, true, true}),
                          case_name);
 
 // One free particle under gravity alone, a = g: Runge-Kutta methods of order >= 2 are exact

@@ -61,7 +61,7 @@ TEST(ReferenceAgreement, Float32) {
 // Large enough to run threaded: row blocks of uneven size, each recomputing the two
 // rows above it, and degenerate one-row and one-column grids.
 TEST(ReferenceAgreement, ThreadedRowBlocks) {
-  const uint32_t shapes[][2] = {{80, 70}, {4100, 1}, {1, 4100}, {97, 61}};
+  const uint32_t shapes[][2] = {{80, 70}, {4100, 1}, {1, 4100}, {97, 61}, {4100, 2}, {97, 9}};
   for (int threads : {2, 3, 5}) {
     PipelineOptions options;
     options.threads = threads;

@@ -247,7 +247,8 @@ TEST_P(StagedEval, AgreesWithTheReferenceInFloat32) {
 // The engine threads from 4096 particles: 70 x 70 runs on 2 and 3 threads.
 INSTANTIATE_TEST_SUITE_P(Grids, StagedEval,
                          ::testing::Values(Case{1, 7, 1}, Case{5, 4, 1}, Case{17, 13, 1},
-                                           Case{70, 70, 2}, Case{70, 70, 3}),
+                                           Case{70, 70, 2}, Case{70, 70, 3}, Case{4100, 2, 2},
+                                           Case{300, 15, 3}),
                          case_name);
 
 template <class Real>

@@ -243,8 +243,10 @@ TEST_F(Clothlab, MissingOutputFolderIsReportedBeforeTheRun) {
 TEST_F(Clothlab, UnknownPluginParameterListsTheValidKeys) {
   const Outcome outcome = run("--integrator=rk4 --scenario=sheet --set scenario.rowz=3");
   EXPECT_EQ(outcome.exit_code, 1);
-  EXPECT_NE(outcome.err.find("unknown parameter scenario.rowz; valid: scenario.rows"),
-            std::string::npos)
+  EXPECT_NE(
+      outcome.err.find(
+          "unknown parameter scenario.rowz (did you mean scenario.rows?); valid: scenario.rows"),
+      std::string::npos)
       << outcome.err;
 }
 

@@ -91,7 +91,9 @@ TEST(ConfigFile, ResolvesIntoARunConfig) {
 TEST(ConfigFile, UnknownKeyNamesFileLineAndColumn) {
   const TempConfig config("dt: 0.001\nstepz: 10\n");
   const std::string message = config_error(config);
-  EXPECT_EQ(message.rfind(config.at(2, 8) + ": unknown key stepz; valid:", 0), 0u) << message;
+  EXPECT_EQ(message.rfind(config.at(2, 8) + ": unknown key stepz (did you mean steps?); valid:", 0),
+            0u)
+      << message;
 }
 
 TEST(ConfigFile, WrongTypeNamesPositionKeyValueAndAllowed) {
@@ -109,8 +111,8 @@ TEST(ConfigFile, OutOfRangeValueIsAnError) {
 TEST(ConfigFile, UnknownPrecisionIsAnError) {
   const TempConfig config("precision: float16\n");
   EXPECT_EQ(config_error(config), config.at(1, 12) +
-                                      ": precision = float16: unknown precision; allowed: "
-                                      "float32, float64");
+                                      ": precision = float16: unknown value; allowed: "
+                                      "float32 or float64");
 }
 
 TEST(ConfigFile, SyntaxErrorNamesItsPosition) {

@@ -55,11 +55,11 @@ TEST(FramesConfig, FollowTheRunsFrameRateUnlessFramesRateIsGiven) {
 
 TEST(FramesConfig, BadValuesNameSourceKeyValueAndAllowed) {
   EXPECT_EQ(error_of({{"frames.format", "[vtp, gltf]", "x.yaml:3:9"}}),
-            "x.yaml:3:9: frames.format = [vtp, gltf]: unknown format 'gltf'; allowed: vtp, obj, "
-            "pc2 or a list of them, e.g. [vtp, pc2]");
+            "x.yaml:3:9: frames.format = [vtp, gltf]: unknown value 'gltf'; allowed: vtp, obj or "
+            "pc2, or a list of them, e.g. [vtp, obj]");
   EXPECT_EQ(error_of({{"frames.format", "[vtp, vtp]", "--set"}}),
-            "--set: frames.format = [vtp, vtp]: repeats vtp; allowed: vtp, obj, pc2 or a list of "
-            "them, e.g. [vtp, pc2]");
+            "--set: frames.format = [vtp, vtp]: repeats vtp; allowed: vtp, obj or pc2, or a list "
+            "of them, e.g. [vtp, obj]");
   EXPECT_EQ(error_of({{"frames.every", "0", "--set"}}),
             "--set: frames.every = 0: out of range; allowed: int in [1, 1e+09] steps");
   EXPECT_EQ(error_of({{"frames.rate", "-60", "--set"}}).rfind("--set: frames.rate = -60: ", 0), 0u);

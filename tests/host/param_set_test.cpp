@@ -72,7 +72,8 @@ TEST(ParamSet, RejectsValuesOfTheWrongType) {
 TEST(ParamSet, UnknownKeyListsTheValidOnes) {
   ParamSet params(specs, "integrator");
   EXPECT_EQ(set_error(params, "kz", "1"),
-            "cfg.yaml:3:7: unknown parameter integrator.kz; valid: integrator.ks, "
+            "cfg.yaml:3:7: unknown parameter integrator.kz (did you mean integrator.ks?); valid: "
+            "integrator.ks, "
             "integrator.rows, integrator.pinned, integrator.gravity");
 }
 

@@ -1,5 +1,6 @@
 // Item 5 of issue 12: unsafe writes (predictable temporaries, device and FIFO targets
 // replaced, modes lost, temporaries of killed writers left forever).
+#include <grp.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
@@ -7,6 +8,8 @@
 #include <unistd.h>
 
 #include <clothlab/io/atomic_file.hpp>
+#include <clothlab/process/isolation.hpp>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -162,12 +165,36 @@ TEST_F(AtomicFile, OutputPathsAreCheckedBeforeWorkStarts) {
   EXPECT_EQ(message_of([&] { check_output_path(missing); }),
             "cannot write " + missing.string() + ": folder " + missing.parent_path().string() +
                 ": No such file or directory");
-  if (::geteuid() == 0) GTEST_SKIP() << "root may write into a read-only folder";
-  ASSERT_EQ(::chmod(folder_.c_str(), 0500), 0);
-  EXPECT_EQ(message_of([&] { check_output_path(folder_ / "out.json"); }),
-            "cannot write " + (folder_ / "out.json").string() + ": folder " + folder_.string() +
-                ": Permission denied");
+  // A file where the folder should be: refused as root too.
+  std::ofstream(folder_ / "plain-file") << "x";
+  EXPECT_EQ(message_of([&] { check_output_path(folder_ / "plain-file" / "out.json"); }),
+            "cannot write " + (folder_ / "plain-file" / "out.json").string() + ": " +
+                (folder_ / "plain-file").string() + " is not a folder");
+}
+
+// Root writes into any folder, so as root (as CI runs) the check runs in a child that first
+// becomes the unprivileged user `nobody` (65534), owner of the read-only folder: the check
+// never skips. A child that cannot drop root fails the test.
+TEST_F(AtomicFile, AReadOnlyFolderIsRefusedBeforeWorkStarts) {
+  constexpr uid_t nobody = 65534;
+  clothlab::process::IsolationOptions options;
+  options.timeout_s = 30;
+  const clothlab::process::ChildOutcome outcome = clothlab::process::run_isolated(
+      [&] {
+        if (::geteuid() == 0) {
+          if (::chown(folder_.c_str(), nobody, nobody) != 0 || ::setgroups(0, nullptr) != 0 ||
+              ::setgid(nobody) != 0 || ::setuid(nobody) != 0)
+            throw std::runtime_error(std::string("cannot become nobody: ") + std::strerror(errno));
+        }
+        if (::chmod(folder_.c_str(), 0500) != 0)
+          throw std::runtime_error(std::string("chmod: ") + std::strerror(errno));
+        return message_of([&] { check_output_path(folder_ / "out.json"); });
+      },
+      options);
   ::chmod(folder_.c_str(), 0700);
+  ASSERT_TRUE(outcome.answered()) << outcome.problem;
+  EXPECT_EQ(outcome.answer, "cannot write " + (folder_ / "out.json").string() + ": folder " +
+                                folder_.string() + ": Permission denied");
 }
 
 }  // namespace

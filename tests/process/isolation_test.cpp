@@ -127,14 +127,16 @@ TEST(ProcessIsolation, AGrandchildHoldingThePipeDoesNotStallTheParent) {
   EXPECT_TRUE(gone);
 }
 
-// A sanitizer's report reaches the reason: its SUMMARY line is appended.
+// A sanitizer's report reaches the reason: its first line and its SUMMARY line are appended.
 TEST(ProcessIsolation, ACapturedSanitizerSummaryReachesTheProblem) {
   IsolationOptions options = with_timeout(5);
   options.capture_stderr = true;
   const ChildOutcome outcome = run_isolated(
       []() -> std::string {
         std::fputs(
-            "==1==ERROR: AddressSanitizer: heap-buffer-overflow\n"
+            "a line the plugin printed\n"
+            "==1==ERROR: AddressSanitizer: heap-buffer-overflow on address 0x6020\n"
+            "WRITE of size 4 at 0x6020 thread T0\n"
             "SUMMARY: AddressSanitizer: heap-buffer-overflow plugin.cpp:7 in step\n",
             stderr);
         std::fflush(stderr);
@@ -142,9 +144,27 @@ TEST(ProcessIsolation, ACapturedSanitizerSummaryReachesTheProblem) {
       },
       options);
   EXPECT_EQ(outcome.problem,
-            "crashed: exited with status 1 before reporting: SUMMARY: AddressSanitizer: "
+            "crashed: exited with status 1 before reporting: ==1==ERROR: AddressSanitizer: "
+            "heap-buffer-overflow on address 0x6020; SUMMARY: AddressSanitizer: "
             "heap-buffer-overflow plugin.cpp:7 in step");
   EXPECT_NE(outcome.child_stderr.find("==1==ERROR"), std::string::npos);
+}
+
+// A sanitizer that stops before any report (an ASan-built plugin in a runner without the
+// runtime preloaded) still says why.
+TEST(ProcessIsolation, ASanitizerLineWithoutASummaryReachesTheProblem) {
+  IsolationOptions options = with_timeout(5);
+  options.capture_stderr = true;
+  const ChildOutcome outcome = run_isolated(
+      []() -> std::string {
+        std::fputs("==7==ASan runtime does not come first in initial library list\n", stderr);
+        std::fflush(stderr);
+        std::_Exit(1);
+      },
+      options);
+  EXPECT_EQ(outcome.problem,
+            "crashed: exited with status 1 before reporting: ==7==ASan runtime does not come "
+            "first in initial library list");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "clothlab/host/param_set.hpp"
 
 #include "clothlab/host/errors.hpp"
+#include "clothlab/host/identifiers.hpp"
 #include "clothlab/host/param_text.hpp"
 
 namespace clothlab::host {
@@ -18,13 +19,17 @@ ParamSet::ParamSet(std::span<const clothlab_param_spec> specs, std::string prefi
 size_t ParamSet::index_of(std::string_view key, std::string_view source) const {
   for (size_t i = 0; i < specs_.size(); ++i)
     if (key == specs_[i].name) return i;
+  std::vector<std::string> names;
   std::string valid;
   for (const clothlab_param_spec& spec : specs_) {
-    valid += valid.empty() ? "" : ", ";
-    valid += prefix_ + "." + spec.name;
+    names.push_back(prefix_ + "." + spec.name);
+    valid += (valid.empty() ? "" : ", ") + names.back();
   }
+  const std::string typed = prefix_ + "." + std::string(key);
+  const std::string nearest = nearest_name(typed, names);
   throw InputError(
-      std::string(source) + ": unknown parameter " + prefix_ + "." + std::string(key) +
+      std::string(source) + ": unknown parameter " + typed +
+      (nearest.empty() ? "" : " (did you mean " + nearest + "?)") +
       (valid.empty() ? "; the " + prefix_ + " takes no parameters" : "; valid: " + valid));
 }
 

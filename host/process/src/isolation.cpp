@@ -11,6 +11,7 @@
 #include <cstring>
 #include <exception>
 #include <sstream>
+#include <string_view>
 
 #include "child_supervision.hpp"
 
@@ -51,12 +52,29 @@ constexpr int child_could_not_answer = 125;  // exit status of a child whose ans
   ::_exit(0);
 }
 
-// The last "SUMMARY: ..." line a sanitizer wrote, or empty.
-std::string sanitizer_summary(const std::string& text) {
-  const size_t start = text.rfind("SUMMARY: ");
-  if (start == std::string::npos) return {};
-  const size_t end = text.find('\n', start);
-  return text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+// "==12==..." : how AddressSanitizer and LeakSanitizer begin each line of their own.
+bool is_sanitizer_line(std::string_view line) {
+  if (line.find(" runtime error: ") != std::string_view::npos ||
+      line.starts_with("WARNING: ThreadSanitizer: "))
+    return true;
+  if (!line.starts_with("==")) return false;
+  const size_t digits_end = line.find_first_not_of("0123456789", 2);
+  return digits_end > 2 && digits_end != std::string_view::npos &&
+         line.substr(digits_end).starts_with("==");
+}
+
+// A sanitizer's first line ("==12==ERROR: AddressSanitizer: heap-buffer-overflow on address
+// ...", "x.cpp:3:5: runtime error: ...", "==12==ASan runtime does not come first ...") and its
+// last "SUMMARY: ..." line, each when there is one.
+std::string sanitizer_report(const std::string& text) {
+  std::string first, summary;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (first.empty() && is_sanitizer_line(line)) first = line;
+    if (line.starts_with("SUMMARY: ")) summary = line;
+  }
+  if (first.empty() || summary.empty()) return first + summary;
+  return first + "; " + summary;
 }
 
 ChildOutcome outcome_of(int status, const std::string& answer, const std::string& child_stderr) {
@@ -73,8 +91,8 @@ ChildOutcome outcome_of(int status, const std::string& answer, const std::string
                         ? "crashed: " + signal_text(WTERMSIG(status))
                         : "crashed: exited with status " + std::to_string(WEXITSTATUS(status)) +
                               " before reporting";
-  const std::string summary = sanitizer_summary(child_stderr);
-  if (!summary.empty()) outcome.problem += ": " + summary;
+  const std::string report = sanitizer_report(child_stderr);
+  if (!report.empty()) outcome.problem += ": " + report;
   return outcome;
 }
 

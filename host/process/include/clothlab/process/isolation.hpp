@@ -27,7 +27,8 @@ struct ChildOutcome {
   End end = End::Crashed;
   std::string answer;
   // One line: "crashed: signal 11 (SIGSEGV)", "timed out after 5 s", the exception's text.
-  // With capture_stderr, a crashed child's sanitizer summary line is appended.
+  // With capture_stderr, a crashed child's sanitizer report (its first line and its summary
+  // line) is appended.
   std::string problem;
   std::string child_stderr;  // with capture_stderr: the last 64 KiB the child wrote there
   bool answered() const { return end == End::Answered; }

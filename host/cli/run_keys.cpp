@@ -1,0 +1,407 @@
+#include "run_keys.hpp"
+
+#include <algorithm>
+#include <clothlab/host/errors.hpp>
+#include <clothlab/host/identifiers.hpp>
+#include <clothlab/host/param_text.hpp>
+#include <cmath>
+#include <sstream>
+
+#include "run_config.hpp"
+
+namespace clothlab::cli {
+
+namespace {
+
+using T = KeyType;
+
+template <typename Whole>
+Whole whole(const KeyValue& value) {
+  return static_cast<Whole>(value.number);
+}
+
+Material& material_of(RunConfig& config, const KeyValue& value) {
+  if (!config.material) config.material.emplace();
+  if (config.material->source.empty()) config.material->source = value.setting.source;
+  return *config.material;
+}
+
+constexpr double max_dt_s = 10.0;
+constexpr double max_steps = 1e9;
+constexpr double max_substeps = 1e6;
+constexpr double max_rate_hz = 1e6;
+constexpr double max_timeout_s = 1e6;
+constexpr double max_side = 4096;  // the grid scenarios' rows and cols
+// More threads than this make libgomp fail with its own message on ordinary machines.
+constexpr double max_threads = 256;
+
+const KeyInfo keys[] = {
+    {"integrator.plugin", T::NonEmptyText, 0, 0, "", "a plugin name or path", "rk4",
+     "integrator plugin: NAME, NAME.so (searched) or a path with '/'", "integrator",
+     [](RunConfig& c, const KeyValue& v) {
+       c.integrator = v.text;
+       c.integrator_source = v.setting.source;
+     }},
+    {"scenario.plugin", T::NonEmptyText, 0, 0, "", "a plugin name or path", "sheet",
+     "scenario plugin, found like the integrator", "scenario",
+     [](RunConfig& c, const KeyValue& v) {
+       c.scenario = v.text;
+       c.scenario_source = v.setting.source;
+     }},
+    {"dt", T::PositiveReal, 0, max_dt_s, "s", nullptr, "0.001", "time step", "dt",
+     [](RunConfig& c, const KeyValue& v) { c.dt = v.number; }},
+    {"frame_rate", T::PositiveReal, 0, max_rate_hz, "Hz", nullptr, nullptr,
+     "frames per second, instead of dt: dt = 1 / (frame_rate * substeps)", "frame-rate",
+     [](RunConfig& c, const KeyValue& v) { c.frame_rate = v.number; }},
+    {"substeps", T::Whole, 1, max_substeps, "steps per frame", nullptr, "1",
+     "steps per frame, with frame_rate", "substeps",
+     [](RunConfig& c, const KeyValue& v) { c.substeps = whole<uint64_t>(v); }},
+    {"steps", T::Whole, 1, max_steps, "", nullptr, nullptr,
+     "number of steps, instead of duration (the later one given wins)", "steps",
+     [](RunConfig& c, const KeyValue& v) { c.steps = whole<uint64_t>(v); }},
+    {"duration", T::PositiveReal, 0, 1e6, "s", nullptr, "2", "simulated time, instead of steps",
+     "duration", [](RunConfig& c, const KeyValue& v) { c.duration = v.number; }},
+    {"precision", T::Choice, 0, 0, "", "float32, float64", "float32", "floating-point precision",
+     "precision", [](RunConfig& c, const KeyValue& v) { c.float64 = v.text == "float64"; }},
+    {"threads", T::Whole, 0, max_threads, "", nullptr, "0", "worker threads, 0 = all cores",
+     "threads", [](RunConfig& c, const KeyValue& v) { c.threads = whole<int>(v); }},
+    {"timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "600",
+     "a single run, sweep case or --find-max-dt probe running longer is killed", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.timeout_s = v.number; }},
+    {"material.name", T::Text, 0, 0, "", "a label for reports", nullptr,
+     "the material's name (a material sets every material.* number)", nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).name = v.text; }},
+    {"material.areal_density", T::Real, 1e-6, 1e3, "kg/m^2", nullptr, nullptr,
+     "mass per area; decides the scenario's mass", nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).areal_density = v.number; }},
+    {"material.stretch_stiffness", T::Real, 1e-3, 1e8, "N/m", nullptr, nullptr,
+     "membrane stretch stiffness E", nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).stretch_stiffness = v.number; }},
+    {"material.shear_stiffness", T::Real, 0, 1e8, "N/m", nullptr, nullptr,
+     "membrane shear stiffness G, below E", nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).shear_stiffness = v.number; }},
+    {"material.bending_stiffness", T::Real, 0, 1, "N m", nullptr, nullptr, "bending stiffness B",
+     nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).bending_stiffness = v.number; }},
+    {"material.damping_time", T::Real, 0, 10, "s", nullptr, nullptr,
+     "Rayleigh damping time kd / ks", nullptr,
+     [](RunConfig& c, const KeyValue& v) { material_of(c, v).damping_time = v.number; }},
+    {"choose.duration", T::PositiveReal, 0, 1e3, "s", nullptr, "1",
+     "--choose: simulated time of the runs judged for stability, stretch and cost", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.duration = v.number; }},
+    {"choose.error_duration", T::PositiveReal, 0, 1e3, "s", nullptr, nullptr,
+     "--choose: simulated time of the error run; unset: choose.duration", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.error_duration = v.number; }},
+    {"choose.probe_timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "60",
+     "--choose: wall-clock limit of one probe run", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.probe_timeout_s = v.number; }},
+    {"choose.stop_factor", T::Real, 0, 1e3, "", "0 (no cost budget) or a real in [2, 1000]", "3",
+     "--choose: a probe slower than this x the best passing setting so far is stopped and "
+     "reported; 0: no cost budget; below 2 refused (it could stop a cheaper setting)",
+     nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       if (v.number > 0 && v.number < 2)
+         throw host::InputError(v.setting.source + ": choose.stop_factor = " + v.setting.value +
+                                ": out of range; allowed: 0 (no cost budget) or a real in [2, "
+                                "1000]");
+       c.choice.stop_factor = v.number;
+     }},
+    {"choose.stretch_limit", T::Real, 1, 1e6, "x rest length", nullptr, "1.1",
+     "--choose: longest spring allowed", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.stretch_limit = v.number; }},
+    {"choose.error_tolerance", T::PositiveReal, 0, 1, "of the cloth diagonal", nullptr, "0.01",
+     "--choose: RMS position error allowed against the reference", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.error_tolerance = v.number; }},
+    {"choose.max_substeps", T::Whole, 1, max_substeps, "", nullptr, "4096",
+     "--choose: most substeps per frame tried", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.max_substeps = whole<uint32_t>(v); }},
+    {"choose.max_iterations", T::Whole, 1, 1e5, "", nullptr, "32",
+     "--choose: most solver iterations tried", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.max_iterations = whole<uint32_t>(v); }},
+    {"choose.reference_substeps", T::Whole, 1, max_substeps, "", nullptr, "512",
+     "--choose: the reference's substeps per frame", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.reference_substeps = whole<uint32_t>(v); }},
+    {"choose.reference_integrator", T::NonEmptyText, 0, 0, "", "a plugin name", "rk4",
+     "--choose: the integrator of the reference", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.reference_integrator = v.text; }},
+    {"choose.error_mesh", T::Mesh, 1, max_side, "", nullptr, nullptr,
+     "--choose: mesh of the error runs; unset: the scene's", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice.error_mesh = v.text; }},
+    {"choose.integrators", T::Names, 0, 0, "", "plugin names", nullptr,
+     "--choose: the integrators compared; unset: every one on the plugin path", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice_integrators = v.words; }},
+    {"choose.output", T::NonEmptyText, 0, 0, "", "a path", "results/choose",
+     "--choose: results file, without extension", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.choice_output = v.text; }},
+    {"choose.reference_cache", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
+     "--choose: folder of cached references; unset: choose-references beside choose.output",
+     nullptr, [](RunConfig& c, const KeyValue& v) { c.choice_reference_cache = v.text; }},
+    {"stability.interval", T::Whole, 1, max_steps, "steps", nullptr, "10",
+     "steps between stability checks", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.stability_interval = whole<uint64_t>(v); }},
+    {"stability.max_stretch", T::Real, 1, 1e6, "", nullptr, "5",
+     "longest spring / rest length before the run fails", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.max_stretch = v.number; }},
+    {"stability.energy_margin", T::PositiveReal, 0, 1e12, "", nullptr, "1",
+     "energy gain allowed, in units of the cloth's energy scale", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.energy_margin = v.number; }},
+    {"find_max_dt.tolerance", T::Real, 1e-6, 1, "", nullptr, "0.02",
+     "--find-max-dt: relative width of the final bracket", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.search_tolerance = v.number; }},
+    {"find_max_dt.dt_min", T::PositiveReal, 0, max_dt_s, "s", nullptr, "1e-07",
+     "--find-max-dt: the smallest dt tried", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.search_dt_min = v.number; }},
+    {"find_max_dt.dt_max", T::PositiveReal, 0, max_dt_s, "s", nullptr, "1",
+     "--find-max-dt: the largest dt tried", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.search_dt_max = v.number; }},
+    {"frames.dir", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
+     "write the cloth every frame to this folder; `clothlab view DIR` plays it", "frames",
+     [](RunConfig& c, const KeyValue& v) { c.frames.dir = v.text; }},
+    {"frames.every", T::Whole, 1, max_steps, "steps", nullptr, nullptr,
+     "steps between frames, instead of frames.rate", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.frames.every = whole<uint64_t>(v); }},
+    {"frames.rate", T::PositiveReal, 0, max_rate_hz, "Hz", nullptr, nullptr,
+     "frames per simulated second, instead of frames.every; unset: frame_rate, else 60 Hz",
+     nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       c.frames.rate = v.number;
+       c.frames.every.reset();
+     }},
+    {"frames.format", T::ChoiceList, 0, 0, "", "vtp, obj, pc2", "vtp",
+     "frame file formats (vtp comes with a .pvd index)", nullptr,
+     [](RunConfig& c, const KeyValue& v) { c.frames.formats = v.words; }},
+    {"integrator.<parameter>", T::PluginParameter, 0, 0, "", "a parameter of the integrator",
+     nullptr, "see clothlab --list-plugins", nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       c.integrator_params.push_back({v.setting.key.substr(11), v.text, v.setting.source});
+     }},
+    {"scenario.<parameter>", T::PluginParameter, 0, 0, "", "a parameter of the scenario", nullptr,
+     "see clothlab --list-plugins", nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       c.scenario_params.push_back({v.setting.key.substr(9), v.text, v.setting.source});
+     }},
+    {"plugin_params.<plugin id>.<parameter>", T::PluginParameter, 0, 0, "",
+     "a parameter of that plugin", nullptr,
+     "applied only when that plugin runs, before integrator.* and scenario.*", nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       c.plugin_params.push_back({v.setting.key.substr(14), v.text, v.setting.source});
+     }},
+};
+
+// "integrator.<parameter>" -> "integrator."; "" for a plain key.
+std::string_view family_prefix(const KeyInfo& info) {
+  const std::string_view key = info.key;
+  const size_t open = key.find('<');
+  return open == std::string_view::npos ? std::string_view() : key.substr(0, open);
+}
+
+bool in_family(const KeyInfo& info, const std::string& key) {
+  const std::string_view prefix = family_prefix(info);
+  if (prefix.empty() || key.size() <= prefix.size() || !key.starts_with(prefix)) return false;
+  // plugin_params.<plugin id>.<parameter> needs both parts.
+  const bool two_parts =
+      std::string_view(info.key).find('<', prefix.size() + 1) != std::string::npos;
+  const std::string rest = key.substr(prefix.size());
+  const size_t dot = rest.find('.');
+  return !two_parts || (dot != std::string::npos && dot > 0 && dot + 1 < rest.size());
+}
+
+std::vector<std::string> split_list(const std::string& value) {
+  std::string text = value;
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']')
+    text = text.substr(1, text.size() - 2);
+  std::vector<std::string> words;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find(',', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(begin, end - begin);
+    word.erase(0, word.find_first_not_of(' '));
+    word.erase(word.find_last_not_of(' ') + 1);
+    words.push_back(word);
+    begin = end + 1;
+  }
+  return words;
+}
+
+clothlab_param_spec number_spec(const KeyInfo& info) {
+  clothlab_param_spec spec{};
+  spec.struct_size = sizeof spec;
+  spec.type =
+      info.type == T::Whole || info.type == T::Mesh ? CLOTHLAB_PARAM_INT : CLOTHLAB_PARAM_REAL;
+  // (0, max]: the smallest positive double is the inclusive lower bound.
+  spec.min_value = info.type == T::PositiveReal ? std::nextafter(0.0, 1.0) : info.min_value;
+  spec.max_value = info.max_value;
+  spec.unit = info.unit;
+  return spec;
+}
+
+// Why the text is not a number in the key's range, or "".
+std::string number_problem(const KeyInfo& info, const std::string& text, double& number) {
+  const clothlab_param_spec spec = number_spec(info);
+  const host::ParsedParam parsed = host::parse_param_text(spec, text);
+  if (!parsed.value) return parsed.problem;
+  if (!host::in_range(spec, *parsed.value)) return "out of range";
+  number = parsed.value->v[0];
+  return "";
+}
+
+bool is_choice(const KeyInfo& info, const std::string& word) {
+  const std::vector<std::string> choices = split_list(info.allowed);
+  return std::find(choices.begin(), choices.end(), word) != choices.end();
+}
+
+// Why the value does not fit the key, or "".
+std::string value_problem(const KeyInfo& info, const Setting& setting, KeyValue& value) {
+  const std::string& text = setting.value;
+  switch (info.type) {
+    case T::Real:
+    case T::PositiveReal:
+    case T::Whole:
+      return number_problem(info, text, value.number);
+    case T::Choice:
+      value.text = text;
+      return is_choice(info, text) ? "" : "unknown value";
+    case T::ChoiceList:
+      for (const std::string& word : split_list(text)) {
+        if (!is_choice(info, word)) return "unknown value '" + word + "'";
+        if (std::find(value.words.begin(), value.words.end(), word) != value.words.end())
+          return "repeats " + word;
+        value.words.push_back(word);
+      }
+      return "";
+    case T::Names:
+      value.words = split_list(text);
+      for (const std::string& word : value.words)
+        if (word.empty()) return "an empty name";
+      return "";
+    case T::Mesh: {
+      const size_t cross = text.find('x');
+      const std::string rows = text.substr(0, cross);
+      const std::string cols = cross == std::string::npos ? rows : text.substr(cross + 1);
+      double side = 0;
+      for (const std::string& part : {rows, cols})
+        if (!number_problem(info, part, side).empty()) return "not a mesh";
+      value.text = rows + "x" + cols;
+      return "";
+    }
+    case T::NonEmptyText:
+      value.text = text;
+      return text.empty() ? "empty" : "";
+    case T::Text:
+    case T::PluginParameter:
+      value.text = text;
+      return "";
+  }
+  return "unknown key type";
+}
+
+// "a, b or c".
+std::string one_of(const std::vector<std::string>& choices) {
+  std::string text;
+  for (size_t i = 0; i < choices.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+  return text;
+}
+
+// Breaks text into lines of at most `width` characters.
+std::vector<std::string> wrapped(const std::string& text, size_t width) {
+  std::istringstream words(text);
+  std::vector<std::string> lines{""};
+  std::string word;
+  while (words >> word) {
+    if (!lines.back().empty() && lines.back().size() + 1 + word.size() > width)
+      lines.emplace_back();
+    lines.back() += (lines.back().empty() ? "" : " ") + word;
+  }
+  return lines;
+}
+
+}  // namespace
+
+std::span<const KeyInfo> run_keys() { return keys; }
+
+const KeyInfo* find_run_key(const std::string& key) {
+  for (const KeyInfo& info : keys)
+    if (key == info.key) return &info;
+  for (const KeyInfo& info : keys)
+    if (in_family(info, key)) return &info;
+  return nullptr;
+}
+
+std::string describe_allowed(const KeyInfo& info) {
+  const std::string unit = *info.unit ? std::string(" ") + info.unit : std::string();
+  switch (info.type) {
+    case T::Real:
+    case T::Whole:
+      // `allowed` for a number with a rule beyond its range (choose.stop_factor).
+      return info.allowed ? info.allowed : host::describe_allowed(number_spec(info));
+    case T::PositiveReal:
+      return "real in (0, " + host::format_number(info.max_value) + "]" + unit;
+    case T::Choice:
+      return one_of(split_list(info.allowed));
+    case T::ChoiceList: {
+      const std::vector<std::string> choices = split_list(info.allowed);
+      return one_of(choices) + ", or a list of them, e.g. [" + choices.at(0) + ", " +
+             choices.at(1) + "]";
+    }
+    case T::Names:
+      return std::string("a name or a list [a, b] of ") + info.allowed;
+    case T::Mesh:
+      return "ROWSxCOLS or N, each a whole number in [" + host::format_number(info.min_value) +
+             ", " + host::format_number(info.max_value) + "]";
+    case T::Text:
+    case T::NonEmptyText:
+    case T::PluginParameter:
+      return info.allowed;
+  }
+  return "";
+}
+
+KeyValue check_value(const KeyInfo& info, const Setting& setting) {
+  KeyValue value;
+  value.setting = setting;
+  const std::string problem = value_problem(info, setting, value);
+  if (!problem.empty()) {
+    const std::string what = problem == "empty"
+                                 ? setting.key + " is empty"
+                                 : setting.key + " = " + setting.value + ": " + problem;
+    throw host::InputError(setting.source + ": " + what + "; allowed: " + describe_allowed(info));
+  }
+  return value;
+}
+
+std::string unknown_key_message(const Setting& setting) {
+  std::vector<std::string> names;
+  std::string valid;
+  for (const KeyInfo& info : keys) {
+    names.emplace_back(info.key);
+    valid += (valid.empty() ? "" : ", ") + names.back();
+  }
+  const std::string nearest = host::nearest_name(setting.key, names);
+  return setting.source + ": unknown key " + setting.key +
+         (nearest.empty() ? "" : " (did you mean " + nearest + "?)") + "; valid: " + valid;
+}
+
+std::string keys_help_text() {
+  constexpr size_t key_column = 28, width = 100;
+  std::string text =
+      "Keys (in a --config file, as --set KEY=VALUE, or by the flag named beside them):\n";
+  for (const KeyInfo& info : keys) {
+    const std::string name = std::string("  ") + info.key;
+    std::string about = std::string(info.help) + "; allowed: " + describe_allowed(info);
+    if (info.default_value) about += "; default " + std::string(info.default_value);
+    if (info.flag) about += "; flag --" + std::string(info.flag);
+    // A key too long for its column gets a line of its own.
+    std::string column = name.size() < key_column
+                             ? name + std::string(key_column - name.size(), ' ')
+                             : name + "\n" + std::string(key_column, ' ');
+    for (const std::string& line : wrapped(about, width - key_column)) {
+      text += column + line + "\n";
+      column = std::string(key_column, ' ');
+    }
+  }
+  return text;
+}
+
+}  // namespace clothlab::cli
