@@ -120,6 +120,25 @@ sweep:
     dt: [0.001, 0.002]
 )";
 
+// One key table validates sweeps and single runs: the same bad value gets the same message
+// (after the source), before any case runs.
+TEST_F(ClothlabStability, ASweepsBadValueGetsTheSingleRunsMessage) {
+  const auto message_after_source = [](const std::string& err) {
+    const std::size_t key = err.find("dt = ");
+    return key == std::string::npos ? err : err.substr(key);
+  };
+  const Outcome single = run(tiny_sheet + "--dt -1 --duration 0.05");
+  write("bad-dt.yaml",
+        "duration: 0.05\nsweep:\n  name: bad\n  output: bad\n  matrix:\n"
+        "    integrator: [euler]\n    dt: [0.001, -1]\n");
+  const Outcome swept = run("--config bad-dt.yaml --out results");
+  EXPECT_EQ(single.exit_code, 1);
+  EXPECT_EQ(swept.exit_code, 1);
+  EXPECT_NE(swept.err.find("bad-dt.yaml:7:"), std::string::npos) << swept.err;
+  EXPECT_EQ(message_after_source(swept.err), message_after_source(single.err)) << swept.err;
+  EXPECT_FALSE(fs::exists(file("results") / "bad.csv"));
+}
+
 TEST_F(ClothlabStability, SweepResumeRunsOnlyMissingCases) {
   write("four.yaml", four_case_sweep);
   const Outcome first = run("--config four.yaml --out results");

@@ -23,11 +23,6 @@ std::string make_key(const std::vector<std::pair<std::string, std::string>>& coo
   return key;
 }
 
-[[noreturn]] void bad_setting(const Setting& setting, const std::string& allowed) {
-  throw SweepError(setting.source + ": " + setting.key + " = '" + setting.value + "': allowed " +
-                   allowed);
-}
-
 void append_setting(std::vector<Setting>& settings, const Setting& setting) {
   if (setting.key == "mesh") {
     const std::size_t cross = setting.value.find('x');
@@ -40,40 +35,31 @@ void append_setting(std::vector<Setting>& settings, const Setting& setting) {
   }
 }
 
-// Fills the convenience fields from the settings (later settings win).
+// Fills the convenience fields from the settings (later settings win). Values are not checked
+// here: every case goes through the run's one key table before the first case runs, so a value
+// that does not parse leaves its field at the default and never reaches a run.
 void derive_views(CaseSpec& spec) {
   spec.precision = "float32";
   spec.duration = 0.0;
   spec.steps = 0;
   for (const Setting& setting : spec.settings) {
     const auto number = host::parse_real(setting.value);
+    const bool whole = number && *number >= 1 && *number <= 1e15 && *number == std::floor(*number);
     if (setting.key == "integrator.plugin") {
       spec.integrator = setting.value;
     } else if (setting.key == "scenario.plugin") {
       spec.scenario = setting.value;
     } else if (setting.key == "precision") {
-      if (setting.value != "float32" && setting.value != "float64") {
-        bad_setting(setting, "float32 or float64");
-      }
       spec.precision = setting.value;
-    } else if (setting.key == "scenario.rows" || setting.key == "scenario.cols") {
-      if (!number || *number < 1 || *number != std::floor(*number) || *number > 4096) {
-        bad_setting(setting, "a whole number in [1, 4096]");
-      }
+    } else if ((setting.key == "scenario.rows" || setting.key == "scenario.cols") && whole &&
+               *number <= 1e9) {
       (setting.key == "scenario.rows" ? spec.rows : spec.cols) = static_cast<uint32_t>(*number);
-    } else if (setting.key == "dt") {
-      if (!number || *number <= 0.0 || *number > 10.0)
-        bad_setting(setting, "a number in (0, 10] s");
+    } else if (setting.key == "dt" && number) {
       spec.dt = *number;
-    } else if (setting.key == "duration") {
-      if (!number || *number <= 0.0 || *number > 1e6)
-        bad_setting(setting, "a number in (0, 1e6] s");
+    } else if (setting.key == "duration" && number) {
       spec.duration = *number;
       spec.steps = 0;
-    } else if (setting.key == "steps") {
-      if (!number || *number < 1 || *number != std::floor(*number) || *number > 1e12) {
-        bad_setting(setting, "a whole number in [1, 1e12]");
-      }
+    } else if (setting.key == "steps" && whole) {
       spec.steps = static_cast<uint64_t>(*number);
       spec.duration = 0.0;
     }

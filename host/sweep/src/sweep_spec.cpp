@@ -93,12 +93,6 @@ void check_axis_value(const std::string& source, const YAML::Node& node, const s
     if (!host::is_plugin_id(text)) fail(source, node, key, text, "a plugin id ([a-z0-9_-]+)");
   } else if (key == "mesh") {
     if (!mesh_shape(text)) fail(source, node, key, text, "ROWSxCOLS or N, each in [1, 4096]");
-  } else if (key == "dt") {
-    const auto value = host::parse_real(text);
-    if (!value || *value <= 0.0 || *value > 10.0)
-      fail(source, node, key, text, "a number in (0, 10] s");
-  } else if (key == "precision") {
-    if (text != "float32" && text != "float64") fail(source, node, key, text, "float32 or float64");
   }
 }
 
