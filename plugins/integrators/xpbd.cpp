@@ -9,6 +9,8 @@
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
 //              in parallel: no two share a particle, so every thread count gives the same bits
+//   tethers    (option, xpbd_tethers.hpp) each free particle's long-range attachments to
+//              pinned particles, |p_i - p_anchor| <= (1 + slack) rest, projected once
 //   velocity   v = dx / h,  x += dx
 // x stays at the substep's start while the projections move only dx, the substep's
 // displacement; the springs see the positions x + dx as (x_i - x_j) + (dx_i - dx_j). So v
@@ -38,6 +40,10 @@
 // finish the same wavefront time (published every few rows): a pipeline, no barrier per
 // colour, and the same operations on the same values as on one thread.
 //
+// Tethers are a model change, not a solver setting: where the spring dynamics would strain the
+// cloth along a tether by more than the slack, the tethered cloth converges (in h) to another
+// solution, so they are off by default (`tethers` 0) and the accuracy below holds without them.
+//
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
 // in h to the spring dynamics with the scene's ks and kd; one iteration per substep adds an
@@ -62,6 +68,7 @@
 #include "scratch_vectors.hpp"
 #include "xpbd_grid.hpp"
 #include "xpbd_row_kernel.hpp"
+#include "xpbd_tethers.hpp"
 
 namespace clothlab::builtin {
 namespace {
@@ -69,6 +76,8 @@ namespace {
 // Smaller clothes run on the calling thread: a colour of fewer than ~5000 springs is not
 // worth the barrier that ends it (12 barriers per sweep).
 constexpr uint32_t parallel_from_springs = 65536;
+// The general path projects tethers in blocks of particles, a vector loop each.
+constexpr long tether_block = 256;
 
 // One spring as the projection reads it, stored colour by colour.
 template <class Real>
@@ -89,7 +98,7 @@ struct Constraints {
 
 // One stage of a substep on the grid, applied row by row.
 struct Phase {
-  enum class Kind : uint8_t { predict, project, velocity };
+  enum class Kind : uint8_t { predict, project, tether, velocity };
   Kind kind;
   uint32_t color;      // project: the grid layout's colour
   uint32_t iteration;  // project
@@ -117,24 +126,45 @@ inline void wait_until(const Progress& progress, uint32_t time) {
 
 }  // namespace
 
+// Built twice from this file (plugins/integrators/CMakeLists.txt): `xpbd`, tethers off, and
+// `xpbd_tethers`, the same code with tethers on by default, so that a search over the plugin
+// path (clothlab --choose) weighs the tethered model beside the plain one.
+#ifdef CLOTHLAB_XPBD_TETHERED
+inline constexpr bool tethered_build = true;
+#else
+inline constexpr bool tethered_build = false;
+#endif
+
 struct Xpbd {
-  static constexpr const char* id = "xpbd";
-  static constexpr const char* name = "XPBD distance constraints with substeps";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* id = tethered_build ? "xpbd_tethers" : "xpbd";
+  static constexpr const char* name = tethered_build
+                                          ? "XPBD with long-range attachments (tethers) to the pins"
+                                          : "XPBD distance constraints with substeps";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* description =
-      "Macklin et al. 2016/2019: springs as compliant constraints (alpha = 1/ks, damping "
-      "eq. 26), Gauss-Seidel by spring colour, substeps; first order, unconditionally stable";
+      tethered_build
+          ? "xpbd with tethers 3 by default: Kim et al. 2012 long-range attachments, each free "
+            "particle at most (1 + tether_slack) x its initial distance from its pins"
+          : "Macklin et al. 2016/2019: springs as compliant constraints (alpha = 1/ks, damping "
+            "eq. 26), Gauss-Seidel by spring colour, substeps; first order, unconditionally "
+            "stable";
   static constexpr uint32_t order = 1;
   // No eval_acceleration calls: its cost is substeps x iterations passes over the springs.
   static constexpr uint32_t evals_per_step = 0;
   // The damping (kd) is part of the constraint projection; the flag makes the host and the
   // conformance runner treat the scene's damping as present.
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 3> params{
+  static constexpr std::array<clothlab_param_spec, 5> params{
       sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
       sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
       sdk::int_param("threads", 0, 0, 256,
                      "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
+      sdk::int_param("tethers", tethered_build ? 3 : 0, 0, 16,
+                     "long-range attachments per free particle to pinned particles (the nearest "
+                     "pin of each pinned island, then pins spread along it); 0 = off"),
+      sdk::real_param("tether_slack", 0.0, 0.0, 1.0, "",
+                      "a tether's max length is (1 + tether_slack) x the particle's straight-line "
+                      "distance to its pin at prepare"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -143,7 +173,9 @@ struct Xpbd {
   explicit Xpbd(const sdk::Params& values)
       : substeps_(static_cast<int>(values.integer("substeps"))),
         iterations_(static_cast<int>(values.integer("iterations"))),
-        requested_threads_(static_cast<int>(values.integer("threads"))) {}
+        requested_threads_(static_cast<int>(values.integer("threads"))),
+        tethers_per_particle_(static_cast<uint32_t>(values.integer("tethers"))),
+        tether_slack_(values.real("tether_slack")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -151,12 +183,14 @@ struct Xpbd {
     (void)system.external_forces();  // fails here, not in step, when the host lacks it
     scratch_.allocate(system);
     Constraints<Real>& constraints = constraints_for<Real>();
+    tethers_for<Real>().build(topology, system.x(), system.stride(), system.inverse_mass(),
+                              tethers_per_particle_, tether_slack_);
     grid_ = recognise_grid(topology);
     if (grid_) {
       constraints.springs.clear();
       constraints.lambda.assign(
           iterations_ > 1 ? grid_->colors.size() * system.particle_count() : 0, 0);
-      build_phases();
+      build_phases(tethers_for<Real>().slots());
     } else {
       build_constraints(system, topology, constraints.springs);
       constraints.lambda.assign(constraints.springs.size(), 0);
@@ -179,6 +213,8 @@ struct Xpbd {
     const bool wind = external.depends_on_position();
     const double h = dt / substeps_;
     if (!wind) external.acceleration(t, system.x(), external_acceleration);
+    if (tethers_for<Real>().active())
+      tethers_for<Real>().refresh_anchors(system.x(), system.stride());
     for (int substep = 0; substep < substeps_; ++substep) {
       if (wind) external.acceleration(t + substep * h, system.x(), external_acceleration);
       if (!advance_substep(system, h, external_acceleration, displacement))
@@ -197,6 +233,7 @@ struct Xpbd {
     Real* displacement;  // x's change in this substep, exact where x's rounding is not
     Real* x;
     Real* v;
+    const Tethers<Real>* tethers;  // nullptr: off
     uint32_t particle_count;
     std::size_t stride;
     Real h, h_squared, inverse_h;
@@ -208,6 +245,13 @@ struct Xpbd {
       return constraints_f32_;
     else
       return constraints_f64_;
+  }
+  template <class Real>
+  Tethers<Real>& tethers_for() {
+    if constexpr (sizeof(Real) == 4)
+      return tethers_f32_;
+    else
+      return tethers_f64_;
   }
 
   // Copies the springs colour by colour; springs with both ends pinned never move and are
@@ -245,6 +289,7 @@ struct Xpbd {
                                 displacement,
                                 system.x(),
                                 system.v(),
+                                tethers_for<Real>().active() ? &tethers_for<Real>() : nullptr,
                                 system.particle_count(),
                                 system.stride(),
                                 static_cast<Real>(h),
@@ -269,7 +314,7 @@ struct Xpbd {
   // The phases of a substep in Gauss-Seidel order and their lags: a phase may visit a row
   // once every earlier phase is done with all rows its springs reach (its row step below),
   // and a later phase reaches no row it has yet to visit.
-  void build_phases() {
+  void build_phases(uint32_t tether_slots) {
     const GridLayout& grid = *grid_;
     phases_.clear();
     const uint64_t row_of_particles = grid.cols;
@@ -284,6 +329,11 @@ struct Xpbd {
         phases_.push_back(
             {Phase::Kind::project, c, iteration, lag, rows * (color.col_end - color.col_begin)});
       }
+    // Tethers move only their own particle: like the velocity phase, a row's may run as soon
+    // as the last colour is done with it.
+    if (tether_slots > 0)
+      phases_.push_back(
+          {Phase::Kind::tether, 0, 0, lag, grid.rows * row_of_particles * tether_slots / 4});
     phases_.push_back({Phase::Kind::velocity, 0, 0, lag, grid.rows * row_of_particles / 3});
     wavefront_length_ = grid.rows + lag;
     // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
@@ -371,6 +421,10 @@ struct Xpbd {
                       s.external_acceleration + c * s.stride + row_begin,
                       s.inverse_mass + row_begin, grid_->cols, s.h);
         return;
+      case Phase::Kind::tether:
+        s.tethers->project(row_begin, row_begin + grid_->cols, s.x, s.displacement, s.inverse_mass,
+                           s.stride);
+        return;
       case Phase::Kind::velocity: {
         bool bad = false;
         for (std::size_t c = 0; c < 3; ++c)
@@ -419,6 +473,14 @@ struct Xpbd {
           project(s.constraints[k], s.lambda[k], iteration == 0, s.x, s.displacement, s.stride, s.h,
                   s.h_squared);
       }
+    if (s.tethers != nullptr) {
+      const long blocks = (n + tether_block - 1) / tether_block;
+#pragma omp for schedule(static)
+      for (long block = 0; block < blocks; ++block)
+        s.tethers->project(static_cast<std::size_t>(block * tether_block),
+                           static_cast<std::size_t>(std::min(n, (block + 1) * tether_block)), s.x,
+                           s.displacement, s.inverse_mass, s.stride);
+    }
     bool finite = true;
 #pragma omp for schedule(static)
     for (long i = 0; i < n; ++i) {
@@ -469,9 +531,13 @@ struct Xpbd {
   int substeps_;
   int iterations_;
   int requested_threads_;
+  uint32_t tethers_per_particle_;
+  double tether_slack_;
   int threads_ = 1;
   Constraints<float> constraints_f32_;
   Constraints<double> constraints_f64_;
+  Tethers<float> tethers_f32_;
+  Tethers<double> tethers_f64_;
   std::vector<uint32_t> color_offsets_;  // constraints of colour c: [offsets[c], offsets[c + 1])
   ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
   std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
@@ -483,6 +549,7 @@ struct Xpbd {
 
 }  // namespace clothlab::builtin
 
-CLOTHLAB_PLUGIN_ENTRY("clothlab-builtin-xpbd", "1.0.0",
-                      clothlab::sdk::integrators<clothlab::builtin::Xpbd>,
+CLOTHLAB_PLUGIN_ENTRY(clothlab::builtin::tethered_build ? "clothlab-builtin-xpbd-tethers"
+                                                        : "clothlab-builtin-xpbd",
+                      "1.1.0", clothlab::sdk::integrators<clothlab::builtin::Xpbd>,
                       clothlab::sdk::scenarios<>)

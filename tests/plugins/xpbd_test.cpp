@@ -2,8 +2,8 @@
 // through the topology and external-forces extensions (spring_host.hpp): the static sag of a
 // hanging chain (Hooke's law, in the soft and the stiff regime), the period of a single spring and
 // of a stiff pendulum (the constrained limit), independence of the iteration count (lambda is reset
-// once per substep, not per iteration: newton#2933), bitwise identity across thread counts, pins
-// left alone.
+// once per substep, not per iteration: newton#2933), bitwise identity across thread counts (with
+// and without tethers), pins left alone. Tethers themselves: xpbd_tethers_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -171,7 +171,8 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
 // the two top corners pinned, under gravity, started with a sideways kick so every spring
 // works.
 template <class Real>
-std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, int steps) {
+std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, int steps,
+                                     int tethers = 0) {
   const uint32_t n = rows * cols;
   std::vector<TestSpring> springs;
   std::vector<std::vector<uint32_t>> colors(4);
@@ -193,7 +194,7 @@ std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, 
       system.set_velocity(r * cols + c, {0, 0, std::sin(0.1 * (r * cols + c))});
     }
   Integrator xpbd("xpbd");
-  xpbd.with("threads", threads).with("substeps", 4).with("iterations", 2);
+  xpbd.with("threads", threads).with("substeps", 4).with("iterations", 2).with("tethers", tethers);
   xpbd.start(system);
   xpbd.run(system, steps, 5e-3);
   std::vector<double> state;
@@ -204,11 +205,11 @@ std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, 
 }
 
 template <class Real>
-void expect_bitwise_identical_across_threads() {
+void expect_bitwise_identical_across_threads(int tethers = 0) {
   // 190 x 190: 71820 springs, above the plugin's threshold for running in parallel.
-  const std::vector<double> one = grid_state_after<Real>(190, 190, 1, 4);
+  const std::vector<double> one = grid_state_after<Real>(190, 190, 1, 4, tethers);
   for (int threads : {2}) {
-    const std::vector<double> many = grid_state_after<Real>(190, 190, threads, 4);
+    const std::vector<double> many = grid_state_after<Real>(190, 190, threads, 4, tethers);
     ASSERT_EQ(many.size(), one.size());
     size_t differing = 0;
     for (size_t k = 0; k < one.size(); ++k) differing += std::memcmp(&one[k], &many[k], 8) != 0;
@@ -222,6 +223,10 @@ TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsFloat64) {
 
 TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsFloat32) {
   expect_bitwise_identical_across_threads<float>();
+}
+
+TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsWithTethers) {
+  expect_bitwise_identical_across_threads<float>(2);
 }
 
 TEST(Xpbd, ZeroStepLeavesTheStateAlone) {
