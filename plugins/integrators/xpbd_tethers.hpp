@@ -113,6 +113,7 @@ class Tethers {
           anchor_particles_.push_back(pin);
         }
         slot_anchor_[std::size_t{slot} * n + i] = anchor_of_pin[pin];
+        // Rounded once to Real: a fixed radius, no noise.
         slot_limit_[std::size_t{slot} * n + i] = static_cast<Real>((1 + slack) * distance(i, pin));
       }
     }
@@ -140,11 +141,15 @@ class Tethers {
 
   // Projects particles [begin, end) onto their tethers, slot by slot: dx is the substep's
   // displacement (the particle is at x + dx), pins (inverse mass 0) are left alone.
+  // In double whatever Real is: a tether is up to the cloth's size long, float32 resolves
+  // d = x + dx - anchor ~ 1 m only to ~6e-8 m, and that rounding, new every substep, would
+  // enter the correction, which v = dx / h turns into ~1e-3 m/s (the conformance runner's
+  // float32-against-float64 check sees it; a spring, a few mm long, needs no such care).
   void project(std::size_t begin, std::size_t end, const Real* __restrict x, Real* __restrict dx,
                const Real* __restrict inverse_mass, std::size_t stride) const {
     const std::size_t count = anchor_particles_.size();
-    const Real* ax = anchor_position_.data();
-    const Real *ay = ax + count, *az = ay + count;
+    const double* ax = anchor_position_.data();
+    const double *ay = ax + count, *az = ay + count;
     const Real *x0 = x, *x1 = x + stride, *x2 = x + 2 * stride;
     Real *dx0 = dx, *dx1 = dx + stride, *dx2 = dx + 2 * stride;
     for (uint32_t slot = 0; slot < slots_; ++slot) {
@@ -153,18 +158,19 @@ class Tethers {
 #pragma omp simd
       for (std::size_t i = begin; i < end; ++i) {
         const uint32_t a = anchor[i];
-        const Real d0 = (x0[i] - ax[a]) + dx0[i];
-        const Real d1 = (x1[i] - ay[a]) + dx1[i];
-        const Real d2 = (x2[i] - az[a]) + dx2[i];
-        const Real squared = d0 * d0 + d1 * d1 + d2 * d2;
-        const Real most = limit[i];
-        // Past its limit the particle moves onto the sphere: d -> d most / |d|. Inside, and
-        // on a pin (whose limit is infinite), nothing moves: the tether is unilateral.
-        const bool taut = inverse_mass[i] != 0 && squared > most * most;
-        const Real shrink = taut ? most / std::sqrt(squared) - Real(1) : Real(0);
-        dx0[i] += shrink * d0;
-        dx1[i] += shrink * d1;
-        dx2[i] += shrink * d2;
+        const double d0 = (double{x0[i]} - ax[a]) + double{dx0[i]};
+        const double d1 = (double{x1[i]} - ay[a]) + double{dx1[i]};
+        const double d2 = (double{x2[i]} - az[a]) + double{dx2[i]};
+        const double squared = d0 * d0 + d1 * d1 + d2 * d2;
+        const double most = limit[i];
+        // Past its limit the particle moves onto the sphere: d -> d limit / |d|. Inside, and
+        // on a pin (whose limit is infinite), nothing moves: the tether is unilateral. (Both
+        // tests in double and without a short circuit, or the loop does not vectorise.)
+        const bool taut = (double{inverse_mass[i]} != 0) & (squared > most * most);
+        const double shrink = taut ? most / std::sqrt(squared) - 1 : 0.0;
+        dx0[i] += static_cast<Real>(shrink * d0);
+        dx1[i] += static_cast<Real>(shrink * d1);
+        dx2[i] += static_cast<Real>(shrink * d2);
       }
     }
   }
@@ -222,7 +228,7 @@ class Tethers {
   std::vector<uint32_t> anchor_particles_;  // the pins some tether uses
   std::vector<uint32_t> slot_anchor_;       // slots x particles: index into anchor_particles_
   std::vector<Real> slot_limit_;            // slots x particles: max length
-  std::vector<Real> anchor_position_;       // 3 x anchors (SoA), refreshed per step
+  std::vector<double> anchor_position_;     // 3 x anchors (SoA), refreshed per step
 };
 
 }  // namespace clothlab::builtin
