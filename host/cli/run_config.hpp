@@ -54,6 +54,10 @@ struct RunConfig {
   uint64_t stability_interval = 0;  // steps between checks
   double max_stretch = 0;           // longest spring / rest length (see MonitorOptions)
   double energy_margin = 0;         // times the cloth's energy scale
+  // End the run at the first check where the warp/weft stretch exceeds this (x rest): the
+  // maximum over the run can only grow, so --choose learns "stretch above its limit" without
+  // the rest of the run. 0: run to the end.
+  double stretch_stop = 0;
   // choose.*: the --choose search (clothlab::sweep::ChoiceSettings; frame_rate from the key
   // frame_rate); integrators: empty = every integrator on the plugin path.
   sweep::ChoiceSettings choice;

@@ -142,6 +142,19 @@ const KeyInfo keys[] = {
     {"stability.max_stretch", T::Real, 1, 1e6, "", nullptr, "5",
      "longest spring / rest length before the run fails", nullptr,
      [](RunConfig& c, const KeyValue& v) { c.max_stretch = v.number; }},
+    {"stability.stretch_stop", T::Real, 0, 1e6, "", "0 (run to the end) or a real in [1, 1e6]",
+     "0",
+     "end the run (not a failure) at the first check where the warp/weft stretch exceeds this "
+     "x rest (--choose sets its stretch limit); 0: run to the end",
+     nullptr,
+     [](RunConfig& c, const KeyValue& v) {
+       if (v.number > 0 && v.number < 1)
+         throw host::InputError(v.setting.source + ": stability.stretch_stop = " +
+                                v.setting.value +
+                                ": out of range; allowed: 0 (run to the end) or a real in [1, "
+                                "1e6]");
+       c.stretch_stop = v.number;
+     }},
     {"stability.energy_margin", T::PositiveReal, 0, 1e12, "", nullptr, "1",
      "energy gain allowed, in units of the cloth's energy scale", nullptr,
      [](RunConfig& c, const KeyValue& v) { c.energy_margin = v.number; }},

@@ -112,6 +112,7 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["real_time_factor"] = figures.real_time_factor;
   json["stable"] = record.stable;
   json["interrupted"] = record.interrupted;
+  json["stretch_stopped"] = record.stretch_stopped;
   json["verdict"] = record.verdict;
   json["failed_check"] =
       record.failed_check.empty() ? nlohmann::json(nullptr) : nlohmann::json(record.failed_check);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <set>
 #include <stdexcept>
 
@@ -268,6 +269,10 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     if (step % config_.stability_interval == 0 || step == config_.steps)
       record.max_stretch_over_run =
           std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
+    if (config_.stretch_stop > 0 && record.max_stretch_over_run > config_.stretch_stop) {
+      record.stretch_stopped = true;
+      break;
+    }
     if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
   }
   record.loop_total_s = seconds_since(loop_start);
@@ -277,6 +282,11 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   record.stability_checks = monitor.checks();
   if (record.interrupted)
     record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
+  else if (record.stretch_stopped)
+    record.verdict = "stopped at step " + std::to_string(record.steps_taken) + " (t = " +
+                     host::format_number(static_cast<double>(record.steps_taken) * config_.dt) +
+                     " s): warp/weft stretch " + host::format_number(record.max_stretch_over_run) +
+                     " above stability.stretch_stop " + host::format_number(config_.stretch_stop);
   else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";

@@ -57,7 +57,8 @@ struct RunRecord {
   // and any wait for the writer), which step_total_s leaves out.
   double loop_total_s = 0;
   bool stable = true;
-  bool interrupted = false;  // stopped early on request (SIGINT), not by a failed check
+  bool interrupted = false;      // stopped early on request (SIGINT), not by a failed check
+  bool stretch_stopped = false;  // ended early by stability.stretch_stop, not by a failed check
   std::string verdict;
   std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
   std::optional<uint64_t> failed_step;

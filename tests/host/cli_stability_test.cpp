@@ -108,6 +108,36 @@ TEST_F(ClothlabStability, BadMonitorSettingIsRejected) {
   EXPECT_NE(outcome.err.find("stability.max_stretch = 0.5"), std::string::npos) << outcome.err;
 }
 
+// stability.stretch_stop ends a run (exit 0, not a failure) at the first check past it; the
+// default soft sheet hanging from two corners soon stretches past 5 %.
+TEST_F(ClothlabStability, StretchStopEndsTheRunAtTheFirstCheckPastIt) {
+  const Outcome outcome = run(tiny_sheet +
+                              "--integrator rk4 --dt 0.001 --duration 1 --set "
+                              "stability.stretch_stop=1.05 --json run.json --quiet");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto json = read_json(file("run.json"));
+  EXPECT_TRUE(json["stable"].get<bool>());
+  EXPECT_TRUE(json["stretch_stopped"].get<bool>());
+  const int steps = json["steps"].get<int>();
+  EXPECT_LT(steps, 1000);
+  EXPECT_EQ(steps % 10, 0);  // at a check
+  EXPECT_GT(json["max_stretch"]["over_run"].get<double>(), 1.05);
+  EXPECT_NE(json["verdict"].get<std::string>().find("stopped at step " + std::to_string(steps)),
+            std::string::npos);
+  // Without it the same run goes to the end.
+  ASSERT_EQ(run(tiny_sheet + "--integrator rk4 --dt 0.001 --duration 1 --json full.json --quiet")
+                .exit_code,
+            0);
+  EXPECT_FALSE(read_json(file("full.json"))["stretch_stopped"].get<bool>());
+  EXPECT_EQ(read_json(file("full.json"))["steps"].get<int>(), 1000);
+  const Outcome bad = run(tiny_sheet + "--set stability.stretch_stop=0.5");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("stability.stretch_stop = 0.5: out of range; allowed: 0 (run to the "
+                         "end) or a real in [1, 1e6]"),
+            std::string::npos)
+      << bad.err;
+}
+
 const std::string four_case_sweep = R"(scenario: {rows: 5, cols: 5}
 duration: 0.05
 sweep:

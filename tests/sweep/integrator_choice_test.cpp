@@ -37,6 +37,7 @@ struct FakeRuns {
   std::string burst_on;
   int calls = 0;
   std::vector<std::string> runs;
+  std::vector<std::string> stretch_stops;  // "rows stability.stretch_stop" per probe run
   Trajectory operator()(const CaseSpec& c) {
     ++calls;
     Trajectory run;
@@ -47,6 +48,7 @@ struct FakeRuns {
     }
     const double substeps = std::stod(c.setting("substeps"));
     runs.push_back(c.integrator + " " + std::to_string(c.rows) + " " + c.setting("substeps"));
+    stretch_stops.push_back(std::to_string(c.rows) + " " + c.setting("stability.stretch_stop"));
     const std::string text = c.setting("integrator.iterations").empty()
                                  ? c.setting("integrator.cap")
                                  : c.setting("integrator.iterations");
@@ -232,6 +234,34 @@ TEST(IntegratorChoice, RunsTheSceneMeshOnlyWhereTheErrorPasses) {
 
 // Where doubling the iterations changes the error by under 10 %, the substep count is left
 // after two probes; the answer is the same.
+// The stretch over a run only grows: the runs at the scene's mesh ask to end at the first check
+// past the limit (stability.stretch_stop), the error runs, whose stretch is not judged, do not.
+TEST(IntegratorChoice, EndsSceneMeshRunsAtTheStretchLimit) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
+  fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
+  fixture.base = expand_cases(fixture.spec).at(0);
+  fixture.settings.error_mesh = "10x10";
+  fixture.settings.error_duration = 0.5;
+  fixture.settings.stretch_limit = 1.2;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"stretchy", false}}, fixture.settings,
+                         std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed);
+  EXPECT_EQ(choices[0].substeps, 3u);  // 1 + 0.5 / 3 <= 1.2
+  ASSERT_FALSE(runs.stretch_stops.empty());
+  for (const std::string& stop : runs.stretch_stops)
+    EXPECT_TRUE(stop == "40 1.2" || stop == "10 0") << stop;
+  EXPECT_NE(std::find(runs.stretch_stops.begin(), runs.stretch_stops.end(), "40 1.2"),
+            runs.stretch_stops.end());
+  EXPECT_NE(progress.str().find("stretchy 2 substeps: stretch 1.25 above 1.2"), std::string::npos)
+      << progress.str();
+}
+
 TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {
   ScratchFolder folder;
   ResultsStore store(folder.path() / "choose", false);

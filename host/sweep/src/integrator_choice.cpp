@@ -191,6 +191,9 @@ class IntegratorSearch {
 
   CaseSpec candidate_case(uint32_t substeps, uint32_t iterations) const {
     CaseSpec c = with_setting(base_, "frame_rate", format_number(settings_.frame_rate), false);
+    // The stretch over the run only grows: a run at the scene's mesh ends as soon as it
+    // passes the limit (the error runs judge no stretch and use error_case).
+    c = with_setting(c, "stability.stretch_stop", format_number(settings_.stretch_limit), false);
     c = with_setting(c, "substeps", std::to_string(substeps));
     if (candidate_.has_own_substeps)
       c = with_setting(c, "integrator." + candidate_.substeps_param, "1", false);
@@ -204,6 +207,7 @@ class IntegratorSearch {
   }
   CaseSpec error_case(const CaseSpec& c) const {
     CaseSpec e = with_setting(c, "duration", format_number(error_duration(settings_)), false);
+    e = with_setting(e, "stability.stretch_stop", "0", false);
     return settings_.error_mesh.empty() ? e : with_setting(e, "mesh", settings_.error_mesh);
   }
   // An upper bound on the error run's share of the work of the run over T at the scene's
@@ -265,12 +269,16 @@ class IntegratorSearch {
     // a second run before a stop: other jobs on the machine only ever slow frames down, and a
     // burst of them can outlast five frames.
     const double limit = settings_.stop_factor * context_.best.ms_per_frame;
-    if (first.ms_per_frame_p10 <= limit) return judge_run(first, probe, "in its first frames");
+    if (first.ms_per_frame_p10 <= limit)
+      return judge_run(first, probe, "in its first frames") &&
+             judge_stretch(first, probe, " in its first frames");
     const Trajectory again = run_guarded(short_case, timeout_s);
     const double fastest = again.verdict.stable() || !timed_out(again)
                                ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
                                : first.ms_per_frame_p10;
-    if (fastest <= limit) return judge_run(first, probe, "in its first frames");
+    if (fastest <= limit)
+      return judge_run(first, probe, "in its first frames") &&
+             judge_stretch(first, probe, " in its first frames");
     char cost[112];
     std::snprintf(cost, sizeof cost, "its fastest of %g first frames took %.4g ms (twice)", frames,
                   fastest);
@@ -297,14 +305,19 @@ class IntegratorSearch {
     probe.ms_per_frame = run.ms_per_frame;
     probe.max_stretch = run.max_stretch;
     wall_s = run.wall_s;
-    if (stopped_by_budget(run, timeout_s, "its run", probe) || !judge_run(run, probe, ""))
+    if (stopped_by_budget(run, timeout_s, "its run", probe) || !judge_run(run, probe, "") ||
+        !judge_stretch(run, probe, ""))
       return false;
-    if (run.max_stretch > settings_.stretch_limit) {
-      probe.why = "stretch " + format_number(run.max_stretch) + " above " +
-                  format_number(settings_.stretch_limit);
-      return false;
-    }
     return !same_error_run() || judge_error(run, probe);
+  }
+
+  // The run stops at the check that passes the limit (stability.stretch_stop).
+  bool judge_stretch(const Trajectory& run, Probe& probe, const std::string& where) const {
+    if (!(run.max_stretch > settings_.stretch_limit)) return true;
+    probe.max_stretch = run.max_stretch;
+    probe.why = "stretch " + format_number(run.max_stretch) + " above " +
+                format_number(settings_.stretch_limit) + where;
+    return false;
   }
 
   // False with probe.why set when the run was not stable; a probe-timeout ends the search.
