@@ -269,7 +269,9 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     if (step % config_.stability_interval == 0 || step == config_.steps)
       record.max_stretch_over_run =
           std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
-    if (config_.stretch_stop > 0 && record.max_stretch_over_run > config_.stretch_stop) {
+    // A run the monitor failed keeps that verdict.
+    if (record.stable && config_.stretch_stop > 0 &&
+        record.max_stretch_over_run > config_.stretch_stop) {
       record.stretch_stopped = true;
       break;
     }

@@ -130,6 +130,14 @@ TEST_F(ClothlabStability, StretchStopEndsTheRunAtTheFirstCheckPastIt) {
             0);
   EXPECT_FALSE(read_json(file("full.json"))["stretch_stopped"].get<bool>());
   EXPECT_EQ(read_json(file("full.json"))["steps"].get<int>(), 1000);
+  // A run the monitor fails at the same check keeps the monitor's verdict.
+  const Outcome diverged = run(tiny_sheet +
+                               "--set scenario.structural.ks=1e4 --set scenario.shear.ks=1e4 "
+                               "--integrator rk4 --dt 0.02 --duration 2 --set stability.interval=1 "
+                               "--set stability.stretch_stop=1.05 --json diverged.json --quiet");
+  EXPECT_EQ(diverged.exit_code, 3) << diverged.err;
+  EXPECT_FALSE(read_json(file("diverged.json"))["stretch_stopped"].get<bool>());
+  EXPECT_FALSE(read_json(file("diverged.json"))["stable"].get<bool>());
   const Outcome bad = run(tiny_sheet + "--set stability.stretch_stop=0.5");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("stability.stretch_stop = 0.5: out of range; allowed: 0 (run to the "
