@@ -21,7 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${BUILD_DIR:-build}
 results=${RESULTS_DIR:-results/bench-frames}
-integrators=${INTEGRATORS:-xpbd verlet euler rk4 midpoint projective_dynamics implicit_euler}
+integrators=${INTEGRATORS:-xpbd_tethers xpbd verlet euler rk4 midpoint projective_dynamics implicit_euler}
 bin="$build_dir/bin/clothlab"
 # On a machine shared with other jobs, OpenMP threads that spin at their barriers lose their
 # core for whole time slices (docs/real-cloth.md: 20-35x slower steps at load 8 on 2 cores);
@@ -71,7 +71,7 @@ for rate in ${FRAME_RATES:-60 30}; do
         extra=()
         [[ -n $iterations ]] && extra+=(--set integrator."$parameter"="$iterations")
         # --choose holds xpbd's own substeps parameter at 1 (the frame's substeps are its only).
-        [[ $integrator == xpbd ]] && extra+=(--set integrator.substeps=1)
+        [[ $integrator == xpbd* ]] && extra+=(--set integrator.substeps=1)
         trace="$results/energy-$name-$integrator.csv"
         "$bin" --config configs/bench-300.yaml --scenario "$scenario" --integrator "$integrator" \
           --set scenario.rows="$mesh" --set scenario.cols="$mesh" --frame-rate "$rate" \
