@@ -29,14 +29,19 @@
 // per iteration: resetting it per iteration would make the stiffness grow with the iteration
 // count (the peer bug newton#2933).
 //
-// On the Provot grid (xpbd_grid.hpp) a substep runs as one wavefront down the rows instead
+// On the Provot grid (xpbd_grid.hpp) a substep runs as wavefronts over the rows instead
 // of one pass over the cloth per colour: the phases (predict, each iteration's colours,
 // velocity) visit row T - lag(phase) at wavefront time T, the lags growing by each
 // colour's row reach (0, 1 or 2 rows), so every spring sees its ends exactly as the
 // colour-by-colour order leaves them while the rows in flight stay in cache. With several
-// threads each takes a contiguous run of phases and waits only for its predecessor to
-// finish the same wavefront time (published every few rows): a pipeline, no barrier per
-// colour, and the same operations on the same values as on one thread.
+// threads the rows split into two bands at a boundary B: one team runs the wavefront down
+// from row 0, the other up from the last row (there a phase visits start row
+// rows - 1 - T + lag(previous phase)), each touching only its own band's rows, so the two
+// never wait for each other nor share a cache line in flight; the rows next to B that
+// neither wavefront reached (lag(phase) below B, lag(previous phase) above it) are then
+// projected phase by phase by one thread. Within a team each thread takes a contiguous run
+// of phases and waits only for its predecessor to finish the same wavefront time. Every
+// spring sees the same values in any split: the bits do not depend on the thread count.
 //
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
@@ -91,10 +96,17 @@ struct Constraints {
 struct Phase {
   enum class Kind : uint8_t { predict, project, velocity };
   Kind kind;
-  uint32_t color;      // project: the grid layout's colour
-  uint32_t iteration;  // project
-  uint32_t lag;        // wavefront times before its row 0
-  uint64_t cost;       // work units, for splitting the phases between threads
+  uint32_t color;         // project: the grid layout's colour
+  uint32_t iteration;     // project
+  uint32_t lag;           // wavefront times before its row 0, going down
+  uint32_t previous_lag;  // the previous phase's lag (0 for predict): the upward row offset
+  uint64_t cost;          // work units, for splitting the phases between threads
+};
+
+// The rows' split between the team going down (rows [0, boundary)) and the one going up.
+struct Bands {
+  uint32_t boundary;
+  int lower_threads;
 };
 
 // A thread's wavefront time, on its own cache line: its successor spins on it.
@@ -273,22 +285,34 @@ struct Xpbd {
     const GridLayout& grid = *grid_;
     phases_.clear();
     const uint64_t row_of_particles = grid.cols;
-    phases_.push_back({Phase::Kind::predict, 0, 0, 0, grid.rows * row_of_particles / 3});
+    phases_.push_back({Phase::Kind::predict, 0, 0, 0, 0, grid.rows * row_of_particles / 3});
     uint32_t lag = 0;
     for (uint32_t iteration = 0; iteration < static_cast<uint32_t>(iterations_); ++iteration)
       for (uint32_t c = 0; c < grid.colors.size(); ++c) {
         const GridColor& color = grid.colors[c];
+        const uint32_t previous_lag = lag;
         lag += color.step().row_step;
         uint64_t rows = 0;
         for (uint32_t r = 0; r < grid.rows; ++r) rows += color.starts_in_row(r);
-        phases_.push_back(
-            {Phase::Kind::project, c, iteration, lag, rows * (color.col_end - color.col_begin)});
+        phases_.push_back({Phase::Kind::project, c, iteration, lag, previous_lag,
+                           rows * (color.col_end - color.col_begin)});
       }
-    phases_.push_back({Phase::Kind::velocity, 0, 0, lag, grid.rows * row_of_particles / 3});
-    wavefront_length_ = grid.rows + lag;
+    phases_.push_back({Phase::Kind::velocity, 0, 0, lag, lag, grid.rows * row_of_particles / 3});
     // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
     // can cost a context switch on a loaded machine, one per narrow row would dominate.
     publish_every_ = std::max<uint32_t>(1, 2048 / grid.cols);
+  }
+
+  // Two bands, one per half of the threads, when each is deeper than the wavefront's total
+  // lag (else one band and the seam would be all of it); one band on one thread.
+  Bands bands_of(int threads) const {
+    const uint32_t rows = grid_->rows, lag = phases_.back().lag;
+    if (threads < 2) return {rows, threads};
+    const int lower_threads = (threads + 1) / 2;
+    const auto boundary = static_cast<uint32_t>(
+        uint64_t{rows} * static_cast<uint64_t>(lower_threads) / static_cast<uint64_t>(threads));
+    if (boundary <= lag || rows - boundary <= lag) return {rows, threads};
+    return {boundary, lower_threads};
   }
 
   // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
@@ -308,26 +332,40 @@ struct Xpbd {
     return {std::min(begin, end), end};
   }
 
-  // This thread's phases over the whole wavefront; returns its share of "every velocity is
-  // finite".
+  // This thread's phases over its band's wavefront, then (thread 0, after the others) the
+  // seam between the bands; returns its share of "every velocity is finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
-    auto [begin, end] = phases_of(thread, threads);
+    const Bands bands = bands_of(threads);
+    const uint32_t rows = grid_->rows;
+    const bool upper = thread >= bands.lower_threads;
+    const int member = upper ? thread - bands.lower_threads : thread;
+    const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
+    const uint32_t band_rows = upper ? rows - bands.boundary : bands.boundary;
+    const auto [begin, end] = phases_of(member, team);
     bool finite = true;
-    for (uint32_t time = 0; time < wavefront_length_; ++time) {
-      if (thread > 0) wait_until(progress_[thread - 1], time + 1);
+    for (uint32_t time = 0; time < band_rows; ++time) {
+      if (member > 0) wait_until(progress_[thread - 1], time + 1);
       for (std::size_t q = begin; q < end; ++q) {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
-        const uint32_t row = time - phase.lag;
-        if (row < grid_->rows)
-          run_phase(phase, row, s, finite);
-        else if (q == begin)
-          ++begin;  // past its last row, as every earlier one: not visited again
+        run_phase(phase, upper ? rows - 1 - time + phase.previous_lag : time - phase.lag, s,
+                  finite);
       }
-      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == wavefront_length_;
-      if (thread + 1 < threads && publish)
+      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == band_rows;
+      if (member + 1 < team && publish)
         progress_[thread].completed.store(time + 1, std::memory_order_release);
+    }
+    if (threads > 1) {
+#pragma omp barrier
+    }
+    if (thread == 0) {
+      const bool two_bands = bands.boundary < rows;
+      for (const Phase& phase : phases_) {
+        const uint32_t first = bands.boundary > phase.lag ? bands.boundary - phase.lag : 0;
+        const uint32_t last = two_bands ? bands.boundary + phase.previous_lag : rows;  // one past
+        for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      }
     }
     return finite;
   }
@@ -476,7 +514,6 @@ struct Xpbd {
   ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
   std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
   std::vector<Phase> phases_;
-  uint32_t wavefront_length_ = 0;
   uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;  // one per thread
 };
