@@ -109,6 +109,12 @@ struct Bands {
   int lower_threads;
 };
 
+// Columns [begin, end) of a grid row that hull its particles of another inverse mass than
+// the grid's uniform one; begin >= end: none.
+struct ColumnSpan {
+  uint32_t begin, end;
+};
+
 // A thread's wavefront time, on its own cache line: its successor spins on it.
 struct alignas(64) Progress {
   std::atomic<uint32_t> completed{0};
@@ -169,6 +175,7 @@ struct Xpbd {
       constraints.lambda.assign(
           iterations_ > 1 ? grid_->colors.size() * system.particle_count() : 0, 0);
       build_phases();
+      find_uniform_weight(system.inverse_mass());
     } else {
       build_constraints(system, topology, constraints.springs);
       constraints.lambda.assign(constraints.springs.size(), 0);
@@ -303,6 +310,39 @@ struct Xpbd {
     publish_every_ = std::max<uint32_t>(1, 2048 / grid.cols);
   }
 
+  // The inverse mass of the grid's middle particle, taken as the uniform one (most cloths
+  // are all one mass but a few pins), and each row's columns of another.
+  template <class Real>
+  void find_uniform_weight(const Real* inverse_mass) {
+    const uint32_t rows = grid_->rows, cols = grid_->cols;
+    const Real uniform = inverse_mass[std::size_t{rows / 2} * cols + cols / 2];
+    uniform_weight_ = uniform;
+    varied_columns_.assign(rows, ColumnSpan{cols, 0});
+    for (uint32_t r = 0; r < rows; ++r)
+      for (uint32_t c = 0; c < cols; ++c)
+        if (inverse_mass[std::size_t{r} * cols + c] != uniform) {
+          ColumnSpan& span = varied_columns_[r];
+          span.begin = std::min(span.begin, c);
+          span.end = std::max(span.end, c + 1);
+        }
+  }
+
+  // The positions of colour `color`'s springs from `row` (from column col_begin) with an
+  // end of another inverse mass: the hull of the start row's and the partner row's spans.
+  std::pair<std::size_t, std::size_t> varied_positions(const GridColor& color, uint32_t row) const {
+    const GridStencil& step = color.step();
+    int64_t begin = std::numeric_limits<int64_t>::max(), end = 0;
+    const auto add = [&](const ColumnSpan& span, int64_t start_column_offset) {
+      if (span.begin >= span.end) return;
+      begin = std::min(begin, int64_t{span.begin} - start_column_offset);
+      end = std::max(end, int64_t{span.end} - start_column_offset);
+    };
+    add(varied_columns_[row], color.col_begin);
+    add(varied_columns_[row + step.row_step], int64_t{color.col_begin} + step.col_step);
+    if (begin >= end) return {0, 0};
+    return {static_cast<std::size_t>(std::max<int64_t>(begin, 0)), static_cast<std::size_t>(end)};
+  }
+
   // Two bands, one per half of the threads, when each is deeper than the wavefront's total
   // lag (else one band and the seam would be all of it); one band on one thread.
   Bands bands_of(int threads) const {
@@ -371,26 +411,27 @@ struct Xpbd {
   }
 
   // One component of one row: dx = h (v + h a) (pinned: dx = 0). The predicted velocity
-  // itself is not stored: the velocity phase overwrites every free particle's v.
-  template <class Real>
+  // itself is not stored: the velocity phase overwrites every free particle's v. AllFree:
+  // a row without pins, whose inverse masses need no reading.
+  template <bool AllFree, class Real>
   static void predict_row(const Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
                           const Real* __restrict inverse_mass, std::size_t count, Real h) {
 #pragma omp simd
     for (std::size_t i = 0; i < count; ++i)
-      dx[i] = inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
+      dx[i] = AllFree || inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
   }
 
   // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
   // bits); false if a velocity is not finite (all exponent bits set): an integer OR
   // vectorises where a flag or a sum would not.
-  template <class Real>
+  template <bool AllFree, class Real>
   static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
                            const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
     using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
     constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
     Bits non_finite = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const bool free = inverse_mass[i] != 0;
+      const bool free = AllFree || inverse_mass[i] != 0;
       const Real speed = free ? dx[i] * inverse_h : v[i];
       x[i] = free ? x[i] + dx[i] : x[i];
       v[i] = speed;
@@ -399,22 +440,50 @@ struct Xpbd {
     return non_finite == 0;
   }
 
+  // Calls run(begin, count, all_free) on the columns of `row` in up to three runs: before
+  // and after its span of another inverse mass with std::true_type when the uniform one
+  // is not 0 (no particle there is pinned), the span itself (or all) with std::false_type.
+  template <class Run>
+  void for_free_runs(uint32_t row, Run&& run) const {
+    const uint32_t cols = grid_->cols;
+    const ColumnSpan span = varied_columns_[row];
+    if (uniform_weight_ == 0) {
+      run(0, cols, std::false_type{});
+      return;
+    }
+    if (span.begin >= span.end) {
+      run(0, cols, std::true_type{});
+      return;
+    }
+    if (span.begin > 0) run(0, span.begin, std::true_type{});
+    run(span.begin, span.end - span.begin, std::false_type{});
+    if (span.end < cols) run(span.end, cols - span.end, std::true_type{});
+  }
+
   template <class Real>
   void run_phase(const Phase& phase, uint32_t row, const Substep<Real>& s, bool& finite) const {
     const std::size_t row_begin = std::size_t{row} * grid_->cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
-        for (std::size_t c = 0; c < 3; ++c)
-          predict_row(s.v + c * s.stride + row_begin, s.displacement + c * s.stride + row_begin,
-                      s.external_acceleration + c * s.stride + row_begin,
-                      s.inverse_mass + row_begin, grid_->cols, s.h);
+        for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
+                                                   s.external_acceleration + e,
+                                                   s.inverse_mass + row_begin + begin, count, s.h);
+          }
+        });
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
-        for (std::size_t c = 0; c < 3; ++c)
-          bad |= !velocity_row(s.x + c * s.stride + row_begin, s.v + c * s.stride + row_begin,
-                               s.displacement + c * s.stride + row_begin,
-                               s.inverse_mass + row_begin, grid_->cols, s.inverse_h);
+        for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
+                                                            s.inverse_mass + row_begin + begin,
+                                                            count, s.inverse_h);
+          }
+        });
         finite = finite && !bad;
         return;
       }
@@ -422,6 +491,7 @@ struct Xpbd {
         const GridColor& color = grid_->colors[phase.color];
         if (!color.starts_in_row(row)) return;
         const GridStencil& step = color.step();
+        const auto [varied_begin, varied_end] = varied_positions(color, row);
         project_row(ColorRow<Real>{
             s.x, s.displacement, s.inverse_mass,
             s.lambda == nullptr ? nullptr : s.lambda + std::size_t{phase.color} * s.particle_count,
@@ -430,7 +500,8 @@ struct Xpbd {
             color.in_row(), step.col_step == 2 ? 1u : 0u, color.parity,
             static_cast<Real>(color.rest), static_cast<Real>(color.ks) * s.h_squared,
             static_cast<Real>(color.kd) * s.h, phase.iteration == 0,
-            phase.iteration + 1 < static_cast<uint32_t>(iterations_)});
+            phase.iteration + 1 < static_cast<uint32_t>(iterations_),
+            static_cast<Real>(uniform_weight_), varied_begin, varied_end});
         return;
       }
     }
@@ -514,8 +585,10 @@ struct Xpbd {
   ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
   std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
   std::vector<Phase> phases_;
-  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
-  std::unique_ptr<Progress[]> progress_;  // one per thread
+  double uniform_weight_ = 0;               // the grid's common inverse mass (exact in Real)
+  std::vector<ColumnSpan> varied_columns_;  // per grid row: the columns of another
+  uint32_t publish_every_ = 1;              // wavefront times between a thread's progress stores
+  std::unique_ptr<Progress[]> progress_;    // one per thread
 };
 
 }  // namespace clothlab::builtin
