@@ -36,9 +36,9 @@
 // colour-by-colour order leaves them while the rows in flight stay in cache. With several
 // threads the rows split into two bands at a boundary B: one team runs the wavefront down
 // from row 0, the other up from the last row (there a phase visits start row
-// rows - 1 - T + lag(previous phase)), each touching only its own band's rows, so the two
+// rows - 1 - T + lag(phase) - its row reach), each touching only its own band's rows, so the two
 // never wait for each other nor share a cache line in flight; the rows next to B that
-// neither wavefront reached (lag(phase) below B, lag(previous phase) above it) are then
+// neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
 // projected phase by phase by one thread. Within a team each thread takes a contiguous run
 // of phases and waits only for its predecessor to finish the same wavefront time. Every
 // spring sees the same values in any split: the bits do not depend on the thread count.
@@ -96,11 +96,11 @@ struct Constraints {
 struct Phase {
   enum class Kind : uint8_t { predict, project, velocity };
   Kind kind;
-  uint32_t color;         // project: the grid layout's colour
-  uint32_t iteration;     // project
-  uint32_t lag;           // wavefront times before its row 0, going down
-  uint32_t previous_lag;  // the previous phase's lag (0 for predict): the upward row offset
-  uint64_t cost;          // work units, for splitting the phases between threads
+  uint32_t color;          // project: the grid layout's colour
+  uint32_t iteration;      // project
+  uint32_t lag;            // wavefront times before its row 0, going down
+  uint32_t upward_offset;  // lag - the phase's row reach: going up, the start row's offset
+  uint64_t cost;           // work units, for splitting the phases between threads
 };
 
 // The rows' split between the team going down (rows [0, boundary)) and the one going up.
@@ -213,7 +213,9 @@ struct Xpbd {
     Real* lambda;
     const Real* inverse_mass;
     const Real* external_acceleration;
-    Real* displacement;  // x's change in this substep, exact where x's rounding is not
+    // x's change in this substep, exact where x's rounding is not; the grid path keeps it
+    // in v and this holds its pins' velocities
+    Real* displacement;
     Real* x;
     Real* v;
     uint32_t particle_count;
@@ -297,11 +299,10 @@ struct Xpbd {
     for (uint32_t iteration = 0; iteration < static_cast<uint32_t>(iterations_); ++iteration)
       for (uint32_t c = 0; c < grid.colors.size(); ++c) {
         const GridColor& color = grid.colors[c];
-        const uint32_t previous_lag = lag;
         lag += color.step().row_step;
         uint64_t rows = 0;
         for (uint32_t r = 0; r < grid.rows; ++r) rows += color.starts_in_row(r);
-        phases_.push_back({Phase::Kind::project, c, iteration, lag, previous_lag,
+        phases_.push_back({Phase::Kind::project, c, iteration, lag, lag - color.step().row_step,
                            rows * (color.col_end - color.col_begin)});
       }
     phases_.push_back({Phase::Kind::velocity, 0, 0, lag, lag, grid.rows * row_of_particles / 3});
@@ -389,7 +390,7 @@ struct Xpbd {
       for (std::size_t q = begin; q < end; ++q) {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
-        run_phase(phase, upper ? rows - 1 - time + phase.previous_lag : time - phase.lag, s,
+        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
                   finite);
       }
       const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == band_rows;
@@ -403,37 +404,45 @@ struct Xpbd {
       const bool two_bands = bands.boundary < rows;
       for (const Phase& phase : phases_) {
         const uint32_t first = bands.boundary > phase.lag ? bands.boundary - phase.lag : 0;
-        const uint32_t last = two_bands ? bands.boundary + phase.previous_lag : rows;  // one past
+        const uint32_t last = two_bands ? bands.boundary + phase.upward_offset : rows;  // one past
         for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
       }
     }
     return finite;
   }
 
-  // One component of one row: dx = h (v + h a) (pinned: dx = 0). The predicted velocity
-  // itself is not stored: the velocity phase overwrites every free particle's v. AllFree:
-  // a row without pins, whose inverse masses need no reading.
+  // One component of one row, in place: v becomes the substep's displacement
+  // dx = h (v + h a); a pin's dx is 0 and its velocity waits in `pinned_velocity` (the
+  // general path's displacement array, touched only at pins). Nothing reads v between this
+  // phase and the velocity phase, and one array streams where v and dx were two. AllFree:
+  // a run without pins, whose inverse masses need no reading.
   template <bool AllFree, class Real>
-  static void predict_row(const Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
-                          const Real* __restrict inverse_mass, std::size_t count, Real h) {
+  static void predict_row(Real* __restrict v, Real* __restrict pinned_velocity,
+                          const Real* __restrict a, const Real* __restrict inverse_mass,
+                          std::size_t count, Real h) {
 #pragma omp simd
-    for (std::size_t i = 0; i < count; ++i)
-      dx[i] = AllFree || inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool free = AllFree || inverse_mass[i] != 0;
+      if (!free) pinned_velocity[i] = v[i];
+      v[i] = free ? h * (v[i] + h * a[i]) : Real(0);
+    }
   }
 
-  // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
-  // bits); false if a velocity is not finite (all exponent bits set): an integer OR
-  // vectorises where a flag or a sum would not.
+  // One component of one row: x += dx, v = dx / h on the free particles, where v holds dx
+  // (a pin gets its velocity back, bit for bit); false if a velocity is not finite (all
+  // exponent bits set): an integer OR vectorises where a flag or a sum would not.
   template <bool AllFree, class Real>
-  static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
+  static bool velocity_row(Real* __restrict x, Real* __restrict v,
+                           const Real* __restrict pinned_velocity,
                            const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
     using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
     constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
     Bits non_finite = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const bool free = AllFree || inverse_mass[i] != 0;
-      const Real speed = free ? dx[i] * inverse_h : v[i];
-      x[i] = free ? x[i] + dx[i] : x[i];
+      const Real dx = v[i];
+      const Real speed = free ? dx * inverse_h : pinned_velocity[i];
+      x[i] = free ? x[i] + dx : x[i];
       v[i] = speed;
       non_finite |= free && (std::bit_cast<Bits>(speed) & exponent) == exponent;
     }
@@ -493,7 +502,7 @@ struct Xpbd {
         const GridStencil& step = color.step();
         const auto [varied_begin, varied_end] = varied_positions(color, row);
         project_row(ColorRow<Real>{
-            s.x, s.displacement, s.inverse_mass,
+            s.x, s.v, s.inverse_mass,
             s.lambda == nullptr ? nullptr : s.lambda + std::size_t{phase.color} * s.particle_count,
             s.stride, row_begin + color.col_begin, color.col_end - color.col_begin,
             static_cast<std::size_t>(int64_t{step.row_step} * grid_->cols + step.col_step),
