@@ -144,11 +144,18 @@ inline LawLanes law_lanes(const ColorRow<float>& row) {
           inverse_denominator(compliance_scale, uniform_weight, uniform_weight)};
 }
 
-// Whether the springs at positions [begin, end) of the row all have both ends of the
-// uniform weight.
-inline bool uniform_run(const ColorRow<float>& row, std::size_t begin, std::size_t end) {
-  return row.uniform_weight != 0 && (end <= row.varied_begin || begin >= row.varied_end);
-}
+// Which springs of a row have both ends of the uniform weight: those at positions outside
+// [varied_begin, varied_end), if there is one (read once per row: float stores may alias it).
+struct UniformRuns {
+  bool any;
+  std::size_t varied_begin, varied_end;
+
+  explicit UniformRuns(const ColorRow<float>& row)
+      : any(row.uniform_weight != 0), varied_begin(row.varied_begin), varied_end(row.varied_end) {}
+  bool covers(std::size_t begin, std::size_t end) const {
+    return any && (end <= varied_begin || begin >= varied_end);
+  }
+};
 
 // The update of the springs in `lanes` from both ends' positions and displacements.
 inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3],
@@ -201,7 +208,7 @@ inline PushLanes pushes(const SpringLanes& u, __m512 wi, __m512 wj) {
 }
 
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
-template <bool Uniform>
+template <bool Uniform, bool Fresh, bool KeepLambda>
 inline void project_rows_run(const ColorRow<float>& row, const LawLanes& law, std::size_t c,
                              __mmask16 lanes) {
   const float* x = row.x + row.first;
@@ -223,10 +230,9 @@ inline void project_rows_run(const ColorRow<float>& row, const LawLanes& law, st
     wi = _mm512_maskz_loadu_ps(lanes, w + c), wj = _mm512_maskz_loadu_ps(lanes, w + c + o);
     inverse = inverse_denominator(law.compliance_scale, wi, wj);
   }
-  const __m512 accumulated =
-      row.fresh ? _mm512_setzero_ps() : _mm512_maskz_loadu_ps(lanes, lambda + c);
+  const __m512 accumulated = Fresh ? _mm512_setzero_ps() : _mm512_maskz_loadu_ps(lanes, lambda + c);
   const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
-  if (row.keep_lambda) store_lambda(lambda + c, lanes, u, accumulated);
+  if constexpr (KeepLambda) store_lambda(lambda + c, lanes, u, accumulated);
   const PushLanes push = pushes<Uniform>(u, wi, wj);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
@@ -237,15 +243,17 @@ inline void project_rows_run(const ColorRow<float>& row, const LawLanes& law, st
   }
 }
 
+template <bool Fresh, bool KeepLambda>
 inline void project_rows_avx512(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
+  const UniformRuns uniform(row);
   for (std::size_t c = 0; c < row.count; c += 16) {
     const std::size_t left = row.count - c;
     const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1u);
-    if (uniform_run(row, c, c + 16))
-      project_rows_run<true>(row, law, c, lanes);
+    if (uniform.covers(c, c + 16))
+      project_rows_run<true, Fresh, KeepLambda>(row, law, c, lanes);
     else
-      project_rows_run<false>(row, law, c, lanes);
+      project_rows_run<false, Fresh, KeepLambda>(row, law, c, lanes);
   }
 }
 
@@ -280,6 +288,7 @@ inline InRowLanes in_row_lanes(uint32_t step) {
   return lanes;
 }
 
+template <bool Fresh, bool KeepLambda>
 inline void project_in_row_avx512(const ColorRow<float>& row) {
   const uint32_t step = 1u << row.alternation_shift;
   // The colour's first start is column parity * step.
@@ -291,8 +300,8 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
   const float* w = row.inverse_mass + row.first + skip;
   float* const lambda_row = row.lambda == nullptr ? nullptr : row.lambda + row.first;
   const std::size_t s = row.stride;
-  const bool fresh = row.fresh, keep_lambda = row.keep_lambda;
   const LawLanes law = law_lanes(row);
+  const UniformRuns uniform(row);
   static const InRowLanes lanes_of_step[2] = {in_row_lanes(1), in_row_lanes(2)};
   // Copies in registers: __m512i may alias the floats stored below.
   const InRowLanes& lanes_of_row = lanes_of_step[row.alternation_shift];
@@ -324,9 +333,9 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
     }
     // Multipliers by spring, 16 per run: unique within the colour's row.
     float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
-    const __m512 accumulated = fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
+    const __m512 accumulated = Fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
     const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
-    if (keep_lambda) store_lambda(lambda, lanes, u, accumulated);
+    if constexpr (KeepLambda) store_lambda(lambda, lanes, u, accumulated);
     const PushLanes push = pushes<decltype(uniform)::value>(u, wi, wj);
     const auto merge = [&](float* p, __m512 first, __m512 partner, __m512 d) {
       const __m512 moved_first = _mm512_mask3_fmadd_ps(push.first, d, first, push.moves_first);
@@ -347,18 +356,28 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
     }
   };
   for (std::size_t c = 0; c < count; c += 32) {
-    if (uniform_run(row, skip + c, skip + c + 32))
+    if (uniform.covers(skip + c, skip + c + 32))
       run(c, std::true_type{});
     else
       run(c, std::false_type{});
   }
 }
 
+template <bool Fresh, bool KeepLambda>
 inline void project_row_avx512(const ColorRow<float>& row) {
   if (row.alternates)
-    project_in_row_avx512(row);
+    project_in_row_avx512<Fresh, KeepLambda>(row);
   else
-    project_rows_avx512(row);
+    project_rows_avx512<Fresh, KeepLambda>(row);
+}
+
+// Fresh (lambda 0) and KeepLambda at compile time: a substep of one iteration neither reads
+// nor stores a multiplier, and "- lambda" folds away (x - 0 is x, signed zeros included).
+inline void project_row_avx512(const ColorRow<float>& row) {
+  if (row.fresh)
+    row.keep_lambda ? project_row_avx512<true, true>(row) : project_row_avx512<true, false>(row);
+  else
+    row.keep_lambda ? project_row_avx512<false, true>(row) : project_row_avx512<false, false>(row);
 }
 #endif
 
