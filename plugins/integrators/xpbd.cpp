@@ -36,12 +36,15 @@
 // colour-by-colour order leaves them while the rows in flight stay in cache. With several
 // threads the rows split into two bands at a boundary B: one team runs the wavefront down
 // from row 0, the other up from the last row (there a phase visits start row
-// rows - 1 - T + lag(phase) - its row reach), each touching only its own band's rows, so the two
-// never wait for each other nor share a cache line in flight; the rows next to B that
+// rows - 1 - T + lag(phase) - its row reach), each touching only its own band's rows, so
+// the two never wait for each other nor share a row in flight; the rows next to B that
 // neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
 // projected phase by phase by one thread. Within a team each thread takes a contiguous run
 // of phases and waits only for its predecessor to finish the same wavefront time. Every
 // spring sees the same values in any split: the bits do not depend on the thread count.
+// On the grid the substep's displacement dx lives in v's memory (the pins' velocities
+// wait in the scratch array), and runs of springs whose ends all have the grid's common
+// inverse mass skip the weights (xpbd_row_kernel.hpp).
 //
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order

@@ -47,7 +47,7 @@ struct ColorRow {
   // Every particle of the grid but those behind positions [varied_begin, varied_end) (from
   // `first`; a spring's start there, or its partner) has the inverse mass uniform_weight,
   // which is not 0: a run of springs outside needs neither the weights nor their
-  // denominator. uniform_weight 0: no such value.
+  // denominator (the AVX-512 kernels use this). uniform_weight 0: no such value.
   Real uniform_weight;
   std::size_t varied_begin, varied_end;
 };
