@@ -78,6 +78,14 @@ class ReferenceSystem {
   template <bool Definite>
   static clothlab_status jacobian_blocks(void* context, double t, const void* x, const void* v,
                                          double c_x, double c_v, double* values);
+  // clothlab.cg-step/1 composed of the calls it fuses: definite apply, the additions and
+  // mass_dot; the block product in double.
+  static clothlab_status cg_product(void* context, double t, const void* x, const void* v,
+                                    double c_x, double c_v, const void* p, void* q,
+                                    double* p_dot_q);
+  static clothlab_status cg_update(void* context, double alpha, const void* p, const void* q,
+                                   const void* diagonal, const void* off_diagonal, void* solution,
+                                   void* r, void* z, double* r_dot_r, double* r_dot_z);
   static double dot(void* context, const void* a, const void* b);
   static double mass_dot(void* context, const void* a, const void* b);
   static double max_abs(void* context, const void* a);

@@ -31,7 +31,7 @@ template <class Real>
 struct JacobianRow {
   const Real* x;
   const Real* x_partner;
-  const Real* v;  // read only when damped
+  const Real* v;  // read only when damped, by the exact form
   const Real* v_partner;
   const Real* u;
   const Real* u_partner;
@@ -106,7 +106,7 @@ inline void jacobian_row_portable(const JacobianRow<Real>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * stride;
       d[k] = xp[e] - x[e];
-      if constexpr (Damped) dv[k] = vp[e] - v[e];
+      if constexpr (Damped && Form == JacobianForm::kExact) dv[k] = vp[e] - v[e];
       du[k] = (mp[c] > Real(0) ? up[e] : Real(0)) - (m[c] > Real(0) ? u[e] : Real(0));
     }
     spring_product<Form, Damped>(d, dv, du, row.rest, row.ks, row.kd, row.c_x, row.c_v, Real(0),
@@ -138,7 +138,8 @@ inline void jacobian_row_avx512(const JacobianRow<float>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * stride;
       d[k] = lanes.load(row.x_partner + e) - lanes.load(row.x + e);
-      if constexpr (Damped) dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
+      if constexpr (Damped && Form == JacobianForm::kExact)
+        dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
       du[k] = _mm512_maskz_mov_ps(partner_active, lanes.load(row.u_partner + e)) -
               _mm512_maskz_mov_ps(own_active, lanes.load(row.u + e));
     }

@@ -27,7 +27,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
       threads_(threads),
       parallel_(parallel),
       span_(kMargin + (cols_ + kMargin + 15) / 16 * 16),
-      product_rows_(static_cast<std::size_t>(threads) * 3 * span_) {
+      product_rows_(static_cast<std::size_t>(threads) * 3 * span_),
+      mass_(topology.particle_count),
+      row_dots_(scene.rows, 0.0) {
+  for (std::size_t i = 0; i < n_; ++i)
+    mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
   for (const Stencil& stencil : kProvotStencils) {  // as GridTopology lists the springs
     const SpringFamily& law = scene.*stencil.family;
     const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
@@ -128,7 +132,7 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
 }
 
 template <class Real>
-template <JacobianForm Form>
+template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u,
                                       Real* out, std::size_t begin, std::size_t end,
                                       Real* p) const {
@@ -207,6 +211,10 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
     if (!own) continue;
     // Row complete: every spring reaching it starts in it or in the two rows above.
     const Real* __restrict inverse_mass = inverse_mass_ + base;
+    if constexpr (Shifted) {
+      finish_shifted_row(u, out, row, p);
+      continue;
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       Real* __restrict row_out = out + k * stride_ + base;
 #pragma omp simd
@@ -217,7 +225,39 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
 }
 
 template <class Real>
-template <JacobianForm Form>
+void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::size_t row,
+                                              Real* scratch) const {
+  const std::size_t base = row * cols_;
+  u += base, out += base;
+  const Real* __restrict inverse_mass = inverse_mass_ + base;
+  const Real* __restrict mass = mass_.data() + base;
+  const Real* __restrict u0 = u;
+  const Real* __restrict u1 = u + stride_;
+  const Real* __restrict u2 = u + 2 * stride_;
+  Real* __restrict q0 = out;
+  Real* __restrict q1 = out + stride_;
+  Real* __restrict q2 = out + 2 * stride_;
+  Real* __restrict terms = scratch;
+#pragma omp simd
+  for (std::size_t c = 0; c < cols_; ++c) {
+    // Every load unconditional, then selects on values: the loop vectorises.
+    const Real im = inverse_mass[c], p0 = u0[c], p1 = u1[c], p2 = u2[c];
+    const bool active = im > Real(0);
+    const Real a0 = active ? p0 + im * q0[c] : Real(0);
+    const Real a1 = active ? p1 + im * q1[c] : Real(0);
+    const Real a2 = active ? p2 + im * q2[c] : Real(0);
+    q0[c] = a0, q1[c] = a1, q2[c] = a2;
+    terms[c] = active ? mass[c] * (p0 * a0 + p1 * a1 + p2 * a2) : Real(0);
+  }
+  // Summed apart: GCC does not vectorise the float loop with a double reduction in it.
+  double dot = 0.0;
+#pragma omp simd reduction(+ : dot)
+  for (std::size_t c = 0; c < cols_; ++c) dot += double{terms[c]};
+  row_dots_[row] = dot;
+}
+
+template <class Real>
+template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
                                       const Real* u, Real* out) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
@@ -225,8 +265,8 @@ void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, 
   {
     const auto thread = static_cast<std::size_t>(omp_get_thread_num());
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    apply_rows<Form>(x, v, w, u, out, rows_ * thread / team, rows_ * (thread + 1) / team,
-                     product_rows_.data() + thread * 3 * span_ + kMargin);
+    apply_rows<Form, Shifted>(x, v, w, u, out, rows_ * thread / team, rows_ * (thread + 1) / team,
+                              product_rows_.data() + thread * 3 * span_ + kMargin);
   }
 }
 
@@ -240,6 +280,15 @@ template <class Real>
 void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c_x, double c_v,
                                           const Real* u, Real* out) const {
   apply_form<JacobianForm::kDefinite>(x, v, c_x, c_v, u, out);
+}
+
+template <class Real>
+double SpringJacobian<Real>::product_definite_dot(const Real* x, const Real* v, double c_x,
+                                                  double c_v, const Real* u, Real* q) const {
+  apply_form<JacobianForm::kDefinite, true>(x, v, c_x, c_v, u, q);
+  double dot = 0.0;
+  for (const double row : row_dots_) dot += row;
+  return dot;
 }
 
 template <class Real>

@@ -43,6 +43,10 @@ class SpringJacobian {
   // (clothlab/ext/definite_jacobian.h, jacobian_row_kernel.hpp).
   void apply_definite(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                       Real* out) const;
+  // q = u + D u with D the definite form; returns <u, q> = sum of m_i u_i . q_i over the active
+  // particles, per grid row then the rows in order (clothlab/ext/cg_step.h).
+  double product_definite_dot(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
+                              Real* q) const;
   void diagonal_blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
                                 double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
@@ -70,13 +74,17 @@ class SpringJacobian {
     int32_t col_step;
     Real rest, ks, kd;
   };
-  template <JacobianForm Form>
+  // Shifted: out = u + J u, and each own row's <u, out> into row_dots_.
+  template <JacobianForm Form, bool Shifted = false>
   void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                   Real* out) const;
   // out's grid rows [begin, end) of the product; p is the thread's scratch row.
-  template <JacobianForm Form>
+  template <JacobianForm Form, bool Shifted>
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
+  // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
+  // out, and the row's <u, out> into row_dots_; scratch: a row's worth of the thread's floats.
+  void finish_shifted_row(const Real* u, Real* out, std::size_t row, Real* scratch) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -102,6 +110,8 @@ class SpringJacobian {
   // (apply is not reentrant).
   std::size_t span_;
   mutable AlignedBuffer<Real> product_rows_;
+  AlignedBuffer<Real> mass_;              // 1 / inverse mass, 0 where pinned
+  mutable std::vector<double> row_dots_;  // per grid row: its share of <u, out>
 };
 
 }  // namespace clothlab::detail
