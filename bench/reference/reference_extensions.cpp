@@ -19,7 +19,7 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
                                                         &jacobian_pattern, &jacobian_blocks<false>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian{&jacobian_apply<true>,
                                                                           &jacobian_diagonal<true>};
-  static constexpr clothlab_cg_step_extension cg_step{&cg_product, &cg_update};
+  static constexpr clothlab_cg_step_extension cg_step{&cg_product, &cg_update, &cg_direction};
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
@@ -278,13 +278,12 @@ clothlab_status ReferenceSystem<Real>::cg_product(void* context, double t, const
 }
 
 template <class Real>
-clothlab_status ReferenceSystem<Real>::cg_update(void* context, double alpha, const void* p,
-                                                 const void* q, const void* diagonal,
-                                                 const void* off_diagonal, void* solution, void* r,
-                                                 void* z, double* r_dot_r, double* r_dot_z) {
+clothlab_status ReferenceSystem<Real>::cg_update(void* context, double alpha, const void* q,
+                                                 const void* diagonal, const void* off_diagonal,
+                                                 void* r, void* z, double* r_dot_r,
+                                                 double* r_dot_z) {
   if (r_dot_r == nullptr || r_dot_z == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   const auto& self = *static_cast<const ReferenceSystem*>(context);
-  axpy_callback(context, solution, alpha, p);
   axpy_callback(context, r, -alpha, q);
   const Real* rs = static_cast<const Real*>(r);
   const Real* bd = static_cast<const Real*>(diagonal);
@@ -304,6 +303,15 @@ clothlab_status ReferenceSystem<Real>::cg_update(void* context, double alpha, co
     }
   *r_dot_r = mass_dot(context, r, r);
   *r_dot_z = mass_dot(context, r, z);
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::cg_direction(void* context, double alpha, double beta,
+                                                    const void* z, void* p, void* solution) {
+  axpy_callback(context, solution, alpha, p);
+  const void* const terms[] = {p};
+  lincomb_callback(context, p, z, 1, &beta, terms);
   return CLOTHLAB_OK;
 }
 

@@ -83,9 +83,11 @@ class ReferenceSystem {
   static clothlab_status cg_product(void* context, double t, const void* x, const void* v,
                                     double c_x, double c_v, const void* p, void* q,
                                     double* p_dot_q);
-  static clothlab_status cg_update(void* context, double alpha, const void* p, const void* q,
-                                   const void* diagonal, const void* off_diagonal, void* solution,
-                                   void* r, void* z, double* r_dot_r, double* r_dot_z);
+  static clothlab_status cg_update(void* context, double alpha, const void* q, const void* diagonal,
+                                   const void* off_diagonal, void* r, void* z, double* r_dot_r,
+                                   double* r_dot_z);
+  static clothlab_status cg_direction(void* context, double alpha, double beta, const void* z,
+                                      void* p, void* solution);
   static double dot(void* context, const void* a, const void* b);
   static double mass_dot(void* context, const void* a, const void* b);
   static double max_abs(void* context, const void* a);

@@ -88,10 +88,11 @@ class ClothEngine final : public Engine {
   static clothlab_status cg_product_callback(void* context, double t, const void* x, const void* v,
                                              double c_x, double c_v, const void* p, void* q,
                                              double* p_dot_q);
-  static clothlab_status cg_update_callback(void* context, double alpha, const void* p,
-                                            const void* q, const void* diagonal,
-                                            const void* off_diagonal, void* solution, void* r,
+  static clothlab_status cg_update_callback(void* context, double alpha, const void* q,
+                                            const void* diagonal, const void* off_diagonal, void* r,
                                             void* z, double* r_dot_r, double* r_dot_z);
+  static clothlab_status cg_direction_callback(void* context, double alpha, double beta,
+                                               const void* z, void* p, void* solution);
   static double dot_callback(void* context, const void* a, const void* b);
   static double mass_dot_callback(void* context, const void* a, const void* b);
   static double max_abs_callback(void* context, const void* a);

@@ -52,8 +52,8 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
       &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
       &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
-  static constexpr clothlab_cg_step_extension cg_step_table{&cg_product_callback,
-                                                            &cg_update_callback};
+  static constexpr clothlab_cg_step_extension cg_step_table{
+      &cg_product_callback, &cg_update_callback, &cg_direction_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -158,23 +158,19 @@ clothlab_status ClothEngine<Real>::cg_product_callback(void* context, double, co
 // One pass over the active chunks; each chunk's two sums in a fixed order, then the chunks in
 // order, as chunked_sum: the same bits for any thread count.
 template <class Real>
-clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alpha, const void* p,
-                                                      const void* q, const void* diagonal,
-                                                      const void* off_diagonal, void* solution,
-                                                      void* r, void* z, double* r_dot_r,
-                                                      double* r_dot_z) {
-  if (p == nullptr || q == nullptr || diagonal == nullptr || off_diagonal == nullptr ||
-      solution == nullptr || r == nullptr || z == nullptr || r_dot_r == nullptr ||
-      r_dot_z == nullptr)
+clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alpha, const void* q,
+                                                      const void* diagonal,
+                                                      const void* off_diagonal, void* r, void* z,
+                                                      double* r_dot_r, double* r_dot_z) {
+  if (q == nullptr || diagonal == nullptr || off_diagonal == nullptr || r == nullptr ||
+      z == nullptr || r_dot_r == nullptr || r_dot_z == nullptr)
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   auto* self = static_cast<ClothEngine*>(context);
   const std::size_t stride = self->stride_;
   const Real a = static_cast<Real>(alpha);
-  const Real* __restrict const ps = static_cast<const Real*>(p);
   const Real* __restrict const qs = static_cast<const Real*>(q);
   const Real* __restrict const bd = static_cast<const Real*>(diagonal);
   const Real* __restrict const bo = static_cast<const Real*>(off_diagonal);
-  Real* __restrict const xs = static_cast<Real*>(solution);
   Real* __restrict const rs = static_cast<Real*>(r);
   Real* __restrict const zs = static_cast<Real*>(z);
   const Real* __restrict const mass = self->real_mass_.data();
@@ -189,7 +185,6 @@ clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alph
       Real residual[3];
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t e = k * stride + i;
-        xs[e] += a * ps[e];
         residual[k] = rs[e] - a * qs[e];
         rs[e] = residual[k];
       }
@@ -214,6 +209,33 @@ clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alph
   }
   *r_dot_r = total_rr;
   *r_dot_z = total_rz;
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::cg_direction_callback(void* context, double alpha, double beta,
+                                                         const void* z, void* p, void* solution) {
+  if (z == nullptr || p == nullptr || solution == nullptr || z == p || p == solution)
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  auto* self = static_cast<ClothEngine*>(context);
+  const Real a = static_cast<Real>(alpha), b = static_cast<Real>(beta);
+  const Real* __restrict const zs = static_cast<const Real*>(z);
+  Real* __restrict const ps = static_cast<Real*>(p);
+  Real* __restrict const xs = static_cast<Real*>(solution);
+  const std::size_t stride = self->stride_;
+  const auto chunks = static_cast<std::ptrdiff_t>(self->active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(self->threads_) if (self->parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t begin = k * stride + self->active_chunks_[chunk].begin;
+      const std::size_t end = k * stride + self->active_chunks_[chunk].end;
+#pragma omp simd
+      for (std::size_t e = begin; e < end; ++e) {
+        xs[e] += a * ps[e];
+        ps[e] = zs[e] + b * ps[e];
+      }
+    }
+  }
   return CLOTHLAB_OK;
 }
 

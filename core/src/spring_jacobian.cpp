@@ -40,6 +40,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
                          static_cast<Real>(stencil_rest_length(scene, stencil)),
                          static_cast<Real>(law.ks), static_cast<Real>(law.kd)});
   }
+#if defined(__AVX512F__)
+  definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
+  if (definite_kernel_)
+    ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 12 * span_);
+#endif
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
   row_offsets_.assign(n_ + 1, 0);
   entry_slot_.resize(topology.adjacent_springs.size());
@@ -257,6 +262,49 @@ void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::siz
 }
 
 template <class Real>
+void SpringJacobian<Real>::definite_rows(const Real* x, const Weights& w, const Real* u, Real* out,
+                                         std::size_t begin, std::size_t end, Real* scratch) const {
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<Real, float>) {
+    DefiniteRow job{};
+    job.stride = stride_, job.span = span_, job.cols = cols_;
+    bool damped = false;
+    for (std::size_t s = 0; s < stencils_.size(); ++s) {
+      const bool stencil_damped = w.damped && stencils_[s].kd > 0.0f;
+      job.rest[s] = stencils_[s].rest, job.ks[s] = stencils_[s].ks;
+      job.kd[s] = stencil_damped ? stencils_[s].kd : 0.0f;  // undamped ones add 0
+      damped = damped || stencil_damped;
+    }
+    job.c_x = static_cast<float>(w.c_x), job.c_v = static_cast<float>(w.c_v);
+    for (std::size_t k = 0; k < 2; ++k) {
+      job.ends_right[k] = scratch + (2 * k) * 3 * span_;
+      job.ends_below[k] = scratch + (2 * k + 1) * 3 * span_;
+    }
+    for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
+      for (std::size_t dr = 0; dr < 3; ++dr) {
+        const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;
+        job.x[dr] = x + base, job.u[dr] = u + base;
+        job.inverse_mass[dr] = inverse_mass_ + base, job.out[dr] = out + base;
+        job.write[dr] = row + dr >= begin && row + dr < end;
+        job.first[dr] = dr == 2 || row == 0;
+      }
+      job.rows_below[0] = row + 1 < rows_;
+      job.rows_below[1] = row + 2 < rows_;
+      if (damped) {
+        definite_row<true>(job);
+      } else {
+        definite_row<false>(job);
+      }
+      definite_row_shifted_ends(job);
+      if (row >= begin) finish_shifted_row(u, out, row, scratch);
+    }
+    return;
+  }
+#endif
+  (void)x, (void)w, (void)u, (void)out, (void)begin, (void)end, (void)scratch;
+}
+
+template <class Real>
 template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
                                       const Real* u, Real* out) const {
@@ -265,8 +313,13 @@ void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, 
   {
     const auto thread = static_cast<std::size_t>(omp_get_thread_num());
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    apply_rows<Form, Shifted>(x, v, w, u, out, rows_ * thread / team, rows_ * (thread + 1) / team,
-                              product_rows_.data() + thread * 3 * span_ + kMargin);
+    const std::size_t begin = rows_ * thread / team, end = rows_ * (thread + 1) / team;
+    if (Shifted && Form == JacobianForm::kDefinite && definite_kernel_) {
+      definite_rows(x, w, u, out, begin, end, ends_rows_.data() + thread * 12 * span_ + kMargin);
+    } else {
+      apply_rows<Form, Shifted>(x, v, w, u, out, begin, end,
+                                product_rows_.data() + thread * 3 * span_ + kMargin);
+    }
   }
 }
 

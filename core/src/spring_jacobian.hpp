@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "aligned_buffer.hpp"
+#include "definite_row_kernel.hpp"
 #include "grid.hpp"
 #include "grid_topology.hpp"
 #include "jacobian_row_kernel.hpp"
@@ -82,6 +83,10 @@ class SpringJacobian {
   template <JacobianForm Form, bool Shifted>
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
+  // The shifted definite product's rows [begin, end) by definite_row_kernel.hpp (float on
+  // AVX-512 with all six stencils); scratch: the thread's four rows of shifted ends.
+  void definite_rows(const Real* x, const Weights& w, const Real* u, Real* out, std::size_t begin,
+                     std::size_t end, Real* scratch) const;
   // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
   // out, and the row's <u, out> into row_dots_; scratch: a row's worth of the thread's floats.
   void finish_shifted_row(const Real* u, Real* out, std::size_t row, Real* scratch) const;
@@ -110,8 +115,10 @@ class SpringJacobian {
   // (apply is not reentrant).
   std::size_t span_;
   mutable AlignedBuffer<Real> product_rows_;
-  AlignedBuffer<Real> mass_;              // 1 / inverse mass, 0 where pinned
-  mutable std::vector<double> row_dots_;  // per grid row: its share of <u, out>
+  bool definite_kernel_ = false;           // definite_rows applies
+  mutable AlignedBuffer<Real> ends_rows_;  // per thread 4 x 3 rows of span_, for definite_rows
+  AlignedBuffer<Real> mass_;               // 1 / inverse mass, 0 where pinned
+  mutable std::vector<double> row_dots_;   // per grid row: its share of <u, out>
 };
 
 }  // namespace clothlab::detail

@@ -5,9 +5,10 @@
 // Pinned particles drop out: every host vector operation and product acts on the active
 // particles only, so the solution's pinned entries stay as they were.
 //
-// With the definite matrix on a host that offers clothlab.cg-step/1, an iteration is two host
-// sweeps and a lincomb (product with <p, Ap>; the solution, residual and preconditioner updates
-// with <r, r> and <r, z>); otherwise the same iteration in separate host calls. implicit_euler
+// With the definite matrix on a host that offers clothlab.cg-step/1, an iteration is three host
+// sweeps (the product with <p, Ap>; the residual and preconditioner updates with <r, r> and
+// <r, z>; the solution and the next direction); otherwise the same iteration in separate host
+// calls. implicit_euler
 // solves with it, and bench/microbench.cpp's cg_iteration times `iterate` itself.
 #pragma once
 
@@ -93,10 +94,14 @@ class BlockJacobiCg {
     double rz_next = 0.0;
     if (cg_step_) {
       const auto residual =
-          cg_step_->update(alpha, p_, q_, block_diagonal_, block_off_diagonal_, solution_, r_, z_);
+          cg_step_->update(alpha, q_, block_diagonal_, block_off_diagonal_, r_, z_);
       residual_norm_ = std::sqrt(residual.r_dot_r);
+      if (converged()) {
+        system_.axpy(solution_, alpha, p_);
+        return Outcome::kConverged;
+      }
       rz_next = residual.r_dot_z;
-      if (converged()) return Outcome::kConverged;
+      cg_step_->direction(alpha, rz_next / rz_, z_, p_, solution_);
     } else {
       system_.axpy(solution_, alpha, p_);
       system_.axpy(r_, -alpha, q_);
@@ -104,8 +109,8 @@ class BlockJacobiCg {
       if (converged()) return Outcome::kConverged;
       precondition(r_, z_);
       rz_next = reductions_.mass_dot(r_, z_);
+      system_.template lincomb<1>(p_, z_, {rz_next / rz_}, {p_});
     }
-    system_.template lincomb<1>(p_, z_, {rz_next / rz_}, {p_});
     rz_ = rz_next;
     return Outcome::kRunning;
   }

@@ -121,7 +121,7 @@ class DefiniteJacobian {
   void* context_;
 };
 
-// The two fused sweeps of a block-Jacobi PCG iteration on A = I + D, D the definite Jacobian,
+// The three fused sweeps of a block-Jacobi PCG iteration on A = I + D, D the definite Jacobian,
 // in the mass inner product (clothlab/ext/cg_step.h); readied by Jacobian::reserve.
 template <class Real>
 class CgStep {
@@ -139,15 +139,19 @@ class CgStep {
   struct Residual {
     double r_dot_r, r_dot_z;
   };
-  // solution += alpha p, r -= alpha q, z = B r, B's symmetric blocks as (B_00, B_11, B_22) in
-  // diagonal and (B_01, B_02, B_12) in off_diagonal; returns <r, r> and <r, z>.
-  Residual update(double alpha, const Real* p, const Real* q, const Real* diagonal,
-                  const Real* off_diagonal, Real* solution, Real* r, Real* z) const {
+  // r -= alpha q, z = B r, B's symmetric blocks as (B_00, B_11, B_22) in diagonal and
+  // (B_01, B_02, B_12) in off_diagonal; returns <r, r> and <r, z>.
+  Residual update(double alpha, const Real* q, const Real* diagonal, const Real* off_diagonal,
+                  Real* r, Real* z) const {
     Residual out{};
-    check(table_->update(context_, alpha, p, q, diagonal, off_diagonal, solution, r, z,
-                         &out.r_dot_r, &out.r_dot_z),
+    check(table_->update(context_, alpha, q, diagonal, off_diagonal, r, z, &out.r_dot_r,
+                         &out.r_dot_z),
           "cg-step update failed");
     return out;
+  }
+  // solution += alpha p, then p = z + beta p.
+  void direction(double alpha, double beta, const Real* z, Real* p, Real* solution) const {
+    check(table_->direction(context_, alpha, beta, z, p, solution), "cg-step direction failed");
   }
 
  private:

@@ -1,0 +1,156 @@
+// The definite Jacobian's product (jacobian_row_kernel.hpp, JacobianForm::kDefinite) for all six
+// Provot stencils starting in one grid row r, in one sweep over its columns, 16 floats at a time
+// on AVX-512: the row's own positions and directions are loaded once and the products on its
+// own particles summed in registers over the six springs, as the force pipeline's interior row
+// kernel does. Partner ends in the same column of rows r + 1 and r + 2 go straight into the
+// product; those one or two columns over go to scratch rows (their read-modify-writes would
+// overlap each other's and stall store forwarding), added by definite_row_shifted_ends.
+//
+// Each out row's first contribution is a store, not an add (no clearing pass): row r + 2's is
+// always the (2, 0) stencil of row r, rows 0 and 1 get theirs from row 0. Rows r, r + 1 and
+// r + 2 are written only where `write` says so (the thread owns them); the sums run in the same
+// order whatever the thread's block, so the bits do not depend on the thread count.
+#pragma once
+
+#include <cstddef>
+
+#include "interior_row_kernel.hpp"
+#include "jacobian_row_kernel.hpp"
+
+#if defined(__AVX512F__)
+
+namespace clothlab::detail {
+
+// Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
+struct DefiniteRow {
+  const float* x[3];             // rows r, r + 1, r + 2 at column 0; components `stride` apart
+  const float* u[3];             // likewise
+  const float* inverse_mass[3];  // likewise, one component
+  float* out[3];                 // the product's rows r, r + 1, r + 2
+  bool write[3];                 // rows of out this call may write
+  bool first[3];                 // rows whose first contribution this is
+  bool rows_below[2];            // rows r + 1 and r + 2 exist
+  float* ends_right[2];  // scratch: partner ends of (0,1) and (0,2), components `span` apart
+  float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1)
+  std::size_t stride, span, cols;
+  float rest[6], ks[6], kd[6], c_x, c_v;
+};
+
+template <bool Damped, bool Edge>
+inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
+  using Vec3 = __m512[3];
+  const std::size_t stride = row.stride, span = row.span, cols = row.cols;
+  const __m512 zero = _mm512_setzero_ps();
+  const auto lanes = [&](std::size_t begin, std::size_t end) -> __mmask16 {
+    if constexpr (Edge) return columns_in(c, begin, end);
+    return __mmask16(0xffff);
+  };
+  const auto load = [&](const float* p, std::ptrdiff_t shift, __mmask16 valid, Vec3& out) {
+    for (std::size_t k = 0; k < 3; ++k)
+      out[k] = _mm512_maskz_loadu_ps(valid, p + c + k * stride + shift);
+  };
+  // u at (row, shift) where that particle is active and the lane a spring.
+  const auto direction = [&](int dr, std::ptrdiff_t shift, __mmask16 valid, Vec3& out) {
+    const __mmask16 active = _mm512_mask_cmp_ps_mask(
+        valid, _mm512_maskz_loadu_ps(valid, row.inverse_mass[dr] + c + shift), zero, _CMP_GT_OQ);
+    load(row.u[dr], shift, active, out);
+  };
+  const __mmask16 all = lanes(0, cols);
+  // Into a row of the product; an edge block stores only the row's own columns.
+  const auto put = [&](float* p, bool first, const Vec3& value) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      float* q = p + c + k * stride;
+      const __m512 sum = first ? value[k] : _mm512_add_ps(_mm512_maskz_loadu_ps(all, q), value[k]);
+      if constexpr (Edge) {
+        _mm512_mask_storeu_ps(q, all, sum);
+      } else {
+        _mm512_storeu_ps(q, sum);
+      }
+    }
+  };
+  Vec3 x, u, own = {zero, zero, zero};
+  load(row.x[0], 0, all, x);
+  direction(0, 0, all, u);
+  // Stencil s to the partner at (r + dr, c + dc): its product joins `own`; returns it.
+  // Inlined by force: as a call, its vectors go through memory (GCC 12 does not inline it).
+  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product)
+      __attribute__((always_inline)) {
+    Vec3 partner, du, d, unused = {};
+    load(row.x[dr], dc, valid, partner);
+    direction(dr, dc, valid, du);
+    for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = partner[k] - x[k];
+      du[k] = du[k] - u[k];
+    }
+    spring_product<JacobianForm::kDefinite, Damped>(
+        d, unused, du, _mm512_set1_ps(row.rest[s]), _mm512_set1_ps(row.ks[s]),
+        _mm512_set1_ps(row.kd[s]), _mm512_set1_ps(row.c_x), _mm512_set1_ps(row.c_v), zero, product);
+    for (std::size_t k = 0; k < 3; ++k) {
+      product[k] = _mm512_maskz_mov_ps(valid, product[k]);
+      own[k] = own[k] + product[k];
+    }
+  };
+  const auto store_scratch = [&](float* p, const Vec3& value) {
+    for (std::size_t k = 0; k < 3; ++k) _mm512_storeu_ps(p + c + k * span, value[k]);
+  };
+  Vec3 product;
+  spring(0, 0, 1, lanes(0, cols - 1), product);
+  store_scratch(row.ends_right[0], product);
+  spring(4, 0, 2, lanes(0, cols >= 2 ? cols - 2 : 0), product);
+  store_scratch(row.ends_right[1], product);
+  if (row.rows_below[0]) {
+    spring(1, 1, 0, all, product);
+    if (row.write[1]) {
+      for (std::size_t k = 0; k < 3; ++k) product[k] = zero - product[k];
+      put(row.out[1], row.first[1], product);
+    }
+    spring(2, 1, 1, lanes(0, cols - 1), product);
+    store_scratch(row.ends_below[0], product);
+    spring(3, 1, -1, lanes(1, cols), product);
+    store_scratch(row.ends_below[1], product);
+  }
+  if (row.rows_below[1]) {
+    spring(5, 2, 0, all, product);
+    if (row.write[2]) {
+      for (std::size_t k = 0; k < 3; ++k) product[k] = zero - product[k];
+      put(row.out[2], true, product);
+    }
+  }
+  if (row.write[0]) put(row.out[0], row.first[0], own);
+}
+
+// One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns).
+template <bool Damped>
+inline void definite_row(const DefiniteRow& row) {
+  const std::size_t cols = row.cols;
+  std::size_t c = 0;
+  definite_row_block<Damped, true>(row, c);
+  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<Damped, false>(row, c);
+  for (; c < cols; c += 16) definite_row_block<Damped, true>(row, c);
+}
+
+// The scratch rows' partner ends after the sweep: row r gets those of (0,1) and (0,2) (from
+// columns c - 1 and c - 2), row r + 1 those of (1,1) and (1,-1) (from c - 1 and c + 1).
+inline void definite_row_shifted_ends(const DefiniteRow& row) {
+  const std::size_t stride = row.stride, span = row.span, cols = row.cols;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (row.write[0]) {
+      float* __restrict out = row.out[0] + k * stride;
+      const float* __restrict right1 = row.ends_right[0] + k * span - 1;
+      const float* __restrict right2 = row.ends_right[1] + k * span - 2;
+#pragma omp simd
+      for (std::size_t c = 0; c < cols; ++c) out[c] -= right1[c] + right2[c];
+    }
+    if (row.rows_below[0] && row.write[1]) {
+      float* __restrict out = row.out[1] + k * stride;
+      const float* __restrict below_right = row.ends_below[0] + k * span - 1;
+      const float* __restrict below_left = row.ends_below[1] + k * span + 1;
+#pragma omp simd
+      for (std::size_t c = 0; c < cols; ++c) out[c] -= below_right[c] + below_left[c];
+    }
+  }
+}
+
+}  // namespace clothlab::detail
+
+#endif
