@@ -19,7 +19,8 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
                                                         &jacobian_pattern, &jacobian_blocks<false>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian{&jacobian_apply<true>,
                                                                           &jacobian_diagonal<true>};
-  static constexpr clothlab_cg_step_extension cg_step{&cg_product, &cg_update, &cg_direction};
+  static constexpr clothlab_cg_step_extension cg_step{&cg_linearise, &cg_product, &cg_update,
+                                                      &cg_direction};
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
@@ -266,11 +267,20 @@ clothlab_status ReferenceSystem<Real>::jacobian_pattern(void* context,
 }
 
 template <class Real>
-clothlab_status ReferenceSystem<Real>::cg_product(void* context, double t, const void* x,
-                                                  const void* v, double c_x, double c_v,
-                                                  const void* p, void* q, double* p_dot_q) {
-  if (p_dot_q == nullptr || q == p) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  const clothlab_status status = jacobian_apply<true>(context, t, x, v, c_x, c_v, p, q);
+clothlab_status ReferenceSystem<Real>::cg_linearise(void* context, double t, const void* x,
+                                                    const void* v, double c_x, double c_v) {
+  if (x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  static_cast<ReferenceSystem*>(context)->linearised_ = {t, x, v, c_x, c_v};
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::cg_product(void* context, const void* p, void* q,
+                                                  double* p_dot_q) {
+  const Linearisation at = static_cast<const ReferenceSystem*>(context)->linearised_;
+  if (p_dot_q == nullptr || q == p || at.x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const clothlab_status status =
+      jacobian_apply<true>(context, at.t, at.x, at.v, at.c_x, at.c_v, p, q);
   if (status != CLOTHLAB_OK) return status;
   axpy_callback(context, q, 1.0, p);
   *p_dot_q = mass_dot(context, p, q);

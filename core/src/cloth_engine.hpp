@@ -85,8 +85,9 @@ class ClothEngine final : public Engine {
   static clothlab_status jacobian_blocks_callback(void* context, double t, const void* x,
                                                   const void* v, double c_x, double c_v,
                                                   double* values);
-  static clothlab_status cg_product_callback(void* context, double t, const void* x, const void* v,
-                                             double c_x, double c_v, const void* p, void* q,
+  static clothlab_status cg_linearise_callback(void* context, double t, const void* x,
+                                               const void* v, double c_x, double c_v);
+  static clothlab_status cg_product_callback(void* context, const void* p, void* q,
                                              double* p_dot_q);
   static clothlab_status cg_update_callback(void* context, double alpha, const void* q,
                                             const void* diagonal, const void* off_diagonal, void* r,

@@ -53,7 +53,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
       &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
   static constexpr clothlab_cg_step_extension cg_step_table{
-      &cg_product_callback, &cg_update_callback, &cg_direction_callback};
+      &cg_linearise_callback, &cg_product_callback, &cg_update_callback, &cg_direction_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -142,17 +142,27 @@ clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, doubl
 // -------------------------------------------------------------------- cg-step
 
 template <class Real>
-clothlab_status ClothEngine<Real>::cg_product_callback(void* context, double, const void* x,
-                                                       const void* v, double c_x, double c_v,
-                                                       const void* p, void* q, double* p_dot_q) {
-  if (x == nullptr || p == nullptr || q == nullptr || p_dot_q == nullptr || q == p || q == x ||
-      q == v)
-    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+clothlab_status ClothEngine<Real>::cg_linearise_callback(void* context, double, const void* x,
+                                                         const void* v, double c_x, double c_v) {
+  if (x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    *p_dot_q = static_cast<ClothEngine*>(context)->jacobian().product_definite_dot(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v,
-        static_cast<const Real*>(p), static_cast<Real*>(q));
+    static_cast<ClothEngine*>(context)->jacobian().linearise_definite(
+        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v);
   });
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::cg_product_callback(void* context, const void* p, void* q,
+                                                       double* p_dot_q) {
+  if (p == nullptr || q == nullptr || p_dot_q == nullptr || q == p)
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  bool linearised = false;
+  const clothlab_status status = status_of([&] {
+    linearised = static_cast<ClothEngine*>(context)->jacobian().product_definite_dot(
+        static_cast<const Real*>(p), static_cast<Real*>(q), *p_dot_q);
+  });
+  if (status != CLOTHLAB_OK) return status;
+  return linearised ? CLOTHLAB_OK : CLOTHLAB_ERROR_INVALID_ARGUMENT;
 }
 
 // One pass over the active chunks; each chunk's two sums in a fixed order, then the chunks in

@@ -1,10 +1,13 @@
 // The definite Jacobian's product (jacobian_row_kernel.hpp, JacobianForm::kDefinite) for all six
 // Provot stencils starting in one grid row r, in one sweep over its columns, 16 floats at a time
-// on AVX-512: the row's own positions and directions are loaded once and the products on its
-// own particles summed in registers over the six springs, as the force pipeline's interior row
-// kernel does. Partner ends in the same column of rows r + 1 and r + 2 go straight into the
-// product; those one or two columns over go to scratch rows (their read-modify-writes would
-// overlap each other's and stall store forwarding), added by definite_row_shifted_ends.
+// on AVX-512, from each spring's two coefficients (definite_coefficients), which the state
+// fixes and definite_coefficient_row stores once per linearisation: a CG solve takes hundreds
+// of products at one state. The row's own positions and directions are loaded once and the
+// products on its own particles summed in registers over the six springs, as the force
+// pipeline's interior row kernel does. Partner ends in the same column of rows r + 1 and r + 2 go
+// straight into the product; those one or two columns over go to scratch rows (their
+// read-modify-writes would overlap each other's and stall store forwarding), added by
+// definite_row_shifted_ends.
 //
 // Each out row's first contribution is a store, not an add (no clearing pass): row r + 2's is
 // always the (2, 0) stencil of row r, rows 0 and 1 get theirs from row 0. Rows r, r + 1 and
@@ -26,17 +29,50 @@ struct DefiniteRow {
   const float* x[3];             // rows r, r + 1, r + 2 at column 0; components `stride` apart
   const float* u[3];             // likewise
   const float* inverse_mass[3];  // likewise, one component
-  float* out[3];                 // the product's rows r, r + 1, r + 2
-  bool write[3];                 // rows of out this call may write
-  bool first[3];                 // rows whose first contribution this is
-  bool rows_below[2];            // rows r + 1 and r + 2 exist
+  const float* across[6];        // per stencil, its springs' coefficients at row r (0 where none)
+  const float* along[6];
+  float* out[3];         // the product's rows r, r + 1, r + 2
+  bool write[3];         // rows of out this call may write
+  bool first[3];         // rows whose first contribution this is
+  bool rows_below[2];    // rows r + 1 and r + 2 exist
   float* ends_right[2];  // scratch: partner ends of (0,1) and (0,2), components `span` apart
   float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1)
   std::size_t stride, span, cols;
-  float rest[6], ks[6], kd[6], c_x, c_v;
 };
 
-template <bool Damped, bool Edge>
+// One stencil's coefficients along row r: across and along at columns [0, cols) (0 outside
+// [col_begin, col_end)), from the positions of row r and of its partners' row.
+struct DefiniteCoefficientRow {
+  const float* x;
+  const float* x_partner;  // shifted so that column c lines up with the partner
+  float* across;
+  float* along;
+  std::size_t stride, cols, col_begin, col_end;
+  float rest, ks, kd, c_x, c_v;
+};
+
+template <bool Damped>
+inline void definite_coefficient_row(const DefiniteCoefficientRow& row) {
+  const __m512 zero = _mm512_setzero_ps();
+  for (std::size_t c = 0; c < row.cols; c += 16) {
+    const __mmask16 valid = columns_in(c, row.col_begin, row.col_end);
+    __m512 d[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t e = c + k * row.stride;
+      d[k] =
+          _mm512_maskz_loadu_ps(valid, row.x_partner + e) - _mm512_maskz_loadu_ps(valid, row.x + e);
+    }
+    __m512 across, along;
+    definite_coefficients<Damped>(d, _mm512_set1_ps(row.rest), _mm512_set1_ps(row.ks),
+                                  _mm512_set1_ps(row.kd), _mm512_set1_ps(row.c_x),
+                                  _mm512_set1_ps(row.c_v), zero, across, along);
+    const __mmask16 in_row = columns_in(c, 0, row.cols);
+    _mm512_mask_storeu_ps(row.across + c, in_row, _mm512_maskz_mov_ps(valid, across));
+    _mm512_mask_storeu_ps(row.along + c, in_row, _mm512_maskz_mov_ps(valid, along));
+  }
+}
+
+template <bool Edge>
 inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
   using Vec3 = __m512[3];
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
@@ -75,18 +111,19 @@ inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
   // Inlined by force: as a call, its vectors go through memory (GCC 12 does not inline it).
   const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product)
       __attribute__((always_inline)) {
-    Vec3 partner, du, d, unused = {};
+    Vec3 partner, du, d;
     load(row.x[dr], dc, valid, partner);
     direction(dr, dc, valid, du);
     for (std::size_t k = 0; k < 3; ++k) {
       d[k] = partner[k] - x[k];
       du[k] = du[k] - u[k];
     }
-    spring_product<JacobianForm::kDefinite, Damped>(
-        d, unused, du, _mm512_set1_ps(row.rest[s]), _mm512_set1_ps(row.ks[s]),
-        _mm512_set1_ps(row.kd[s]), _mm512_set1_ps(row.c_x), _mm512_set1_ps(row.c_v), zero, product);
+    // 0 in the lanes without a spring.
+    const __m512 across = _mm512_maskz_loadu_ps(valid, row.across[s] + c);
+    const __m512 along = _mm512_maskz_loadu_ps(valid, row.along[s] + c) *
+                         (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
     for (std::size_t k = 0; k < 3; ++k) {
-      product[k] = _mm512_maskz_mov_ps(valid, product[k]);
+      product[k] = across * du[k] + along * d[k];
       own[k] = own[k] + product[k];
     }
   };
@@ -120,13 +157,12 @@ inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
 }
 
 // One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns).
-template <bool Damped>
 inline void definite_row(const DefiniteRow& row) {
   const std::size_t cols = row.cols;
   std::size_t c = 0;
-  definite_row_block<Damped, true>(row, c);
-  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<Damped, false>(row, c);
-  for (; c < cols; c += 16) definite_row_block<Damped, true>(row, c);
+  definite_row_block<true>(row, c);
+  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c);
+  for (; c < cols; c += 16) definite_row_block<true>(row, c);
 }
 
 // The scratch rows' partner ends after the sweep: row r gets those of (0,1) and (0,2) (from

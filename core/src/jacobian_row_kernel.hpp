@@ -10,7 +10,8 @@
 //   p = c_x a du + d [c_x q (b (d.du) + kd (dv.du - q (d.dv)(d.du))) + c_v kd q (d.du)].
 // The definite form (Baraff & Witkin) keeps ks n n^T and the transverse ks (1 - l0/l) only
 // where it is >= 0 (a compressed spring has none), and no x-derivative of the damping:
-//   p = c_x t du + d q (d.du) (c_x (ks - t) + c_v kd),   t = max(0, ks (1 - l0/l)).
+//   p = c_x t du + d q (d.du) (c_x (ks - t) + c_v kd),   t = max(0, ks (1 - l0/l)),
+// two coefficients per spring that the state fixes (definite_coefficients).
 #pragma once
 
 #include <cstddef>
@@ -56,20 +57,31 @@ inline __m512 lane_max(__m512 a, __m512 b) {
 }
 #endif
 
+// The definite form's two coefficients of a spring, fixed by the state:
+// p = across du + (along (d.du)) d.
+template <bool Damped, class Lane>
+inline void definite_coefficients(const Lane (&d)[3], Lane rest, Lane ks, Lane kd, Lane c_x,
+                                  Lane c_v, Lane zero, Lane& across, Lane& along) {
+  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  const Lane inverse_length = inverse_sqrt_or_zero(squared);
+  // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
+  const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
+  across = c_x * transverse;
+  along = inverse_length * inverse_length * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+}
+
 template <JacobianForm Form, bool Damped, class Lane>
 inline void spring_product(const Lane (&d)[3], const Lane (&dv)[3], const Lane (&du)[3], Lane rest,
                            Lane ks, Lane kd, Lane c_x, Lane c_v, Lane zero, Lane (&p)[3]) {
-  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-  const Lane inverse_length = inverse_sqrt_or_zero(squared);
-  const Lane q = inverse_length * inverse_length;
   const Lane d_du = d[0] * du[0] + d[1] * du[1] + d[2] * du[2];
   Lane across, along;
   if constexpr (Form == JacobianForm::kDefinite) {
-    // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
-    const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
-    across = c_x * transverse;
-    along = q * d_du * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+    definite_coefficients<Damped>(d, rest, ks, kd, c_x, c_v, zero, across, along);
+    along = along * d_du;
   } else {
+    const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const Lane inverse_length = inverse_sqrt_or_zero(squared);
+    const Lane q = inverse_length * inverse_length;
     Lane d_dv = zero, dv_du = zero;
     if constexpr (Damped) {
       d_dv = d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2];

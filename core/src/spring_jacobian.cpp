@@ -42,8 +42,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
   }
 #if defined(__AVX512F__)
   definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
-  if (definite_kernel_)
+  if (definite_kernel_) {
     ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 12 * span_);
+    plane_ = (n_ + 15) / 16 * 16;
+    coefficients_ = AlignedBuffer<Real>(2 * stencils_.size() * plane_);
+  }
 #endif
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
   row_offsets_.assign(n_ + 1, 0);
@@ -262,20 +265,12 @@ void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::siz
 }
 
 template <class Real>
-void SpringJacobian<Real>::definite_rows(const Real* x, const Weights& w, const Real* u, Real* out,
-                                         std::size_t begin, std::size_t end, Real* scratch) const {
+void SpringJacobian<Real>::definite_rows(const Real* u, Real* out, std::size_t begin,
+                                         std::size_t end, Real* scratch) const {
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
-    bool damped = false;
-    for (std::size_t s = 0; s < stencils_.size(); ++s) {
-      const bool stencil_damped = w.damped && stencils_[s].kd > 0.0f;
-      job.rest[s] = stencils_[s].rest, job.ks[s] = stencils_[s].ks;
-      job.kd[s] = stencil_damped ? stencils_[s].kd : 0.0f;  // undamped ones add 0
-      damped = damped || stencil_damped;
-    }
-    job.c_x = static_cast<float>(w.c_x), job.c_v = static_cast<float>(w.c_v);
     for (std::size_t k = 0; k < 2; ++k) {
       job.ends_right[k] = scratch + (2 * k) * 3 * span_;
       job.ends_below[k] = scratch + (2 * k + 1) * 3 * span_;
@@ -283,25 +278,62 @@ void SpringJacobian<Real>::definite_rows(const Real* x, const Weights& w, const 
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
       for (std::size_t dr = 0; dr < 3; ++dr) {
         const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;
-        job.x[dr] = x + base, job.u[dr] = u + base;
+        job.x[dr] = linearised_.x + base, job.u[dr] = u + base;
         job.inverse_mass[dr] = inverse_mass_ + base, job.out[dr] = out + base;
         job.write[dr] = row + dr >= begin && row + dr < end;
         job.first[dr] = dr == 2 || row == 0;
       }
+      for (std::size_t s = 0; s < stencils_.size(); ++s) {
+        job.across[s] = across_plane(s) + row * cols_;
+        job.along[s] = along_plane(s) + row * cols_;
+      }
       job.rows_below[0] = row + 1 < rows_;
       job.rows_below[1] = row + 2 < rows_;
-      if (damped) {
-        definite_row<true>(job);
-      } else {
-        definite_row<false>(job);
-      }
+      definite_row(job);
       definite_row_shifted_ends(job);
       if (row >= begin) finish_shifted_row(u, out, row, scratch);
     }
     return;
   }
 #endif
-  (void)x, (void)w, (void)u, (void)out, (void)begin, (void)end, (void)scratch;
+  (void)u, (void)out, (void)begin, (void)end, (void)scratch;
+}
+
+template <class Real>
+void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, double c_x,
+                                              double c_v) const {
+  linearised_ = {x, v, c_x, c_v};
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<Real, float>) {
+    if (!definite_kernel_) return;
+    const bool damped = damping_ && v != nullptr;
+    const auto rows = static_cast<std::ptrdiff_t>(rows_);
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const auto row = static_cast<std::size_t>(r);
+      for (std::size_t s = 0; s < stencils_.size(); ++s) {
+        const StencilSprings& stencil = stencils_[s];
+        DefiniteCoefficientRow job{};
+        job.x = x + row * cols_;
+        job.x_partner =
+            job.x + stencil.row_step * cols_ + static_cast<std::ptrdiff_t>(stencil.col_step);
+        job.across = across_plane(s) + row * cols_;
+        job.along = along_plane(s) + row * cols_;
+        job.stride = stride_, job.cols = cols_;
+        const bool spring_row = row < stencil.extent.row_end;
+        job.col_begin = spring_row ? stencil.extent.col_begin : 0;
+        job.col_end = spring_row ? stencil.extent.col_end : 0;  // no springs: zeros
+        job.rest = stencil.rest, job.ks = stencil.ks, job.kd = stencil.kd;
+        job.c_x = static_cast<float>(c_x), job.c_v = static_cast<float>(c_v);
+        if (damped && stencil.kd > 0.0f) {
+          definite_coefficient_row<true>(job);
+        } else {
+          definite_coefficient_row<false>(job);
+        }
+      }
+    }
+  }
+#endif
 }
 
 template <class Real>
@@ -315,7 +347,7 @@ void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, 
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t begin = rows_ * thread / team, end = rows_ * (thread + 1) / team;
     if (Shifted && Form == JacobianForm::kDefinite && definite_kernel_) {
-      definite_rows(x, w, u, out, begin, end, ends_rows_.data() + thread * 12 * span_ + kMargin);
+      definite_rows(u, out, begin, end, ends_rows_.data() + thread * 12 * span_ + kMargin);
     } else {
       apply_rows<Form, Shifted>(x, v, w, u, out, begin, end,
                                 product_rows_.data() + thread * 3 * span_ + kMargin);
@@ -336,12 +368,13 @@ void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c
 }
 
 template <class Real>
-double SpringJacobian<Real>::product_definite_dot(const Real* x, const Real* v, double c_x,
-                                                  double c_v, const Real* u, Real* q) const {
-  apply_form<JacobianForm::kDefinite, true>(x, v, c_x, c_v, u, q);
-  double dot = 0.0;
+bool SpringJacobian<Real>::product_definite_dot(const Real* u, Real* q, double& dot) const {
+  const Linearisation& at = linearised_;
+  if (at.x == nullptr) return false;
+  apply_form<JacobianForm::kDefinite, true>(at.x, at.v, at.c_x, at.c_v, u, q);
+  dot = 0.0;
   for (const double row : row_dots_) dot += row;
-  return dot;
+  return true;
 }
 
 template <class Real>

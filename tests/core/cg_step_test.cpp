@@ -60,9 +60,10 @@ Sweeps run_sweeps(const clothlab_system& system, bool with_velocity) {
   void* diagonal = vector_from<Real>(system, blocks[0]);
   void* off_diagonal = vector_from<Real>(system, blocks[1]);
   Sweeps out;
-  EXPECT_EQ(cg.product(system.context, 0.0, system.x, with_velocity ? system.v : nullptr, -0.7,
-                       -0.3, p, q, &out.p_dot_q),
-            CLOTHLAB_OK);
+  EXPECT_EQ(
+      cg.linearise(system.context, 0.0, system.x, with_velocity ? system.v : nullptr, -0.7, -0.3),
+      CLOTHLAB_OK);
+  EXPECT_EQ(cg.product(system.context, p, q, &out.p_dot_q), CLOTHLAB_OK);
   EXPECT_EQ(
       cg.update(system.context, 0.37, q, diagonal, off_diagonal, r, z, &out.r_dot_r, &out.r_dot_z),
       CLOTHLAB_OK);
@@ -169,17 +170,21 @@ TEST(CgStep, SameBitsOnOneAndSeveralThreadsFloat64) {
   expect_same_bits_on_any_thread_count<double>();
 }
 
-TEST(CgStep, NullResultPointersAreRefused) {
+TEST(CgStep, BadCallsAreRefused) {
   Cloth cloth(testing::busy_scene(4, 5), Precision::Float64, {});
   const clothlab_system& system = cloth.system();
   const auto& cg = host_extension<clothlab_cg_step_extension>(system, CLOTHLAB_EXT_CG_STEP);
   void* p = system.alloc_vector(system.context);
   void* q = system.alloc_vector(system.context);
-  EXPECT_EQ(cg.product(system.context, 0.0, system.x, system.v, -1.0, -0.1, p, q, nullptr),
-            CLOTHLAB_ERROR_INVALID_ARGUMENT);
   double dot = 0;
-  EXPECT_EQ(cg.product(system.context, 0.0, system.x, system.v, -1.0, -0.1, p, p, &dot),
+  EXPECT_EQ(cg.product(system.context, p, q, &dot), CLOTHLAB_ERROR_INVALID_ARGUMENT)
+      << "a product before any linearise";
+  EXPECT_EQ(cg.linearise(system.context, 0.0, nullptr, system.v, -1.0, -0.1),
             CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(cg.linearise(system.context, 0.0, system.x, system.v, -1.0, -0.1), CLOTHLAB_OK);
+  EXPECT_EQ(cg.product(system.context, p, q, nullptr), CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(cg.product(system.context, p, p, &dot), CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(cg.product(system.context, p, q, &dot), CLOTHLAB_OK);
   EXPECT_EQ(cg.update(system.context, 1.0, q, p, q, p, q, nullptr, &dot),
             CLOTHLAB_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(cg.direction(system.context, 1.0, 1.0, p, p, q), CLOTHLAB_ERROR_INVALID_ARGUMENT);

@@ -4,6 +4,7 @@
  * clothlab.definite-jacobian/1 (D = c_x K + c_v da/dv at a state (x, v)), in the mass inner
  * product <a, b> = sum over active particles of m_i a_i . b_i (kg times the vectors' units):
  *
+ *   linearise: A at the state, once per solve (per-spring coefficients, host-owned)
  *   product:   q = A p and <p, q>                        (the product's own sweep)
  *   update:    r -= alpha q, z = B r, <r, r> and <r, z>  (one sweep)
  *   direction: solution += alpha p, p = z + beta p       (one sweep)
@@ -36,9 +37,13 @@ extern "C" {
 #define CLOTHLAB_EXT_CG_STEP "clothlab.cg-step/1"
 
 typedef struct clothlab_cg_step_extension {
-  /* q = p + D p at (x, v) (v NULL: no damping), *p_dot_q = <p, q>. */
-  clothlab_status (*product)(void* context, double t, const void* x, const void* v, double c_x,
-                             double c_v, const void* p, void* q, double* p_dot_q);
+  /* Fixes A at (x, v) (v NULL: no damping) with weights c_x, c_v for the products that follow,
+   * until the next call. x and v are read again by each product: their values must not change
+   * meanwhile. Costs about one product. */
+  clothlab_status (*linearise)(void* context, double t, const void* x, const void* v, double c_x,
+                               double c_v);
+  /* q = A p = p + D p, *p_dot_q = <p, q>; CLOTHLAB_ERROR_INVALID_ARGUMENT before any linearise. */
+  clothlab_status (*product)(void* context, const void* p, void* q, double* p_dot_q);
   /* r -= alpha q, z = B r; *r_dot_r = <r, r>, *r_dot_z = <r, z> of the updated r. */
   clothlab_status (*update)(void* context, double alpha, const void* q, const void* diagonal,
                             const void* off_diagonal, void* r, void* z, double* r_dot_r,

@@ -129,11 +129,15 @@ class CgStep {
   CgStep(const clothlab_cg_step_extension& table, void* context)
       : table_(&table), context_(context) {}
 
-  // q = p + D p at (x, v); returns <p, q>.
-  double product(double t, const Real* x, const Real* v, double c_x, double c_v, const Real* p,
-                 Real* q) const {
+  // Fixes A at (x, v) with weights c_x, c_v for the products that follow; x and v must keep
+  // their values meanwhile.
+  void linearise(double t, const Real* x, const Real* v, double c_x, double c_v) const {
+    check(table_->linearise(context_, t, x, v, c_x, c_v), "cg-step linearise failed");
+  }
+  // q = A p; returns <p, q>.
+  double product(const Real* p, Real* q) const {
     double p_dot_q = 0.0;
-    check(table_->product(context_, t, x, v, c_x, c_v, p, q, &p_dot_q), "cg-step product failed");
+    check(table_->product(context_, p, q, &p_dot_q), "cg-step product failed");
     return p_dot_q;
   }
   struct Residual {
