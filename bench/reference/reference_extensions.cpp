@@ -19,8 +19,7 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
                                                         &jacobian_pattern, &jacobian_blocks<false>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian{&jacobian_apply<true>,
                                                                           &jacobian_diagonal<true>};
-  static constexpr clothlab_cg_step_extension cg_step{&cg_linearise, &cg_product, &cg_update,
-                                                      &cg_direction};
+  static constexpr clothlab_cg_step_extension cg_step{&cg_linearise, &cg_product, &cg_update};
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
@@ -275,10 +274,16 @@ clothlab_status ReferenceSystem<Real>::cg_linearise(void* context, double t, con
 }
 
 template <class Real>
-clothlab_status ReferenceSystem<Real>::cg_product(void* context, const void* p, void* q,
+clothlab_status ReferenceSystem<Real>::cg_product(void* context, double alpha, double beta,
+                                                  const void* z, void* p, void* solution, void* q,
                                                   double* p_dot_q) {
   const Linearisation at = static_cast<const ReferenceSystem*>(context)->linearised_;
   if (p_dot_q == nullptr || q == p || at.x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  if (z != nullptr) {
+    axpy_callback(context, solution, alpha, p);
+    const void* const terms[] = {p};
+    lincomb_callback(context, p, z, 1, &beta, terms);
+  }
   const clothlab_status status =
       jacobian_apply<true>(context, at.t, at.x, at.v, at.c_x, at.c_v, p, q);
   if (status != CLOTHLAB_OK) return status;
@@ -313,15 +318,6 @@ clothlab_status ReferenceSystem<Real>::cg_update(void* context, double alpha, co
     }
   *r_dot_r = mass_dot(context, r, r);
   *r_dot_z = mass_dot(context, r, z);
-  return CLOTHLAB_OK;
-}
-
-template <class Real>
-clothlab_status ReferenceSystem<Real>::cg_direction(void* context, double alpha, double beta,
-                                                    const void* z, void* p, void* solution) {
-  axpy_callback(context, solution, alpha, p);
-  const void* const terms[] = {p};
-  lincomb_callback(context, p, z, 1, &beta, terms);
   return CLOTHLAB_OK;
 }
 

@@ -82,12 +82,11 @@ class ReferenceSystem {
   // mass_dot; the block product in double.
   static clothlab_status cg_linearise(void* context, double t, const void* x, const void* v,
                                       double c_x, double c_v);
-  static clothlab_status cg_product(void* context, const void* p, void* q, double* p_dot_q);
+  static clothlab_status cg_product(void* context, double alpha, double beta, const void* z,
+                                    void* p, void* solution, void* q, double* p_dot_q);
   static clothlab_status cg_update(void* context, double alpha, const void* q, const void* diagonal,
                                    const void* off_diagonal, void* r, void* z, double* r_dot_r,
                                    double* r_dot_z);
-  static clothlab_status cg_direction(void* context, double alpha, double beta, const void* z,
-                                      void* p, void* solution);
   static double dot(void* context, const void* a, const void* b);
   static double mass_dot(void* context, const void* a, const void* b);
   static double max_abs(void* context, const void* a);

@@ -87,13 +87,15 @@ class ClothEngine final : public Engine {
                                                   double* values);
   static clothlab_status cg_linearise_callback(void* context, double t, const void* x,
                                                const void* v, double c_x, double c_v);
-  static clothlab_status cg_product_callback(void* context, const void* p, void* q,
+  static clothlab_status cg_product_callback(void* context, double alpha, double beta,
+                                             const void* z, void* p, void* solution, void* q,
                                              double* p_dot_q);
   static clothlab_status cg_update_callback(void* context, double alpha, const void* q,
                                             const void* diagonal, const void* off_diagonal, void* r,
                                             void* z, double* r_dot_r, double* r_dot_z);
-  static clothlab_status cg_direction_callback(void* context, double alpha, double beta,
-                                               const void* z, void* p, void* solution);
+  // solution += alpha p, p = z + beta p on the active particles: cg-step's direction where the
+  // product's sweep does not take it.
+  void cg_direction(Real alpha, Real beta, const Real* z, Real* p, Real* solution);
   static double dot_callback(void* context, const void* a, const void* b);
   static double mass_dot_callback(void* context, const void* a, const void* b);
   static double max_abs_callback(void* context, const void* a);

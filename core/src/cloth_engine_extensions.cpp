@@ -53,7 +53,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
       &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
   static constexpr clothlab_cg_step_extension cg_step_table{
-      &cg_linearise_callback, &cg_product_callback, &cg_update_callback, &cg_direction_callback};
+      &cg_linearise_callback, &cg_product_callback, &cg_update_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -152,14 +152,26 @@ clothlab_status ClothEngine<Real>::cg_linearise_callback(void* context, double, 
 }
 
 template <class Real>
-clothlab_status ClothEngine<Real>::cg_product_callback(void* context, const void* p, void* q,
-                                                       double* p_dot_q) {
-  if (p == nullptr || q == nullptr || p_dot_q == nullptr || q == p)
+clothlab_status ClothEngine<Real>::cg_product_callback(void* context, double alpha, double beta,
+                                                       const void* z, void* p, void* solution,
+                                                       void* q, double* p_dot_q) {
+  if (p == nullptr || q == nullptr || p_dot_q == nullptr || q == p ||
+      (z != nullptr && (solution == nullptr || z == p || z == q || solution == p || solution == q ||
+                        solution == z)))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  auto* self = static_cast<ClothEngine*>(context);
   bool linearised = false;
   const clothlab_status status = status_of([&] {
-    linearised = static_cast<ClothEngine*>(context)->jacobian().product_definite_dot(
-        static_cast<const Real*>(p), static_cast<Real*>(q), *p_dot_q);
+    const SpringJacobian<Real>& jacobian = self->jacobian();
+    Real* const ps = static_cast<Real*>(p);
+    const typename SpringJacobian<Real>::Direction direction{
+        alpha, beta, static_cast<const Real*>(z), static_cast<Real*>(solution)};
+    const bool fused = z != nullptr && jacobian.fuses_direction();
+    if (z != nullptr && !fused)
+      self->cg_direction(static_cast<Real>(alpha), static_cast<Real>(beta), direction.z, ps,
+                         direction.solution);
+    linearised = jacobian.product_definite_dot(ps, static_cast<Real*>(q), *p_dot_q,
+                                               fused ? &direction : nullptr);
   });
   if (status != CLOTHLAB_OK) return status;
   return linearised ? CLOTHLAB_OK : CLOTHLAB_ERROR_INVALID_ARGUMENT;
@@ -223,30 +235,24 @@ clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alph
 }
 
 template <class Real>
-clothlab_status ClothEngine<Real>::cg_direction_callback(void* context, double alpha, double beta,
-                                                         const void* z, void* p, void* solution) {
-  if (z == nullptr || p == nullptr || solution == nullptr || z == p || p == solution)
-    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  auto* self = static_cast<ClothEngine*>(context);
-  const Real a = static_cast<Real>(alpha), b = static_cast<Real>(beta);
-  const Real* __restrict const zs = static_cast<const Real*>(z);
-  Real* __restrict const ps = static_cast<Real*>(p);
-  Real* __restrict const xs = static_cast<Real*>(solution);
-  const std::size_t stride = self->stride_;
-  const auto chunks = static_cast<std::ptrdiff_t>(self->active_chunks_.size());
-#pragma omp parallel for schedule(static) num_threads(self->threads_) if (self->parallel_)
+void ClothEngine<Real>::cg_direction(Real alpha, Real beta, const Real* z, Real* p,
+                                     Real* solution) {
+  const Real* __restrict const zs = z;
+  Real* __restrict const ps = p;
+  Real* __restrict const xs = solution;
+  const auto chunks = static_cast<std::ptrdiff_t>(active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t begin = k * stride + self->active_chunks_[chunk].begin;
-      const std::size_t end = k * stride + self->active_chunks_[chunk].end;
+      const std::size_t begin = k * stride_ + active_chunks_[chunk].begin;
+      const std::size_t end = k * stride_ + active_chunks_[chunk].end;
 #pragma omp simd
       for (std::size_t e = begin; e < end; ++e) {
-        xs[e] += a * ps[e];
-        ps[e] = zs[e] + b * ps[e];
+        xs[e] += alpha * ps[e];
+        ps[e] = zs[e] + beta * ps[e];
       }
     }
   }
-  return CLOTHLAB_OK;
 }
 
 // ----------------------------------------------------------------- reductions

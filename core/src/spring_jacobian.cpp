@@ -265,10 +265,40 @@ void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::siz
 }
 
 template <class Real>
-void SpringJacobian<Real>::definite_rows(const Real* u, Real* out, std::size_t begin,
-                                         std::size_t end, Real* scratch) const {
+void SpringJacobian<Real>::direction_rows(const Direction& direction, Real* u, std::size_t begin,
+                                          std::size_t end) const {
+  const Real alpha = static_cast<Real>(direction.alpha), beta = static_cast<Real>(direction.beta);
+  const Real* __restrict inverse_mass = inverse_mass_;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Real* __restrict z = direction.z + k * stride_;
+    Real* __restrict p = u + k * stride_;
+    Real* __restrict solution = direction.solution + k * stride_;
+#pragma omp simd
+    for (std::size_t i = begin * cols_; i < end * cols_; ++i) {
+      const bool active = inverse_mass[i] > Real(0);
+      const Real old_p = p[i], old_solution = solution[i], z_i = z[i];
+      solution[i] = active ? old_solution + alpha * old_p : old_solution;
+      p[i] = active ? z_i + beta * old_p : old_p;
+    }
+  }
+}
+
+// With a direction: the thread first updates its block's first and last two rows, which its
+// neighbours' sweeps read, then (after a barrier) each interior row just before the sweep
+// reaches it, so every row is updated once and read only updated.
+template <class Real>
+void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end,
+                                         Real* scratch, const Direction* direction) const {
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
+    const std::size_t head_end = std::min(begin + 2, end);
+    const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
+    if (direction != nullptr) {
+      direction_rows(*direction, u, begin, head_end);
+      direction_rows(*direction, u, tail_begin, end);
+    }
+#pragma omp barrier
+    std::size_t updated = head_end;  // interior rows [head_end, updated) are done
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
     for (std::size_t k = 0; k < 2; ++k) {
@@ -276,6 +306,10 @@ void SpringJacobian<Real>::definite_rows(const Real* u, Real* out, std::size_t b
       job.ends_below[k] = scratch + (2 * k + 1) * 3 * span_;
     }
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
+      if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
+        direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
+        updated = std::min(row + 3, tail_begin);
+      }
       for (std::size_t dr = 0; dr < 3; ++dr) {
         const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;
         job.x[dr] = linearised_.x + base, job.u[dr] = u + base;
@@ -296,7 +330,7 @@ void SpringJacobian<Real>::definite_rows(const Real* u, Real* out, std::size_t b
     return;
   }
 #endif
-  (void)u, (void)out, (void)begin, (void)end, (void)scratch;
+  (void)u, (void)out, (void)begin, (void)end, (void)scratch, (void)direction;
 }
 
 template <class Real>
@@ -339,7 +373,7 @@ void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, doub
 template <class Real>
 template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
-                                      const Real* u, Real* out) const {
+                                      const Real* u, Real* out, const Direction* direction) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
 #pragma omp parallel num_threads(threads_) if (parallel_)
   {
@@ -347,7 +381,8 @@ void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, 
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t begin = rows_ * thread / team, end = rows_ * (thread + 1) / team;
     if (Shifted && Form == JacobianForm::kDefinite && definite_kernel_) {
-      definite_rows(u, out, begin, end, ends_rows_.data() + thread * 12 * span_ + kMargin);
+      definite_rows(const_cast<Real*>(u), out, begin, end,
+                    ends_rows_.data() + thread * 12 * span_ + kMargin, direction);
     } else {
       apply_rows<Form, Shifted>(x, v, w, u, out, begin, end,
                                 product_rows_.data() + thread * 3 * span_ + kMargin);
@@ -368,10 +403,11 @@ void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c
 }
 
 template <class Real>
-bool SpringJacobian<Real>::product_definite_dot(const Real* u, Real* q, double& dot) const {
+bool SpringJacobian<Real>::product_definite_dot(Real* u, Real* q, double& dot,
+                                                const Direction* direction) const {
   const Linearisation& at = linearised_;
-  if (at.x == nullptr) return false;
-  apply_form<JacobianForm::kDefinite, true>(at.x, at.v, at.c_x, at.c_v, u, q);
+  if (at.x == nullptr || (direction != nullptr && !definite_kernel_)) return false;
+  apply_form<JacobianForm::kDefinite, true>(at.x, at.v, at.c_x, at.c_v, u, q, direction);
   dot = 0.0;
   for (const double row : row_dots_) dot += row;
   return true;

@@ -51,7 +51,16 @@ class SpringJacobian {
   // q = u + D u at the linearisation; returns <u, q> = sum of m_i u_i . q_i over the active
   // particles, per grid row then the rows in order (clothlab/ext/cg_step.h). false: no
   // linearisation yet.
-  bool product_definite_dot(const Real* u, Real* q, double& dot) const;
+  // direction (optional): first solution += alpha u, u = z + beta u on the active particles,
+  // row by row inside the product's sweep (fuses_direction()).
+  struct Direction {
+    double alpha, beta;
+    const Real* z;
+    Real* solution;
+  };
+  bool product_definite_dot(Real* u, Real* q, double& dot,
+                            const Direction* direction = nullptr) const;
+  bool fuses_direction() const { return definite_kernel_; }
   void diagonal_blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
                                 double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
@@ -81,16 +90,19 @@ class SpringJacobian {
   };
   // Shifted: out = u + J u, and each own row's <u, out> into row_dots_.
   template <JacobianForm Form, bool Shifted = false>
-  void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
-                  Real* out) const;
+  void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u, Real* out,
+                  const Direction* direction = nullptr) const;
   // out's grid rows [begin, end) of the product; p is the thread's scratch row.
   template <JacobianForm Form, bool Shifted>
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
   // The shifted definite product's rows [begin, end) by definite_row_kernel.hpp (float on
   // AVX-512 with all six stencils); scratch: the thread's four rows of shifted ends.
-  void definite_rows(const Real* u, Real* out, std::size_t begin, std::size_t end,
-                     Real* scratch) const;
+  void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
+                     const Direction* direction) const;
+  // The direction's update on grid rows [begin, end).
+  void direction_rows(const Direction& direction, Real* u, std::size_t begin,
+                      std::size_t end) const;
   // Stencil s's coefficient planes (across, then along), rows x cols each.
   Real* across_plane(std::size_t s) const { return coefficients_.data() + 2 * s * plane_; }
   Real* along_plane(std::size_t s) const { return coefficients_.data() + (2 * s + 1) * plane_; }

@@ -96,7 +96,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   static constexpr D definite_jacobian{&Forward<D, &D::apply>::call,
                                        &Forward<D, &D::diagonal_blocks>::call};
   static constexpr C cg_step{&Forward<C, &C::linearise>::call, &Forward<C, &C::product>::call,
-                             &Forward<C, &C::update>::call, &Forward<C, &C::direction>::call};
+                             &Forward<C, &C::update>::call};
   static constexpr R reductions{&Forward<R, &R::dot>::call, &Forward<R, &R::mass_dot>::call,
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,

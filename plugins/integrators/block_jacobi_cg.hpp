@@ -6,10 +6,10 @@
 // particles only, so the solution's pinned entries stay as they were.
 //
 // With the definite matrix on a host that offers clothlab.cg-step/1, the solve linearises A once
-// and an iteration is three host sweeps (the product with <p, Ap>; the residual and preconditioner
-// updates with <r, r> and <r, z>; the solution and the next direction); otherwise the same
-// iteration in separate host calls. implicit_euler solves with it, and bench/microbench.cpp's
-// cg_iteration times `iterate` itself.
+// and an iteration is two host sweeps: the product with <p, Ap>, carrying the last iteration's
+// solution and direction updates, and the residual and preconditioner updates with <r, r> and
+// <r, z>; otherwise the same iteration in separate host calls. implicit_euler solves with it,
+// and bench/microbench.cpp's cg_iteration times `iterate` itself.
 #pragma once
 
 #include <algorithm>
@@ -57,7 +57,7 @@ class BlockJacobiCg {
   // zeroed by the caller). x, v, rhs and solution must outlive the solve.
   void start(double t, double h, const Real* x, const Real* v, const Real* rhs, Real* solution,
              bool guess, double tolerance) {
-    t_ = t, x_ = x, v_ = v, solution_ = solution;
+    t_ = t, x_ = x, v_ = v, solution_ = solution, pending_ = false;
     c_x_ = -h * h, c_v_ = -h;
     if (cg_step_) cg_step_->linearise(t, x, v, c_x_, c_v_);
     invert_diagonal_blocks();
@@ -82,8 +82,10 @@ class BlockJacobiCg {
   // solution as it was.
   Outcome iterate() {
     double pq = 0.0;
-    if (cg_step_) {
-      pq = cg_step_->product(p_, q_);
+    if (cg_step_) {  // with the last iteration's solution and direction updates, if pending
+      pq = pending_ ? cg_step_->product(alpha_, beta_, z_, p_, solution_, q_)
+                    : cg_step_->product(p_, q_);
+      pending_ = false;
     } else {
       apply(p_, q_);
       system_.axpy(q_, 1.0, p_);
@@ -102,7 +104,7 @@ class BlockJacobiCg {
         return Outcome::kConverged;
       }
       rz_next = residual.r_dot_z;
-      cg_step_->direction(alpha, rz_next / rz_, z_, p_, solution_);
+      alpha_ = alpha, beta_ = rz_next / rz_, pending_ = true;
     } else {
       system_.axpy(solution_, alpha, p_);
       system_.axpy(r_, -alpha, q_);
@@ -114,6 +116,13 @@ class BlockJacobiCg {
     }
     rz_ = rz_next;
     return Outcome::kRunning;
+  }
+
+  // Completes the solution after the last iterate (the fused path defers alpha p to the next
+  // product's sweep).
+  void finish() {
+    if (pending_) system_.axpy(solution_, alpha_, p_);
+    pending_ = false;
   }
 
   double rhs_norm() const { return rhs_norm_; }
@@ -191,6 +200,8 @@ class BlockJacobiCg {
   const Real *x_ = nullptr, *v_ = nullptr;
   Real* solution_ = nullptr;
   double rhs_norm_ = 0.0, residual_norm_ = 0.0, goal_ = 0.0, rz_ = 0.0;
+  bool pending_ = false;  // fused: solution += alpha_ p, p = z + beta_ p not applied yet
+  double alpha_ = 0.0, beta_ = 0.0;
 };
 
 }  // namespace clothlab::builtin

@@ -9,10 +9,11 @@
 // which converges to backward Euler proper. First order; stable at any dt on a damped cloth.
 //
 // Each linear system is solved matrix-free by block-Jacobi preconditioned conjugate gradients in
-// the mass inner product (block_jacobi_cg.hpp): one Jacobian product per iteration, fused with
-// CG's dot product and followed by one fused update sweep where the host offers
-// clothlab.cg-step/1. A solve that stops at `max_iterations` (or meets p.Ap <= 0) before the
-// tolerance is reported through clothlab.solver-statistics/1, never passed off as converged.
+// the mass inner product (block_jacobi_cg.hpp): one Jacobian product per iteration; where the
+// host offers clothlab.cg-step/1, an iteration is two sweeps (the product with the vector
+// updates and dot product around it, and one update sweep). A solve that stops at `max_iterations`
+// (or meets p.Ap <= 0) before the tolerance is reported through clothlab.solver-statistics/1, never
+// passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
 // or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
@@ -164,6 +165,7 @@ struct ImplicitEuler {
       ++iterations;
       converged = outcome == BlockJacobiCg<Real>::Outcome::kConverged;
     }
+    solver.finish();
     const double rhs_norm = solver.rhs_norm();
     last_.iterations += static_cast<uint64_t>(iterations);
     last_.converged = last_.converged && converged ? 1u : 0u;

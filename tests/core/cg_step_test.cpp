@@ -44,7 +44,8 @@ struct Sweeps {
   double p_dot_q = 0, r_dot_r = 0, r_dot_z = 0;
 };
 
-// product, update and direction on `system` at its state, from the same inputs on every system.
+// product (with a direction) and update on `system` at its state, from the same inputs on every
+// system.
 template <class Real>
 Sweeps run_sweeps(const clothlab_system& system, bool with_velocity) {
   const auto& jacobian = host_extension<clothlab_jacobian_extension>(system, CLOTHLAB_EXT_JACOBIAN);
@@ -56,6 +57,7 @@ Sweeps run_sweeps(const clothlab_system& system, bool with_velocity) {
   void* solution = vector_from<Real>(system, wave(size, 0.41));
   void* r = vector_from<Real>(system, wave(size, 0.57));
   void* z = system.alloc_vector(system.context);
+  void* z_in = vector_from<Real>(system, wave(size, 0.83));
   const auto blocks = some_blocks(system.particle_count);
   void* diagonal = vector_from<Real>(system, blocks[0]);
   void* off_diagonal = vector_from<Real>(system, blocks[1]);
@@ -63,11 +65,11 @@ Sweeps run_sweeps(const clothlab_system& system, bool with_velocity) {
   EXPECT_EQ(
       cg.linearise(system.context, 0.0, system.x, with_velocity ? system.v : nullptr, -0.7, -0.3),
       CLOTHLAB_OK);
-  EXPECT_EQ(cg.product(system.context, p, q, &out.p_dot_q), CLOTHLAB_OK);
+  EXPECT_EQ(cg.product(system.context, 0.29, 0.61, z_in, p, solution, q, &out.p_dot_q),
+            CLOTHLAB_OK);
   EXPECT_EQ(
       cg.update(system.context, 0.37, q, diagonal, off_diagonal, r, z, &out.r_dot_r, &out.r_dot_z),
       CLOTHLAB_OK);
-  EXPECT_EQ(cg.direction(system.context, 0.37, 0.61, z, p, solution), CLOTHLAB_OK);
   out.p = values_of<Real>(system, p);
   out.q = values_of<Real>(system, q);
   out.solution = values_of<Real>(system, solution);
@@ -176,18 +178,24 @@ TEST(CgStep, BadCallsAreRefused) {
   const auto& cg = host_extension<clothlab_cg_step_extension>(system, CLOTHLAB_EXT_CG_STEP);
   void* p = system.alloc_vector(system.context);
   void* q = system.alloc_vector(system.context);
+  void* z = system.alloc_vector(system.context);
   double dot = 0;
-  EXPECT_EQ(cg.product(system.context, p, q, &dot), CLOTHLAB_ERROR_INVALID_ARGUMENT)
+  EXPECT_EQ(cg.product(system.context, 0, 0, nullptr, p, nullptr, q, &dot),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT)
       << "a product before any linearise";
   EXPECT_EQ(cg.linearise(system.context, 0.0, nullptr, system.v, -1.0, -0.1),
             CLOTHLAB_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(cg.linearise(system.context, 0.0, system.x, system.v, -1.0, -0.1), CLOTHLAB_OK);
-  EXPECT_EQ(cg.product(system.context, p, q, nullptr), CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(cg.product(system.context, p, p, &dot), CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(cg.product(system.context, p, q, &dot), CLOTHLAB_OK);
+  EXPECT_EQ(cg.product(system.context, 0, 0, nullptr, p, nullptr, q, nullptr),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(cg.product(system.context, 0, 0, nullptr, p, nullptr, p, &dot),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(cg.product(system.context, 1, 1, z, p, nullptr, q, &dot),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT)
+      << "a direction without a solution";
+  EXPECT_EQ(cg.product(system.context, 0, 0, nullptr, p, nullptr, q, &dot), CLOTHLAB_OK);
   EXPECT_EQ(cg.update(system.context, 1.0, q, p, q, p, q, nullptr, &dot),
             CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(cg.direction(system.context, 1.0, 1.0, p, p, q), CLOTHLAB_ERROR_INVALID_ARGUMENT);
 }
 
 // implicit_euler's solve of one stiff step (h = 1/60 s on a 40 x 37 sheet off rest) to a tight
@@ -226,6 +234,7 @@ Solve<Real> solve(bool fused, int threads, double tolerance) {
     outcome = cg.iterate();
     ++out.iterations;
   }
+  cg.finish();
   out.converged = outcome == builtin::BlockJacobiCg<Real>::Outcome::kConverged;
   out.solution = values_of<Real>(cloth.system(), solution);
   return out;

@@ -121,7 +121,7 @@ class DefiniteJacobian {
   void* context_;
 };
 
-// The three fused sweeps of a block-Jacobi PCG iteration on A = I + D, D the definite Jacobian,
+// The two fused sweeps of a block-Jacobi PCG iteration on A = I + D, D the definite Jacobian,
 // in the mass inner product (clothlab/ext/cg_step.h); readied by Jacobian::reserve.
 template <class Real>
 class CgStep {
@@ -137,7 +137,15 @@ class CgStep {
   // q = A p; returns <p, q>.
   double product(const Real* p, Real* q) const {
     double p_dot_q = 0.0;
-    check(table_->product(context_, p, q, &p_dot_q), "cg-step product failed");
+    check(table_->product(context_, 0.0, 0.0, nullptr, const_cast<Real*>(p), nullptr, q, &p_dot_q),
+          "cg-step product failed");
+    return p_dot_q;
+  }
+  // solution += alpha p, p = z + beta p, then q = A p; returns <p, q>.
+  double product(double alpha, double beta, const Real* z, Real* p, Real* solution, Real* q) const {
+    double p_dot_q = 0.0;
+    check(table_->product(context_, alpha, beta, z, p, solution, q, &p_dot_q),
+          "cg-step product failed");
     return p_dot_q;
   }
   struct Residual {
@@ -152,10 +160,6 @@ class CgStep {
                          &out.r_dot_z),
           "cg-step update failed");
     return out;
-  }
-  // solution += alpha p, then p = z + beta p.
-  void direction(double alpha, double beta, const Real* z, Real* p, Real* solution) const {
-    check(table_->direction(context_, alpha, beta, z, p, solution), "cg-step direction failed");
   }
 
  private:
