@@ -35,8 +35,7 @@ struct DefiniteRow {
   bool write[3];         // rows of out this call may write
   bool first[3];         // rows whose first contribution this is
   bool rows_below[2];    // rows r + 1 and r + 2 exist
-  float* ends_right[2];  // scratch: partner ends of (0,1) and (0,2), components `span` apart
-  float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1)
+  float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1), components `span` apart
   std::size_t stride, span, cols;
 };
 
@@ -72,8 +71,11 @@ inline void definite_coefficient_row(const DefiniteCoefficientRow& row) {
   }
 }
 
+// right1, right2: the (0,1) and (0,2) products of the block before (zero before the first).
 template <bool Edge>
-inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
+__attribute__((always_inline)) inline void definite_row_block(const DefiniteRow& row, std::size_t c,
+                                                              __m512 (&right1)[3],
+                                                              __m512 (&right2)[3]) {
   using Vec3 = __m512[3];
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
   const __m512 zero = _mm512_setzero_ps();
@@ -131,10 +133,23 @@ inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
     for (std::size_t k = 0; k < 3; ++k) _mm512_storeu_ps(p + c + k * span, value[k]);
   };
   Vec3 product;
+  // The in-row partner ends, one and two columns over, join `own` a lane up (valignd; the
+  // maskz form, as the plain one's header trips GCC 12's -Wuninitialized), the block's last
+  // lanes carried into the next block.
   spring(0, 0, 1, lanes(0, cols - 1), product);
-  store_scratch(row.ends_right[0], product);
+  for (std::size_t k = 0; k < 3; ++k) {
+    own[k] =
+        own[k] - _mm512_castsi512_ps(_mm512_maskz_alignr_epi32(
+                     0xffff, _mm512_castps_si512(product[k]), _mm512_castps_si512(right1[k]), 15));
+    right1[k] = product[k];
+  }
   spring(4, 0, 2, lanes(0, cols >= 2 ? cols - 2 : 0), product);
-  store_scratch(row.ends_right[1], product);
+  for (std::size_t k = 0; k < 3; ++k) {
+    own[k] =
+        own[k] - _mm512_castsi512_ps(_mm512_maskz_alignr_epi32(
+                     0xffff, _mm512_castps_si512(product[k]), _mm512_castps_si512(right2[k]), 14));
+    right2[k] = product[k];
+  }
   if (row.rows_below[0]) {
     spring(1, 1, 0, all, product);
     if (row.write[1]) {
@@ -159,31 +174,25 @@ inline void definite_row_block(const DefiniteRow& row, std::size_t c) {
 // One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns).
 inline void definite_row(const DefiniteRow& row) {
   const std::size_t cols = row.cols;
+  __m512 right1[3], right2[3];
+  for (std::size_t k = 0; k < 3; ++k) right1[k] = right2[k] = _mm512_setzero_ps();
   std::size_t c = 0;
-  definite_row_block<true>(row, c);
-  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c);
-  for (; c < cols; c += 16) definite_row_block<true>(row, c);
+  definite_row_block<true>(row, c, right1, right2);
+  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c, right1, right2);
+  for (; c < cols; c += 16) definite_row_block<true>(row, c, right1, right2);
 }
 
-// The scratch rows' partner ends after the sweep: row r gets those of (0,1) and (0,2) (from
-// columns c - 1 and c - 2), row r + 1 those of (1,1) and (1,-1) (from c - 1 and c + 1).
+// The scratch rows' partner ends after the sweep: row r + 1 gets those of (1,1) and (1,-1)
+// (from columns c - 1 and c + 1).
 inline void definite_row_shifted_ends(const DefiniteRow& row) {
+  if (!row.rows_below[0] || !row.write[1]) return;
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
   for (std::size_t k = 0; k < 3; ++k) {
-    if (row.write[0]) {
-      float* __restrict out = row.out[0] + k * stride;
-      const float* __restrict right1 = row.ends_right[0] + k * span - 1;
-      const float* __restrict right2 = row.ends_right[1] + k * span - 2;
+    float* __restrict out = row.out[1] + k * stride;
+    const float* __restrict below_right = row.ends_below[0] + k * span - 1;
+    const float* __restrict below_left = row.ends_below[1] + k * span + 1;
 #pragma omp simd
-      for (std::size_t c = 0; c < cols; ++c) out[c] -= right1[c] + right2[c];
-    }
-    if (row.rows_below[0] && row.write[1]) {
-      float* __restrict out = row.out[1] + k * stride;
-      const float* __restrict below_right = row.ends_below[0] + k * span - 1;
-      const float* __restrict below_left = row.ends_below[1] + k * span + 1;
-#pragma omp simd
-      for (std::size_t c = 0; c < cols; ++c) out[c] -= below_right[c] + below_left[c];
-    }
+    for (std::size_t c = 0; c < cols; ++c) out[c] -= below_right[c] + below_left[c];
   }
 }
 

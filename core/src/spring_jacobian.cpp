@@ -43,7 +43,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
 #if defined(__AVX512F__)
   definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
   if (definite_kernel_) {
-    ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 12 * span_);
+    ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
     plane_ = (n_ + 15) / 16 * 16;
     coefficients_ = AlignedBuffer<Real>(2 * stencils_.size() * plane_);
   }
@@ -301,10 +301,7 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
     std::size_t updated = head_end;  // interior rows [head_end, updated) are done
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
-    for (std::size_t k = 0; k < 2; ++k) {
-      job.ends_right[k] = scratch + (2 * k) * 3 * span_;
-      job.ends_below[k] = scratch + (2 * k + 1) * 3 * span_;
-    }
+    for (std::size_t k = 0; k < 2; ++k) job.ends_below[k] = scratch + k * 3 * span_;
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
       if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
         direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
@@ -382,7 +379,7 @@ void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, 
     const std::size_t begin = rows_ * thread / team, end = rows_ * (thread + 1) / team;
     if (Shifted && Form == JacobianForm::kDefinite && definite_kernel_) {
       definite_rows(const_cast<Real*>(u), out, begin, end,
-                    ends_rows_.data() + thread * 12 * span_ + kMargin, direction);
+                    ends_rows_.data() + thread * 6 * span_ + kMargin, direction);
     } else {
       apply_rows<Form, Shifted>(x, v, w, u, out, begin, end,
                                 product_rows_.data() + thread * 3 * span_ + kMargin);

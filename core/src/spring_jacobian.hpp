@@ -97,7 +97,7 @@ class SpringJacobian {
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
   // The shifted definite product's rows [begin, end) by definite_row_kernel.hpp (float on
-  // AVX-512 with all six stencils); scratch: the thread's four rows of shifted ends.
+  // AVX-512 with all six stencils); scratch: the thread's two rows of shifted ends.
   void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
                      const Direction* direction) const;
   // The direction's update on grid rows [begin, end).
@@ -135,7 +135,7 @@ class SpringJacobian {
   std::size_t span_;
   mutable AlignedBuffer<Real> product_rows_;
   bool definite_kernel_ = false;              // definite_rows applies
-  mutable AlignedBuffer<Real> ends_rows_;     // per thread 4 x 3 rows of span_, for definite_rows
+  mutable AlignedBuffer<Real> ends_rows_;     // per thread 2 x 3 rows of span_, for definite_rows
   std::size_t plane_ = 0;                     // rows x cols, rounded up to 16
   mutable AlignedBuffer<Real> coefficients_;  // definite_rows: 2 planes per stencil
   struct Linearisation {
