@@ -29,9 +29,10 @@ struct DefiniteRow {
   const float* x[3];             // rows r, r + 1, r + 2 at column 0; components `stride` apart
   const float* u[3];             // likewise
   const float* inverse_mass[3];  // likewise, one component
+  const float* mass;             // row r's masses (0 where pinned)
   const float* across[6];        // per stencil, its springs' coefficients at row r (0 where none)
   const float* along[6];
-  float* out[3];         // the product's rows r, r + 1, r + 2
+  float* out[3];         // the product's rows r, r + 1, r + 2 (r: u + D u once complete)
   bool write[3];         // rows of out this call may write
   bool first[3];         // rows whose first contribution this is
   bool rows_below[2];    // rows r + 1 and r + 2 exist
@@ -71,11 +72,13 @@ inline void definite_coefficient_row(const DefiniteCoefficientRow& row) {
   }
 }
 
-// right1, right2: the (0,1) and (0,2) products of the block before (zero before the first).
+// right1, right2: the (0,1) and (0,2) products of the block before (zero before the first);
+// dot: the row's <u, q> so far, in two sets of 8 double lanes.
 template <bool Edge>
 __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow& row, std::size_t c,
                                                               __m512 (&right1)[3],
-                                                              __m512 (&right2)[3]) {
+                                                              __m512 (&right2)[3],
+                                                              __m512d (&dot)[2]) {
   using Vec3 = __m512[3];
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
   const __m512 zero = _mm512_setzero_ps();
@@ -168,18 +171,47 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
       put(row.out[2], true, product);
     }
   }
-  if (row.write[0]) put(row.out[0], row.first[0], own);
+  if (!row.write[0]) return;
+  // Row r is complete now (the rows above added theirs before): out = q = u + M^-1 (sum), u
+  // being 0 and M^-1 0 on pinned particles, and the block's m u.q into the row's dot.
+  const __m512 inverse_mass = _mm512_maskz_loadu_ps(all, row.inverse_mass[0] + c);
+  __m512 u_dot_q = zero;
+  for (std::size_t k = 0; k < 3; ++k) {
+    float* q = row.out[0] + c + k * stride;
+    const __m512 sum = row.first[0] ? own[k] : own[k] + _mm512_maskz_loadu_ps(all, q);
+    const __m512 value = u[k] + inverse_mass * sum;
+    u_dot_q = u_dot_q + u[k] * value;
+    if constexpr (Edge) {
+      _mm512_mask_storeu_ps(q, all, value);
+    } else {
+      _mm512_storeu_ps(q, value);
+    }
+  }
+  const __m512 term = _mm512_maskz_loadu_ps(all, row.mass + c) * u_dot_q;
+  // maskz forms: the plain ones' headers (and _mm512_castps512_ps256's) trip GCC 12's
+  // -Wmaybe-uninitialized.
+  const __m512d terms = _mm512_castps_pd(term);
+  dot[0] = dot[0] + _mm512_maskz_cvtps_pd(
+                        0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, terms, 0)));
+  dot[1] = dot[1] + _mm512_maskz_cvtps_pd(
+                        0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, terms, 1)));
 }
 
-// One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns).
-inline void definite_row(const DefiniteRow& row) {
+// One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns); with
+// write[0], row r's shifted product q = u + D u is final and the return value is its <u, q>.
+inline double definite_row(const DefiniteRow& row) {
   const std::size_t cols = row.cols;
   __m512 right1[3], right2[3];
   for (std::size_t k = 0; k < 3; ++k) right1[k] = right2[k] = _mm512_setzero_ps();
+  __m512d dot[2] = {_mm512_setzero_pd(), _mm512_setzero_pd()};
   std::size_t c = 0;
-  definite_row_block<true>(row, c, right1, right2);
-  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c, right1, right2);
-  for (; c < cols; c += 16) definite_row_block<true>(row, c, right1, right2);
+  definite_row_block<true>(row, c, right1, right2, dot);
+  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c, right1, right2, dot);
+  for (; c < cols; c += 16) definite_row_block<true>(row, c, right1, right2, dot);
+  alignas(64) double lanes[8];  // summed in a fixed order (_mm512_reduce_add_pd trips GCC 12)
+  _mm512_store_pd(lanes, dot[0] + dot[1]);
+  return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) +
+         ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
 }
 
 // The scratch rows' partner ends after the sweep: row r + 1 gets those of (1,1) and (1,-1)

@@ -318,11 +318,12 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
         job.across[s] = across_plane(s) + row * cols_;
         job.along[s] = along_plane(s) + row * cols_;
       }
+      job.mass = mass_.data() + row * cols_;
       job.rows_below[0] = row + 1 < rows_;
       job.rows_below[1] = row + 2 < rows_;
-      definite_row(job);
+      const double dot = definite_row(job);
       definite_row_shifted_ends(job);
-      if (row >= begin) finish_shifted_row(u, out, row, scratch);
+      if (row >= begin) row_dots_[row] = dot;
     }
     return;
   }
