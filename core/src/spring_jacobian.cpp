@@ -293,11 +293,11 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
   if constexpr (std::is_same_v<Real, float>) {
     const std::size_t head_end = std::min(begin + 2, end);
     const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
-    if (direction != nullptr) {
+    if (direction != nullptr) {  // the same on every thread of the team
       direction_rows(*direction, u, begin, head_end);
       direction_rows(*direction, u, tail_begin, end);
-    }
 #pragma omp barrier
+    }
     std::size_t updated = head_end;  // interior rows [head_end, updated) are done
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
