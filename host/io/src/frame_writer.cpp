@@ -95,6 +95,7 @@ struct FrameWriter::Impl {
   std::vector<double> decoded;
   double writing_s = 0;  // time spent writing frames, for run.json
   Frame frame;
+  VtpFile vtp_file;
   std::thread thread;
 
   Impl(const Scene& scene, Precision precision, FrameWriterOptions options_in)
@@ -127,9 +128,8 @@ struct FrameWriter::Impl {
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
-      io::write_file_atomically(
-          options.dir / name, [&](std::ostream& out) { write_vtp(out, topology, frame); },
-          frame_durability);
+      compose_vtp(vtp_file, topology, frame);
+      io::write_file_atomically(options.dir / name, vtp_file.pieces, frame_durability);
       index.push_back({frame.time, name});
       io::write_file_atomically(
           options.dir / "frames.pvd", [&](std::ostream& out) { write_pvd(out, index); },
