@@ -139,11 +139,23 @@ double ascii_value(const std::string& text, const std::string& name,
 }  // namespace
 
 VtpTopology vtp_topology(const GridMesh& mesh) {
-  const std::vector<int32_t> connectivity = mesh.triangles();
-  std::vector<int32_t> offsets(mesh.triangle_count());
-  for (size_t i = 0; i < offsets.size(); ++i) offsets[i] = static_cast<int32_t>(3 * (i + 1));
+  // Row r's cells as one strip r*cols, (r+1)*cols, r*cols+1, (r+1)*cols+1, ...: VTK takes
+  // its triangles as (a, d, b), (b, d, d+1), ... (every other one turned), the same
+  // counter-clockwise triangles as GridMesh::triangles() in 2*cols indices instead of
+  // 6*(cols-1) and an offset per row instead of one per triangle.
+  std::vector<int32_t> connectivity, offsets;
+  if (mesh.triangle_count() > 0) {
+    connectivity.reserve(2 * mesh.vertex_count());
+    for (uint32_t r = 0; r + 1 < mesh.rows; ++r) {
+      for (uint32_t c = 0; c < mesh.cols; ++c) {
+        const auto top = static_cast<int32_t>(r * mesh.cols + c);
+        connectivity.insert(connectivity.end(), {top, top + static_cast<int32_t>(mesh.cols)});
+      }
+      offsets.push_back(static_cast<int32_t>(connectivity.size()));
+    }
+  }
   VtpTopology topology;
-  topology.triangles = mesh.triangle_count();
+  topology.strips = offsets.size();
   topology.connectivity_bytes = sizeof(ArrayHeader) + bytes_of(connectivity).size();
   append_header(topology.appended, bytes_of(connectivity).size());
   topology.appended += bytes_of(connectivity);
@@ -166,9 +178,9 @@ void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame)
   field(text, "energy_total", frame.energy.total());
   text += "    </FieldData>\n    <Piece NumberOfPoints=\"";
   text += std::to_string(frame.positions.size() / 3);
-  text += "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"";
-  text += std::to_string(topology.triangles);
-  text += "\">\n      <PointData Scalars=\"stretch\" Vectors=\"velocity\">\n";
+  text += "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"";
+  text += std::to_string(topology.strips);
+  text += "\" NumberOfPolys=\"0\">\n      <PointData Scalars=\"stretch\" Vectors=\"velocity\">\n";
   // The frame's arrays in the order they follow the '_', then the topology's.
   const std::string_view arrays[] = {bytes_of(frame.velocities), bytes_of(frame.stretch),
                                      bytes_of(frame.positions)};
@@ -182,10 +194,10 @@ void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame)
   declare(text, "Float32", "stretch", 1, next(arrays[1]));
   text += "      </PointData>\n      <Points>\n";
   declare(text, "Float32", "Points", 3, next(arrays[2]));
-  text += "      </Points>\n      <Polys>\n";
+  text += "      </Points>\n      <Strips>\n";
   declare(text, "Int32", "connectivity", 1, offset);
   declare(text, "Int32", "offsets", 1, offset + topology.connectivity_bytes);
-  text += "      </Polys>\n    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _";
+  text += "      </Strips>\n    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _";
   // The array headers and the closing tags go after the XML in the same buffer; the pieces
   // point into it once it no longer grows.
   const size_t xml_end = text.size();
@@ -223,7 +235,18 @@ Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
   if (frame.velocities.size() != frame.positions.size() ||
       frame.stretch.size() * 3 != frame.positions.size())
     throw std::runtime_error(path.string() + ": point data sizes do not match the points");
-  if (triangles) *triangles = appended_values<int32_t>(text, "offsets", path).size();
+  if (triangles) {
+    // A strip of n points holds n - 2 triangles.
+    const std::vector<int32_t> ends = appended_values<int32_t>(text, "offsets", path);
+    *triangles = 0;
+    int32_t begin = 0;
+    for (const int32_t end : ends) {
+      if (end - begin < 3)
+        throw std::runtime_error(path.string() + ": a triangle strip of fewer than 3 points");
+      *triangles += static_cast<uint64_t>(end - begin - 2);
+      begin = end;
+    }
+  }
   return frame;
 }
 
