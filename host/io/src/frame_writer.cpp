@@ -7,6 +7,7 @@
 #include <clothlab/io/frame_writer.hpp>
 #include <condition_variable>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -46,6 +47,12 @@ constexpr const char* pc2_staging_name = ".frames.pc2.partial";
 // Frames many times a second: atomic renames without fsync (a run that stops, however it
 // stops, leaves whole files); run.json and the point cache, written once or twice, are synced.
 constexpr Durability frame_durability = Durability::Renamed;
+
+double thread_cpu_s() {
+  timespec now{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 // frame_NNNNNN.vtp or .obj (six digits or more), frames.pvd, frames.pc2 or the staging file.
 bool is_frame_file(std::string_view name) {
@@ -93,7 +100,9 @@ struct FrameWriter::Impl {
   std::vector<CollectionEntry> index;
   std::ofstream pc2_staging;
   std::vector<double> decoded;
-  double writing_s = 0;  // time spent writing frames, for run.json
+  double writing_s = 0;      // wall time spent writing frames, for run.json
+  double writing_cpu_s = 0;  // the writer thread's CPU time for them: what it takes from the
+                             // stepping threads when every core steps
   Frame frame;
   VtpFile vtp_file;
   std::thread thread;
@@ -162,9 +171,11 @@ struct FrameWriter::Impl {
       if (!failed) {
         try {
           const auto start = std::chrono::steady_clock::now();
+          const double cpu_start = thread_cpu_s();
           write(ring[slot]);
           writing_s +=
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          writing_cpu_s += thread_cpu_s() - cpu_start;
         } catch (...) {
           std::lock_guard lock(mutex);
           failure = std::current_exception();
@@ -280,10 +291,12 @@ void FrameWriter::finish(const nlohmann::json& summary) {
   if (impl.pc2) impl.write_point_cache();
   nlohmann::json run = impl.options.run;
   run["status"] = "finished";
-  run["frames"] = {{"every_steps", impl.options.every_steps},
-                   {"formats", impl.options.formats},
-                   {"written", impl.frames},
-                   {"writer_s_per_frame", impl.frames ? impl.writing_s / impl.frames : 0.0}};
+  run["frames"] = {
+      {"every_steps", impl.options.every_steps},
+      {"formats", impl.options.formats},
+      {"written", impl.frames},
+      {"writer_s_per_frame", impl.frames ? impl.writing_s / impl.frames : 0.0},
+      {"writer_cpu_s_per_frame", impl.frames ? impl.writing_cpu_s / impl.frames : 0.0}};
   run["summary"] = summary;
   impl.write_run_json(run);
 }
