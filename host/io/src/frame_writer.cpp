@@ -99,7 +99,6 @@ struct FrameWriter::Impl {
   uint64_t frames = 0;
   std::vector<CollectionEntry> index;
   std::ofstream pc2_staging;
-  std::vector<double> decoded;
   double writing_s = 0;      // wall time spent writing frames, for run.json
   double writing_cpu_s = 0;  // the writer thread's CPU time for them: what it takes from the
                              // stepping threads when every core steps
@@ -128,10 +127,8 @@ struct FrameWriter::Impl {
     frame.step = snapshot.step;
     frame.time = snapshot.time;
     energy_cloth.set_raw_state(snapshot.state);
-    energy_cloth.positions(decoded);
-    frame.positions.assign(decoded.begin(), decoded.end());
-    energy_cloth.velocities(decoded);
-    frame.velocities.assign(decoded.begin(), decoded.end());
+    energy_cloth.positions(frame.positions);
+    energy_cloth.velocities(frame.velocities);
     compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
     const Cloth::Energy energy = energy_cloth.energy();
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
