@@ -7,4 +7,4 @@ build="build-portable"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCLOTHLAB_NATIVE=OFF \
   -DCLOTHLAB_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)"
-ctest --test-dir "$build" --output-on-failure -j "$(nproc)" "$@"
+ctest --test-dir "$build" --output-on-failure --timeout 300 -j "$(nproc)" "$@"

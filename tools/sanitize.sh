@@ -13,7 +13,7 @@ cmake --build "$build" -j2
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 log="$build/sanitize-ctest.log"
 status=0
-ctest --test-dir "$build" --output-on-failure -j2 "$@" >"$log" 2>&1 || status=$?
+ctest --test-dir "$build" --output-on-failure --timeout 900 -j2 "$@" >"$log" 2>&1 || status=$?
 summary=$(grep -E "tests passed|No tests were found" "$log" | tail -n 1 || true)
 echo "sanitize: ${summary:-no ctest summary}; ctest exit status $status; log $log"
 if [ "$status" -ne 0 ]; then

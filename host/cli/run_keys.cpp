@@ -145,7 +145,7 @@ const KeyInfo keys[] = {
     {"stability.energy_margin", T::PositiveReal, 0, 1e12, "", nullptr, "1",
      "energy gain allowed, in units of the cloth's energy scale", nullptr,
      [](RunConfig& c, const KeyValue& v) { c.energy_margin = v.number; }},
-    {"find_max_dt.tolerance", T::Real, 1e-6, 1, "", nullptr, "0.02",
+    {"find_max_dt.tolerance", T::Real, 1e-6, 0.5, "", nullptr, "0.02",
      "--find-max-dt: relative width of the final bracket", nullptr,
      [](RunConfig& c, const KeyValue& v) { c.search_tolerance = v.number; }},
     {"find_max_dt.dt_min", T::PositiveReal, 0, max_dt_s, "s", nullptr, "1e-07",

@@ -11,56 +11,35 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 
-#include "scratch_vectors.hpp"
+#include "fused_rkn_integrator.hpp"
 
 namespace clothlab::builtin {
 
-struct ClassicRungeKutta4 {
+inline constexpr double sixth = 1.0 / 6.0, third = 1.0 / 3.0;
+inline constexpr sdk::RknScheme<4> classic_rk4{
+    {0.0, 0.5, 0.5, 1.0},  // c
+    {0.0, 0.5, 0.5, 1.0},  // alpha
+    {0.0, 0.0, 0.0, 0.0,   // x coupling: X3 gets h^2/4 a1, X4 h^2/2 a2
+     0.0, 0.0, 0.0, 0.0,   //
+     0.25, 0.0, 0.0, 0.0,  //
+     0.0, 0.5, 0.0, 0.0},
+    {0.0, 0.0, 0.0, 0.0,  // v coupling: V2 = v + h/2 a1, V3 = v + h/2 a2, V4 = v + h a3
+     0.5, 0.0, 0.0, 0.0,  //
+     0.0, 0.5, 0.0, 0.0,  //
+     0.0, 0.0, 1.0, 0.0},
+    {sixth, sixth, sixth, 0.0},     // x weights
+    {sixth, third, third, sixth}};  // v weights
+
+struct ClassicRungeKutta4 : FusedRknIntegrator<classic_rk4> {
   static constexpr const char* id = "rk4";
   static constexpr const char* name = "Classic Runge-Kutta (RK4)";
   static constexpr const char* version = "1.0.0";
   static constexpr const char* description =
       "Classic fourth-order Runge-Kutta on (x, v); fourth order, four force evaluations";
   static constexpr uint32_t order = 4;
-  static constexpr uint32_t evals_per_step = 4;
-  static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
   static constexpr std::array<clothlab_param_spec, 0> params{};
 
   explicit ClassicRungeKutta4(const sdk::Params&) {}
-
-  static constexpr double sixth = 1.0 / 6.0, third = 1.0 / 3.0;
-  static constexpr sdk::RknScheme<4> scheme{
-      {0.0, 0.5, 0.5, 1.0},  // c
-      {0.0, 0.5, 0.5, 1.0},  // alpha
-      {0.0, 0.0, 0.0, 0.0,   // x coupling: X3 gets h^2/4 a1, X4 h^2/2 a2
-       0.0, 0.0, 0.0, 0.0,   //
-       0.25, 0.0, 0.0, 0.0,  //
-       0.0, 0.5, 0.0, 0.0},
-      {0.0, 0.0, 0.0, 0.0,  // v coupling: V2 = v + h/2 a1, V3 = v + h/2 a2, V4 = v + h a3
-       0.5, 0.0, 0.0, 0.0,  //
-       0.0, 0.5, 0.0, 0.0,  //
-       0.0, 0.0, 1.0, 0.0},
-      {sixth, sixth, sixth, 0.0},     // x weights
-      {sixth, third, third, sixth}};  // v weights
-  // Declared as data: the host derives the cost and the stability limit from the table.
-  static constexpr clothlab_rkn_scheme raw_scheme = scheme.raw();
-  static constexpr clothlab_explicit_scheme explicit_scheme = sdk::explicit_scheme_of(raw_scheme);
-
-  template <class Real>
-  void prepare(sdk::System<Real>& system) {
-    prepared_for_.allocate(system);
-    system.reserve_rkn(4);
-  }
-
-  template <class Real>
-  void step(sdk::System<Real>& system, double t, double h) {
-    (void)prepared_for_.bind(system);
-    if (h == 0.0) return;
-    system.step_rkn(t, h, scheme);
-  }
-
- private:
-  ScratchVectors<0> prepared_for_;  // no vectors: remembers the system
 };
 
 }  // namespace clothlab::builtin

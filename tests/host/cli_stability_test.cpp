@@ -108,6 +108,15 @@ TEST_F(ClothlabStability, BadMonitorSettingIsRejected) {
   EXPECT_NE(outcome.err.find("stability.max_stretch = 0.5"), std::string::npos) << outcome.err;
 }
 
+// The key table's range is the one the search accepts: a width it would refuse is caught as
+// bad input with the allowed range, before any probe runs.
+TEST_F(ClothlabStability, SearchToleranceOutsideTheSearchsRangeIsBadInput) {
+  const Outcome outcome = run(tiny_sheet + "--find-max-dt --set find_max_dt.tolerance=1");
+  EXPECT_EQ(outcome.exit_code, 1) << outcome.err;
+  EXPECT_NE(outcome.err.find("--set: find_max_dt.tolerance = 1: out of range"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.err.find("allowed: real in [1e-06, 0.5]"), std::string::npos) << outcome.err;
+}
+
 const std::string four_case_sweep = R"(scenario: {rows: 5, cols: 5}
 duration: 0.05
 sweep:

@@ -154,6 +154,24 @@ TEST(RunKeys, EveryDefaultIsAllowedByItsOwnKey) {
   EXPECT_EQ(defaults.integrator_source, "default integrator.plugin");
 }
 
+// The choose.* defaults in the table (the ones --help shows and the CLI applies) are the search
+// library's own, so a program calling sweep::choose_integrators searches as `--choose` does.
+TEST(RunKeys, ChooseDefaultsAreTheSearchLibrarysDefaults) {
+  const sweep::ChoiceSettings library;
+  const sweep::ChoiceSettings table = resolve_run_config({}).choice;
+  EXPECT_EQ(table.duration, library.duration);
+  EXPECT_EQ(table.error_duration, library.error_duration);
+  EXPECT_EQ(table.stretch_limit, library.stretch_limit);
+  EXPECT_EQ(table.error_tolerance, library.error_tolerance);
+  EXPECT_EQ(table.max_substeps, library.max_substeps);
+  EXPECT_EQ(table.max_iterations, library.max_iterations);
+  EXPECT_EQ(table.probe_timeout_s, library.probe_timeout_s);
+  EXPECT_EQ(table.stop_factor, library.stop_factor);
+  EXPECT_EQ(table.reference_substeps, library.reference_substeps);
+  EXPECT_EQ(table.reference_integrator, library.reference_integrator);
+  EXPECT_EQ(table.error_mesh, library.error_mesh);
+}
+
 TEST(RunKeys, UnknownKeyListsTheTableAndSuggestsTheNearest) {
   std::string valid;
   for (const KeyInfo& info : run_keys())

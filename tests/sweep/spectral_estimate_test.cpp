@@ -18,9 +18,10 @@ struct SingleSpring {
   alignas(64) std::array<double, 3 * kStride> v{};
   std::array<double, 2> inverse_mass{0.0, 1.0 / kMass};
   clothlab_range active{1, 2};
+  double damping_coefficient;  // kd, N s/m
   clothlab_system system{};
 
-  SingleSpring() {
+  explicit SingleSpring(double kd = kDampingCoefficient) : damping_coefficient(kd) {
     x[1] = kRest;
     system.struct_size = sizeof(clothlab_system);
     system.precision = CLOTHLAB_FLOAT64;
@@ -31,11 +32,14 @@ struct SingleSpring {
     system.inverse_mass = inverse_mass.data();
     system.active = &active;
     system.active_count = 1;
+    system.context = &damping_coefficient;
     system.eval_acceleration = &acceleration;
   }
 
   // Hooke + damping along the spring + gravity (which the linearisation must cancel).
-  static clothlab_status acceleration(void*, double, const void* xp, const void* vp, void* ap) {
+  static clothlab_status acceleration(void* context, double, const void* xp, const void* vp,
+                                      void* ap) {
+    const double kd = *static_cast<const double*>(context);
     const auto* x = static_cast<const double*>(xp);
     const auto* v = static_cast<const double*>(vp);
     auto* a = static_cast<double*>(ap);
@@ -47,7 +51,7 @@ struct SingleSpring {
     length = std::sqrt(length);
     double closing = 0.0;
     for (int k = 0; k < 3; ++k) closing += (v[k * kStride + 1] - v[k * kStride]) * d[k] / length;
-    const double tension = kStiffness * (length - kRest) + kDampingCoefficient * closing;
+    const double tension = kStiffness * (length - kRest) + kd * closing;
     for (int k = 0; k < 3; ++k) {
       a[k * kStride] = 0.0;
       a[k * kStride + 1] = -tension * d[k] / length / kMass + (k == 1 ? -9.81 : 0.0);
@@ -85,6 +89,32 @@ TEST(SpectralEstimate, PredictedDtMaxOnTheSpringMatchesTheory) {
   EXPECT_NEAR(predict_dt_max(Method::ExplicitEuler, estimate), c / omega2, 1e-4 * c / omega2);
   const double symplectic = (-c + std::sqrt(c * c + 4.0 * omega2)) / omega2;
   EXPECT_NEAR(predict_dt_max(Method::SymplecticEuler, estimate), symplectic, 1e-4 * symplectic);
+}
+
+// Overdamped (c^2 > 4 w^2): the first-order system's outer eigenvalue is real, and the mode
+// behind it keeps its slow root. Symplectic Euler (one-stage table) is stable while
+// h^2 w^2 + 2 h c <= 4; read as a double root, the fast root alone gives about half that h.
+TEST(SpectralEstimate, AnOverdampedModeKeepsBothRootsInTheTablesPrediction) {
+  constexpr double kHeavyDamping = 10.0;
+  SingleSpring spring(kHeavyDamping);
+  const SpectralEstimate estimate = estimate_spectrum(spring.system, 0.0);
+  const double omega2 = kStiffness / kMass;
+  const double c = kHeavyDamping / kMass;
+  ASSERT_GT(c * c, 4.0 * omega2);
+  EXPECT_NEAR(estimate.dominant_eigenvalue.real(), -c / 2.0 - std::sqrt(c * c / 4.0 - omega2),
+              1e-6 * c);
+  ASSERT_EQ(estimate.outer_modes.size(), estimate.outer_eigenvalues.size());
+  ASSERT_FALSE(estimate.outer_modes.empty());
+  EXPECT_NEAR(estimate.outer_modes.front().omega_squared, omega2, 1e-6 * omega2);
+  EXPECT_NEAR(estimate.outer_modes.front().damping_rate, c, 1e-6 * c);
+
+  RknTable symplectic_euler;
+  symplectic_euler.stages = 1;
+  symplectic_euler.c = symplectic_euler.alpha = {0.0};
+  symplectic_euler.x_coupling = symplectic_euler.v_coupling = {0.0};
+  symplectic_euler.x_weights = symplectic_euler.v_weights = {1.0};
+  const double expected = (-c + std::sqrt(c * c + 4.0 * omega2)) / omega2;
+  EXPECT_NEAR(predict_dt_max(symplectic_euler, estimate, true), expected, 1e-3 * expected);
 }
 
 TEST(SpectralEstimate, RejectsFloat32Systems) {

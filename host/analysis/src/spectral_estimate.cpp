@@ -90,13 +90,18 @@ struct RitzValue {
   Eigen::VectorXcd coefficients;
 };
 
+struct ArnoldiResult {
+  std::vector<RitzValue> ritz;  // largest modulus first
+  std::vector<Vector> basis;  // of the last restart: Ritz vector i is basis * ritz[i].coefficients
+};
+
 // Explicitly restarted Arnoldi, restarting from the real part of the dominant Ritz vector.
-std::vector<RitzValue> arnoldi(FirstOrderOperator& op, Vector start,
-                               const SpectralOptions& options) {
+ArnoldiResult arnoldi(FirstOrderOperator& op, Vector start, const SpectralOptions& options) {
   const int m = std::max(2, options.krylov_dimension);
   std::vector<RitzValue> ritz;
+  std::vector<Vector> basis;
   for (int restart = 0; restart <= options.arnoldi_restarts; ++restart) {
-    std::vector<Vector> basis;
+    basis.clear();
     Eigen::MatrixXd hessenberg = Eigen::MatrixXd::Zero(m + 1, m);
     scale(start, 1.0 / std::sqrt(op.dot(start, start)));
     basis.push_back(start);
@@ -141,7 +146,39 @@ std::vector<RitzValue> arnoldi(FirstOrderOperator& op, Vector start,
       for (std::size_t k = 0; k < start.size(); ++k) start[k] += weight * basis[i][k];
     }
   }
-  return ritz;
+  return {std::move(ritz), std::move(basis)};
+}
+
+// The oscillator x'' = -w^2 x - c x' behind a Ritz pair: the Rayleigh quotients of J_x and J_v
+// on the position part p = a + ib of its vector. For an eigenvector of the first-order system
+// its eigenvalue is a root of s^2 + c s + w^2 = 0 with these (w^2, c), so an overdamped mode
+// keeps its slow root: one real Ritz value alone, read as a double root, is a more damped mode
+// than the cloth has (it halved symplectic Euler's predicted limit on the flag).
+DampedMode mode_of(LinearisedSystem& lin, const ArnoldiResult& arnoldi,
+                   const Eigen::VectorXcd& coefficients) {
+  const std::size_t n = lin.vector_size();
+  Vector a(n, 0.0), b(n, 0.0), image(n);
+  for (Eigen::Index i = 0; i < coefficients.size(); ++i) {
+    const Vector& basis = arnoldi.basis[static_cast<std::size_t>(i)];
+    for (std::size_t k = 0; k < n; ++k) {
+      a[k] += coefficients(i).real() * basis[k];
+      b[k] += coefficients(i).imag() * basis[k];
+    }
+  }
+  const double norm = lin.dot(a, a) + lin.dot(b, b);
+  if (norm == 0.0) return {};
+  auto quotient = [&](auto apply) {
+    double sum = 0.0;
+    for (const Vector* part : {&a, &b}) {
+      apply(*part, image);
+      sum += lin.dot(*part, image);
+    }
+    return -sum / norm;
+  };
+  return {
+      std::max(0.0, quotient([&](const Vector& u, Vector& out) { lin.position_jacobian(u, out); })),
+      std::max(0.0,
+               quotient([&](const Vector& u, Vector& out) { lin.velocity_jacobian(u, out); }))};
 }
 
 }  // namespace
@@ -176,13 +213,14 @@ SpectralEstimate estimate_spectrum(const clothlab_system& system, double t,
   const Vector p = random_active_vector(lin, random), q = random_active_vector(lin, random);
   std::copy(p.begin(), p.end(), start.begin());
   std::copy(q.begin(), q.end(), start.begin() + static_cast<std::ptrdiff_t>(p.size()));
-  const auto ritz = arnoldi(op, std::move(start), options);
-  estimate.dominant_eigenvalue = ritz.front().value;
+  const ArnoldiResult outer = arnoldi(op, std::move(start), options);
+  estimate.dominant_eigenvalue = outer.ritz.front().value;
   // Only the outer part of the spectrum converges; slow modes near the origin are left out.
   const double outer_radius = 0.1 * std::abs(estimate.dominant_eigenvalue);
-  for (const RitzValue& value : ritz) {
+  for (const RitzValue& value : outer.ritz) {
     if (value.residual <= 1e-3 * std::abs(value.value) && std::abs(value.value) >= outer_radius) {
       estimate.outer_eigenvalues.push_back(value.value);
+      estimate.outer_modes.push_back(mode_of(lin, outer, value.coefficients));
     }
   }
   estimate.acceleration_evaluations = lin.acceleration_evaluations();
@@ -215,8 +253,7 @@ double predict_dt_max(const RknTable& table, const SpectralEstimate& estimate,
   }
   double dt_max = std::min(predicted_dt_max(table, estimate.stiffest_mode, true),
                            predicted_dt_max(table, estimate.most_damped_mode, true));
-  for (const Complex& eigenvalue : estimate.outer_eigenvalues) {
-    const DampedMode mode{std::norm(eigenvalue), -2.0 * std::min(eigenvalue.real(), 0.0)};
+  for (const DampedMode& mode : estimate.outer_modes) {
     dt_max = std::min(dt_max, predicted_dt_max(table, mode, true));
   }
   return dt_max;

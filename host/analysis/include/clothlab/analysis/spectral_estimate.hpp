@@ -29,6 +29,9 @@ struct SpectralEstimate {
   // Arnoldi on the first-order system [[0, I], [J_x, J_v]]: the converged outer eigenvalues
   // (relative residual <= 1e-3, modulus >= 0.1 of the largest), largest first, and the dominant.
   std::vector<std::complex<double>> outer_eigenvalues;
+  // The oscillator (w^2, c) of each outer eigenvalue's mode, in the same order: the Rayleigh
+  // quotients of -J_x and -J_v on its eigenvector's position part (negative values as 0).
+  std::vector<DampedMode> outer_modes;
   std::complex<double> dominant_eigenvalue;
   bool power_iterations_converged = false;
   uint64_t acceleration_evaluations = 0;
@@ -49,9 +52,9 @@ SpectralEstimate estimate_spectrum(const clothlab_system& system, double t,
 double predict_dt_max(Method method, const SpectralEstimate& estimate,
                       const VerletDamping& verlet = {});
 // The same for a declared table: the smallest limit over the stiffest and the most damped
-// mode and every outer eigenvalue lambda, taken as the mode with roots lambda and its
-// conjugate (w^2 = |lambda|^2, c = -2 Re lambda, a positive real part as 0). Without velocity
-// forces only the stiffest mode, undamped, counts: the integrator sees no damping.
+// mode and every outer mode (outer_modes: for an underdamped mode w^2 = |lambda|^2 and
+// c = -2 Re lambda; an overdamped one keeps both of its real roots). Without velocity forces
+// only the stiffest mode, undamped, counts: the integrator sees no damping.
 double predict_dt_max(const RknTable& table, const SpectralEstimate& estimate,
                       bool velocity_forces);
 
