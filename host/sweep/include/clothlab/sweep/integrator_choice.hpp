@@ -19,7 +19,9 @@
 // pass, and substep counts grow until the cost per frame stops improving. Cost = median wall
 // time per frame of the run at the scene's mesh. A probe's runs go cheapest first, and a
 // setting that fails one needs none of the later ones: its first 5 frames at the scene's mesh
-// (only once a best exists, below), the error run (error mesh, error T), the run over T.
+// (only once a best exists, below), the error run (error mesh, error T), the run over T. The
+// runs at the scene's mesh carry stability.stretch_stop = stretch_limit: the stretch over a run
+// only grows, so a run ends at the first check past the limit, failing the probe there.
 // Early stops, each reported in the probe's row and the integrator's verdict:
 //   - cost budget: once some setting of any integrator passed (the best so far), a setting
 //     whose first 5 frames cost over stop_factor x the best's ms/frame (median) is "slower
