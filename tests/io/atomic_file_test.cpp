@@ -68,6 +68,23 @@ TEST_F(AtomicFile, WritesTheWholeFileAndLeavesNoTemporary) {
   EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
 }
 
+// A file given as pieces (a .vtp: XML, array headers, arrays where they lie) is their
+// concatenation, empty pieces and more pieces than one writev() takes included.
+TEST_F(AtomicFile, PiecesAreWrittenOneAfterAnother) {
+  std::vector<std::string> texts;
+  std::string expected;
+  for (int i = 0; i < 200; ++i) {
+    texts.push_back(i % 7 == 0 ? std::string() : std::string(static_cast<size_t>(i), 'a' + i % 26));
+    expected += texts.back();
+  }
+  texts.push_back(std::string(3 << 20, 'z'));  // larger than a pipe or page, one piece
+  expected += texts.back();
+  const std::vector<std::string_view> pieces(texts.begin(), texts.end());
+  write_file_atomically(folder_ / "pieces.bin", pieces, clothlab::io::Durability::Renamed);
+  EXPECT_EQ(read_text(folder_ / "pieces.bin"), expected);
+  EXPECT_EQ(names(), std::vector<std::string>{"pieces.bin"});
+}
+
 // Without fsync (frames) the same guarantees hold for readers and a killed writer: a whole
 // new file, no temporary, and a target that is not a regular file refused.
 TEST_F(AtomicFile, RenamedWritesAreWholeAndRefuseWhatSyncedWritesRefuse) {

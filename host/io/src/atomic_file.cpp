@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -56,13 +57,29 @@ std::optional<mode_t> existing_mode(const fs::path& path) {
   return status.st_mode & 07777;
 }
 
-bool write_all(int fd, std::string_view bytes) {
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+// writev() of every piece, resumed after short writes and interruptions.
+bool write_all(int fd, std::span<const std::string_view> pieces) {
+  constexpr size_t batch = 64;  // far below IOV_MAX (1024 on Linux)
+  size_t piece = 0, done = 0;   // bytes of pieces[piece] already written
+  while (piece < pieces.size()) {
+    iovec vectors[batch];
+    size_t count = 0;
+    for (size_t i = piece; i < pieces.size() && count < batch; ++i) {
+      const size_t skip = i == piece ? done : 0;
+      if (pieces[i].size() == skip) continue;
+      vectors[count++] = {const_cast<char*>(pieces[i].data()) + skip, pieces[i].size() - skip};
+    }
+    if (count == 0) return true;
+    const ssize_t n = ::writev(fd, vectors, static_cast<int>(count));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return false;
-    written += static_cast<size_t>(n);
+    auto left = static_cast<size_t>(n);
+    while (piece < pieces.size() && left >= pieces[piece].size() - done) {
+      left -= pieces[piece].size() - done;
+      ++piece;
+      done = 0;
+    }
+    done += left;
   }
   return true;
 }
@@ -120,6 +137,11 @@ void check_output_path(const fs::path& path) {
 }
 
 void write_file_atomically(const fs::path& path, std::string_view bytes, Durability durability) {
+  write_file_atomically(path, std::span<const std::string_view>(&bytes, 1), durability);
+}
+
+void write_file_atomically(const fs::path& path, std::span<const std::string_view> pieces,
+                           Durability durability) {
   const std::optional<mode_t> mode = existing_mode(path);
   remove_stale_temporaries(path);
   fs::path temporary;
@@ -130,7 +152,7 @@ void write_file_atomically(const fs::path& path, std::string_view bytes, Durabil
     fail(path, why);
   };
   if (mode && ::fchmod(fd, *mode) != 0) abandon(std::strerror(errno));
-  if (!write_all(fd, bytes)) abandon(std::strerror(errno));
+  if (!write_all(fd, pieces)) abandon(std::strerror(errno));
   if (durability == Durability::Synced && ::fsync(fd) != 0) abandon(std::strerror(errno));
   if (::close(fd) != 0) {
     const int close_error = errno;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <ostream>
+#include <span>
 #include <stdexcept>
 #include <string_view>
 
@@ -35,6 +36,11 @@ void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(std::ostream&)>& write,
                            Durability durability = Durability::Synced);
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes,
+                           Durability durability = Durability::Synced);
+// The file is the pieces one after another, handed to the kernel as they lie in memory
+// (writev): no copy in between, for large binary files assembled from arrays.
+void write_file_atomically(const std::filesystem::path& path,
+                           std::span<const std::string_view> pieces,
                            Durability durability = Durability::Synced);
 
 // Throws WriteError unless path could be written now: its folder exists, is a folder and is
