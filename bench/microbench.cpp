@@ -1,21 +1,25 @@
 // Google Benchmark microbenchmarks: each force stage and a whole step per integrator,
 // fast core vs the seed-style reference, over mesh sizes 50^2 ... 1000^2 (float32); and the
 // cost units of the implicit and position-based methods at 300 x 300 on 1 and 2 threads
-// beside one explicit force evaluation: a CG iteration on the host extensions and an XPBD
+// beside one explicit force evaluation: an iteration of implicit_euler's CG and an XPBD
 // substep. Run by hand (tools/bench.sh --micro); never part of CTest timing.
 #include <benchmark/benchmark.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
 
+#include <array>
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/sdk.hpp>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bench_setup.hpp"
+#include "block_jacobi_cg.hpp"
 #include "reference_forces.hpp"
 
 namespace clothlab::bench {
@@ -149,54 +153,74 @@ void force_evaluation(benchmark::State& state) {
   }
 }
 
-// One preconditioner-free CG iteration of a linearised backward-Euler step on the host
-// extensions, in the mass inner product as implicit_euler: q = p - J p (one jacobian apply,
-// c_x = h^2, c_v = h, and a lincomb), two mass dot products, x += alpha p, r -= alpha q,
-// p = r + beta p. A genuine solve (the vectors stay in range), restarted every 20 iterations
-// outside the timing.
-void cg_iteration(benchmark::State& state) {
-  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
-  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, static_cast<int>(state.range(1))});
-  const clothlab_system& system = cloth.system();
-  const auto* jacobian = static_cast<const clothlab_jacobian_extension*>(
-      system.get_extension(system.context, CLOTHLAB_EXT_JACOBIAN));
-  const auto* reductions = static_cast<const clothlab_reductions_extension*>(
-      system.get_extension(system.context, CLOTHLAB_EXT_REDUCTIONS));
-  if (jacobian == nullptr || reductions == nullptr || jacobian->reserve(system.context) != 0) {
-    state.SkipWithError("the host lacks the jacobian or reductions extension");
+// implicit_euler's CG (block_jacobi_cg.hpp, the plugin's own code, definite matrix as the
+// plugin's default, fused host sweeps where offered and `fused`) on the 300 x 300 flag at
+// h = 1/60 s from rest, right-hand side h a0, on state.range(1) threads.
+class CgSolve {
+ public:
+  CgSolve(benchmark::State& state, bool fused)
+      : cloth_(bench_scene("flag", static_cast<int>(state.range(0)), true), Precision::Float32,
+               PipelineOptions{true, static_cast<int>(state.range(1))}),
+        system_(cloth_.system()) {
+    system_.jacobian().reserve();
+    for (float*& vector : vectors_) vector = system_.alloc_vector();
+    rhs_ = system_.alloc_vector();
+    solution_ = system_.alloc_vector();
+    zero_ = system_.alloc_vector();
+    inverse_blocks_.resize(9 * std::size_t{system_.particle_count()});
+    solver_.emplace(system_, vectors_, inverse_blocks_, true, fused);
+    system_.acceleration(0.0, system_.x(), system_.v(), rhs_);
+    system_.template lincomb<1>(rhs_, zero_, {kStep}, {rhs_});
+  }
+  bool fused() const { return solver_->fused(); }
+  // A solve from 0: the matrix fixed at the state (cg-step's linearise where fused), the
+  // preconditioner, the first residual and direction.
+  void start() {
+    system_.copy(solution_, zero_);
+    solver_->start(0.0, kStep, system_.x(), system_.v(), rhs_, solution_, false, 0.0);
+  }
+  builtin::BlockJacobiCg<float>& solver() { return *solver_; }
+
+ private:
+  static constexpr double kStep = 1.0 / 60.0;
+  Cloth cloth_;
+  sdk::System<float> system_;
+  std::array<float*, builtin::BlockJacobiCg<float>::vector_count> vectors_{};
+  float *rhs_ = nullptr, *solution_ = nullptr, *zero_ = nullptr;
+  std::vector<double> inverse_blocks_;
+  std::optional<builtin::BlockJacobiCg<float>> solver_;
+};
+
+// One CG iteration. A genuine solve, restarted every 20 iterations outside the timing (the
+// stiff cloth takes hundreds to converge, so none of the 20 is idle). fused = 0 runs the same
+// iteration through the separate host calls.
+void cg_iteration(benchmark::State& state, bool fused) {
+  CgSolve solve(state, fused);
+  if (fused && !solve.fused()) {
+    state.SkipWithError("the host lacks clothlab.cg-step/1");
     return;
   }
-  const std::size_t size = 3 * std::size_t{system.stride};
-  AlignedFloats b = aligned_floats(size), p = aligned_floats(size), q = aligned_floats(size),
-                r = aligned_floats(size), x = aligned_floats(size);
-  for (std::size_t k = 0; k < size; ++k) b[k] = 1e-3f * static_cast<float>(k % 7);
-  const auto restart = [&] {
-    std::copy_n(b.get(), size, p.get());
-    std::copy_n(b.get(), size, r.get());
-    std::fill_n(x.get(), size, 0.0f);
-    return reductions->mass_dot(system.context, r.get(), r.get());
-  };
-  double rr = restart();
-  const double h = 1e-3;
+  solve.start();
   int iteration = 0;
   for (auto _ : state) {
     if (++iteration % 20 == 0) {
       state.PauseTiming();
-      rr = restart();
+      solve.start();
       state.ResumeTiming();
     }
-    jacobian->apply(system.context, 0.0, system.x, system.v, h * h, h, p.get(), q.get());
-    const double minus_one = -1.0;
-    const void* terms[] = {q.get()};
-    system.lincomb(system.context, q.get(), p.get(), 1, &minus_one, terms);
-    const double alpha = rr / reductions->mass_dot(system.context, p.get(), q.get());
-    system.axpy(system.context, x.get(), alpha, p.get());
-    system.axpy(system.context, r.get(), -alpha, q.get());
-    const double rr_next = reductions->mass_dot(system.context, r.get(), r.get());
-    const double beta = rr_next / rr;
-    rr = rr_next;
-    const void* previous[] = {p.get()};
-    system.lincomb(system.context, p.get(), r.get(), 1, &beta, previous);
+    if (solve.solver().iterate() != builtin::BlockJacobiCg<float>::Outcome::kRunning) {
+      state.SkipWithError("CG stopped within 20 iterations");
+      return;
+    }
+    benchmark::ClobberMemory();
+  }
+}
+
+// What a solve costs once before its iterations (what cg_iteration leaves out).
+void cg_start(benchmark::State& state, bool fused) {
+  CgSolve solve(state, fused);
+  for (auto _ : state) {
+    solve.start();
     benchmark::ClobberMemory();
   }
 }
@@ -291,7 +315,10 @@ BENCHMARK_CAPTURE(fast_step, rk4, std::string("rk4"))->Apply(sizes);
 BENCHMARK(reference_euler_step)->Apply(sizes);
 BENCHMARK(force_evaluation)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(jacobian_product)->Apply(at_300_on_1_and_2_threads);
-BENCHMARK(cg_iteration)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_iteration, fused, true)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_iteration, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_start, fused, true)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_start, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
 BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);

@@ -1,4 +1,5 @@
 // The reference system's host extensions: plain serial loops, springs scattered one by one.
+#include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
@@ -18,6 +19,7 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
                                                         &jacobian_pattern, &jacobian_blocks<false>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian{&jacobian_apply<true>,
                                                                           &jacobian_diagonal<true>};
+  static constexpr clothlab_cg_step_extension cg_step{&cg_linearise, &cg_product, &cg_update};
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
@@ -26,6 +28,7 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   return nullptr;
@@ -259,6 +262,62 @@ clothlab_status ReferenceSystem<Real>::jacobian_pattern(void* context,
   out->block_count = static_cast<uint32_t>(self.columns_.size());
   out->row_offsets = self.row_offsets_.data();
   out->columns = self.columns_.data();
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::cg_linearise(void* context, double t, const void* x,
+                                                    const void* v, double c_x, double c_v) {
+  if (x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  static_cast<ReferenceSystem*>(context)->linearised_ = {t, x, v, c_x, c_v};
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::cg_product(void* context, double alpha, double beta,
+                                                  const void* z, void* p, void* solution, void* q,
+                                                  double* p_dot_q) {
+  const Linearisation at = static_cast<const ReferenceSystem*>(context)->linearised_;
+  if (p_dot_q == nullptr || q == p || at.x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  if (z != nullptr) {
+    axpy_callback(context, solution, alpha, p);
+    const void* const terms[] = {p};
+    lincomb_callback(context, p, z, 1, &beta, terms);
+  }
+  const clothlab_status status =
+      jacobian_apply<true>(context, at.t, at.x, at.v, at.c_x, at.c_v, p, q);
+  if (status != CLOTHLAB_OK) return status;
+  axpy_callback(context, q, 1.0, p);
+  *p_dot_q = mass_dot(context, p, q);
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::cg_update(void* context, double alpha, const void* q,
+                                                 const void* diagonal, const void* off_diagonal,
+                                                 void* r, void* z, double* r_dot_r,
+                                                 double* r_dot_z) {
+  if (r_dot_r == nullptr || r_dot_z == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const auto& self = *static_cast<const ReferenceSystem*>(context);
+  axpy_callback(context, r, -alpha, q);
+  const Real* rs = static_cast<const Real*>(r);
+  const Real* bd = static_cast<const Real*>(diagonal);
+  const Real* bo = static_cast<const Real*>(off_diagonal);
+  Real* zs = static_cast<Real*>(z);
+  const std::size_t n = self.stride_;
+  for (const clothlab_range& range : self.active_)
+    for (std::size_t i = range.begin; i < range.end; ++i) {
+      const double block[3][3] = {{bd[i], bo[i], bo[n + i]},
+                                  {bo[i], bd[n + i], bo[2 * n + i]},
+                                  {bo[n + i], bo[2 * n + i], bd[2 * n + i]}};
+      for (std::size_t row = 0; row < 3; ++row) {
+        double sum = 0;
+        for (std::size_t k = 0; k < 3; ++k) sum += block[row][k] * double{rs[k * n + i]};
+        zs[row * n + i] = static_cast<Real>(sum);
+      }
+    }
+  *r_dot_r = mass_dot(context, r, r);
+  *r_dot_z = mass_dot(context, r, z);
   return CLOTHLAB_OK;
 }
 

@@ -78,6 +78,15 @@ class ReferenceSystem {
   template <bool Definite>
   static clothlab_status jacobian_blocks(void* context, double t, const void* x, const void* v,
                                          double c_x, double c_v, double* values);
+  // clothlab.cg-step/1 composed of the calls it fuses: definite apply, the additions and
+  // mass_dot; the block product in double.
+  static clothlab_status cg_linearise(void* context, double t, const void* x, const void* v,
+                                      double c_x, double c_v);
+  static clothlab_status cg_product(void* context, double alpha, double beta, const void* z,
+                                    void* p, void* solution, void* q, double* p_dot_q);
+  static clothlab_status cg_update(void* context, double alpha, const void* q, const void* diagonal,
+                                   const void* off_diagonal, void* r, void* z, double* r_dot_r,
+                                   double* r_dot_z);
   static double dot(void* context, const void* a, const void* b);
   static double mass_dot(void* context, const void* a, const void* b);
   static double max_abs(void* context, const void* a);
@@ -96,6 +105,11 @@ class ReferenceSystem {
   std::vector<double> product_;                  // jacobian: 3 n accumulators
   std::vector<uint32_t> row_offsets_, columns_;  // jacobian: block pattern
   std::vector<double> blocks_;                   // jacobian: all blocks, for the diagonal
+  struct Linearisation {
+    double t = 0.0;
+    const void *x = nullptr, *v = nullptr;
+    double c_x = 0.0, c_v = 0.0;
+  } linearised_;  // cg-step's; x == nullptr: none yet
   bool wind_ = false;
   struct Topology {
     std::vector<uint32_t> first, second, triangles, adjacency_offsets, adjacent_springs;

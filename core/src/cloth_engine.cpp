@@ -119,9 +119,13 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
       parallel_, turned_for_pipeline(scene) ? scene.cols : 1);
   velocity_forces_ = options.velocity_forces;
   chunk_sums_.assign(active_chunks_.size(), 0.0);
+  chunk_sums_z_.assign(active_chunks_.size(), 0.0);
   mass_.assign(n_, 0.0);
-  for (std::size_t i = 0; i < n_; ++i)
+  real_mass_ = AlignedBuffer<Real>(stride_);
+  for (std::size_t i = 0; i < n_; ++i) {
     if (inverse_mass_[i] > 0) mass_[i] = 1.0 / double{inverse_mass_[i]};
+    real_mass_[i] = static_cast<Real>(mass_[i]);
+  }
 
   system_.struct_size = sizeof(clothlab_system);
   system_.precision = sizeof(Real) == sizeof(float) ? CLOTHLAB_FLOAT32 : CLOTHLAB_FLOAT64;

@@ -63,7 +63,8 @@ class ClothEngine final : public Engine {
   static void* alloc_callback(void* context);
 
   // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, definite jacobian,
-  // reductions and external forces. The topology and the Jacobian's pattern are built on first use.
+  // cg-step, reductions and external forces. The topology and the Jacobian's pattern are built on
+  // first use.
   static const void* get_extension_callback(void* context, const char* id);
   const GridTopology& topology();
   const SpringJacobian<Real>& jacobian();
@@ -86,6 +87,17 @@ class ClothEngine final : public Engine {
   static clothlab_status jacobian_blocks_callback(void* context, double t, const void* x,
                                                   const void* v, double c_x, double c_v,
                                                   double* values);
+  static clothlab_status cg_linearise_callback(void* context, double t, const void* x,
+                                               const void* v, double c_x, double c_v);
+  static clothlab_status cg_product_callback(void* context, double alpha, double beta,
+                                             const void* z, void* p, void* solution, void* q,
+                                             double* p_dot_q);
+  static clothlab_status cg_update_callback(void* context, double alpha, const void* q,
+                                            const void* diagonal, const void* off_diagonal, void* r,
+                                            void* z, double* r_dot_r, double* r_dot_z);
+  // solution += alpha p, p = z + beta p on the active particles: cg-step's direction where the
+  // product's sweep does not take it.
+  void cg_direction(Real alpha, Real beta, const Real* z, Real* p, Real* solution);
   static double dot_callback(void* context, const void* a, const void* b);
   static double mass_dot_callback(void* context, const void* a, const void* b);
   static double max_abs_callback(void* context, const void* a);
@@ -107,8 +119,10 @@ class ClothEngine final : public Engine {
   bool velocity_forces_ = true;
   std::unique_ptr<GridTopology> topology_;
   std::unique_ptr<SpringJacobian<Real>> jacobian_;
-  std::vector<double> chunk_sums_;  // one per active chunk: the reductions' partial results
-  std::vector<double> mass_;        // 1 / inverse mass (0 where pinned), for mass_dot
+  std::vector<double> chunk_sums_;    // one per active chunk: the reductions' partial results
+  std::vector<double> chunk_sums_z_;  // cg-step's update: the chunks' shares of <r, z>
+  std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
+  AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};

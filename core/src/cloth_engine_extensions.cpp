@@ -1,5 +1,7 @@
 // The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
-// spring Jacobian and its definite form, deterministic reductions and the external forces alone.
+// spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
+// and the external forces alone.
+#include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
@@ -50,6 +52,8 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
       &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
       &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
+  static constexpr clothlab_cg_step_extension cg_step_table{
+      &cg_linearise_callback, &cg_product_callback, &cg_update_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
@@ -58,6 +62,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
   return nullptr;
@@ -132,6 +137,122 @@ clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, doubl
     static_cast<ClothEngine*>(context)->jacobian().blocks(
         static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, values);
   });
+}
+
+// -------------------------------------------------------------------- cg-step
+
+template <class Real>
+clothlab_status ClothEngine<Real>::cg_linearise_callback(void* context, double, const void* x,
+                                                         const void* v, double c_x, double c_v) {
+  if (x == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  return status_of([&] {
+    static_cast<ClothEngine*>(context)->jacobian().linearise_definite(
+        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v);
+  });
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::cg_product_callback(void* context, double alpha, double beta,
+                                                       const void* z, void* p, void* solution,
+                                                       void* q, double* p_dot_q) {
+  if (p == nullptr || q == nullptr || p_dot_q == nullptr || q == p ||
+      (z != nullptr && (solution == nullptr || z == p || z == q || solution == p || solution == q ||
+                        solution == z)))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  auto* self = static_cast<ClothEngine*>(context);
+  bool linearised = false;
+  const clothlab_status status = status_of([&] {
+    const SpringJacobian<Real>& jacobian = self->jacobian();
+    Real* const ps = static_cast<Real*>(p);
+    const typename SpringJacobian<Real>::Direction direction{
+        alpha, beta, static_cast<const Real*>(z), static_cast<Real*>(solution)};
+    const bool fused = z != nullptr && jacobian.fuses_direction();
+    if (z != nullptr && !fused)
+      self->cg_direction(static_cast<Real>(alpha), static_cast<Real>(beta), direction.z, ps,
+                         direction.solution);
+    linearised = jacobian.product_definite_dot(ps, static_cast<Real*>(q), *p_dot_q,
+                                               fused ? &direction : nullptr);
+  });
+  if (status != CLOTHLAB_OK) return status;
+  return linearised ? CLOTHLAB_OK : CLOTHLAB_ERROR_INVALID_ARGUMENT;
+}
+
+// One pass over the active chunks; each chunk's two sums in a fixed order, then the chunks in
+// order, as chunked_sum: the same bits for any thread count.
+template <class Real>
+clothlab_status ClothEngine<Real>::cg_update_callback(void* context, double alpha, const void* q,
+                                                      const void* diagonal,
+                                                      const void* off_diagonal, void* r, void* z,
+                                                      double* r_dot_r, double* r_dot_z) {
+  if (q == nullptr || diagonal == nullptr || off_diagonal == nullptr || r == nullptr ||
+      z == nullptr || r_dot_r == nullptr || r_dot_z == nullptr)
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  auto* self = static_cast<ClothEngine*>(context);
+  const std::size_t stride = self->stride_;
+  const Real a = static_cast<Real>(alpha);
+  const Real* __restrict const qs = static_cast<const Real*>(q);
+  const Real* __restrict const bd = static_cast<const Real*>(diagonal);
+  const Real* __restrict const bo = static_cast<const Real*>(off_diagonal);
+  Real* __restrict const rs = static_cast<Real*>(r);
+  Real* __restrict const zs = static_cast<Real*>(z);
+  const Real* __restrict const mass = self->real_mass_.data();
+  const auto chunks = static_cast<std::ptrdiff_t>(self->active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(self->threads_) if (self->parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = self->active_chunks_[chunk].begin;
+    const std::size_t end = self->active_chunks_[chunk].end;
+    double rr = 0.0, rz = 0.0;
+#pragma omp simd reduction(+ : rr, rz)
+    for (std::size_t i = begin; i < end; ++i) {
+      Real residual[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t e = k * stride + i;
+        residual[k] = rs[e] - a * qs[e];
+        rs[e] = residual[k];
+      }
+      const Real b00 = bd[i], b11 = bd[stride + i], b22 = bd[2 * stride + i];
+      const Real b01 = bo[i], b02 = bo[stride + i], b12 = bo[2 * stride + i];
+      const Real z0 = b00 * residual[0] + b01 * residual[1] + b02 * residual[2];
+      const Real z1 = b01 * residual[0] + b11 * residual[1] + b12 * residual[2];
+      const Real z2 = b02 * residual[0] + b12 * residual[1] + b22 * residual[2];
+      zs[i] = z0, zs[stride + i] = z1, zs[2 * stride + i] = z2;
+      // Each particle's terms in the system's precision, summed in double.
+      rr += double{mass[i] * (residual[0] * residual[0] + residual[1] * residual[1] +
+                              residual[2] * residual[2])};
+      rz += double{mass[i] * (residual[0] * z0 + residual[1] * z1 + residual[2] * z2)};
+    }
+    self->chunk_sums_[chunk] = rr;
+    self->chunk_sums_z_[chunk] = rz;
+  }
+  double total_rr = 0.0, total_rz = 0.0;
+  for (std::size_t chunk = 0; chunk < self->chunk_sums_.size(); ++chunk) {
+    total_rr += self->chunk_sums_[chunk];
+    total_rz += self->chunk_sums_z_[chunk];
+  }
+  *r_dot_r = total_rr;
+  *r_dot_z = total_rz;
+  return CLOTHLAB_OK;
+}
+
+template <class Real>
+void ClothEngine<Real>::cg_direction(Real alpha, Real beta, const Real* z, Real* p,
+                                     Real* solution) {
+  const Real* __restrict const zs = z;
+  Real* __restrict const ps = p;
+  Real* __restrict const xs = solution;
+  const auto chunks = static_cast<std::ptrdiff_t>(active_chunks_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t begin = k * stride_ + active_chunks_[chunk].begin;
+      const std::size_t end = k * stride_ + active_chunks_[chunk].end;
+#pragma omp simd
+      for (std::size_t e = begin; e < end; ++e) {
+        xs[e] += alpha * ps[e];
+        ps[e] = zs[e] + beta * ps[e];
+      }
+    }
+  }
 }
 
 // ----------------------------------------------------------------- reductions

@@ -10,7 +10,8 @@
 //   p = c_x a du + d [c_x q (b (d.du) + kd (dv.du - q (d.dv)(d.du))) + c_v kd q (d.du)].
 // The definite form (Baraff & Witkin) keeps ks n n^T and the transverse ks (1 - l0/l) only
 // where it is >= 0 (a compressed spring has none), and no x-derivative of the damping:
-//   p = c_x t du + d q (d.du) (c_x (ks - t) + c_v kd),   t = max(0, ks (1 - l0/l)).
+//   p = c_x t du + d q (d.du) (c_x (ks - t) + c_v kd),   t = max(0, ks (1 - l0/l)),
+// two coefficients per spring that the state fixes (definite_coefficients).
 #pragma once
 
 #include <cstddef>
@@ -31,7 +32,7 @@ template <class Real>
 struct JacobianRow {
   const Real* x;
   const Real* x_partner;
-  const Real* v;  // read only when damped
+  const Real* v;  // read only when damped, by the exact form
   const Real* v_partner;
   const Real* u;
   const Real* u_partner;
@@ -56,20 +57,31 @@ inline __m512 lane_max(__m512 a, __m512 b) {
 }
 #endif
 
+// The definite form's two coefficients of a spring, fixed by the state:
+// p = across du + (along (d.du)) d.
+template <bool Damped, class Lane>
+inline void definite_coefficients(const Lane (&d)[3], Lane rest, Lane ks, Lane kd, Lane c_x,
+                                  Lane c_v, Lane zero, Lane& across, Lane& along) {
+  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  const Lane inverse_length = inverse_sqrt_or_zero(squared);
+  // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
+  const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
+  across = c_x * transverse;
+  along = inverse_length * inverse_length * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+}
+
 template <JacobianForm Form, bool Damped, class Lane>
 inline void spring_product(const Lane (&d)[3], const Lane (&dv)[3], const Lane (&du)[3], Lane rest,
                            Lane ks, Lane kd, Lane c_x, Lane c_v, Lane zero, Lane (&p)[3]) {
-  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-  const Lane inverse_length = inverse_sqrt_or_zero(squared);
-  const Lane q = inverse_length * inverse_length;
   const Lane d_du = d[0] * du[0] + d[1] * du[1] + d[2] * du[2];
   Lane across, along;
   if constexpr (Form == JacobianForm::kDefinite) {
-    // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
-    const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
-    across = c_x * transverse;
-    along = q * d_du * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+    definite_coefficients<Damped>(d, rest, ks, kd, c_x, c_v, zero, across, along);
+    along = along * d_du;
   } else {
+    const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const Lane inverse_length = inverse_sqrt_or_zero(squared);
+    const Lane q = inverse_length * inverse_length;
     Lane d_dv = zero, dv_du = zero;
     if constexpr (Damped) {
       d_dv = d[0] * dv[0] + d[1] * dv[1] + d[2] * dv[2];
@@ -106,7 +118,7 @@ inline void jacobian_row_portable(const JacobianRow<Real>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * stride;
       d[k] = xp[e] - x[e];
-      if constexpr (Damped) dv[k] = vp[e] - v[e];
+      if constexpr (Damped && Form == JacobianForm::kExact) dv[k] = vp[e] - v[e];
       du[k] = (mp[c] > Real(0) ? up[e] : Real(0)) - (m[c] > Real(0) ? u[e] : Real(0));
     }
     spring_product<Form, Damped>(d, dv, du, row.rest, row.ks, row.kd, row.c_x, row.c_v, Real(0),
@@ -138,7 +150,8 @@ inline void jacobian_row_avx512(const JacobianRow<float>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * stride;
       d[k] = lanes.load(row.x_partner + e) - lanes.load(row.x + e);
-      if constexpr (Damped) dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
+      if constexpr (Damped && Form == JacobianForm::kExact)
+        dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
       du[k] = _mm512_maskz_mov_ps(partner_active, lanes.load(row.u_partner + e)) -
               _mm512_maskz_mov_ps(own_active, lanes.load(row.u + e));
     }

@@ -27,7 +27,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
       threads_(threads),
       parallel_(parallel),
       span_(kMargin + (cols_ + kMargin + 15) / 16 * 16),
-      product_rows_(static_cast<std::size_t>(threads) * 3 * span_) {
+      product_rows_(static_cast<std::size_t>(threads) * 3 * span_),
+      mass_(topology.particle_count),
+      row_dots_(scene.rows, 0.0) {
+  for (std::size_t i = 0; i < n_; ++i)
+    mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
   for (const Stencil& stencil : kProvotStencils) {  // as GridTopology lists the springs
     const SpringFamily& law = scene.*stencil.family;
     const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
@@ -36,6 +40,14 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
                          static_cast<Real>(stencil_rest_length(scene, stencil)),
                          static_cast<Real>(law.ks), static_cast<Real>(law.kd)});
   }
+#if defined(__AVX512F__)
+  definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
+  if (definite_kernel_) {
+    ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
+    plane_ = (n_ + 15) / 16 * 16;
+    coefficients_ = AlignedBuffer<Real>(2 * stencils_.size() * plane_);
+  }
+#endif
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
   row_offsets_.assign(n_ + 1, 0);
   entry_slot_.resize(topology.adjacent_springs.size());
@@ -128,7 +140,7 @@ void SpringJacobian<Real>::spring_block(const Real* x, const Real* v, uint32_t s
 }
 
 template <class Real>
-template <JacobianForm Form>
+template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u,
                                       Real* out, std::size_t begin, std::size_t end,
                                       Real* p) const {
@@ -207,6 +219,10 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
     if (!own) continue;
     // Row complete: every spring reaching it starts in it or in the two rows above.
     const Real* __restrict inverse_mass = inverse_mass_ + base;
+    if constexpr (Shifted) {
+      finish_shifted_row(u, out, row, p);
+      continue;
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       Real* __restrict row_out = out + k * stride_ + base;
 #pragma omp simd
@@ -217,16 +233,158 @@ void SpringJacobian<Real>::apply_rows(const Real* x, const Real* v, const Weight
 }
 
 template <class Real>
-template <JacobianForm Form>
+void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::size_t row,
+                                              Real* scratch) const {
+  const std::size_t base = row * cols_;
+  u += base, out += base;
+  const Real* __restrict inverse_mass = inverse_mass_ + base;
+  const Real* __restrict mass = mass_.data() + base;
+  const Real* __restrict u0 = u;
+  const Real* __restrict u1 = u + stride_;
+  const Real* __restrict u2 = u + 2 * stride_;
+  Real* __restrict q0 = out;
+  Real* __restrict q1 = out + stride_;
+  Real* __restrict q2 = out + 2 * stride_;
+  Real* __restrict terms = scratch;
+#pragma omp simd
+  for (std::size_t c = 0; c < cols_; ++c) {
+    // Every load unconditional, then selects on values: the loop vectorises.
+    const Real im = inverse_mass[c], p0 = u0[c], p1 = u1[c], p2 = u2[c];
+    const bool active = im > Real(0);
+    const Real a0 = active ? p0 + im * q0[c] : Real(0);
+    const Real a1 = active ? p1 + im * q1[c] : Real(0);
+    const Real a2 = active ? p2 + im * q2[c] : Real(0);
+    q0[c] = a0, q1[c] = a1, q2[c] = a2;
+    terms[c] = active ? mass[c] * (p0 * a0 + p1 * a1 + p2 * a2) : Real(0);
+  }
+  // Summed apart: GCC does not vectorise the float loop with a double reduction in it.
+  double dot = 0.0;
+#pragma omp simd reduction(+ : dot)
+  for (std::size_t c = 0; c < cols_; ++c) dot += double{terms[c]};
+  row_dots_[row] = dot;
+}
+
+template <class Real>
+void SpringJacobian<Real>::direction_rows(const Direction& direction, Real* u, std::size_t begin,
+                                          std::size_t end) const {
+  const Real alpha = static_cast<Real>(direction.alpha), beta = static_cast<Real>(direction.beta);
+  const Real* __restrict inverse_mass = inverse_mass_;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Real* __restrict z = direction.z + k * stride_;
+    Real* __restrict p = u + k * stride_;
+    Real* __restrict solution = direction.solution + k * stride_;
+#pragma omp simd
+    for (std::size_t i = begin * cols_; i < end * cols_; ++i) {
+      const bool active = inverse_mass[i] > Real(0);
+      const Real old_p = p[i], old_solution = solution[i], z_i = z[i];
+      solution[i] = active ? old_solution + alpha * old_p : old_solution;
+      p[i] = active ? z_i + beta * old_p : old_p;
+    }
+  }
+}
+
+// With a direction: the thread first updates its block's first and last two rows, which its
+// neighbours' sweeps read, then (after a barrier) each interior row just before the sweep
+// reaches it, so every row is updated once and read only updated.
+template <class Real>
+void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end,
+                                         Real* scratch, const Direction* direction) const {
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<Real, float>) {
+    const std::size_t head_end = std::min(begin + 2, end);
+    const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
+    if (direction != nullptr) {  // the same on every thread of the team
+      direction_rows(*direction, u, begin, head_end);
+      direction_rows(*direction, u, tail_begin, end);
+#pragma omp barrier
+    }
+    std::size_t updated = head_end;  // interior rows [head_end, updated) are done
+    DefiniteRow job{};
+    job.stride = stride_, job.span = span_, job.cols = cols_;
+    for (std::size_t k = 0; k < 2; ++k) job.ends_below[k] = scratch + k * 3 * span_;
+    for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
+      if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
+        direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
+        updated = std::min(row + 3, tail_begin);
+      }
+      for (std::size_t dr = 0; dr < 3; ++dr) {
+        const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;
+        job.x[dr] = linearised_.x + base, job.u[dr] = u + base;
+        job.inverse_mass[dr] = inverse_mass_ + base, job.out[dr] = out + base;
+        job.write[dr] = row + dr >= begin && row + dr < end;
+        job.first[dr] = dr == 2 || row == 0;
+      }
+      for (std::size_t s = 0; s < stencils_.size(); ++s) {
+        job.across[s] = across_plane(s) + row * cols_;
+        job.along[s] = along_plane(s) + row * cols_;
+      }
+      job.mass = mass_.data() + row * cols_;
+      job.rows_below[0] = row + 1 < rows_;
+      job.rows_below[1] = row + 2 < rows_;
+      const double dot = definite_row(job);
+      definite_row_shifted_ends(job);
+      if (row >= begin) row_dots_[row] = dot;
+    }
+    return;
+  }
+#endif
+  (void)u, (void)out, (void)begin, (void)end, (void)scratch, (void)direction;
+}
+
+template <class Real>
+void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, double c_x,
+                                              double c_v) const {
+  linearised_ = {x, v, c_x, c_v};
+#if defined(__AVX512F__)
+  if constexpr (std::is_same_v<Real, float>) {
+    if (!definite_kernel_) return;
+    const bool damped = damping_ && v != nullptr;
+    const auto rows = static_cast<std::ptrdiff_t>(rows_);
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const auto row = static_cast<std::size_t>(r);
+      for (std::size_t s = 0; s < stencils_.size(); ++s) {
+        const StencilSprings& stencil = stencils_[s];
+        DefiniteCoefficientRow job{};
+        job.x = x + row * cols_;
+        job.x_partner =
+            job.x + stencil.row_step * cols_ + static_cast<std::ptrdiff_t>(stencil.col_step);
+        job.across = across_plane(s) + row * cols_;
+        job.along = along_plane(s) + row * cols_;
+        job.stride = stride_, job.cols = cols_;
+        const bool spring_row = row < stencil.extent.row_end;
+        job.col_begin = spring_row ? stencil.extent.col_begin : 0;
+        job.col_end = spring_row ? stencil.extent.col_end : 0;  // no springs: zeros
+        job.rest = stencil.rest, job.ks = stencil.ks, job.kd = stencil.kd;
+        job.c_x = static_cast<float>(c_x), job.c_v = static_cast<float>(c_v);
+        if (damped && stencil.kd > 0.0f) {
+          definite_coefficient_row<true>(job);
+        } else {
+          definite_coefficient_row<false>(job);
+        }
+      }
+    }
+  }
+#endif
+}
+
+template <class Real>
+template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
-                                      const Real* u, Real* out) const {
+                                      const Real* u, Real* out, const Direction* direction) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
 #pragma omp parallel num_threads(threads_) if (parallel_)
   {
     const auto thread = static_cast<std::size_t>(omp_get_thread_num());
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    apply_rows<Form>(x, v, w, u, out, rows_ * thread / team, rows_ * (thread + 1) / team,
-                     product_rows_.data() + thread * 3 * span_ + kMargin);
+    const std::size_t begin = rows_ * thread / team, end = rows_ * (thread + 1) / team;
+    if (Shifted && Form == JacobianForm::kDefinite && definite_kernel_) {
+      definite_rows(const_cast<Real*>(u), out, begin, end,
+                    ends_rows_.data() + thread * 6 * span_ + kMargin, direction);
+    } else {
+      apply_rows<Form, Shifted>(x, v, w, u, out, begin, end,
+                                product_rows_.data() + thread * 3 * span_ + kMargin);
+    }
   }
 }
 
@@ -240,6 +398,17 @@ template <class Real>
 void SpringJacobian<Real>::apply_definite(const Real* x, const Real* v, double c_x, double c_v,
                                           const Real* u, Real* out) const {
   apply_form<JacobianForm::kDefinite>(x, v, c_x, c_v, u, out);
+}
+
+template <class Real>
+bool SpringJacobian<Real>::product_definite_dot(Real* u, Real* q, double& dot,
+                                                const Direction* direction) const {
+  const Linearisation& at = linearised_;
+  if (at.x == nullptr || (direction != nullptr && !definite_kernel_)) return false;
+  apply_form<JacobianForm::kDefinite, true>(at.x, at.v, at.c_x, at.c_v, u, q, direction);
+  dot = 0.0;
+  for (const double row : row_dots_) dot += row;
+  return true;
 }
 
 template <class Real>

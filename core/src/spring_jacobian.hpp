@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "aligned_buffer.hpp"
+#include "definite_row_kernel.hpp"
 #include "grid.hpp"
 #include "grid_topology.hpp"
 #include "jacobian_row_kernel.hpp"
@@ -43,6 +44,23 @@ class SpringJacobian {
   // (clothlab/ext/definite_jacobian.h, jacobian_row_kernel.hpp).
   void apply_definite(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                       Real* out) const;
+  // Fixes the definite form D at (x, v) with weights c_x, c_v for product_definite_dot (x and v
+  // must keep their values while it is used): on the row kernel's path, each spring's two
+  // coefficients.
+  void linearise_definite(const Real* x, const Real* v, double c_x, double c_v) const;
+  // q = u + D u at the linearisation; returns <u, q> = sum of m_i u_i . q_i over the active
+  // particles, per grid row then the rows in order (clothlab/ext/cg_step.h). false: no
+  // linearisation yet.
+  // direction (optional): first solution += alpha u, u = z + beta u on the active particles,
+  // row by row inside the product's sweep (fuses_direction()).
+  struct Direction {
+    double alpha, beta;
+    const Real* z;
+    Real* solution;
+  };
+  bool product_definite_dot(Real* u, Real* q, double& dot,
+                            const Direction* direction = nullptr) const;
+  bool fuses_direction() const { return definite_kernel_; }
   void diagonal_blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
                                 double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
@@ -70,13 +88,27 @@ class SpringJacobian {
     int32_t col_step;
     Real rest, ks, kd;
   };
-  template <JacobianForm Form>
-  void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
-                  Real* out) const;
+  // Shifted: out = u + J u, and each own row's <u, out> into row_dots_.
+  template <JacobianForm Form, bool Shifted = false>
+  void apply_form(const Real* x, const Real* v, double c_x, double c_v, const Real* u, Real* out,
+                  const Direction* direction = nullptr) const;
   // out's grid rows [begin, end) of the product; p is the thread's scratch row.
-  template <JacobianForm Form>
+  template <JacobianForm Form, bool Shifted>
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
+  // The shifted definite product's rows [begin, end) by definite_row_kernel.hpp (float on
+  // AVX-512 with all six stencils); scratch: the thread's two rows of shifted ends.
+  void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
+                     const Direction* direction) const;
+  // The direction's update on grid rows [begin, end).
+  void direction_rows(const Direction& direction, Real* u, std::size_t begin,
+                      std::size_t end) const;
+  // Stencil s's coefficient planes (across, then along), rows x cols each.
+  Real* across_plane(std::size_t s) const { return coefficients_.data() + 2 * s * plane_; }
+  Real* along_plane(std::size_t s) const { return coefficients_.data() + (2 * s + 1) * plane_; }
+  // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
+  // out, and the row's <u, out> into row_dots_; scratch: a row's worth of the thread's floats.
+  void finish_shifted_row(const Real* u, Real* out, std::size_t row, Real* scratch) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -102,6 +134,17 @@ class SpringJacobian {
   // (apply is not reentrant).
   std::size_t span_;
   mutable AlignedBuffer<Real> product_rows_;
+  bool definite_kernel_ = false;              // definite_rows applies
+  mutable AlignedBuffer<Real> ends_rows_;     // per thread 2 x 3 rows of span_, for definite_rows
+  std::size_t plane_ = 0;                     // rows x cols, rounded up to 16
+  mutable AlignedBuffer<Real> coefficients_;  // definite_rows: 2 planes per stencil
+  struct Linearisation {
+    const Real *x = nullptr, *v = nullptr;
+    double c_x = 0.0, c_v = 0.0;
+  };
+  mutable Linearisation linearised_;      // x == nullptr: none yet
+  AlignedBuffer<Real> mass_;              // 1 / inverse mass, 0 where pinned
+  mutable std::vector<double> row_dots_;  // per grid row: its share of <u, out>
 };
 
 }  // namespace clothlab::detail

@@ -15,6 +15,10 @@ const void* PluginOnlySystem::host_table<clothlab_definite_jacobian_extension>()
   return host_definite_jacobian_;
 }
 template <>
+const void* PluginOnlySystem::host_table<clothlab_cg_step_extension>() const {
+  return host_cg_step_;
+}
+template <>
 const void* PluginOnlySystem::host_table<clothlab_reductions_extension>() const {
   return host_reductions_;
 }
@@ -71,6 +75,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_topology_ = clothlab_system_extension(&host, CLOTHLAB_EXT_TOPOLOGY);
     host_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_JACOBIAN);
     host_definite_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_DEFINITE_JACOBIAN);
+    host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
     system_.get_extension = &get_extension;
@@ -81,6 +86,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using T = clothlab_topology_extension;
   using J = clothlab_jacobian_extension;
   using D = clothlab_definite_jacobian_extension;
+  using C = clothlab_cg_step_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
@@ -89,6 +95,8 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                               &Forward<J, &J::pattern>::call, &Forward<J, &J::blocks>::call};
   static constexpr D definite_jacobian{&Forward<D, &D::apply>::call,
                                        &Forward<D, &D::diagonal_blocks>::call};
+  static constexpr C cg_step{&Forward<C, &C::linearise>::call, &Forward<C, &C::product>::call,
+                             &Forward<C, &C::update>::call};
   static constexpr R reductions{&Forward<R, &R::dot>::call, &Forward<R, &R::mass_dot>::call,
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
@@ -100,6 +108,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   return nullptr;

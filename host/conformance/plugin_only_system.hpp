@@ -9,6 +9,7 @@
 // (never a table that would be called with the wrong context).
 #pragma once
 
+#include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
@@ -53,6 +54,7 @@ class PluginOnlySystem {
   const void* host_topology_ = nullptr;
   const void* host_jacobian_ = nullptr;
   const void* host_definite_jacobian_ = nullptr;
+  const void* host_cg_step_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
 };

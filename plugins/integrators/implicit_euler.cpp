@@ -8,15 +8,12 @@
 //   (I - h da/dv - h^2 da/dx) delta = h a(x1, v1) - dv,   dv += delta,
 // which converges to backward Euler proper. First order; stable at any dt on a damped cloth.
 //
-// Each linear system is solved matrix-free by preconditioned conjugate gradients: one
-// Jacobian product (clothlab.jacobian/1) per iteration. A = I - h da/dv - h^2 da/dx is
-// self-adjoint in the mass inner product (M A = M - h df/dv - h^2 df/dx is symmetric), so
-// every inner product is the M-weighted one (clothlab.reductions/1 mass_dot) and the
-// tolerance is on |r|_M / |b|_M. The preconditioner is block-Jacobi: the inverted 3x3
-// diagonal blocks of A. Pinned particles drop out inside CG, since every host vector
-// operation and Jacobian product acts on the active particles only and their entries of
-// dv stay 0. A solve that stops at `max_iterations` (or meets p.Ap <= 0) before the
-// tolerance is reported through clothlab.solver-statistics/1, never passed off as converged.
+// Each linear system is solved matrix-free by block-Jacobi preconditioned conjugate gradients in
+// the mass inner product (block_jacobi_cg.hpp): one Jacobian product per iteration; where the
+// host offers clothlab.cg-step/1, an iteration is two sweeps (the product with the vector
+// updates and dot product around it, and one update sweep). A solve that stops at `max_iterations`
+// (or meets p.Ap <= 0) before the tolerance is reported through clothlab.solver-statistics/1, never
+// passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
 // or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
@@ -40,10 +37,10 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
-#include <optional>
 #include <utility>
 #include <vector>
 
+#include "block_jacobi_cg.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -105,13 +102,19 @@ struct ImplicitEuler {
     Real *const acceleration = vectors[0], *const dv = vectors[1], *const rhs = vectors[2],
                 *const delta = vectors[3], *const x1 = vectors[4], *const v1 = vectors[5],
                 *const zero = vectors[6];
-    const Solver<Real> solver{system, vectors, definite_};
+    std::array<Real*, BlockJacobiCg<Real>::vector_count> cg_vectors{};
+    std::copy(vectors.begin() + step_vectors, vectors.end(), cg_vectors.begin());
+    BlockJacobiCg<Real> solver(system, cg_vectors, inverse_blocks_, definite_);
     Real* x = system.x();
     Real* v = system.v();
 
     // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
     system.acceleration(t, x, v, acceleration);
-    apply_jacobian(solver, t, x, v, h * h, 0.0, v, rhs);
+    if (definite_) {
+      system.definite_jacobian().apply(t, x, v, h * h, 0.0, v, rhs);
+    } else {
+      system.jacobian().apply(t, x, v, h * h, 0.0, v, rhs);
+    }
     system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
     // Cleared until the step completes: a step that throws leaves no dv to start from.
     const double previous_h = std::exchange(previous_h_, 0.0);
@@ -144,131 +147,30 @@ struct ImplicitEuler {
 
  private:
   // Scratch: acceleration, dv (kept from step to step for the warm start), rhs, delta, x1, v1,
-  // zero (never written), then CG's r, z, p, q.
+  // zero (never written), then CG's.
   static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = 4;
+  static constexpr size_t cg_vectors = BlockJacobiCg<double>::vector_count;
 
+  // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs from the solution's entries
+  // (guess) or 0 (solution zeroed by the caller); adds to last_.
   template <class Real>
-  struct Solver {
-    Solver(const sdk::System<Real>& system,
-           const std::array<Real*, step_vectors + cg_vectors>& vectors, bool definite_form)
-        : system(system),
-          jacobian(system.jacobian()),
-          definite(definite_form ? std::optional{system.definite_jacobian()} : std::nullopt),
-          reductions(system.reductions()),
-          zero(vectors[6]),
-          r(vectors[step_vectors]),
-          z(vectors[step_vectors + 1]),
-          p(vectors[step_vectors + 2]),
-          q(vectors[step_vectors + 3]) {}
-    const sdk::System<Real>& system;
-    sdk::Jacobian<Real> jacobian;
-    std::optional<sdk::DefiniteJacobian<Real>> definite;  // with `definite` only
-    sdk::Reductions<Real> reductions;
-    const Real* zero;
-    Real *r, *z, *p, *q;
-  };
-
-  // q = J u, J the exact Jacobian or (definite) the Baraff-Witkin matrix.
-  template <class Real>
-  void apply_jacobian(const Solver<Real>& s, double t, const Real* x, const Real* v, double c_x,
-                      double c_v, const Real* u, Real* q) const {
-    if (!definite_) return s.jacobian.apply(t, x, v, c_x, c_v, u, q);
-    s.definite->apply(t, x, v, c_x, c_v, u, q);
-  }
-
-  // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs by block-Jacobi PCG in
-  // the mass inner product, from the solution's entries (guess) or 0 (solution zeroed by the
-  // caller); adds to last_.
-  template <class Real>
-  void solve(const Solver<Real>& s, double t, double h, const Real* x, const Real* v,
+  void solve(BlockJacobiCg<Real>& solver, double t, double h, const Real* x, const Real* v,
              const Real* rhs, Real* solution, bool guess) {
-    const sdk::System<Real>& system = s.system;
-    const double c_x = -h * h, c_v = -h;  // A u = u + J u with these weights
-    invert_diagonal_blocks(s, t, x, v, c_x, c_v);
-
-    if (guess) {  // r = rhs - A solution
-      apply_jacobian(s, t, x, v, c_x, c_v, solution, s.q);
-      system.template lincomb<2>(s.r, rhs, {-1.0, -1.0}, {solution, s.q});
-    } else {
-      system.copy(s.r, rhs);
-    }
-    const double rhs_norm = std::sqrt(s.reductions.mass_dot(rhs, rhs));
-    double residual_norm = guess ? std::sqrt(s.reductions.mass_dot(s.r, s.r)) : rhs_norm;
-    bool converged = residual_norm <= tolerance_ * rhs_norm;
+    solver.start(t, h, x, v, rhs, solution, guess, tolerance_);
     long iterations = 0;
-    if (!converged) {
-      precondition(system, s.r, s.z);
-      system.copy(s.p, s.z);
-      double rz = s.reductions.mass_dot(s.r, s.z);
-      while (iterations < max_iterations_) {
-        apply_jacobian(s, t, x, v, c_x, c_v, s.p, s.q);
-        system.axpy(s.q, 1.0, s.p);
-        const double pq = s.reductions.mass_dot(s.p, s.q);
-        if (!std::isfinite(pq))
-          throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "CG met a non-finite p.Ap");
-        if (pq <= 0.0) break;  // A indefinite along p: stop, reported as not converged
-        const double alpha = rz / pq;
-        system.axpy(solution, alpha, s.p);
-        system.axpy(s.r, -alpha, s.q);
-        ++iterations;
-        residual_norm = std::sqrt(s.reductions.mass_dot(s.r, s.r));
-        if (residual_norm <= tolerance_ * rhs_norm) {
-          converged = true;
-          break;
-        }
-        precondition(system, s.r, s.z);
-        const double rz_next = s.reductions.mass_dot(s.r, s.z);
-        system.template lincomb<1>(s.p, s.z, {rz_next / rz}, {s.p});
-        rz = rz_next;
-      }
+    bool converged = solver.converged();
+    while (!converged && iterations < max_iterations_) {
+      const auto outcome = solver.iterate();
+      if (outcome == BlockJacobiCg<Real>::Outcome::kBreakdown) break;  // reported as missed
+      ++iterations;
+      converged = outcome == BlockJacobiCg<Real>::Outcome::kConverged;
     }
+    solver.finish();
+    const double rhs_norm = solver.rhs_norm();
     last_.iterations += static_cast<uint64_t>(iterations);
     last_.converged = last_.converged && converged ? 1u : 0u;
-    last_.residual = std::max(last_.residual, rhs_norm == 0.0 ? 0.0 : residual_norm / rhs_norm);
-  }
-
-  // inverse_blocks_ = inverses of the 3x3 diagonal blocks of A = I + c_x da/dx + c_v da/dv;
-  // a block too close to singular (indefinite A) falls back to the identity.
-  template <class Real>
-  void invert_diagonal_blocks(const Solver<Real>& s, double t, const Real* x, const Real* v,
-                              double c_x, double c_v) {
-    if (definite_) {
-      s.definite->diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
-    } else {
-      s.jacobian.diagonal_blocks(t, x, v, c_x, c_v, inverse_blocks_.data());
-    }
-    for (const clothlab_range& range : s.system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i) {
-        double* b = &inverse_blocks_[9 * size_t{i}];
-        b[0] += 1.0, b[4] += 1.0, b[8] += 1.0;
-        const std::array<double, 9> cofactor{
-            b[4] * b[8] - b[5] * b[7], b[2] * b[7] - b[1] * b[8], b[1] * b[5] - b[2] * b[4],
-            b[5] * b[6] - b[3] * b[8], b[0] * b[8] - b[2] * b[6], b[2] * b[3] - b[0] * b[5],
-            b[3] * b[7] - b[4] * b[6], b[1] * b[6] - b[0] * b[7], b[0] * b[4] - b[1] * b[3]};
-        const double determinant = b[0] * cofactor[0] + b[1] * cofactor[3] + b[2] * cofactor[6];
-        const double scale = std::max({std::abs(b[0]), std::abs(b[4]), std::abs(b[8])});
-        if (!(std::abs(determinant) > 1e-12 * scale * scale * scale)) {
-          std::fill(b, b + 9, 0.0);
-          b[0] = b[4] = b[8] = 1.0;
-          continue;
-        }
-        for (int k = 0; k < 9; ++k) b[k] = cofactor[k] / determinant;
-      }
-  }
-
-  // z = blockdiag(A)^-1 r on the active particles.
-  template <class Real>
-  void precondition(const sdk::System<Real>& system, const Real* r, Real* z) const {
-    const size_t stride = system.stride();
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i) {
-        const double* b = &inverse_blocks_[9 * size_t{i}];
-        const double r0 = r[i], r1 = r[stride + i], r2 = r[2 * stride + i];
-        z[i] = static_cast<Real>(b[0] * r0 + b[1] * r1 + b[2] * r2);
-        z[stride + i] = static_cast<Real>(b[3] * r0 + b[4] * r1 + b[5] * r2);
-        z[2 * stride + i] = static_cast<Real>(b[6] * r0 + b[7] * r1 + b[8] * r2);
-      }
+    last_.residual =
+        std::max(last_.residual, rhs_norm == 0.0 ? 0.0 : solver.residual_norm() / rhs_norm);
   }
 
   double tolerance_;

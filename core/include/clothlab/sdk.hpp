@@ -15,9 +15,9 @@
 //   };
 //
 // Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(),
-// definite_jacobian(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED when the
-// host lacks one; system.extension<Table>(id) returns nullptr instead. An integrator offers its own
-// extensions by declaring `static constexpr clothlab_integrator_traits traits` or
+// definite_jacobian(), cg_step(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED
+// when the host lacks one; system.extension<Table>(id) returns nullptr instead. An integrator
+// offers its own extensions by declaring `static constexpr clothlab_integrator_traits traits` or
 // `static constexpr clothlab_explicit_scheme explicit_scheme`, and solver statistics
 // (clothlab.solver-statistics/1) by a member
 // `void last_step_statistics(clothlab_solver_step_statistics&) const`.
@@ -262,6 +262,9 @@ class System {
   DefiniteJacobian<Real> definite_jacobian() const {
     return {required<clothlab_definite_jacobian_extension>(CLOTHLAB_EXT_DEFINITE_JACOBIAN),
             raw_->context};
+  }
+  CgStep<Real> cg_step() const {
+    return {required<clothlab_cg_step_extension>(CLOTHLAB_EXT_CG_STEP), raw_->context};
   }
   Reductions<Real> reductions() const {
     return {required<clothlab_reductions_extension>(CLOTHLAB_EXT_REDUCTIONS), raw_->context};

@@ -1,10 +1,11 @@
 // Typed C++ views of the host extensions (clothlab/ext/*.h), returned by
-// System<Real>::topology(), jacobian(), definite_jacobian(), reductions() and external_forces()
-// in sdk.hpp.
+// System<Real>::topology(), jacobian(), definite_jacobian(), cg_step(), reductions() and
+// external_forces() in sdk.hpp.
 // Each wrapper holds the extension's function table and the system's context; a failing
 // call throws sdk::Error with the host's status.
 #pragma once
 
+#include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
@@ -117,6 +118,52 @@ class DefiniteJacobian {
 
  private:
   const clothlab_definite_jacobian_extension* table_;
+  void* context_;
+};
+
+// The two fused sweeps of a block-Jacobi PCG iteration on A = I + D, D the definite Jacobian,
+// in the mass inner product (clothlab/ext/cg_step.h); readied by Jacobian::reserve.
+template <class Real>
+class CgStep {
+ public:
+  CgStep(const clothlab_cg_step_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  // Fixes A at (x, v) with weights c_x, c_v for the products that follow; x and v must keep
+  // their values meanwhile.
+  void linearise(double t, const Real* x, const Real* v, double c_x, double c_v) const {
+    check(table_->linearise(context_, t, x, v, c_x, c_v), "cg-step linearise failed");
+  }
+  // q = A p; returns <p, q>.
+  double product(const Real* p, Real* q) const {
+    double p_dot_q = 0.0;
+    check(table_->product(context_, 0.0, 0.0, nullptr, const_cast<Real*>(p), nullptr, q, &p_dot_q),
+          "cg-step product failed");
+    return p_dot_q;
+  }
+  // solution += alpha p, p = z + beta p, then q = A p; returns <p, q>.
+  double product(double alpha, double beta, const Real* z, Real* p, Real* solution, Real* q) const {
+    double p_dot_q = 0.0;
+    check(table_->product(context_, alpha, beta, z, p, solution, q, &p_dot_q),
+          "cg-step product failed");
+    return p_dot_q;
+  }
+  struct Residual {
+    double r_dot_r, r_dot_z;
+  };
+  // r -= alpha q, z = B r, B's symmetric blocks as (B_00, B_11, B_22) in diagonal and
+  // (B_01, B_02, B_12) in off_diagonal; returns <r, r> and <r, z>.
+  Residual update(double alpha, const Real* q, const Real* diagonal, const Real* off_diagonal,
+                  Real* r, Real* z) const {
+    Residual out{};
+    check(table_->update(context_, alpha, q, diagonal, off_diagonal, r, z, &out.r_dot_r,
+                         &out.r_dot_z),
+          "cg-step update failed");
+    return out;
+  }
+
+ private:
+  const clothlab_cg_step_extension* table_;
   void* context_;
 };
 
