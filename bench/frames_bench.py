@@ -121,6 +121,11 @@ def main():
                                             for r in with_n),
             "writer_ms_per_frame": 1e3 * median(r["frames"]["writer_s_per_frame"]
                                                 for r in with_n),
+            # CPU time: absent from runs of builds before it was reported
+            "writer_cpu_ms_per_frame": 1e3 * median(r["frames"]["writer_cpu_s_per_frame"]
+                                                    for r in with_n)
+                                       if "writer_cpu_s_per_frame" in with_n[0]["frames"]
+                                       else None,
             "slowdown_median": median(ratios) - 1,
             "slowdown_quartiles": [q - 1 for q in statistics.quantiles(ratios, n=4)]
                                   if len(ratios) > 1 else [ratios[0] - 1] * 3,
@@ -142,16 +147,18 @@ def main():
         f"{args.reps} runs; slowdown = median [quartiles] of the paired with/without ratios - 1; "
         f"frames at {args.rate:g} Hz of simulated time.", "",
         "| integrator | mesh | threads | frames N / 2N | ms/step without | with N frames "
-        "| with 2N | slowdown | writer ms/frame | peak RSS without / N / 2N (MiB) |",
+        "| with 2N | slowdown | writer ms/frame (CPU ms) | peak RSS without / N / 2N (MiB) |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for r in rows:
         q = r["slowdown_quartiles"]
+        cpu = r["writer_cpu_ms_per_frame"]
         lines.append(
             f"| {r['integrator']} | {r['rows']}x{r['cols']} | {r['threads']} | "
             f"{r['frames_n']} / {r['frames_2n']} (every {r['every_steps']} steps) | "
             f"{r['ms_per_step_without']:.3f} | {r['ms_per_step_with_n']:.3f} | "
             f"{r['ms_per_step_with_2n']:.3f} | {100 * r['slowdown_median']:+.1f} % "
-            f"[{100 * q[0]:+.1f}, {100 * q[2]:+.1f}] | {r['writer_ms_per_frame']:.1f} | "
+            f"[{100 * q[0]:+.1f}, {100 * q[2]:+.1f}] | {r['writer_ms_per_frame']:.1f} "
+            f"({'n/a' if cpu is None else f'{cpu:.1f}'}) | "
             f"{r['peak_rss_mib_without']:.1f} / {r['peak_rss_mib_with_n']:.1f} / "
             f"{r['peak_rss_mib_with_2n']:.1f} |")
     (args.results / "frames.md").write_text("\n".join(lines) + "\n")

@@ -29,6 +29,8 @@ void Cloth::reset_counters() { impl_->engine->counters() = StageCounters{}; }
 
 void Cloth::positions(std::vector<double>& out) const { impl_->engine->positions(out); }
 void Cloth::velocities(std::vector<double>& out) const { impl_->engine->velocities(out); }
+void Cloth::positions(std::vector<float>& out) const { impl_->engine->positions(out); }
+void Cloth::velocities(std::vector<float>& out) const { impl_->engine->velocities(out); }
 void Cloth::set_state(const std::vector<double>& x, const std::vector<double>& v) {
   impl_->engine->set_state(x, v);
 }

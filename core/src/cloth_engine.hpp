@@ -28,6 +28,8 @@ class ClothEngine final : public Engine {
 
   void positions(std::vector<double>& out) const override;
   void velocities(std::vector<double>& out) const override;
+  void positions(std::vector<float>& out) const override;
+  void velocities(std::vector<float>& out) const override;
   void set_state(const std::vector<double>& x, const std::vector<double>& v) override;
   void copy_raw_state(Cloth::RawState& out) const override;
   void set_raw_state(const Cloth::RawState& state) override;

@@ -11,12 +11,11 @@
 namespace clothlab::detail {
 namespace {
 
-template <class Real>
-void to_particle_major(const Real* soa, std::size_t n, std::size_t stride,
-                       std::vector<double>& out) {
+template <class Real, class Out>
+void to_particle_major(const Real* soa, std::size_t n, std::size_t stride, std::vector<Out>& out) {
   out.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < 3; ++k) out[3 * i + k] = soa[k * stride + i];
+    for (std::size_t k = 0; k < 3; ++k) out[3 * i + k] = static_cast<Out>(soa[k * stride + i]);
   }
 }
 
@@ -37,6 +36,16 @@ void ClothEngine<Real>::positions(std::vector<double>& out) const {
 
 template <class Real>
 void ClothEngine<Real>::velocities(std::vector<double>& out) const {
+  to_particle_major(v_.data(), n_, stride_, out);
+}
+
+template <class Real>
+void ClothEngine<Real>::positions(std::vector<float>& out) const {
+  to_particle_major(x_.data(), n_, stride_, out);
+}
+
+template <class Real>
+void ClothEngine<Real>::velocities(std::vector<float>& out) const {
   to_particle_major(v_.data(), n_, stride_, out);
 }
 

@@ -17,6 +17,8 @@ class Engine {
 
   virtual void positions(std::vector<double>& out) const = 0;
   virtual void velocities(std::vector<double>& out) const = 0;
+  virtual void positions(std::vector<float>& out) const = 0;
+  virtual void velocities(std::vector<float>& out) const = 0;
   virtual void set_state(const std::vector<double>& x, const std::vector<double>& v) = 0;
   virtual void copy_raw_state(Cloth::RawState& out) const = 0;
   virtual void set_raw_state(const Cloth::RawState& state) = 0;

@@ -29,14 +29,22 @@
 // per iteration: resetting it per iteration would make the stiffness grow with the iteration
 // count (the peer bug newton#2933).
 //
-// On the Provot grid (xpbd_grid.hpp) a substep runs as one wavefront down the rows instead
+// On the Provot grid (xpbd_grid.hpp) a substep runs as wavefronts over the rows instead
 // of one pass over the cloth per colour: the phases (predict, each iteration's colours,
 // velocity) visit row T - lag(phase) at wavefront time T, the lags growing by each
 // colour's row reach (0, 1 or 2 rows), so every spring sees its ends exactly as the
 // colour-by-colour order leaves them while the rows in flight stay in cache. With several
-// threads each takes a contiguous run of phases and waits only for its predecessor to
-// finish the same wavefront time (published every few rows): a pipeline, no barrier per
-// colour, and the same operations on the same values as on one thread.
+// threads the rows split into two bands at a boundary B: one team runs the wavefront down
+// from row 0, the other up from the last row (there a phase visits start row
+// rows - 1 - T + lag(phase) - its row reach), each touching only its own band's rows, so
+// the two never wait for each other nor share a row in flight; the rows next to B that
+// neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
+// projected phase by phase by one thread. Within a team each thread takes a contiguous run
+// of phases and waits only for its predecessor to finish the same wavefront time. Every
+// spring sees the same values in any split: the bits do not depend on the thread count.
+// On the grid the substep's displacement dx lives in v's memory (the pins' velocities
+// wait in the scratch array), and runs of springs whose ends all have the grid's common
+// inverse mass skip the weights (xpbd_row_kernel.hpp).
 //
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
@@ -91,10 +99,23 @@ struct Constraints {
 struct Phase {
   enum class Kind : uint8_t { predict, project, velocity };
   Kind kind;
-  uint32_t color;      // project: the grid layout's colour
-  uint32_t iteration;  // project
-  uint32_t lag;        // wavefront times before its row 0
-  uint64_t cost;       // work units, for splitting the phases between threads
+  uint32_t color;          // project: the grid layout's colour
+  uint32_t iteration;      // project
+  uint32_t lag;            // wavefront times before its row 0, going down
+  uint32_t upward_offset;  // lag - the phase's row reach: going up, the start row's offset
+  uint64_t cost;           // work units, for splitting the phases between threads
+};
+
+// The rows' split between the team going down (rows [0, boundary)) and the one going up.
+struct Bands {
+  uint32_t boundary;
+  int lower_threads;
+};
+
+// Columns [begin, end) of a grid row that hull its particles of another inverse mass than
+// the grid's uniform one; begin >= end: none.
+struct ColumnSpan {
+  uint32_t begin, end;
 };
 
 // A thread's wavefront time, on its own cache line: its successor spins on it.
@@ -157,6 +178,7 @@ struct Xpbd {
       constraints.lambda.assign(
           iterations_ > 1 ? grid_->colors.size() * system.particle_count() : 0, 0);
       build_phases();
+      find_uniform_weight(system.inverse_mass());
     } else {
       build_constraints(system, topology, constraints.springs);
       constraints.lambda.assign(constraints.springs.size(), 0);
@@ -194,7 +216,9 @@ struct Xpbd {
     Real* lambda;
     const Real* inverse_mass;
     const Real* external_acceleration;
-    Real* displacement;  // x's change in this substep, exact where x's rounding is not
+    // x's change in this substep, exact where x's rounding is not; the grid path keeps it
+    // in v and this holds its pins' velocities
+    Real* displacement;
     Real* x;
     Real* v;
     uint32_t particle_count;
@@ -273,7 +297,7 @@ struct Xpbd {
     const GridLayout& grid = *grid_;
     phases_.clear();
     const uint64_t row_of_particles = grid.cols;
-    phases_.push_back({Phase::Kind::predict, 0, 0, 0, grid.rows * row_of_particles / 3});
+    phases_.push_back({Phase::Kind::predict, 0, 0, 0, 0, grid.rows * row_of_particles / 3});
     uint32_t lag = 0;
     for (uint32_t iteration = 0; iteration < static_cast<uint32_t>(iterations_); ++iteration)
       for (uint32_t c = 0; c < grid.colors.size(); ++c) {
@@ -281,14 +305,58 @@ struct Xpbd {
         lag += color.step().row_step;
         uint64_t rows = 0;
         for (uint32_t r = 0; r < grid.rows; ++r) rows += color.starts_in_row(r);
-        phases_.push_back(
-            {Phase::Kind::project, c, iteration, lag, rows * (color.col_end - color.col_begin)});
+        phases_.push_back({Phase::Kind::project, c, iteration, lag, lag - color.step().row_step,
+                           rows * (color.col_end - color.col_begin)});
       }
-    phases_.push_back({Phase::Kind::velocity, 0, 0, lag, grid.rows * row_of_particles / 3});
-    wavefront_length_ = grid.rows + lag;
+    phases_.push_back({Phase::Kind::velocity, 0, 0, lag, lag, grid.rows * row_of_particles / 3});
     // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
     // can cost a context switch on a loaded machine, one per narrow row would dominate.
     publish_every_ = std::max<uint32_t>(1, 2048 / grid.cols);
+  }
+
+  // The inverse mass of the grid's middle particle, taken as the uniform one (most cloths
+  // are all one mass but a few pins), and each row's columns of another.
+  template <class Real>
+  void find_uniform_weight(const Real* inverse_mass) {
+    const uint32_t rows = grid_->rows, cols = grid_->cols;
+    const Real uniform = inverse_mass[std::size_t{rows / 2} * cols + cols / 2];
+    uniform_weight_ = uniform;
+    varied_columns_.assign(rows, ColumnSpan{cols, 0});
+    for (uint32_t r = 0; r < rows; ++r)
+      for (uint32_t c = 0; c < cols; ++c)
+        if (inverse_mass[std::size_t{r} * cols + c] != uniform) {
+          ColumnSpan& span = varied_columns_[r];
+          span.begin = std::min(span.begin, c);
+          span.end = std::max(span.end, c + 1);
+        }
+  }
+
+  // The positions of colour `color`'s springs from `row` (from column col_begin) with an
+  // end of another inverse mass: the hull of the start row's and the partner row's spans.
+  std::pair<std::size_t, std::size_t> varied_positions(const GridColor& color, uint32_t row) const {
+    const GridStencil& step = color.step();
+    int64_t begin = std::numeric_limits<int64_t>::max(), end = 0;
+    const auto add = [&](const ColumnSpan& span, int64_t start_column_offset) {
+      if (span.begin >= span.end) return;
+      begin = std::min(begin, int64_t{span.begin} - start_column_offset);
+      end = std::max(end, int64_t{span.end} - start_column_offset);
+    };
+    add(varied_columns_[row], color.col_begin);
+    add(varied_columns_[row + step.row_step], int64_t{color.col_begin} + step.col_step);
+    if (begin >= end) return {0, 0};
+    return {static_cast<std::size_t>(std::max<int64_t>(begin, 0)), static_cast<std::size_t>(end)};
+  }
+
+  // Two bands, one per half of the threads, when each is deeper than the wavefront's total
+  // lag (else one band and the seam would be all of it); one band on one thread.
+  Bands bands_of(int threads) const {
+    const uint32_t rows = grid_->rows, lag = phases_.back().lag;
+    if (threads < 2) return {rows, threads};
+    const int lower_threads = (threads + 1) / 2;
+    const auto boundary = static_cast<uint32_t>(
+        uint64_t{rows} * static_cast<uint64_t>(lower_threads) / static_cast<uint64_t>(threads));
+    if (boundary <= lag || rows - boundary <= lag) return {rows, threads};
+    return {boundary, lower_threads};
   }
 
   // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
@@ -308,57 +376,100 @@ struct Xpbd {
     return {std::min(begin, end), end};
   }
 
-  // This thread's phases over the whole wavefront; returns its share of "every velocity is
-  // finite".
+  // This thread's phases over its band's wavefront, then (thread 0, after the others) the
+  // seam between the bands; returns its share of "every velocity is finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
-    auto [begin, end] = phases_of(thread, threads);
+    const Bands bands = bands_of(threads);
+    const uint32_t rows = grid_->rows;
+    const bool upper = thread >= bands.lower_threads;
+    const int member = upper ? thread - bands.lower_threads : thread;
+    const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
+    const uint32_t band_rows = upper ? rows - bands.boundary : bands.boundary;
+    const auto [begin, end] = phases_of(member, team);
     bool finite = true;
-    for (uint32_t time = 0; time < wavefront_length_; ++time) {
-      if (thread > 0) wait_until(progress_[thread - 1], time + 1);
+    for (uint32_t time = 0; time < band_rows; ++time) {
+      if (member > 0) wait_until(progress_[thread - 1], time + 1);
       for (std::size_t q = begin; q < end; ++q) {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
-        const uint32_t row = time - phase.lag;
-        if (row < grid_->rows)
-          run_phase(phase, row, s, finite);
-        else if (q == begin)
-          ++begin;  // past its last row, as every earlier one: not visited again
+        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
+                  finite);
       }
-      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == wavefront_length_;
-      if (thread + 1 < threads && publish)
+      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == band_rows;
+      if (member + 1 < team && publish)
         progress_[thread].completed.store(time + 1, std::memory_order_release);
+    }
+    if (threads > 1) {
+#pragma omp barrier
+    }
+    if (thread == 0) {
+      const bool two_bands = bands.boundary < rows;
+      for (const Phase& phase : phases_) {
+        const uint32_t first = bands.boundary > phase.lag ? bands.boundary - phase.lag : 0;
+        const uint32_t last = two_bands ? bands.boundary + phase.upward_offset : rows;  // one past
+        for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      }
     }
     return finite;
   }
 
-  // One component of one row: dx = h (v + h a) (pinned: dx = 0). The predicted velocity
-  // itself is not stored: the velocity phase overwrites every free particle's v.
-  template <class Real>
-  static void predict_row(const Real* __restrict v, Real* __restrict dx, const Real* __restrict a,
-                          const Real* __restrict inverse_mass, std::size_t count, Real h) {
+  // One component of one row, in place: v becomes the substep's displacement
+  // dx = h (v + h a); a pin's dx is 0 and its velocity waits in `pinned_velocity` (the
+  // general path's displacement array, touched only at pins). Nothing reads v between this
+  // phase and the velocity phase, and one array streams where v and dx were two. AllFree:
+  // a run without pins, whose inverse masses need no reading.
+  template <bool AllFree, class Real>
+  static void predict_row(Real* __restrict v, Real* __restrict pinned_velocity,
+                          const Real* __restrict a, const Real* __restrict inverse_mass,
+                          std::size_t count, Real h) {
 #pragma omp simd
-    for (std::size_t i = 0; i < count; ++i)
-      dx[i] = inverse_mass[i] != 0 ? h * (v[i] + h * a[i]) : Real(0);
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool free = AllFree || inverse_mass[i] != 0;
+      if (!free) pinned_velocity[i] = v[i];
+      v[i] = free ? h * (v[i] + h * a[i]) : Real(0);
+    }
   }
 
-  // One component of one row: x += dx, v = dx / h on the free particles (a pin keeps its
-  // bits); false if a velocity is not finite (all exponent bits set): an integer OR
-  // vectorises where a flag or a sum would not.
-  template <class Real>
-  static bool velocity_row(Real* __restrict x, Real* __restrict v, const Real* __restrict dx,
+  // One component of one row: x += dx, v = dx / h on the free particles, where v holds dx
+  // (a pin gets its velocity back, bit for bit); false if a velocity is not finite (all
+  // exponent bits set): an integer OR vectorises where a flag or a sum would not.
+  template <bool AllFree, class Real>
+  static bool velocity_row(Real* __restrict x, Real* __restrict v,
+                           const Real* __restrict pinned_velocity,
                            const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
     using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
     constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
     Bits non_finite = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const bool free = inverse_mass[i] != 0;
-      const Real speed = free ? dx[i] * inverse_h : v[i];
-      x[i] = free ? x[i] + dx[i] : x[i];
+      const bool free = AllFree || inverse_mass[i] != 0;
+      const Real dx = v[i];
+      const Real speed = free ? dx * inverse_h : pinned_velocity[i];
+      x[i] = free ? x[i] + dx : x[i];
       v[i] = speed;
       non_finite |= free && (std::bit_cast<Bits>(speed) & exponent) == exponent;
     }
     return non_finite == 0;
+  }
+
+  // Calls run(begin, count, all_free) on the columns of `row` in up to three runs: before
+  // and after its span of another inverse mass with std::true_type when the uniform one
+  // is not 0 (no particle there is pinned), the span itself (or all) with std::false_type.
+  template <class Run>
+  void for_free_runs(uint32_t row, Run&& run) const {
+    const uint32_t cols = grid_->cols;
+    const ColumnSpan span = varied_columns_[row];
+    if (uniform_weight_ == 0) {
+      run(0, cols, std::false_type{});
+      return;
+    }
+    if (span.begin >= span.end) {
+      run(0, cols, std::true_type{});
+      return;
+    }
+    if (span.begin > 0) run(0, span.begin, std::true_type{});
+    run(span.begin, span.end - span.begin, std::false_type{});
+    if (span.end < cols) run(span.end, cols - span.end, std::true_type{});
   }
 
   template <class Real>
@@ -366,17 +477,25 @@ struct Xpbd {
     const std::size_t row_begin = std::size_t{row} * grid_->cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
-        for (std::size_t c = 0; c < 3; ++c)
-          predict_row(s.v + c * s.stride + row_begin, s.displacement + c * s.stride + row_begin,
-                      s.external_acceleration + c * s.stride + row_begin,
-                      s.inverse_mass + row_begin, grid_->cols, s.h);
+        for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
+                                                   s.external_acceleration + e,
+                                                   s.inverse_mass + row_begin + begin, count, s.h);
+          }
+        });
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
-        for (std::size_t c = 0; c < 3; ++c)
-          bad |= !velocity_row(s.x + c * s.stride + row_begin, s.v + c * s.stride + row_begin,
-                               s.displacement + c * s.stride + row_begin,
-                               s.inverse_mass + row_begin, grid_->cols, s.inverse_h);
+        for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
+                                                            s.inverse_mass + row_begin + begin,
+                                                            count, s.inverse_h);
+          }
+        });
         finite = finite && !bad;
         return;
       }
@@ -384,15 +503,17 @@ struct Xpbd {
         const GridColor& color = grid_->colors[phase.color];
         if (!color.starts_in_row(row)) return;
         const GridStencil& step = color.step();
+        const auto [varied_begin, varied_end] = varied_positions(color, row);
         project_row(ColorRow<Real>{
-            s.x, s.displacement, s.inverse_mass,
+            s.x, s.v, s.inverse_mass,
             s.lambda == nullptr ? nullptr : s.lambda + std::size_t{phase.color} * s.particle_count,
             s.stride, row_begin + color.col_begin, color.col_end - color.col_begin,
             static_cast<std::size_t>(int64_t{step.row_step} * grid_->cols + step.col_step),
             color.in_row(), step.col_step == 2 ? 1u : 0u, color.parity,
             static_cast<Real>(color.rest), static_cast<Real>(color.ks) * s.h_squared,
             static_cast<Real>(color.kd) * s.h, phase.iteration == 0,
-            phase.iteration + 1 < static_cast<uint32_t>(iterations_)});
+            phase.iteration + 1 < static_cast<uint32_t>(iterations_),
+            static_cast<Real>(uniform_weight_), varied_begin, varied_end});
         return;
       }
     }
@@ -476,9 +597,10 @@ struct Xpbd {
   ScratchVectors<2> scratch_;            // external acceleration, the substep's displacement
   std::optional<GridLayout> grid_;       // the fast path's grid, when the topology is one
   std::vector<Phase> phases_;
-  uint32_t wavefront_length_ = 0;
-  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
-  std::unique_ptr<Progress[]> progress_;  // one per thread
+  double uniform_weight_ = 0;               // the grid's common inverse mass (exact in Real)
+  std::vector<ColumnSpan> varied_columns_;  // per grid row: the columns of another
+  uint32_t publish_every_ = 1;              // wavefront times between a thread's progress stores
+  std::unique_ptr<Progress[]> progress_;    // one per thread
 };
 
 }  // namespace clothlab::builtin

@@ -44,6 +44,12 @@ struct ColorRow {
   Real damping;    // kd h
   bool fresh;
   bool keep_lambda;
+  // Every particle of the grid but those behind positions [varied_begin, varied_end) (from
+  // `first`; a spring's start there, or its partner) has the inverse mass uniform_weight,
+  // which is not 0: a run of springs outside needs neither the weights nor their
+  // denominator (the AVX-512 kernels use this). uniform_weight 0: no such value.
+  Real uniform_weight;
+  std::size_t varied_begin, varied_end;
 };
 
 // Branch-free but for the stores, so it vectorises: a lane's ends are stored only where
@@ -112,21 +118,50 @@ struct SpringLanes {
   __mmask16 pushed;
 };
 
+// 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
+inline __m512 inverse_denominator(__m512 compliance_scale, __m512 wi, __m512 wj) {
+  const __m512 denominator = compliance_scale * (wi + wj) + _mm512_set1_ps(1.0f);
+  const __m512 reciprocal = _mm512_maskz_rcp14_ps(__mmask16(0xFFFF), denominator);
+  return reciprocal * _mm512_fnmadd_ps(denominator, reciprocal, _mm512_set1_ps(2.0f));
+}
+
 // The colour's spring law in registers, read once per row: the kernels' stores go through
-// float pointers, which could alias the row's float fields.
+// float pointers, which could alias the row's float fields. The uniform weight's
+// denominator comes from the same instructions as a lane's, so it has the same bits.
 struct LawLanes {
   __m512 rest, stiffness, damping, compliance_scale;
+  __m512 uniform_weight, uniform_inverse_denominator;
 };
 
 inline LawLanes law_lanes(const ColorRow<float>& row) {
-  return {_mm512_set1_ps(row.rest), _mm512_set1_ps(row.stiffness), _mm512_set1_ps(row.damping),
-          _mm512_set1_ps(row.stiffness + row.damping)};
+  const __m512 compliance_scale = _mm512_set1_ps(row.stiffness + row.damping);
+  const __m512 uniform_weight = _mm512_set1_ps(row.uniform_weight);
+  return {_mm512_set1_ps(row.rest),
+          _mm512_set1_ps(row.stiffness),
+          _mm512_set1_ps(row.damping),
+          compliance_scale,
+          uniform_weight,
+          inverse_denominator(compliance_scale, uniform_weight, uniform_weight)};
 }
+
+// Which springs of a row have both ends of the uniform weight: those at positions outside
+// [varied_begin, varied_end), if there is one (read once per row: float stores may alias it).
+struct UniformRuns {
+  bool any;
+  std::size_t varied_begin, varied_end;
+
+  explicit UniformRuns(const ColorRow<float>& row)
+      : any(row.uniform_weight != 0), varied_begin(row.varied_begin), varied_end(row.varied_end) {}
+  bool covers(std::size_t begin, std::size_t end) const {
+    return any && (end <= varied_begin || begin >= varied_end);
+  }
+};
 
 // The update of the springs in `lanes` from both ends' positions and displacements.
 inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3],
                                  const __m512 (&xj)[3], const __m512 (&dxi)[3],
-                                 const __m512 (&dxj)[3], __m512 wi, __m512 wj, __m512 accumulated) {
+                                 const __m512 (&dxj)[3], __m512 inverse_denominator,
+                                 __m512 accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
     out.moved[k] = dxi[k] - dxj[k];
@@ -141,10 +176,6 @@ inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m
   const __m512 closing =
       (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2]) *
       out.inverse_length;
-  const __m512 denominator = law.compliance_scale * (wi + wj) + _mm512_set1_ps(1.0f);
-  const __m512 reciprocal = _mm512_maskz_rcp14_ps(__mmask16(0xFFFF), denominator);
-  const __m512 inverse_denominator =
-      reciprocal * _mm512_fnmadd_ps(denominator, reciprocal, _mm512_set1_ps(2.0f));
   const __m512 numerator = _mm512_setzero_ps() - law.stiffness * (length - law.rest) - accumulated -
                            law.damping * closing;
   out.delta = numerator * inverse_denominator;
@@ -156,43 +187,73 @@ inline void store_lambda(float* lambda, __mmask16 lanes, const SpringLanes& u, _
                         _mm512_mask_add_ps(accumulated, u.pushed, accumulated, u.delta));
 }
 
+// Pushes of the springs' two ends; on uniform-weight lanes one product serves both and a
+// pushed spring moves both ends.
+struct PushLanes {
+  __m512 first, second;
+  __mmask16 moves_first, moves_second;
+};
+
+template <bool Uniform>
+inline PushLanes pushes(const SpringLanes& u, __m512 wi, __m512 wj) {
+  const __m512 scale = u.delta * u.inverse_length;
+  if constexpr (Uniform) {
+    const __m512 push = wi * scale;
+    return {push, push, u.pushed, u.pushed};
+  } else {
+    const __m512 zero = _mm512_setzero_ps();
+    return {wi * scale, wj * scale, _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ),
+            _mm512_mask_cmp_ps_mask(u.pushed, wj, zero, _CMP_NEQ_UQ)};
+  }
+}
+
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
-inline void project_rows_avx512(const ColorRow<float>& row) {
+template <bool Uniform, bool Fresh, bool KeepLambda>
+inline void project_rows_run(const ColorRow<float>& row, const LawLanes& law, std::size_t c,
+                             __mmask16 lanes) {
   const float* x = row.x + row.first;
   float* dx = row.displacement + row.first;
   const float* w = row.inverse_mass + row.first;
   float* const lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
-  const std::size_t o = row.offset, s = row.stride, count = row.count;
-  const bool fresh = row.fresh, keep_lambda = row.keep_lambda;
+  const std::size_t o = row.offset, s = row.stride;
+  __m512 xi[3], xj[3], dxi[3], dxj[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t i = c + k * s;
+    xi[k] = _mm512_maskz_loadu_ps(lanes, x + i);
+    xj[k] = _mm512_maskz_loadu_ps(lanes, x + i + o);
+    dxi[k] = _mm512_maskz_loadu_ps(lanes, dx + i);
+    dxj[k] = _mm512_maskz_loadu_ps(lanes, dx + i + o);
+  }
+  __m512 wi = law.uniform_weight, wj = law.uniform_weight;
+  __m512 inverse = law.uniform_inverse_denominator;
+  if constexpr (!Uniform) {
+    wi = _mm512_maskz_loadu_ps(lanes, w + c), wj = _mm512_maskz_loadu_ps(lanes, w + c + o);
+    inverse = inverse_denominator(law.compliance_scale, wi, wj);
+  }
+  const __m512 accumulated = Fresh ? _mm512_setzero_ps() : _mm512_maskz_loadu_ps(lanes, lambda + c);
+  const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
+  if constexpr (KeepLambda) store_lambda(lambda + c, lanes, u, accumulated);
+  const PushLanes push = pushes<Uniform>(u, wi, wj);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t i = c + k * s;
+    _mm512_mask_storeu_ps(dx + i, lanes,
+                          _mm512_mask3_fmadd_ps(push.first, u.d[k], dxi[k], push.moves_first));
+    _mm512_mask_storeu_ps(dx + i + o, lanes,
+                          _mm512_mask3_fnmadd_ps(push.second, u.d[k], dxj[k], push.moves_second));
+  }
+}
+
+template <bool Fresh, bool KeepLambda>
+inline void project_rows_avx512(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
-  const __m512 zero = _mm512_setzero_ps();
-  for (std::size_t c = 0; c < count; c += 16) {
-    const std::size_t left = count - c;
+  const UniformRuns uniform(row);
+  for (std::size_t c = 0; c < row.count; c += 16) {
+    const std::size_t left = row.count - c;
     const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1u);
-    __m512 xi[3], xj[3], dxi[3], dxj[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t i = c + k * s;
-      xi[k] = _mm512_maskz_loadu_ps(lanes, x + i);
-      xj[k] = _mm512_maskz_loadu_ps(lanes, x + i + o);
-      dxi[k] = _mm512_maskz_loadu_ps(lanes, dx + i);
-      dxj[k] = _mm512_maskz_loadu_ps(lanes, dx + i + o);
-    }
-    const __m512 wi = _mm512_maskz_loadu_ps(lanes, w + c),
-                 wj = _mm512_maskz_loadu_ps(lanes, w + c + o);
-    const __m512 accumulated = fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda + c);
-    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
-    if (keep_lambda) store_lambda(lambda + c, lanes, u, accumulated);
-    const __m512 scale = u.delta * u.inverse_length;
-    const __m512 push_first = wi * scale, push_second = wj * scale;
-    const __mmask16 moves_first = _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ);
-    const __mmask16 moves_second = _mm512_mask_cmp_ps_mask(u.pushed, wj, zero, _CMP_NEQ_UQ);
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t i = c + k * s;
-      _mm512_mask_storeu_ps(dx + i, lanes,
-                            _mm512_mask3_fmadd_ps(push_first, u.d[k], dxi[k], moves_first));
-      _mm512_mask_storeu_ps(dx + i + o, lanes,
-                            _mm512_mask3_fnmadd_ps(push_second, u.d[k], dxj[k], moves_second));
-    }
+    if (uniform.covers(c, c + 16))
+      project_rows_run<true, Fresh, KeepLambda>(row, law, c, lanes);
+    else
+      project_rows_run<false, Fresh, KeepLambda>(row, law, c, lanes);
   }
 }
 
@@ -227,6 +288,7 @@ inline InRowLanes in_row_lanes(uint32_t step) {
   return lanes;
 }
 
+template <bool Fresh, bool KeepLambda>
 inline void project_in_row_avx512(const ColorRow<float>& row) {
   const uint32_t step = 1u << row.alternation_shift;
   // The colour's first start is column parity * step.
@@ -238,8 +300,8 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
   const float* w = row.inverse_mass + row.first + skip;
   float* const lambda_row = row.lambda == nullptr ? nullptr : row.lambda + row.first;
   const std::size_t s = row.stride;
-  const bool fresh = row.fresh, keep_lambda = row.keep_lambda;
   const LawLanes law = law_lanes(row);
+  const UniformRuns uniform(row);
   static const InRowLanes lanes_of_step[2] = {in_row_lanes(1), in_row_lanes(2)};
   // Copies in registers: __m512i may alias the floats stored below.
   const InRowLanes& lanes_of_row = lanes_of_step[row.alternation_shift];
@@ -247,7 +309,7 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
                 to_low = lanes_of_row.low, to_high = lanes_of_row.high;
   const uint32_t start_bits = lanes_of_row.start_bits;
   const __m512 zero = _mm512_setzero_ps();
-  for (std::size_t c = 0; c < count; c += 32) {
+  const auto run = [&](std::size_t c, auto uniform) {
     const std::size_t left = count - c;
     const uint32_t springs = left >= 32 ? start_bits : start_bits & ((uint32_t{1} << left) - 1u);
     const uint32_t touched = springs | springs << step;
@@ -263,20 +325,22 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
       split(x + c + k * s, xi[k], xj[k]);
       split(dx + c + k * s, dxi[k], dxj[k]);
     }
-    __m512 wi, wj;
-    split(w + c, wi, wj);
+    __m512 wi = law.uniform_weight, wj = law.uniform_weight;
+    __m512 inverse = law.uniform_inverse_denominator;
+    if constexpr (!decltype(uniform)::value) {
+      split(w + c, wi, wj);
+      inverse = inverse_denominator(law.compliance_scale, wi, wj);
+    }
     // Multipliers by spring, 16 per run: unique within the colour's row.
     float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
-    const __m512 accumulated = fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
-    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, wi, wj, accumulated);
-    if (keep_lambda) store_lambda(lambda, lanes, u, accumulated);
-    const __m512 scale = u.delta * u.inverse_length;
-    const __m512 push_first = wi * scale, push_second = wj * scale;
-    const __mmask16 moves_first = _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ);
-    const __mmask16 moves_second = _mm512_mask_cmp_ps_mask(u.pushed, wj, zero, _CMP_NEQ_UQ);
+    const __m512 accumulated = Fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
+    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
+    if constexpr (KeepLambda) store_lambda(lambda, lanes, u, accumulated);
+    const PushLanes push = pushes<decltype(uniform)::value>(u, wi, wj);
     const auto merge = [&](float* p, __m512 first, __m512 partner, __m512 d) {
-      const __m512 moved_first = _mm512_mask3_fmadd_ps(push_first, d, first, moves_first);
-      const __m512 moved_partner = _mm512_mask3_fnmadd_ps(push_second, d, partner, moves_second);
+      const __m512 moved_first = _mm512_mask3_fmadd_ps(push.first, d, first, push.moves_first);
+      const __m512 moved_partner =
+          _mm512_mask3_fnmadd_ps(push.second, d, partner, push.moves_second);
       const __m512 a = _mm512_permutex2var_ps(moved_first, to_low, moved_partner);
       const __m512 b = _mm512_permutex2var_ps(moved_first, to_high, moved_partner);
       if (left >= 32) {
@@ -290,14 +354,30 @@ inline void project_in_row_avx512(const ColorRow<float>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       merge(dx + c + k * s, dxi[k], dxj[k], u.d[k]);
     }
+  };
+  for (std::size_t c = 0; c < count; c += 32) {
+    if (uniform.covers(skip + c, skip + c + 32))
+      run(c, std::true_type{});
+    else
+      run(c, std::false_type{});
   }
 }
 
+template <bool Fresh, bool KeepLambda>
 inline void project_row_avx512(const ColorRow<float>& row) {
   if (row.alternates)
-    project_in_row_avx512(row);
+    project_in_row_avx512<Fresh, KeepLambda>(row);
   else
-    project_rows_avx512(row);
+    project_rows_avx512<Fresh, KeepLambda>(row);
+}
+
+// Fresh (lambda 0) and KeepLambda at compile time: a substep of one iteration neither reads
+// nor stores a multiplier, and "- lambda" folds away (x - 0 is x, signed zeros included).
+inline void project_row_avx512(const ColorRow<float>& row) {
+  if (row.fresh)
+    row.keep_lambda ? project_row_avx512<true, true>(row) : project_row_avx512<true, false>(row);
+  else
+    row.keep_lambda ? project_row_avx512<false, true>(row) : project_row_avx512<false, false>(row);
 }
 #endif
 

@@ -68,6 +68,23 @@ TEST_F(AtomicFile, WritesTheWholeFileAndLeavesNoTemporary) {
   EXPECT_EQ(names(), std::vector<std::string>{"out.json"});
 }
 
+// A file given as pieces (a .vtp: XML, array headers, arrays where they lie) is their
+// concatenation, empty pieces and more pieces than one writev() takes included.
+TEST_F(AtomicFile, PiecesAreWrittenOneAfterAnother) {
+  std::vector<std::string> texts;
+  std::string expected;
+  for (int i = 0; i < 200; ++i) {
+    texts.push_back(i % 7 == 0 ? std::string() : std::string(static_cast<size_t>(i), 'a' + i % 26));
+    expected += texts.back();
+  }
+  texts.push_back(std::string(3 << 20, 'z'));  // larger than a pipe or page, one piece
+  expected += texts.back();
+  const std::vector<std::string_view> pieces(texts.begin(), texts.end());
+  write_file_atomically(folder_ / "pieces.bin", pieces, clothlab::io::Durability::Renamed);
+  EXPECT_EQ(read_text(folder_ / "pieces.bin"), expected);
+  EXPECT_EQ(names(), std::vector<std::string>{"pieces.bin"});
+}
+
 // Without fsync (frames) the same guarantees hold for readers and a killed writer: a whole
 // new file, no temporary, and a target that is not a regular file refused.
 TEST_F(AtomicFile, RenamedWritesAreWholeAndRefuseWhatSyncedWritesRefuse) {
@@ -145,6 +162,33 @@ TEST_F(AtomicFile, TemporariesOfDeadWritersAreRemovedOnTheNextWrite) {
   write_file_atomically(folder_ / "out.csv", std::string_view("a,b\n"));
   EXPECT_EQ(names(), (std::vector<std::string>{live, "out.csv"}));
   EXPECT_EQ(remove_stale_temporaries(folder_ / "out.csv"), 0);
+}
+
+// A writer of many files in one folder (frames) sweeps the folder once, for every name, and
+// then writes without scanning it: the dead writer's temporary of a file it writes stays
+// until the next sweep, a live writer's and a user's hidden file always stay.
+TEST_F(AtomicFile, AFolderIsSweptOnceForTheTemporariesOfDeadWriters) {
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ::waitpid(dead, nullptr, 0);
+  const std::string stale_frame = ".frame_000001.vtp.tmp-" + std::to_string(dead) + "-1";
+  const std::string stale_index = ".frames.pvd.tmp-" + std::to_string(dead) + "-2";
+  const std::string live = ".frames.pvd.tmp-" + std::to_string(getpid()) + "-3";
+  const std::string hidden = ".notes.tmp-draft";
+  for (const std::string& name : {stale_frame, stale_index, live, hidden})
+    std::ofstream(folder_ / name) << "x";
+  using clothlab::io::Durability;
+  using clothlab::io::StaleTemporaries;
+  write_file_atomically(folder_ / "frame_000001.vtp", std::string_view("frame"),
+                        Durability::Renamed, StaleTemporaries::Skip);
+  const auto sorted = [](std::vector<std::string> names) {
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  EXPECT_EQ(names(), sorted({stale_frame, stale_index, live, hidden, "frame_000001.vtp"}));
+  EXPECT_EQ(clothlab::io::remove_stale_temporaries_in(folder_), 2);
+  EXPECT_EQ(names(), sorted({hidden, live, "frame_000001.vtp"}));
 }
 
 TEST_F(AtomicFile, AFailedWriteNamesTheTargetAndLeavesNothing) {

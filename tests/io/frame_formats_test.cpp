@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <clothlab/io/frame_formats.hpp>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "../../host/io/src/base64.hpp"
@@ -75,6 +77,107 @@ TEST(VtkPolyData, ReadsBackWhatItWrote) {
   EXPECT_DOUBLE_EQ(read.energy.kinetic, 1.25);
   EXPECT_DOUBLE_EQ(read.energy.gravity, -2);
   EXPECT_EQ(triangles, 2u);
+  fs::remove(path);
+}
+
+// The arrays are the float32 bits as the writer thread had them: values that a decimal
+// text format would have to round-trip exactly (subnormals, -0, the neighbours of 1, the
+// largest float) come back bit for bit, and the file says it is raw appended binary with
+// UInt64 headers, which is what ParaView's reader needs to be told.
+TEST(VtkPolyData, Float32ArraysRoundTripBitForBit) {
+  const GridMesh mesh{3, 4};
+  Frame frame;
+  const float awkward[] = {std::numeric_limits<float>::denorm_min(),
+                           -0.0f,
+                           std::nextafter(1.0f, 2.0f),
+                           std::nextafter(1.0f, 0.0f),
+                           std::numeric_limits<float>::max(),
+                           -std::numeric_limits<float>::min(),
+                           0.1f,
+                           1e-30f};
+  for (uint64_t i = 0; i < 3 * mesh.vertex_count(); ++i) {
+    frame.positions.push_back(awkward[i % 8] * static_cast<float>(i + 1));
+    frame.velocities.push_back(awkward[(i + 3) % 8]);
+  }
+  for (uint64_t i = 0; i < mesh.vertex_count(); ++i) frame.stretch.push_back(awkward[i % 8]);
+  const fs::path path = fs::path(testing::TempDir()) / "frame_formats_bits.vtp";
+  {
+    std::ofstream out(path, std::ios::binary);
+    write_vtp(out, vtp_topology(mesh), frame);
+  }
+  uint64_t triangles = 0;
+  const Frame read = read_vtp(path, &triangles);
+  const auto same_bits = [](const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+  };
+  EXPECT_TRUE(same_bits(read.positions, frame.positions));
+  EXPECT_TRUE(same_bits(read.velocities, frame.velocities));
+  EXPECT_TRUE(same_bits(read.stretch, frame.stretch));
+  EXPECT_EQ(triangles, mesh.triangle_count());
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("byte_order=\"LittleEndian\" header_type=\"UInt64\""),
+            std::string::npos);
+  EXPECT_NE(text.str().find("<AppendedData encoding=\"raw\">\n   _"), std::string::npos);
+  EXPECT_NE(text.str().find("NumberOfStrips=\"2\" NumberOfPolys=\"0\""), std::string::npos);
+  fs::remove(path);
+}
+
+// One strip per row of cells: the connectivity VTK decomposes into GridMesh's triangles.
+TEST(VtkPolyData, StripsHoldTheGridsTriangles) {
+  const GridMesh mesh{3, 3};
+  const VtpTopology topology = vtp_topology(mesh);
+  ASSERT_EQ(topology.strips, 2u);
+  std::vector<int32_t> connectivity((topology.connectivity_bytes - 8) / 4);
+  std::memcpy(connectivity.data(), topology.appended.data() + 8, connectivity.size() * 4);
+  EXPECT_EQ(connectivity, (std::vector<int32_t>{0, 3, 1, 4, 2, 5, 3, 6, 4, 7, 5, 8}));
+  // vtkTriangleStrip: triangle k is points k, k+1, k+2, every odd one with its first two
+  // swapped so that all face the same way.
+  std::vector<int32_t> decomposed;
+  for (size_t strip = 0; strip < 2; ++strip)
+    for (size_t k = 0; k + 2 < 6; ++k) {
+      const int32_t* p = connectivity.data() + 6 * strip + k;
+      if (k % 2 == 0)
+        decomposed.insert(decomposed.end(), {p[0], p[1], p[2]});
+      else
+        decomposed.insert(decomposed.end(), {p[1], p[0], p[2]});
+    }
+  EXPECT_EQ(decomposed, mesh.triangles());
+}
+
+// Frames of the earlier version (UInt32 array headers) still read: a viewer pointed at them.
+TEST(VtkPolyData, ReadsUInt32HeadersOfEarlierFiles) {
+  const std::vector<float> points = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::string file =
+      "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt32\"><PolyData><FieldData>"
+      "<DataArray type=\"Float64\" Name=\"TimeValue\" format=\"ascii\">0.5</DataArray>"
+      "<DataArray type=\"Float64\" Name=\"step\" format=\"ascii\">5</DataArray>"
+      "<DataArray type=\"Float64\" Name=\"energy_kinetic\" format=\"ascii\">1</DataArray>"
+      "<DataArray type=\"Float64\" Name=\"energy_spring\" format=\"ascii\">2</DataArray>"
+      "<DataArray type=\"Float64\" Name=\"energy_gravity\" format=\"ascii\">3</DataArray>"
+      "</FieldData><Piece>"
+      "<DataArray type=\"Float32\" Name=\"velocity\" format=\"appended\" offset=\"0\"/>"
+      "<DataArray type=\"Float32\" Name=\"stretch\" format=\"appended\" offset=\"40\"/>"
+      "<DataArray type=\"Float32\" Name=\"Points\" format=\"appended\" offset=\"56\"/>"
+      "</Piece></PolyData><AppendedData encoding=\"raw\">_";
+  const auto append = [&](const void* data, uint32_t bytes) {
+    file.append(reinterpret_cast<const char*>(&bytes), 4);
+    file.append(static_cast<const char*>(data), bytes);
+  };
+  const std::vector<float> stretch = {1, 1, 1};
+  append(points.data(), 36);
+  append(stretch.data(), 12);
+  append(points.data(), 36);
+  file += "</AppendedData></VTKFile>";
+  const fs::path path = fs::path(testing::TempDir()) / "frame_formats_uint32.vtp";
+  std::ofstream(path, std::ios::binary) << file;
+  const Frame read = read_vtp(path);
+  EXPECT_EQ(read.positions, points);
+  EXPECT_EQ(read.velocities, points);
+  EXPECT_EQ(read.stretch, stretch);
+  EXPECT_EQ(read.step, 5u);
   fs::remove(path);
 }
 

@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "integrator_harness.hpp"
@@ -67,11 +69,13 @@ std::vector<std::vector<uint32_t>> halves(const std::vector<std::vector<uint32_t
   return out;
 }
 
+// The positions and velocities after 10 steps, every particle started moving (pins too).
 template <class Real>
 std::vector<double> state_after(uint32_t rows, uint32_t cols,
-                                const std::vector<std::vector<uint32_t>>& colors, int iterations) {
+                                const std::vector<std::vector<uint32_t>>& colors, int iterations,
+                                const std::vector<uint32_t>& pins) {
   const ProvotGrid grid(rows, cols);
-  SpringHost<Real> network(rows * cols, {0, cols - 1}, grid.springs, {0, -g, 0});
+  SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
   network.set_spring_colors(colors);
   MockSystem<Real>& system = network.system();
   for (uint32_t r = 0; r < rows; ++r)
@@ -83,34 +87,46 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols,
   xpbd.with("substeps", 4).with("iterations", iterations).with("threads", 1);
   xpbd.start(system);
   xpbd.run(system, 10, 1e-2);
-  std::vector<double> positions;
-  for (uint32_t i = 0; i < rows * cols; ++i) {
-    const Vec3 p = system.position(i);
-    positions.insert(positions.end(), p.begin(), p.end());
-  }
-  return positions;
+  std::vector<double> state;
+  for (uint32_t i = 0; i < rows * cols; ++i)
+    for (const Vec3& q : {system.position(i), system.velocity(i)})
+      state.insert(state.end(), q.begin(), q.end());
+  return state;
 }
 
-double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
+// Over the positions of two states (position, velocity per particle).
+double largest_position_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double largest = 0;
-  for (size_t k = 0; k < a.size(); ++k) largest = std::max(largest, std::abs(a[k] - b[k]));
+  for (size_t k = 0; k < a.size(); ++k)
+    if (k % 6 < 3) largest = std::max(largest, std::abs(a[k] - b[k]));
   return largest;
+}
+
+constexpr uint32_t rows = 23, cols = 37;
+// The top corners, as the host's sheet pins them.
+const std::vector<uint32_t> corner_pins = {0, cols - 1};
+// Pins inside rows too (the grid path's runs of uniform inverse mass end around them), in
+// the middle of in-row runs of 32 and rows of 16 and at a tail, and a whole column.
+std::vector<uint32_t> scattered_pins() {
+  std::vector<uint32_t> pins = {0, 5 * cols + 17, 9 * cols + 3, 14 * cols + 33, 14 * cols + 34};
+  for (uint32_t r = 0; r < rows; ++r) pins.push_back(r * cols + 29);
+  return pins;
 }
 
 // Grid path against general path, and against a reordered sweep as the scale of a real
 // difference. 37 columns: in-row runs of 32 plus a tail, rows of 16 plus a tail.
 template <class Real>
-void expect_grid_path_is_the_general_sweep(int iterations, double tolerance) {
-  constexpr uint32_t rows = 23, cols = 37;
+void expect_grid_path_is_the_general_sweep(int iterations, double tolerance,
+                                           const std::vector<uint32_t>& pins = corner_pins) {
   const ProvotGrid grid(rows, cols);
-  const std::vector<double> fast = state_after<Real>(rows, cols, grid.colors, iterations);
+  const std::vector<double> fast = state_after<Real>(rows, cols, grid.colors, iterations, pins);
   const std::vector<double> general =
-      state_after<Real>(rows, cols, halves(grid.colors), iterations);
+      state_after<Real>(rows, cols, halves(grid.colors), iterations, pins);
   std::vector<std::vector<uint32_t>> reordered(grid.colors.rbegin(), grid.colors.rend());
   const std::vector<double> other_order =
-      state_after<Real>(rows, cols, halves(reordered), iterations);
-  EXPECT_LT(largest_difference(fast, general), tolerance);
-  EXPECT_GT(largest_difference(other_order, general), 10 * tolerance)
+      state_after<Real>(rows, cols, halves(reordered), iterations, pins);
+  EXPECT_LT(largest_position_difference(fast, general), tolerance);
+  EXPECT_GT(largest_position_difference(other_order, general), 10 * tolerance)
       << "the tolerance does not resolve a change of sweep order";
 }
 
@@ -123,6 +139,37 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepFloat32) {
   // The AVX-512 kernel's 1 / length and 1 / denominator are within ~2 ulp, not exact.
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6);
   expect_grid_path_is_the_general_sweep<float>(3, 1e-6);
+}
+
+TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
+  expect_grid_path_is_the_general_sweep<double>(1, 1e-12, scattered_pins());
+  expect_grid_path_is_the_general_sweep<float>(1, 1e-6, scattered_pins());
+  // The middle particle pinned: no uniform inverse mass to take.
+  std::vector<uint32_t> middle = scattered_pins();
+  middle.push_back(rows / 2 * cols + cols / 2);
+  expect_grid_path_is_the_general_sweep<float>(1, 1e-6, middle);
+}
+
+// The grid path keeps its displacements in v during a substep: the pins' velocities must
+// come back bit for bit, and their positions never move.
+template <class Real>
+void expect_pins_keep_their_state() {
+  const ProvotGrid grid(rows, cols);
+  const std::vector<uint32_t> pins = scattered_pins();
+  const std::vector<double> state = state_after<Real>(rows, cols, grid.colors, 1, pins);
+  for (uint32_t i : pins) {
+    const auto [r, c] = std::pair{i / cols, i % cols};
+    const std::array<double, 6> start = {spacing * c, -spacing * r,           0, 0,
+                                         0,           2.0 * std::sin(0.3 * i)};
+    for (std::size_t k = 0; k < 6; ++k)
+      EXPECT_EQ(state[6 * i + k], static_cast<double>(static_cast<Real>(start[k])))
+          << "pin " << i << " component " << k;
+  }
+}
+
+TEST(XpbdGrid, PinsKeepTheirPositionAndVelocityBitForBit) {
+  expect_pins_keep_their_state<double>();
+  expect_pins_keep_their_state<float>();
 }
 
 // The topology of a mock network as the recogniser sees it.

@@ -14,42 +14,40 @@ namespace clothlab::io {
 
 namespace {
 
-void field(std::ostream& out, const char* name, double value) {
-  out << "      <DataArray type=\"Float64\" Name=\"" << name
-      << "\" NumberOfTuples=\"1\" format=\"ascii\">" << host::format_number(value)
-      << "</DataArray>\n";
+// Raw appended arrays: each is a UInt64 byte count (header_type="UInt64") and the bytes, at
+// its offset from the '_' that opens the AppendedData section.
+using ArrayHeader = uint64_t;
+
+void append_header(std::string& out, uint64_t bytes) {
+  const auto header = static_cast<ArrayHeader>(bytes);
+  out.append(reinterpret_cast<const char*>(&header), sizeof header);
 }
 
-// Raw appended arrays: each is a UInt32 byte count and the bytes, at its offset from the
-// '_' that opens the AppendedData section.
-class AppendedArrays {
- public:
-  template <class T>
-  void declare(std::ostream& out, const char* type, const char* name, int components,
-               const std::vector<T>& values) {
-    out << "        <DataArray type=\"" << type << "\" Name=\"" << name
-        << "\" NumberOfComponents=\"" << components << "\" format=\"appended\" offset=\"" << offset_
-        << "\"/>\n";
-    blocks_.push_back({values.data(), static_cast<uint32_t>(values.size() * sizeof(T))});
-    offset_ += sizeof(uint32_t) + blocks_.back().bytes;
-  }
-  void write(std::ostream& out) const {
-    out << "  <AppendedData encoding=\"raw\">\n   _";
-    for (const Block& block : blocks_) {
-      out.write(reinterpret_cast<const char*>(&block.bytes), sizeof block.bytes);
-      out.write(static_cast<const char*>(block.data), block.bytes);
-    }
-    out << "\n  </AppendedData>\n";
-  }
+template <class T>
+std::string_view bytes_of(const std::vector<T>& values) {
+  return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
+}
 
- private:
-  struct Block {
-    const void* data;
-    uint32_t bytes;
-  };
-  std::vector<Block> blocks_;
-  uint64_t offset_ = 0;
-};
+void declare(std::string& out, const char* type, const char* name, int components,
+             uint64_t offset) {
+  out += "        <DataArray type=\"";
+  out += type;
+  out += "\" Name=\"";
+  out += name;
+  out += "\" NumberOfComponents=\"";
+  out += std::to_string(components);
+  out += "\" format=\"appended\" offset=\"";
+  out += std::to_string(offset);
+  out += "\"/>\n";
+}
+
+void field(std::string& out, const char* name, double value) {
+  out += "      <DataArray type=\"Float64\" Name=\"";
+  out += name;
+  out += "\" NumberOfTuples=\"1\" format=\"ascii\">";
+  out += host::format_number(value);
+  out += "</DataArray>\n";
+}
 
 // A number the file holds, read by the host's one number parser (host::parse_real).
 double number_in(std::string_view text, const std::string& what,
@@ -83,6 +81,18 @@ std::string_view array_body(const std::string& text, const std::string& name,
   return std::string_view(text).substr(begin, end - begin);
 }
 
+// The byte count before each appended array: UInt64 in this module's files, UInt32 in the
+// files of earlier versions (and VTK's default).
+size_t header_bytes(const std::string& text, const std::filesystem::path& path) {
+  const size_t end = text.find('>', text.find("<VTKFile"));
+  const std::string_view tag = std::string_view(text).substr(0, end);
+  if (tag.find("header_type=\"UInt64\"") != std::string_view::npos) return 8;
+  if (tag.find("header_type=") == std::string_view::npos ||
+      tag.find("header_type=\"UInt32\"") != std::string_view::npos)
+    return 4;
+  throw std::runtime_error(path.string() + ": header_type is neither UInt32 nor UInt64");
+}
+
 template <class T>
 std::vector<T> appended_values(const std::string& text, const std::string& name,
                                const std::filesystem::path& path) {
@@ -103,14 +113,21 @@ std::vector<T> appended_values(const std::string& text, const std::string& name,
     throw std::runtime_error(path.string() + ": DataArray " + name + " has offset " +
                              host::format_number(offset) + ", not a byte offset in the file");
   const size_t begin = base + 1 + static_cast<size_t>(offset);
-  uint32_t bytes = 0;
-  if (begin + sizeof bytes > text.size())
+  const size_t header = header_bytes(text, path);
+  uint64_t bytes = 0;
+  if (begin + header > text.size())
     throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
-  std::memcpy(&bytes, text.data() + begin, sizeof bytes);
-  if (begin + sizeof bytes + bytes > text.size() || bytes % sizeof(T) != 0)
+  if (header == sizeof(uint32_t)) {
+    uint32_t narrow = 0;
+    std::memcpy(&narrow, text.data() + begin, sizeof narrow);
+    bytes = narrow;
+  } else {
+    std::memcpy(&bytes, text.data() + begin, sizeof bytes);
+  }
+  if (bytes > text.size() - begin - header || bytes % sizeof(T) != 0)
     throw std::runtime_error(path.string() + ": DataArray " + name + " is truncated");
   std::vector<T> values(bytes / sizeof(T));
-  if (bytes > 0) std::memcpy(values.data(), text.data() + begin + sizeof bytes, bytes);
+  if (bytes > 0) std::memcpy(values.data(), text.data() + begin + header, bytes);
   return values;
 }
 
@@ -122,37 +139,84 @@ double ascii_value(const std::string& text, const std::string& name,
 }  // namespace
 
 VtpTopology vtp_topology(const GridMesh& mesh) {
-  VtpTopology topology{mesh.triangles(), std::vector<int32_t>(mesh.triangle_count())};
-  for (size_t i = 0; i < topology.offsets.size(); ++i)
-    topology.offsets[i] = static_cast<int32_t>(3 * (i + 1));
+  // Row r's cells as one strip r*cols, (r+1)*cols, r*cols+1, (r+1)*cols+1, ...: VTK takes
+  // its triangles as (a, d, b), (b, d, d+1), ... (every other one turned), the same
+  // counter-clockwise triangles as GridMesh::triangles() in 2*cols indices instead of
+  // 6*(cols-1) and an offset per row instead of one per triangle.
+  std::vector<int32_t> connectivity, offsets;
+  if (mesh.triangle_count() > 0) {
+    connectivity.reserve(2 * mesh.vertex_count());
+    for (uint32_t r = 0; r + 1 < mesh.rows; ++r) {
+      for (uint32_t c = 0; c < mesh.cols; ++c) {
+        const auto top = static_cast<int32_t>(r * mesh.cols + c);
+        connectivity.insert(connectivity.end(), {top, top + static_cast<int32_t>(mesh.cols)});
+      }
+      offsets.push_back(static_cast<int32_t>(connectivity.size()));
+    }
+  }
+  VtpTopology topology;
+  topology.strips = offsets.size();
+  topology.connectivity_bytes = sizeof(ArrayHeader) + bytes_of(connectivity).size();
+  append_header(topology.appended, bytes_of(connectivity).size());
+  topology.appended += bytes_of(connectivity);
+  append_header(topology.appended, bytes_of(offsets).size());
+  topology.appended += bytes_of(offsets);
   return topology;
 }
 
+void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame) {
+  std::string& text = file.text;
+  text.assign(
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n  <PolyData>\n    <FieldData>\n");
+  field(text, "TimeValue", frame.time);
+  field(text, "step", static_cast<double>(frame.step));
+  field(text, "energy_kinetic", frame.energy.kinetic);
+  field(text, "energy_spring", frame.energy.spring);
+  field(text, "energy_gravity", frame.energy.gravity);
+  field(text, "energy_total", frame.energy.total());
+  text += "    </FieldData>\n    <Piece NumberOfPoints=\"";
+  text += std::to_string(frame.positions.size() / 3);
+  text += "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"";
+  text += std::to_string(topology.strips);
+  text += "\" NumberOfPolys=\"0\">\n      <PointData Scalars=\"stretch\" Vectors=\"velocity\">\n";
+  // The frame's arrays in the order they follow the '_', then the topology's.
+  const std::string_view arrays[] = {bytes_of(frame.velocities), bytes_of(frame.stretch),
+                                     bytes_of(frame.positions)};
+  uint64_t offset = 0;
+  const auto next = [&](std::string_view array) {
+    const uint64_t at = offset;
+    offset += sizeof(ArrayHeader) + array.size();
+    return at;
+  };
+  declare(text, "Float32", "velocity", 3, next(arrays[0]));
+  declare(text, "Float32", "stretch", 1, next(arrays[1]));
+  text += "      </PointData>\n      <Points>\n";
+  declare(text, "Float32", "Points", 3, next(arrays[2]));
+  text += "      </Points>\n      <Strips>\n";
+  declare(text, "Int32", "connectivity", 1, offset);
+  declare(text, "Int32", "offsets", 1, offset + topology.connectivity_bytes);
+  text += "      </Strips>\n    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _";
+  // The array headers and the closing tags go after the XML in the same buffer; the pieces
+  // point into it once it no longer grows.
+  const size_t xml_end = text.size();
+  for (const std::string_view array : arrays) append_header(text, array.size());
+  const size_t tail = text.size();
+  text += "\n  </AppendedData>\n</VTKFile>\n";
+  const auto header = [&](size_t i) {
+    return std::string_view(text).substr(xml_end + i * sizeof(ArrayHeader), sizeof(ArrayHeader));
+  };
+  file.pieces.assign({std::string_view(text).substr(0, xml_end), header(0), arrays[0], header(1),
+                      arrays[1], header(2), arrays[2], topology.appended,
+                      std::string_view(text).substr(tail)});
+}
+
 void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame) {
-  out << "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
-         "header_type=\"UInt32\">\n  <PolyData>\n    <FieldData>\n";
-  field(out, "TimeValue", frame.time);
-  field(out, "step", static_cast<double>(frame.step));
-  field(out, "energy_kinetic", frame.energy.kinetic);
-  field(out, "energy_spring", frame.energy.spring);
-  field(out, "energy_gravity", frame.energy.gravity);
-  field(out, "energy_total", frame.energy.total());
-  out << "    </FieldData>\n    <Piece NumberOfPoints=\"" << frame.positions.size() / 3
-      << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\""
-      << topology.offsets.size()
-      << "\">\n      <PointData Scalars=\"stretch\" Vectors=\"velocity\">\n";
-  AppendedArrays arrays;
-  arrays.declare(out, "Float32", "velocity", 3, frame.velocities);
-  arrays.declare(out, "Float32", "stretch", 1, frame.stretch);
-  out << "      </PointData>\n      <Points>\n";
-  arrays.declare(out, "Float32", "Points", 3, frame.positions);
-  out << "      </Points>\n      <Polys>\n";
-  arrays.declare(out, "Int32", "connectivity", 1, topology.connectivity);
-  arrays.declare(out, "Int32", "offsets", 1, topology.offsets);
-  out << "      </Polys>\n    </Piece>\n  </PolyData>\n";
-  arrays.write(out);
-  out << "</VTKFile>\n";
+  VtpFile file;
+  compose_vtp(file, topology, frame);
+  for (const std::string_view piece : file.pieces)
+    out.write(piece.data(), static_cast<std::streamsize>(piece.size()));
 }
 
 Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
@@ -171,7 +235,18 @@ Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
   if (frame.velocities.size() != frame.positions.size() ||
       frame.stretch.size() * 3 != frame.positions.size())
     throw std::runtime_error(path.string() + ": point data sizes do not match the points");
-  if (triangles) *triangles = appended_values<int32_t>(text, "offsets", path).size();
+  if (triangles) {
+    // A strip of n points holds n - 2 triangles.
+    const std::vector<int32_t> ends = appended_values<int32_t>(text, "offsets", path);
+    *triangles = 0;
+    int32_t begin = 0;
+    for (const int32_t end : ends) {
+      if (end - begin < 3)
+        throw std::runtime_error(path.string() + ": a triangle strip of fewer than 3 points");
+      *triangles += static_cast<uint64_t>(end - begin - 2);
+      begin = end;
+    }
+  }
   return frame;
 }
 

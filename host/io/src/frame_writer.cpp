@@ -7,6 +7,7 @@
 #include <clothlab/io/frame_writer.hpp>
 #include <condition_variable>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -46,6 +47,15 @@ constexpr const char* pc2_staging_name = ".frames.pc2.partial";
 // Frames many times a second: atomic renames without fsync (a run that stops, however it
 // stops, leaves whole files); run.json and the point cache, written once or twice, are synced.
 constexpr Durability frame_durability = Durability::Renamed;
+// Temporaries of an earlier, killed run are removed once when the writer starts: a sweep per
+// frame would scan a folder that grows by a file or two every frame.
+constexpr StaleTemporaries frame_sweep = StaleTemporaries::Skip;
+
+double thread_cpu_s() {
+  timespec now{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 // frame_NNNNNN.vtp or .obj (six digits or more), frames.pvd, frames.pc2 or the staging file.
 bool is_frame_file(std::string_view name) {
@@ -92,9 +102,11 @@ struct FrameWriter::Impl {
   uint64_t frames = 0;
   std::vector<CollectionEntry> index;
   std::ofstream pc2_staging;
-  std::vector<double> decoded;
-  double writing_s = 0;  // time spent writing frames, for run.json
+  double writing_s = 0;      // wall time spent writing frames, for run.json
+  double writing_cpu_s = 0;  // the writer thread's CPU time for them: what it takes from the
+                             // stepping threads when every core steps
   Frame frame;
+  VtpFile vtp_file;
   std::thread thread;
 
   Impl(const Scene& scene, Precision precision, FrameWriterOptions options_in)
@@ -118,27 +130,24 @@ struct FrameWriter::Impl {
     frame.step = snapshot.step;
     frame.time = snapshot.time;
     energy_cloth.set_raw_state(snapshot.state);
-    energy_cloth.positions(decoded);
-    frame.positions.assign(decoded.begin(), decoded.end());
-    energy_cloth.velocities(decoded);
-    frame.velocities.assign(decoded.begin(), decoded.end());
+    energy_cloth.positions(frame.positions);
+    energy_cloth.velocities(frame.velocities);
     compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
     const Cloth::Energy energy = energy_cloth.energy();
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
-      io::write_file_atomically(
-          options.dir / name, [&](std::ostream& out) { write_vtp(out, topology, frame); },
-          frame_durability);
+      compose_vtp(vtp_file, topology, frame);
+      io::write_file_atomically(options.dir / name, vtp_file.pieces, frame_durability, frame_sweep);
       index.push_back({frame.time, name});
       io::write_file_atomically(
           options.dir / "frames.pvd", [&](std::ostream& out) { write_pvd(out, index); },
-          frame_durability);
+          frame_durability, frame_sweep);
     }
     if (obj)
       io::write_file_atomically(
           options.dir / frame_name(frames, "obj"),
-          [&](std::ostream& out) { write_obj(out, mesh, frame); }, frame_durability);
+          [&](std::ostream& out) { write_obj(out, mesh, frame); }, frame_durability, frame_sweep);
     if (pc2) {
       pc2_staging.write(reinterpret_cast<const char*>(frame.positions.data()),
                         static_cast<std::streamsize>(frame.positions.size() * sizeof(float)));
@@ -162,9 +171,11 @@ struct FrameWriter::Impl {
       if (!failed) {
         try {
           const auto start = std::chrono::steady_clock::now();
+          const double cpu_start = thread_cpu_s();
           write(ring[slot]);
           writing_s +=
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          writing_cpu_s += thread_cpu_s() - cpu_start;
         } catch (...) {
           std::lock_guard lock(mutex);
           failure = std::current_exception();
@@ -214,6 +225,7 @@ FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOpt
   impl_ = std::make_unique<Impl>(scene, precision, std::move(options));
   Impl& impl = *impl_;
   remove_earlier_frames(impl.options.dir);
+  io::remove_stale_temporaries_in(impl.options.dir);
   nlohmann::json run = impl.options.run;
   run["status"] = "running";
   run["frames"] = {{"every_steps", impl.options.every_steps}, {"formats", impl.options.formats}};
@@ -280,10 +292,12 @@ void FrameWriter::finish(const nlohmann::json& summary) {
   if (impl.pc2) impl.write_point_cache();
   nlohmann::json run = impl.options.run;
   run["status"] = "finished";
-  run["frames"] = {{"every_steps", impl.options.every_steps},
-                   {"formats", impl.options.formats},
-                   {"written", impl.frames},
-                   {"writer_s_per_frame", impl.frames ? impl.writing_s / impl.frames : 0.0}};
+  run["frames"] = {
+      {"every_steps", impl.options.every_steps},
+      {"formats", impl.options.formats},
+      {"written", impl.frames},
+      {"writer_s_per_frame", impl.frames ? impl.writing_s / impl.frames : 0.0},
+      {"writer_cpu_s_per_frame", impl.frames ? impl.writing_cpu_s / impl.frames : 0.0}};
   run["summary"] = summary;
   impl.write_run_json(run);
 }

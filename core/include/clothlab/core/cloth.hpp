@@ -98,6 +98,9 @@ class Cloth {
   // State as doubles, particle-major: out[3 * i + k].
   void positions(std::vector<double>& out) const;
   void velocities(std::vector<double>& out) const;
+  // The same rounded to float32 in one pass (frame files: float32 whatever the precision).
+  void positions(std::vector<float>& out) const;
+  void velocities(std::vector<float>& out) const;
   void set_state(const std::vector<double>& x, const std::vector<double>& v);
   // The state as the cloth stores it (structure of arrays, its precision, padding included):
   // copying it out is two memcpy's, cheap enough for the step loop, and only a Cloth of the

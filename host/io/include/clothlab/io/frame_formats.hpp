@@ -1,7 +1,9 @@
 // The frame file formats, all written without a library:
-//   .vtp  VTK XML PolyData (ParaView): points, triangles, point data velocity and stretch,
-//         field data TimeValue, step and the energies; arrays as raw appended binary (no
-//         encoding to spend time on, the triangles' bytes computed once per run).
+//   .vtp  VTK XML PolyData (ParaView): points, the triangles as one triangle strip per row
+//         of cells, point data velocity and stretch,
+//         field data TimeValue, step and the energies; arrays as raw appended binary
+//         (little-endian, header_type UInt64: no encoding to spend time on; the triangles'
+//         bytes computed once per run and written from where they lie, as are the frame's).
 //   .pvd  the ParaView collection listing the .vtp files with their times.
 //   .obj  Wavefront OBJ, one file per frame (Blender's stop-motion OBJ import, Houdini).
 //   .pc2  Blender / 3ds Max point cache: a header and float32 positions per frame.
@@ -11,21 +13,34 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace clothlab::io {
 
-// The triangles as VTK's connectivity and offsets arrays: the same in every frame.
+// The triangles as triangle strips (one per row of cells: a quarter of the bytes of separate
+// triangles), VTK's connectivity and offsets arrays, the same in every frame: their appended
+// bytes (each array's UInt64 byte count, then the Int32 values).
 struct VtpTopology {
-  std::vector<int32_t> connectivity, offsets;
+  uint64_t strips = 0;
+  uint64_t connectivity_bytes = 0;  // the connectivity's count and values: where offsets starts
+  std::string appended;
 };
 VtpTopology vtp_topology(const GridMesh& mesh);
 
+// A frame's .vtp as the pieces of memory it is made of, for io::write_file_atomically: the
+// XML and the arrays' byte counts (in `text`), the frame's arrays and the topology's bytes.
+// The pieces point into text, frame and topology, which must outlive them.
+struct VtpFile {
+  std::string text;
+  std::vector<std::string_view> pieces;
+};
+void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame);
 void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame);
 
 // Reads a .vtp this module wrote (positions, velocities, stretch, time, step, energy, and
-// the triangle count in *triangles). Throws std::runtime_error naming the file and what
-// is missing.
+// the number of triangles its strips hold in *triangles). Throws std::runtime_error naming the file
+// and what is missing.
 Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles = nullptr);
 
 struct CollectionEntry {
