@@ -164,6 +164,33 @@ TEST_F(AtomicFile, TemporariesOfDeadWritersAreRemovedOnTheNextWrite) {
   EXPECT_EQ(remove_stale_temporaries(folder_ / "out.csv"), 0);
 }
 
+// A writer of many files in one folder (frames) sweeps the folder once, for every name, and
+// then writes without scanning it: the dead writer's temporary of a file it writes stays
+// until the next sweep, a live writer's and a user's hidden file always stay.
+TEST_F(AtomicFile, AFolderIsSweptOnceForTheTemporariesOfDeadWriters) {
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ::waitpid(dead, nullptr, 0);
+  const std::string stale_frame = ".frame_000001.vtp.tmp-" + std::to_string(dead) + "-1";
+  const std::string stale_index = ".frames.pvd.tmp-" + std::to_string(dead) + "-2";
+  const std::string live = ".frames.pvd.tmp-" + std::to_string(getpid()) + "-3";
+  const std::string hidden = ".notes.tmp-draft";
+  for (const std::string& name : {stale_frame, stale_index, live, hidden})
+    std::ofstream(folder_ / name) << "x";
+  using clothlab::io::Durability;
+  using clothlab::io::StaleTemporaries;
+  write_file_atomically(folder_ / "frame_000001.vtp", std::string_view("frame"),
+                        Durability::Renamed, StaleTemporaries::Skip);
+  const auto sorted = [](std::vector<std::string> names) {
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  EXPECT_EQ(names(), sorted({stale_frame, stale_index, live, hidden, "frame_000001.vtp"}));
+  EXPECT_EQ(clothlab::io::remove_stale_temporaries_in(folder_), 2);
+  EXPECT_EQ(names(), sorted({hidden, live, "frame_000001.vtp"}));
+}
+
 TEST_F(AtomicFile, AFailedWriteNamesTheTargetAndLeavesNothing) {
   std::ofstream(folder_ / "out.json") << "old";
   EXPECT_THROW(write_file_atomically(folder_ / "out.json",

@@ -108,21 +108,43 @@ void sync_folder(const fs::path& folder) {
 
 }  // namespace
 
-int remove_stale_temporaries(const fs::path& path) {
-  const std::string prefix = temporary_prefix(path);
+namespace {
+
+// Removes the temporaries in folder whose writer is gone: ".NAME.tmp-PID-XXXXXX" for every
+// NAME (target empty) or for target's alone.
+int remove_dead_writers_temporaries(const fs::path& folder, const std::string& target) {
+  const std::string prefix = target.empty() ? std::string() : "." + target + ".tmp-";
   int removed = 0;
   std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder_of(path), error)) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
     const std::string name = entry.path().filename().string();
-    if (!name.starts_with(prefix)) continue;
+    size_t at = 0;
+    if (!prefix.empty()) {
+      if (!name.starts_with(prefix)) continue;
+      at = prefix.size();
+    } else {
+      const size_t marker = name.rfind(".tmp-");
+      if (!name.starts_with('.') || marker == std::string::npos || marker == 0) continue;
+      at = marker + 5;
+    }
     int pid = 0;
-    const char* digits = name.data() + prefix.size();
+    const char* digits = name.data() + at;
     const auto [end, problem] = std::from_chars(digits, name.data() + name.size(), pid);
     if (problem != std::errc() || *end != '-' || pid <= 0) continue;
     if (::kill(pid, 0) == 0 || errno != ESRCH) continue;  // its writer may still be at work
     if (fs::remove(entry.path(), error)) ++removed;
   }
   return removed;
+}
+
+}  // namespace
+
+int remove_stale_temporaries(const fs::path& path) {
+  return remove_dead_writers_temporaries(folder_of(path), path.filename().string());
+}
+
+int remove_stale_temporaries_in(const fs::path& folder) {
+  return remove_dead_writers_temporaries(folder, "");
 }
 
 void check_output_path(const fs::path& path) {
@@ -136,14 +158,15 @@ void check_output_path(const fs::path& path) {
   existing_mode(path);
 }
 
-void write_file_atomically(const fs::path& path, std::string_view bytes, Durability durability) {
-  write_file_atomically(path, std::span<const std::string_view>(&bytes, 1), durability);
+void write_file_atomically(const fs::path& path, std::string_view bytes, Durability durability,
+                           StaleTemporaries stale) {
+  write_file_atomically(path, std::span<const std::string_view>(&bytes, 1), durability, stale);
 }
 
 void write_file_atomically(const fs::path& path, std::span<const std::string_view> pieces,
-                           Durability durability) {
+                           Durability durability, StaleTemporaries stale) {
   const std::optional<mode_t> mode = existing_mode(path);
-  remove_stale_temporaries(path);
+  if (stale == StaleTemporaries::Remove) remove_stale_temporaries(path);
   fs::path temporary;
   const int fd = create_temporary(path, temporary);
   const auto abandon = [&](const std::string& why) {
@@ -168,11 +191,11 @@ void write_file_atomically(const fs::path& path, std::span<const std::string_vie
 }
 
 void write_file_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write,
-                           Durability durability) {
+                           Durability durability, StaleTemporaries stale) {
   std::ostringstream text;
   write(text);
   if (!text) fail(path, "formatting the contents failed");
-  write_file_atomically(path, text.view(), durability);
+  write_file_atomically(path, text.view(), durability, stale);
 }
 
 }  // namespace clothlab::io

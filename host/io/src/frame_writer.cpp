@@ -47,6 +47,9 @@ constexpr const char* pc2_staging_name = ".frames.pc2.partial";
 // Frames many times a second: atomic renames without fsync (a run that stops, however it
 // stops, leaves whole files); run.json and the point cache, written once or twice, are synced.
 constexpr Durability frame_durability = Durability::Renamed;
+// Temporaries of an earlier, killed run are removed once when the writer starts: a sweep per
+// frame would scan a folder that grows by a file or two every frame.
+constexpr StaleTemporaries frame_sweep = StaleTemporaries::Skip;
 
 double thread_cpu_s() {
   timespec now{};
@@ -135,16 +138,16 @@ struct FrameWriter::Impl {
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
       compose_vtp(vtp_file, topology, frame);
-      io::write_file_atomically(options.dir / name, vtp_file.pieces, frame_durability);
+      io::write_file_atomically(options.dir / name, vtp_file.pieces, frame_durability, frame_sweep);
       index.push_back({frame.time, name});
       io::write_file_atomically(
           options.dir / "frames.pvd", [&](std::ostream& out) { write_pvd(out, index); },
-          frame_durability);
+          frame_durability, frame_sweep);
     }
     if (obj)
       io::write_file_atomically(
           options.dir / frame_name(frames, "obj"),
-          [&](std::ostream& out) { write_obj(out, mesh, frame); }, frame_durability);
+          [&](std::ostream& out) { write_obj(out, mesh, frame); }, frame_durability, frame_sweep);
     if (pc2) {
       pc2_staging.write(reinterpret_cast<const char*>(frame.positions.data()),
                         static_cast<std::streamsize>(frame.positions.size() * sizeof(float)));
@@ -222,6 +225,7 @@ FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOpt
   impl_ = std::make_unique<Impl>(scene, precision, std::move(options));
   Impl& impl = *impl_;
   remove_earlier_frames(impl.options.dir);
+  io::remove_stale_temporaries_in(impl.options.dir);
   nlohmann::json run = impl.options.run;
   run["status"] = "running";
   run["frames"] = {{"every_steps", impl.options.every_steps}, {"formats", impl.options.formats}};

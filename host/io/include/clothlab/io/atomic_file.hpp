@@ -29,19 +29,28 @@ class WriteError : public std::runtime_error {
 // would cost more than the frame).
 enum class Durability { Synced, Renamed };
 
+// Remove: a write first removes its target's temporaries left by dead writers, which scans
+// the folder. Skip: for a writer of thousands of files in one folder (frames), which sweeps
+// the folder once with remove_stale_temporaries_in(), so that a write costs the same however
+// many files the folder holds.
+enum class StaleTemporaries { Remove, Skip };
+
 // Calls write(stream), then stores what it wrote at path atomically. Throws WriteError (and
 // leaves neither a temporary nor a changed target) when it cannot; an exception from write()
 // propagates the same way.
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(std::ostream&)>& write,
-                           Durability durability = Durability::Synced);
+                           Durability durability = Durability::Synced,
+                           StaleTemporaries stale = StaleTemporaries::Remove);
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes,
-                           Durability durability = Durability::Synced);
+                           Durability durability = Durability::Synced,
+                           StaleTemporaries stale = StaleTemporaries::Remove);
 // The file is the pieces one after another, handed to the kernel as they lie in memory
 // (writev): no copy in between, for large binary files assembled from arrays.
 void write_file_atomically(const std::filesystem::path& path,
                            std::span<const std::string_view> pieces,
-                           Durability durability = Durability::Synced);
+                           Durability durability = Durability::Synced,
+                           StaleTemporaries stale = StaleTemporaries::Remove);
 
 // Throws WriteError unless path could be written now: its folder exists, is a folder and is
 // writable, and path is absent or a regular file. Called before long work starts.
@@ -49,5 +58,7 @@ void check_output_path(const std::filesystem::path& path);
 
 // Removes the temporaries of `path` whose writer process is gone; returns how many.
 int remove_stale_temporaries(const std::filesystem::path& path);
+// The same for every file in folder; returns how many.
+int remove_stale_temporaries_in(const std::filesystem::path& folder);
 
 }  // namespace clothlab::io
