@@ -77,6 +77,9 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
     split_.push_back(rows_ * t / static_cast<std::size_t>(threads_));
   }
   busy_.assign(static_cast<std::size_t>(threads_), 0.0);
+  const std::size_t gap = kGapBytes / sizeof(Real);
+  external_stride_ = (kExternalRows * row_span_ + gap - 1) / gap * gap + gap;
+  external_scratch_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * external_stride_);
 }
 
 template <class Real>
@@ -188,7 +191,6 @@ void ForcePipeline<Real>::scatter_row(const Real* from, Real* state, std::size_t
 
 template <class Real>
 void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass) {
-  if (!pass.springs) return;
   if (interior_row(row)) {
     add_interior_springs(ring, row, pass);
     return;
@@ -284,8 +286,8 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
 
 template <class Real>
 void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
-  if (!wind_ || row + 1 >= rows_) return;         // the last row starts no cell
-  if (pass.springs && interior_row(row)) return;  // its cells went with its springs
+  if (!wind_ || row + 1 >= rows_) return;  // the last row starts no cell
+  if (interior_row(row)) return;           // its cells went with its springs
   const bool timed = pass.timed;
   const auto start =
       timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
@@ -294,6 +296,7 @@ void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
   job.below = staged_row(ring, row + 1, 0, 0);
   job.first = wind_row(ring, 0, 0);
   job.second = wind_row(ring, 1, 0);
+  job.position_span = row_span_;
   job.span = row_span_;
   for (int k = 0; k < 3; ++k) job.direction[k] = wind_direction_[k];
   job.cells = cols_ - 1;
@@ -402,7 +405,7 @@ bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateC
     const Block block = block_of(t, team);
     if (thread == 0) full_team = block.balanced;
     const double pass_start = omp_get_wtime();
-    Pass pass{v != nullptr, thread == 0, 0.0, true};
+    Pass pass{v != nullptr, thread == 0, 0.0};
     probe += run_rows(thread, block.begin, block.end, state, a, pass);
     busy_[t] = omp_get_wtime() - pass_start;
     if (thread == 0) wind_seconds = pass.wind_seconds;
@@ -418,23 +421,6 @@ bool ForcePipeline<Real>::evaluate(const StateCombination<Real>& x, const StateC
   counters.springs_evaluated += springs_per_eval_;
   if (v != nullptr) counters.springs_damped += damped_per_eval_;
   counters.normals_computed += normals_per_eval_;
-  return probe == Real(0);
-}
-
-template <class Real>
-bool ForcePipeline<Real>::evaluate_external(const Real* x, Real* a) {
-  Real probe = 0;
-  StateCombination<Real> position;
-  position.base = x;
-  const StateCombination<Real>* const state[2] = {&position, nullptr};
-#pragma omp parallel num_threads(threads_) if (parallel_) reduction(+ : probe)
-  {
-    const int thread = omp_get_thread_num();
-    const auto team = static_cast<std::size_t>(omp_get_num_threads());
-    const Block block = block_of(static_cast<std::size_t>(thread), team);
-    Pass pass{false, false, 0.0, false};
-    probe += run_rows(thread, block.begin, block.end, state, a, pass);
-  }
   return probe == Real(0);
 }
 

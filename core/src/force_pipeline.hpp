@@ -49,6 +49,7 @@ class ForcePipeline {
 
   // a = gravity + M^-1 wind at x (no springs), through the same wind kernel as evaluate;
   // 0 where the inverse mass is 0. Returns false when some value is not finite.
+  // One pass per thread over its block: a row's cells, then its accelerations (below).
   bool evaluate_external(const Real* x, Real* a);
   bool has_wind() const { return wind_; }
 
@@ -85,7 +86,6 @@ class ForcePipeline {
     bool damped;          // damping terms wanted
     bool timed;           // time the separate wind stage (thread 0)
     double wind_seconds;  // that time
-    bool springs;         // false: gravity and wind only (no interior kernel either)
   };
   using StatePair = const StateCombination<Real>* const (&)[2];  // x, v (nullptr: none)
 
@@ -125,6 +125,17 @@ class ForcePipeline {
   void clear_row(Real* ring, std::size_t row);
   Real run_rows(int thread, std::size_t begin, std::size_t end, StatePair state, Real* a,
                 Pass& pass);
+
+  // The external pass: the wind shares of cell row q (triangle 0: abc', 1: bdc') in a ring
+  // of two, read in place from x where col_pitch is 1; a row's particles then sum the
+  // shares of the cells above and beside them. Rows without cells read the zero rows.
+  Real* external_row(int thread, std::size_t index);
+  Real* cell_shares(int thread, std::ptrdiff_t q, int triangle);
+  void compute_cells(int thread, const Real* x, std::size_t q);
+  Real finish_external_row(int thread, std::size_t row, Real* a);
+  // Block [begin, end) from its end down to `begin` when `toward_first`, else up to end - 1.
+  Real external_rows(int thread, std::size_t begin, std::size_t end, bool toward_first,
+                     const Real* x, Real* a);
 
   // The fused step (rkn_sweep.cpp): rows of the acceleration windows, of the halo (x and
   // v rows of other threads' blocks, copied before anything is written) and the sweep.
@@ -173,6 +184,8 @@ class ForcePipeline {
   std::vector<std::size_t> split_;  // first row of each thread's block, then rows
   std::vector<double> busy_;        // each thread's time in the last pass
   AlignedBuffer<Real> scratch_;
+  std::size_t external_stride_ = 0;  // elements from one thread's external scratch to the next
+  AlignedBuffer<Real> external_scratch_;
   uint64_t springs_per_eval_ = 0;
   uint64_t damped_per_eval_ = 0;
   uint64_t normals_per_eval_ = 0;

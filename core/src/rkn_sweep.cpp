@@ -186,7 +186,7 @@ bool ForcePipeline<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
     for (std::size_t row = end; row < below; ++row) copy_row(row);
 #pragma omp barrier
     const double sweep_start = omp_get_wtime();
-    Pass pass{true, false, 0.0, true};
+    Pass pass{true, false, 0.0};
     probe += rkn_rows(thread, begin, end, x, v, step, pass);
     busy_[t] = omp_get_wtime() - sweep_start;
   }

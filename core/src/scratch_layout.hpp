@@ -17,6 +17,16 @@ inline constexpr std::size_t kWindRowsFrom = kForceRowFrom + 3;
 inline constexpr std::size_t kStagedRowsFrom = kWindRowsFrom + 6;
 inline constexpr std::size_t kRowsPerRing = kStagedRowsFrom + 18;
 
+// A thread's scratch for the external pass (external_pass.cpp): cell shares of two cell
+// rows (2 triangles x 3 components each), rows of zeros standing for the cells beyond the
+// grid, and for a turned grid contiguous copies of two position rows and the finished
+// accelerations.
+inline constexpr std::size_t kCellRowsFrom = 0;
+inline constexpr std::size_t kZeroCellRowsFrom = kCellRowsFrom + 12;
+inline constexpr std::size_t kExternalPositionsFrom = kZeroCellRowsFrom + 6;
+inline constexpr std::size_t kExternalFinishedFrom = kExternalPositionsFrom + 6;
+inline constexpr std::size_t kExternalRows = kExternalFinishedFrom + 3;
+
 // Between the threads' scratch regions.
 inline constexpr std::size_t kGapBytes = 65536;
 

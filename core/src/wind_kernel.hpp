@@ -17,13 +17,16 @@
 
 namespace clothlab::detail {
 
-// Rows hold their components a span apart, as in the spring kernel.
+// Rows hold their components a span apart, as in the spring kernel: the positions
+// position_span apart (a scratch row's span, or the state's stride when read in place),
+// the shares span apart.
 template <class Real>
 struct WindRow {
   const Real* x;      // positions of this row
   const Real* below;  // positions of the next row
   Real* first;
   Real* second;
+  std::size_t position_span;
   std::size_t span;
   std::size_t cells;  // cols - 1
   Real direction[3];
@@ -64,15 +67,16 @@ inline void wind_row_forces_portable(const WindRow<Real>& row) {
   const Real* __restrict below = row.below;
   Real* __restrict first = row.first;
   Real* __restrict second = row.second;
+  const std::size_t py = row.position_span, pz = 2 * row.position_span;
   const std::size_t y = row.span, z = 2 * row.span;
   const Real w[3] = {row.direction[0], row.direction[1], row.direction[2]};
   const Real strength_sixth = row.strength / Real(6);
 #pragma omp simd
   for (std::size_t c = 0; c < row.cells; ++c) {
-    const Real a[3] = {x[c], x[c + y], x[c + z]};
-    const Real b[3] = {x[c + 1], x[c + 1 + y], x[c + 1 + z]};
-    const Real c_[3] = {below[c], below[c + y], below[c + z]};
-    const Real d[3] = {below[c + 1], below[c + 1 + y], below[c + 1 + z]};
+    const Real a[3] = {x[c], x[c + py], x[c + pz]};
+    const Real b[3] = {x[c + 1], x[c + 1 + py], x[c + 1 + pz]};
+    const Real c_[3] = {below[c], below[c + py], below[c + pz]};
+    const Real d[3] = {below[c + 1], below[c + 1 + py], below[c + 1 + pz]};
     Real share_first[3], share_second[3];
     cell_wind_shares(a, b, c_, d, w, strength_sixth, share_first, share_second);
     first[c] = share_first[0];
@@ -89,9 +93,11 @@ inline void wind_row_forces_avx512(const WindRow<float>& row) {
   const __m512 w[3] = {_mm512_set1_ps(row.direction[0]), _mm512_set1_ps(row.direction[1]),
                        _mm512_set1_ps(row.direction[2])};
   const __m512 strength_sixth = _mm512_set1_ps(row.strength / 6.0f);
-  const std::size_t span = row.span;
+  const std::size_t span = row.span, position_span = row.position_span;
   for_each_16(0, row.cells, [&](std::size_t c, auto lanes) {
-    const auto load = [&](const float* p, std::size_t k) { return lanes.load(p + c + k * span); };
+    const auto load = [&](const float* p, std::size_t k) {
+      return lanes.load(p + c + k * position_span);
+    };
     __m512 a[3], b[3], below[3], d[3], first[3], second[3];
     for (std::size_t k = 0; k < 3; ++k) {
       a[k] = load(row.x, k);

@@ -1,0 +1,135 @@
+// The external pass of ForcePipeline (declared in force_pipeline.hpp): gravity and wind
+// alone, for the host's external-forces extension.
+//
+// Each thread runs its block of rows once. A row's cells (the wind shares of their two
+// triangles) are computed once into a ring of two cell rows, reading the positions in
+// place; the row's particles then sum the shares of the cells beside and above them, in
+// the grouping evaluate's accumulators use, so both give the same bits. (In its own file:
+// beside the force evaluation it cost that pass the inlining of its interior kernel.)
+#include <omp.h>
+
+#include <cstddef>
+
+#include "force_pipeline.hpp"
+#include "wind_kernel.hpp"
+
+namespace clothlab::detail {
+
+using namespace scratch;
+
+template <class Real>
+Real* ForcePipeline<Real>::external_row(int thread, std::size_t index) {
+  return external_scratch_.data() + static_cast<std::size_t>(thread) * external_stride_ +
+         index * row_span_ + kMargin;
+}
+
+template <class Real>
+Real* ForcePipeline<Real>::cell_shares(int thread, std::ptrdiff_t q, int triangle) {
+  const auto t = static_cast<std::size_t>(triangle);
+  if (!wind_ || q < 0 || static_cast<std::size_t>(q) + 1 >= rows_)
+    return external_row(thread, kZeroCellRowsFrom + 3 * t);
+  return external_row(thread, kCellRowsFrom + static_cast<std::size_t>(q) % 2 * 6 + 3 * t);
+}
+
+template <class Real>
+void ForcePipeline<Real>::compute_cells(int thread, const Real* x, std::size_t q) {
+  if (!wind_ || q + 1 >= rows_) return;
+  WindRow<Real> job{};
+  if (col_pitch_ == 1) {
+    job.x = x + row_start(q);
+    job.below = x + row_start(q + 1);
+    job.position_span = stride_;
+  } else {
+    Real* upper = external_row(thread, kExternalPositionsFrom);
+    Real* lower = external_row(thread, kExternalPositionsFrom + 3);
+    gather_row(x, q, upper);
+    gather_row(x, q + 1, lower);
+    job.x = upper;
+    job.below = lower;
+    job.position_span = row_span_;
+  }
+  const auto cell_row = static_cast<std::ptrdiff_t>(q);
+  job.first = cell_shares(thread, cell_row, 0);
+  job.second = cell_shares(thread, cell_row, 1);
+  job.span = row_span_;
+  for (int k = 0; k < 3; ++k) job.direction[k] = wind_direction_[k];
+  job.cells = cols_ - 1;
+  job.strength = wind_strength_;
+  wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
+}
+
+// A particle is corners a and b of the cells of its row (its own, the one to its left) and
+// c' and d of those above.
+template <class Real>
+Real ForcePipeline<Real>::finish_external_row(int thread, std::size_t row, Real* a) {
+  const auto above = static_cast<std::ptrdiff_t>(row) - 1, own = above + 1;
+  const bool in_place = col_pitch_ == 1;
+  Real* out = in_place ? a + row_start(row) : external_row(thread, kExternalFinishedFrom);
+  const std::size_t span = in_place ? stride_ : row_span_;
+  const std::size_t cols = cols_;
+  const Real* __restrict inverse_mass = inverse_mass_ + row * cols;
+  Real probe = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t component = static_cast<std::size_t>(k) * row_span_;
+    const Real* __restrict above_first = cell_shares(thread, above, 0) + component;
+    const Real* __restrict above_second = cell_shares(thread, above, 1) + component;
+    const Real* __restrict own_first = cell_shares(thread, own, 0) + component;
+    const Real* __restrict own_second = cell_shares(thread, own, 1) + component;
+    Real* __restrict out_k = out + k * span;
+    const Real g = gravity_[k];
+#pragma omp simd reduction(+ : probe)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const Real from_above = above_first[c] + above_second[c] + above_second[c - 1];
+      const Real from_row = own_first[c] + own_first[c - 1] + own_second[c - 1];
+      const Real force = from_above + from_row;
+      const Real value = inverse_mass[c] > Real(0) ? force * inverse_mass[c] + g : Real(0);
+      out_k[c] = value;
+      probe += value * Real(0);  // NaN exactly when value is not finite
+    }
+  }
+  if (!in_place) scatter_row(out, a, row);
+  return probe;
+}
+
+// A row needs the cells of its row and of the row above, so the ring keeps the last two.
+// Thread 0 runs its block toward row 0 and the others toward the
+// last row: the wavefront solvers (xpbd) start at the cloth's first and last rows right
+// after this pass and find the rows it touched last still in cache.
+template <class Real>
+Real ForcePipeline<Real>::external_rows(int thread, std::size_t begin, std::size_t end,
+                                        bool toward_first, const Real* x, Real* a) {
+  Real probe = 0;
+  if (begin >= end) return probe;
+  if (toward_first) {
+    compute_cells(thread, x, end - 1);
+    for (std::size_t row = end; row-- > begin;) {
+      if (row > 0) compute_cells(thread, x, row - 1);
+      probe += finish_external_row(thread, row, a);
+    }
+  } else {
+    if (begin > 0) compute_cells(thread, x, begin - 1);
+    for (std::size_t row = begin; row < end; ++row) {
+      compute_cells(thread, x, row);
+      probe += finish_external_row(thread, row, a);
+    }
+  }
+  return probe;
+}
+
+template <class Real>
+bool ForcePipeline<Real>::evaluate_external(const Real* x, Real* a) {
+  Real probe = 0;
+#pragma omp parallel num_threads(threads_) if (parallel_) reduction(+ : probe)
+  {
+    const int thread = omp_get_thread_num();
+    const auto team = static_cast<std::size_t>(omp_get_num_threads());
+    const Block block = block_of(static_cast<std::size_t>(thread), team);
+    probe += external_rows(thread, block.begin, block.end, thread == 0, x, a);
+  }
+  return probe == Real(0);
+}
+
+template bool ForcePipeline<float>::evaluate_external(const float*, float*);
+template bool ForcePipeline<double>::evaluate_external(const double*, double*);
+
+}  // namespace clothlab::detail
