@@ -91,27 +91,16 @@ Real ForcePipeline<Real>::finish_external_row(int thread, std::size_t row, Real*
   return probe;
 }
 
-// A row needs the cells of its row and of the row above, so the ring keeps the last two.
-// Thread 0 runs its block toward row 0 and the others toward the
-// last row: the wavefront solvers (xpbd) start at the cloth's first and last rows right
-// after this pass and find the rows it touched last still in cache.
+// A row needs the cells of its row and of the row above: the ring keeps the last two.
 template <class Real>
 Real ForcePipeline<Real>::external_rows(int thread, std::size_t begin, std::size_t end,
-                                        bool toward_first, const Real* x, Real* a) {
+                                        const Real* x, Real* a) {
   Real probe = 0;
   if (begin >= end) return probe;
-  if (toward_first) {
-    compute_cells(thread, x, end - 1);
-    for (std::size_t row = end; row-- > begin;) {
-      if (row > 0) compute_cells(thread, x, row - 1);
-      probe += finish_external_row(thread, row, a);
-    }
-  } else {
-    if (begin > 0) compute_cells(thread, x, begin - 1);
-    for (std::size_t row = begin; row < end; ++row) {
-      compute_cells(thread, x, row);
-      probe += finish_external_row(thread, row, a);
-    }
+  if (begin > 0) compute_cells(thread, x, begin - 1);
+  for (std::size_t row = begin; row < end; ++row) {
+    compute_cells(thread, x, row);
+    probe += finish_external_row(thread, row, a);
   }
   return probe;
 }
@@ -124,7 +113,7 @@ bool ForcePipeline<Real>::evaluate_external(const Real* x, Real* a) {
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const Block block = block_of(static_cast<std::size_t>(thread), team);
-    probe += external_rows(thread, block.begin, block.end, thread == 0, x, a);
+    probe += external_rows(thread, block.begin, block.end, x, a);
   }
   return probe == Real(0);
 }

@@ -133,9 +133,7 @@ class ForcePipeline {
   Real* cell_shares(int thread, std::ptrdiff_t q, int triangle);
   void compute_cells(int thread, const Real* x, std::size_t q);
   Real finish_external_row(int thread, std::size_t row, Real* a);
-  // Block [begin, end) from its end down to `begin` when `toward_first`, else up to end - 1.
-  Real external_rows(int thread, std::size_t begin, std::size_t end, bool toward_first,
-                     const Real* x, Real* a);
+  Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, Real* a);
 
   // The fused step (rkn_sweep.cpp): rows of the acceleration windows, of the halo (x and
   // v rows of other threads' blocks, copied before anything is written) and the sweep.

@@ -1,6 +1,7 @@
 // The external-forces extension: plus the springs (a plain loop over the topology) it is
 // eval_acceleration, with wind; without wind it is gravity, constant in x; the wind part
-// follows the triangle formula over the topology's triangles.
+// follows the triangle formula over the topology's triangles, turned grid or not, and gives
+// the same bits on any thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,8 +67,9 @@ TEST(ExternalForces, WithoutWindItIsGravityOnActiveParticlesAndConstant) {
   }
 }
 
-TEST(ExternalForces, WindFollowsTheTriangleFormulaOverTheTopologysTriangles) {
-  Scene scene = testing::busy_scene(5, 7);
+// rows x cols: a grid the pipeline sweeps as it is, or (narrow and tall) turned a quarter.
+void expect_wind_follows_the_triangle_formula(uint32_t rows, uint32_t cols) {
+  Scene scene = testing::busy_scene(rows, cols);
   scene.gravity = {0, 0, 0};
   Cloth cloth(scene, Precision::Float64, {});
   const clothlab_system& system = cloth.system();
@@ -100,7 +102,35 @@ TEST(ExternalForces, WindFollowsTheTriangleFormulaOverTheTopologysTriangles) {
   void* a = system.alloc_vector(system.context);
   ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
   const std::vector<double> values = values_of<double>(system, a);
-  for (std::size_t e = 0; e < values.size(); ++e) EXPECT_NEAR(values[e], expected[e], 1e-12) << e;
+  for (std::size_t e = 0; e < values.size(); ++e) ASSERT_NEAR(values[e], expected[e], 1e-12) << e;
+}
+
+TEST(ExternalForces, WindFollowsTheTriangleFormulaOverTheTopologysTriangles) {
+  expect_wind_follows_the_triangle_formula(5, 7);
+}
+
+TEST(ExternalForces, WindFollowsTheTriangleFormulaOnATurnedGrid) {
+  expect_wind_follows_the_triangle_formula(20, 3);
+}
+
+// The threads' blocks start mid-grid, where a block needs the cells of the row above it.
+TEST(ExternalForces, SameBitsOnAnyThreadCount) {
+  const Scene scene = testing::busy_scene(70, 64);
+  ASSERT_GE(std::size_t{scene.rows} * scene.cols, parallel_from_particles);
+  std::vector<std::vector<double>> results;
+  for (int threads : {1, 2, 3}) {
+    Cloth cloth(scene, Precision::Float32, {true, threads});
+    const clothlab_system& system = cloth.system();
+    std::vector<double> x, v;
+    testing::move_off_rest(cloth, 4, 0.05, x, v);
+    const auto& external =
+        host_extension<clothlab_external_forces_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    void* a = system.alloc_vector(system.context);
+    ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
+    results.push_back(values_of<float>(system, a));
+  }
+  EXPECT_EQ(results[0], results[1]);
+  EXPECT_EQ(results[0], results[2]);
 }
 
 }  // namespace
