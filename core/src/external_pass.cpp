@@ -3,13 +3,14 @@
 //
 // Each thread runs its block of rows once. A row's cells (the wind shares of their two
 // triangles) are computed once into a ring of two cell rows, reading the positions in
-// place; the row's particles then sum the shares of the cells beside and above them, in
-// the grouping evaluate's accumulators use, so both give the same bits. (In its own file:
-// beside the force evaluation it cost that pass the inlining of its interior kernel.)
+// place; the row's particles then sum the shares of the cells beside and above them
+// (external_row_kernel.hpp). (In its own file: beside the force evaluation it cost that
+// pass the inlining of its interior kernel.)
 #include <omp.h>
 
 #include <cstddef>
 
+#include "external_row_kernel.hpp"
 #include "force_pipeline.hpp"
 #include "wind_kernel.hpp"
 
@@ -58,36 +59,23 @@ void ForcePipeline<Real>::compute_cells(int thread, const Real* x, std::size_t q
   wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
 }
 
-// A particle is corners a and b of the cells of its row (its own, the one to its left) and
-// c' and d of those above.
 template <class Real>
 Real ForcePipeline<Real>::finish_external_row(int thread, std::size_t row, Real* a) {
   const auto above = static_cast<std::ptrdiff_t>(row) - 1, own = above + 1;
   const bool in_place = col_pitch_ == 1;
-  Real* out = in_place ? a + row_start(row) : external_row(thread, kExternalFinishedFrom);
-  const std::size_t span = in_place ? stride_ : row_span_;
-  const std::size_t cols = cols_;
-  const Real* __restrict inverse_mass = inverse_mass_ + row * cols;
-  Real probe = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t component = static_cast<std::size_t>(k) * row_span_;
-    const Real* __restrict above_first = cell_shares(thread, above, 0) + component;
-    const Real* __restrict above_second = cell_shares(thread, above, 1) + component;
-    const Real* __restrict own_first = cell_shares(thread, own, 0) + component;
-    const Real* __restrict own_second = cell_shares(thread, own, 1) + component;
-    Real* __restrict out_k = out + k * span;
-    const Real g = gravity_[k];
-#pragma omp simd reduction(+ : probe)
-    for (std::size_t c = 0; c < cols; ++c) {
-      const Real from_above = above_first[c] + above_second[c] + above_second[c - 1];
-      const Real from_row = own_first[c] + own_first[c - 1] + own_second[c - 1];
-      const Real force = from_above + from_row;
-      const Real value = inverse_mass[c] > Real(0) ? force * inverse_mass[c] + g : Real(0);
-      out_k[c] = value;
-      probe += value * Real(0);  // NaN exactly when value is not finite
-    }
-  }
-  if (!in_place) scatter_row(out, a, row);
+  ExternalRow<Real> job{};
+  job.first_above = cell_shares(thread, above, 0);
+  job.second_above = cell_shares(thread, above, 1);
+  job.first_own = cell_shares(thread, own, 0);
+  job.second_own = cell_shares(thread, own, 1);
+  job.share_span = row_span_;
+  job.inverse_mass = inverse_mass_ + row * cols_;
+  job.out = in_place ? a + row_start(row) : external_row(thread, kExternalFinishedFrom);
+  job.out_span = in_place ? stride_ : row_span_;
+  job.cols = cols_;
+  for (int k = 0; k < 3; ++k) job.gravity[k] = gravity_[k];
+  const Real probe = external_row_accelerations(job);
+  if (!in_place) scatter_row(job.out, a, row);
   return probe;
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "extension_support.hpp"
 
@@ -111,6 +112,32 @@ TEST(ExternalForces, WindFollowsTheTriangleFormulaOverTheTopologysTriangles) {
 
 TEST(ExternalForces, WindFollowsTheTriangleFormulaOnATurnedGrid) {
   expect_wind_follows_the_triangle_formula(20, 3);
+}
+
+// In the last columns of a row (the vector kernels' tail) and in its first.
+void expect_a_non_finite_position_is_reported(Precision precision) {
+  const Scene scene = testing::busy_scene(6, 37);
+  for (const uint32_t particle : {6 * 37 - 2, 2 * 37}) {
+    Cloth cloth(scene, precision, {});
+    std::vector<double> x, v;
+    testing::move_off_rest(cloth, 2, 0.05, x, v);
+    x[3 * particle + 2] = std::numeric_limits<double>::infinity();
+    cloth.set_state(x, v);
+    const clothlab_system& system = cloth.system();
+    const auto& external =
+        host_extension<clothlab_external_forces_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    void* a = system.alloc_vector(system.context);
+    EXPECT_EQ(external.acceleration(system.context, 0.0, system.x, a), CLOTHLAB_ERROR_NUMERICAL)
+        << particle;
+  }
+}
+
+TEST(ExternalForces, NonFinitePositionIsReportedFloat32) {
+  expect_a_non_finite_position_is_reported(Precision::Float32);
+}
+
+TEST(ExternalForces, NonFinitePositionIsReportedFloat64) {
+  expect_a_non_finite_position_is_reported(Precision::Float64);
 }
 
 // The threads' blocks start mid-grid, where a block needs the cells of the row above it.
