@@ -123,7 +123,7 @@ def report_springs(grid, longest, threshold):
 def report_line(grid, fixed, span, along_column):
     first, last = span
     if along_column:
-        print(f"column {fixed}, rows {first}-{last}: row, warp ({'r'},{fixed})-(r+1,{fixed}), "
+        print(f"column {fixed}, rows {first}-{last}: row, warp (r,{fixed})-(r+1,{fixed}), "
               f"weft (r,{fixed})-(r,{fixed + 1})")
         for r in range(first, last + 1):
             print(f"  {r} {shown(grid.warp(r, fixed))} {shown(grid.weft(r, fixed))}")
