@@ -40,6 +40,8 @@ struct FakeRuns {
   // 10-fold.
   std::string burst_on;
   int bursts = 1;
+  // From this call on (0: never), other jobs make every run take twice as long.
+  int loaded_from_call = 0;
   int calls = 0;
   std::vector<std::string> runs;
   std::vector<std::string> settings;       // "integrator substeps x iterations" per probe run
@@ -66,6 +68,7 @@ struct FakeRuns {
     if (c.integrator == "dear") run.ms_per_frame = 2.5 * substeps;
     if (c.integrator == "solver") run.ms_per_frame = 3 * substeps * iterations;
     if (c.integrator == "walker") run.ms_per_frame *= 10;
+    if (loaded_from_call > 0 && calls >= loaded_from_call) run.ms_per_frame *= 2;
     if (c.duration < 1 && c.integrator + " " + c.setting("substeps") == burst_on) {
       if (--bursts == 0) burst_on.clear();
       run.ms_per_frame *= 10;
@@ -403,6 +406,37 @@ TEST(IntegratorChoice, EndsTheSubstepWalkWhereOneIterationIsOverHalfTheBudget) {
   EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "walker 8 x 1"), 0);
 }
 
+// Before a stop or a cut, the best's first frames are measured again beside the setting: where
+// the load has grown since the best was measured, that is the yardstick. Here every run after
+// steady's takes twice as long: dear's 16 substeps (80 ms/frame, 72 the fastest frames: 9 to 16
+// cost at least 40.5) are over steady's 25 ms/frame, not over its 45 now.
+TEST(IntegratorChoice, ComparesWithTheBestsFirstFramesMeasuredBesideAStop) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.settings.stop_factor = 2;
+  FakeRuns runs;
+  runs.loaded_from_call = 4;  // the reference's two runs, steady's run over T, then loaded
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"dear", false}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[1].integrator, "dear");
+  ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
+  EXPECT_EQ(choices[1].substeps, 16u);
+  EXPECT_NEAR(choices[1].ms_per_frame, 80, 1e-9);
+  EXPECT_NE(progress.str().find("dear 16 substeps: passes"), std::string::npos);
+  // The bracket's cut too: 80 against steady's 25 would leave nothing in (8, 16]; side by side
+  // (72 and 45, the fastest first frames) up to 10 substeps can still win, and 10 is probed
+  // (its first frames twice: over the yardstick as stored, not beside steady's).
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 10"), 2);
+  EXPECT_NE(choices[1].verdict.find("not refined below 16 substeps: 11 or more cost at least 49.5 "
+                                    "ms/frame, more than steady at 1 substep (45 ms its first "
+                                    "frames now)"),
+            std::string::npos)
+      << choices[1].verdict;
+}
+
 // A bisection probe that the budget stops (here: a burst of other jobs through both of its
 // first-frames measurements) ends the bisection at its passing end, and the verdict says so.
 TEST(IntegratorChoice, EndsABisectionThatTheBudgetStops) {
@@ -485,7 +519,8 @@ TEST(IntegratorChoice, MeasuresTheFirstFramesAgainBeforeAStop) {
                          fixture.settings, std::ref(runs), std::ref(runs), store, progress);
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 64u);
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 64"), 3);  // 2 short, 1 T
+  // 2 short, 1 T, and 1 short beside steady's before the bracket is cut
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 64"), 4);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

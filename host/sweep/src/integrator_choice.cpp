@@ -30,7 +30,8 @@ struct BestSoFar {
   std::string integrator;
   std::string label;  // "verlet at 1536 substeps"
   double ms_per_frame = INFINITY;
-  double wall_s = 0;  // stepping wall time of its run over T at the scene's mesh
+  double wall_s = 0;      // stepping wall time of its run over T at the scene's mesh
+  CaseSpec first_frames;  // its first frames' run, measured again beside a setting to be stopped
   bool found() const { return std::isfinite(ms_per_frame); }
 };
 
@@ -214,15 +215,33 @@ class IntegratorSearch {
     const BestSoFar& best = context_.best;
     if (!best.found() || best.integrator == candidate_.integrator || settings_.stop_factor <= 0)
       return middle;
-    const double cost = probes_.at(key(substeps, passing)).ms_per_frame;
-    const double cut = best.ms_per_frame * passing / cost;
+    double cost = probes_.at(key(substeps, passing)).ms_per_frame;
+    double cut = best.ms_per_frame * passing / cost;
+    std::string yardstick = best.label;
+    if (cut < middle) {
+      // The two costs were measured at different times: measured again side by side (their
+      // first frames, the fastest of them), the larger cut stands, so that a load that grew
+      // in between cuts nothing.
+      const auto [s, it] = key(substeps, passing);
+      const double timeout_s = budget_s(1.0);
+      const Trajectory mine = run_guarded(first_frames_case(candidate_case(s, it)), timeout_s);
+      const Trajectory theirs = run_guarded(best.first_frames, timeout_s);
+      if (mine.verdict.stable() && theirs.verdict.stable() && mine.ms_per_frame_p10 > 0 &&
+          theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10 > cut) {
+        cut = theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10;
+        cost = mine.ms_per_frame_p10;
+        char now[64];
+        std::snprintf(now, sizeof now, " (%.4g ms its first frames now)", theirs.ms_per_frame_p10);
+        yardstick += now;
+      }
+    }
     if (cut >= middle) return middle;
     if (cut >= failing + 1) return static_cast<uint32_t>(cut);
     char text[96];
     std::snprintf(text, sizeof text, ": %u or more cost at least %.4g ms/frame, more than ",
                   failing + 1, cost * (failing + 1) / passing);
     unrefined_[key(substeps, passing)] =
-        "not refined below " + value_label(substeps, passing) + text + best.label;
+        "not refined below " + value_label(substeps, passing) + text + yardstick;
     return std::nullopt;
   }
 
@@ -298,11 +317,23 @@ class IntegratorSearch {
                     format_number(settings_.stop_factor) + " x");
     return true;
   }
-  void stop(Probe& probe, const std::string& why) const {
-    char best[64];
-    std::snprintf(best, sizeof best, " (%.4g ms/frame): ", context_.best.ms_per_frame);
+  // `best_now`: the best's first frames (p10) measured beside the probe, where that raised
+  // the yardstick; 0: its ms/frame was the yardstick.
+  void stop(Probe& probe, const std::string& why, double best_now = 0) const {
+    char best[96];
+    int length = std::snprintf(best, sizeof best, " (%.4g ms/frame", context_.best.ms_per_frame);
+    if (best_now > 0)
+      std::snprintf(best + length, sizeof best - length, "; %.4g ms its first frames now",
+                    best_now);
     probe.stopped = true;
-    probe.why = "slower than " + context_.best.label + best + why;
+    probe.why = "slower than " + context_.best.label + best + "): " + why;
+  }
+
+  CaseSpec first_frames_case(const CaseSpec& c) const {
+    return with_setting(c, "duration", format_number(first_frames() / settings_.frame_rate), false);
+  }
+  double first_frames() const {
+    return std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
   }
 
   // Stage 1, once some setting passed: the first frames at the scene's mesh. A setting is
@@ -313,12 +344,11 @@ class IntegratorSearch {
   bool judge_first_frames(const CaseSpec& c, uint32_t substeps, uint32_t iterations,
                           uint32_t failing, Probe& probe) {
     if (!context_.best.found() || settings_.stop_factor <= 0) return true;
-    const double frames = std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
+    const double frames = first_frames();
     // The first frames are measured, not timed: they get the best's whole run as their wall
     // limit, a backstop for a setting whose frames take seconds each.
     const double timeout_s = budget_s(1.0);
-    const CaseSpec short_case =
-        with_setting(c, "duration", format_number(frames / settings_.frame_rate), false);
+    const CaseSpec short_case = first_frames_case(c);
     const Trajectory first = run_guarded(short_case, timeout_s);
     probe.ms_per_frame = first.ms_per_frame;
     if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
@@ -328,15 +358,22 @@ class IntegratorSearch {
     // burst of them can outlast five frames.
     const uint32_t value = candidate_.has_iterations ? iterations : substeps;
     const double floor_fraction = (failing + 1.0) / value;
-    const double limit = settings_.stop_factor / 2 * context_.best.ms_per_frame / floor_fraction;
-    if (first.ms_per_frame_p10 <= limit)
+    const auto limit = [&](double best) {
+      return settings_.stop_factor / 2 * best / floor_fraction;
+    };
+    if (first.ms_per_frame_p10 <= limit(context_.best.ms_per_frame))
       return judge_run(first, probe, "in its first frames") &&
              judge_stretch(first, probe, " in its first frames");
     const Trajectory again = run_guarded(short_case, timeout_s);
     const double fastest = again.verdict.stable() || !timed_out(again)
                                ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
                                : first.ms_per_frame_p10;
-    if (fastest <= limit)
+    // And beside the best's first frames measured now: a load that grew since the best was
+    // measured slows both alike (the larger of the two is the yardstick).
+    const Trajectory best_first = run_guarded(context_.best.first_frames, timeout_s);
+    const double best_now = best_first.verdict.stable() ? best_first.ms_per_frame_p10 : 0.0;
+    const double yardstick = std::max(context_.best.ms_per_frame, best_now);
+    if (fastest <= limit(yardstick))
       return judge_run(first, probe, "in its first frames") &&
              judge_stretch(first, probe, " in its first frames");
     char cost[192];
@@ -348,7 +385,8 @@ class IntegratorSearch {
                     ", so %u to %s cost at least %.4g ms/frame", failing + 1,
                     value_label(searched, value).c_str(), fastest * floor_fraction);
     stop(probe,
-         cost + (", over " + format_number(settings_.stop_factor / 2) + " x (stop_factor / 2)"));
+         cost + (", over " + format_number(settings_.stop_factor / 2) + " x (stop_factor / 2)"),
+         best_now > context_.best.ms_per_frame ? best_now : 0.0);
     return false;
   }
 
@@ -409,7 +447,7 @@ class IntegratorSearch {
     double wall_s = 0;
     probe.passed = judge_first_frames(c, substeps, iterations, failing, probe) &&
                    judge_error_run(c, probe) && judge_full_run(c, probe, wall_s);
-    if (probe.passed) record_best(substeps, iterations, probe, wall_s);
+    if (probe.passed) record_best(substeps, iterations, c, probe, wall_s);
     if (!probe.passed) last_failure_ = label_of(substeps, iterations) + ": " + probe.why;
     if (probe.stopped) {
       stop_substeps_ = true;
@@ -432,13 +470,15 @@ class IntegratorSearch {
     return false;
   }
 
-  void record_best(uint32_t substeps, uint32_t iterations, const Probe& probe, double wall_s) {
+  void record_best(uint32_t substeps, uint32_t iterations, const CaseSpec& c, const Probe& probe,
+                   double wall_s) {
     BestSoFar& best = context_.best;
     if (probe.ms_per_frame >= best.ms_per_frame) return;
     best.integrator = candidate_.integrator;
     best.label = candidate_.integrator + " at " + label_of(substeps, iterations);
     best.ms_per_frame = probe.ms_per_frame;
     best.wall_s = wall_s;
+    best.first_frames = first_frames_case(c);
   }
 
   void give_up(std::string reason) {
@@ -503,7 +543,7 @@ class IntegratorSearch {
       std::snprintf(cost, sizeof cost, " (%.4g ms/frame)", probe.ms_per_frame);
     context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
                       << label_of(substeps, iterations) << ": "
-                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 160)) << cost
+                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 240)) << cost
                       << note << " [" << Progress::format_duration(elapsed) << "]\n"
                       << std::flush;
   }
