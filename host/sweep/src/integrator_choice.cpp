@@ -543,7 +543,7 @@ class IntegratorSearch {
       std::snprintf(cost, sizeof cost, " (%.4g ms/frame)", probe.ms_per_frame);
     context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
                       << label_of(substeps, iterations) << ": "
-                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 240)) << cost
+                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 320)) << cost
                       << note << " [" << Progress::format_duration(elapsed) << "]\n"
                       << std::flush;
   }
