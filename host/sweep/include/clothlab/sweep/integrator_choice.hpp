@@ -31,7 +31,9 @@
 //     known to fail below n, 0 if none) is "slower than <best>", stopped, when nothing in the
 //     bracket can cost within stop_factor / 2 of the best's ms/frame: its first 5 frames
 //     (the fastest of them, p10, as other jobs only slow frames down; measured twice before a
-//     stop) x (f + 1) / n exceed stop_factor / 2 x the best's. Above n everything costs more,
+//     stop) x (f + 1) / n exceed stop_factor / 2 x the best's (the larger of its ms/frame when
+//     it passed and its first frames run again beside the setting's: a load that grew since
+//     the best was measured stops nothing). Above n everything costs more,
 //     and up to f everything fails: a stopped integrator's cheapest passing setting, if any,
 //     costs over stop_factor / 2 x the best, so stop_factor >= 2 never loses the winner (up to
 //     timing noise) and stop_factor trades only how far from the best the rows are worked out.
@@ -45,7 +47,9 @@
 //   - refinement only where a row can win: a bisection bracket (f, p] can beat another
 //     integrator's best only up to its cut, n = best x p / cost(p). Where the cut is below the
 //     middle, the bisection probes the cut (failing there, nothing left can win); where it is
-//     not above f, the bisection ends: p is returned and the verdict says "not refined". Along
+//     not above f, the bisection ends: p is returned and the verdict says "not refined". A cut
+//     below the middle is also taken from p's and the best's first frames run side by side;
+//     the larger cut stands. Along
 //     substeps and along iterations alike. stop_factor 0: no budget and no such ends.
 //   - a probe past probe_timeout ends the integrator's search ("too slow");
 //   - an error that stays above the tolerance while two halvings of the step change it by
