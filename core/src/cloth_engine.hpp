@@ -36,6 +36,7 @@ class ClothEngine final : public Engine {
   bool state_is_finite() const override;
   Cloth::Energy energy() const override;
   Cloth::Stretch stretch(Cloth::Springs springs) const override;
+  Cloth::LongestSpring longest_spring(Cloth::Springs springs) const override;
 
  private:
   struct Span {

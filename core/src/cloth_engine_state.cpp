@@ -166,6 +166,29 @@ Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
   return {worst, sum / static_cast<double>(springs)};
 }
 
+template <class Real>
+Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) const {
+  Cloth::LongestSpring longest;
+  double worst = -1.0;  // below any length ratio: the first spring is taken
+  const Real* x = x_.data();
+  const std::size_t cols = scene_.cols;
+  for (const Stencil& stencil : kProvotStencils) {
+    if (which == Cloth::Springs::Structural && stencil.family != &Scene::structural) continue;
+    const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
+    const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
+    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
+    for (uint32_t r = 0; r < extent.row_end; ++r) {
+      for (uint32_t c = extent.col_begin; c < extent.col_end; ++c) {
+        const double ratio = spring_length(x, stride_, r * cols + c, offset) * inverse_rest;
+        if (ratio <= worst) continue;
+        worst = ratio;
+        longest = {ratio, r, c, stencil.row_step, stencil.col_step};
+      }
+    }
+  }
+  return longest;
+}
+
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 

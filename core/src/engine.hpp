@@ -25,6 +25,7 @@ class Engine {
   virtual bool state_is_finite() const = 0;
   virtual Cloth::Energy energy() const = 0;
   virtual Cloth::Stretch stretch(Cloth::Springs springs) const = 0;
+  virtual Cloth::LongestSpring longest_spring(Cloth::Springs springs) const = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,

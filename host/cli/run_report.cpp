@@ -105,6 +105,15 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["frames_per_second"] = figures.frames_per_second;
   json["max_stretch"] = {{"final", record.final_stretch.max},
                          {"over_run", record.max_stretch_over_run}};
+  if (record.max_stretch_over_run_time) {
+    const Cloth::LongestSpring& spring = record.max_stretch_over_run_spring;
+    json["max_stretch"]["over_run_at"] = {
+        {"t", *record.max_stretch_over_run_time},
+        {"row", spring.row},
+        {"col", spring.col},
+        {"to_row", spring.row + spring.row_step},
+        {"to_col", static_cast<int64_t>(spring.col) + spring.col_step}};
+  }
   json["mean_stretch"] = record.final_stretch.mean;
   json["springs"] = record.springs.total();
   json["force_evals"] = counters.force_evals;
@@ -146,10 +155,18 @@ std::string human_summary(const RunRecord& record) {
       "  frames: %g Hz x %llu substeps: %.4g ms/frame (median), %.4g frames/s achievable\n",
       record.frame_rate, static_cast<unsigned long long>(record.substeps), figures.frame_ms_median,
       figures.frames_per_second);
-  text +=
-      printf_text("  stretch: max %.4g (final), %.4g (over the run), mean %.4g%s%s\n",
-                  record.final_stretch.max, record.max_stretch_over_run, record.final_stretch.mean,
-                  record.material.empty() ? "" : "; material ", record.material.c_str());
+  std::string where;
+  if (record.max_stretch_over_run_time) {
+    const Cloth::LongestSpring& spring = record.max_stretch_over_run_spring;
+    where =
+        printf_text(" at t = %.4g s, spring (%u, %u)-(%u, %lld)", *record.max_stretch_over_run_time,
+                    spring.row, spring.col, spring.row + spring.row_step,
+                    static_cast<long long>(spring.col) + spring.col_step);
+  }
+  text += printf_text("  stretch: max %.4g (final), %.4g (over the run%s), mean %.4g%s%s\n",
+                      record.final_stretch.max, record.max_stretch_over_run, where.c_str(),
+                      record.final_stretch.mean, record.material.empty() ? "" : "; material ",
+                      record.material.c_str());
   text += printf_text(
       "  per step: internal forces %.4g ms, external forces %.4g ms, integrate %.4g ms; "
       "%.3g springs/s\n",

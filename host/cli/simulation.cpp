@@ -87,6 +87,15 @@ host::PluginLibrary find_plugin(const std::string& name, const std::string& sour
   }
 }
 
+// The warp/weft stretch seen at a check: a new largest one also records when and which spring
+// (one more pass, only at checks that raise the maximum).
+void note_stretch(RunRecord& record, const Cloth& cloth, double stretch, double t) {
+  if (!(stretch > record.max_stretch_over_run)) return;
+  record.max_stretch_over_run = stretch;
+  record.max_stretch_over_run_time = t;
+  record.max_stretch_over_run_spring = cloth.longest_spring(Cloth::Springs::Structural);
+}
+
 // plugin_params.<id>.* addressed to no plugin that exists is a typo, not a setting for later.
 void check_plugin_param_ids(const RunConfig& config, const LoadedPlugins& plugins,
                             const host::PluginSearchPath& search_path) {
@@ -267,8 +276,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     if (hooks.trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
       record.energy_trace.push_back({t_end, cloth_->energy()});
     if (step % config_.stability_interval == 0 || step == config_.steps)
-      record.max_stretch_over_run =
-          std::max(record.max_stretch_over_run, cloth_->stretch(Cloth::Springs::Structural).max);
+      note_stretch(record, *cloth_, cloth_->stretch(Cloth::Springs::Structural).max, t_end);
     // A run the monitor failed keeps that verdict.
     if (record.stable && config_.stretch_stop > 0 &&
         record.max_stretch_over_run > config_.stretch_stop) {
@@ -280,7 +288,8 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   record.loop_total_s = seconds_since(loop_start);
   const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
-  record.max_stretch_over_run = std::max(record.max_stretch_over_run, final_stretch.max);
+  note_stretch(record, *cloth_, final_stretch.max,
+               static_cast<double>(record.steps_taken) * config_.dt);
   record.stability_checks = monitor.checks();
   if (record.interrupted)
     record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";

@@ -67,6 +67,10 @@ struct RunRecord {
   // at the monitor's checks.
   Cloth::Stretch final_stretch;
   double max_stretch_over_run = 1.0;
+  // When and where that largest one was seen (the spring is structural); unset while no check
+  // saw a spring beyond its rest length.
+  std::optional<double> max_stretch_over_run_time;
+  Cloth::LongestSpring max_stretch_over_run_spring;
   struct EnergySample {
     double t;
     Cloth::Energy energy;

@@ -116,3 +116,50 @@ TEST(Energy, StructuralStretchLeavesShearOut) {
 
 }  // namespace
 }  // namespace clothlab
+
+namespace clothlab {
+namespace {
+
+TEST(Energy, LongestSpringIsWhereTheMaximumIs) {
+  // 4x5 unit grid, particle (2, 3) moved 0.3 m along the columns: the weft spring from (2, 2)
+  // to (2, 3) is the longest (1.3; the warp springs at it 1.044, the shear spring from (1, 2)
+  // 1.16, the flexion spring from (2, 1) 1.15).
+  Scene scene = testing::bare_scene(4, 5);
+  for (Precision precision : {Precision::Float32, Precision::Float64}) {
+    Cloth cloth(scene, precision, {});
+    std::vector<double> x, v(3 * 20, 0.0);
+    cloth.positions(x);
+    x[3 * (2 * 5 + 3)] += 0.3;
+    cloth.set_state(x, v);
+    for (Cloth::Springs springs : {Cloth::Springs::All, Cloth::Springs::Structural}) {
+      const Cloth::LongestSpring longest = cloth.longest_spring(springs);
+      EXPECT_NEAR(longest.ratio, 1.3, 1e-6);
+      EXPECT_EQ(longest.ratio, cloth.stretch(springs).max);
+      EXPECT_EQ(longest.row, 2u);
+      EXPECT_EQ(longest.col, 2u);
+      EXPECT_EQ(longest.row_step, 0u);
+      EXPECT_EQ(longest.col_step, 1);
+    }
+  }
+}
+
+TEST(Energy, LongestSpringOfAllCanBeAShearSpring) {
+  // The rhombus of StructuralStretchLeavesShearOut: the diagonal from (0, 0) to (1, 1) is the
+  // longest (1.307 x its rest sqrt(2)); among the structural springs, all at 1, the first.
+  Scene scene = testing::bare_scene(2, 2);
+  Cloth cloth(scene, Precision::Float64, {});
+  const double s = std::sqrt(0.5);
+  cloth.set_state({0, 0, 0, 1, 0, 0, s, -s, 0, 1 + s, -s, 0}, std::vector<double>(12, 0.0));
+  const Cloth::LongestSpring shear = cloth.longest_spring(Cloth::Springs::All);
+  EXPECT_NEAR(shear.ratio, std::hypot(1 + s, s) / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(shear.row, 0u);
+  EXPECT_EQ(shear.col, 0u);
+  EXPECT_EQ(shear.row_step, 1u);
+  EXPECT_EQ(shear.col_step, 1);
+  const Cloth::LongestSpring structural = cloth.longest_spring(Cloth::Springs::Structural);
+  EXPECT_NEAR(structural.ratio, 1.0, 1e-12);
+  EXPECT_EQ(structural.row_step + static_cast<uint32_t>(std::abs(structural.col_step)), 1u);
+}
+
+}  // namespace
+}  // namespace clothlab

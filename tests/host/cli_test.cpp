@@ -442,6 +442,17 @@ TEST_F(Clothlab, FramesAndStretchAreReported) {
             json["max_stretch"]["final"].get<double>());
   EXPECT_GT(json["mean_stretch"].get<double>(), 1.0);
   EXPECT_LT(json["mean_stretch"].get<double>(), json["max_stretch"]["final"].get<double>());
+  // When and where the largest was seen: a warp or weft spring at a pinned top corner (row 0,
+  // column 0 or 4 of the 4x5 sheet), at a check within the run.
+  const auto& at = json["max_stretch"]["over_run_at"];
+  ASSERT_TRUE(at.is_object()) << json["max_stretch"];
+  EXPECT_GT(at["t"].get<double>(), 0.0);
+  EXPECT_LE(at["t"].get<double>(), 0.2 + 1e-12);
+  EXPECT_EQ(at["row"], 0);
+  const int row_step = at["to_row"].get<int>() - at["row"].get<int>();
+  const int col_step = at["to_col"].get<int>() - at["col"].get<int>();
+  EXPECT_EQ(row_step + std::abs(col_step), 1) << at;
+  EXPECT_TRUE(at["col"] == 0 || at["to_col"] == 4 || (at["col"] == 4 && row_step == 1)) << at;
 }
 
 TEST_F(Clothlab, MaterialAndPerSpringValuesConflict) {

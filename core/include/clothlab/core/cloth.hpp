@@ -129,6 +129,16 @@ class Cloth {
   };
   enum class Springs { All, Structural };
   Stretch stretch(Springs springs = Springs::All) const;
+  // The spring with the largest length / rest length: from particle (row, col) to
+  // (row + row_step, col + col_step). Where the maximum of stretch() sits (a corner, a fold, a
+  // free edge); one scalar pass, for reports rather than the step loop.
+  struct LongestSpring {
+    double ratio = 1;
+    uint32_t row = 0, col = 0;
+    uint32_t row_step = 0;
+    int32_t col_step = 0;
+  };
+  LongestSpring longest_spring(Springs springs = Springs::All) const;
   double max_stretch() const { return stretch().max; }
 
  private:
