@@ -96,8 +96,9 @@ const KeyInfo keys[] = {
      "--choose: wall-clock limit of one probe run", nullptr,
      [](RunConfig& c, const KeyValue& v) { c.choice.probe_timeout_s = v.number; }},
     {"choose.stop_factor", T::Real, 0, 1e3, "", "0 (no cost budget) or a real in [2, 1000]", "3",
-     "--choose: a probe slower than this x the best passing setting so far is stopped and "
-     "reported; 0: no cost budget; below 2 refused (it could stop a cheaper setting)",
+     "--choose: a search is stopped, and reported, where nothing it has left can cost within "
+     "this / 2 x the best passing setting so far; 0: no cost budget; below 2 refused (it could "
+     "stop a cheaper setting)",
      nullptr,
      [](RunConfig& c, const KeyValue& v) {
        if (v.number > 0 && v.number < 2)

@@ -28,15 +28,23 @@ using testing::ScratchFolder;
 //   damped:    error 0.03 + 0.001 / substeps: never within 1 %, whatever the step
 //   saturated: error 0.2 up to 2 substeps, then 0.5 / substeps^2 (1 % from 8 substeps)
 //   never:     always unstable
+//   dear:      unstable below 11 substeps, 2.5 ms per substep
+//   solver:    has iterations, unstable below 12 of them, 3 ms per substep and iteration
+//   walker:    has iterations, unstable below 4 substeps, 10 x the usual cost
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
 // steps. `runs` lists every run as "integrator rows substeps".
 struct FakeRuns {
   double reference_gap = 0.0;
   double time_scale = 1.0;
-  // "integrator substeps" whose first short run (the first frames) other jobs slow 10-fold.
+  // "integrator substeps" whose first `bursts` short runs (the first frames) other jobs slow
+  // 10-fold.
   std::string burst_on;
+  int bursts = 1;
+  // From this call on (0: never), other jobs make every run take twice as long.
+  int loaded_from_call = 0;
   int calls = 0;
   std::vector<std::string> runs;
+  std::vector<std::string> settings;       // "integrator substeps x iterations" per probe run
   std::vector<std::string> stretch_stops;  // "rows stability.stretch_stop" per probe run
   Trajectory operator()(const CaseSpec& c) {
     ++calls;
@@ -53,10 +61,16 @@ struct FakeRuns {
                                  ? c.setting("integrator.cap")
                                  : c.setting("integrator.iterations");
     const double iterations = text.empty() ? 0.0 : std::stod(text);
+    settings.push_back(c.integrator + " " + c.setting("substeps") + " x " +
+                       (text.empty() ? "0" : text));
     run.ms_per_frame =
         time_scale * (c.integrator == "steady" ? 25.0 : substeps) * (1.0 + 0.1 * iterations);
+    if (c.integrator == "dear") run.ms_per_frame = 2.5 * substeps;
+    if (c.integrator == "solver") run.ms_per_frame = 3 * substeps * iterations;
+    if (c.integrator == "walker") run.ms_per_frame *= 10;
+    if (loaded_from_call > 0 && calls >= loaded_from_call) run.ms_per_frame *= 2;
     if (c.duration < 1 && c.integrator + " " + c.setting("substeps") == burst_on) {
-      burst_on.clear();
+      if (--bursts == 0) burst_on.clear();
       run.ms_per_frame *= 10;
     }
     run.ms_per_frame_p10 = 0.9 * run.ms_per_frame;
@@ -72,7 +86,9 @@ struct FakeRuns {
     const bool unstable = (c.integrator == "explicit" && substeps < 37) ||
                           (c.integrator == "iterative" && substeps * iterations < 8) ||
                           (c.integrator == "stiff" && c.rows == 40 && substeps < 37) ||
-                          c.integrator == "never";
+                          (c.integrator == "dear" && substeps < 11) ||
+                          (c.integrator == "solver" && iterations < 12) ||
+                          (c.integrator == "walker" && substeps < 4) || c.integrator == "never";
     if (c.integrator == "explicit") error = 0.5 / substeps;
     if (c.integrator == "plateau") error = 0.5 / substeps + 0.001 / iterations;
     if (c.integrator == "damped") error = 0.03 + 0.001 / substeps;
@@ -177,8 +193,9 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
             0u)
       << choices[2].verdict;
   EXPECT_NE(
-      choices[2].verdict.find("its fastest of 5 first frames took 72 ms (twice), over 3 x; stopped "
-                              "at 8 substeps"),
+      choices[2].verdict.find("its fastest of 5 first frames took 72 ms (twice), so 5 to 8 "
+                              "substeps cost at least 45 ms/frame, over 1.5 x (stop_factor / 2); "
+                              "stopped at 8 substeps"),
       std::string::npos)
       << choices[2].verdict;
   EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 16"), 0);
@@ -323,6 +340,126 @@ TEST(IntegratorChoice, StopsBisectingABracketThatCannotBeatTheBest) {
   EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 48"), 0);
 }
 
+// Where only the lower part of a bracket could beat another integrator's best, the bisection
+// probes the top of that part (the cut), not the middle: the bracket (8, 16] of a method at
+// 2.5 ms per substep can beat 25 ms only up to 10 substeps.
+TEST(IntegratorChoice, BisectsAtTheCutBelowWhichTheBracketCouldBeatTheBest) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"dear", false}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[1].integrator, "dear");
+  ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
+  EXPECT_EQ(choices[1].substeps, 16u);
+  EXPECT_NE(choices[1].verdict.find("not refined below 16 substeps: 11 or more cost at least 27.5 "
+                                    "ms/frame, more than steady at 1 substep"),
+            std::string::npos)
+      << choices[1].verdict;
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 10"), 1);  // unstable at once
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 12"), 0);
+}
+
+// The iterations are bisected only where they can beat another integrator's best: 16 pass at
+// 48 ms/frame, so 9 or more cost at least 27, more than steady's 25.
+TEST(IntegratorChoice, RefinesIterationsOnlyWhereTheyCanBeatTheBest) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"solver", true}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[1].integrator, "solver");
+  ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
+  EXPECT_EQ(choices[1].substeps, 1u);
+  EXPECT_EQ(choices[1].iterations, 16u);
+  EXPECT_NE(choices[1].verdict.find("not refined below 16 iterations at 1 substep: 9 or more cost "
+                                    "at least 27 ms/frame, more than steady at 1 substep"),
+            std::string::npos)
+      << choices[1].verdict;
+  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "solver 1 x 12"), 0);
+}
+
+// One iteration is the cheapest setting at a substep count and at every larger one: once its
+// first frames cost over stop_factor / 2 x the best, the walk up the substeps ends there (under
+// stop_factor x the best, which a doubling step needs).
+TEST(IntegratorChoice, EndsTheSubstepWalkWhereOneIterationIsOverHalfTheBudget) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"walker", true}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[1].integrator, "walker");
+  EXPECT_FALSE(choices[1].passed);
+  EXPECT_EQ(choices[1].verdict,
+            "slower than steady at 1 substep (25 ms/frame): its fastest of 5 first frames took "
+            "39.6 ms (twice), over 1.5 x (stop_factor / 2); stopped at 4 substeps x 1 iteration");
+  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "walker 4 x 1"), 2);
+  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "walker 8 x 1"), 0);
+}
+
+// Before a stop or a cut, the best's first frames are measured again beside the setting: where
+// the load has grown since the best was measured, that is the yardstick. Here every run after
+// steady's takes twice as long: dear's 16 substeps (80 ms/frame, 72 the fastest frames: 9 to 16
+// cost at least 40.5) are over steady's 25 ms/frame, not over its 45 now.
+TEST(IntegratorChoice, ComparesWithTheBestsFirstFramesMeasuredBesideAStop) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  fixture.settings.stop_factor = 2;
+  FakeRuns runs;
+  runs.loaded_from_call = 4;  // the reference's two runs, steady's run over T, then loaded
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"dear", false}},
+                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_EQ(choices[1].integrator, "dear");
+  ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
+  EXPECT_EQ(choices[1].substeps, 16u);
+  EXPECT_NEAR(choices[1].ms_per_frame, 80, 1e-9);
+  EXPECT_NE(progress.str().find("dear 16 substeps: passes"), std::string::npos);
+  // The bracket's cut too: 80 against steady's 25 would leave nothing in (8, 16]; side by side
+  // (72 and 45, the fastest first frames) up to 10 substeps can still win, and 10 is probed
+  // (its first frames twice: over the yardstick as stored, not beside steady's).
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 10"), 2);
+  EXPECT_NE(choices[1].verdict.find("not refined below 16 substeps: 11 or more cost at least 49.5 "
+                                    "ms/frame, more than steady at 1 substep (45 ms its first "
+                                    "frames now)"),
+            std::string::npos)
+      << choices[1].verdict;
+}
+
+// A bisection probe that the budget stops (here: a burst of other jobs through both of its
+// first-frames measurements) ends the bisection at its passing end, and the verdict says so.
+TEST(IntegratorChoice, EndsABisectionThatTheBudgetStops) {
+  ScratchFolder folder;
+  ResultsStore store(folder.path() / "choose", false);
+  Fixture fixture;
+  FakeRuns runs;
+  runs.burst_on = "explicit 48";
+  runs.bursts = 2;
+  std::ostringstream progress;
+  const std::vector<Choice> choices =
+      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
+                         std::ref(runs), std::ref(runs), store, progress);
+  ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_EQ(choices[0].substeps, 64u);
+  EXPECT_NE(choices[0].verdict.find("not refined below 64 substeps: 48 substeps slower than "
+                                    "explicit at 64 substeps (64 ms/frame): its fastest of 5 "
+                                    "first frames took 432 ms (twice)"),
+            std::string::npos)
+      << choices[0].verdict;
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 56"), 0);
+}
+
 // An error that two halvings of the step leave flat ends the search; one flat halving (an
 // error saturated at the coarsest steps) does not.
 TEST(IntegratorChoice, GivesUpOnlyOnAnErrorFlatOverTwoHalvings) {
@@ -382,7 +519,8 @@ TEST(IntegratorChoice, MeasuresTheFirstFramesAgainBeforeAStop) {
                          fixture.settings, std::ref(runs), std::ref(runs), store, progress);
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 64u);
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 64"), 3);  // 2 short, 1 T
+  // 2 short, 1 T, and 1 short beside steady's before the bracket is cut
+  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 64"), 4);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

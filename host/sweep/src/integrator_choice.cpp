@@ -30,7 +30,8 @@ struct BestSoFar {
   std::string integrator;
   std::string label;  // "verlet at 1536 substeps"
   double ms_per_frame = INFINITY;
-  double wall_s = 0;  // stepping wall time of its run over T at the scene's mesh
+  double wall_s = 0;      // stepping wall time of its run over T at the scene's mesh
+  CaseSpec first_frames;  // its first frames' run, measured again beside a setting to be stopped
   bool found() const { return std::isfinite(ms_per_frame); }
 };
 
@@ -52,25 +53,44 @@ constexpr double startup_allowance_s = 1.0;
 // a first frame that sets up (a factorisation, page faults).
 constexpr int cost_frames = 5;
 
+// What one probe of a search along one parameter found.
+enum class Outcome { passes, fails, stopped };
+
+// A search along one parameter: the fewest passing value found (none: nothing passed, or the
+// cost budget stopped the doubling), and the value whose stop ended the bisection, if one did.
+struct Fewest {
+  std::optional<uint32_t> passing;
+  uint32_t stopped_refining_at = 0;
+};
+
 // The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
-// `stop` ends the doubling early (nothing found); `refine(failing, passing)` false ends the
-// bisection early (the passing end is returned).
-std::optional<uint32_t> fewest(uint32_t max, const std::function<bool(uint32_t)>& passes,
-                               const std::function<bool()>& stop,
-                               const std::function<bool(uint32_t, uint32_t)>& refine) {
+// probe(n, failing) gets the largest value known to fail below n (0: none), the bottom of the
+// bracket n tops. `stop` ends the doubling early (nothing found); `next(failing, passing)`
+// names the value to bisect at (the middle, or lower), none to end the bisection.
+Fewest fewest(uint32_t max, const std::function<Outcome(uint32_t, uint32_t)>& probe,
+              const std::function<bool()>& stop,
+              const std::function<std::optional<uint32_t>(uint32_t, uint32_t)>& next) {
   uint32_t failing = 0, n = 1;
-  while (!passes(n)) {
-    if (n >= max || stop()) return std::nullopt;
+  for (Outcome outcome; (outcome = probe(n, failing)) != Outcome::passes;) {
+    if (outcome == Outcome::stopped || n >= max || stop()) return {};
     failing = n;
     n = std::min(max, 2 * n);
   }
-  uint32_t passing = n;
-  while (passing - failing > 1 && passing > failing + failing / 10 && refine(failing, passing)) {
-    const uint32_t middle = failing + (passing - failing) / 2;
-    (passes(middle) ? passing : failing) = middle;
+  Fewest found{n};
+  uint32_t& passing = *found.passing;
+  while (passing - failing > 1 && passing > failing + failing / 10) {
+    const std::optional<uint32_t> middle = next(failing, passing);
+    if (!middle) break;
+    const Outcome outcome = probe(*middle, failing);
+    // Nothing in (failing, middle] is within the budget, and (middle, passing) costs more.
+    if (outcome == Outcome::stopped) {
+      found.stopped_refining_at = *middle;
+      break;
+    }
+    (outcome == Outcome::passes ? passing : failing) = *middle;
   }
-  return passing;
+  return found;
 }
 
 std::string percent(double fraction) {
@@ -111,27 +131,34 @@ class IntegratorSearch {
     std::optional<std::pair<uint32_t, uint32_t>> best;  // (substeps, iterations)
     const auto stop = [&] { return give_up_ || stop_substeps_; };
     if (!candidate_.has_iterations) {
-      if (const auto substeps = fewest(
-              settings_.max_substeps, [&](uint32_t s) { return probe(s, 0).passed; }, stop,
-              [&](uint32_t failing, uint32_t passing) { return worth_refining(failing, passing); }))
-        best = {{*substeps, 0}};
+      const Fewest substeps = fewest(
+          settings_.max_substeps,
+          [&](uint32_t s, uint32_t failing) { return outcome(probe(s, 0, failing)); }, stop,
+          [&](uint32_t failing, uint32_t passing) { return bisect_at(0, failing, passing); });
+      if (substeps.passing) best = {{*substeps.passing, 0}};
+      note_stopped_refining(0, substeps);
     } else {
       // Cost ~ substeps x iterations: walk the substeps up while the cheapest passing
       // iteration count keeps lowering the cost per frame.
       for (uint32_t substeps = 1; substeps <= settings_.max_substeps; substeps *= 2) {
         stop_substeps_ = false;
         stopped_iterations_ = 0;
-        const auto iterations = fewest(
-            max_iterations(), [&](uint32_t it) { return probe(substeps, it).passed; }, stop,
-            [](uint32_t, uint32_t) { return true; });
+        const Fewest iterations = fewest(
+            max_iterations(),
+            [&](uint32_t it, uint32_t failing) { return outcome(probe(substeps, it, failing)); },
+            stop,
+            [&](uint32_t failing, uint32_t passing) {
+              return bisect_at(substeps, failing, passing);
+            });
+        note_stopped_refining(substeps, iterations);
         if (give_up_) break;
         // Over the budget at one iteration: more substeps only cost more.
         if (stopped_iterations_ == 1) break;
-        if (!iterations) continue;
-        const double cost = probes_.at({substeps, *iterations}).ms_per_frame;
+        if (!iterations.passing) continue;
+        const double cost = probes_.at({substeps, *iterations.passing}).ms_per_frame;
         if (best && cost >= probes_.at(*best).ms_per_frame) break;
-        best = {{substeps, *iterations}};
-        if (*iterations == 1) break;  // more substeps only cost more
+        best = {{substeps, *iterations.passing}};
+        if (*iterations.passing == 1) break;  // more substeps only cost more
       }
     }
     choice.probes = static_cast<int>(probes_.size());
@@ -161,28 +188,74 @@ class IntegratorSearch {
     choice.max_stretch = chosen.max_stretch;
     choice.verdict =
         chosen.ms_per_frame <= 1e3 / settings_.frame_rate ? "real time" : "slower than real time";
-    if (!unrefined_.empty()) choice.verdict += "; " + unrefined_;
+    if (const auto note = unrefined_.find(*best); note != unrefined_.end())
+      choice.verdict += "; " + note->second;
     return choice;
   }
 
  private:
-  // Bisecting (failing, passing] further is worth it unless another integrator's best is
-  // cheaper than the bracket can be: a frame's cost grows at least linearly in substeps, so
-  // failing + 1 substeps cost at least cost(passing) (failing + 1) / passing.
-  bool worth_refining(uint32_t failing, uint32_t passing) {
+  // The search along substeps (substeps 0: the value is the substeps) or along the
+  // iterations at `substeps`: its probes' keys and the value's label.
+  std::pair<uint32_t, uint32_t> key(uint32_t substeps, uint32_t value) const {
+    return substeps ? std::make_pair(substeps, value) : std::make_pair(value, 0u);
+  }
+  std::string value_label(uint32_t substeps, uint32_t value) const {
+    return substeps ? std::to_string(value) + (value == 1 ? " iteration at " : " iterations at ") +
+                          label_of(substeps, 0)
+                    : label_of(value, 0);
+  }
+
+  // Where to bisect (failing, passing] next: its middle, or lower where another integrator's
+  // best is cheaper than the upper part of the bracket can be, none where it is cheaper than
+  // all of it. A frame's cost per substep (per iteration) does not grow with their number
+  // (cost = a + b n, a >= 0), so n costs at least cost(passing) n / passing: the bracket can
+  // beat the best only up to n = best passing / cost(passing), its cut.
+  std::optional<uint32_t> bisect_at(uint32_t substeps, uint32_t failing, uint32_t passing) {
+    const uint32_t middle = failing + (passing - failing) / 2;
     const BestSoFar& best = context_.best;
     if (!best.found() || best.integrator == candidate_.integrator || settings_.stop_factor <= 0)
-      return true;
-    const double cost = probes_.at({passing, 0}).ms_per_frame;
-    const double floor = cost * (failing + 1) / passing;
-    if (floor <= best.ms_per_frame) return true;
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "not refined below %u substeps: %u or more cost at least %.4g ms/frame, more "
-                  "than ",
-                  passing, failing + 1, floor);
-    unrefined_ = text + best.label;
-    return false;
+      return middle;
+    double cost = probes_.at(key(substeps, passing)).ms_per_frame;
+    double cut = best.ms_per_frame * passing / cost;
+    std::string yardstick = best.label;
+    if (cut < middle) {
+      // The two costs were measured at different times: measured again side by side (their
+      // first frames, the fastest of them), the larger cut stands, so that a load that grew
+      // in between cuts nothing.
+      const auto [s, it] = key(substeps, passing);
+      const double timeout_s = budget_s(1.0);
+      const Trajectory mine = run_guarded(first_frames_case(candidate_case(s, it)), timeout_s);
+      const Trajectory theirs = run_guarded(best.first_frames, timeout_s);
+      if (mine.verdict.stable() && theirs.verdict.stable() && mine.ms_per_frame_p10 > 0 &&
+          theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10 > cut) {
+        cut = theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10;
+        cost = mine.ms_per_frame_p10;
+        char now[64];
+        std::snprintf(now, sizeof now, " (%.4g ms its first frames now)", theirs.ms_per_frame_p10);
+        yardstick += now;
+      }
+    }
+    if (cut >= middle) return middle;
+    if (cut >= failing + 1) return static_cast<uint32_t>(cut);
+    char text[96];
+    std::snprintf(text, sizeof text, ": %u or more cost at least %.4g ms/frame, more than ",
+                  failing + 1, cost * (failing + 1) / passing);
+    unrefined_[key(substeps, passing)] =
+        "not refined below " + value_label(substeps, passing) + text + yardstick;
+    return std::nullopt;
+  }
+
+  // A bisection ended by the budget: its passing end stays, said so.
+  void note_stopped_refining(uint32_t substeps, const Fewest& found) {
+    if (!found.passing || !found.stopped_refining_at) return;
+    unrefined_[key(substeps, *found.passing)] =
+        "not refined below " + value_label(substeps, *found.passing) + ": " +
+        value_label(substeps, found.stopped_refining_at) + " " +
+        probes_.at(key(substeps, found.stopped_refining_at)).why;
+  }
+
+  static Outcome outcome(const Probe& probe) {
+    return probe.passed ? Outcome::passes : probe.stopped ? Outcome::stopped : Outcome::fails;
   }
 
   uint32_t max_iterations() const {
@@ -240,27 +313,42 @@ class IntegratorSearch {
   bool stopped_by_budget(const Trajectory& run, double timeout_s, const std::string& where,
                          Probe& probe) const {
     if (!timed_out(run) || timeout_s >= settings_.probe_timeout_s) return false;
-    stop(probe, where + " ran past " + format_number(timeout_s) + " s");
+    stop(probe, where + " ran past " + format_number(timeout_s) + " s, over " +
+                    format_number(settings_.stop_factor) + " x");
     return true;
   }
-  void stop(Probe& probe, const std::string& why) const {
-    char best[64];
-    std::snprintf(best, sizeof best, " (%.4g ms/frame): ", context_.best.ms_per_frame);
+  // `best_now`: the best's first frames (p10) measured beside the probe, where that raised
+  // the yardstick; 0: its ms/frame was the yardstick.
+  void stop(Probe& probe, const std::string& why, double best_now = 0) const {
+    char best[96];
+    int length = std::snprintf(best, sizeof best, " (%.4g ms/frame", context_.best.ms_per_frame);
+    if (best_now > 0)
+      std::snprintf(best + length, sizeof best - length, "; %.4g ms its first frames now",
+                    best_now);
     probe.stopped = true;
-    probe.why = "slower than " + context_.best.label + best + why + ", over " +
-                format_number(settings_.stop_factor) + " x";
+    probe.why = "slower than " + context_.best.label + best + "): " + why;
   }
 
-  // Stage 1, once some setting passed: the first frames at the scene's mesh. A setting whose
-  // frames already cost stop_factor x the best's is stopped there; one that diverges fails.
-  bool judge_first_frames(const CaseSpec& c, Probe& probe) {
+  CaseSpec first_frames_case(const CaseSpec& c) const {
+    return with_setting(c, "duration", format_number(first_frames() / settings_.frame_rate), false);
+  }
+  double first_frames() const {
+    return std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
+  }
+
+  // Stage 1, once some setting passed: the first frames at the scene's mesh. A setting is
+  // stopped there when nothing in the bracket it tops, (failing, value] along the parameter
+  // searched, can cost within stop_factor / 2 of the best's: it costs at least the setting's
+  // frames x (failing + 1) / value (see bisect_at), and settings above it cost more. One that
+  // diverges fails.
+  bool judge_first_frames(const CaseSpec& c, uint32_t substeps, uint32_t iterations,
+                          uint32_t failing, Probe& probe) {
     if (!context_.best.found() || settings_.stop_factor <= 0) return true;
-    const double frames = std::min<double>(cost_frames, settings_.duration * settings_.frame_rate);
+    const double frames = first_frames();
     // The first frames are measured, not timed: they get the best's whole run as their wall
     // limit, a backstop for a setting whose frames take seconds each.
     const double timeout_s = budget_s(1.0);
-    const CaseSpec short_case =
-        with_setting(c, "duration", format_number(frames / settings_.frame_rate), false);
+    const CaseSpec short_case = first_frames_case(c);
     const Trajectory first = run_guarded(short_case, timeout_s);
     probe.ms_per_frame = first.ms_per_frame;
     if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
@@ -268,21 +356,37 @@ class IntegratorSearch {
     // substeps, which might be stable, cost more still). Judged on the fastest frames, and on
     // a second run before a stop: other jobs on the machine only ever slow frames down, and a
     // burst of them can outlast five frames.
-    const double limit = settings_.stop_factor * context_.best.ms_per_frame;
-    if (first.ms_per_frame_p10 <= limit)
+    const uint32_t value = candidate_.has_iterations ? iterations : substeps;
+    const double floor_fraction = (failing + 1.0) / value;
+    const auto limit = [&](double best) {
+      return settings_.stop_factor / 2 * best / floor_fraction;
+    };
+    if (first.ms_per_frame_p10 <= limit(context_.best.ms_per_frame))
       return judge_run(first, probe, "in its first frames") &&
              judge_stretch(first, probe, " in its first frames");
     const Trajectory again = run_guarded(short_case, timeout_s);
     const double fastest = again.verdict.stable() || !timed_out(again)
                                ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
                                : first.ms_per_frame_p10;
-    if (fastest <= limit)
+    // And beside the best's first frames measured now: a load that grew since the best was
+    // measured slows both alike (the larger of the two is the yardstick).
+    const Trajectory best_first = run_guarded(context_.best.first_frames, timeout_s);
+    const double best_now = best_first.verdict.stable() ? best_first.ms_per_frame_p10 : 0.0;
+    const double yardstick = std::max(context_.best.ms_per_frame, best_now);
+    if (fastest <= limit(yardstick))
       return judge_run(first, probe, "in its first frames") &&
              judge_stretch(first, probe, " in its first frames");
-    char cost[112];
-    std::snprintf(cost, sizeof cost, "its fastest of %g first frames took %.4g ms (twice)", frames,
-                  fastest);
-    stop(probe, cost);
+    char cost[192];
+    int length = std::snprintf(
+        cost, sizeof cost, "its fastest of %g first frames took %.4g ms (twice)", frames, fastest);
+    const uint32_t searched = candidate_.has_iterations ? substeps : 0;
+    if (failing + 1 < value)
+      std::snprintf(cost + length, sizeof cost - length,
+                    ", so %u to %s cost at least %.4g ms/frame", failing + 1,
+                    value_label(searched, value).c_str(), fastest * floor_fraction);
+    stop(probe,
+         cost + (", over " + format_number(settings_.stop_factor / 2) + " x (stop_factor / 2)"),
+         best_now > context_.best.ms_per_frame ? best_now : 0.0);
     return false;
   }
 
@@ -332,7 +436,8 @@ class IntegratorSearch {
     return false;
   }
 
-  const Probe& probe(uint32_t substeps, uint32_t iterations) {
+  // `failing`: the largest value of the parameter searched known to fail below this one.
+  const Probe& probe(uint32_t substeps, uint32_t iterations, uint32_t failing) {
     const auto known = probes_.find({substeps, iterations});
     if (known != probes_.end()) return known->second;
     const CaseSpec c = candidate_case(substeps, iterations);
@@ -340,9 +445,9 @@ class IntegratorSearch {
     Probe probe;
     // Cheapest stages first: a setting that fails one needs none of the later runs.
     double wall_s = 0;
-    probe.passed = judge_first_frames(c, probe) && judge_error_run(c, probe) &&
-                   judge_full_run(c, probe, wall_s);
-    if (probe.passed) record_best(substeps, iterations, probe, wall_s);
+    probe.passed = judge_first_frames(c, substeps, iterations, failing, probe) &&
+                   judge_error_run(c, probe) && judge_full_run(c, probe, wall_s);
+    if (probe.passed) record_best(substeps, iterations, c, probe, wall_s);
     if (!probe.passed) last_failure_ = label_of(substeps, iterations) + ": " + probe.why;
     if (probe.stopped) {
       stop_substeps_ = true;
@@ -365,13 +470,15 @@ class IntegratorSearch {
     return false;
   }
 
-  void record_best(uint32_t substeps, uint32_t iterations, const Probe& probe, double wall_s) {
+  void record_best(uint32_t substeps, uint32_t iterations, const CaseSpec& c, const Probe& probe,
+                   double wall_s) {
     BestSoFar& best = context_.best;
     if (probe.ms_per_frame >= best.ms_per_frame) return;
     best.integrator = candidate_.integrator;
     best.label = candidate_.integrator + " at " + label_of(substeps, iterations);
     best.ms_per_frame = probe.ms_per_frame;
     best.wall_s = wall_s;
+    best.first_frames = first_frames_case(c);
   }
 
   void give_up(std::string reason) {
@@ -436,7 +543,7 @@ class IntegratorSearch {
       std::snprintf(cost, sizeof cost, " (%.4g ms/frame)", probe.ms_per_frame);
     context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
                       << label_of(substeps, iterations) << ": "
-                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 160)) << cost
+                      << (probe.passed ? std::string("passes") : probe.why.substr(0, 320)) << cost
                       << note << " [" << Progress::format_duration(elapsed) << "]\n"
                       << std::flush;
   }
@@ -453,8 +560,9 @@ class IntegratorSearch {
   bool stop_substeps_ = false;                  // the search at this substep count ends
   uint32_t stopped_iterations_ = 0;             // the iterations of a probe stopped by the budget
   std::string stopped_label_, stopped_reason_;  // the last probe stopped by the budget
-  std::string unrefined_;                       // why the bisection ended early, if it did
-  std::string current_label_;                   // the setting being probed
+  // Why a bisection ended early, by the passing end it left.
+  std::map<std::pair<uint32_t, uint32_t>, std::string> unrefined_;
+  std::string current_label_;  // the setting being probed
 };
 
 }  // namespace

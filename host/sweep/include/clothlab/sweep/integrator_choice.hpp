@@ -22,20 +22,35 @@
 // (only once a best exists, below), the error run (error mesh, error T), the run over T. The
 // runs at the scene's mesh carry stability.stretch_stop = stretch_limit: the stretch over a run
 // only grows, so a run ends at the first check past the limit, failing the probe there.
-// Early stops, each reported in the probe's row and the integrator's verdict:
-//   - cost budget: once some setting of any integrator passed (the best so far), a setting
-//     whose first 5 frames cost over stop_factor x the best's ms/frame (median) is "slower
-//     than <best>", stopped (judged on the fastest of them, p10, as other jobs only slow frames
-//     down); the error run and the run over T are also killed past 2 x stop_factor x the
-//     best's stepping time over T (times the run's share of T) plus a start-up allowance, and
-//     the first frames past that for the whole T. A frame's cost grows
-//     at least linearly in substeps (and iterations), so a setting stopped at n while n / 2
-//     failed leaves nothing in (n / 2, n] within stop_factor / 2 of the best: stop_factor >= 2
-//     never loses a cheaper setting to the doubling (up to timing noise). A stop ends the
-//     search (an iterations method's: that substep count, and the search when it was at 1
-//     iteration). By the same bound, a bisection bracket (f, p] whose cheapest possible cost,
-//     cost(p) (f + 1) / p, exceeds another integrator's best is not bisected further: p is
-//     returned and the verdict says "not refined". stop_factor 0: no budget.
+// Early stops, each reported in the probe's row and the integrator's verdict. They rest on one
+// bound: a frame's cost per substep (and per iteration) does not grow with their number (cost =
+// a + b n, a >= 0: per-frame and per-step overheads), so below a measured n, m costs at least
+// cost(n) m / n; above it, more.
+//   - cost budget: once some setting of any integrator passed (the best so far), a setting n
+//     that tops the bracket (f, n] of the search along its parameter (f: the largest value
+//     known to fail below n, 0 if none) is "slower than <best>", stopped, when nothing in the
+//     bracket can cost within stop_factor / 2 of the best's ms/frame: its first 5 frames
+//     (the fastest of them, p10, as other jobs only slow frames down; measured twice before a
+//     stop) x (f + 1) / n exceed stop_factor / 2 x the best's (the larger of its ms/frame when
+//     it passed and its first frames run again beside the setting's: a load that grew since
+//     the best was measured stops nothing). Above n everything costs more,
+//     and up to f everything fails: a stopped integrator's cheapest passing setting, if any,
+//     costs over stop_factor / 2 x the best, so stop_factor >= 2 never loses the winner (up to
+//     timing noise) and stop_factor trades only how far from the best the rows are worked out.
+//     At a doubling step (f = n / 2) the limit is about stop_factor x the best; at one
+//     iteration (f = 0, the cheapest setting at that substep count and every larger one) it is
+//     stop_factor / 2 x, and the walk up the substeps ends there. The error run and the run
+//     over T are also killed past 2 x stop_factor x the best's stepping time over T (times the
+//     run's share of T) plus a start-up allowance. A stop ends the search (an iterations
+//     method's: that substep count, and the search when it was at 1 iteration); a stop in a
+//     bisection ends the bisection at its passing end, "not refined".
+//   - refinement only where a row can win: a bisection bracket (f, p] can beat another
+//     integrator's best only up to its cut, n = best x p / cost(p). Where the cut is below the
+//     middle, the bisection probes the cut (failing there, nothing left can win); where it is
+//     not above f, the bisection ends: p is returned and the verdict says "not refined". A cut
+//     below the middle is also taken from p's and the best's first frames run side by side;
+//     the larger cut stands. Along
+//     substeps and along iterations alike. stop_factor 0: no budget and no such ends.
 //   - a probe past probe_timeout ends the integrator's search ("too slow");
 //   - an error that stays above the tolerance while two halvings of the step change it by
 //     less than 10 % each ends the search (the method converges to another solution, e.g. other
