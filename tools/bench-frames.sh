@@ -23,17 +23,17 @@ build_dir=${BUILD_DIR:-build}
 results=${RESULTS_DIR:-results/bench-frames}
 integrators=${INTEGRATORS:-xpbd_tethers xpbd verlet euler rk4 midpoint projective_dynamics implicit_euler}
 bin="$build_dir/bin/clothlab"
-# On a machine shared with other jobs, OpenMP threads that spin at their barriers lose their
-# core for whole time slices (docs/real-cloth.md: 20-35x slower steps at load 8 on 2 cores);
-# waiting passively costs little when the machine is idle. Set OMP_WAIT_POLICY to override.
-export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+# OMP_WAIT_POLICY is passed through as set: on a machine shared with other jobs set it to
+# passive (threads spinning at their barriers lose their core for whole time slices); on an idle
+# machine leave it unset, since sleeping at every barrier slows each step there
+# (docs/real-cloth.md, "OpenMP on a shared machine").
 mkdir -p "$results"
 summary="$results/summary.md"
 {
   echo "Machine: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores;" \
     "$(date -u '+%Y-%m-%d %H:%M UTC'); load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "Commit: $(git rev-parse --short HEAD)$(git diff --quiet || echo ' (with local changes)')"
-  echo "OMP_WAIT_POLICY=$OMP_WAIT_POLICY"
+  echo "OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-(unset)}"
 } >"$summary"
 
 for rate in ${FRAME_RATES:-60 30}; do
