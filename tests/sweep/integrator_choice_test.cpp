@@ -112,6 +112,10 @@ struct Fixture {
   SweepSpec spec;
   CaseSpec base;
   ChoiceSettings settings;
+  ScratchFolder folder;
+  ResultsStore store{folder.path() / "choose", false};
+  FakeRuns runs;
+  std::ostringstream progress;
   Fixture() {
     spec.source = "test";
     spec.fixed = {{"scenario.plugin", "flag", "test"}, {"duration", "1", "test"}};
@@ -119,18 +123,17 @@ struct Fixture {
     settings.frame_rate = 50;  // reference dt 1 / (50 x 512) = 39 us, its check 78 us
     settings.max_substeps = 256;
   }
+  // The search over `candidates` with this fixture's settings, fake runs, store and progress.
+  std::vector<Choice> choose(const std::vector<ChoiceCandidate>& candidates) {
+    return choose_integrators(spec, base, candidates, settings, std::ref(runs), std::ref(runs),
+                              store, progress);
+  }
 };
 
 TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices = choose_integrators(
-      fixture.spec, fixture.base,
-      {{"never", false}, {"explicit", false}, {"stretchy", false}, {"iterative", true}},
-      fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose(
+      {{"never", false}, {"explicit", false}, {"stretchy", false}, {"iterative", true}});
   ASSERT_EQ(choices.size(), 4u);
   // Ranked by ms per frame: iterative (1 x 8: 1.8 ms), stretchy (5 substeps), explicit (>= 50).
   EXPECT_EQ(choices[0].integrator, "iterative");
@@ -149,10 +152,11 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
   EXPECT_FALSE(choices[3].passed);
   EXPECT_EQ(choices[3].integrator, "never");
   EXPECT_NE(choices[3].verdict.find("no setting passed up to 256 substeps"), std::string::npos);
-  EXPECT_NE(progress.str().find("choose [2/4] explicit 64 substeps: passes"), std::string::npos);
+  EXPECT_NE(fixture.progress.str().find("choose [2/4] explicit 64 substeps: passes"),
+            std::string::npos);
   // One reference row, with its estimated error; rows for every probe.
   int references = 0, probes = 0;
-  for (const Row& row : store.rows()) {
+  for (const Row& row : fixture.store.rows()) {
     references += row["kind"] == "reference";
     probes += row["kind"] == "probe";
   }
@@ -167,16 +171,11 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
 // Once a setting passed, a probe that takes stop_factor x its time is stopped, and the table
 // says so; a cheaper integrator searched later is still found.
 TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
   fixture.settings.stop_factor = 3;
-  FakeRuns runs;
-  runs.time_scale = 10;  // iterative 1 x 8: 18 ms/frame, 0.9 s for T = 1 s at 50 Hz
-  std::ostringstream progress;
-  const std::vector<Choice> choices = choose_integrators(
-      fixture.spec, fixture.base, {{"stretchy", false}, {"iterative", true}, {"explicit", false}},
-      fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  fixture.runs.time_scale = 10;  // iterative 1 x 8: 18 ms/frame, 0.9 s for T = 1 s at 50 Hz
+  const std::vector<Choice> choices =
+      fixture.choose({{"stretchy", false}, {"iterative", true}, {"explicit", false}});
   ASSERT_EQ(choices.size(), 3u);
   // stretchy has no yardstick yet (first searched): found in full, 5 substeps, 2.5 s a run.
   EXPECT_EQ(choices[1].integrator, "stretchy");
@@ -198,11 +197,12 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
                               "stopped at 8 substeps"),
       std::string::npos)
       << choices[2].verdict;
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 16"), 0);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 0 16"), 0);
   int stopped = 0;
-  for (const Row& row : store.rows()) stopped += row["kind"] == "probe" && row["stopped"] == true;
+  for (const Row& row : fixture.store.rows())
+    stopped += row["kind"] == "probe" && row["stopped"] == true;
   EXPECT_EQ(stopped, 1);
-  EXPECT_NE(progress.str().find("choose [3/3] explicit 8 substeps: slower than iterative"),
+  EXPECT_NE(fixture.progress.str().find("choose [3/3] explicit 8 substeps: slower than iterative"),
             std::string::npos);
   EXPECT_NE(choice_table(choices, fixture.settings).find("slower than iterative"),
             std::string::npos);
@@ -211,10 +211,10 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
   ScratchFolder unbounded_folder;
   ResultsStore unbounded(unbounded_folder.path() / "choose", false);
   fixture.settings.stop_factor = 0;
-  runs.time_scale = 1;  // explicit's 50 substeps within the probe timeout
-  const std::vector<Choice> all =
-      choose_integrators(fixture.spec, fixture.base, {{"iterative", true}, {"explicit", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), unbounded, progress);
+  fixture.runs.time_scale = 1;  // explicit's 50 substeps within the probe timeout
+  const std::vector<Choice> all = choose_integrators(
+      fixture.spec, fixture.base, {{"iterative", true}, {"explicit", false}}, fixture.settings,
+      std::ref(fixture.runs), std::ref(fixture.runs), unbounded, fixture.progress);
   EXPECT_TRUE(all[1].passed);
   EXPECT_GE(all[1].substeps, 50u);
 }
@@ -222,40 +222,35 @@ TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {
 // The error (on the smaller error mesh) is measured first: a setting that fails it is never run
 // at the scene's mesh.
 TEST(IntegratorChoice, RunsTheSceneMeshOnlyWhereTheErrorPasses) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
   fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
   fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
   fixture.base = expand_cases(fixture.spec).at(0);
   fixture.settings.error_mesh = "10x10";
   fixture.settings.error_duration = 0.5;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"explicit", false}});
   ASSERT_TRUE(choices[0].passed);
   EXPECT_GE(choices[0].substeps, 50u);
   // Doubling 1 .. 32 fails on the error mesh (unstable there): no 40 x 40 run for them.
   for (const char* substeps : {"1", "2", "4", "8", "16", "32"}) {
-    EXPECT_EQ(
-        std::count(runs.runs.begin(), runs.runs.end(), std::string("explicit 10 ") + substeps), 1);
-    EXPECT_EQ(
-        std::count(runs.runs.begin(), runs.runs.end(), std::string("explicit 40 ") + substeps), 0);
+    EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(),
+                         std::string("explicit 10 ") + substeps),
+              1);
+    EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(),
+                         std::string("explicit 40 ") + substeps),
+              0);
   }
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 40 64"), 1)
-      << ::testing::PrintToString(runs.runs);
-  EXPECT_NE(progress.str().find("on the error mesh 10x10: unstable"), std::string::npos);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 40 64"), 1)
+      << ::testing::PrintToString(fixture.runs.runs);
+  EXPECT_NE(fixture.progress.str().find("on the error mesh 10x10: unstable"), std::string::npos);
 }
 
 // Where doubling the iterations changes the error by under 10 %, the substep count is left
 // after two probes; the answer is the same.
-// The stretch over a run only grows: the runs at the scene's mesh ask to end at the first check
-// past the limit (stability.stretch_stop), the error runs, whose stretch is not judged, do not.
+// The stretch over a run only grows: the fixture.runs at the scene's mesh ask to end at the first
+// check past the limit (stability.stretch_stop), the error fixture.runs, whose stretch is not
+// judged, do not.
 TEST(IntegratorChoice, EndsSceneMeshRunsAtTheStretchLimit) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
   fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
   fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
@@ -263,72 +258,54 @@ TEST(IntegratorChoice, EndsSceneMeshRunsAtTheStretchLimit) {
   fixture.settings.error_mesh = "10x10";
   fixture.settings.error_duration = 0.5;
   fixture.settings.stretch_limit = 1.2;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"stretchy", false}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"stretchy", false}});
   ASSERT_TRUE(choices[0].passed);
   EXPECT_EQ(choices[0].substeps, 3u);  // 1 + 0.5 / 3 <= 1.2
-  ASSERT_FALSE(runs.stretch_stops.empty());
-  for (const std::string& stop : runs.stretch_stops)
+  ASSERT_FALSE(fixture.runs.stretch_stops.empty());
+  for (const std::string& stop : fixture.runs.stretch_stops)
     EXPECT_TRUE(stop == "40 1.2" || stop == "10 0") << stop;
-  EXPECT_NE(std::find(runs.stretch_stops.begin(), runs.stretch_stops.end(), "40 1.2"),
-            runs.stretch_stops.end());
-  EXPECT_NE(progress.str().find("stretchy 2 substeps: stretch 1.25 above 1.2"), std::string::npos)
-      << progress.str();
+  EXPECT_NE(
+      std::find(fixture.runs.stretch_stops.begin(), fixture.runs.stretch_stops.end(), "40 1.2"),
+      fixture.runs.stretch_stops.end());
+  EXPECT_NE(fixture.progress.str().find("stretchy 2 substeps: stretch 1.25 above 1.2"),
+            std::string::npos)
+      << fixture.progress.str();
 }
 
 TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"plateau", true}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"plateau", true}});
   ASSERT_TRUE(choices[0].passed);
   EXPECT_EQ(choices[0].substeps, 64u);
   EXPECT_EQ(choices[0].iterations, 1u);
   for (const char* substeps : {"1", "2", "32"})
-    EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), std::string("plateau 0 ") + substeps),
+    EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(),
+                         std::string("plateau 0 ") + substeps),
               2)
         << substeps;
-  EXPECT_NE(progress.str().find("more iterations do not lower the error"), std::string::npos);
+  EXPECT_NE(fixture.progress.str().find("more iterations do not lower the error"),
+            std::string::npos);
 }
 
 // An error that does not change with the step is no reason to stop while the scene's mesh is
 // still unstable: the error is measured first, but only an error failure counts.
 TEST(IntegratorChoice, KeepsSearchingWhileOnlyTheSceneMeshIsUnstable) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
   fixture.spec.fixed.push_back({"scenario.rows", "40", "test"});
   fixture.spec.fixed.push_back({"scenario.cols", "40", "test"});
   fixture.base = expand_cases(fixture.spec).at(0);
   fixture.settings.error_mesh = "10x10";
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"stiff", false}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"stiff", false}});
   ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_GE(choices[0].substeps, 37u);
-  EXPECT_LE(choices[0].substeps, 41u) << progress.str();
+  EXPECT_LE(choices[0].substeps, 41u) << fixture.progress.str();
 }
 
 // Once another integrator's best is cheaper than anything a bracket can hold, the bisection
 // ends at its passing end, and the verdict says so.
 TEST(IntegratorChoice, StopsBisectingABracketThatCannotBeatTheBest) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"explicit", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"explicit", false}});
   ASSERT_EQ(choices[0].integrator, "steady");
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   // 64 substeps pass at 64 ms/frame; 33 or more cost at least 33, over steady's 25.
@@ -337,21 +314,15 @@ TEST(IntegratorChoice, StopsBisectingABracketThatCannotBeatTheBest) {
                                     "ms/frame, more than steady at 1 substep"),
             std::string::npos)
       << choices[1].verdict;
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 48"), 0);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 0 48"), 0);
 }
 
 // Where only the lower part of a bracket could beat another integrator's best, the bisection
 // probes the top of that part (the cut), not the middle: the bracket (8, 16] of a method at
 // 2.5 ms per substep can beat 25 ms only up to 10 substeps.
 TEST(IntegratorChoice, BisectsAtTheCutBelowWhichTheBracketCouldBeatTheBest) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"dear", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"dear", false}});
   ASSERT_EQ(choices[1].integrator, "dear");
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 16u);
@@ -359,21 +330,16 @@ TEST(IntegratorChoice, BisectsAtTheCutBelowWhichTheBracketCouldBeatTheBest) {
                                     "ms/frame, more than steady at 1 substep"),
             std::string::npos)
       << choices[1].verdict;
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 10"), 1);  // unstable at once
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 12"), 0);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "dear 0 10"),
+            1);  // unstable at once
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "dear 0 12"), 0);
 }
 
 // The iterations are bisected only where they can beat another integrator's best: 16 pass at
 // 48 ms/frame, so 9 or more cost at least 27, more than steady's 25.
 TEST(IntegratorChoice, RefinesIterationsOnlyWhereTheyCanBeatTheBest) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"solver", true}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"solver", true}});
   ASSERT_EQ(choices[1].integrator, "solver");
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 1u);
@@ -382,28 +348,25 @@ TEST(IntegratorChoice, RefinesIterationsOnlyWhereTheyCanBeatTheBest) {
                                     "at least 27 ms/frame, more than steady at 1 substep"),
             std::string::npos)
       << choices[1].verdict;
-  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "solver 1 x 12"), 0);
+  EXPECT_EQ(std::count(fixture.runs.settings.begin(), fixture.runs.settings.end(), "solver 1 x 12"),
+            0);
 }
 
 // One iteration is the cheapest setting at a substep count and at every larger one: once its
 // first frames cost over stop_factor / 2 x the best, the walk up the substeps ends there (under
 // stop_factor x the best, which a doubling step needs).
 TEST(IntegratorChoice, EndsTheSubstepWalkWhereOneIterationIsOverHalfTheBudget) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"walker", true}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"walker", true}});
   ASSERT_EQ(choices[1].integrator, "walker");
   EXPECT_FALSE(choices[1].passed);
   EXPECT_EQ(choices[1].verdict,
             "slower than steady at 1 substep (25 ms/frame): its fastest of 5 first frames took "
             "39.6 ms (twice), over 1.5 x (stop_factor / 2); stopped at 4 substeps x 1 iteration");
-  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "walker 4 x 1"), 2);
-  EXPECT_EQ(std::count(runs.settings.begin(), runs.settings.end(), "walker 8 x 1"), 0);
+  EXPECT_EQ(std::count(fixture.runs.settings.begin(), fixture.runs.settings.end(), "walker 4 x 1"),
+            2);
+  EXPECT_EQ(std::count(fixture.runs.settings.begin(), fixture.runs.settings.end(), "walker 8 x 1"),
+            0);
 }
 
 // Before a stop or a cut, the best's first frames are measured again beside the setting: where
@@ -411,25 +374,20 @@ TEST(IntegratorChoice, EndsTheSubstepWalkWhereOneIterationIsOverHalfTheBudget) {
 // steady's takes twice as long: dear's 16 substeps (80 ms/frame, 72 the fastest frames: 9 to 16
 // cost at least 40.5) are over steady's 25 ms/frame, not over its 45 now.
 TEST(IntegratorChoice, ComparesWithTheBestsFirstFramesMeasuredBesideAStop) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
   fixture.settings.stop_factor = 2;
-  FakeRuns runs;
-  runs.loaded_from_call = 4;  // the reference's two runs, steady's run over T, then loaded
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"dear", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  fixture.runs.loaded_from_call =
+      4;  // the reference's two fixture.runs, steady's run over T, then loaded
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"dear", false}});
   ASSERT_EQ(choices[1].integrator, "dear");
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 16u);
   EXPECT_NEAR(choices[1].ms_per_frame, 80, 1e-9);
-  EXPECT_NE(progress.str().find("dear 16 substeps: passes"), std::string::npos);
+  EXPECT_NE(fixture.progress.str().find("dear 16 substeps: passes"), std::string::npos);
   // The bracket's cut too: 80 against steady's 25 would leave nothing in (8, 16]; side by side
   // (72 and 45, the fastest first frames) up to 10 substeps can still win, and 10 is probed
   // (its first frames twice: over the yardstick as stored, not beside steady's).
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "dear 0 10"), 2);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "dear 0 10"), 2);
   EXPECT_NE(choices[1].verdict.find("not refined below 16 substeps: 11 or more cost at least 49.5 "
                                     "ms/frame, more than steady at 1 substep (45 ms its first "
                                     "frames now)"),
@@ -440,16 +398,10 @@ TEST(IntegratorChoice, ComparesWithTheBestsFirstFramesMeasuredBesideAStop) {
 // A bisection probe that the budget stops (here: a burst of other jobs through both of its
 // first-frames measurements) ends the bisection at its passing end, and the verdict says so.
 TEST(IntegratorChoice, EndsABisectionThatTheBudgetStops) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  runs.burst_on = "explicit 48";
-  runs.bursts = 2;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress);
+  fixture.runs.burst_on = "explicit 48";
+  fixture.runs.bursts = 2;
+  const std::vector<Choice> choices = fixture.choose({{"explicit", false}});
   ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_EQ(choices[0].substeps, 64u);
   EXPECT_NE(choices[0].verdict.find("not refined below 64 substeps: 48 substeps slower than "
@@ -457,20 +409,14 @@ TEST(IntegratorChoice, EndsABisectionThatTheBudgetStops) {
                                     "first frames took 432 ms (twice)"),
             std::string::npos)
       << choices[0].verdict;
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 56"), 0);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 0 56"), 0);
 }
 
 // An error that two halvings of the step leave flat ends the search; one flat halving (an
 // error saturated at the coarsest steps) does not.
 TEST(IntegratorChoice, GivesUpOnlyOnAnErrorFlatOverTwoHalvings) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"damped", false}, {"saturated", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({{"damped", false}, {"saturated", false}});
   ASSERT_EQ(choices[0].integrator, "saturated");
   EXPECT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_EQ(choices[0].substeps, 8u);
@@ -480,61 +426,44 @@ TEST(IntegratorChoice, GivesUpOnlyOnAnErrorFlatOverTwoHalvings) {
                                      0),
             0u)
       << choices[1].verdict;
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "damped 0 8"), 0);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "damped 0 8"), 0);
 }
 
 // The iterations parameter is the plugin's (implicit_euler's CG cap, max_iterations), searched
 // up to its own maximum.
 TEST(IntegratorChoice, SearchesThePluginsIterationsParameterWithinItsRange) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  std::ostringstream progress;
   ChoiceCandidate capped{"iterative", true};
   capped.iterations_param = "cap";
   capped.iterations_limit = 4;  // 1 x 8 is out of range: 2 x 4 is the cheapest left
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {capped}, fixture.settings, std::ref(runs),
-                         std::ref(runs), store, progress);
+  const std::vector<Choice> choices = fixture.choose({capped});
   ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_EQ(choices[0].substeps, 2u);
   EXPECT_EQ(choices[0].iterations, 4u);
   EXPECT_EQ(choose_rows_parameter(choices, fixture.settings), "cap");
   EXPECT_NE(choice_table(choices, fixture.settings).find(" cap=4 "), std::string::npos);
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "iterative 0 1"), 3);  // 1, 2, 4
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "iterative 0 1"),
+            3);  // 1, 2, 4
 }
 
 // A burst of other jobs that slows one measurement of the first frames does not stop a setting:
 // the first frames run again before a stop.
 TEST(IntegratorChoice, MeasuresTheFirstFramesAgainBeforeAStop) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  runs.burst_on = "explicit 64";
-  std::ostringstream progress;
-  const std::vector<Choice> choices =
-      choose_integrators(fixture.spec, fixture.base, {{"steady", false}, {"explicit", false}},
-                         fixture.settings, std::ref(runs), std::ref(runs), store, progress);
+  fixture.runs.burst_on = "explicit 64";
+  const std::vector<Choice> choices = fixture.choose({{"steady", false}, {"explicit", false}});
   ASSERT_TRUE(choices[1].passed) << choices[1].verdict;
   EXPECT_EQ(choices[1].substeps, 64u);
   // 2 short, 1 T, and 1 short beside steady's before the bracket is cut
-  EXPECT_EQ(std::count(runs.runs.begin(), runs.runs.end(), "explicit 0 64"), 4);
+  EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 0 64"), 4);
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {
-  ScratchFolder folder;
-  ResultsStore store(folder.path() / "choose", false);
   Fixture fixture;
-  FakeRuns runs;
-  runs.reference_gap = 0.05;  // the two reference runs differ by 5 % of the diagonal
-  std::ostringstream progress;
-  EXPECT_THROW(
-      choose_integrators(fixture.spec, fixture.base, {{"explicit", false}}, fixture.settings,
-                         std::ref(runs), std::ref(runs), store, progress),
-      SweepError);
-  EXPECT_EQ(runs.calls, 2);  // nothing judged against it
+  fixture.runs.reference_gap =
+      0.05;  // the two reference fixture.runs differ by 5 % of the diagonal
+  EXPECT_THROW(fixture.choose({{"explicit", false}}), SweepError);
+  EXPECT_EQ(fixture.runs.calls, 2);  // nothing judged against it
 }
 
 }  // namespace
