@@ -45,7 +45,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
   if (definite_kernel_) {
     ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
     plane_ = (n_ + 15) / 16 * 16;
-    coefficients_ = AlignedBuffer<Real>(2 * stencils_.size() * plane_);
+    inverse_lengths_ = AlignedBuffer<Real>(stencils_.size() * plane_);
   }
 #endif
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
@@ -302,6 +302,14 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
     for (std::size_t k = 0; k < 2; ++k) job.ends_below[k] = scratch + k * 3 * span_;
+    const bool damped = damping_ && linearised_.v != nullptr;
+    job.c_x = static_cast<float>(linearised_.c_x);
+    for (std::size_t s = 0; s < stencils_.size(); ++s) {
+      const StencilSprings& stencil = stencils_[s];
+      job.ks[s] = stencil.ks, job.ks_rest[s] = stencil.ks * stencil.rest;
+      job.along_scale[s] = job.c_x * stencil.ks;
+      if (damped) job.along_scale[s] += static_cast<float>(linearised_.c_v) * stencil.kd;
+    }
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
       if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
         direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
@@ -314,10 +322,8 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
         job.write[dr] = row + dr >= begin && row + dr < end;
         job.first[dr] = dr == 2 || row == 0;
       }
-      for (std::size_t s = 0; s < stencils_.size(); ++s) {
-        job.across[s] = across_plane(s) + row * cols_;
-        job.along[s] = along_plane(s) + row * cols_;
-      }
+      for (std::size_t s = 0; s < stencils_.size(); ++s)
+        job.inverse_length[s] = inverse_length_plane(s) + row * cols_;
       job.mass = mass_.data() + row * cols_;
       job.rows_below[0] = row + 1 < rows_;
       job.rows_below[1] = row + 2 < rows_;
@@ -338,30 +344,22 @@ void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, doub
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
     if (!definite_kernel_) return;
-    const bool damped = damping_ && v != nullptr;
     const auto rows = static_cast<std::ptrdiff_t>(rows_);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
       const auto row = static_cast<std::size_t>(r);
       for (std::size_t s = 0; s < stencils_.size(); ++s) {
         const StencilSprings& stencil = stencils_[s];
-        DefiniteCoefficientRow job{};
+        DefiniteInverseLengthRow job{};
         job.x = x + row * cols_;
         job.x_partner =
             job.x + stencil.row_step * cols_ + static_cast<std::ptrdiff_t>(stencil.col_step);
-        job.across = across_plane(s) + row * cols_;
-        job.along = along_plane(s) + row * cols_;
+        job.inverse_length = inverse_length_plane(s) + row * cols_;
         job.stride = stride_, job.cols = cols_;
         const bool spring_row = row < stencil.extent.row_end;
         job.col_begin = spring_row ? stencil.extent.col_begin : 0;
         job.col_end = spring_row ? stencil.extent.col_end : 0;  // no springs: zeros
-        job.rest = stencil.rest, job.ks = stencil.ks, job.kd = stencil.kd;
-        job.c_x = static_cast<float>(c_x), job.c_v = static_cast<float>(c_v);
-        if (damped && stencil.kd > 0.0f) {
-          definite_coefficient_row<true>(job);
-        } else {
-          definite_coefficient_row<false>(job);
-        }
+        definite_inverse_length_row(job);
       }
     }
   }
