@@ -26,6 +26,43 @@
 
 namespace clothlab::detail {
 
+// CG's direction update on one grid row (pointers at its column 0, components `stride` apart):
+// solution += alpha p, then p = z + beta p, on the active particles.
+struct DefiniteDirection {
+  const float* z;
+  float* p;
+  float* solution;
+  const float* inverse_mass;
+  float alpha, beta;
+  std::size_t stride;
+};
+
+// The update at columns [c, c + 16) within `lanes`; fresh: the new p where active, else 0 (as
+// the sweep reads p). The one arithmetic of the update, whether the sweep does it (the row two
+// below) or a row pass before it (definite_direction_row): the same bits either way.
+inline void definite_direction_block(const DefiniteDirection& row, std::size_t c, __mmask16 lanes,
+                                     __m512 (&fresh)[3]) {
+  const __mmask16 active = _mm512_mask_cmp_ps_mask(
+      lanes, _mm512_maskz_loadu_ps(lanes, row.inverse_mass + c), _mm512_setzero_ps(), _CMP_GT_OQ);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t e = c + k * row.stride;
+    const __m512 p = _mm512_maskz_loadu_ps(lanes, row.p + e);
+    _mm512_mask_storeu_ps(row.solution + e, active,
+                          _mm512_fmadd_ps(_mm512_set1_ps(row.alpha), p,
+                                          _mm512_maskz_loadu_ps(lanes, row.solution + e)));
+    const __m512 next =
+        _mm512_fmadd_ps(_mm512_set1_ps(row.beta), p, _mm512_maskz_loadu_ps(lanes, row.z + e));
+    _mm512_mask_storeu_ps(row.p + e, active, next);
+    fresh[k] = _mm512_maskz_mov_ps(active, next);
+  }
+}
+
+inline void definite_direction_row(const DefiniteDirection& row, std::size_t cols) {
+  __m512 fresh[3];
+  for (std::size_t c = 0; c < cols; c += 16)
+    definite_direction_block(row, c, columns_in(c, 0, cols), fresh);
+}
+
 // Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
 struct DefiniteRow {
   const float* x[3];               // rows r, r + 1, r + 2 at column 0; components `stride` apart
@@ -43,6 +80,8 @@ struct DefiniteRow {
   bool first[3];         // rows whose first contribution this is
   bool rows_below[2];    // rows r + 1 and r + 2 exist
   float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1), components `span` apart
+  // Not null: row r + 2's direction update, done block by block just before the sweep reads it.
+  const DefiniteDirection* direction_below;
   std::size_t stride, span, cols;
 };
 
@@ -113,11 +152,16 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   direction(0, 0, all, u);
   // Stencil s to the partner at (r + dr, c + dc): its product joins `own`; returns it.
   // Inlined by force: as a call, its vectors go through memory (GCC 12 does not inline it).
-  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product)
-      __attribute__((always_inline)) {
+  // fresh: the partners' u, already loaded.
+  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product,
+                          const Vec3* fresh = nullptr) __attribute__((always_inline)) {
     Vec3 partner, du, d;
     load(row.x[dr], dc, valid, partner);
-    direction(dr, dc, valid, du);
+    if (fresh != nullptr) {
+      for (std::size_t k = 0; k < 3; ++k) du[k] = (*fresh)[k];
+    } else {
+      direction(dr, dc, valid, du);
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       d[k] = partner[k] - x[k];
       du[k] = du[k] - u[k];
@@ -171,7 +215,13 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
     store_scratch(row.ends_below[1], product);
   }
   if (row.rows_below[1]) {
-    spring(5, 2, 0, all, product);
+    if (row.direction_below != nullptr) {
+      Vec3 fresh;
+      definite_direction_block(*row.direction_below, c, all, fresh);
+      spring(5, 2, 0, all, product, &fresh);
+    } else {
+      spring(5, 2, 0, all, product);
+    }
     if (row.write[2]) {
       for (std::size_t k = 0; k < 3; ++k) product[k] = zero - product[k];
       put(row.out[2], true, product);

@@ -264,28 +264,10 @@ void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::siz
   row_dots_[row] = dot;
 }
 
-template <class Real>
-void SpringJacobian<Real>::direction_rows(const Direction& direction, Real* u, std::size_t begin,
-                                          std::size_t end) const {
-  const Real alpha = static_cast<Real>(direction.alpha), beta = static_cast<Real>(direction.beta);
-  const Real* __restrict inverse_mass = inverse_mass_;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const Real* __restrict z = direction.z + k * stride_;
-    Real* __restrict p = u + k * stride_;
-    Real* __restrict solution = direction.solution + k * stride_;
-#pragma omp simd
-    for (std::size_t i = begin * cols_; i < end * cols_; ++i) {
-      const bool active = inverse_mass[i] > Real(0);
-      const Real old_p = p[i], old_solution = solution[i], z_i = z[i];
-      solution[i] = active ? old_solution + alpha * old_p : old_solution;
-      p[i] = active ? z_i + beta * old_p : old_p;
-    }
-  }
-}
-
 // With a direction: the thread first updates its block's first and last two rows, which its
-// neighbours' sweeps read, then (after a barrier) each interior row just before the sweep
-// reaches it, so every row is updated once and read only updated.
+// neighbours' sweeps read, then (after a barrier) each interior row as the sweep reaches it: in
+// the sweep of the row two above, block by block (the (2,0) springs read it there first), so
+// every row is updated once and read only updated.
 template <class Real>
 void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end,
                                          Real* scratch, const Direction* direction) const {
@@ -293,9 +275,21 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
   if constexpr (std::is_same_v<Real, float>) {
     const std::size_t head_end = std::min(begin + 2, end);
     const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
+    DefiniteDirection update{};
+    const auto update_rows = [&](std::size_t first, std::size_t last) {
+      for (std::size_t row = first; row < last; ++row) {
+        const std::size_t base = row * cols_;
+        update.z = direction->z + base, update.p = u + base;
+        update.solution = direction->solution + base, update.inverse_mass = inverse_mass_ + base;
+        definite_direction_row(update, cols_);
+      }
+    };
     if (direction != nullptr) {  // the same on every thread of the team
-      direction_rows(*direction, u, begin, head_end);
-      direction_rows(*direction, u, tail_begin, end);
+      update.alpha = static_cast<float>(direction->alpha);
+      update.beta = static_cast<float>(direction->beta);
+      update.stride = stride_;
+      update_rows(begin, head_end);
+      update_rows(tail_begin, end);
 #pragma omp barrier
     }
     std::size_t updated = head_end;  // interior rows [head_end, updated) are done
@@ -311,9 +305,20 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
       if (damped) job.along_scale[s] += static_cast<float>(linearised_.c_v) * stencil.kd;
     }
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
-      if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
-        direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
-        updated = std::min(row + 3, tail_begin);
+      job.direction_below = nullptr;
+      if (direction != nullptr) {
+        if (updated < std::min(row + 2, tail_begin)) {
+          update_rows(updated, std::min(row + 2, tail_begin));
+          updated = std::min(row + 2, tail_begin);
+        }
+        if (updated == row + 2 && updated < tail_begin) {  // the sweep updates row + 2
+          const std::size_t base = (row + 2) * cols_;
+          update.z = direction->z + base, update.p = u + base;
+          update.solution = direction->solution + base;
+          update.inverse_mass = inverse_mass_ + base;
+          job.direction_below = &update;
+          updated = row + 3;
+        }
       }
       for (std::size_t dr = 0; dr < 3; ++dr) {
         const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;

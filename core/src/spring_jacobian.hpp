@@ -100,9 +100,6 @@ class SpringJacobian {
   // AVX-512 with all six stencils); scratch: the thread's two rows of shifted ends.
   void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
                      const Direction* direction) const;
-  // The direction's update on grid rows [begin, end).
-  void direction_rows(const Direction& direction, Real* u, std::size_t begin,
-                      std::size_t end) const;
   // Stencil s's plane of inverse spring lengths, rows x cols.
   Real* inverse_length_plane(std::size_t s) const { return inverse_lengths_.data() + s * plane_; }
   // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
