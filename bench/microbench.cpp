@@ -180,6 +180,10 @@ class CgSolve {
     solver_->start(0.0, kStep, system_.x(), system_.v(), rhs_, solution_, false, 0.0);
   }
   builtin::BlockJacobiCg<float>& solver() { return *solver_; }
+  sdk::CgStep<float> cg_step() const { return system_.cg_step(); }
+  // The solver's r, z, p, q and the two preconditioner vectors, as started.
+  float* vector(std::size_t index) const { return vectors_[index]; }
+  float* solution() const { return solution_; }
 
  private:
   static constexpr double kStep = 1.0 / 60.0;
@@ -211,6 +215,28 @@ void cg_iteration(benchmark::State& state, bool fused) {
     if (solve.solver().iterate() != builtin::BlockJacobiCg<float>::Outcome::kRunning) {
       state.SkipWithError("CG stopped within 20 iterations");
       return;
+    }
+    benchmark::ClobberMemory();
+  }
+}
+
+// cg_iteration's two host sweeps apart (clothlab.cg-step/1, after a start): `product` with the
+// direction update riding on it (alpha = 0, beta = 0: p = z, so repeats see the same input),
+// and `update` (alpha = 0: r stays).
+void cg_sweep(benchmark::State& state, bool product) {
+  CgSolve solve(state, true);
+  if (!solve.fused()) {
+    state.SkipWithError("the host lacks clothlab.cg-step/1");
+    return;
+  }
+  solve.start();
+  const sdk::CgStep<float> step = solve.cg_step();
+  float *r = solve.vector(0), *z = solve.vector(1), *p = solve.vector(2), *q = solve.vector(3);
+  for (auto _ : state) {
+    if (product) {
+      benchmark::DoNotOptimize(step.product(0.0, 0.0, z, p, solve.solution(), q));
+    } else {
+      benchmark::DoNotOptimize(step.update(0.0, q, solve.vector(4), solve.vector(5), r, z));
     }
     benchmark::ClobberMemory();
   }
@@ -338,6 +364,8 @@ BENCHMARK(force_evaluation)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(jacobian_product)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_iteration, fused, true)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_iteration, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_sweep, product, true)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK_CAPTURE(cg_sweep, update, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, fused, true)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);

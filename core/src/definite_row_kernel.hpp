@@ -1,8 +1,10 @@
 // The definite Jacobian's product (jacobian_row_kernel.hpp, JacobianForm::kDefinite) for all six
 // Provot stencils starting in one grid row r, in one sweep over its columns, 16 floats at a time
-// on AVX-512, from each spring's two coefficients (definite_coefficients), which the state
-// fixes and definite_coefficient_row stores once per linearisation: a CG solve takes hundreds
-// of products at one state. The row's own positions and directions are loaded once and the
+// on AVX-512, from each spring's inverse length, which the state fixes and
+// definite_inverse_length_row stores once per linearisation: a CG solve takes hundreds of
+// products at one state. One stored float per spring rather than its two coefficients: the
+// sweep is bound by the bytes it streams, and the coefficients follow from 1/l in a few
+// multiplies (definite_row_block). The row's own positions and directions are loaded once and the
 // products on its own particles summed in registers over the six springs, as the force
 // pipeline's interior row kernel does. Partner ends in the same column of rows r + 1 and r + 2 go
 // straight into the product; those one or two columns over go to scratch rows (their
@@ -24,51 +26,87 @@
 
 namespace clothlab::detail {
 
+// CG's direction update on one grid row (pointers at its column 0, components `stride` apart):
+// solution += alpha p, then p = z + beta p, on the active particles.
+struct DefiniteDirection {
+  const float* z;
+  float* p;
+  float* solution;
+  const float* inverse_mass;
+  float alpha, beta;
+  std::size_t stride;
+};
+
+// The update at columns [c, c + 16) within `lanes`; fresh: the new p where active, else 0 (as
+// the sweep reads p). The one arithmetic of the update, whether the sweep does it (the row two
+// below) or a row pass before it (definite_direction_row): the same bits either way.
+inline void definite_direction_block(const DefiniteDirection& row, std::size_t c, __mmask16 lanes,
+                                     __m512 (&fresh)[3]) {
+  const __mmask16 active = _mm512_mask_cmp_ps_mask(
+      lanes, _mm512_maskz_loadu_ps(lanes, row.inverse_mass + c), _mm512_setzero_ps(), _CMP_GT_OQ);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t e = c + k * row.stride;
+    const __m512 p = _mm512_maskz_loadu_ps(lanes, row.p + e);
+    _mm512_mask_storeu_ps(row.solution + e, active,
+                          _mm512_fmadd_ps(_mm512_set1_ps(row.alpha), p,
+                                          _mm512_maskz_loadu_ps(lanes, row.solution + e)));
+    const __m512 next =
+        _mm512_fmadd_ps(_mm512_set1_ps(row.beta), p, _mm512_maskz_loadu_ps(lanes, row.z + e));
+    _mm512_mask_storeu_ps(row.p + e, active, next);
+    fresh[k] = _mm512_maskz_mov_ps(active, next);
+  }
+}
+
+inline void definite_direction_row(const DefiniteDirection& row, std::size_t cols) {
+  __m512 fresh[3];
+  for (std::size_t c = 0; c < cols; c += 16)
+    definite_direction_block(row, c, columns_in(c, 0, cols), fresh);
+}
+
 // Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
 struct DefiniteRow {
-  const float* x[3];             // rows r, r + 1, r + 2 at column 0; components `stride` apart
-  const float* u[3];             // likewise
-  const float* inverse_mass[3];  // likewise, one component
-  const float* mass;             // row r's masses (0 where pinned)
-  const float* across[6];        // per stencil, its springs' coefficients at row r (0 where none)
-  const float* along[6];
+  const float* x[3];               // rows r, r + 1, r + 2 at column 0; components `stride` apart
+  const float* u[3];               // likewise
+  const float* inverse_mass[3];    // likewise, one component
+  const float* mass;               // row r's masses (0 where pinned)
+  const float* inverse_length[6];  // per stencil, its springs' 1/l at row r (0 where none)
+  // Per stencil, fixed by the linearisation: the coefficients are
+  //   across = c_x t, t = max(0, ks (1 - l0/l)),   along = (c_x (ks - t) + c_v kd) / l^2.
+  float ks[6], ks_rest[6];  // ks, ks l0
+  float along_scale[6];     // c_x ks + c_v kd (kd 0 without damping)
+  float c_x;
   float* out[3];         // the product's rows r, r + 1, r + 2 (r: u + D u once complete)
   bool write[3];         // rows of out this call may write
   bool first[3];         // rows whose first contribution this is
   bool rows_below[2];    // rows r + 1 and r + 2 exist
   float* ends_below[2];  // scratch: partner ends of (1,1) and (1,-1), components `span` apart
+  // Not null: row r + 2's direction update, done block by block just before the sweep reads it.
+  const DefiniteDirection* direction_below;
   std::size_t stride, span, cols;
 };
 
-// One stencil's coefficients along row r: across and along at columns [0, cols) (0 outside
+// One stencil's inverse spring lengths along row r at columns [0, cols) (0 outside
 // [col_begin, col_end)), from the positions of row r and of its partners' row.
-struct DefiniteCoefficientRow {
+struct DefiniteInverseLengthRow {
   const float* x;
   const float* x_partner;  // shifted so that column c lines up with the partner
-  float* across;
-  float* along;
+  float* inverse_length;
   std::size_t stride, cols, col_begin, col_end;
-  float rest, ks, kd, c_x, c_v;
 };
 
-template <bool Damped>
-inline void definite_coefficient_row(const DefiniteCoefficientRow& row) {
-  const __m512 zero = _mm512_setzero_ps();
+inline void definite_inverse_length_row(const DefiniteInverseLengthRow& row) {
   for (std::size_t c = 0; c < row.cols; c += 16) {
     const __mmask16 valid = columns_in(c, row.col_begin, row.col_end);
-    __m512 d[3];
+    __m512 squared = _mm512_setzero_ps();
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * row.stride;
-      d[k] =
+      const __m512 d =
           _mm512_maskz_loadu_ps(valid, row.x_partner + e) - _mm512_maskz_loadu_ps(valid, row.x + e);
+      squared = squared + d * d;
     }
-    __m512 across, along;
-    definite_coefficients<Damped>(d, _mm512_set1_ps(row.rest), _mm512_set1_ps(row.ks),
-                                  _mm512_set1_ps(row.kd), _mm512_set1_ps(row.c_x),
-                                  _mm512_set1_ps(row.c_v), zero, across, along);
     const __mmask16 in_row = columns_in(c, 0, row.cols);
-    _mm512_mask_storeu_ps(row.across + c, in_row, _mm512_maskz_mov_ps(valid, across));
-    _mm512_mask_storeu_ps(row.along + c, in_row, _mm512_maskz_mov_ps(valid, along));
+    _mm512_mask_storeu_ps(row.inverse_length + c, in_row,
+                          _mm512_maskz_mov_ps(valid, inverse_sqrt_or_zero(squared)));
   }
 }
 
@@ -114,18 +152,30 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   direction(0, 0, all, u);
   // Stencil s to the partner at (r + dr, c + dc): its product joins `own`; returns it.
   // Inlined by force: as a call, its vectors go through memory (GCC 12 does not inline it).
-  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product)
-      __attribute__((always_inline)) {
+  // fresh: the partners' u, already loaded.
+  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product,
+                          const Vec3* fresh = nullptr) __attribute__((always_inline)) {
     Vec3 partner, du, d;
     load(row.x[dr], dc, valid, partner);
-    direction(dr, dc, valid, du);
+    if (fresh != nullptr) {
+      for (std::size_t k = 0; k < 3; ++k) du[k] = (*fresh)[k];
+    } else {
+      direction(dr, dc, valid, du);
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       d[k] = partner[k] - x[k];
       du[k] = du[k] - u[k];
     }
-    // 0 in the lanes without a spring.
-    const __m512 across = _mm512_maskz_loadu_ps(valid, row.across[s] + c);
-    const __m512 along = _mm512_maskz_loadu_ps(valid, row.along[s] + c) *
+    // 1/l is 0 in the lanes without a spring (and for a zero-length one): there t is 0 too.
+    const __m512 inverse_length = _mm512_maskz_loadu_ps(valid, row.inverse_length[s] + c);
+    const __mmask16 springs = _mm512_cmp_ps_mask(inverse_length, zero, _CMP_GT_OQ);
+    const __m512 stretch = _mm512_fnmadd_ps(_mm512_set1_ps(row.ks_rest[s]), inverse_length,
+                                            _mm512_set1_ps(row.ks[s]));  // ks (1 - l0/l)
+    const __m512 transverse =
+        _mm512_maskz_mov_ps(_mm512_mask_cmp_ps_mask(springs, stretch, zero, _CMP_GT_OQ), stretch);
+    const __m512 across = _mm512_set1_ps(row.c_x) * transverse;
+    const __m512 along = inverse_length * inverse_length *
+                         (_mm512_set1_ps(row.along_scale[s]) - across) *
                          (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
     for (std::size_t k = 0; k < 3; ++k) {
       product[k] = across * du[k] + along * d[k];
@@ -165,7 +215,13 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
     store_scratch(row.ends_below[1], product);
   }
   if (row.rows_below[1]) {
-    spring(5, 2, 0, all, product);
+    if (row.direction_below != nullptr) {
+      Vec3 fresh;
+      definite_direction_block(*row.direction_below, c, all, fresh);
+      spring(5, 2, 0, all, product, &fresh);
+    } else {
+      spring(5, 2, 0, all, product);
+    }
     if (row.write[2]) {
       for (std::size_t k = 0; k < 3; ++k) product[k] = zero - product[k];
       put(row.out[2], true, product);
@@ -219,12 +275,17 @@ inline double definite_row(const DefiniteRow& row) {
 inline void definite_row_shifted_ends(const DefiniteRow& row) {
   if (!row.rows_below[0] || !row.write[1]) return;
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
+  // 16 lanes as the sweep's loads of the row: narrower stores here would not forward to them.
   for (std::size_t k = 0; k < 3; ++k) {
-    float* __restrict out = row.out[1] + k * stride;
-    const float* __restrict below_right = row.ends_below[0] + k * span - 1;
-    const float* __restrict below_left = row.ends_below[1] + k * span + 1;
-#pragma omp simd
-    for (std::size_t c = 0; c < cols; ++c) out[c] -= below_right[c] + below_left[c];
+    float* out = row.out[1] + k * stride;
+    const float* below_right = row.ends_below[0] + k * span - 1;
+    const float* below_left = row.ends_below[1] + k * span + 1;
+    for (std::size_t c = 0; c < cols; c += 16) {
+      const __mmask16 lanes = columns_in(c, 0, cols);
+      const __m512 ends = _mm512_maskz_loadu_ps(lanes, below_right + c) +
+                          _mm512_maskz_loadu_ps(lanes, below_left + c);
+      _mm512_mask_storeu_ps(out + c, lanes, _mm512_maskz_loadu_ps(lanes, out + c) - ends);
+    }
   }
 }
 

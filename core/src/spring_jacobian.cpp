@@ -45,7 +45,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
   if (definite_kernel_) {
     ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
     plane_ = (n_ + 15) / 16 * 16;
-    coefficients_ = AlignedBuffer<Real>(2 * stencils_.size() * plane_);
+    inverse_lengths_ = AlignedBuffer<Real>(stencils_.size() * plane_);
   }
 #endif
   const std::vector<uint32_t>& offsets = topology.adjacency_offsets;
@@ -264,28 +264,10 @@ void SpringJacobian<Real>::finish_shifted_row(const Real* u, Real* out, std::siz
   row_dots_[row] = dot;
 }
 
-template <class Real>
-void SpringJacobian<Real>::direction_rows(const Direction& direction, Real* u, std::size_t begin,
-                                          std::size_t end) const {
-  const Real alpha = static_cast<Real>(direction.alpha), beta = static_cast<Real>(direction.beta);
-  const Real* __restrict inverse_mass = inverse_mass_;
-  for (std::size_t k = 0; k < 3; ++k) {
-    const Real* __restrict z = direction.z + k * stride_;
-    Real* __restrict p = u + k * stride_;
-    Real* __restrict solution = direction.solution + k * stride_;
-#pragma omp simd
-    for (std::size_t i = begin * cols_; i < end * cols_; ++i) {
-      const bool active = inverse_mass[i] > Real(0);
-      const Real old_p = p[i], old_solution = solution[i], z_i = z[i];
-      solution[i] = active ? old_solution + alpha * old_p : old_solution;
-      p[i] = active ? z_i + beta * old_p : old_p;
-    }
-  }
-}
-
 // With a direction: the thread first updates its block's first and last two rows, which its
-// neighbours' sweeps read, then (after a barrier) each interior row just before the sweep
-// reaches it, so every row is updated once and read only updated.
+// neighbours' sweeps read, then (after a barrier) each interior row as the sweep reaches it: in
+// the sweep of the row two above, block by block (the (2,0) springs read it there first), so
+// every row is updated once and read only updated.
 template <class Real>
 void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end,
                                          Real* scratch, const Direction* direction) const {
@@ -293,19 +275,50 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
   if constexpr (std::is_same_v<Real, float>) {
     const std::size_t head_end = std::min(begin + 2, end);
     const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
+    DefiniteDirection update{};
+    const auto update_rows = [&](std::size_t first, std::size_t last) {
+      for (std::size_t row = first; row < last; ++row) {
+        const std::size_t base = row * cols_;
+        update.z = direction->z + base, update.p = u + base;
+        update.solution = direction->solution + base, update.inverse_mass = inverse_mass_ + base;
+        definite_direction_row(update, cols_);
+      }
+    };
     if (direction != nullptr) {  // the same on every thread of the team
-      direction_rows(*direction, u, begin, head_end);
-      direction_rows(*direction, u, tail_begin, end);
+      update.alpha = static_cast<float>(direction->alpha);
+      update.beta = static_cast<float>(direction->beta);
+      update.stride = stride_;
+      update_rows(begin, head_end);
+      update_rows(tail_begin, end);
 #pragma omp barrier
     }
     std::size_t updated = head_end;  // interior rows [head_end, updated) are done
     DefiniteRow job{};
     job.stride = stride_, job.span = span_, job.cols = cols_;
     for (std::size_t k = 0; k < 2; ++k) job.ends_below[k] = scratch + k * 3 * span_;
+    const bool damped = damping_ && linearised_.v != nullptr;
+    job.c_x = static_cast<float>(linearised_.c_x);
+    for (std::size_t s = 0; s < stencils_.size(); ++s) {
+      const StencilSprings& stencil = stencils_[s];
+      job.ks[s] = stencil.ks, job.ks_rest[s] = stencil.ks * stencil.rest;
+      job.along_scale[s] = job.c_x * stencil.ks;
+      if (damped) job.along_scale[s] += static_cast<float>(linearised_.c_v) * stencil.kd;
+    }
     for (std::size_t row = begin >= 2 ? begin - 2 : 0; row < end; ++row) {
-      if (direction != nullptr && updated < std::min(row + 3, tail_begin)) {
-        direction_rows(*direction, u, updated, std::min(row + 3, tail_begin));
-        updated = std::min(row + 3, tail_begin);
+      job.direction_below = nullptr;
+      if (direction != nullptr) {
+        if (updated < std::min(row + 2, tail_begin)) {
+          update_rows(updated, std::min(row + 2, tail_begin));
+          updated = std::min(row + 2, tail_begin);
+        }
+        if (updated == row + 2 && updated < tail_begin) {  // the sweep updates row + 2
+          const std::size_t base = (row + 2) * cols_;
+          update.z = direction->z + base, update.p = u + base;
+          update.solution = direction->solution + base;
+          update.inverse_mass = inverse_mass_ + base;
+          job.direction_below = &update;
+          updated = row + 3;
+        }
       }
       for (std::size_t dr = 0; dr < 3; ++dr) {
         const std::size_t base = std::min(row + dr, rows_ - 1) * cols_;
@@ -314,10 +327,8 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
         job.write[dr] = row + dr >= begin && row + dr < end;
         job.first[dr] = dr == 2 || row == 0;
       }
-      for (std::size_t s = 0; s < stencils_.size(); ++s) {
-        job.across[s] = across_plane(s) + row * cols_;
-        job.along[s] = along_plane(s) + row * cols_;
-      }
+      for (std::size_t s = 0; s < stencils_.size(); ++s)
+        job.inverse_length[s] = inverse_length_plane(s) + row * cols_;
       job.mass = mass_.data() + row * cols_;
       job.rows_below[0] = row + 1 < rows_;
       job.rows_below[1] = row + 2 < rows_;
@@ -338,30 +349,22 @@ void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, doub
 #if defined(__AVX512F__)
   if constexpr (std::is_same_v<Real, float>) {
     if (!definite_kernel_) return;
-    const bool damped = damping_ && v != nullptr;
     const auto rows = static_cast<std::ptrdiff_t>(rows_);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
       const auto row = static_cast<std::size_t>(r);
       for (std::size_t s = 0; s < stencils_.size(); ++s) {
         const StencilSprings& stencil = stencils_[s];
-        DefiniteCoefficientRow job{};
+        DefiniteInverseLengthRow job{};
         job.x = x + row * cols_;
         job.x_partner =
             job.x + stencil.row_step * cols_ + static_cast<std::ptrdiff_t>(stencil.col_step);
-        job.across = across_plane(s) + row * cols_;
-        job.along = along_plane(s) + row * cols_;
+        job.inverse_length = inverse_length_plane(s) + row * cols_;
         job.stride = stride_, job.cols = cols_;
         const bool spring_row = row < stencil.extent.row_end;
         job.col_begin = spring_row ? stencil.extent.col_begin : 0;
         job.col_end = spring_row ? stencil.extent.col_end : 0;  // no springs: zeros
-        job.rest = stencil.rest, job.ks = stencil.ks, job.kd = stencil.kd;
-        job.c_x = static_cast<float>(c_x), job.c_v = static_cast<float>(c_v);
-        if (damped && stencil.kd > 0.0f) {
-          definite_coefficient_row<true>(job);
-        } else {
-          definite_coefficient_row<false>(job);
-        }
+        definite_inverse_length_row(job);
       }
     }
   }

@@ -45,8 +45,8 @@ class SpringJacobian {
   void apply_definite(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
                       Real* out) const;
   // Fixes the definite form D at (x, v) with weights c_x, c_v for product_definite_dot (x and v
-  // must keep their values while it is used): on the row kernel's path, each spring's two
-  // coefficients.
+  // must keep their values while it is used): on the row kernel's path, each spring's inverse
+  // length.
   void linearise_definite(const Real* x, const Real* v, double c_x, double c_v) const;
   // q = u + D u at the linearisation; returns <u, q> = sum of m_i u_i . q_i over the active
   // particles, per grid row then the rows in order (clothlab/ext/cg_step.h). false: no
@@ -100,12 +100,8 @@ class SpringJacobian {
   // AVX-512 with all six stencils); scratch: the thread's two rows of shifted ends.
   void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
                      const Direction* direction) const;
-  // The direction's update on grid rows [begin, end).
-  void direction_rows(const Direction& direction, Real* u, std::size_t begin,
-                      std::size_t end) const;
-  // Stencil s's coefficient planes (across, then along), rows x cols each.
-  Real* across_plane(std::size_t s) const { return coefficients_.data() + 2 * s * plane_; }
-  Real* along_plane(std::size_t s) const { return coefficients_.data() + (2 * s + 1) * plane_; }
+  // Stencil s's plane of inverse spring lengths, rows x cols.
+  Real* inverse_length_plane(std::size_t s) const { return inverse_lengths_.data() + s * plane_; }
   // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
   // out, and the row's <u, out> into row_dots_; scratch: a row's worth of the thread's floats.
   void finish_shifted_row(const Real* u, Real* out, std::size_t row, Real* scratch) const;
@@ -134,10 +130,10 @@ class SpringJacobian {
   // (apply is not reentrant).
   std::size_t span_;
   mutable AlignedBuffer<Real> product_rows_;
-  bool definite_kernel_ = false;              // definite_rows applies
-  mutable AlignedBuffer<Real> ends_rows_;     // per thread 2 x 3 rows of span_, for definite_rows
-  std::size_t plane_ = 0;                     // rows x cols, rounded up to 16
-  mutable AlignedBuffer<Real> coefficients_;  // definite_rows: 2 planes per stencil
+  bool definite_kernel_ = false;           // definite_rows applies
+  mutable AlignedBuffer<Real> ends_rows_;  // per thread 2 x 3 rows of span_, for definite_rows
+  std::size_t plane_ = 0;                  // rows x cols, rounded up to 16
+  mutable AlignedBuffer<Real> inverse_lengths_;  // definite_rows: a plane per stencil
   struct Linearisation {
     const Real *x = nullptr, *v = nullptr;
     double c_x = 0.0, c_v = 0.0;
