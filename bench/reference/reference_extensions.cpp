@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <mutex>
 
 #include "reference_system.hpp"
 
@@ -24,8 +23,6 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   static constexpr clothlab_reductions_extension reductions{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
-  static constexpr clothlab_external_forces_2_extension external_forces_2{
-      &external, &depends_on_position, &range_workspace_bytes, &external_range};
   static constexpr clothlab_topology_extension topology{&topology_get};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
@@ -34,7 +31,6 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
-  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0) return &external_forces_2;
   return nullptr;
 }
 
@@ -375,36 +371,6 @@ clothlab_status ReferenceSystem<Real>::external(void* context, double, const voi
   for (std::size_t i = 0; i < self.n_; ++i)
     for (std::size_t k = 0; k < 3; ++k) {
       out[k * self.stride_ + i] = self.a_aos_[3 * i + k];
-      finite = finite && std::isfinite(out[k * self.stride_ + i]);
-    }
-  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
-}
-
-// A range from the whole pass, run into the workspace at a sequence's start (one caller at a
-// time: the pass uses the system's scratch), then copied.
-template <class Real>
-uint64_t ReferenceSystem<Real>::range_workspace_bytes(void* context) {
-  return 3 * static_cast<const ReferenceSystem*>(context)->stride_ * sizeof(Real);
-}
-
-template <class Real>
-clothlab_status ReferenceSystem<Real>::external_range(void* context, double t, const void* x,
-                                                      void* a, uint32_t first, uint32_t count,
-                                                      void* workspace, int32_t resume) {
-  auto& self = *static_cast<ReferenceSystem*>(context);
-  if (x == nullptr || a == nullptr || x == a || workspace == nullptr ||
-      uint64_t{first} + count > self.n_)
-    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  Real* whole = static_cast<Real*>(workspace);
-  if (resume == 0) {
-    const std::lock_guard<std::mutex> lock(self.external_mutex_);
-    (void)external(context, t, x, whole);
-  }
-  Real* out = static_cast<Real*>(a);
-  bool finite = true;
-  for (std::size_t k = 0; k < 3; ++k)
-    for (std::size_t i = first; i < std::size_t{first} + count; ++i) {
-      out[k * self.stride_ + i] = whole[k * self.stride_ + i];
       finite = finite && std::isfinite(out[k * self.stride_ + i]);
     }
   return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;

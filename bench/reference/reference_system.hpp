@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "reference_forces.hpp"
@@ -93,10 +92,6 @@ class ReferenceSystem {
   static double max_abs(void* context, const void* a);
   static clothlab_status external(void* context, double t, const void* x, void* a);
   static int32_t depends_on_position(void* context);
-  static uint64_t range_workspace_bytes(void* context);
-  static clothlab_status external_range(void* context, double t, const void* x, void* a,
-                                        uint32_t first, uint32_t count, void* workspace,
-                                        int32_t resume);
 
   ReferenceCloth<Real> cloth_;
   bool velocity_forces_;
@@ -116,7 +111,6 @@ class ReferenceSystem {
     double c_x = 0.0, c_v = 0.0;
   } linearised_;  // cg-step's; x == nullptr: none yet
   bool wind_ = false;
-  std::mutex external_mutex_;  // external_range's passes share the system's scratch
   struct Topology {
     std::vector<uint32_t> first, second, triangles, adjacency_offsets, adjacent_springs;
     std::vector<uint32_t> spring_color_offsets, spring_color_members;

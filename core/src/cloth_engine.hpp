@@ -104,10 +104,6 @@ class ClothEngine final : public Engine {
   static double max_abs_callback(void* context, const void* a);
   static clothlab_status external_callback(void* context, double t, const void* x, void* a);
   static int32_t depends_on_position_callback(void* context);
-  static uint64_t range_workspace_bytes_callback(void* context);
-  static clothlab_status external_range_callback(void* context, double t, const void* x, void* a,
-                                                 uint32_t first, uint32_t count, void* workspace,
-                                                 int32_t resume);
 
   Scene scene_;
   std::size_t n_ = 0;

@@ -1,6 +1,6 @@
 // The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
 // spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
-// and the external forces alone (whole, or by ranges of particles).
+// and the external forces alone.
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
@@ -58,9 +58,6 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
                                                                      &depends_on_position_callback};
-  static constexpr clothlab_external_forces_2_extension external_2_table{
-      &external_callback, &depends_on_position_callback, &range_workspace_bytes_callback,
-      &external_range_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
@@ -68,7 +65,6 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
-  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0) return &external_2_table;
   return nullptr;
 }
 
@@ -347,25 +343,6 @@ clothlab_status ClothEngine<Real>::external_callback(void* context, double, cons
 template <class Real>
 int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
   return static_cast<ClothEngine*>(context)->forces_->has_wind() ? 1 : 0;
-}
-
-template <class Real>
-uint64_t ClothEngine<Real>::range_workspace_bytes_callback(void* context) {
-  return static_cast<ClothEngine*>(context)->forces_->range_workspace_elements() * sizeof(Real);
-}
-
-template <class Real>
-clothlab_status ClothEngine<Real>::external_range_callback(void* context, double, const void* x,
-                                                           void* a, uint32_t first, uint32_t count,
-                                                           void* workspace, int32_t resume) {
-  auto* self = static_cast<ClothEngine*>(context);
-  if (x == nullptr || a == nullptr || x == a || workspace == nullptr ||
-      uint64_t{first} + count > self->n_)
-    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  const bool finite = self->forces_->evaluate_external_range(
-      static_cast<const Real*>(x), static_cast<Real*>(a), first, count,
-      static_cast<Real*>(workspace), resume != 0);
-  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
 template class ClothEngine<float>;

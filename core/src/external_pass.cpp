@@ -8,9 +8,7 @@
 // pass the inlining of its interior kernel.)
 #include <omp.h>
 
-#include <algorithm>
 #include <cstddef>
-#include <cstdint>
 
 #include "external_row_kernel.hpp"
 #include "force_pipeline.hpp"
@@ -21,15 +19,21 @@ namespace clothlab::detail {
 using namespace scratch;
 
 template <class Real>
-Real* ForcePipeline<Real>::cell_shares(Real* scratch, std::ptrdiff_t q, int triangle) const {
-  const auto t = static_cast<std::size_t>(triangle);
-  if (!wind_ || q < 0 || static_cast<std::size_t>(q) + 1 >= rows_)
-    return external_row(scratch, kZeroCellRowsFrom + 3 * t);
-  return external_row(scratch, kCellRowsFrom + static_cast<std::size_t>(q) % 2 * 6 + 3 * t);
+Real* ForcePipeline<Real>::external_row(int thread, std::size_t index) {
+  return external_scratch_.data() + static_cast<std::size_t>(thread) * external_stride_ +
+         index * row_span_ + kMargin;
 }
 
 template <class Real>
-void ForcePipeline<Real>::compute_cells(Real* scratch, const Real* x, std::size_t q) {
+Real* ForcePipeline<Real>::cell_shares(int thread, std::ptrdiff_t q, int triangle) {
+  const auto t = static_cast<std::size_t>(triangle);
+  if (!wind_ || q < 0 || static_cast<std::size_t>(q) + 1 >= rows_)
+    return external_row(thread, kZeroCellRowsFrom + 3 * t);
+  return external_row(thread, kCellRowsFrom + static_cast<std::size_t>(q) % 2 * 6 + 3 * t);
+}
+
+template <class Real>
+void ForcePipeline<Real>::compute_cells(int thread, const Real* x, std::size_t q) {
   if (!wind_ || q + 1 >= rows_) return;
   WindRow<Real> job{};
   if (col_pitch_ == 1) {
@@ -37,8 +41,8 @@ void ForcePipeline<Real>::compute_cells(Real* scratch, const Real* x, std::size_
     job.below = x + row_start(q + 1);
     job.position_span = stride_;
   } else {
-    Real* upper = external_row(scratch, kExternalPositionsFrom);
-    Real* lower = external_row(scratch, kExternalPositionsFrom + 3);
+    Real* upper = external_row(thread, kExternalPositionsFrom);
+    Real* lower = external_row(thread, kExternalPositionsFrom + 3);
     gather_row(x, q, upper);
     gather_row(x, q + 1, lower);
     job.x = upper;
@@ -46,8 +50,8 @@ void ForcePipeline<Real>::compute_cells(Real* scratch, const Real* x, std::size_
     job.position_span = row_span_;
   }
   const auto cell_row = static_cast<std::ptrdiff_t>(q);
-  job.first = cell_shares(scratch, cell_row, 0);
-  job.second = cell_shares(scratch, cell_row, 1);
+  job.first = cell_shares(thread, cell_row, 0);
+  job.second = cell_shares(thread, cell_row, 1);
   job.span = row_span_;
   for (int k = 0; k < 3; ++k) job.direction[k] = wind_direction_[k];
   job.cells = cols_ - 1;
@@ -56,42 +60,35 @@ void ForcePipeline<Real>::compute_cells(Real* scratch, const Real* x, std::size_
 }
 
 template <class Real>
-Real ForcePipeline<Real>::finish_external_row(Real* scratch, std::size_t row, Real* out,
-                                              std::size_t out_span) {
+Real ForcePipeline<Real>::finish_external_row(int thread, std::size_t row, Real* a) {
   const auto above = static_cast<std::ptrdiff_t>(row) - 1, own = above + 1;
+  const bool in_place = col_pitch_ == 1;
   ExternalRow<Real> job{};
-  job.first_above = cell_shares(scratch, above, 0);
-  job.second_above = cell_shares(scratch, above, 1);
-  job.first_own = cell_shares(scratch, own, 0);
-  job.second_own = cell_shares(scratch, own, 1);
+  job.first_above = cell_shares(thread, above, 0);
+  job.second_above = cell_shares(thread, above, 1);
+  job.first_own = cell_shares(thread, own, 0);
+  job.second_own = cell_shares(thread, own, 1);
   job.share_span = row_span_;
   job.inverse_mass = inverse_mass_ + row * cols_;
-  job.out = out;
-  job.out_span = out_span;
+  job.out = in_place ? a + row_start(row) : external_row(thread, kExternalFinishedFrom);
+  job.out_span = in_place ? stride_ : row_span_;
   job.cols = cols_;
   for (int k = 0; k < 3; ++k) job.gravity[k] = gravity_[k];
-  return external_row_accelerations(job);
-}
-
-template <class Real>
-Real ForcePipeline<Real>::finish_external_row(Real* scratch, std::size_t row, Real* a) {
-  if (col_pitch_ == 1) return finish_external_row(scratch, row, a + row_start(row), stride_);
-  Real* finished = external_row(scratch, kExternalFinishedFrom);
-  const Real probe = finish_external_row(scratch, row, finished, row_span_);
-  scatter_row(finished, a, row);
+  const Real probe = external_row_accelerations(job);
+  if (!in_place) scatter_row(job.out, a, row);
   return probe;
 }
 
 // A row needs the cells of its row and of the row above: the ring keeps the last two.
 template <class Real>
-Real ForcePipeline<Real>::external_rows(Real* scratch, std::size_t begin, std::size_t end,
+Real ForcePipeline<Real>::external_rows(int thread, std::size_t begin, std::size_t end,
                                         const Real* x, Real* a) {
   Real probe = 0;
   if (begin >= end) return probe;
-  if (begin > 0) compute_cells(scratch, x, begin - 1);
+  if (begin > 0) compute_cells(thread, x, begin - 1);
   for (std::size_t row = begin; row < end; ++row) {
-    compute_cells(scratch, x, row);
-    probe += finish_external_row(scratch, row, a);
+    compute_cells(thread, x, row);
+    probe += finish_external_row(thread, row, a);
   }
   return probe;
 }
@@ -104,76 +101,12 @@ bool ForcePipeline<Real>::evaluate_external(const Real* x, Real* a) {
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const Block block = block_of(static_cast<std::size_t>(thread), team);
-    probe += external_rows(thread_external_scratch(thread), block.begin, block.end, x, a);
-  }
-  return probe == Real(0);
-}
-
-template <class Real>
-std::size_t ForcePipeline<Real>::range_workspace_elements() const {
-  const std::size_t rows = kCursorElements + kExternalRows * row_span_;
-  return col_pitch_ == 1 ? rows : rows + 3 * stride_;
-}
-
-// Rows in place: each cell row is computed once per sequence however the rows are split
-// into ranges, in either direction (the ring slot of cell row q is q % 2). A turned grid's
-// pipeline rows are the state's columns: there the sequence's first call runs the pass.
-template <class Real>
-bool ForcePipeline<Real>::evaluate_external_range(const Real* x, Real* a, std::size_t first,
-                                                  std::size_t count, Real* workspace, bool resume) {
-  auto& cursor = *reinterpret_cast<RangeCursor*>(workspace);
-  Real* const scratch = workspace + kCursorElements;
-  if (count == 0) return true;
-  Real probe = 0;
-  const auto copy_range = [&](const Real* from, std::size_t begin, std::size_t length) {
-    for (std::size_t k = 0; k < 3; ++k)
-      for (std::size_t i = begin; i < begin + length; ++i) {
-        a[k * stride_ + i] = from[k * stride_ + i];
-        probe += a[k * stride_ + i] * Real(0);
-      }
-  };
-  if (col_pitch_ != 1) {
-    Real* const whole = scratch + kExternalRows * row_span_;
-    if (!resume) (void)external_rows(scratch, 0, rows_, x, whole);
-    copy_range(whole, first, count);
-    return probe == Real(0);
-  }
-  if (!resume) cursor.held[0] = cursor.held[1] = -1;
-  const auto ensure_cells = [&](std::ptrdiff_t q) {
-    if (q < 0 || static_cast<std::size_t>(q) + 1 >= rows_) return;
-    int64_t& held = cursor.held[q % 2];
-    if (held == q) return;
-    compute_cells(scratch, x, static_cast<std::size_t>(q));
-    held = q;
-  };
-  const std::size_t end = first + count;
-  for (std::size_t row = first / cols_; row * cols_ < end; ++row) {
-    ensure_cells(static_cast<std::ptrdiff_t>(row) - 1);
-    ensure_cells(static_cast<std::ptrdiff_t>(row));
-    const std::size_t row_begin = row * cols_, row_end = row_begin + cols_;
-    if (first <= row_begin && row_end <= end) {
-      probe += finish_external_row(scratch, row, a + row_begin, stride_);
-      continue;
-    }
-    Real* finished = external_row(scratch, kExternalFinishedFrom);
-    (void)finish_external_row(scratch, row, finished, row_span_);
-    const std::size_t begin = std::max(first, row_begin), stop = std::min(end, row_end);
-    for (std::size_t k = 0; k < 3; ++k)
-      for (std::size_t i = begin; i < stop; ++i) {
-        a[k * stride_ + i] = finished[k * row_span_ + (i - row_begin)];
-        probe += a[k * stride_ + i] * Real(0);
-      }
+    probe += external_rows(thread, block.begin, block.end, x, a);
   }
   return probe == Real(0);
 }
 
 template bool ForcePipeline<float>::evaluate_external(const float*, float*);
 template bool ForcePipeline<double>::evaluate_external(const double*, double*);
-template std::size_t ForcePipeline<float>::range_workspace_elements() const;
-template std::size_t ForcePipeline<double>::range_workspace_elements() const;
-template bool ForcePipeline<float>::evaluate_external_range(const float*, float*, std::size_t,
-                                                            std::size_t, float*, bool);
-template bool ForcePipeline<double>::evaluate_external_range(const double*, double*, std::size_t,
-                                                             std::size_t, double*, bool);
 
 }  // namespace clothlab::detail

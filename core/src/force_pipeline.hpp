@@ -52,15 +52,6 @@ class ForcePipeline {
   // One pass per thread over its block: a row's cells, then its accelerations (below).
   bool evaluate_external(const Real* x, Real* a);
   bool has_wind() const { return wind_; }
-  // The same accelerations on the state's particles [first, first + count) only, for a
-  // caller sweeping the cloth in pieces (external-forces/2): on the calling thread, with the
-  // caller's workspace of range_workspace_elements() Reals (64-byte aligned, zero-filled
-  // before its first use). `resume`: this range continues the workspace's sequence of
-  // ranges at the same x, whose cells it may reuse. Returns false when some value on the
-  // range is not finite. No allocation.
-  std::size_t range_workspace_elements() const;
-  bool evaluate_external_range(const Real* x, Real* a, std::size_t first, std::size_t count,
-                               Real* workspace, bool resume);
 
   // Scratch for step_rkn with up to `stages` stages. Allocates: not during a step.
   void reserve_stages(uint32_t stages);
@@ -138,26 +129,11 @@ class ForcePipeline {
   // The external pass: the wind shares of cell row q (triangle 0: abc', 1: bdc') in a ring
   // of two, read in place from x where col_pitch is 1; a row's particles then sum the
   // shares of the cells above and beside them. Rows without cells read the zero rows.
-  // `scratch` is a thread's external scratch (kExternalRows rows) or a range workspace's.
-  Real* thread_external_scratch(int thread) {
-    return external_scratch_.data() + static_cast<std::size_t>(thread) * external_stride_;
-  }
-  Real* external_row(Real* scratch, std::size_t index) const {
-    return scratch + index * row_span_ + scratch::kMargin;
-  }
-  Real* cell_shares(Real* scratch, std::ptrdiff_t q, int triangle) const;
-  void compute_cells(Real* scratch, const Real* x, std::size_t q);
-  // Row `row`'s accelerations to out (components out_span apart); returns sum 0 * a.
-  Real finish_external_row(Real* scratch, std::size_t row, Real* out, std::size_t out_span);
-  Real finish_external_row(Real* scratch, std::size_t row, Real* a);  // into the state vector
-  Real external_rows(Real* scratch, std::size_t begin, std::size_t end, const Real* x, Real* a);
-  // A range workspace: which cell row each ring slot holds (-1: none), then the scratch
-  // rows, then for a turned grid a whole acceleration vector (its sequence's first call
-  // runs the whole pass there; later calls copy their range).
-  struct RangeCursor {
-    int64_t held[2];
-  };
-  static constexpr std::size_t kCursorElements = 64 / sizeof(Real);
+  Real* external_row(int thread, std::size_t index);
+  Real* cell_shares(int thread, std::ptrdiff_t q, int triangle);
+  void compute_cells(int thread, const Real* x, std::size_t q);
+  Real finish_external_row(int thread, std::size_t row, Real* a);
+  Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, Real* a);
 
   // The fused step (rkn_sweep.cpp): rows of the acceleration windows, of the halo (x and
   // v rows of other threads' blocks, copied before anything is written) and the sweep.

@@ -27,11 +27,6 @@ const void* PluginOnlySystem::host_table<clothlab_external_forces_extension>() c
   return host_external_forces_;
 }
 
-template <>
-const void* PluginOnlySystem::host_table<clothlab_external_forces_2_extension>() const {
-  return host_external_forces_2_;
-}
-
 PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), system_(host) {
   system_.context = this;
   system_.eval_acceleration = [](void* self, double t, const void* x, const void* v, void* a) {
@@ -83,7 +78,6 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
-    host_external_forces_2_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES_2);
     system_.get_extension = &get_extension;
   }
 }
@@ -107,10 +101,6 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
                                      &Forward<E, &E::depends_on_position>::call};
-  using E2 = clothlab_external_forces_2_extension;
-  static constexpr E2 external_forces_2{
-      &Forward<E2, &E2::acceleration>::call, &Forward<E2, &E2::depends_on_position>::call,
-      &Forward<E2, &E2::range_workspace_bytes>::call, &Forward<E2, &E2::acceleration_range>::call};
   const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
   if (id == nullptr) return nullptr;
   const allocations::Pause pause;
@@ -121,7 +111,6 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
-  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0) return &external_forces_2;
   return nullptr;
 }
 

@@ -57,7 +57,6 @@ class PluginOnlySystem {
   const void* host_cg_step_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
-  const void* host_external_forces_2_ = nullptr;
 };
 
 }  // namespace clothlab::conformance

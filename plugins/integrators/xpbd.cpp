@@ -46,12 +46,7 @@
 // spring sees the same values in any split: the bits do not depend on the thread count.
 // On the grid the substep's displacement dx lives in v's memory (the pins' velocities
 // wait in the scratch array), and runs of springs whose ends all have the grid's common
-// inverse mass skip the weights (xpbd_row_kernel.hpp). Where the wind makes a_ext depend on
-// x and the host offers external-forces/2, a row's a_ext is one more phase of the wavefront,
-// just before its predict (lag 0: x changes only in the velocity phase, rows behind), so it
-// is computed on the thread and while the rows are in cache where a pass of the host's own
-// would stream the cloth once more; each team's rows form one sequence of ranges, which lets
-// the host compute the wind on each row of cells once.
+// inverse mass skip the weights (xpbd_row_kernel.hpp).
 //
 // Tethers are a model change, not a solver setting: where the spring dynamics would strain the
 // cloth along a tether by more than the slack, the tethered cloth converges (in h) to another
@@ -69,11 +64,9 @@
 #include <bit>
 #include <clothlab/sdk.hpp>
 #include <cmath>
-#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <new>
 #include <optional>
 #include <thread>
 #include <type_traits>
@@ -113,7 +106,7 @@ struct Constraints {
 
 // One stage of a substep on the grid, applied row by row.
 struct Phase {
-  enum class Kind : uint8_t { external, predict, project, tether, velocity };
+  enum class Kind : uint8_t { predict, project, tether, velocity };
   Kind kind;
   uint32_t color;          // project: the grid layout's colour
   uint32_t iteration;      // project
@@ -134,28 +127,9 @@ struct ColumnSpan {
   uint32_t begin, end;
 };
 
-// A thread's wavefront time over the run of substeps (its team's times per substep, times the
-// substep, plus the time), on its own cache line: its successor spins on it; and its waits
-// for the other band, for balancing the bands.
+// A thread's wavefront time, on its own cache line: its successor spins on it.
 struct alignas(64) Progress {
   std::atomic<uint32_t> completed{0};
-  double waited = 0;    // seconds this step's thread spent waiting for the other band
-  double finished = 0;  // when it finished its last substep
-};
-
-// Memory the plugin owns for the host's external ranges: 64-byte aligned, zero-filled.
-class RangeWorkspace {
- public:
-  RangeWorkspace() = default;
-  explicit RangeWorkspace(std::size_t bytes)
-      : bytes_(new (std::align_val_t{64}) std::byte[std::max<std::size_t>(bytes, 1)]()) {}
-  void* get() const { return bytes_.get(); }
-
- private:
-  struct Free {
-    void operator()(std::byte* p) const { ::operator delete[](p, std::align_val_t{64}); }
-  };
-  std::unique_ptr<std::byte[], Free> bytes_;
 };
 
 inline void wait_until(const Progress& progress, uint32_t time) {
@@ -227,17 +201,12 @@ struct Xpbd {
   template <class Real>
   void prepare(sdk::System<Real>& system) {
     const sdk::Topology topology = system.topology();
-    const sdk::ExternalForces<Real> external = system.external_forces();  // fails here if absent
+    (void)system.external_forces();  // fails here, not in step, when the host lacks it
     scratch_.allocate(system);
     Constraints<Real>& constraints = constraints_for<Real>();
     tethers_for<Real>().build(topology, system.x(), system.stride(), system.inverse_mass(),
                               tethers_per_particle_, tether_slack_);
     grid_ = recognise_grid(topology);
-    external_in_sweep_ = grid_ && external.depends_on_position() && external.offers_ranges();
-    if (external_in_sweep_) {
-      for (RangeWorkspace& workspace : range_workspaces_)
-        workspace = RangeWorkspace(external.range_workspace_bytes());
-    }
     if (grid_) {
       constraints.springs.clear();
       constraints.lambda.assign(
@@ -268,21 +237,11 @@ struct Xpbd {
     if (!wind) external.acceleration(t, system.x(), external_acceleration);
     if (tethers_for<Real>().active())
       tethers_for<Real>().refresh_anchors(system.x(), system.stride());
-    // On the grid every substep runs in one parallel region unless the host's external
-    // pass must run between them.
-    const int run = grid_ && (!wind || external_in_sweep_) ? substeps_ : 1;
-    for (int substep = 0; substep < substeps_; substep += run) {
-      const double start = t + substep * h;
-      if (wind && !external_in_sweep_)
-        external.acceleration(start, system.x(), external_acceleration);
-      const int broken = advance_substeps(system, start, h, run, external_acceleration,
-                                          displacement, external_in_sweep_ ? &external : nullptr);
-      for (clothlab_status& status : external_status_)
-        if (status != CLOTHLAB_OK)
-          throw sdk::Error(std::exchange(status, CLOTHLAB_OK), "external acceleration failed");
-      if (broken < run)
+    for (int substep = 0; substep < substeps_; ++substep) {
+      if (wind) external.acceleration(t + substep * h, system.x(), external_acceleration);
+      if (!advance_substep(system, h, external_acceleration, displacement))
         throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "non-finite velocity in the substep at t = " +
-                                                       std::to_string(start + broken * h));
+                                                       std::to_string(t + substep * h));
     }
   }
 
@@ -292,18 +251,13 @@ struct Xpbd {
     const Constraint<Real>* constraints;
     Real* lambda;
     const Real* inverse_mass;
-    Real* external_acceleration;
+    const Real* external_acceleration;
     // x's change in this substep, exact where x's rounding is not; the grid path keeps it
     // in v and this holds its pins' velocities
     Real* displacement;
     Real* x;
     Real* v;
     const Tethers<Real>* tethers;  // nullptr: off
-    // The host's external forces by ranges, for the external phase; nullptr: the caller
-    // filled external_acceleration.
-    const sdk::ExternalForces<Real>* external;
-    double t;     // the first substep's start
-    double step;  // h, for the substeps' times
     uint32_t particle_count;
     std::size_t stride;
     Real h, h_squared, inverse_h;
@@ -345,13 +299,12 @@ struct Xpbd {
     }
   }
 
-  // `count` substeps (more than one only on the grid); returns the first whose velocities
-  // are not all finite, or count. The sweeps' worksharing loops run on the team of a parallel
-  // region, or, on one thread, orphaned (no team, no barrier cost, no allocation).
+  // One substep; false when a velocity came out non-finite. The sweeps' worksharing loops
+  // run on the team of a parallel region, or, on one thread, orphaned (no team, no barrier
+  // cost, no allocation).
   template <class Real>
-  int advance_substeps(sdk::System<Real>& system, double t, double h, int count,
-                       Real* external_acceleration, Real* displacement,
-                       const sdk::ExternalForces<Real>* external) {
+  bool advance_substep(sdk::System<Real>& system, double h, const Real* external_acceleration,
+                       Real* displacement) {
     Constraints<Real>& constraints = constraints_for<Real>();
     const Substep<Real> substep{constraints.springs.data(),
                                 constraints.lambda.empty() ? nullptr : constraints.lambda.data(),
@@ -361,36 +314,25 @@ struct Xpbd {
                                 system.x(),
                                 system.v(),
                                 tethers_for<Real>().active() ? &tethers_for<Real>() : nullptr,
-                                external,
-                                t,
-                                h,
                                 system.particle_count(),
                                 system.stride(),
                                 static_cast<Real>(h),
                                 static_cast<Real>(h * h),
                                 static_cast<Real>(1.0 / h)};
     if (grid_) {
-      if (threads_ == 1) return grid_sweep(substep, count, 0, 1);
-      for (int thread = 0; thread < threads_; ++thread) {
+      if (threads_ == 1) return grid_sweep(substep, 0, 1);
+      for (int thread = 0; thread < threads_; ++thread)
         progress_[thread].completed.store(0, std::memory_order_relaxed);
-        progress_[thread].waited = 0;
-      }
-      upper_band_done_.completed.store(0, std::memory_order_relaxed);
-      int broken = count, team = 1;
-#pragma omp parallel num_threads(threads_) reduction(min : broken)
-      {
-        broken = grid_sweep(substep, count, omp_get_thread_num(), omp_get_num_threads());
-#pragma omp master
-        team = omp_get_num_threads();
-      }
-      balance_bands(team);
-      return broken;
+      bool finite = true;
+#pragma omp parallel num_threads(threads_) reduction(&& : finite)
+      finite = grid_sweep(substep, omp_get_thread_num(), omp_get_num_threads());
+      return finite;
     }
-    if (threads_ == 1) return sweep(substep) ? count : 0;
+    if (threads_ == 1) return sweep(substep);
     bool finite = true;
 #pragma omp parallel num_threads(threads_) reduction(&& : finite)
     finite = sweep(substep);
-    return finite ? count : 0;
+    return finite;
   }
 
   // The phases of a substep in Gauss-Seidel order and their lags: a phase may visit a row
@@ -400,8 +342,6 @@ struct Xpbd {
     const GridLayout& grid = *grid_;
     phases_.clear();
     const uint64_t row_of_particles = grid.cols;
-    if (external_in_sweep_)
-      phases_.push_back({Phase::Kind::external, 0, 0, 0, 0, grid.rows * row_of_particles});
     phases_.push_back({Phase::Kind::predict, 0, 0, 0, 0, grid.rows * row_of_particles / 3});
     uint32_t lag = 0;
     for (uint32_t iteration = 0; iteration < static_cast<uint32_t>(iterations_); ++iteration)
@@ -458,9 +398,7 @@ struct Xpbd {
   }
 
   // Two bands, one per half of the threads, when each is deeper than the wavefront's total
-  // lag (else one band and the seam would be all of it); one band on one thread. The
-  // boundary starts where the rows split as the threads do and then follows the bands'
-  // times (balance_bands).
+  // lag (else one band and the seam would be all of it); one band on one thread.
   Bands bands_of(int threads) const {
     const uint32_t rows = grid_->rows, lag = phases_.back().lag;
     if (threads < 2) return {rows, threads};
@@ -468,31 +406,7 @@ struct Xpbd {
     const auto boundary = static_cast<uint32_t>(
         uint64_t{rows} * static_cast<uint64_t>(lower_threads) / static_cast<uint64_t>(threads));
     if (boundary <= lag || rows - boundary <= lag) return {rows, threads};
-    return {boundary_ == 0 ? boundary : boundary_, lower_threads};
-  }
-
-  // Moves the bands' boundary a row toward the band that waited less in the last run of
-  // substeps: the bands' costs differ (pins, the direction each sweeps the memory in, the
-  // seam the lower band runs). The bits do not depend on the boundary.
-  void balance_bands(int threads) {
-    const Bands bands = bands_of(threads);
-    const uint32_t rows = grid_->rows, lag = phases_.back().lag;
-    if (bands.boundary >= rows) return;
-    double lower_finished = 0, upper_finished = 0, lower_waited = 0, upper_waited = 0;
-    for (int thread = 0; thread < threads; ++thread) {
-      const bool lower = thread < bands.lower_threads;
-      (lower ? lower_finished : upper_finished) =
-          std::max(lower ? lower_finished : upper_finished, progress_[thread].finished);
-      (lower ? lower_waited : upper_waited) += progress_[thread].waited;
-    }
-    // The upper band idles from its end to the lower band's (the last seam).
-    upper_waited += std::max(0.0, lower_finished - upper_finished);
-    if (lower_waited > upper_waited && rows - (bands.boundary + 1) > lag)
-      boundary_ = bands.boundary + 1;
-    else if (upper_waited > lower_waited && bands.boundary - 1 > lag)
-      boundary_ = bands.boundary - 1;
-    else
-      boundary_ = bands.boundary;
+    return {boundary, lower_threads};
   }
 
   // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
@@ -512,77 +426,42 @@ struct Xpbd {
     return {std::min(begin, end), end};
   }
 
-  // This thread's phases over its band's wavefront, for `count` substeps. The lower band's
-  // wavefront goes on past the boundary, once the upper band is done, into the rows next to
-  // it that neither reached (phase q: rows below boundary + upward_offset(q)): the seam;
-  // with one band, to the last row. Between substeps no barrier: a team starts a substep
-  // when its last thread is done with the previous one, and the upper band, which does not
-  // wait for the seam, waits for it only before its rows reach the seam's. Returns the
-  // first substep whose velocities this thread found not all finite, or count.
+  // This thread's phases over its band's wavefront, then (thread 0, after the others) the
+  // seam between the bands; returns its share of "every velocity is finite".
   template <class Real>
-  int grid_sweep(const Substep<Real>& first, int count, int thread, int threads) {
+  bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
     const Bands bands = bands_of(threads);
-    const uint32_t rows = grid_->rows, lag = phases_.back().lag;
-    const bool two_bands = bands.boundary < rows;
+    const uint32_t rows = grid_->rows;
     const bool upper = thread >= bands.lower_threads;
     const int member = upper ? thread - bands.lower_threads : thread;
     const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
-    const int last_of_team = upper ? threads - 1 : bands.lower_threads - 1;
-    const auto upper_threads = static_cast<uint32_t>(threads - bands.lower_threads);
-    const auto limit = [&](const Phase& phase) {  // one past the lower wavefront's last row
-      return two_bands ? bands.boundary + phase.upward_offset : rows;
-    };
-    uint32_t times = upper ? rows - bands.boundary : bands.boundary;
-    if (!upper)
-      for (const Phase& phase : phases_) times = std::max(times, limit(phase) + phase.lag);
-    const uint32_t lower_times = upper ? [&] {
-      uint32_t value = bands.boundary;
-      for (const Phase& phase : phases_) value = std::max(value, limit(phase) + phase.lag);
-      return value;
-    }() : times;
-    // From this time on the upper band reads or writes rows within reach of the seam's
-    // (the seam touches rows up to boundary + lag + 2).
-    const uint32_t near_seam = times > lag + 4 ? times - lag - 4 : 0;
+    const uint32_t band_rows = upper ? rows - bands.boundary : bands.boundary;
     const auto [begin, end] = phases_of(member, team);
-    Progress& mine = progress_[thread];
-    const auto wait_for_other_band = [&](const Progress& progress, uint32_t value) {
-      if (progress.completed.load(std::memory_order_acquire) >= value) return;
-      const double since = omp_get_wtime();
-      wait_until(progress, value);
-      mine.waited += omp_get_wtime() - since;
-    };
-    int broken = count;
-    for (int k = 0; k < count; ++k) {
-      Substep<Real> s = first;
-      s.t = first.t + k * first.step;
-      const uint32_t base = static_cast<uint32_t>(k) * times;
-      if (k > 0) wait_until(progress_[last_of_team], base);
-      bool finite = true;
-      for (uint32_t time = 0; time < times; ++time) {
-        if (two_bands && !upper && time == bands.boundary)
-          wait_for_other_band(upper_band_done_, static_cast<uint32_t>(k + 1) * upper_threads);
-        if (two_bands && upper && k > 0 && time == near_seam)
-          wait_for_other_band(progress_[bands.lower_threads - 1],
-                              static_cast<uint32_t>(k) * lower_times);
-        if (member > 0) wait_until(progress_[thread - 1], base + time + 1);
-        for (std::size_t q = begin; q < end; ++q) {
-          const Phase& phase = phases_[q];
-          if (time < phase.lag) break;  // lags ascend: the later phases start later still
-          const uint32_t row = upper ? rows - 1 - time + phase.upward_offset : time - phase.lag;
-          if (!upper && row >= limit(phase)) continue;
-          if (phase.kind == Phase::Kind::external)
-            run_external(row, upper ? 1 : 0, time > 0, s, finite);
-          else
-            run_phase(phase, row, s, finite);
-        }
-        if ((time + 1) % publish_every_ == 0 || time + 1 == times)
-          mine.completed.store(base + time + 1, std::memory_order_release);
+    bool finite = true;
+    for (uint32_t time = 0; time < band_rows; ++time) {
+      if (member > 0) wait_until(progress_[thread - 1], time + 1);
+      for (std::size_t q = begin; q < end; ++q) {
+        const Phase& phase = phases_[q];
+        if (time < phase.lag) break;  // lags ascend: the later phases start later still
+        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
+                  finite);
       }
-      if (upper) upper_band_done_.completed.fetch_add(1, std::memory_order_release);
-      if (!finite && broken == count) broken = k;
+      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == band_rows;
+      if (member + 1 < team && publish)
+        progress_[thread].completed.store(time + 1, std::memory_order_release);
     }
-    if (threads > 1) mine.finished = omp_get_wtime();
-    return broken;
+    if (threads > 1) {
+#pragma omp barrier
+    }
+    if (thread == 0) {
+      const bool two_bands = bands.boundary < rows;
+      for (const Phase& phase : phases_) {
+        const uint32_t first = bands.boundary > phase.lag ? bands.boundary - phase.lag : 0;
+        const uint32_t last = two_bands ? bands.boundary + phase.upward_offset : rows;  // one past
+        for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      }
+    }
+    return finite;
   }
 
   // One component of one row, in place: v becomes the substep's displacement
@@ -643,25 +522,10 @@ struct Xpbd {
     if (span.end < cols) run(span.end, cols - span.end, std::true_type{});
   }
 
-  // The external phase of `row` for team `team` (rows only at the wavefront's lag 0, so never
-  // in the seam): each team's rows in order are one sequence of ranges on its workspace.
-  template <class Real>
-  void run_external(uint32_t row, int team, bool resume, const Substep<Real>& s, bool& finite) {
-    const clothlab_status status = s.external->acceleration_range(
-        s.t, s.x, s.external_acceleration, row * grid_->cols, grid_->cols,
-        range_workspaces_[static_cast<std::size_t>(team)].get(), resume);
-    if (status == CLOTHLAB_OK) return;
-    if (external_status_[static_cast<std::size_t>(team)] == CLOTHLAB_OK)
-      external_status_[static_cast<std::size_t>(team)] = status;
-    finite = false;
-  }
-
   template <class Real>
   void run_phase(const Phase& phase, uint32_t row, const Substep<Real>& s, bool& finite) const {
     const std::size_t row_begin = std::size_t{row} * grid_->cols;
     switch (phase.kind) {
-      case Phase::Kind::external:  // run_external
-        return;
       case Phase::Kind::predict:
         for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
           for (std::size_t c = 0; c < 3; ++c) {
@@ -803,11 +667,6 @@ struct Xpbd {
   std::vector<ColumnSpan> varied_columns_;  // per grid row: the columns of another
   uint32_t publish_every_ = 1;              // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;    // one per thread
-  Progress upper_band_done_;                // threads of the upper band done with it
-  uint32_t boundary_ = 0;                   // the bands' boundary row; 0: the threads' split
-  bool external_in_sweep_ = false;          // the external phase runs in the wavefront
-  std::array<RangeWorkspace, 2> range_workspaces_;                            // one per team (band)
-  std::array<clothlab_status, 2> external_status_{CLOTHLAB_OK, CLOTHLAB_OK};  // per team
 };
 
 }  // namespace clothlab::builtin

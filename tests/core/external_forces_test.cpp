@@ -1,19 +1,14 @@
 // The external-forces extension: plus the springs (a plain loop over the topology) it is
 // eval_acceleration, with wind; without wind it is gravity, constant in x; the wind part
 // follows the triangle formula over the topology's triangles, turned grid or not, and gives
-// the same bits on any thread count; and /2's ranges are the whole pass's bits however the
-// particles are cut into ranges and in whichever order a sequence visits them.
+// the same bits on any thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
-#include <new>
-#include <vector>
 
 #include "extension_support.hpp"
-#include "reference_system.hpp"
 
 namespace clothlab {
 namespace {
@@ -163,86 +158,6 @@ TEST(ExternalForces, SameBitsOnAnyThreadCount) {
   }
   EXPECT_EQ(results[0], results[1]);
   EXPECT_EQ(results[0], results[2]);
-}
-
-// A zero-filled, 64-byte aligned workspace, as the ranges' caller owns it.
-struct Workspace {
-  explicit Workspace(std::size_t bytes)
-      : data(new (std::align_val_t{64}) std::byte[std::max<std::size_t>(bytes, 1)]()) {}
-  struct Free {
-    void operator()(std::byte* p) const { ::operator delete[](p, std::align_val_t{64}); }
-  };
-  std::unique_ptr<std::byte[], Free> data;
-};
-
-// Ranges of `size` particles: from the first on (descending: from the last on), each
-// sequence on one workspace; the result must be the whole pass's, bit for bit.
-template <class Real>
-void expect_ranges_are_the_whole_pass(const clothlab_system& system) {
-  const auto& table =
-      host_extension<clothlab_external_forces_2_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES_2);
-  void* whole = system.alloc_vector(system.context);
-  ASSERT_EQ(table.acceleration(system.context, 0.3, system.x, whole), CLOTHLAB_OK);
-  const std::vector<double> expected = values_of<Real>(system, whole);
-  const uint32_t n = system.particle_count;
-  for (const uint32_t size : {1u, 7u, 20u, 23u, n}) {
-    for (const bool descending : {false, true}) {
-      Workspace workspace(table.range_workspace_bytes(system.context));
-      void* a = system.alloc_vector(system.context);
-      const uint32_t ranges = (n + size - 1) / size;
-      for (uint32_t r = 0; r < ranges; ++r) {
-        const uint32_t index = descending ? ranges - 1 - r : r;
-        const uint32_t first = index * size, count = std::min(size, n - first);
-        ASSERT_EQ(table.acceleration_range(system.context, 0.3, system.x, a, first, count,
-                                           workspace.data.get(), r > 0 ? 1 : 0),
-                  CLOTHLAB_OK);
-      }
-      EXPECT_EQ(values_of<Real>(system, a), expected)
-          << "ranges of " << size << (descending ? ", last first" : "");
-    }
-  }
-}
-
-// 7 x 20: rows of 20 (16 lanes and a tail), ranges across rows and within them; 40 x 5: a
-// grid the engine hands its pipeline turned; float32 takes the AVX-512 kernels where built
-// with them.
-TEST(ExternalForces, RangesAreTheWholePassBitForBit) {
-  for (const auto& [rows, cols] : {std::pair{7u, 20u}, {40u, 5u}}) {
-    for (const Precision precision : {Precision::Float32, Precision::Float64}) {
-      Cloth cloth(testing::busy_scene(rows, cols), precision, {});
-      std::vector<double> x, v;
-      testing::move_off_rest(cloth, 5, 0.05, x, v);
-      if (precision == Precision::Float32)
-        expect_ranges_are_the_whole_pass<float>(cloth.system());
-      else
-        expect_ranges_are_the_whole_pass<double>(cloth.system());
-    }
-  }
-}
-
-TEST(ExternalForces, ReferenceRangesAreItsWholePass) {
-  reference::ReferenceSystem<double> reference(testing::busy_scene(7, 20), true);
-  expect_ranges_are_the_whole_pass<double>(reference.system());
-}
-
-TEST(ExternalForces, RangePastTheLastParticleOrWithoutWorkspaceIsAnInvalidArgument) {
-  Cloth cloth(testing::busy_scene(11, 9), Precision::Float32, {});
-  const clothlab_system& system = cloth.system();
-  const auto& table =
-      host_extension<clothlab_external_forces_2_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES_2);
-  Workspace workspace(table.range_workspace_bytes(system.context));
-  void* a = system.alloc_vector(system.context);
-  EXPECT_EQ(
-      table.acceleration_range(system.context, 0.0, system.x, a, 90, 10, workspace.data.get(), 0),
-      CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(table.acceleration_range(system.context, 0.0, system.x, a, 0, 9, nullptr, 0),
-            CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(table.acceleration_range(system.context, 0.0, system.x, system.x, 0, 9,
-                                     workspace.data.get(), 0),
-            CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(
-      table.acceleration_range(system.context, 0.0, system.x, a, 90, 9, workspace.data.get(), 0),
-      CLOTHLAB_OK);
 }
 
 }  // namespace

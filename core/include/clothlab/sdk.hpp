@@ -271,7 +271,6 @@ class System {
   }
   ExternalForces<Real> external_forces() const {
     return {required<clothlab_external_forces_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES),
-            extension<clothlab_external_forces_2_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES_2),
             raw_->context};
   }
   Real* alloc_vector() const {

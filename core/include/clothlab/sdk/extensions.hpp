@@ -12,7 +12,6 @@
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/topology.h>
 
-#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -184,14 +183,12 @@ class Reductions {
   void* context_;
 };
 
-// Gravity and wind alone (no springs): external-forces/1, and /2's ranges where the host
-// offers them (`revision_2` may be nullptr).
+// Gravity and wind alone (no springs).
 template <class Real>
 class ExternalForces {
  public:
-  ExternalForces(const clothlab_external_forces_extension& table,
-                 const clothlab_external_forces_2_extension* revision_2, void* context)
-      : table_(&table), revision_2_(revision_2), context_(context) {}
+  ExternalForces(const clothlab_external_forces_extension& table, void* context)
+      : table_(&table), context_(context) {}
 
   void acceleration(double t, const Real* x, Real* a) const {
     check(table_->acceleration(context_, t, x, a), "external acceleration failed");
@@ -199,25 +196,8 @@ class ExternalForces {
   // False when the external acceleration is constant (no wind): one evaluation per step.
   bool depends_on_position() const { return table_->depends_on_position(context_) != 0; }
 
-  bool offers_ranges() const { return revision_2_ != nullptr; }
-  // Bytes of one caller's workspace for acceleration_range; 0 without ranges.
-  std::size_t range_workspace_bytes() const {
-    return revision_2_ == nullptr
-               ? 0
-               : static_cast<std::size_t>(revision_2_->range_workspace_bytes(context_));
-  }
-  // a on particles [first, first + count) (the header's contract). Returns the status
-  // instead of throwing: it is called from inside parallel regions.
-  clothlab_status acceleration_range(double t, const Real* x, Real* a, uint32_t first,
-                                     uint32_t count, void* workspace, bool resume) const noexcept {
-    if (revision_2_ == nullptr) return CLOTHLAB_ERROR_UNSUPPORTED;
-    return revision_2_->acceleration_range(context_, t, x, a, first, count, workspace,
-                                           resume ? 1 : 0);
-  }
-
  private:
   const clothlab_external_forces_extension* table_;
-  const clothlab_external_forces_2_extension* revision_2_;
   void* context_;
 };
 
