@@ -288,6 +288,28 @@ void xpbd_substep(benchmark::State& state) {
   }
 }
 
+// One substep as part of a step of xpbd's default 40 substeps (the per-step work, the tethers'
+// anchors and a constant external acceleration, shared out): beside xpbd_substep, what a
+// step's substeps cost more or less than one alone.
+void xpbd_substep_in_step(benchmark::State& state) {
+  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
+  const int threads = static_cast<int>(state.range(1));
+  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, threads});
+  constexpr int substeps = 40;
+  BoundIntegrator xpbd("xpbd", cloth,
+                       {{"substeps", std::to_string(substeps)},
+                        {"iterations", "1"},
+                        {"threads", std::to_string(threads)}});
+  double t = 0.0;
+  for (auto _ : state) {
+    xpbd.step(t, substeps * 1e-3);
+    t += substeps * 1e-3;
+  }
+  // Seconds per substep: the step's time over its substeps.
+  state.counters["s_per_substep"] = benchmark::Counter(
+      substeps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 void at_300_on_1_and_2_threads(benchmark::internal::Benchmark* benchmark) {
   for (int threads : {1, 2}) benchmark->Args({300, threads});
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -348,6 +370,7 @@ BENCHMARK_CAPTURE(cg_sweep, update, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, fused, true)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK(xpbd_substep_in_step)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
 BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);
 
