@@ -276,11 +276,14 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
     const std::size_t head_end = std::min(begin + 2, end);
     const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);
     DefiniteDirection update{};
+    const auto point_update_at = [&](std::size_t row) {
+      const std::size_t base = row * cols_;
+      update.z = direction->z + base, update.p = u + base;
+      update.solution = direction->solution + base, update.inverse_mass = inverse_mass_ + base;
+    };
     const auto update_rows = [&](std::size_t first, std::size_t last) {
       for (std::size_t row = first; row < last; ++row) {
-        const std::size_t base = row * cols_;
-        update.z = direction->z + base, update.p = u + base;
-        update.solution = direction->solution + base, update.inverse_mass = inverse_mass_ + base;
+        point_update_at(row);
         definite_direction_row(update, cols_);
       }
     };
@@ -312,10 +315,7 @@ void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, 
           updated = std::min(row + 2, tail_begin);
         }
         if (updated == row + 2 && updated < tail_begin) {  // the sweep updates row + 2
-          const std::size_t base = (row + 2) * cols_;
-          update.z = direction->z + base, update.p = u + base;
-          update.solution = direction->solution + base;
-          update.inverse_mass = inverse_mass_ + base;
+          point_update_at(row + 2);
           job.direction_below = &update;
           updated = row + 3;
         }
