@@ -70,8 +70,7 @@ struct DefiniteRow {
   const float* inverse_mass[3];    // likewise, one component
   const float* mass;               // row r's masses (0 where pinned)
   const float* inverse_length[6];  // per stencil, its springs' 1/l at row r (0 where none)
-  // Per stencil, fixed by the linearisation: the coefficients are
-  //   across = c_x t, t = max(0, ks (1 - l0/l)),   along = (c_x (ks - t) + c_v kd) / l^2.
+  // Per stencil, fixed by the linearisation: what definite_coefficients takes beside 1/l.
   float ks[6], ks_rest[6];  // ks, ks l0
   float along_scale[6];     // c_x ks + c_v kd (kd 0 without damping)
   float c_x;
@@ -166,17 +165,13 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
       d[k] = partner[k] - x[k];
       du[k] = du[k] - u[k];
     }
-    // 1/l is 0 in the lanes without a spring (and for a zero-length one): there t is 0 too.
-    const __m512 inverse_length = _mm512_maskz_loadu_ps(valid, row.inverse_length[s] + c);
-    const __mmask16 springs = _mm512_cmp_ps_mask(inverse_length, zero, _CMP_GT_OQ);
-    const __m512 stretch = _mm512_fnmadd_ps(_mm512_set1_ps(row.ks_rest[s]), inverse_length,
-                                            _mm512_set1_ps(row.ks[s]));  // ks (1 - l0/l)
-    const __m512 transverse =
-        _mm512_maskz_mov_ps(_mm512_mask_cmp_ps_mask(springs, stretch, zero, _CMP_GT_OQ), stretch);
-    const __m512 across = _mm512_set1_ps(row.c_x) * transverse;
-    const __m512 along = inverse_length * inverse_length *
-                         (_mm512_set1_ps(row.along_scale[s]) - across) *
-                         (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
+    // 1/l is 0 in the lanes without a spring (and for a zero-length one): no force there.
+    __m512 across, along;
+    definite_coefficients(_mm512_maskz_loadu_ps(valid, row.inverse_length[s] + c),
+                          _mm512_set1_ps(row.ks[s]), _mm512_set1_ps(row.ks_rest[s]),
+                          _mm512_set1_ps(row.along_scale[s]), _mm512_set1_ps(row.c_x), zero, across,
+                          along);
+    along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
     for (std::size_t k = 0; k < 3; ++k) {
       product[k] = across * du[k] + along * d[k];
       own[k] = own[k] + product[k];

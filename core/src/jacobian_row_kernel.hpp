@@ -57,17 +57,27 @@ inline __m512 lane_max(__m512 a, __m512 b) {
 }
 #endif
 
-// The definite form's two coefficients of a spring, fixed by the state:
-// p = across du + (along (d.du)) d.
-template <bool Damped, class Lane>
-inline void definite_coefficients(const Lane (&d)[3], Lane rest, Lane ks, Lane kd, Lane c_x,
-                                  Lane c_v, Lane zero, Lane& across, Lane& along) {
-  const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-  const Lane inverse_length = inverse_sqrt_or_zero(squared);
-  // ks (l - l0) / l, 0 at zero length; clamped at 0 for a compressed spring.
-  const Lane transverse = lane_max(ks * (squared * inverse_length - rest) * inverse_length, zero);
+// `value` where `test` > 0, else 0.
+inline float lane_where_positive(float test, float value) { return test > 0 ? value : 0.0f; }
+inline double lane_where_positive(double test, double value) { return test > 0 ? value : 0.0; }
+#if defined(__AVX512F__)
+inline __m512 lane_where_positive(__m512 test, __m512 value) {
+  return _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(test, _mm512_setzero_ps(), _CMP_GT_OQ), value);
+}
+#endif
+
+// The definite form's two coefficients of a spring, fixed by the state, from its inverse
+// length (0: no spring, or zero length; both coefficients are then 0):
+// p = across du + (along (d.du)) d with across = c_x t, t = max(0, ks - (ks l0) / l) (clamped
+// at 0 for a compressed spring) and along = (along_scale - across) / l^2, along_scale =
+// c_x ks + c_v kd (kd 0 without damping). The row kernel (definite_row_kernel.hpp) stores 1/l.
+template <class Lane>
+inline void definite_coefficients(Lane inverse_length, Lane ks, Lane ks_rest, Lane along_scale,
+                                  Lane c_x, Lane zero, Lane& across, Lane& along) {
+  const Lane transverse =
+      lane_where_positive(inverse_length, lane_max(ks - ks_rest * inverse_length, zero));
   across = c_x * transverse;
-  along = inverse_length * inverse_length * (c_x * (ks - transverse) + (Damped ? c_v * kd : zero));
+  along = inverse_length * inverse_length * (along_scale - across);
 }
 
 template <JacobianForm Form, bool Damped, class Lane>
@@ -76,7 +86,9 @@ inline void spring_product(const Lane (&d)[3], const Lane (&dv)[3], const Lane (
   const Lane d_du = d[0] * du[0] + d[1] * du[1] + d[2] * du[2];
   Lane across, along;
   if constexpr (Form == JacobianForm::kDefinite) {
-    definite_coefficients<Damped>(d, rest, ks, kd, c_x, c_v, zero, across, along);
+    const Lane inverse_length = inverse_sqrt_or_zero(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    definite_coefficients(inverse_length, ks, ks * rest, c_x * ks + (Damped ? c_v * kd : zero), c_x,
+                          zero, across, along);
     along = along * d_du;
   } else {
     const Lane squared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
