@@ -157,11 +157,12 @@ struct UniformRuns {
   }
 };
 
-// The update of the springs in `lanes` from both ends' positions and displacements.
-inline SpringLanes spring_update(const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3],
-                                 const __m512 (&xj)[3], const __m512 (&dxi)[3],
-                                 const __m512 (&dxj)[3], __m512 inverse_denominator,
-                                 __m512 accumulated) {
+// The update of the springs in `lanes` from both ends' positions and displacements. Always
+// inlined: called out of line, its vectors and masks go through the stack.
+__attribute__((always_inline)) inline SpringLanes spring_update(
+    const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3], const __m512 (&xj)[3],
+    const __m512 (&dxi)[3], const __m512 (&dxj)[3], __m512 inverse_denominator,
+    __m512 accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
     out.moved[k] = dxi[k] - dxj[k];
