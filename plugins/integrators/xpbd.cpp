@@ -39,7 +39,8 @@
 // threads the rows split into two bands at a boundary B: one team runs the wavefront down
 // from row 0, the other up from the last row (there a phase visits start row
 // rows - 1 - T + lag(phase) - its row reach), each touching only its own band's rows, so
-// the two never wait for each other nor share a row in flight; the rows next to B that
+// the two never wait for each other nor share a row in flight. B is where the two meet:
+// the bands claim rows as they go (xpbd_bands.hpp). The rows next to B that
 // neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
 // projected phase by phase by one thread. Within a team each thread takes a contiguous run
 // of phases and waits only for its predecessor to finish the same wavefront time. Every
@@ -60,7 +61,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <clothlab/sdk.hpp>
 #include <cmath>
@@ -68,12 +68,12 @@
 #include <limits>
 #include <memory>
 #include <optional>
-#include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "scratch_vectors.hpp"
+#include "xpbd_bands.hpp"
 #include "xpbd_grid.hpp"
 #include "xpbd_row_kernel.hpp"
 #include "xpbd_tethers.hpp"
@@ -115,9 +115,10 @@ struct Phase {
   uint64_t cost;           // work units, for splitting the phases between threads
 };
 
-// The rows' split between the team going down (rows [0, boundary)) and the one going up.
+// The teams of the grid sweep: two bands (xpbd_bands.hpp), the one going down run by
+// threads [0, lower_threads), or one band of all threads.
 struct Bands {
-  uint32_t boundary;
+  bool two;
   int lower_threads;
 };
 
@@ -126,24 +127,6 @@ struct Bands {
 struct ColumnSpan {
   uint32_t begin, end;
 };
-
-// A thread's wavefront time, on its own cache line: its successor spins on it.
-struct alignas(64) Progress {
-  std::atomic<uint32_t> completed{0};
-};
-
-inline void wait_until(const Progress& progress, uint32_t time) {
-  for (int spins = 0; progress.completed.load(std::memory_order_acquire) < time; ++spins) {
-    // The machine may be shared: after a short spin, give the core to the thread waited on.
-    if (spins < 64) {
-#if defined(__x86_64__)
-      __builtin_ia32_pause();
-#endif
-    } else {
-      std::this_thread::yield();
-    }
-  }
-}
 
 }  // namespace
 
@@ -321,8 +304,8 @@ struct Xpbd {
                                 static_cast<Real>(1.0 / h)};
     if (grid_) {
       if (threads_ == 1) return grid_sweep(substep, 0, 1);
-      for (int thread = 0; thread < threads_; ++thread)
-        progress_[thread].completed.store(0, std::memory_order_relaxed);
+      for (int thread = 0; thread < threads_; ++thread) progress_[thread].reset();
+      claims_->reset(grid_->rows, band_reserve());
       bool finite = true;
 #pragma omp parallel num_threads(threads_) reduction(&& : finite)
       finite = grid_sweep(substep, omp_get_thread_num(), omp_get_num_threads());
@@ -397,17 +380,16 @@ struct Xpbd {
     return {static_cast<std::size_t>(std::max<int64_t>(begin, 0)), static_cast<std::size_t>(end)};
   }
 
-  // Two bands, one per half of the threads, when each is deeper than the wavefront's total
-  // lag (else one band and the seam would be all of it); one band on one thread.
+  // Two bands, one per half of the threads, when the rows hold both reserves (else one
+  // band and the seam would be all of it); one band on one thread.
   Bands bands_of(int threads) const {
-    const uint32_t rows = grid_->rows, lag = phases_.back().lag;
-    if (threads < 2) return {rows, threads};
-    const int lower_threads = (threads + 1) / 2;
-    const auto boundary = static_cast<uint32_t>(
-        uint64_t{rows} * static_cast<uint64_t>(lower_threads) / static_cast<uint64_t>(threads));
-    if (boundary <= lag || rows - boundary <= lag) return {rows, threads};
-    return {boundary, lower_threads};
+    if (threads < 2 || grid_->rows < 2 * band_reserve()) return {false, threads};
+    return {true, (threads + 1) / 2};
   }
+
+  // The rows a band holds from the start: one more than the wavefront's total lag, so that
+  // every phase visits at least one row of each band and the seam below is all that is left.
+  uint32_t band_reserve() const { return phases_.back().lag + 1; }
 
   // Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
   std::pair<std::size_t, std::size_t> phases_of(int thread, int threads) const {
@@ -426,8 +408,9 @@ struct Xpbd {
     return {std::min(begin, end), end};
   }
 
-  // This thread's phases over its band's wavefront, then (thread 0, after the others) the
-  // seam between the bands; returns its share of "every velocity is finite".
+  // This thread's phases over its band's wavefront, as long as the band claims rows, then
+  // (thread 0, after the others) the seam between the bands; returns its share of "every
+  // velocity is finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
     const Bands bands = bands_of(threads);
@@ -435,29 +418,36 @@ struct Xpbd {
     const bool upper = thread >= bands.lower_threads;
     const int member = upper ? thread - bands.lower_threads : thread;
     const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
-    const uint32_t band_rows = upper ? rows - bands.boundary : bands.boundary;
     const auto [begin, end] = phases_of(member, team);
     bool finite = true;
-    for (uint32_t time = 0; time < band_rows; ++time) {
-      if (member > 0) wait_until(progress_[thread - 1], time + 1);
+    uint32_t held = bands.two ? band_reserve() : rows;  // the band's rows, for its first thread
+    uint32_t time = 0;
+    for (;; ++time) {
+      if (member > 0) {
+        if (!wait_for(progress_[thread - 1], time)) break;
+      } else if (time == held) {
+        if (bands.two) held += claims_->claim();
+        if (time == held) break;
+      }
       for (std::size_t q = begin; q < end; ++q) {
         const Phase& phase = phases_[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
         run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
                   finite);
       }
-      const bool publish = (time + 1) % publish_every_ == 0 || time + 1 == band_rows;
-      if (member + 1 < team && publish)
+      if (member + 1 < team && (time + 1) % publish_every_ == 0)
         progress_[thread].completed.store(time + 1, std::memory_order_release);
     }
+    if (member + 1 < team) progress_[thread].end(time);
     if (threads > 1) {
 #pragma omp barrier
     }
     if (thread == 0) {
-      const bool two_bands = bands.boundary < rows;
+      // Thread 0 went down: its band's rows are [0, boundary).
+      const uint32_t boundary = time;
       for (const Phase& phase : phases_) {
-        const uint32_t first = bands.boundary > phase.lag ? bands.boundary - phase.lag : 0;
-        const uint32_t last = two_bands ? bands.boundary + phase.upward_offset : rows;  // one past
+        const uint32_t first = boundary > phase.lag ? boundary - phase.lag : 0;
+        const uint32_t last = bands.two ? boundary + phase.upward_offset : rows;  // one past
         for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
       }
     }
@@ -667,6 +657,7 @@ struct Xpbd {
   std::vector<ColumnSpan> varied_columns_;  // per grid row: the columns of another
   uint32_t publish_every_ = 1;              // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;    // one per thread
+  std::unique_ptr<RowClaims> claims_ = std::make_unique<RowClaims>();  // the two bands' rows
 };
 
 }  // namespace clothlab::builtin
