@@ -8,6 +8,7 @@
 #include <clothlab/ext/reductions.h>
 
 #include <array>
+#include <chrono>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/sdk.hpp>
 #include <cstdlib>
@@ -310,6 +311,64 @@ void xpbd_substep_in_step(benchmark::State& state) {
       substeps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// The cost units side by side, paired in time: blocks of explicit force evaluations, of XPBD
+// substeps (as xpbd_substep) and of CG iterations (as cg_iteration/fused), alternated. Each
+// block's first call is not timed: it finds the other blocks' data in the caches, where the
+// separate benchmarks find their own. The counters are the ratios of the summed times, so a
+// drift of the machine's speed between separate benchmark runs (a shared VM) cancels.
+void cost_ratios(benchmark::State& state) {
+  constexpr int timed_per_block = 8;
+  const int threads = static_cast<int>(state.range(1));
+  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
+  Cloth forces(scene, Precision::Float32, PipelineOptions{true, threads});
+  const clothlab_system& system = forces.system();
+  AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
+  Cloth xpbd_cloth(scene, Precision::Float32, PipelineOptions{true, threads});
+  BoundIntegrator xpbd(
+      "xpbd", xpbd_cloth,
+      {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}});
+  CgSolve solve(state, true);
+  if (!solve.fused()) {
+    state.SkipWithError("the host lacks clothlab.cg-step/1");
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  Clock::duration force_time{}, xpbd_time{}, cg_time{};
+  const auto block = [](Clock::duration& total, auto&& call) {
+    call();
+    const Clock::time_point start = Clock::now();
+    for (int k = 0; k < timed_per_block; ++k) call();
+    total += Clock::now() - start;
+  };
+  double t = 0.0;
+  bool cg_running = true;
+  for (auto _ : state) {
+    block(force_time, [&] {
+      system.eval_acceleration(system.context, 0.0, system.x, system.v, a.get());
+      benchmark::ClobberMemory();
+    });
+    block(xpbd_time, [&] {
+      xpbd.step(t, 1e-3);
+      t += 1e-3;
+    });
+    solve.start();  // a genuine solve: the stiff cloth takes hundreds of iterations
+    block(cg_time, [&] {
+      cg_running &= solve.solver().iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
+      benchmark::ClobberMemory();
+    });
+  }
+  if (!cg_running) {
+    state.SkipWithError("CG stopped within a block's iterations");
+    return;
+  }
+  const double force = std::chrono::duration<double>(force_time).count();
+  state.counters["xpbd_substep_per_force_evaluation"] =
+      std::chrono::duration<double>(xpbd_time).count() / force;
+  state.counters["cg_iteration_per_force_evaluation"] =
+      std::chrono::duration<double>(cg_time).count() / force;
+  state.counters["force_evaluation_us"] = 1e6 * force / (timed_per_block * state.iterations());
+}
+
 void at_300_on_1_and_2_threads(benchmark::internal::Benchmark* benchmark) {
   for (int threads : {1, 2}) benchmark->Args({300, threads});
   benchmark->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -371,6 +430,7 @@ BENCHMARK_CAPTURE(cg_start, fused, true)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep_in_step)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK(cost_ratios)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
 BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);
 
