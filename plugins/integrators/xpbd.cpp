@@ -42,7 +42,8 @@
 // the two never wait for each other nor share a row in flight. B is where the two meet:
 // the bands claim rows as they go (xpbd_bands.hpp). The rows next to B that
 // neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
-// projected phase by phase by one thread. Within a team each thread takes a contiguous run
+// projected phase by phase, each band's first thread on its side of B, the two meeting
+// after each phase. Within a team each thread takes a contiguous run
 // of phases and waits only for its predecessor to finish the same wavefront time. Every
 // spring sees the same values in any split: the bits do not depend on the thread count.
 // On the grid the substep's displacement dx lives in v's memory (the pins' velocities
@@ -305,6 +306,7 @@ struct Xpbd {
     if (grid_) {
       if (threads_ == 1) return grid_sweep(substep, 0, 1);
       for (int thread = 0; thread < threads_; ++thread) progress_[thread].reset();
+      for (int side = 0; side < 2; ++side) seam_progress_[side].reset();
       claims_->reset(grid_->rows, band_reserve());
       bool finite = true;
 #pragma omp parallel num_threads(threads_) reduction(&& : finite)
@@ -442,16 +444,34 @@ struct Xpbd {
     if (threads > 1) {
 #pragma omp barrier
     }
-    if (thread == 0) {
-      // Thread 0 went down: its band's rows are [0, boundary).
-      const uint32_t boundary = time;
-      for (const Phase& phase : phases_) {
-        const uint32_t first = boundary > phase.lag ? boundary - phase.lag : 0;
-        const uint32_t last = bands.two ? boundary + phase.upward_offset : rows;  // one past
-        for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+    // The lower band holds rows [0, boundary), the upper band the rest.
+    if (thread == 0 || (bands.two && thread == bands.lower_threads))
+      run_seam(s, bands.two, upper, upper ? rows - time : time, finite);
+    return finite;
+  }
+
+  // The rows next to the boundary that neither wavefront reached, phase by phase. Two bands:
+  // each band's first thread takes the rows on its side, and the two meet after each phase
+  // (a phase's rows are independent; the next phase reads rows either may have written).
+  // One band: thread 0 takes the last rows.
+  template <class Real>
+  void run_seam(const Substep<Real>& s, bool two_bands, bool upper, uint32_t boundary,
+                bool& finite) {
+    const int side = upper ? 1 : 0;
+    for (std::size_t q = 0; q < phases_.size(); ++q) {
+      const Phase& phase = phases_[q];
+      const uint32_t first = upper ? boundary : boundary - std::min(boundary, phase.lag);
+      const uint32_t last = !two_bands ? grid_->rows
+                            : upper    ? boundary + phase.upward_offset
+                                       : boundary;  // one past
+      for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      // A phase with no lag left no rows on either side: nothing to wait for.
+      if (two_bands && q + 1 < phases_.size() && phase.lag > 0) {
+        seam_progress_[side].completed.store(static_cast<uint32_t>(q + 1),
+                                             std::memory_order_release);
+        wait_for(seam_progress_[1 - side], static_cast<uint32_t>(q));
       }
     }
-    return finite;
   }
 
   // One component of one row, in place: v becomes the substep's displacement
@@ -658,6 +678,8 @@ struct Xpbd {
   uint32_t publish_every_ = 1;              // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;    // one per thread
   std::unique_ptr<RowClaims> claims_ = std::make_unique<RowClaims>();  // the two bands' rows
+  // The seam's phases done by each band's first thread, the lower band's first.
+  std::unique_ptr<Progress[]> seam_progress_ = std::make_unique<Progress[]>(2);
 };
 
 }  // namespace clothlab::builtin
