@@ -208,14 +208,33 @@ inline PushLanes pushes(const SpringLanes& u, __m512 wi, __m512 wj) {
   }
 }
 
+// A row's arrays from its first spring start, and the spacings, copied out of the ColorRow
+// once: the kernel's float stores could alias the row's fields, which the loop would then
+// load again at every vector.
+struct RowArrays {
+  const float* x;
+  float* dx;
+  const float* w;
+  float* lambda;
+  std::size_t offset, stride;
+
+  explicit RowArrays(const ColorRow<float>& row)
+      : x(row.x + row.first),
+        dx(row.displacement + row.first),
+        w(row.inverse_mass + row.first),
+        lambda(row.lambda == nullptr ? nullptr : row.lambda + row.first),
+        offset(row.offset),
+        stride(row.stride) {}
+};
+
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
 template <bool Uniform, bool Fresh, bool KeepLambda>
-inline void project_rows_run(const ColorRow<float>& row, const LawLanes& law, std::size_t c,
+inline void project_rows_run(const RowArrays& row, const LawLanes& law, std::size_t c,
                              __mmask16 lanes) {
-  const float* x = row.x + row.first;
-  float* dx = row.displacement + row.first;
-  const float* w = row.inverse_mass + row.first;
-  float* const lambda = row.lambda == nullptr ? nullptr : row.lambda + row.first;
+  const float* x = row.x;
+  float* dx = row.dx;
+  const float* w = row.w;
+  float* const lambda = row.lambda;
   const std::size_t o = row.offset, s = row.stride;
   __m512 xi[3], xj[3], dxi[3], dxj[3];
   for (std::size_t k = 0; k < 3; ++k) {
@@ -248,13 +267,15 @@ template <bool Fresh, bool KeepLambda>
 inline void project_rows_avx512(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
-  for (std::size_t c = 0; c < row.count; c += 16) {
-    const std::size_t left = row.count - c;
+  const RowArrays arrays(row);
+  const std::size_t count = row.count;
+  for (std::size_t c = 0; c < count; c += 16) {
+    const std::size_t left = count - c;
     const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1u);
     if (uniform.covers(c, c + 16))
-      project_rows_run<true, Fresh, KeepLambda>(row, law, c, lanes);
+      project_rows_run<true, Fresh, KeepLambda>(arrays, law, c, lanes);
     else
-      project_rows_run<false, Fresh, KeepLambda>(row, law, c, lanes);
+      project_rows_run<false, Fresh, KeepLambda>(arrays, law, c, lanes);
   }
 }
 
