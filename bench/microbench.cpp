@@ -160,8 +160,9 @@ void force_evaluation(benchmark::State& state) {
 class CgSolve {
  public:
   CgSolve(benchmark::State& state, bool fused)
-      : cloth_(bench_scene("flag", static_cast<int>(state.range(0)), true), Precision::Float32,
-               PipelineOptions{true, static_cast<int>(state.range(1))}),
+      : CgSolve(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), fused) {}
+  CgSolve(int side, int threads, bool fused)
+      : cloth_(bench_scene("flag", side, true), Precision::Float32, PipelineOptions{true, threads}),
         system_(cloth_.system()) {
     system_.jacobian().reserve();
     for (float*& vector : vectors_) vector = system_.alloc_vector();
@@ -311,62 +312,100 @@ void xpbd_substep_in_step(benchmark::State& state) {
       substeps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// The cost units side by side, paired in time: blocks of explicit force evaluations, of XPBD
-// substeps (as xpbd_substep) and of CG iterations (as cg_iteration/fused), alternated. Each
-// block's first call is not timed: it finds the other blocks' data in the caches, where the
-// separate benchmarks find their own. The counters are the ratios of the summed times, so a
-// drift of the machine's speed between separate benchmark runs (a shared VM) cancels.
-void cost_ratios(benchmark::State& state) {
+// The cost units on one thread count, each on a cloth of its own: an explicit force
+// evaluation (as force_evaluation), an XPBD substep (as xpbd_substep) and a CG iteration
+// (as cg_iteration/fused).
+class CostUnits {
+ public:
+  CostUnits(int side, int threads)
+      : forces_(bench_scene("flag", side, true), Precision::Float32,
+                PipelineOptions{true, threads}),
+        acceleration_(aligned_floats(3 * std::size_t{forces_.system().stride})),
+        xpbd_cloth_(bench_scene("flag", side, true), Precision::Float32,
+                    PipelineOptions{true, threads}),
+        xpbd_("xpbd", xpbd_cloth_,
+              {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}}),
+        solve_(side, threads, true) {}
+
+  bool fused() const { return solve_.fused(); }
+  void force_evaluation() {
+    const clothlab_system& system = forces_.system();
+    system.eval_acceleration(system.context, 0.0, system.x, system.v, acceleration_.get());
+    benchmark::ClobberMemory();
+  }
+  void xpbd_substep() {
+    xpbd_.step(t_, 1e-3);
+    t_ += 1e-3;
+  }
+  // A genuine solve, started again before each block: the stiff cloth takes hundreds of
+  // iterations. False once CG has stopped.
+  void start_solve() { solve_.start(); }
+  bool cg_iteration() {
+    const bool running =
+        solve_.solver().iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
+    benchmark::ClobberMemory();
+    return running;
+  }
+
+ private:
+  Cloth forces_;
+  AlignedFloats acceleration_;
+  Cloth xpbd_cloth_;
+  BoundIntegrator xpbd_;
+  CgSolve solve_;
+  double t_ = 0.0;
+};
+
+// The cost units on 1 and 2 threads, paired in time: blocks of each unit on each thread
+// count, alternated. Each block's first call is not timed (it finds the other blocks' data
+// in the caches, and on 2 threads wakes the team). The counters are ratios of summed times,
+// so a drift of the machine's speed between separate benchmarks (a shared VM) cancels: per
+// thread count the XPBD substep and the CG iteration per force evaluation, and each unit's
+// speedup from 1 to 2 threads.
+void cost_units(benchmark::State& state) {
   constexpr int timed_per_block = 8;
-  const int threads = static_cast<int>(state.range(1));
-  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
-  Cloth forces(scene, Precision::Float32, PipelineOptions{true, threads});
-  const clothlab_system& system = forces.system();
-  AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
-  Cloth xpbd_cloth(scene, Precision::Float32, PipelineOptions{true, threads});
-  BoundIntegrator xpbd(
-      "xpbd", xpbd_cloth,
-      {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}});
-  CgSolve solve(state, true);
-  if (!solve.fused()) {
+  const int side = static_cast<int>(state.range(0));
+  std::array<CostUnits, 2> units{CostUnits(side, 1), CostUnits(side, 2)};
+  if (!units[0].fused() || !units[1].fused()) {
     state.SkipWithError("the host lacks clothlab.cg-step/1");
     return;
   }
   using Clock = std::chrono::steady_clock;
-  Clock::duration force_time{}, xpbd_time{}, cg_time{};
+  enum Unit { kForce, kXpbd, kCg, kUnits };
+  std::array<std::array<Clock::duration, kUnits>, 2> time{};
   const auto block = [](Clock::duration& total, auto&& call) {
     call();
     const Clock::time_point start = Clock::now();
     for (int k = 0; k < timed_per_block; ++k) call();
     total += Clock::now() - start;
   };
-  double t = 0.0;
   bool cg_running = true;
   for (auto _ : state) {
-    block(force_time, [&] {
-      system.eval_acceleration(system.context, 0.0, system.x, system.v, a.get());
-      benchmark::ClobberMemory();
-    });
-    block(xpbd_time, [&] {
-      xpbd.step(t, 1e-3);
-      t += 1e-3;
-    });
-    solve.start();  // a genuine solve: the stiff cloth takes hundreds of iterations
-    block(cg_time, [&] {
-      cg_running &= solve.solver().iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
-      benchmark::ClobberMemory();
-    });
+    for (std::size_t t = 0; t < 2; ++t) {
+      CostUnits& u = units[t];
+      block(time[t][kForce], [&] { u.force_evaluation(); });
+      block(time[t][kXpbd], [&] { u.xpbd_substep(); });
+      u.start_solve();
+      block(time[t][kCg], [&] { cg_running &= u.cg_iteration(); });
+    }
   }
   if (!cg_running) {
     state.SkipWithError("CG stopped within a block's iterations");
     return;
   }
-  const double force = std::chrono::duration<double>(force_time).count();
-  state.counters["xpbd_substep_per_force_evaluation"] =
-      std::chrono::duration<double>(xpbd_time).count() / force;
-  state.counters["cg_iteration_per_force_evaluation"] =
-      std::chrono::duration<double>(cg_time).count() / force;
-  state.counters["force_evaluation_us"] = 1e6 * force / (timed_per_block * state.iterations());
+  const auto seconds = [&](std::size_t t, Unit unit) {
+    return std::chrono::duration<double>(time[t][unit]).count();
+  };
+  for (std::size_t t = 0; t < 2; ++t) {
+    const std::string threads = std::to_string(t + 1) + "t";
+    state.counters["xpbd_per_force_" + threads] = seconds(t, kXpbd) / seconds(t, kForce);
+    state.counters["cg_per_force_" + threads] = seconds(t, kCg) / seconds(t, kForce);
+    state.counters["force_us_" + threads] =
+        1e6 * seconds(t, kForce) / (timed_per_block * static_cast<double>(state.iterations()));
+  }
+  state.counters["force_speedup"] = seconds(0, kForce) / seconds(1, kForce);
+  state.counters["xpbd_speedup"] = seconds(0, kXpbd) / seconds(1, kXpbd);
+  state.counters["cg_speedup"] = seconds(0, kCg) / seconds(1, kCg);
 }
 
 void at_300_on_1_and_2_threads(benchmark::internal::Benchmark* benchmark) {
@@ -430,7 +469,7 @@ BENCHMARK_CAPTURE(cg_start, fused, true)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK_CAPTURE(cg_start, separate_calls, false)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep)->Apply(at_300_on_1_and_2_threads);
 BENCHMARK(xpbd_substep_in_step)->Apply(at_300_on_1_and_2_threads);
-BENCHMARK(cost_ratios)->Apply(at_300_on_1_and_2_threads);
+BENCHMARK(cost_units)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(strip_step, rk4, std::string("rk4"))->Apply(strips);
 BENCHMARK_CAPTURE(strip_step, verlet, std::string("verlet"))->Apply(strips);
 
