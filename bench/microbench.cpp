@@ -141,17 +141,47 @@ void reference_euler_step(benchmark::State& state) {
       benchmark::Counter(1e-3, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// One damped explicit acceleration evaluation of the 300 x 300 flag on state.range(1) threads:
-// the unit the two below are compared with.
-void force_evaluation(benchmark::State& state) {
-  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
-  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, static_cast<int>(state.range(1))});
-  const clothlab_system& system = cloth.system();
-  AlignedFloats a = aligned_floats(3 * std::size_t{system.stride});
-  for (auto _ : state) {
-    system.eval_acceleration(system.context, 0.0, system.x, system.v, a.get());
+// One damped explicit acceleration evaluation of the flag (side x side) at rest: the unit the
+// implicit and position-based costs are compared with.
+class ForceEvaluation {
+ public:
+  ForceEvaluation(int side, int threads)
+      : cloth_(bench_scene("flag", side, true), Precision::Float32, PipelineOptions{true, threads}),
+        acceleration_(aligned_floats(3 * std::size_t{cloth_.system().stride})) {}
+  void run() {
+    const clothlab_system& system = cloth_.system();
+    system.eval_acceleration(system.context, 0.0, system.x, system.v, acceleration_.get());
     benchmark::ClobberMemory();
   }
+
+ private:
+  Cloth cloth_;
+  AlignedFloats acceleration_;
+};
+
+// One XPBD substep (substeps = 1, one iteration: predict, 12 colour sweeps, velocities) of
+// the flag, the plugin and the host on `threads` threads.
+class XpbdSubstep {
+ public:
+  XpbdSubstep(int side, int threads)
+      : cloth_(bench_scene("flag", side, true), Precision::Float32, PipelineOptions{true, threads}),
+        xpbd_("xpbd", cloth_,
+              {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}}) {}
+  void run() {
+    xpbd_.step(t_, 1e-3);
+    t_ += 1e-3;
+  }
+
+ private:
+  Cloth cloth_;
+  BoundIntegrator xpbd_;
+  double t_ = 0.0;
+};
+
+// A force evaluation of the 300 x 300 flag on state.range(1) threads.
+void force_evaluation(benchmark::State& state) {
+  ForceEvaluation forces(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  for (auto _ : state) forces.run();
 }
 
 // implicit_euler's CG (block_jacobi_cg.hpp, the plugin's own code, definite matrix as the
@@ -182,6 +212,12 @@ class CgSolve {
     solver_->start(0.0, kStep, system_.x(), system_.v(), rhs_, solution_, false, 0.0);
   }
   builtin::BlockJacobiCg<float>& solver() { return *solver_; }
+  // One iteration; false once CG has stopped.
+  bool iterate() {
+    const bool running = solver_->iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
+    benchmark::ClobberMemory();
+    return running;
+  }
   sdk::CgStep<float> cg_step() const { return system_.cg_step(); }
   // The solver's r, z, p, q and the two preconditioner vectors, as started.
   float* vector(std::size_t index) const { return vectors_[index]; }
@@ -214,11 +250,10 @@ void cg_iteration(benchmark::State& state, bool fused) {
       solve.start();
       state.ResumeTiming();
     }
-    if (solve.solver().iterate() != builtin::BlockJacobiCg<float>::Outcome::kRunning) {
+    if (!solve.iterate()) {
       state.SkipWithError("CG stopped within 20 iterations");
       return;
     }
-    benchmark::ClobberMemory();
   }
 }
 
@@ -274,20 +309,10 @@ void jacobian_product(benchmark::State& state) {
   }
 }
 
-// One XPBD substep (substeps = 1, one iteration: predict, 12 colour sweeps, velocities) on
-// the flag, the plugin and the host on state.range(1) threads.
+// One XPBD substep of the flag on state.range(1) threads.
 void xpbd_substep(benchmark::State& state) {
-  const Scene scene = bench_scene("flag", static_cast<int>(state.range(0)), true);
-  const int threads = static_cast<int>(state.range(1));
-  Cloth cloth(scene, Precision::Float32, PipelineOptions{true, threads});
-  BoundIntegrator xpbd(
-      "xpbd", cloth,
-      {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}});
-  double t = 0.0;
-  for (auto _ : state) {
-    xpbd.step(t, 1e-3);
-    t += 1e-3;
-  }
+  XpbdSubstep xpbd(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  for (auto _ : state) xpbd.run();
 }
 
 // One substep as part of a step of xpbd's default 40 substeps (the per-step work, the tethers'
@@ -312,48 +337,15 @@ void xpbd_substep_in_step(benchmark::State& state) {
       substeps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// The cost units on one thread count, each on a cloth of its own: an explicit force
-// evaluation (as force_evaluation), an XPBD substep (as xpbd_substep) and a CG iteration
-// (as cg_iteration/fused).
-class CostUnits {
- public:
+// The cost units on one thread count, each on a cloth of its own: a force evaluation, an
+// XPBD substep and a CG iteration (as cg_iteration/fused, its solve started again before each
+// block: the stiff cloth takes hundreds of iterations).
+struct CostUnits {
   CostUnits(int side, int threads)
-      : forces_(bench_scene("flag", side, true), Precision::Float32,
-                PipelineOptions{true, threads}),
-        acceleration_(aligned_floats(3 * std::size_t{forces_.system().stride})),
-        xpbd_cloth_(bench_scene("flag", side, true), Precision::Float32,
-                    PipelineOptions{true, threads}),
-        xpbd_("xpbd", xpbd_cloth_,
-              {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}}),
-        solve_(side, threads, true) {}
-
-  bool fused() const { return solve_.fused(); }
-  void force_evaluation() {
-    const clothlab_system& system = forces_.system();
-    system.eval_acceleration(system.context, 0.0, system.x, system.v, acceleration_.get());
-    benchmark::ClobberMemory();
-  }
-  void xpbd_substep() {
-    xpbd_.step(t_, 1e-3);
-    t_ += 1e-3;
-  }
-  // A genuine solve, started again before each block: the stiff cloth takes hundreds of
-  // iterations. False once CG has stopped.
-  void start_solve() { solve_.start(); }
-  bool cg_iteration() {
-    const bool running =
-        solve_.solver().iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
-    benchmark::ClobberMemory();
-    return running;
-  }
-
- private:
-  Cloth forces_;
-  AlignedFloats acceleration_;
-  Cloth xpbd_cloth_;
-  BoundIntegrator xpbd_;
-  CgSolve solve_;
-  double t_ = 0.0;
+      : forces(side, threads), xpbd(side, threads), solve(side, threads, true) {}
+  ForceEvaluation forces;
+  XpbdSubstep xpbd;
+  CgSolve solve;
 };
 
 // The cost units on 1 and 2 threads, paired in time: blocks of each unit on each thread
@@ -366,7 +358,7 @@ void cost_units(benchmark::State& state) {
   constexpr int timed_per_block = 8;
   const int side = static_cast<int>(state.range(0));
   std::array<CostUnits, 2> units{CostUnits(side, 1), CostUnits(side, 2)};
-  if (!units[0].fused() || !units[1].fused()) {
+  if (!units[0].solve.fused() || !units[1].solve.fused()) {
     state.SkipWithError("the host lacks clothlab.cg-step/1");
     return;
   }
@@ -383,10 +375,10 @@ void cost_units(benchmark::State& state) {
   for (auto _ : state) {
     for (std::size_t t = 0; t < 2; ++t) {
       CostUnits& u = units[t];
-      block(time[t][kForce], [&] { u.force_evaluation(); });
-      block(time[t][kXpbd], [&] { u.xpbd_substep(); });
-      u.start_solve();
-      block(time[t][kCg], [&] { cg_running &= u.cg_iteration(); });
+      block(time[t][kForce], [&] { u.forces.run(); });
+      block(time[t][kXpbd], [&] { u.xpbd.run(); });
+      u.solve.start();
+      block(time[t][kCg], [&] { cg_running &= u.solve.iterate(); });
     }
   }
   if (!cg_running) {

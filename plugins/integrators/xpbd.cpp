@@ -411,8 +411,8 @@ struct Xpbd {
   }
 
   // This thread's phases over its band's wavefront, as long as the band claims rows, then
-  // (thread 0, after the others) the seam between the bands; returns its share of "every
-  // velocity is finite".
+  // (each band's first thread, after all bands are done) the seam between the bands;
+  // returns its share of "every velocity is finite".
   template <class Real>
   bool grid_sweep(const Substep<Real>& s, int thread, int threads) {
     const Bands bands = bands_of(threads);
