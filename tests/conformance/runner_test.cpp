@@ -326,9 +326,8 @@ std::vector<std::string> sound_plugins() {
                                         plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
-    // Verlet's default drag (0.1/s) changes the ODE the analytic problems assume.
-    const std::string extra = name == "verlet" ? "--param verlet.damping=0 " : "";
-    arguments.push_back(extra + BUILTIN_PLUGIN_DIR + "/" + name + ".so");
+    // Every built-in passes with its default parameters.
+    arguments.push_back(BUILTIN_PLUGIN_DIR + std::string("/") + name + ".so");
   }
   return arguments;
 }
