@@ -4,11 +4,11 @@
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <functional>
 #include <map>
 #include <optional>
 
+#include "clothlab/sweep/case_attempt.hpp"
 #include "clothlab/sweep/progress.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 
@@ -224,8 +224,8 @@ class IntegratorSearch {
       // in between cuts nothing.
       const auto [s, it] = key(substeps, passing);
       const double timeout_s = budget_s(1.0);
-      const Trajectory mine = run_guarded(first_frames_case(candidate_case(s, it)), timeout_s);
-      const Trajectory theirs = run_guarded(best.first_frames, timeout_s);
+      const Trajectory mine = attempt_within(first_frames_case(candidate_case(s, it)), timeout_s);
+      const Trajectory theirs = attempt_within(best.first_frames, timeout_s);
       if (mine.verdict.stable() && theirs.verdict.stable() && mine.ms_per_frame_p10 > 0 &&
           theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10 > cut) {
         cut = theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10;
@@ -298,15 +298,9 @@ class IntegratorSearch {
                     startup_allowance_s + 2 * settings_.stop_factor * best.wall_s * work_fraction);
   }
 
-  Trajectory run_guarded(const CaseSpec& c, double timeout_s) const {
-    try {
-      return context_.runner(with_setting(c, "timeout", format_number(timeout_s), false));
-    } catch (const std::exception& error) {
-      Trajectory failed;
-      failed.verdict.status = CaseStatus::Failed;
-      failed.verdict.reason = error.what();
-      return failed;
-    }
+  Trajectory attempt_within(const CaseSpec& c, double timeout_s) const {
+    return attempt_trajectory(context_.runner,
+                              with_setting(c, "timeout", format_number(timeout_s), false));
   }
 
   // A run killed by the cost budget (not by the probe timeout) marks the probe stopped.
@@ -349,7 +343,7 @@ class IntegratorSearch {
     // limit, a backstop for a setting whose frames take seconds each.
     const double timeout_s = budget_s(1.0);
     const CaseSpec short_case = first_frames_case(c);
-    const Trajectory first = run_guarded(short_case, timeout_s);
+    const Trajectory first = attempt_within(short_case, timeout_s);
     probe.ms_per_frame = first.ms_per_frame;
     if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
     // Cost first: over the budget, whether the setting is stable does not matter (more
@@ -364,13 +358,13 @@ class IntegratorSearch {
     if (first.ms_per_frame_p10 <= limit(context_.best.ms_per_frame))
       return judge_run(first, probe, "in its first frames") &&
              judge_stretch(first, probe, " in its first frames");
-    const Trajectory again = run_guarded(short_case, timeout_s);
+    const Trajectory again = attempt_within(short_case, timeout_s);
     const double fastest = again.verdict.stable() || !timed_out(again)
                                ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
                                : first.ms_per_frame_p10;
     // And beside the best's first frames measured now: a load that grew since the best was
     // measured slows both alike (the larger of the two is the yardstick).
-    const Trajectory best_first = run_guarded(context_.best.first_frames, timeout_s);
+    const Trajectory best_first = attempt_within(context_.best.first_frames, timeout_s);
     const double best_now = best_first.verdict.stable() ? best_first.ms_per_frame_p10 : 0.0;
     const double yardstick = std::max(context_.best.ms_per_frame, best_now);
     if (fastest <= limit(yardstick))
@@ -394,7 +388,7 @@ class IntegratorSearch {
   bool judge_error_run(const CaseSpec& c, Probe& probe) {
     if (same_error_run()) return true;
     const double timeout_s = budget_s(error_work_fraction());
-    const Trajectory measured = run_guarded(error_case(c), timeout_s);
+    const Trajectory measured = attempt_within(error_case(c), timeout_s);
     if (stopped_by_budget(measured, timeout_s, "its run on the error mesh", probe)) return false;
     const std::string where = settings_.error_mesh.empty()
                                   ? "to T = " + format_number(error_duration(settings_)) + " s"
@@ -405,7 +399,7 @@ class IntegratorSearch {
   // Stage 3: the run over T at the scene's mesh: stability, stretch, cost.
   bool judge_full_run(const CaseSpec& c, Probe& probe, double& wall_s) {
     const double timeout_s = budget_s(1.0);
-    const Trajectory run = run_guarded(c, timeout_s);
+    const Trajectory run = attempt_within(c, timeout_s);
     probe.ms_per_frame = run.ms_per_frame;
     probe.max_stretch = run.max_stretch;
     wall_s = run.wall_s;
