@@ -1,6 +1,7 @@
 #include "clothlab/sweep/integrator_choice.hpp"
 
 #include <chrono>
+#include <clothlab/analysis/bracket_search.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <cstdio>
@@ -53,9 +54,6 @@ constexpr double startup_allowance_s = 1.0;
 // a first frame that sets up (a factorisation, page faults).
 constexpr int cost_frames = 5;
 
-// What one probe of a search along one parameter found.
-enum class Outcome { passes, fails, stopped };
-
 // A search along one parameter: the fewest passing value found (none: nothing passed, or the
 // cost budget stopped the doubling), and the value whose stop ended the bisection, if one did.
 struct Fewest {
@@ -63,34 +61,35 @@ struct Fewest {
   uint32_t stopped_refining_at = 0;
 };
 
-// The fewest n in [1, max] with passes(n), assuming passes is monotone: doubling from 1, then
+// The fewest n in [1, max] with passes(n), assuming passes is monotone: a bracket search from 1
+// (failing values lie below the fewest passing one, analysis::Side::below), doubling, then
 // bisection until the bracket is within 10 % (each probe is a full run, so not to the unit).
 // probe(n, failing) gets the largest value known to fail below n (0: none), the bottom of the
 // bracket n tops. `stop` ends the doubling early (nothing found); `next(failing, passing)`
 // names the value to bisect at (the middle, or lower), none to end the bisection.
-Fewest fewest(uint32_t max, const std::function<Outcome(uint32_t, uint32_t)>& probe,
+Fewest fewest(uint32_t max, const std::function<analysis::Side(uint32_t, uint32_t)>& probe,
               const std::function<bool()>& stop,
               const std::function<std::optional<uint32_t>(uint32_t, uint32_t)>& next) {
-  uint32_t failing = 0, n = 1;
-  for (Outcome outcome; (outcome = probe(n, failing)) != Outcome::passes;) {
-    if (outcome == Outcome::stopped || n >= max || stop()) return {};
-    failing = n;
-    n = std::min(max, 2 * n);
-  }
-  Fewest found{n};
-  uint32_t& passing = *found.passing;
-  while (passing - failing > 1 && passing > failing + failing / 10) {
-    const std::optional<uint32_t> middle = next(failing, passing);
-    if (!middle) break;
-    const Outcome outcome = probe(*middle, failing);
-    // Nothing in (failing, middle] is within the budget, and (middle, passing) costs more.
-    if (outcome == Outcome::stopped) {
-      found.stopped_refining_at = *middle;
-      break;
-    }
-    (outcome == Outcome::passes ? passing : failing) = *middle;
-  }
-  return found;
+  const analysis::BracketResult search = analysis::bracket_search(
+      [&](double n, double failing) {
+        return probe(static_cast<uint32_t>(n), static_cast<uint32_t>(failing));
+      },
+      {.start = 1,
+       .lower_limit = 1,
+       .upper_limit = static_cast<double>(std::max(max, 1u)),  // 1 is probed whatever max is
+       .relative_tolerance = 0.1,
+       .resolution = 1,
+       .keep_bracketing = [&] { return !stop(); },
+       .bisect_at = [&](double failing, double passing) -> std::optional<double> {
+         const std::optional<uint32_t> at =
+             next(static_cast<uint32_t>(failing), static_cast<uint32_t>(passing));
+         if (!at) return std::nullopt;
+         return *at;
+       }});
+  // A stop before any value passed ends the search with nothing; after, it ends the bisection:
+  // nothing in (failing, stopped] is within the budget, and (stopped, passing) costs more.
+  if (search.high == 0) return {};
+  return {static_cast<uint32_t>(search.high), static_cast<uint32_t>(search.stopped_at)};
 }
 
 std::string percent(double fraction) {
@@ -133,7 +132,7 @@ class IntegratorSearch {
     if (!candidate_.has_iterations) {
       const Fewest substeps = fewest(
           settings_.max_substeps,
-          [&](uint32_t s, uint32_t failing) { return outcome(probe(s, 0, failing)); }, stop,
+          [&](uint32_t s, uint32_t failing) { return side(probe(s, 0, failing)); }, stop,
           [&](uint32_t failing, uint32_t passing) { return bisect_at(0, failing, passing); });
       if (substeps.passing) best = {{*substeps.passing, 0}};
       note_stopped_refining(0, substeps);
@@ -145,8 +144,7 @@ class IntegratorSearch {
         stopped_iterations_ = 0;
         const Fewest iterations = fewest(
             max_iterations(),
-            [&](uint32_t it, uint32_t failing) { return outcome(probe(substeps, it, failing)); },
-            stop,
+            [&](uint32_t it, uint32_t failing) { return side(probe(substeps, it, failing)); }, stop,
             [&](uint32_t failing, uint32_t passing) {
               return bisect_at(substeps, failing, passing);
             });
@@ -254,8 +252,11 @@ class IntegratorSearch {
         probes_.at(key(substeps, found.stopped_refining_at)).why;
   }
 
-  static Outcome outcome(const Probe& probe) {
-    return probe.passed ? Outcome::passes : probe.stopped ? Outcome::stopped : Outcome::fails;
+  // A passing setting lies above the failing ones along the parameter searched.
+  static analysis::Side side(const Probe& probe) {
+    return probe.passed    ? analysis::Side::above
+           : probe.stopped ? analysis::Side::stop
+                           : analysis::Side::below;
   }
 
   uint32_t max_iterations() const {
