@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds ClothLab with AddressSanitizer and UndefinedBehaviorSanitizer (CLOTHLAB_SANITIZE) into
-# ./build-asan and runs the test suite there: about 15 minutes on 2 cores. Prints one summary
-# line at the end (and, on failure, the failed tests with the lines that say why); the exit
-# status is ctest's. Extra arguments go to ctest (e.g. -R conformance).
+# ./build-asan and runs the test suite there (its run time: docs/performance.md, "Tool run
+# times"). Prints one summary line at the end (and, on failure, the failed tests with the lines
+# that say why); the exit status is ctest's. Extra arguments go to ctest (e.g. -R conformance).
 # UBSan halts on its first report (it only logs by default), so undefined behaviour fails a test.
 set -euo pipefail
 cd "$(dirname "$0")/.."

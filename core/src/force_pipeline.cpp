@@ -89,10 +89,9 @@ void ForcePipeline<Real>::reserve_stages(uint32_t stages) {
   // Per thread: a ring per stage, then for the fused step an acceleration ring per stage,
   // the halo rows and two update rows (see rkn_sweep.cpp).
   const std::size_t rows = turned_from() + 7 + StateCombination<Real>::kMaxTerms;
-  // Each thread's scratch starts 64 KiB after the end of the previous one's: with the
-  // regions closer than ~40 KiB the second thread ran ~35 % slower on this 2-core AMD
-  // EPYC VM (300 x 300 force pass: 230 vs 350 us; cause not isolated, likely prefetch or
-  // cache-set sharing between the cores' hot rows).
+  // Each thread's scratch starts 64 KiB after the end of the previous one's: closer, the
+  // second thread ran slower (likely prefetch or cache-set sharing between the cores' hot
+  // rows; docs/performance.md, "What made it fast").
   const std::size_t gap = kGapBytes / sizeof(Real);
   thread_stride_ = (rows * row_span_ + gap - 1) / gap * gap + gap;
   scratch_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * thread_stride_);
