@@ -12,8 +12,6 @@
 
 namespace clothlab::detail {
 
-using namespace scratch;
-
 template <class Real>
 void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass) {
   if (interior_row(row)) {
