@@ -2,12 +2,11 @@
 
 #include <clothlab/host/errors.hpp>
 #include <clothlab/io/atomic_file.hpp>
+#include <clothlab/io/base64.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <system_error>
-
-#include "../io/src/base64.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <clothlab/io/base64.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <cmath>
 #include <cstring>
@@ -7,8 +8,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include "../../host/io/src/base64.hpp"
 
 namespace clothlab::io {
 namespace {
