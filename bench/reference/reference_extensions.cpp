@@ -75,8 +75,9 @@ void ReferenceSystem<Real>::build_topology(const Scene& scene) {
     t.kd.push_back(law.kd);
     t.family.push_back(s.family);
   }
-  for (uint32_t r = 0; r + 1 < scene.rows; ++r)
-    for (uint32_t c = 0; c + 1 < scene.cols; ++c) {
+  // Column of cells by column of cells, as the engine lists them.
+  for (uint32_t c = 0; c + 1 < scene.cols; ++c)
+    for (uint32_t r = 0; r + 1 < scene.rows; ++r) {
       const uint32_t a = r * scene.cols + c;
       t.triangles.insert(t.triangles.end(),
                          {a, a + 1, a + scene.cols, a + 1, a + scene.cols + 1, a + scene.cols});

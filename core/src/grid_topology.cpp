@@ -57,12 +57,7 @@ GridTopology::GridTopology(const Scene& scene) : particle_count(scene.rows * sce
     }
   }
 
-  for (uint32_t r = 0; r + 1 < rows; ++r) {
-    for (uint32_t c = 0; c + 1 < cols; ++c) {
-      const uint32_t a = r * cols + c, b = a + 1, below = a + cols, d = below + 1;
-      triangles.insert(triangles.end(), {a, b, below, b, d, below});  // as the wind kernel
-    }
-  }
+  triangles = grid_triangles(rows, cols);
 
   // Adjacency: springs are visited in ascending index, so each particle's list ascends.
   adjacency_offsets.assign(n + 1, 0);
