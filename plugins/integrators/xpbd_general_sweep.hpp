@@ -6,8 +6,6 @@
 // Then the tethers, and v = dx / h, x += dx on the free particles.
 #pragma once
 
-#include <omp.h>
-
 #include <algorithm>
 #include <clothlab/sdk.hpp>
 #include <cmath>
