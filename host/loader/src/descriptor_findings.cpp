@@ -4,6 +4,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "clothlab/host/errors.hpp"
 #include "clothlab/host/identifiers.hpp"
