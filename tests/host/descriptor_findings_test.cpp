@@ -107,7 +107,7 @@ TEST(DescriptorFindings, EveryFaultOfOneComponentIsFound) {
                 "integrator checked: step = null, allowed a function",
                 "integrator checked: params.substeps.default_value = 0, allowed int in [1, 64]",
                 "integrator checked: params.substeps.name = \"substeps\", allowed a name no other "
-                "parameter of the integrator has"}));
+                "parameter of the component has"}));
 }
 
 TEST(DescriptorFindings, AnotherMajorIsReadNoFurther) {

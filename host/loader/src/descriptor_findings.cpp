@@ -54,7 +54,6 @@ class Owner {
   void require_function(const char* field, bool present) {
     if (!present) add(DescriptorPart::fields, field, "null", "a function");
   }
-  const std::string& kind() const { return kind_; }
 
  private:
   std::vector<DescriptorFinding>& findings_;
@@ -93,7 +92,7 @@ void check_spec(Owner& owner, const clothlab_param_spec& spec, uint32_t index,
   const std::string field = named ? "params." + std::string(spec.name) : at;
   if (named && !names.insert(spec.name).second)
     owner.add(part, field + ".name", quoted(spec.name),
-              "a name no other parameter of the " + owner.kind() + " has");
+              "a name no other parameter of the component has");
   if (spec.help == nullptr) owner.add(part, field + ".help", "null", "a string");
   if (spec.unit == nullptr) owner.add(part, field + ".unit", "null", "a string");
   if (spec.type < CLOTHLAB_PARAM_REAL || spec.type > CLOTHLAB_PARAM_VEC3) {
