@@ -4,6 +4,7 @@
 
 #include "clothlab/host/descriptor_findings.hpp"
 #include "clothlab/host/errors.hpp"
+#include "clothlab/host/library_handle.hpp"
 
 namespace fs = std::filesystem;
 

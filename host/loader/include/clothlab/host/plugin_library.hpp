@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "clothlab/host/components.hpp"
-#include "clothlab/host/library_handle.hpp"
 #include "clothlab/host/plugin_search_path.hpp"
 
 namespace clothlab::host {
