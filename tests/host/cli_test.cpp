@@ -274,7 +274,7 @@ TEST_F(Clothlab, LibraryOfAnotherAbiExitsTwo) {
       run("--integrator=" + (test_plugins / "bad/clothlab_test_abi999.so").string() +
           " --scenario=sheet --steps 1");
   EXPECT_EQ(outcome.exit_code, 2);
-  EXPECT_NE(outcome.err.find("plugin ABI version 999.0"), std::string::npos) << outcome.err;
+  EXPECT_NE(outcome.err.find("abi_version = 999.0"), std::string::npos) << outcome.err;
 }
 
 TEST_F(Clothlab, PluginPathFromEnvironmentAndCommandLine) {
