@@ -43,10 +43,14 @@ class Clothlab : public testing::Test {
 
   fs::path file(const std::string& name) const { return folder_ / name; }
 
-  // Runs clothlab with the arguments (shell words) and an optional environment prefix.
-  Outcome run(const std::string& arguments, const std::string& environment = "") const {
+  // Runs clothlab with the arguments (shell words) and an optional environment prefix; with a
+  // time limit a hang is killed (exit code 137) instead of stopping the tests.
+  Outcome run(const std::string& arguments, const std::string& environment = "",
+              int time_limit_s = 0) const {
+    const std::string limit =
+        time_limit_s > 0 ? " timeout -s KILL " + std::to_string(time_limit_s) : "";
     const std::string command = "cd '" + folder_.string() + "' && env -u CLOTHLAB_PLUGIN_PATH " +
-                                environment + " '" CLOTHLAB_EXECUTABLE "' " + arguments +
+                                environment + limit + " '" CLOTHLAB_EXECUTABLE "' " + arguments +
                                 " > stdout.txt 2> stderr.txt";
     const int status = std::system(command.c_str());
     Outcome outcome;
@@ -334,6 +338,24 @@ TEST_F(Clothlab, ShippedConfigsAreAccepted) {
         run("--config " + (source_dir / "configs" / config).string() +
             " --set scenario.rows=6 --set scenario.cols=6 --steps 2 --quiet " + extra);
     EXPECT_EQ(outcome.exit_code, 0) << config << ": " << outcome.err;
+  }
+}
+
+// yaml-cpp reads a ',' outside a [list] or {map} as an empty document without consuming it,
+// so reading a file's documents to the end never ended. These one- and two-character
+// documents (and a ',' after a document) are each one line of bad input naming the file.
+TEST_F(Clothlab, ShortMalformedConfigsAreOneLineOfBadInputNamingTheFile) {
+  for (const char* text :
+       {",",  ",\n", ",,", ",\n,", "[1],", "{a: 1},", "a: 1\n...\n,", "---\n,", "[",
+        "{",  "]",   "}",  ":",    "?",    "-",       "&a",           "*a",     "!",
+        "!!", "&",   "*",  "|",    ">",    "~",       "---",          "@"}) {
+    std::ofstream(file("bad.yaml")) << text;
+    const Outcome outcome = run("--config bad.yaml --steps 1 --quiet", "", 5);
+    EXPECT_EQ(outcome.exit_code, 1) << "'" << text << "': " << outcome.err;
+    EXPECT_EQ(outcome.err.rfind("clothlab: error: bad.yaml:", 0), 0u)
+        << "'" << text << "': " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1)
+        << "'" << text << "': " << outcome.err;
   }
 }
 
