@@ -396,6 +396,55 @@ TEST_F(Clothlab, UnknownOptionExitsOne) {
   EXPECT_EQ(outcome.err.rfind("clothlab: error: command line: ", 0), 0u) << outcome.err;
 }
 
+// The duration was found not to be whole ladder steps only after the results store was opened,
+// which left <out>.lock and <out>.sqlite behind (and replaced a store that was there).
+TEST_F(Clothlab, WorkPrecisionDurationIsCheckedBeforeTheResultsStoreIsOpened) {
+  std::ofstream(file("wp.yaml")) << "integrator: euler\n"
+                                    "scenario: {plugin: sheet, rows: 4, cols: 4}\n"
+                                    "duration: 0.04\n"
+                                    "sweep:\n"
+                                    "  name: wp\n"
+                                    "  mode: work-precision\n"
+                                    "  output: out/wp\n"
+                                    "  matrix: {integrator: [euler]}\n"
+                                    "  work_precision: {dt_start: 0.003, levels: 2}\n";
+  const std::string error =
+      "clothlab: error: wp.yaml:3:11: duration = 0.04 s is not a whole number of steps of the "
+      "work-precision ladder dt (dt_start / 2^0) = 0.003 s; allowed: a duration that every ladder "
+      "and reference dt divides (a multiple of work_precision.dt_start = 0.003 s when refinement "
+      "is whole)\n";
+  const Outcome fresh = run("--config wp.yaml");
+  EXPECT_EQ(fresh.exit_code, 1);
+  EXPECT_EQ(fresh.err, error);
+  EXPECT_FALSE(fs::exists(file("out")));
+
+  fs::create_directories(file("earlier"));
+  std::ofstream(file("earlier/wp.sqlite")) << "earlier results";
+  const Outcome over_earlier = run("--config wp.yaml --out earlier");
+  EXPECT_EQ(over_earlier.exit_code, 1);
+  EXPECT_EQ(over_earlier.err, error);
+  EXPECT_TRUE(read_text(file("earlier/wp.sqlite")) == "earlier results") << "store replaced";
+  EXPECT_FALSE(fs::exists(file("earlier/wp.lock")));
+}
+
+// merge's words after "merge" were all taken for output names, so --help was one.
+TEST_F(Clothlab, MergeHelpPrintsItsUsageAndAnUnknownOptionIsOneLine) {
+  const Outcome help = run("merge --help");
+  EXPECT_EQ(help.exit_code, 0) << help.err;
+  EXPECT_EQ(help.out.rfind("Usage: clothlab merge OUTPUT...\n", 0), 0u) << help.out;
+  EXPECT_EQ(help.err, "");
+  const Outcome unknown = run("merge --foo results/stress");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_EQ(unknown.err,
+            "clothlab: error: merge: unrecognised option '--foo'; allowed: --help and OUTPUT "
+            "names (see clothlab merge --help)\n");
+  const Outcome nothing = run("merge");
+  EXPECT_EQ(nothing.exit_code, 1);
+  EXPECT_EQ(nothing.err,
+            "clothlab: error: merge: no OUTPUT given; allowed: OUTPUT..., e.g. results/stress\n");
+  EXPECT_EQ(outputs(), std::vector<std::string>{});
+}
+
 }  // namespace
 
 namespace {
