@@ -21,6 +21,8 @@ RunConfig with_dt(RunConfig config, double dt) {
 }  // namespace
 
 nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath& search_path) {
+  // Every probe below turns an error into an unstable run, so bad input is found first.
+  check_plugins(config, search_path);
   nlohmann::json result;
   result["duration"] = config.duration;
   result["tolerance"] = config.search_tolerance;

@@ -427,6 +427,34 @@ TEST_F(Clothlab, WorkPrecisionDurationIsCheckedBeforeTheResultsStoreIsOpened) {
   EXPECT_FALSE(fs::exists(file("earlier/wp.lock")));
 }
 
+// A search or a choice ran its cases with the bad plugin name: --find-max-dt counted every
+// probe unstable and exited 0, --choose reported a failed reference without the file.
+TEST_F(Clothlab, PluginNamedInAConfigIsCheckedWithItsPositionBeforeASearchOrAChoice) {
+  std::ofstream(file("scenario.yaml")) << "scenario:\n  plugin: \"..\"\n";
+  std::ofstream(file("integrator.yaml")) << "integrator:\n  plugin: \"..\"\n";
+  for (const auto& [config, mode] :
+       {std::pair{"scenario", "--find-max-dt"}, std::pair{"integrator", "--find-max-dt"},
+        std::pair{"scenario", "--choose --frame-rate 60"}}) {
+    const Outcome outcome = run(std::string("--config ") + config + ".yaml " + mode);
+    EXPECT_EQ(outcome.exit_code, 2) << mode << ": " << outcome.err;
+    const std::string expected =
+        std::string("clothlab: error: ") + config + ".yaml:2:11: " + config + " = ..: plugin ..: ";
+    EXPECT_EQ(outcome.err.rfind(expected, 0), 0u) << mode << ": " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+  }
+  EXPECT_FALSE(fs::exists(file("results")));  // choose.output's folder
+}
+
+// --choose built its cases from the settings given, so without a scenario setting they had
+// none ("empty plugin name") instead of the default scenario.
+TEST_F(Clothlab, ChooseRunsTheDefaultScenario) {
+  const Outcome outcome =
+      run("--choose --frame-rate 60 --set scenario.rows=4 --set scenario.cols=4 --set "
+          "choose.output=choose/choose --set choose.duration=0.1 --set choose.integrators=[euler]");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("1    euler"), std::string::npos) << outcome.out;
+}
+
 // merge's words after "merge" were all taken for output names, so --help was one.
 TEST_F(Clothlab, MergeHelpPrintsItsUsageAndAnUnknownOptionIsOneLine) {
   const Outcome help = run("merge --help");
