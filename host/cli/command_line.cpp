@@ -147,7 +147,7 @@ std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
           "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
-          "       clothlab merge OUTPUT...   (join the shard results of each sweep output)\n"
+          "       clothlab merge OUTPUT...   (joins sweep shards; see clothlab merge --help)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
