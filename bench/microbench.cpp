@@ -351,7 +351,7 @@ struct CostUnits {
 // The cost units on 1 and 2 threads, paired in time: blocks of each unit on each thread
 // count, alternated. Each block's first call is not timed (it finds the other blocks' data
 // in the caches, and on 2 threads wakes the team). The counters are ratios of summed times,
-// so a drift of the machine's speed between separate benchmarks (a shared VM) cancels: per
+// so a drift of the machine's speed between separate benchmarks (a shared machine) cancels: per
 // thread count the XPBD substep and the CG iteration per force evaluation, and each unit's
 // speedup from 1 to 2 threads.
 void cost_units(benchmark::State& state) {

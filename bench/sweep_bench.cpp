@@ -14,8 +14,11 @@
 #include <filesystem>
 #include <string>
 
+#include "sweep_file.hpp"
+
 namespace {
 
+namespace cli = clothlab::cli;
 namespace sweep = clothlab::sweep;
 
 std::filesystem::path scratch_base(const std::string& name) {
@@ -35,7 +38,7 @@ void remove_scratch() {
 std::vector<sweep::CaseSpec> trivial_cases(std::size_t count) {
   std::string values;
   for (std::size_t i = 0; i < count; ++i) values += (i ? ", " : "") + std::to_string(i + 1);
-  return sweep::expand_cases(sweep::parse_sweep(
+  return sweep::expand_cases(cli::parse_sweep(
       "steps: 1\ndt: 0.001\nsweep:\n  name: overhead\n  matrix:\n    integrator: [euler]\n"
       "    scenario.seed: [" +
           values + "]\n",

@@ -1,7 +1,17 @@
 #!/usr/bin/env bash
 # Installs dependencies, configures and builds ClothLab into ./build (Release).
+#   build.sh run [cmake args]    the program and plugins only (what tools/run.sh needs)
+#   build.sh test [cmake args]   also the test suite and the benchmarks
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash tools/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@"
+profile="${1:-test}"
+shift || true
+bash tools/install-deps.sh "$profile"
+parts=(-DCLOTHLAB_BUILD_TESTS=ON -DCLOTHLAB_BUILD_BENCH=ON)
+# A first build for running leaves the tests out; a tree that has them keeps them.
+if [ "$profile" = run ]; then
+  parts=()
+  [ -f build/CMakeCache.txt ] || parts=(-DCLOTHLAB_BUILD_TESTS=OFF -DCLOTHLAB_BUILD_BENCH=OFF)
+fi
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${parts[@]}" "$@"
 cmake --build build -j "$(nproc)"

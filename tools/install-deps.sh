@@ -1,16 +1,31 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages ClothLab needs (skips apt when all are present).
+#   install-deps.sh run    what building and running needs (tools/run.sh): compiler, libraries,
+#                          and npm's three.js for `clothlab view`
+#   install-deps.sh test   that, plus what the tests need (tools/test.sh, CI): GoogleTest and
+#                          Benchmark, Python with matplotlib and VTK, Chromium for the viewer's
+#                          browser test, Slurm for the --slurm test
 set -euo pipefail
+profile="${1:-test}"
 packages=(
   cmake g++ make pkg-config
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-matplotlib binutils
-  python3-vtk9 python3-numpy python3-pil chromium
-  libsqlite3-dev
-  slurmctld slurmd slurm-client munge
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev
 )
+case "$profile" in
+  run) ;;
+  test)
+    packages+=(
+      libgtest-dev libgmock-dev libbenchmark-dev binutils
+      python3 python3-matplotlib python3-vtk9 python3-numpy python3-pil chromium
+      slurmctld slurmd slurm-client munge
+    )
+    ;;
+  *)
+    echo "install-deps.sh: unknown profile '$profile'; allowed: run, test" >&2
+    exit 1
+    ;;
+esac
 # The viewer's three.js comes from npm (host/viewer/package-lock.json). Debian's nodejs and
 # npm unless a Node.js with npm is already installed (e.g. from NodeSource).
 command -v npm >/dev/null || packages+=(nodejs npm)

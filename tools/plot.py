@@ -100,7 +100,7 @@ def number(value):
 
 
 def this_machine():
-    """'AMD EPYC 9R14, 2 cores': the CPU model and count from /proc/cpuinfo."""
+    """The CPU model and count from /proc/cpuinfo, as 'MODEL, N cores'."""
     try:
         with open("/proc/cpuinfo") as stream:
             models = [line.split(":", 1)[1].strip() for line in stream

@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
 # Builds ClothLab with AddressSanitizer and UndefinedBehaviorSanitizer (CLOTHLAB_SANITIZE) into
-# ./build-asan and runs the test suite there: about 15 minutes on 2 cores. Prints one summary
-# line at the end (and, on failure, the failed tests with the lines that say why); the exit
-# status is ctest's. Extra arguments go to ctest (e.g. -R conformance).
+# ./build-asan and runs the tests labelled `boundary` there (input parsing, files, child
+# processes, the loader and the plugin boundary; tests/CMakeLists.txt): only their executables
+# are built. Prints one summary line at the end (and, on failure, the failed tests with the
+# lines that say why); the exit status is ctest's. Extra arguments go to ctest (e.g. -R
+# conformance).
 # UBSan halts on its first report (it only logs by default), so undefined behaviour fails a test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="build-asan"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCLOTHLAB_SANITIZE=ON \
   -DCLOTHLAB_BUILD_BENCH=OFF >/dev/null
-cmake --build "$build" -j2
+cmake --build "$build" -j2 --target tests_boundary
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 log="$build/sanitize-ctest.log"
 status=0
-ctest --test-dir "$build" --output-on-failure --timeout 900 -j2 "$@" >"$log" 2>&1 || status=$?
+ctest --test-dir "$build" --output-on-failure --timeout 900 -j2 -L boundary "$@" >"$log" 2>&1 ||
+  status=$?
 summary=$(grep -E "tests passed|No tests were found" "$log" | tail -n 1 || true)
 echo "sanitize: ${summary:-no ctest summary}; ctest exit status $status; log $log"
 if [ "$status" -ne 0 ]; then

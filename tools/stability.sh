@@ -5,9 +5,8 @@
 #  2. configs/seed-2016-matrix.yaml: the seed's 240-run test matrix, one verdict per case
 #     (skip it with SKIP_MATRIX=1);
 # and plots both. Results and pictures go to results/stability/ (or the folder given).
-# Budget: under 15 minutes on 2 cores (0.3 s probes and a 10 % tolerance for the searches, 2 s
-# per matrix case; see the configs' comments). Measured wall time: 1 min 11 s on an idle
-# machine; 11 min 37 s (at a 5 % tolerance) while other jobs kept the load near 4.
+# Kept short by 0.3 s probes and a 10 % tolerance for the searches, 2 s per matrix case (see
+# the configs' comments; run times: docs/performance.md, "Tool run times").
 # Extra arguments after the folder go to clothlab, e.g. --resume. BUILD_DIR=<folder> uses an
 # existing Release build there instead of building ./build.
 set -euo pipefail

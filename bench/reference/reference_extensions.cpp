@@ -24,8 +24,10 @@ const void* ReferenceSystem<Real>::get_extension_callback(void*, const char* id)
   static constexpr clothlab_external_forces_extension external_forces{&external,
                                                                       &depends_on_position};
   static constexpr clothlab_topology_extension topology{&topology_get};
+  static constexpr clothlab_grid_extension grid{&grid_get};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
+  if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
@@ -75,8 +77,9 @@ void ReferenceSystem<Real>::build_topology(const Scene& scene) {
     t.kd.push_back(law.kd);
     t.family.push_back(s.family);
   }
-  for (uint32_t r = 0; r + 1 < scene.rows; ++r)
-    for (uint32_t c = 0; c + 1 < scene.cols; ++c) {
+  // Column of cells by column of cells, as the engine lists them.
+  for (uint32_t c = 0; c + 1 < scene.cols; ++c)
+    for (uint32_t r = 0; r + 1 < scene.rows; ++r) {
       const uint32_t a = r * scene.cols + c;
       t.triangles.insert(t.triangles.end(),
                          {a, a + 1, a + scene.cols, a + 1, a + scene.cols + 1, a + scene.cols});
@@ -112,6 +115,21 @@ void ReferenceSystem<Real>::build_topology(const Scene& scene) {
   }
   group(spring_colors, t.spring_color_offsets, t.spring_color_members);
   group(particle_colors, t.particle_color_offsets, t.particle_color_members);
+  grid_.struct_size = sizeof grid_;
+  grid_.rows = scene.rows;
+  grid_.cols = scene.cols;
+  grid_.spring_color_count = static_cast<uint32_t>(t.spring_color_offsets.size() - 1);
+  grid_.column_spacing = scene.column_spacing();
+  grid_.row_spacing = scene.row_spacing();
+  grid_.spring_colors = nullptr;  // first-fit colours are no stencils
+}
+
+template <class Real>
+clothlab_status ReferenceSystem<Real>::grid_get(void* context, clothlab_grid* out) {
+  if (out == nullptr || out->struct_size < sizeof(clothlab_grid))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  *out = static_cast<const ReferenceSystem*>(context)->grid_;
+  return CLOTHLAB_OK;
 }
 
 template <class Real>

@@ -31,8 +31,8 @@ ReferenceCloth<Real>::ReferenceCloth(const Scene& scene)
       mass_(static_cast<Real>(scene.total_mass / (static_cast<double>(scene.rows) * scene.cols))) {
   const int rows = static_cast<int>(scene.rows);
   const int cols = static_cast<int>(scene.cols);
-  const double dx = cols > 1 ? scene.width / (cols - 1) : 0.0;
-  const double dy = rows > 1 ? scene.height / (rows - 1) : 0.0;
+  const double dx = scene.column_spacing();
+  const double dy = scene.row_spacing();
   std::vector<double> exact(initial_positions_.size());
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {

@@ -4,6 +4,7 @@
 // (preallocated) and the vector helpers are plain single-threaded loops.
 #pragma once
 
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/topology.h>
 
@@ -57,10 +58,12 @@ class ReferenceSystem {
 
   // Host extensions (reference_extensions.cpp): reductions, external forces and the spring
   // Jacobian as plain serial loops over the spring list (scatter), the topology with
-  // first-fit colourings: the oracle for the engine's.
+  // first-fit colourings: the oracle for the engine's, and the grid it lies on (its colours
+  // are no stencils).
   static const void* get_extension_callback(void* context, const char* id);
   void build_topology(const Scene& scene);
   static clothlab_status topology_get(void* context, clothlab_topology* out);
+  static clothlab_status grid_get(void* context, clothlab_grid* out);
   void to_aos(const void* soa, std::vector<Real>& aos) const;
   // M = c_x dF_i/dx_j + c_v dF_i/dv_j of spring s at (x, v), row-major; definite: the form
   // of clothlab.definite-jacobian/1 (no compressive transverse stiffness, no damping x-term).
@@ -118,6 +121,7 @@ class ReferenceSystem {
     std::vector<double> rest_length, ks, kd;
     std::vector<uint8_t> family;
   } topology_;
+  clothlab_grid grid_{};
   clothlab_system system_{};
   uint64_t force_evals_ = 0;
   double force_seconds_ = 0.0;

@@ -74,6 +74,7 @@ class ClothEngine final : public Engine {
   template <class Term>
   double chunked_sum(Term&& term);
   static clothlab_status topology_callback(void* context, clothlab_topology* out);
+  static clothlab_status grid_callback(void* context, clothlab_grid* out);
   static clothlab_status jacobian_reserve_callback(void* context);
   // Definite: the form of clothlab.definite-jacobian/1.
   template <bool Definite>

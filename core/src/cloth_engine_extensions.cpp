@@ -1,4 +1,5 @@
-// The host extensions of ClothEngine (clothlab/ext/): the grid topology, the analytic
+// The host extensions of ClothEngine (clothlab/ext/): the grid topology and the grid it lies
+// on, the analytic
 // spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
 // and the external forces alone.
 #include <clothlab/ext/cg_step.h>
@@ -47,6 +48,7 @@ const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
 template <class Real>
 const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_topology_extension topology_table{&topology_callback};
+  static constexpr clothlab_grid_extension grid_table{&grid_callback};
   static constexpr clothlab_jacobian_extension jacobian_table{
       &jacobian_reserve_callback, &jacobian_apply_callback<false>,
       &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
@@ -60,6 +62,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
                                                                      &depends_on_position_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
@@ -75,6 +78,13 @@ clothlab_status ClothEngine<Real>::topology_callback(void* context, clothlab_top
   if (out == nullptr || out->struct_size < sizeof(clothlab_topology))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] { *out = static_cast<ClothEngine*>(context)->topology().view(); });
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::grid_callback(void* context, clothlab_grid* out) {
+  if (out == nullptr || out->struct_size < sizeof(clothlab_grid))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  return status_of([&] { *out = static_cast<ClothEngine*>(context)->topology().grid_view(); });
 }
 
 // ------------------------------------------------------------------- jacobian

@@ -4,8 +4,8 @@
 // Each thread runs its block of rows once. A row's cells (the wind shares of their two
 // triangles) are computed once into a ring of two cell rows, reading the positions in
 // place; the row's particles then sum the shares of the cells beside and above them
-// (external_row_kernel.hpp). (In its own file: beside the force evaluation it cost that
-// pass the inlining of its interior kernel.)
+// (external_row_kernel.hpp). (Kept out of spring_stage.cpp: beside it, the spring stage lost
+// the inlining of its interior kernel.)
 #include <omp.h>
 
 #include <cstddef>
@@ -17,12 +17,6 @@
 namespace clothlab::detail {
 
 using namespace scratch;
-
-template <class Real>
-Real* ForcePipeline<Real>::external_row(int thread, std::size_t index) {
-  return external_scratch_.data() + static_cast<std::size_t>(thread) * external_stride_ +
-         index * row_span_ + kMargin;
-}
 
 template <class Real>
 Real* ForcePipeline<Real>::cell_shares(int thread, std::ptrdiff_t q, int triangle) {

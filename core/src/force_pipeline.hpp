@@ -12,13 +12,20 @@
 // spring or cell starting in row r reaches) that stays in cache; for a stage of a
 // multi-stage method each row is formed there as a combination, so a stage state is
 // never stored. In every scratch row the three components lie one row span apart, which
-// keeps the kernels to a few base pointers. (Reading the state in place instead measured
-// ~10 % slower: the kernels then stream 18 rows from outside L1.)
+// keeps the kernels to a few base pointers. (Reading the state in place instead was slower:
+// the kernels then stream 18 rows from outside L1; docs/performance.md.)
 //
 // A pipeline row is a row of the state (col_pitch 1) or, for a grid the engine hands over
 // turned a quarter (narrow and tall: few long rows instead of many short ones), a column of
 // it: its particles lie col_pitch = the grid's cols apart. Only the copies between the state
 // and the scratch rows (staging, halo, finished accelerations, the update) see the pitch.
+//
+// Where its parts are: scratch_layout.hpp (which scratch row holds what); force_pipeline.cpp
+// (construction, the scratch, the threads' row blocks); a row's stages in the order they run:
+// row_staging.cpp (state rows into scratch rows and back), spring_stage.cpp, wind_stage.cpp,
+// finish_stage.cpp (accumulators into accelerations); the passes that run the stages over a
+// thread's rows: force_pass.cpp (evaluate) and rkn_sweep.cpp (step_rkn); and external_pass.cpp
+// (evaluate_external: gravity and wind alone, with its own ring of cell rows).
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -89,21 +96,67 @@ class ForcePipeline {
   };
   using StatePair = const StateCombination<Real>* const (&)[2];  // x, v (nullptr: none)
 
-  // A ring: the scratch of one force pass of one thread. Rows of accumulators (a ring of
-  // 3 grid rows), a force row, the two wind share rows and staged rows of x and v (a
-  // ring of 3 grid rows); 3 components each, one row span apart.
-  // Accumulators of a row for spring ends at the same column as the spring's start, or
-  // shifted: separate so the interior kernel's stores of one block never overlap.
-  // kFurtherColumn takes the ends one column left from the row above and two columns
-  // right from the row itself: written in different sweeps, so they may share.
+  // Scratch addresses (rows as scratch_layout.hpp lays them out, each at its column 0). A ring:
+  // the scratch of one force pass of one thread; accumulators of a row for spring ends at the
+  // same column as the spring's start, or shifted: separate so the interior kernel's stores of
+  // one block never overlap. kFurtherColumn takes the ends one column left from the row above
+  // and two columns right from the row itself: written in different sweeps, so they may share.
   enum Shift { kSameColumn, kNextColumn, kFurtherColumn };
-  Real* ring(int thread, std::size_t stage);
-  Real* thread_row(int thread, std::size_t index);  // rows after the rings
-  Real* accumulator(Real* ring, std::size_t row, int k, int shift = kSameColumn);
-  Real* force_row(Real* ring, int k);
-  Real* wind_row(Real* ring, int triangle, int k);
-  Real* staged_row(Real* ring, std::size_t row, int quantity, int k);
-  // Forms grid row `row` of x and v into the staged rows.
+  Real* ring(int thread, std::size_t stage) {
+    return scratch_.data() + static_cast<std::size_t>(thread) * thread_stride_ +
+           stage * scratch::kRowsPerRing * row_span_;
+  }
+  Real* thread_row(int thread, std::size_t index) {  // rows after the rings
+    return scratch_.data() + static_cast<std::size_t>(thread) * thread_stride_ + index * row_span_ +
+           scratch::kMargin;
+  }
+  Real* accumulator(Real* ring, std::size_t row, int k, int shift = kSameColumn) {
+    const std::size_t index =
+        (row % 3 * scratch::kAccumulatorShifts + static_cast<std::size_t>(shift)) * 3 +
+        static_cast<std::size_t>(k);
+    return ring + index * row_span_ + scratch::kMargin;
+  }
+  Real* force_row(Real* ring, int k) {
+    return ring + (scratch::kForceRowFrom + static_cast<std::size_t>(k)) * row_span_ +
+           scratch::kMargin;
+  }
+  Real* wind_row(Real* ring, int triangle, int k) {
+    return ring +
+           (scratch::kWindRowsFrom + static_cast<std::size_t>(triangle * 3 + k)) * row_span_ +
+           scratch::kMargin;
+  }
+  Real* staged_row(Real* ring, std::size_t row, int quantity, int k) {
+    const std::size_t index =
+        scratch::kStagedRowsFrom + row % 3 * 6 + static_cast<std::size_t>(quantity * 3 + k);
+    return ring + index * row_span_ + scratch::kMargin;
+  }
+  // The fused step's acceleration window rows and halo rows (rkn_sweep.cpp).
+  Real* window_row(int thread, std::size_t stage, std::size_t row) {
+    const std::size_t window = scratch::window_rows(reserved_stages_);
+    return thread_row(
+        thread, scratch::windows_from(reserved_stages_) + (stage * window + row % window) * 3);
+  }
+  Real* halo_row(int thread, std::size_t slot, int quantity) {
+    return thread_row(thread, scratch::halo_from(reserved_stages_) + slot * 6 +
+                                  static_cast<std::size_t>(quantity) * 3);
+  }
+  // Halo slot of grid row `row` outside the block [begin, end) of a `stages`-stage step:
+  // the 2 * stages rows above it first, then those below.
+  std::size_t halo_slot(std::size_t row, std::size_t begin, std::size_t end,
+                        std::size_t stages) const {
+    const std::size_t reach = 2 * stages;
+    return row < begin ? row - (begin > reach ? begin - reach : 0)
+                       : scratch::halo_rows(reserved_stages_) / 2 + (row - end);
+  }
+  // A row of the thread's external pass scratch (external_pass.cpp).
+  Real* external_row(int thread, std::size_t index) {
+    return external_scratch_.data() + static_cast<std::size_t>(thread) * external_stride_ +
+           index * row_span_ + scratch::kMargin;
+  }
+  // The first of the rows for a turned grid's contiguous copies.
+  std::size_t turned_from() const { return scratch::turned_from(reserved_stages_); }
+
+  // Row staging (row_staging.cpp): forms grid row `row` of x and v into the staged rows.
   void stage_row(int thread, Real* ring, StatePair state, std::size_t row);
   // Where pipeline row `row` starts in a state vector.
   std::size_t row_start(std::size_t row) const { return col_pitch_ == 1 ? row * cols_ : row; }
@@ -114,47 +167,33 @@ class ForcePipeline {
   void gather_component(const Real* from, Real* to) const;
   void scatter_row(const Real* from, Real* state, std::size_t row) const;
 
+  // The spring stage (spring_stage.cpp): the springs starting in `row`.
   void add_springs(Real* ring, std::size_t row, const Pass& pass);
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
   bool interior_row(std::size_t row) const { return interior_kernel_ && row + 2 < rows_; }
   void add_interior_springs(Real* ring, std::size_t row, const Pass& pass);
+  // The wind stage (wind_stage.cpp): the cells starting in `row`.
   void add_wind(Real* ring, std::size_t row, Pass& pass);
-  // Turns row's accumulators into accelerations at out (components `span` apart) and
-  // clears them; returns the sum of 0 * a (NaN exactly when some a is not finite).
+  // The finish stage (finish_stage.cpp): turns row's accumulators into accelerations at out
+  // (components `span` apart) and clears them; returns the sum of 0 * a (NaN exactly when some
+  // a is not finite).
   Real finish_row(Real* ring, std::size_t row, Real* out, std::size_t span);
   void clear_row(Real* ring, std::size_t row);
+
+  // The force pass (force_pass.cpp): a thread's block of rows through all stages.
   Real run_rows(int thread, std::size_t begin, std::size_t end, StatePair state, Real* a,
                 Pass& pass);
 
-  // The external pass: the wind shares of cell row q (triangle 0: abc', 1: bdc') in a ring
-  // of two, read in place from x where col_pitch is 1; a row's particles then sum the
-  // shares of the cells above and beside them. Rows without cells read the zero rows.
-  Real* external_row(int thread, std::size_t index);
+  // The external pass (external_pass.cpp): the wind shares of cell row q (triangle 0: abc',
+  // 1: bdc') in a ring of two, read in place from x where col_pitch is 1; a row's particles
+  // then sum the shares of the cells above and beside them. Rows without cells read the zero
+  // rows.
   Real* cell_shares(int thread, std::ptrdiff_t q, int triangle);
   void compute_cells(int thread, const Real* x, std::size_t q);
   Real finish_external_row(int thread, std::size_t row, Real* a);
   Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, Real* a);
 
-  // The fused step (rkn_sweep.cpp): rows of the acceleration windows, of the halo (x and
-  // v rows of other threads' blocks, copied before anything is written) and the sweep.
-  std::size_t rkn_window() const { return 2 * std::size_t{reserved_stages_}; }
-  std::size_t rkn_halo() const { return 4 * std::size_t{reserved_stages_}; }
-  // Thread rows after the rings: acceleration windows, halo rows, two update rows, then for a
-  // turned grid contiguous copies: of an x and a v row (6 rows), of a combination's base and
-  // terms (1 + kMaxTerms rows).
-  std::size_t windows_from() const { return reserved_stages_ * scratch::kRowsPerRing; }
-  std::size_t halo_from() const { return windows_from() + reserved_stages_ * rkn_window() * 3; }
-  std::size_t update_from() const { return halo_from() + rkn_halo() * 6; }
-  std::size_t turned_from() const { return update_from() + 2; }
-  // Halo slot of grid row `row` outside the block [begin, end) of a `stages`-stage step:
-  // the 2 * stages rows above it first, then those below.
-  std::size_t halo_slot(std::size_t row, std::size_t begin, std::size_t end,
-                        std::size_t stages) const {
-    const std::size_t reach = 2 * stages;
-    return row < begin ? row - (begin > reach ? begin - reach : 0) : rkn_halo() / 2 + (row - end);
-  }
-  Real* window_row(int thread, std::size_t stage, std::size_t row);
-  Real* halo_row(int thread, std::size_t slot, int quantity);
+  // The fused step (rkn_sweep.cpp): a thread's block of rows through all stages of a step.
   Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
                 const RknStep<Real>& step, Pass& pass);
   // Moves each boundary of the threads' row blocks a row toward the thread that finished

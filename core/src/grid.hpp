@@ -52,16 +52,9 @@ inline int64_t stencil_offset(const Stencil& stencil, uint32_t cols) {
   return int64_t{stencil.row_step} * cols + stencil.col_step;
 }
 
-inline double column_spacing(const Scene& scene) {
-  return scene.cols > 1 ? scene.width / (scene.cols - 1) : 0.0;
-}
-inline double row_spacing(const Scene& scene) {
-  return scene.rows > 1 ? scene.height / (scene.rows - 1) : 0.0;
-}
-
 inline Vec3 initial_position(const Scene& scene, uint32_t row, uint32_t col) {
-  const double along_cols = col * column_spacing(scene);
-  const double along_rows = row * row_spacing(scene);
+  const double along_cols = col * scene.column_spacing();
+  const double along_rows = row * scene.row_spacing();
   Vec3 p;
   for (int k = 0; k < 3; ++k) {
     p[k] = scene.origin[k] + along_cols * scene.col_axis[k] + along_rows * scene.row_axis[k];
@@ -71,8 +64,8 @@ inline Vec3 initial_position(const Scene& scene, uint32_t row, uint32_t col) {
 
 // Every spring of a stencil has the same rest length on the regular initial layout.
 inline double stencil_rest_length(const Scene& scene, const Stencil& stencil) {
-  const double along_cols = stencil.col_step * column_spacing(scene);
-  const double along_rows = stencil.row_step * row_spacing(scene);
+  const double along_cols = stencil.col_step * scene.column_spacing();
+  const double along_rows = stencil.row_step * scene.row_spacing();
   double squared = 0.0;
   for (int k = 0; k < 3; ++k) {
     const double d = along_cols * scene.col_axis[k] + along_rows * scene.row_axis[k];

@@ -33,14 +33,22 @@ uint32_t spring_color(std::size_t stencil, uint32_t row, uint32_t col) {
   return static_cast<uint32_t>(2 * stencil) + (along / step) % 2;
 }
 
-GridTopology::GridTopology(const Scene& scene) : particle_count(scene.rows * scene.cols) {
-  const uint32_t rows = scene.rows, cols = scene.cols, n = particle_count;
+GridTopology::GridTopology(const Scene& scene)
+    : rows(scene.rows),
+      cols(scene.cols),
+      column_spacing(scene.column_spacing()),
+      row_spacing(scene.row_spacing()),
+      particle_count(scene.rows * scene.cols) {
+  const uint32_t n = particle_count;
   std::vector<uint32_t> spring_colors;
   for (std::size_t s = 0; s < kProvotStencils.size(); ++s) {
     const Stencil& stencil = kProvotStencils[s];
+    const StencilExtent extent = stencil_extent(stencil, rows, cols);
+    for (uint32_t parity = 0; parity < 2; ++parity)  // colours 2 s and 2 s + 1 (spring_color)
+      grid_colors.push_back({stencil.row_step, stencil.col_step, parity, extent.row_end,
+                             extent.col_begin, extent.col_end});
     const SpringFamily& law = scene.*stencil.family;
     if (law.ks == 0.0 && law.kd == 0.0) continue;
-    const StencilExtent extent = stencil_extent(stencil, rows, cols);
     const double rest = stencil_rest_length(scene, stencil);
     const int64_t offset = stencil_offset(stencil, cols);
     for (uint32_t r = 0; r < extent.row_end; ++r) {
@@ -57,12 +65,7 @@ GridTopology::GridTopology(const Scene& scene) : particle_count(scene.rows * sce
     }
   }
 
-  for (uint32_t r = 0; r + 1 < rows; ++r) {
-    for (uint32_t c = 0; c + 1 < cols; ++c) {
-      const uint32_t a = r * cols + c, b = a + 1, below = a + cols, d = below + 1;
-      triangles.insert(triangles.end(), {a, b, below, b, d, below});  // as the wind kernel
-    }
-  }
+  triangles = grid_triangles(rows, cols);
 
   // Adjacency: springs are visited in ascending index, so each particle's list ascends.
   adjacency_offsets.assign(n + 1, 0);
@@ -105,6 +108,18 @@ clothlab_topology GridTopology::view() const {
   out.particle_color_count = kParticleColors;
   out.particle_color_offsets = particle_color_offsets.data();
   out.particle_color_members = particle_color_members.data();
+  return out;
+}
+
+clothlab_grid GridTopology::grid_view() const {
+  clothlab_grid out{};
+  out.struct_size = sizeof out;
+  out.rows = rows;
+  out.cols = cols;
+  out.spring_color_count = static_cast<uint32_t>(grid_colors.size());
+  out.column_spacing = column_spacing;
+  out.row_spacing = row_spacing;
+  out.spring_colors = grid_colors.data();
   return out;
 }
 

@@ -1,7 +1,9 @@
 // The grid cloth's springs, triangles, particle -> spring adjacency and colourings as
-// plain arrays (the host side of "clothlab.topology/1"), built once from the scene.
+// plain arrays (the host side of "clothlab.topology/1"), and its spring colours as stencils
+// on the grid ("clothlab.grid/1"), built once from the scene.
 #pragma once
 
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/topology.h>
 
 #include <clothlab/core/cloth.hpp>
@@ -15,6 +17,7 @@ struct GridTopology {
 
   // Views into the arrays (valid while this object lives).
   clothlab_topology view() const;
+  clothlab_grid grid_view() const;
 
   std::size_t spring_count() const { return first.size(); }
 
@@ -25,6 +28,9 @@ struct GridTopology {
   std::vector<uint32_t> adjacency_offsets, adjacent_springs;
   std::vector<uint32_t> spring_color_offsets, spring_color_members;
   std::vector<uint32_t> particle_color_offsets, particle_color_members;
+  std::vector<clothlab_grid_color> grid_colors;  // colour c's stencil and parity
+  uint32_t rows = 0, cols = 0;
+  double column_spacing = 0, row_spacing = 0;
   uint32_t particle_count = 0;
 };
 

@@ -19,16 +19,6 @@
 namespace clothlab::detail {
 
 template <class Real>
-Real* ForcePipeline<Real>::window_row(int thread, std::size_t stage, std::size_t row) {
-  return thread_row(thread, windows_from() + (stage * rkn_window() + row % rkn_window()) * 3);
-}
-
-template <class Real>
-Real* ForcePipeline<Real>::halo_row(int thread, std::size_t slot, int quantity) {
-  return thread_row(thread, halo_from() + slot * 6 + static_cast<std::size_t>(quantity) * 3);
-}
-
-template <class Real>
 Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
                                    const RknStep<Real>& step, Pass& pass) {
   Real probe = 0;
@@ -89,8 +79,8 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
   };
   // x += h v + sum_s x_weights[s] A_s, v += sum_s v_weights[s] A_s on active particles.
   const auto advance_row = [&](std::size_t row) {
-    Real* __restrict dx = thread_row(thread, update_from());
-    Real* __restrict dv = thread_row(thread, update_from() + 1);
+    Real* __restrict dx = thread_row(thread, scratch::update_from(reserved_stages_));
+    Real* __restrict dv = thread_row(thread, scratch::update_from(reserved_stages_) + 1);
     const Real* __restrict inverse_mass = inverse_mass_ + row * cols_;
     const Real h = step.h;
     const std::size_t pitch = col_pitch_;

@@ -46,7 +46,7 @@ class SpringJacobian {
                       Real* out) const;
   // Fixes the definite form D at (x, v) with weights c_x, c_v for product_definite_dot (x and v
   // must keep their values while it is used): on the row kernel's path, each spring's inverse
-  // length.
+  // length (fused_cg_product.cpp).
   void linearise_definite(const Real* x, const Real* v, double c_x, double c_v) const;
   // q = u + D u at the linearisation; returns <u, q> = sum of m_i u_i . q_i over the active
   // particles, per grid row then the rows in order (clothlab/ext/cg_step.h). false: no
@@ -96,8 +96,9 @@ class SpringJacobian {
   template <JacobianForm Form, bool Shifted>
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
-  // The shifted definite product's rows [begin, end) by definite_row_kernel.hpp (float on
-  // AVX-512 with all six stencils); scratch: the thread's two rows of shifted ends.
+  // The fused CG kernel (fused_cg_product.cpp): the shifted definite product's rows
+  // [begin, end) by definite_row_kernel.hpp (float on AVX-512 with all six stencils); scratch:
+  // the thread's two rows of shifted ends.
   void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
                      const Direction* direction) const;
   // Stencil s's plane of inverse spring lengths, rows x cols.

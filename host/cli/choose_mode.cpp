@@ -21,11 +21,11 @@ namespace clothlab::cli {
 namespace {
 
 // The integrators to search, in plugin-path order unless choose.integrators names them.
-std::vector<sweep::ChoiceCandidate> candidates_for(const RunConfig& config,
+std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
                                                    const host::PluginSearchPath& search_path) {
   const host::LibraryScan scan = host::scan_libraries(search_path);
   std::vector<sweep::ChoiceCandidate> found;
-  const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
+  const uint32_t precision = whole.run.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
   for (const host::PluginLibrary& library : scan.libraries)
     for (const host::IntegratorPlugin& integrator : library.integrators()) {
       if (!integrator.supports_precision(precision)) continue;
@@ -48,9 +48,9 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const RunConfig& config,
       }
       found.push_back(candidate);
     }
-  if (config.choice_integrators.empty()) return found;
+  if (whole.choose.integrators.empty()) return found;
   std::vector<sweep::ChoiceCandidate> chosen;
-  for (const std::string& id : config.choice_integrators) {
+  for (const std::string& id : whole.choose.integrators) {
     const auto match = std::find_if(found.begin(), found.end(), [&](const auto& candidate) {
       return candidate.integrator == id;
     });
@@ -72,12 +72,13 @@ bool is_frame_or_choice_key(const std::string& key) {
 
 void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPath& search_path,
                 std::ostream& out) {
-  const RunConfig config = resolve_run_config(settings);
+  const Configuration whole = resolve_configuration(settings);
+  const ChooseConfig& choose = whole.choose;
   if (std::none_of(settings.begin(), settings.end(),
                    [](const Setting& setting) { return setting.key == "frame_rate"; }))
     throw host::InputError("--choose needs frame_rate (Hz): --frame-rate 60 or frame_rate: 60");
-  const sweep::ChoiceSettings& choice = config.choice;
-  const std::vector<sweep::ChoiceCandidate> candidates = candidates_for(config, search_path);
+  const sweep::ChoiceSettings& choice = choose.search;
+  const std::vector<sweep::ChoiceCandidate> candidates = candidates_for(whole, search_path);
   if (candidates.empty())
     throw host::InputError("--choose: no integrator on the plugin path (" + search_path.describe() +
                            ")");
@@ -85,7 +86,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
   // The scene is checked before the results store is opened: a failed reference run would
   // report a scenario that cannot be loaded without where it was set. Each candidate brings
   // its own integrator, so the reference integrator stands in for it.
-  RunConfig scene = config;
+  RunConfig scene = whole.run;
   scene.integrator = choice.reference_integrator;
   scene.integrator_source = "choose.reference_integrator";
   scene.integrator_params.clear();
@@ -95,18 +96,13 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
   sweep::SweepSpec spec;
   spec.source = "--choose";
   spec.name = "choose";
-  spec.output = config.choice_output;
+  spec.output = choose.output;
   // The scenario is named even when it is the default: a case without one has none.
-  spec.fixed.push_back({"scenario.plugin", config.scenario, config.scenario_source});
+  spec.fixed.push_back({"scenario.plugin", whole.run.scenario, whole.run.scenario_source});
   for (const Setting& setting : settings)
     if (!is_frame_or_choice_key(setting.key) && setting.key != "scenario.plugin")
       spec.fixed.push_back({setting.key, setting.value, setting.source});
   spec.fixed.push_back({"duration", host::format_number(choice.duration), "choose.duration"});
-  spec.monitor.check_interval = config.stability_interval;
-  spec.monitor.energy_margin = config.energy_margin;
-  // The monitor's stretch check (all springs) catches divergence; the choice's limit is on the
-  // structural springs (max_stretch of the run), judged after the run.
-  spec.monitor.stretch_limit = config.max_stretch;
   spec.work_precision.reference_integrator = choice.reference_integrator;
   const sweep::CaseSpec base = sweep::expand_cases(spec).at(0);
 
@@ -122,14 +118,13 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                         {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
                         {"reference_integrator", choice.reference_integrator},
                         {"reference_substeps", choice.reference_substeps}});
-    const std::filesystem::path cache_folder =
-        config.choice_reference_cache.empty()
-            ? spec.output.parent_path() / "choose-references"
-            : std::filesystem::path(config.choice_reference_cache);
+    const std::filesystem::path cache_folder = choose.reference_cache.empty()
+                                                   ? spec.output.parent_path() / "choose-references"
+                                                   : std::filesystem::path(choose.reference_cache);
     sweep::TrajectoryCache cache(
         cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
     const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {
-      return run_sweep_trajectory(spec, c, search_path);
+      return run_sweep_trajectory(c, search_path);
     };
     const std::vector<sweep::Choice> choices = sweep::choose_integrators(
         spec, base, candidates, choice, runner,
@@ -157,9 +152,9 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                           [&](std::ostream& file) { file << sweep::rows_to_csv(rows); });
 
     const sweep::Row& reference = ranked["reference"];
-    out << "choose: " << config.scenario << ", "
-        << (config.material ? "material " + config.material->name
-                            : std::string("per-spring values"))
+    out << "choose: " << whole.run.scenario << ", "
+        << (whole.run.material ? "material " + whole.run.material->name
+                               : std::string("per-spring values"))
         << ", " << host::format_number(choice.frame_rate)
         << " Hz, T = " << host::format_number(choice.duration)
         << " s; pass: stretch <= " << host::format_number(choice.stretch_limit)

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
-#include <clothlab/sweep/sweep_spec.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -24,6 +23,7 @@
 #include "run_config.hpp"
 #include "run_report.hpp"
 #include "simulation.hpp"
+#include "sweep_file.hpp"
 #include "sweep_mode.hpp"
 #include "view_command.hpp"
 
@@ -65,7 +65,7 @@ int run(int argc, const char* const argv[]) {
   if (command_line.list_plugins)
     return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
 
-  if (command_line.config_file && clothlab::sweep::is_sweep_file(*command_line.config_file)) {
+  if (command_line.config_file && is_sweep_file(*command_line.config_file)) {
     const bool frames = std::any_of(command_line.settings.begin(), command_line.settings.end(),
                                     [](const Setting& s) { return s.key.starts_with("frames."); });
     if (command_line.find_max_dt || command_line.json_file || command_line.state_file || frames)
@@ -93,7 +93,13 @@ int run(int argc, const char* const argv[]) {
   if (command_line.config_file) settings = read_config_file(*command_line.config_file);
   // Command-line values come after the file's, so they win.
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
-  const RunConfig config = resolve_run_config(settings);
+  for (const Setting& setting : settings)
+    if (setting.key.starts_with("sweep.") || setting.key.starts_with("slurm."))
+      throw clothlab::host::InputError(setting.source + ": " + setting.key +
+                                       " is a sweep's setting; allowed: in a sweep file (one "
+                                       "with a sweep: section) or on its command line");
+  const Configuration whole = resolve_configuration(settings);
+  const RunConfig& config = whole.run;
   for (const auto& output :
        {command_line.json_file, command_line.state_file, command_line.energy_file})
     if (output) check_output_path(*output);
@@ -109,7 +115,7 @@ int run(int argc, const char* const argv[]) {
     if (command_line.state_file || !config.frames.dir.empty())
       throw clothlab::host::InputError(
           "--state-out and --frames are for single runs, not --find-max-dt");
-    const nlohmann::json result = find_max_dt(config, search_path);
+    const nlohmann::json result = find_max_dt(whole, search_path);
     if (command_line.json_file)
       write_file_atomically(*command_line.json_file,
                             [&](std::ostream& out) { out << result.dump(2) << "\n"; });
@@ -146,7 +152,12 @@ int run(int argc, const char* const argv[]) {
                               {"verdict", record.verdict}};
       },
       config.timeout_s, /*forward_interrupt=*/true);
-  if (!command_line.quiet) std::cout << run["summary"].get<std::string>();
+  if (!command_line.quiet) {
+    std::cout << run["summary"].get<std::string>();
+    if (!config.frames.dir.empty())
+      std::cout << "  frames written to " << config.frames.dir << "\n  watch them: " << argv[0]
+                << " view " << config.frames.dir << " (writes a page to open in a browser)\n";
+  }
   if (run["interrupted"].get<bool>())
     return fail(exit_interrupted, run["verdict"].get<std::string>() + " (outputs written)");
   if (!run["stable"].get<bool>())

@@ -1,6 +1,6 @@
 #include "material.hpp"
 
-#include <algorithm>
+#include <clothlab/core/cloth.hpp>
 #include <clothlab/host/errors.hpp>
 #include <cmath>
 #include <cstdio>
@@ -26,9 +26,17 @@ double grid_value(const host::ParamSet& params, const char* key, const Material&
 
 GridSprings grid_springs(const Material& material, double rows, double cols, double width,
                          double height) {
-  // A single row or column has no spacing across it: use the one it has.
-  const double row_spacing = rows > 1 ? height / (rows - 1) : width / std::max(1.0, cols - 1);
-  const double col_spacing = cols > 1 ? width / (cols - 1) : row_spacing;
+  Scene layout;
+  layout.rows = static_cast<uint32_t>(rows);
+  layout.cols = static_cast<uint32_t>(cols);
+  layout.width = width;
+  layout.height = height;
+  // A single row or column has no spacing across it: use the one it has (a single particle:
+  // the width).
+  const double row_spacing = rows > 1   ? layout.row_spacing()
+                             : cols > 1 ? layout.column_spacing()
+                                        : width;
+  const double col_spacing = cols > 1 ? layout.column_spacing() : row_spacing;
   const double spacing = std::sqrt(row_spacing * col_spacing);
   GridSprings springs{};
   springs.mass = material.areal_density * width * height;

@@ -20,18 +20,16 @@ RunConfig with_dt(RunConfig config, double dt) {
 
 }  // namespace
 
-nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath& search_path) {
+nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path) {
+  const RunConfig& config = whole.run;
   // Every probe below turns an error into an unstable run, so bad input is found first.
   check_plugins(config, search_path);
+  analysis::MaxDtOptions options = whole.find_max_dt;
   nlohmann::json result;
   result["duration"] = config.duration;
-  result["tolerance"] = config.search_tolerance;
+  result["tolerance"] = options.relative_tolerance;
   result["predicted_dt_max"] = nullptr;
-  analysis::MaxDtOptions options;
-  options.relative_tolerance = config.search_tolerance;
-  options.dt_lower_limit = config.search_dt_min;
-  options.dt_upper_limit = config.search_dt_max;
-  options.dt_initial = std::clamp(config.dt, config.search_dt_min, config.search_dt_max);
+  options.dt_initial = std::clamp(config.dt, options.dt_lower_limit, options.dt_upper_limit);
   try {
     const nlohmann::json prediction =
         run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
@@ -40,8 +38,8 @@ nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath
     result["dominant_eigenvalue"] = {prediction["dominant_re"], prediction["dominant_im"]};
     // The prediction is the natural first probe: the bracket is then found in a step or two.
     if (prediction["dt_max"].is_number())
-      options.dt_initial = std::clamp(prediction["dt_max"].get<double>(), config.search_dt_min,
-                                      config.search_dt_max);
+      options.dt_initial = std::clamp(prediction["dt_max"].get<double>(), options.dt_lower_limit,
+                                      options.dt_upper_limit);
   } catch (const std::exception& error) {
     result["prediction_error"] = error.what();
   }

@@ -13,7 +13,7 @@ namespace clothlab::cli {
 // that crashes or throws counts as unstable. The prediction failing is noted, not fatal.
 // Returns {integrator, scenario, rows, cols, precision, duration, tolerance, dt_max,
 // dt_unstable, outcome, evaluations, predicted_dt_max, measured_over_predicted, ..., probes}.
-nlohmann::json find_max_dt(const RunConfig& config, const host::PluginSearchPath& search_path);
+nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path);
 
 std::string max_dt_summary(const nlohmann::json& result);
 

@@ -36,17 +36,18 @@ void check_material_complete(const Material& material, const std::vector<Setting
 
 }  // namespace
 
-RunConfig resolve_run_config(const std::vector<Setting>& settings) {
-  RunConfig config;
+Configuration resolve_configuration(const std::vector<Setting>& settings) {
+  Configuration whole;
   for (const KeyInfo& info : run_keys())
     if (info.default_value)
-      info.apply(config, check_value(info, {info.key, info.default_value,
-                                            std::string("default ") + info.key}));
+      info.apply(whole, check_value(info, {info.key, info.default_value,
+                                           std::string("default ") + info.key}));
   for (const Setting& setting : settings) {
     const KeyInfo* info = find_run_key(setting.key);
     if (info == nullptr) throw host::InputError(unknown_key_message(setting));
-    info->apply(config, check_value(*info, setting));
+    info->apply(whole, check_value(*info, setting));
   }
+  RunConfig& config = whole.run;
 
   if (config.material) check_material_complete(*config.material, settings);
   const Setting* dt = last_setting(settings, "dt");
@@ -58,7 +59,7 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
                              "; allowed: dt, or frame_rate and substeps (dt = 1 / (frame_rate "
                              "substeps)), not both");
     config.dt = 1.0 / (config.frame_rate * static_cast<double>(config.substeps));
-    config.choice.frame_rate = config.frame_rate;
+    whole.choose.search.frame_rate = config.frame_rate;
   } else if (const Setting* substeps = last_setting(settings, "substeps")) {
     throw host::InputError(substeps->source + ": substeps = " + substeps->value +
                            " without frame_rate; allowed: substeps together with frame_rate "
@@ -96,17 +97,22 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
           ? *config.frames.every
           : static_cast<uint64_t>(std::max(1.0, std::round(1.0 / (frames_rate * config.dt))));
 
-  if (config.search_dt_min >= config.search_dt_max) {
+  const analysis::MaxDtOptions& search = whole.find_max_dt;
+  if (search.dt_lower_limit >= search.dt_upper_limit) {
     const auto bracket = std::find_if(settings.rbegin(), settings.rend(), [](const Setting& s) {
       return s.key == "find_max_dt.dt_min" || s.key == "find_max_dt.dt_max";
     });
     const std::string source = bracket != settings.rend() ? bracket->source : "default";
     throw host::InputError(
-        source + ": find_max_dt.dt_min = " + host::format_number(config.search_dt_min) +
-        " s is not below find_max_dt.dt_max = " + host::format_number(config.search_dt_max) +
+        source + ": find_max_dt.dt_min = " + host::format_number(search.dt_lower_limit) +
+        " s is not below find_max_dt.dt_max = " + host::format_number(search.dt_upper_limit) +
         " s; allowed: dt_min < dt_max");
   }
-  return config;
+  return whole;
+}
+
+RunConfig resolve_run_config(const std::vector<Setting>& settings) {
+  return resolve_configuration(settings).run;
 }
 
 }  // namespace clothlab::cli

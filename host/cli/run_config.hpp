@@ -1,7 +1,12 @@
-// The settings of one run, merged from the config file and the command line and checked.
+// The settings of every mode, merged from the config file, the sweep file and the command line
+// and checked by the one key table (run_keys.cpp): a plain run's (RunConfig), --choose's,
+// --find-max-dt's and a sweep's.
 #pragma once
 
+#include <clothlab/analysis/find_max_dt.hpp>
+#include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/sweep/integrator_choice.hpp>
+#include <clothlab/sweep/sweep_spec.hpp>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -50,32 +55,49 @@ struct RunConfig {
   std::vector<Setting> plugin_params;
   // material.*: when set, decides the scenario's mass and every spring's ks and kd.
   std::optional<Material> material;
-  // stability.*: the objective verdict of every run (see clothlab::analysis::MonitorOptions).
-  uint64_t stability_interval = 0;  // steps between checks
-  double max_stretch = 0;           // longest spring / rest length (see MonitorOptions)
-  double energy_margin = 0;         // times the cloth's energy scale
+  // stability.*: the objective verdict of every run.
+  analysis::MonitorOptions monitor;
   // End the run at the first check where the warp/weft stretch exceeds this (x rest): the
   // maximum over the run can only grow, so --choose learns "stretch above its limit" without
   // the rest of the run. 0: run to the end.
   double stretch_stop = 0;
-  // choose.*: the --choose search (clothlab::sweep::ChoiceSettings; frame_rate from the key
-  // frame_rate); integrators: empty = every integrator on the plugin path.
-  sweep::ChoiceSettings choice;
-  std::vector<std::string> choice_integrators;
-  std::string choice_output;
+  FramesConfig frames;
+};
+
+// choose.*: the --choose search (frame_rate from the key frame_rate).
+struct ChooseConfig {
+  sweep::ChoiceSettings search;
+  std::vector<std::string> integrators;  // empty: every integrator on the plugin path
+  std::string output;
   // Folder of cached references (trajectory_cache.hpp); empty: choose-references beside the
   // output.
-  std::string choice_reference_cache;
-  // find_max_dt.*: the --find-max-dt search.
-  double search_tolerance = 0;  // relative width of the final bracket
-  double search_dt_min = 0;     // s: nothing stable below gives up
-  double search_dt_max = 0;     // s: everything stable up to it gives up
-  FramesConfig frames;
+  std::string reference_cache;
+};
+
+// sweep.*, work_precision.*, slurm.*: what a sweep file says beyond its cases' settings (the
+// matrix is read by sweep_file.cpp, each value checked here as a case's setting).
+struct SweepConfig {
+  std::string name;
+  sweep::SweepMode mode = sweep::SweepMode::Run;
+  std::string output;  // without extension; empty: results/<name>
+  sweep::WorkPrecisionSettings work_precision;
+  sweep::SlurmSettings slurm;
+};
+
+struct Configuration {
+  RunConfig run;
+  ChooseConfig choose;
+  // find_max_dt.*: --find-max-dt, and a sweep in stability mode; the first probe is the run's
+  // dt (or the predicted limit), so dt_initial is not a key.
+  analysis::MaxDtOptions find_max_dt;
+  SweepConfig sweep;
 };
 
 // Applies settings in order (later wins; steps and duration replace each other) to the
 // key table's defaults. Throws InputError naming source, key, value and what is allowed for an
 // unknown key or a bad value.
+Configuration resolve_configuration(const std::vector<Setting>& settings);
+// The plain run's part of it.
 RunConfig resolve_run_config(const std::vector<Setting>& settings);
 
 }  // namespace clothlab::cli

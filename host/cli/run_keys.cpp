@@ -1,6 +1,7 @@
 #include "run_keys.hpp"
 
 #include <algorithm>
+#include <clothlab/config/mesh_sides.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/identifiers.hpp>
 #include <clothlab/host/param_text.hpp>
@@ -26,6 +27,37 @@ Material& material_of(RunConfig& config, const KeyValue& value) {
   return *config.material;
 }
 
+// Throws the table's error for a value that is in range but breaks the key's own rule.
+[[noreturn]] void refuse(const KeyValue& value, const std::string& allowed) {
+  throw host::InputError(value.setting.source + ": " + value.setting.key + " = " +
+                         value.setting.value + ": not allowed; allowed: " + allowed);
+}
+
+std::string plugin_id_of(const KeyValue& value, const std::string& text) {
+  if (!host::is_plugin_id(text)) refuse(value, "a plugin id ([a-z0-9_-]+)");
+  return text;
+}
+
+// sbatch --time forms: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S (groups after the first: 1-2 digits).
+bool is_slurm_time(const std::string& text) {
+  const std::size_t dash = text.find('-');
+  if (dash != std::string::npos &&
+      (dash == 0 || dash > 4 || text.find_first_not_of("0123456789") < dash))
+    return false;
+  const std::string clock = dash == std::string::npos ? text : text.substr(dash + 1);
+  std::size_t groups = 0, start = 0;
+  while (start <= clock.size()) {
+    const std::size_t end = std::min(clock.find(':', start), clock.size());
+    const std::size_t digits = end - start;
+    if (digits == 0 || digits > (groups == 0 ? 6 : 2) ||
+        clock.substr(start, digits).find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    ++groups;
+    start = end + 1;
+  }
+  return groups <= 3;
+}
+
 constexpr double max_dt_s = 10.0;
 constexpr double max_steps = 1e9;
 constexpr double max_substeps = 1e6;
@@ -38,167 +70,260 @@ constexpr double max_threads = 256;
 const KeyInfo keys[] = {
     {"integrator.plugin", T::NonEmptyText, 0, 0, "", "a plugin name or path", "rk4",
      "integrator plugin: NAME, NAME.so (searched) or a path with '/'", "integrator",
-     [](RunConfig& c, const KeyValue& v) {
-       c.integrator = v.text;
-       c.integrator_source = v.setting.source;
+     [](Configuration& c, const KeyValue& v) {
+       c.run.integrator = v.text;
+       c.run.integrator_source = v.setting.source;
      }},
     {"scenario.plugin", T::NonEmptyText, 0, 0, "", "a plugin name or path", "sheet",
      "scenario plugin, found like the integrator", "scenario",
-     [](RunConfig& c, const KeyValue& v) {
-       c.scenario = v.text;
-       c.scenario_source = v.setting.source;
+     [](Configuration& c, const KeyValue& v) {
+       c.run.scenario = v.text;
+       c.run.scenario_source = v.setting.source;
      }},
     {"dt", T::PositiveReal, 0, max_dt_s, "s", nullptr, "0.001", "time step", "dt",
-     [](RunConfig& c, const KeyValue& v) { c.dt = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.run.dt = v.number; }},
     {"frame_rate", T::PositiveReal, 0, max_rate_hz, "Hz", nullptr, nullptr,
      "frames per second, instead of dt: dt = 1 / (frame_rate * substeps)", "frame-rate",
-     [](RunConfig& c, const KeyValue& v) { c.frame_rate = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.run.frame_rate = v.number; }},
     {"substeps", T::Whole, 1, max_substeps, "steps per frame", nullptr, "1",
      "steps per frame, with frame_rate", "substeps",
-     [](RunConfig& c, const KeyValue& v) { c.substeps = whole<uint64_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.run.substeps = whole<uint64_t>(v); }},
     {"steps", T::Whole, 1, max_steps, "", nullptr, nullptr,
      "number of steps, instead of duration (the later one given wins)", "steps",
-     [](RunConfig& c, const KeyValue& v) { c.steps = whole<uint64_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.run.steps = whole<uint64_t>(v); }},
     {"duration", T::PositiveReal, 0, 1e6, "s", nullptr, "2", "simulated time, instead of steps",
-     "duration", [](RunConfig& c, const KeyValue& v) { c.duration = v.number; }},
+     "duration", [](Configuration& c, const KeyValue& v) { c.run.duration = v.number; }},
+    {"mesh", T::Mesh, 1, max_side, "", nullptr, nullptr,
+     "the grid scenarios' size: sets scenario.rows and scenario.cols", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       const config::MeshSides sides = config::mesh_sides(v.text);
+       c.run.scenario_params.push_back({"rows", sides.rows, v.setting.source});
+       c.run.scenario_params.push_back({"cols", sides.cols, v.setting.source});
+     }},
     {"precision", T::Choice, 0, 0, "", "float32, float64", "float32", "floating-point precision",
-     "precision", [](RunConfig& c, const KeyValue& v) { c.float64 = v.text == "float64"; }},
+     "precision", [](Configuration& c, const KeyValue& v) { c.run.float64 = v.text == "float64"; }},
     {"threads", T::Whole, 0, max_threads, "", nullptr, "0", "worker threads, 0 = all cores",
-     "threads", [](RunConfig& c, const KeyValue& v) { c.threads = whole<int>(v); }},
+     "threads", [](Configuration& c, const KeyValue& v) { c.run.threads = whole<int>(v); }},
     {"timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "600",
      "a single run, sweep case or --find-max-dt probe running longer is killed", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.timeout_s = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.run.timeout_s = v.number; }},
     {"material.name", T::Text, 0, 0, "", "a label for reports", nullptr,
      "the material's name (a material sets every material.* number)", nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).name = v.text; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).name = v.text; }},
     {"material.areal_density", T::Real, 1e-6, 1e3, "kg/m^2", nullptr, nullptr,
      "mass per area; decides the scenario's mass", nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).areal_density = v.number; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).areal_density = v.number; }},
     {"material.stretch_stiffness", T::Real, 1e-3, 1e8, "N/m", nullptr, nullptr,
      "membrane stretch stiffness E", nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).stretch_stiffness = v.number; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).stretch_stiffness = v.number; }},
     {"material.shear_stiffness", T::Real, 0, 1e8, "N/m", nullptr, nullptr,
      "membrane shear stiffness G, below E", nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).shear_stiffness = v.number; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).shear_stiffness = v.number; }},
     {"material.bending_stiffness", T::Real, 0, 1, "N m", nullptr, nullptr, "bending stiffness B",
      nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).bending_stiffness = v.number; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).bending_stiffness = v.number; }},
     {"material.damping_time", T::Real, 0, 10, "s", nullptr, nullptr,
      "Rayleigh damping time kd / ks", nullptr,
-     [](RunConfig& c, const KeyValue& v) { material_of(c, v).damping_time = v.number; }},
+     [](Configuration& c, const KeyValue& v) { material_of(c.run, v).damping_time = v.number; }},
     {"choose.duration", T::PositiveReal, 0, 1e3, "s", nullptr, "1",
      "--choose: simulated time of the runs judged for stability, stretch and cost", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.duration = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.duration = v.number; }},
     {"choose.error_duration", T::PositiveReal, 0, 1e3, "s", nullptr, nullptr,
      "--choose: simulated time of the error run; unset: choose.duration", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.error_duration = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.error_duration = v.number; }},
     {"choose.probe_timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "60",
      "--choose: wall-clock limit of one probe run", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.probe_timeout_s = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.probe_timeout_s = v.number; }},
     {"choose.stop_factor", T::Real, 0, 1e3, "", "0 (no cost budget) or a real in [2, 1000]", "3",
      "--choose: a search is stopped, and reported, where nothing it has left can cost within "
      "this / 2 x the best passing setting so far; 0: no cost budget; below 2 refused (it could "
      "stop a cheaper setting)",
      nullptr,
-     [](RunConfig& c, const KeyValue& v) {
+     [](Configuration& c, const KeyValue& v) {
        if (v.number > 0 && v.number < 2)
          throw host::InputError(v.setting.source + ": choose.stop_factor = " + v.setting.value +
                                 ": out of range; allowed: 0 (no cost budget) or a real in [2, "
                                 "1000]");
-       c.choice.stop_factor = v.number;
+       c.choose.search.stop_factor = v.number;
      }},
     {"choose.stretch_limit", T::Real, 1, 1e6, "x rest length", nullptr, "1.1",
      "--choose: longest spring allowed", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.stretch_limit = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.stretch_limit = v.number; }},
     {"choose.error_tolerance", T::PositiveReal, 0, 1, "of the cloth diagonal", nullptr, "0.01",
      "--choose: RMS position error allowed against the reference", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.error_tolerance = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.error_tolerance = v.number; }},
     {"choose.max_substeps", T::Whole, 1, max_substeps, "", nullptr, "4096",
      "--choose: most substeps per frame tried", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.max_substeps = whole<uint32_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.max_substeps = whole<uint32_t>(v); }},
     {"choose.max_iterations", T::Whole, 1, 1e5, "", nullptr, "32",
      "--choose: most solver iterations tried", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.max_iterations = whole<uint32_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.max_iterations = whole<uint32_t>(v); }},
     {"choose.reference_substeps", T::Whole, 1, max_substeps, "", nullptr, "512",
      "--choose: the reference's substeps per frame", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.reference_substeps = whole<uint32_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.reference_substeps = whole<uint32_t>(v); }},
     {"choose.reference_integrator", T::NonEmptyText, 0, 0, "", "a plugin name", "rk4",
      "--choose: the integrator of the reference", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.reference_integrator = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.reference_integrator = v.text; }},
     {"choose.error_mesh", T::Mesh, 1, max_side, "", nullptr, nullptr,
      "--choose: mesh of the error runs; unset: the scene's", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice.error_mesh = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.search.error_mesh = v.text; }},
     {"choose.integrators", T::Names, 0, 0, "", "plugin names", nullptr,
      "--choose: the integrators compared; unset: every one on the plugin path", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice_integrators = v.words; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.integrators = v.words; }},
     {"choose.output", T::NonEmptyText, 0, 0, "", "a path", "results/choose",
      "--choose: results file, without extension", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.choice_output = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.output = v.text; }},
     {"choose.reference_cache", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
      "--choose: folder of cached references; unset: choose-references beside choose.output",
-     nullptr, [](RunConfig& c, const KeyValue& v) { c.choice_reference_cache = v.text; }},
+     nullptr, [](Configuration& c, const KeyValue& v) { c.choose.reference_cache = v.text; }},
     {"stability.interval", T::Whole, 1, max_steps, "steps", nullptr, "10",
      "steps between stability checks", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.stability_interval = whole<uint64_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.run.monitor.check_interval = whole<uint64_t>(v); }},
     {"stability.max_stretch", T::Real, 1, 1e6, "", nullptr, "5",
      "longest spring / rest length before the run fails", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.max_stretch = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.run.monitor.stretch_limit = v.number; }},
     {"stability.stretch_stop", T::Real, 0, 1e6, "", "0 (run to the end) or a real in [1, 1e6]",
      "0",
      "end the run (not a failure) at the first check where the warp/weft stretch exceeds this "
      "x rest (--choose sets its stretch limit); 0: run to the end",
      nullptr,
-     [](RunConfig& c, const KeyValue& v) {
+     [](Configuration& c, const KeyValue& v) {
        if (v.number > 0 && v.number < 1)
          throw host::InputError(v.setting.source + ": stability.stretch_stop = " +
                                 v.setting.value +
                                 ": out of range; allowed: 0 (run to the end) or a real in [1, "
                                 "1e6]");
-       c.stretch_stop = v.number;
+       c.run.stretch_stop = v.number;
      }},
     {"stability.energy_margin", T::PositiveReal, 0, 1e12, "", nullptr, "1",
      "energy gain allowed, in units of the cloth's energy scale", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.energy_margin = v.number; }},
+     [](Configuration& c, const KeyValue& v) { c.run.monitor.energy_margin = v.number; }},
+    {"stability.wind_work_safety", T::Real, 1, 1e6, "", nullptr, "2",
+     "factor on the bound of the work the wind can do between two checks (the energy check's "
+     "allowance)",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) { c.run.monitor.wind_work_safety = v.number; }},
     {"find_max_dt.tolerance", T::Real, 1e-6, 0.5, "", nullptr, "0.02",
-     "--find-max-dt: relative width of the final bracket", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.search_tolerance = v.number; }},
+     "--find-max-dt and stability sweeps: relative width of the final bracket (the first probe "
+     "is dt, or the predicted limit)",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) { c.find_max_dt.relative_tolerance = v.number; }},
     {"find_max_dt.dt_min", T::PositiveReal, 0, max_dt_s, "s", nullptr, "1e-07",
-     "--find-max-dt: the smallest dt tried", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.search_dt_min = v.number; }},
+     "--find-max-dt and stability sweeps: the smallest dt tried", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.find_max_dt.dt_lower_limit = v.number; }},
     {"find_max_dt.dt_max", T::PositiveReal, 0, max_dt_s, "s", nullptr, "1",
-     "--find-max-dt: the largest dt tried", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.search_dt_max = v.number; }},
+     "--find-max-dt and stability sweeps: the largest dt tried", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.find_max_dt.dt_upper_limit = v.number; }},
+    {"find_max_dt.growth", T::Real, 1.01, 100, "", nullptr, "2",
+     "--find-max-dt and stability sweeps: factor between probes while bracketing", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.find_max_dt.growth = v.number; }},
+    {"find_max_dt.max_evaluations", T::Whole, 1, 1000, "", nullptr, "64",
+     "--find-max-dt and stability sweeps: most probe runs of one search", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.find_max_dt.max_evaluations = whole<int>(v); }},
+    {"sweep.name", T::NonEmptyText, 0, 0, "", "a plugin-id-like name ([a-z0-9_-]+)", nullptr,
+     "a sweep file's name (required there)", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       if (!host::is_plugin_id(v.text)) refuse(v, "[a-z0-9_-]+");
+       c.sweep.name = v.text;
+     }},
+    {"sweep.mode", T::Choice, 0, 0, "", "run, work-precision, stability", "run",
+     "a sweep's kind: runs, a work-precision ladder per case, or a stable-dt search per case",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       for (const sweep::SweepMode mode : {sweep::SweepMode::Run, sweep::SweepMode::WorkPrecision,
+                                           sweep::SweepMode::Stability})
+         if (v.text == sweep::to_string(mode)) c.sweep.mode = mode;
+     }},
+    {"sweep.output", T::NonEmptyText, 0, 0, "", "a path without extension", nullptr,
+     "a sweep's results (.sqlite, .csv, .json); unset: results/<sweep.name>", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.sweep.output = v.text; }},
+    {"work_precision.reference_integrator", T::NonEmptyText, 0, 0, "", "a plugin id", "rk4",
+     "work-precision sweeps: the integrator of the reference runs", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       c.sweep.work_precision.reference_integrator = plugin_id_of(v, v.text);
+     }},
+    {"work_precision.self_reference", T::Names, 0, 0, "", "plugin ids", nullptr,
+     "work-precision sweeps: integrators measured against themselves at the reference step "
+     "(they solve another ODE than the reference, e.g. Verlet's own drag)",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       c.sweep.work_precision.self_reference.clear();
+       for (const std::string& id : v.words)
+         c.sweep.work_precision.self_reference.push_back(plugin_id_of(v, id));
+     }},
+    {"work_precision.refinement", T::Real, 2, 1e6, "", nullptr, "32",
+     "work-precision sweeps: the reference dt is the finest ladder dt / this", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.sweep.work_precision.refinement = v.number; }},
+    {"work_precision.dt_start", T::Real, 1e-9, max_dt_s, "s", nullptr, "0.004",
+     "work-precision sweeps: the coarsest ladder dt", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.sweep.work_precision.dt_start = v.number; }},
+    {"work_precision.levels", T::Whole, 2, 30, "", nullptr, "6",
+     "work-precision sweeps: ladder length (dt_start, dt_start / 2, ...)", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.sweep.work_precision.levels = whole<int>(v); }},
+    {"slurm.partition", T::Text, 0, 0, "", "a partition name: up to 64 of [A-Za-z0-9_.-]",
+     nullptr, "--slurm: sbatch --partition; unset: the cluster's default", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       const bool plain = !v.text.empty() && v.text.size() <= 64 &&
+                          v.text.find_first_not_of(
+                              "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                              "0123456789_.-") == std::string::npos;
+       if (!plain) refuse(v, "a partition name: up to 64 of [A-Za-z0-9_.-]");
+       c.sweep.slurm.partition = v.text;
+     }},
+    {"slurm.tasks", T::Whole, 1, 1e5, "", nullptr, "4",
+     "--slurm: array tasks, one shard each (--array=1-N)", nullptr,
+     [](Configuration& c, const KeyValue& v) { c.sweep.slurm.tasks = whole<std::size_t>(v); }},
+    {"slurm.time", T::Text, 0, 0, "", "a Slurm time: MM, MM:SS, H:MM:SS or D-HH[:MM[:SS]]",
+     nullptr, "--slurm: sbatch --time per task; unset: the partition's limit", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       if (!is_slurm_time(v.text)) refuse(v, "a Slurm time: MM, MM:SS, H:MM:SS or D-HH[:MM[:SS]]");
+       c.sweep.slurm.time = v.text;
+     }},
+    {"slurm.cpus_per_task", T::Whole, 1, 1024, "", nullptr, "1",
+     "--slurm: sbatch --cpus-per-task", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       c.sweep.slurm.cpus_per_task = whole<std::size_t>(v);
+     }},
+    {"slurm.sbatch", T::Names, 0, 0, "", "sbatch options --name or --name=value", nullptr,
+     "--slurm: further sbatch options, passed as given (each setting adds to the list)", nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       for (const std::string& option : v.words) {
+         if (!option.starts_with("--") || option.find_first_of(" \t\n") != std::string::npos)
+           refuse(v, "sbatch options of the form --name or --name=value");
+         c.sweep.slurm.sbatch_options.push_back(option);
+       }
+     }},
     {"frames.dir", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
      "write the cloth every frame to this folder; `clothlab view DIR` plays it", "frames",
-     [](RunConfig& c, const KeyValue& v) { c.frames.dir = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.run.frames.dir = v.text; }},
     {"frames.every", T::Whole, 1, max_steps, "steps", nullptr, nullptr,
      "steps between frames, instead of frames.rate", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.frames.every = whole<uint64_t>(v); }},
+     [](Configuration& c, const KeyValue& v) { c.run.frames.every = whole<uint64_t>(v); }},
     {"frames.rate", T::PositiveReal, 0, max_rate_hz, "Hz", nullptr, nullptr,
      "frames per simulated second, instead of frames.every; unset: frame_rate, else 60 Hz",
      nullptr,
-     [](RunConfig& c, const KeyValue& v) {
-       c.frames.rate = v.number;
-       c.frames.every.reset();
+     [](Configuration& c, const KeyValue& v) {
+       c.run.frames.rate = v.number;
+       c.run.frames.every.reset();
      }},
     {"frames.format", T::ChoiceList, 0, 0, "", "vtp, obj, pc2", "vtp",
      "frame file formats (vtp comes with a .pvd index)", nullptr,
-     [](RunConfig& c, const KeyValue& v) { c.frames.formats = v.words; }},
+     [](Configuration& c, const KeyValue& v) { c.run.frames.formats = v.words; }},
     {"integrator.<parameter>", T::PluginParameter, 0, 0, "", "a parameter of the integrator",
      nullptr, "see clothlab --list-plugins", nullptr,
-     [](RunConfig& c, const KeyValue& v) {
-       c.integrator_params.push_back({v.setting.key.substr(11), v.text, v.setting.source});
+     [](Configuration& c, const KeyValue& v) {
+       c.run.integrator_params.push_back({v.setting.key.substr(11), v.text, v.setting.source});
      }},
     {"scenario.<parameter>", T::PluginParameter, 0, 0, "", "a parameter of the scenario", nullptr,
      "see clothlab --list-plugins", nullptr,
-     [](RunConfig& c, const KeyValue& v) {
-       c.scenario_params.push_back({v.setting.key.substr(9), v.text, v.setting.source});
+     [](Configuration& c, const KeyValue& v) {
+       c.run.scenario_params.push_back({v.setting.key.substr(9), v.text, v.setting.source});
      }},
     {"plugin_params.<plugin id>.<parameter>", T::PluginParameter, 0, 0, "",
      "a parameter of that plugin", nullptr,
      "applied only when that plugin runs, before integrator.* and scenario.*", nullptr,
-     [](RunConfig& c, const KeyValue& v) {
-       c.plugin_params.push_back({v.setting.key.substr(14), v.text, v.setting.source});
+     [](Configuration& c, const KeyValue& v) {
+       c.run.plugin_params.push_back({v.setting.key.substr(14), v.text, v.setting.source});
      }},
 };
 
@@ -290,13 +415,11 @@ std::string value_problem(const KeyInfo& info, const Setting& setting, KeyValue&
         if (word.empty()) return "an empty name";
       return "";
     case T::Mesh: {
-      const size_t cross = text.find('x');
-      const std::string rows = text.substr(0, cross);
-      const std::string cols = cross == std::string::npos ? rows : text.substr(cross + 1);
+      const config::MeshSides sides = config::mesh_sides(text);
       double side = 0;
-      for (const std::string& part : {rows, cols})
+      for (const std::string& part : {sides.rows, sides.cols})
         if (!number_problem(info, part, side).empty()) return "not a mesh";
-      value.text = rows + "x" + cols;
+      value.text = sides.rows + "x" + sides.cols;
       return "";
     }
     case T::NonEmptyText:

@@ -11,7 +11,7 @@
 
 namespace clothlab::cli {
 
-struct RunConfig;
+struct Configuration;
 
 enum class KeyType {
   Real,             // a number in [min_value, max_value]
@@ -43,7 +43,7 @@ struct KeyInfo {
   const char* default_value;  // applied before any setting; nullptr: unset (`help` says why)
   const char* help;
   const char* flag;  // the command-line flag that stands for the key ("frame-rate"), or nullptr
-  void (*apply)(RunConfig& config, const KeyValue& value);
+  void (*apply)(Configuration& config, const KeyValue& value);
 };
 
 std::span<const KeyInfo> run_keys();

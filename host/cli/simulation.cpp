@@ -211,11 +211,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   for (auto* series : timing_series)
     series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
-  analysis::MonitorOptions monitor_options;
-  monitor_options.check_interval = config_.stability_interval;
-  monitor_options.stretch_limit = config_.max_stretch;
-  monitor_options.energy_margin = config_.energy_margin;
-  analysis::StabilityMonitor monitor(*cloth_, 0.0, monitor_options);
+  analysis::StabilityMonitor monitor(*cloth_, 0.0, config_.monitor);
   auto fail = [&](uint64_t step, std::string check, std::string verdict) {
     record.stable = false;
     record.failed_step = step;
@@ -273,9 +269,9 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
     // Sampled where the monitor looks, so the maximum over the run costs no extra passes
     // beyond one per check.
-    if (hooks.trace_energy && (step % config_.stability_interval == 0 || step == config_.steps))
+    if (hooks.trace_energy && (step % config_.monitor.check_interval == 0 || step == config_.steps))
       record.energy_trace.push_back({t_end, cloth_->energy()});
-    if (step % config_.stability_interval == 0 || step == config_.steps)
+    if (step % config_.monitor.check_interval == 0 || step == config_.steps)
       note_stretch(record, *cloth_, cloth_->stretch(Cloth::Springs::Structural).max, t_end);
     // A run the monitor failed keeps that verdict.
     if (record.stable && config_.stretch_stop > 0 &&

@@ -9,7 +9,6 @@
 #include <clothlab/sweep/stability_search.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/sweep_runner.hpp>
-#include <clothlab/sweep/sweep_spec.hpp>
 #include <clothlab/sweep/work_precision.hpp>
 #include <cmath>
 #include <iostream>
@@ -20,23 +19,14 @@
 #include "run_config.hpp"
 #include "simulation.hpp"
 #include "slurm_sweep.hpp"
+#include "sweep_file.hpp"
 
 namespace clothlab::cli {
 
 namespace {
 
-// The case's settings as a single run sees them. The sweep's monitor section comes first, so
-// stability.* keys among the fixed settings (or --set on the command line) override it.
-RunConfig case_config(const sweep::SweepSpec& spec, const sweep::CaseSpec& c) {
-  const std::string source = spec.source + ": sweep.monitor";
-  std::vector<Setting> settings = {
-      {"stability.interval", std::to_string(spec.monitor.check_interval), source},
-      {"stability.max_stretch", host::format_number(spec.monitor.stretch_limit), source},
-      {"stability.energy_margin", host::format_number(spec.monitor.energy_margin), source}};
-  for (const sweep::Setting& setting : c.settings)
-    settings.push_back({setting.key, setting.value, setting.source});
-  return resolve_run_config(settings);
-}
+// The case's settings as a single run sees them.
+RunConfig case_config(const sweep::CaseSpec& c) { return resolve_run_config(c.settings); }
 
 // The verdict part of a case result from a run's summary JSON.
 sweep::CaseResult verdict_of(const nlohmann::json& run) {
@@ -50,9 +40,8 @@ sweep::CaseResult verdict_of(const nlohmann::json& run) {
   return result;
 }
 
-sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
-                          const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(spec, c);
+sweep::CaseResult run_row(const sweep::CaseSpec& c, const host::PluginSearchPath& search_path) {
+  const RunConfig config = case_config(c);
   const nlohmann::json run =
       run_isolated([&] { return run_case(config, search_path); }, config.timeout_s);
   sweep::CaseResult result = verdict_of(run);
@@ -69,9 +58,9 @@ sweep::CaseResult run_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c
   return result;
 }
 
-sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+sweep::Trajectory run_trajectory(const sweep::CaseSpec& c,
                                  const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(spec, c);
+  const RunConfig config = case_config(c);
   const nlohmann::json run =
       run_isolated([&] { return run_case(config, search_path, true); }, config.timeout_s);
   sweep::Trajectory trajectory;
@@ -88,9 +77,9 @@ sweep::Trajectory run_trajectory(const sweep::SweepSpec& spec, const sweep::Case
   return trajectory;
 }
 
-sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+sweep::DtPrediction predict_row(const sweep::CaseSpec& c,
                                 const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(spec, c);
+  const RunConfig config = case_config(c);
   const nlohmann::json prediction =
       run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
   sweep::DtPrediction result;
@@ -105,10 +94,10 @@ sweep::DtPrediction predict_row(const sweep::SweepSpec& spec, const sweep::CaseS
 // Every case goes through the checks of a single run (its settings, then its plugins and
 // parameter values) before the first one runs: a sweep with bad input does nothing and
 // exits 1. Loading plugins is plugin code, so it happens in one child for all cases.
-void check_every_case(const sweep::SweepSpec& spec, const std::vector<sweep::CaseSpec>& cases,
+void check_every_case(const std::vector<sweep::CaseSpec>& cases,
                       const host::PluginSearchPath& search_path) {
   std::vector<RunConfig> configs;
-  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(spec, c));
+  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(c));
   if (configs.empty()) return;
   try {
     run_isolated(
@@ -141,26 +130,20 @@ std::string plugin_identity(const host::PluginSearchPath& search_path, const std
          sweep::file_hash(path.string());
 }
 
-sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c,
                                        const host::PluginSearchPath& search_path) {
-  return run_trajectory(spec, c, search_path);
+  return run_trajectory(c, search_path);
 }
 
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out) {
   try {
-    sweep::SweepSpec spec = sweep::load_sweep(request.config_file);
-    for (const Setting& setting : request.overrides) {
-      if (setting.key.starts_with("slurm."))
-        sweep::apply_slurm_setting(spec.slurm, setting.key, setting.value, setting.source);
-      else
-        spec.fixed.push_back({setting.key, setting.value, setting.source});
-    }
+    sweep::SweepSpec spec = load_sweep(request.config_file, request.overrides);
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
     const std::vector<sweep::CaseSpec> all_cases = sweep::expand_cases(spec);
     if (spec.mode == sweep::SweepMode::WorkPrecision)
       sweep::check_work_precision_cases(spec, all_cases);
-    check_every_case(spec, all_cases, search_path);
+    check_every_case(all_cases, search_path);
     const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
         spec, [&](const std::string& id) { return plugin_identity(search_path, id); });
     if (request.slurm) {
@@ -191,7 +174,7 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
                                       [&](const auto& c) { return store.contains(c.key); });
       sweep::Progress progress(cases.size(), static_cast<std::size_t>(done), std::cerr, terminal);
       const sweep::SweepSummary summary = sweep::run_sweep(
-          cases, [&](const sweep::CaseSpec& c) { return run_row(spec, c, search_path); }, store,
+          cases, [&](const sweep::CaseSpec& c) { return run_row(c, search_path); }, store,
           &progress);
       counts = std::to_string(summary.total) + " cases: " + std::to_string(summary.stable) +
                " stable, " + std::to_string(summary.unstable) + " unstable, " +
@@ -200,17 +183,15 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     } else if (spec.mode == sweep::SweepMode::WorkPrecision) {
       sweep::Progress progress(sweep::work_precision_units(spec, cases), 0, std::cerr, terminal);
       const sweep::WorkPrecisionSummary summary = sweep::run_work_precision(
-          spec, cases,
-          [&](const sweep::CaseSpec& c) { return run_trajectory(spec, c, search_path); }, store,
-          &progress);
+          spec, cases, [&](const sweep::CaseSpec& c) { return run_trajectory(c, search_path); },
+          store, &progress);
       counts = std::to_string(summary.references) + " references, " + std::to_string(summary.runs) +
                " ladder runs, " + std::to_string(summary.skipped) + " already done";
     } else {
       sweep::Progress progress(cases.size(), 0, std::cerr, terminal);
       const sweep::StabilitySummary summary = sweep::run_stability_search(
-          spec, cases, [&](const sweep::CaseSpec& c) { return run_row(spec, c, search_path); },
-          [&](const sweep::CaseSpec& c) { return predict_row(spec, c, search_path); }, store,
-          &progress);
+          spec, cases, [&](const sweep::CaseSpec& c) { return run_row(c, search_path); },
+          [&](const sweep::CaseSpec& c) { return predict_row(c, search_path); }, store, &progress);
       counts = std::to_string(summary.searched) + " searched, " + std::to_string(summary.skipped) +
                " already done";
     }

@@ -26,9 +26,9 @@ struct SweepRequest {
   std::vector<std::string> plugin_paths;  // --plugin-path entries, passed on to Slurm tasks
 };
 
-// One case of `spec` run to its end in a child process, with its final positions: the
+// One case run to its end in a child process, with its final positions: the
 // trajectory runner of the work-precision and choose drivers.
-sweep::Trajectory run_sweep_trajectory(const sweep::SweepSpec& spec, const sweep::CaseSpec& c,
+sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c,
                                        const host::PluginSearchPath& search_path);
 
 // A plugin file's identity for fingerprints and caches: where it was found, its size and

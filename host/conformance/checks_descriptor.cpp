@@ -1,11 +1,12 @@
-// descriptor.*: the metadata a host relies on before calling anything is well formed, and
-// the integrator extensions a plugin declares (ABI 1.2) are sound.
+// descriptor.*: the metadata a host relies on before calling anything is well formed (fields,
+// ids-unique, params: every finding of the loader's own validator, host::descriptor_findings),
+// the declared order and cost are plausible, and the integrator extensions a plugin declares
+// (ABI 1.2) are sound.
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
-#include <clothlab/host/identifiers.hpp>
 
+#include <clothlab/host/descriptor_findings.hpp>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "check.hpp"
@@ -13,8 +14,6 @@
 
 namespace clothlab::conformance {
 namespace {
-
-bool non_empty(const char* text) { return text != nullptr && text[0] != '\0'; }
 
 std::string quoted(const char* text) {
   if (text == nullptr) return "null";
@@ -24,90 +23,42 @@ std::string quoted(const char* text) {
   return result;
 }
 
-void require_strings(const char* id, const char* name, const char* version,
-                     const char* description) {
-  require(id != nullptr && host::is_plugin_id(id), "id " + quoted(id) + " must match [a-z0-9_-]+");
-  require(non_empty(name), "name " + quoted(name) + " is empty");
-  require(non_empty(version), "version " + quoted(version) + " is empty");
-  require(non_empty(description), "description " + quoted(description) + " is empty");
+using host::DescriptorPart;
+
+// The check passes when the one validator of descriptors has no finding for it, and otherwise
+// fails with every finding it has.
+template <class Belongs>
+Verdict no_findings(const clothlab_plugin_descriptor& library, Belongs belongs,
+                    std::string measured) {
+  std::string reasons;
+  for (const host::DescriptorFinding& finding : host::descriptor_findings(library))
+    if (belongs(finding)) reasons += (reasons.empty() ? "" : "; ") + host::describe(finding);
+  require(reasons.empty(), reasons);
+  return {true, std::move(measured)};
 }
 
-void require_spec(const clothlab_param_spec& spec) {
-  const std::string name = spec.name != nullptr ? spec.name : "(null)";
-  require(spec.struct_size >= CLOTHLAB_PARAM_SPEC_SIZE_1_0,
-          name + ": struct_size " + std::to_string(spec.struct_size) + " < " +
-              std::to_string(CLOTHLAB_PARAM_SPEC_SIZE_1_0) + " (ABI 1.0)");
-  require(spec.name != nullptr && host::is_param_name(spec.name),
-          "parameter name " + quoted(spec.name) + " must match [a-z0-9_.]+");
-  require(spec.help != nullptr && spec.unit != nullptr, name + ": help or unit is null");
-  const bool known = spec.type >= CLOTHLAB_PARAM_REAL && spec.type <= CLOTHLAB_PARAM_VEC3;
-  require(known, name + ": unknown type " + std::to_string(spec.type));
-  require(std::isfinite(spec.min_value) && std::isfinite(spec.max_value) &&
-              spec.min_value <= spec.max_value,
-          name + ": range [" + std::to_string(spec.min_value) + ", " +
-              std::to_string(spec.max_value) + "] is not a finite interval");
-  if (spec.type == CLOTHLAB_PARAM_BOOL)
-    require(spec.min_value == 0.0 && spec.max_value == 1.0, name + ": bool range must be [0, 1]");
-  const int components = spec.type == CLOTHLAB_PARAM_VEC3 ? 3 : 1;
-  for (int k = 0; k < components; ++k) {
-    const double value = spec.default_value[k];
-    require(std::isfinite(value) && value >= spec.min_value && value <= spec.max_value,
-            name + ": default " + std::to_string(value) + " outside [" +
-                std::to_string(spec.min_value) + ", " + std::to_string(spec.max_value) + "]");
-    if (spec.type == CLOTHLAB_PARAM_INT || spec.type == CLOTHLAB_PARAM_BOOL)
-      require(std::floor(value) == value,
-              name + ": default " + std::to_string(value) + " is not an integer");
-  }
-}
-
-Verdict params_consistent(const clothlab_param_spec* specs, uint32_t count) {
-  require(count == 0 || specs != nullptr,
-          "param_count is " + std::to_string(count) + " but params is null");
-  std::set<std::string> names;
-  for (uint32_t i = 0; i < count; ++i) {
-    require_spec(specs[i]);
-    require(names.insert(specs[i].name).second,
-            std::string("parameter name \"") + specs[i].name + "\" is declared twice");
-  }
-  return {true, std::to_string(count) + " parameters"};
+Verdict component_findings(const clothlab_plugin_descriptor& library, const std::string& id,
+                           DescriptorPart part, std::string measured) {
+  return no_findings(
+      library,
+      [&](const host::DescriptorFinding& f) { return f.component == id && f.part == part; },
+      std::move(measured));
 }
 
 Verdict library_fields(const clothlab_plugin_descriptor& library) {
-  require(library.struct_size >= CLOTHLAB_DESCRIPTOR_SIZE_1_0,
-          "struct_size " + std::to_string(library.struct_size) + " < " +
-              std::to_string(CLOTHLAB_DESCRIPTOR_SIZE_1_0) + " (ABI 1.0)");
-  require(non_empty(library.library_name), "library_name is empty");
-  require(non_empty(library.library_version), "library_version is empty");
-  require(library.integrator_count + library.scenario_count > 0, "the library has no components");
-  require(library.integrator_count == 0 || library.integrators != nullptr, "integrators is null");
-  require(library.scenario_count == 0 || library.scenarios != nullptr, "scenarios is null");
-  for (uint32_t i = 0; i < library.integrator_count; ++i)
-    require(library.integrators[i] != nullptr, "integrators[" + std::to_string(i) + "] is null");
-  for (uint32_t i = 0; i < library.scenario_count; ++i)
-    require(library.scenarios[i] != nullptr, "scenarios[" + std::to_string(i) + "] is null");
-  return {true, std::to_string(library.integrator_count) + " integrators, " +
-                    std::to_string(library.scenario_count) + " scenarios"};
+  return no_findings(
+      library,
+      [](const host::DescriptorFinding& f) {
+        return f.kind == "library" && f.part == DescriptorPart::fields;
+      },
+      std::to_string(library.integrator_count) + " integrators, " +
+          std::to_string(library.scenario_count) + " scenarios");
 }
 
 Verdict ids_unique(const clothlab_plugin_descriptor& library) {
-  std::set<std::string> ids;
-  auto insert = [&](const char* id) {
-    require(id != nullptr, "a component has a null id");
-    require(ids.insert(id).second, std::string("id \"") + id + "\" is used twice");
-  };
-  for (uint32_t i = 0; i < library.integrator_count; ++i) insert(library.integrators[i]->id);
-  for (uint32_t i = 0; i < library.scenario_count; ++i) insert(library.scenarios[i]->id);
-  return {true, ""};
-}
-
-Verdict integrator_fields(const clothlab_integrator& integrator) {
-  require(integrator.struct_size >= CLOTHLAB_INTEGRATOR_SIZE_1_0,
-          "struct_size " + std::to_string(integrator.struct_size) + " < " +
-              std::to_string(CLOTHLAB_INTEGRATOR_SIZE_1_0) + " (ABI 1.0)");
-  require_strings(integrator.id, integrator.name, integrator.version, integrator.description);
-  require(integrator.create && integrator.prepare && integrator.step && integrator.destroy,
-          "a function pointer is null");
-  return {true, ""};
+  return no_findings(
+      library,
+      [](const host::DescriptorFinding& f) { return f.part == DescriptorPart::unique_ids; }, "");
 }
 
 Verdict integrator_order(const clothlab_integrator& integrator) {
@@ -199,19 +150,19 @@ Verdict integrator_extensions(const clothlab_integrator& integrator) {
   return {true, offered.empty() ? "none offered" : offered};
 }
 
-Verdict scenario_fields(const clothlab_scenario& scenario) {
-  require(scenario.struct_size >= CLOTHLAB_SCENARIO_SIZE_1_0,
-          "struct_size " + std::to_string(scenario.struct_size) + " < " +
-              std::to_string(CLOTHLAB_SCENARIO_SIZE_1_0) + " (ABI 1.0)");
-  require_strings(scenario.id, scenario.name, scenario.version, scenario.description);
-  require(scenario.create && scenario.describe && scenario.destroy, "a function pointer is null");
-  return {true, ""};
-}
-
 }  // namespace
 
 std::vector<Check> descriptor_checks(const clothlab_plugin_descriptor& library) {
   const clothlab_plugin_descriptor* lib = &library;
+  const auto fields = [lib](std::string id) {
+    return [lib, id] { return component_findings(*lib, id, DescriptorPart::fields, ""); };
+  };
+  const auto params = [lib](std::string id, uint32_t count) {
+    return [lib, id, count] {
+      return component_findings(*lib, id, DescriptorPart::params,
+                                std::to_string(count) + " parameters");
+    };
+  };
   std::vector<Check> checks = {
       {"library", "descriptor.fields", [lib] { return library_fields(*lib); }},
       {"library", "descriptor.ids-unique", [lib] { return ids_unique(*lib); }},
@@ -219,18 +170,16 @@ std::vector<Check> descriptor_checks(const clothlab_plugin_descriptor& library) 
   for (uint32_t i = 0; i < library.integrator_count && library.integrators != nullptr; ++i) {
     const clothlab_integrator* c = library.integrators[i];
     if (c == nullptr || c->id == nullptr) continue;
-    checks.push_back({c->id, "descriptor.fields", [c] { return integrator_fields(*c); }});
+    checks.push_back({c->id, "descriptor.fields", fields(c->id)});
     checks.push_back({c->id, "descriptor.order", [c] { return integrator_order(*c); }});
     checks.push_back({c->id, "descriptor.extensions", [c] { return integrator_extensions(*c); }});
-    checks.push_back(
-        {c->id, "descriptor.params", [c] { return params_consistent(c->params, c->param_count); }});
+    checks.push_back({c->id, "descriptor.params", params(c->id, c->param_count)});
   }
   for (uint32_t i = 0; i < library.scenario_count && library.scenarios != nullptr; ++i) {
     const clothlab_scenario* c = library.scenarios[i];
     if (c == nullptr || c->id == nullptr) continue;
-    checks.push_back({c->id, "descriptor.fields", [c] { return scenario_fields(*c); }});
-    checks.push_back(
-        {c->id, "descriptor.params", [c] { return params_consistent(c->params, c->param_count); }});
+    checks.push_back({c->id, "descriptor.fields", fields(c->id)});
+    checks.push_back({c->id, "descriptor.params", params(c->id, c->param_count)});
   }
   return checks;
 }

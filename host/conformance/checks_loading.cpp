@@ -1,11 +1,12 @@
 // loading.*: the library opens, exports only its entry point, and the version gate works.
+#include <clothlab/host/descriptor_findings.hpp>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/library_handle.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <string>
 
 #include "check.hpp"
 #include "elf_symbols.hpp"
-#include "plugin_library.hpp"
 
 namespace clothlab::conformance {
 namespace {
@@ -22,54 +23,57 @@ Verdict exports_only_entry(const std::string& path) {
   return {true, ""};
 }
 
+using host::abi_version_text;
+
 Verdict opens(const std::string& path) {
-  const PluginLibrary library(path);
-  const clothlab_plugin_descriptor* descriptor = library.descriptor();
+  const auto library = host::LibraryHandle::open(path);
+  const clothlab_plugin_descriptor* descriptor = library->descriptor();
   require(descriptor != nullptr, CLOTHLAB_PLUGIN_ENTRY_SYMBOL " returned null");
-  return {true, "built for ABI " + to_string(descriptor->abi_version)};
+  return {true, "built for ABI " + abi_version_text(descriptor->abi_version)};
 }
 
 Verdict abi_version_accepted(const std::string& path) {
-  const PluginLibrary library(path);
-  const clothlab_abi_version version = library.descriptor()->abi_version;
-  require(host::abi_refusal(version).empty(),
-          "built for ABI " + to_string(version) + "; this host accepts " +
+  const auto library = host::LibraryHandle::open(path);
+  const clothlab_abi_version version = library->descriptor()->abi_version;
+  require(clothlab_abi_is_compatible(version),
+          "built for ABI " + abi_version_text(version) + "; this host accepts " +
               std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + ".x");
-  return {true, "ABI " + to_string(version)};
+  return {true, "ABI " + abi_version_text(version)};
 }
 
 // The real loader's gate (host::descriptor_refusal, what PluginLibrary::load applies), applied
 // to copies of this plugin's descriptor with edited versions.
 Verdict abi_policy(const std::string& path) {
-  const PluginLibrary library(path);
+  const auto library = host::LibraryHandle::open(path);
   // A descriptor of another major may have another layout: copy only its version then.
-  const clothlab_plugin_descriptor& original = *library.descriptor();
+  const clothlab_plugin_descriptor& original = *library->descriptor();
   clothlab_plugin_descriptor copy{};
   copy.abi_version = original.abi_version;
-  const bool same_major = host::abi_refusal(original.abi_version).empty();
+  const bool same_major = clothlab_abi_is_compatible(original.abi_version);
   if (same_major) copy = original;
   for (const clothlab_abi_version other :
        {clothlab_abi_version{CLOTHLAB_ABI_VERSION_MAJOR + 1, 0},
         clothlab_abi_version{CLOTHLAB_ABI_VERSION_MAJOR - 1, CLOTHLAB_ABI_VERSION_MINOR}}) {
     copy.abi_version = other;
     require(!host::descriptor_refusal(copy).empty(),
-            "the host loader accepts major " + to_string(other));
+            "the host loader accepts major " + abi_version_text(other));
   }
   if (!same_major) return {true, "other majors refused (this plugin's own layout is not read)"};
   // A descriptor the loader refuses as it is says nothing about the version rule.
   const std::string as_built = host::descriptor_refusal(original);
   require(as_built.empty(), "the host loader refuses it at its own version " +
-                                to_string(original.abi_version) + ": " + as_built);
+                                abi_version_text(original.abi_version) + ": " + as_built);
   for (uint32_t minor = 0; minor <= CLOTHLAB_ABI_VERSION_MINOR + 1; ++minor) {
     copy.abi_version = {CLOTHLAB_ABI_VERSION_MAJOR, minor};
     const std::string refusal = host::descriptor_refusal(copy);
     require(refusal.empty(), "the host loader refuses minor version " +
-                                 to_string(copy.abi_version) + ": " + refusal);
+                                 abi_version_text(copy.abi_version) + ": " + refusal);
   }
   return {true, "the host loader refuses other majors and accepts every minor"};
 }
 
-// The real host's loader (Boost.DLL, its own descriptor checks) accepts the library.
+// The real host's loader (PluginLibrary::load, the descriptor's first finding refused) accepts
+// the library.
 Verdict host_accepts(const std::string& path) {
   try {
     const host::PluginLibrary library = host::PluginLibrary::load(path);
@@ -87,14 +91,14 @@ Verdict reloads(const std::string& path) {
   bool stays_mapped = false;
   for (int round = 0; round < reload_rounds; ++round) {
     {
-      const PluginLibrary library(path);
-      const clothlab_plugin_descriptor* descriptor = library.descriptor();
+      const auto library = host::LibraryHandle::open(path);
+      const clothlab_plugin_descriptor* descriptor = library->descriptor();
       require(descriptor != nullptr, "entry returned null on load " + std::to_string(round + 1));
       const std::string name = descriptor->library_name != nullptr ? descriptor->library_name : "";
       if (round == 0) first_name = name;
       require(name == first_name, "library_name changed on reload " + std::to_string(round + 1));
     }
-    stays_mapped = PluginLibrary::is_loaded(path);
+    stays_mapped = host::LibraryHandle::is_loaded(path);
   }
   return {true, std::to_string(reload_rounds) + " load/unload cycles" +
                     (stays_mapped ? " (stays mapped after dlclose: NODELETE)" : "")};

@@ -1,13 +1,13 @@
 #include "runner.hpp"
 
 #include <chrono>
+#include <clothlab/host/library_handle.hpp>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 
 #include "fixtures.hpp"
 #include "isolation.hpp"
-#include "plugin_library.hpp"
 #include "scene_validation.hpp"
 
 namespace clothlab::conformance {
@@ -180,12 +180,12 @@ void run_plugin(const std::string& path, const RunOptions& options, const Result
   {
     // A bad --param is found before any check runs, not after a dozen. Closed again while the
     // loading checks run: loading.reload's children must unload it for real.
-    const PluginLibrary library(path);
-    validate_all_overrides(*library.descriptor());
+    const auto library = host::LibraryHandle::open(path);
+    validate_all_overrides(*library->descriptor());
   }
   run.run_all(loading);
-  const PluginLibrary library(path);
-  run_components(*library.descriptor(), run, options);
+  const auto library = host::LibraryHandle::open(path);
+  run_components(*library->descriptor(), run, options);
 }
 
 }  // namespace clothlab::conformance

@@ -2,12 +2,11 @@
 
 #include <clothlab/host/errors.hpp>
 #include <clothlab/io/atomic_file.hpp>
+#include <clothlab/io/base64.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <system_error>
-
-#include "../io/src/base64.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,9 +29,10 @@ nlohmann::json read_run_json(const fs::path& dir) {
   }
 }
 
-std::string base64_of(const std::vector<float>& values) {
+template <class T>
+std::string base64_of(const std::vector<T>& values) {
   std::string text;
-  io::append_base64(text, values.data(), values.size() * sizeof(float));
+  io::append_base64(text, values.data(), values.size() * sizeof(T));
   return text;
 }
 
@@ -56,10 +56,11 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
 
   nlohmann::json times = nlohmann::json::array(), energy = nlohmann::json::array();
   std::string positions = "[", stretch = "[";
+  std::vector<uint32_t> triangles;  // the first frame's: every frame has the same
   for (size_t i = 0; i < entries.size(); i += stride) {
     io::Frame frame;
     try {
-      frame = io::read_vtp(dir / entries[i].file);
+      frame = io::read_vtp(dir / entries[i].file, i == 0 ? &triangles : nullptr);
     } catch (const std::exception& error) {
       throw host::InputError(error.what());
     }
@@ -75,9 +76,13 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
       text->push_back('"');
     }
   }
-  const nlohmann::json head = {
-      {"name", dir.string()},         {"run", run},     {"rows", run.value("rows", 0)},
-      {"cols", run.value("cols", 0)}, {"times", times}, {"energy", energy}};
+  const nlohmann::json head = {{"name", dir.string()},
+                               {"run", run},
+                               {"rows", run.value("rows", 0)},
+                               {"cols", run.value("cols", 0)},
+                               {"triangles", base64_of(triangles)},
+                               {"times", times},
+                               {"energy", energy}};
   const std::string head_text = head.dump();
   out << "CLOTHLAB_RUNS.push(Object.assign(" << head_text << ", {positions: " << positions
       << "], stretch: " << stretch << "]}));\n";

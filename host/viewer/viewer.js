@@ -7,20 +7,10 @@ const SWATCHES = [0x4fc3f7, 0xffb74d, 0xaed581, 0xf06292];
 const BACKGROUND = 0x1d2026;
 const params = new URLSearchParams(location.search);
 
-function decodeFloats(base64) {
-  const bytes = Uint8Array.from(atob(base64), (c) => c.charCodeAt(0));
-  return new Float32Array(bytes.buffer);
+function decodeBytes(base64) {
+  return Uint8Array.from(atob(base64), (c) => c.charCodeAt(0)).buffer;
 }
-
-function gridTriangles(rows, cols) {
-  const indices = [];
-  for (let r = 0; r + 1 < rows; ++r)
-    for (let c = 0; c + 1 < cols; ++c) {
-      const a = r * cols + c, b = a + 1, d = a + cols;
-      indices.push(a, d, b, b, d, d + 1);
-    }
-  return indices;
-}
+const decodeFloats = (base64) => new Float32Array(decodeBytes(base64));
 
 // The frame shown at time t: the last one at or before t.
 function frameAt(times, t) {
@@ -42,6 +32,8 @@ function stretchColour(s, max, out, k) {
 const runs = (window.CLOTHLAB_RUNS || []).map((data, i) => ({
   ...data,
   swatch: SWATCHES[i % SWATCHES.length],
+  // The frames' triangles, 3 vertex indices each, as the core triangulates the grid.
+  triangles: new Uint32Array(decodeBytes(data.triangles)),
   positions: data.positions.map(decodeFloats),
   stretch: data.stretch.map(decodeFloats),
 }));
@@ -71,7 +63,7 @@ for (const [i, run] of runs.entries()) {
   light.position.set(1, 2, 3);
   run.scene.add(light);
   const geometry = new THREE.BufferGeometry();
-  geometry.setIndex(gridTriangles(run.rows, run.cols));
+  geometry.setIndex(new THREE.BufferAttribute(run.triangles, 1));
   geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(run.positions[0]), 3));
   geometry.setAttribute("color", new THREE.BufferAttribute(new Float32Array(run.positions[0].length), 3));
   run.solid = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });

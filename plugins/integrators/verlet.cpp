@@ -10,10 +10,10 @@
 // reproduces the seed literally: f = 1 - p, beta = dt^2 (dt-dependent dynamics), with the
 // equivalent rate c = -ln(1 - p) / dt used below.
 //
-// Default rate 0.1 1/s: a 10 s velocity time constant, so a 2 s run keeps > 80 % of its
-// motion (close to the undamped physics the other integrators see), yet long runs settle.
-// The integrator never passes velocities to the force evaluation, so the host builds no
-// spring-damping stage; the rate is the only dissipation.
+// Default rate 0: the drag is a force no other integrator applies and no conformance reference
+// knows, so by default Verlet integrates the model's ODE (less its spring damping: the
+// integrator never passes velocities to the force evaluation, so the host builds no
+// spring-damping stage; the rate is its only dissipation, set it to let long runs settle).
 //
 // Start, restart and velocity use the solution of x'' = a - c x' for a constant a over one
 // step (z = c dt, w = (1 - e^{-z}) / z, phi = (e^z - 1) / z), so free fall with drag is
@@ -42,7 +42,7 @@ struct StormerVerlet {
   static constexpr uint32_t evals_per_step = 1;
   static constexpr uint32_t flags = 0;
   static constexpr std::array<clothlab_param_spec, 2> params{
-      sdk::real_param("damping", 0.1, 0.0, 1.0e4, "1/s",
+      sdk::real_param("damping", 0.0, 0.0, 1.0e4, "1/s",
                       "velocity damping rate c: f = exp(-c dt) (used unless damping_per_step > 0)"),
       sdk::real_param("damping_per_step", 0.0, 0.0, 0.5, "",
                       "seed-style damping per step p: f = 1 - p, dt-dependent (seed: 0.005)"),

@@ -1,19 +1,24 @@
-// How the threads of XPBD's grid sweep (xpbd.cpp) share a substep's rows: two bands, one
-// wavefront going down from row 0 and one going up from the last row, each run by a team
-// whose threads take turns along the band's phases.
+// How the threads of XPBD's grid sweep (xpbd_grid_sweep.hpp) share a substep's rows: two
+// bands, one wavefront going down from row 0 and one going up from the last row, each run by
+// a team whose threads take turns along the band's phases (xpbd_wavefront.hpp).
 //
 // The bands do not split the rows in fixed halves: each starts with `reserve` rows of its
 // own and claims more, as it goes, from the rows neither holds yet, an eighth of them at a
 // time and at least one. A band on a slower core (a shared machine, another program on
 // that core) ends with fewer rows, and both finish together instead of one waiting for the
-// other at the barrier before the seam. Any split gives the same bits (xpbd.cpp).
+// other at the barrier before the seam. Any split gives the same bits (xpbd_grid_sweep.hpp).
 #pragma once
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <thread>
+#include <utility>
+
+#include "xpbd_wavefront.hpp"
 
 namespace clothlab::builtin {
 
@@ -78,5 +83,40 @@ class RowClaims {
   alignas(64) std::atomic<uint32_t> claimed_{0};
   uint32_t rows_ = 0;
 };
+
+// The teams of the grid sweep: two bands, the one going down run by threads
+// [0, lower_threads), or one band of all threads.
+struct Bands {
+  bool two;
+  int lower_threads;
+};
+
+// The rows a band holds from the start: one more than the wavefront's total lag, so that
+// every phase visits at least one row of each band and the seam is all that is left.
+inline uint32_t band_reserve(std::span<const Phase> phases) { return phases.back().lag + 1; }
+
+// Two bands, one per half of the threads, when the rows hold both reserves (else one
+// band and the seam would be all of it); one band on one thread.
+inline Bands bands_of(int threads, uint32_t rows, uint32_t reserve) {
+  if (threads < 2 || rows < 2 * reserve) return {false, threads};
+  return {true, (threads + 1) / 2};
+}
+
+// Phases [begin, end) of `thread` among `threads`: contiguous runs of about equal cost.
+inline std::pair<std::size_t, std::size_t> phases_of(std::span<const Phase> phases, int thread,
+                                                     int threads) {
+  uint64_t total = 0;
+  for (const Phase& phase : phases) total += phase.cost;
+  std::size_t begin = phases.size(), end = 0;
+  uint64_t before = 0;
+  for (std::size_t q = 0; q < phases.size(); ++q) {
+    const uint64_t middle = 2 * before + phases[q].cost;  // twice the phase's midpoint
+    const auto owner = static_cast<int>(std::min<uint64_t>(
+        static_cast<uint64_t>(threads - 1), middle * static_cast<uint64_t>(threads) / (2 * total)));
+    if (owner == thread) begin = std::min(begin, q), end = q + 1;
+    before += phases[q].cost;
+  }
+  return {std::min(begin, end), end};
+}
 
 }  // namespace clothlab::builtin

@@ -1,5 +1,5 @@
-// XPBD's projection of the springs of one colour that start in one grid row (xpbd.cpp has
-// the derivation of the update):
+// XPBD's projection of the springs of one colour that start in one grid row
+// (xpbd_constraint.hpp has the derivation of the update):
 //   dlambda = (-ks h^2 C - lambda - kd h n.(dx_i - dx_j)) / ((ks h^2 + kd h)(w_i + w_j) + 1)
 //   dx_i += w_i dlambda n,  dx_j -= w_j dlambda n,
 // the springs at the positions x + dx (x stays at the substep's start).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/topology.h>
@@ -31,6 +32,14 @@ inline clothlab_topology topology_of(const clothlab_system& system) {
   out.struct_size = sizeof out;
   const auto& table = host_extension<clothlab_topology_extension>(system, CLOTHLAB_EXT_TOPOLOGY);
   if (table.get(system.context, &out) != CLOTHLAB_OK) throw std::runtime_error("topology failed");
+  return out;
+}
+
+inline clothlab_grid grid_of(const clothlab_system& system) {
+  clothlab_grid out{};
+  out.struct_size = sizeof out;
+  const auto& table = host_extension<clothlab_grid_extension>(system, CLOTHLAB_EXT_GRID);
+  if (table.get(system.context, &out) != CLOTHLAB_OK) throw std::runtime_error("grid failed");
   return out;
 }
 

@@ -205,5 +205,20 @@ TEST(ExtensionsVsReference, Topology) {
     EXPECT_NE(color[reference.first[s]], color[reference.second[s]]) << s;
 }
 
+// The same grid (rows, cols, spacings); the reference's first-fit colours are no stencils.
+TEST(ExtensionsVsReference, Grid) {
+  const Scene scene = testing::busy_scene(7, 9);
+  Cloth cloth(scene, Precision::Float64, {});
+  reference::ReferenceSystem<double> oracle(scene, true);
+  const clothlab_grid engine = testing::grid_of(cloth.system());
+  const clothlab_grid reference = testing::grid_of(oracle.system());
+  EXPECT_EQ(engine.rows, reference.rows);
+  EXPECT_EQ(engine.cols, reference.cols);
+  EXPECT_EQ(engine.column_spacing, reference.column_spacing);
+  EXPECT_EQ(engine.row_spacing, reference.row_spacing);
+  EXPECT_NE(engine.spring_colors, nullptr);
+  EXPECT_EQ(reference.spring_colors, nullptr);
+}
+
 }  // namespace
 }  // namespace clothlab

@@ -1,6 +1,7 @@
 // The topology extension on the grid: spring counts per family against the seed's formula,
 // the springs' ends, rest lengths and laws, the adjacency, both colourings (independent,
-// covering, 12 and 5 colours) and the triangles.
+// covering, 12 and 5 colours), the triangles, and the grid extension's stencils for the
+// colours.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -147,6 +148,46 @@ TEST(Topology, TwoTrianglesPerCellFacingTheSameWay) {
   for (uint32_t triangle = 0; triangle < t.triangle_count; ++triangle) {
     const std::array<double, 3> n = normal(triangle);
     EXPECT_GT(n[0] * first[0] + n[1] * first[1] + n[2] * first[2], 0.0) << triangle;
+  }
+}
+
+// clothlab.grid/1: the scene's rows, cols and spacings, and every spring of colour c starts
+// where colour c's stencil and parity say and joins the stencil's partner; and the count of
+// such starts is the colour's size, so the colour is all of them.
+TEST(Topology, TheGridDescribesEachColourAsAStencilAtAParity) {
+  const Scene scene = busy_scene(9, 7);
+  Cloth cloth(scene, Precision::Float64, {});
+  const clothlab_topology t = topology_of(cloth.system());
+  const clothlab_grid grid = testing::grid_of(cloth.system());
+  EXPECT_EQ(grid.rows, 9u);
+  EXPECT_EQ(grid.cols, 7u);
+  EXPECT_EQ(grid.column_spacing, scene.width / 6);
+  EXPECT_EQ(grid.row_spacing, scene.height / 8);
+  ASSERT_EQ(grid.spring_color_count, t.spring_color_count);
+  ASSERT_NE(grid.spring_colors, nullptr);
+  for (uint32_t c = 0; c < t.spring_color_count; ++c) {
+    const clothlab_grid_color& stencil = grid.spring_colors[c];
+    const auto starts_here = [&](uint32_t r, uint32_t col) {
+      if (r >= stencil.row_end || col < stencil.col_begin || col >= stencil.col_end) return false;
+      const bool in_row = stencil.row_step == 0;
+      const uint32_t along = in_row ? col : r;
+      const uint32_t step = in_row ? static_cast<uint32_t>(stencil.col_step) : stencil.row_step;
+      return (along / step) % 2 == stencil.parity;
+    };
+    uint32_t starts = 0;
+    for (uint32_t r = 0; r < grid.rows; ++r)
+      for (uint32_t col = 0; col < grid.cols; ++col) starts += starts_here(r, col);
+    const uint32_t begin = t.spring_color_offsets[c], end = t.spring_color_offsets[c + 1];
+    EXPECT_EQ(end - begin, starts) << "colour " << c;
+    for (uint32_t m = begin; m < end; ++m) {
+      const uint32_t k = t.spring_color_members[m];
+      const uint32_t r = t.first[k] / grid.cols, col = t.first[k] % grid.cols;
+      EXPECT_TRUE(starts_here(r, col)) << "colour " << c << " spring " << k;
+      EXPECT_EQ(int64_t{t.second[k]} - t.first[k],
+                int64_t{stencil.row_step} * grid.cols + stencil.col_step)
+          << "colour " << c << " spring " << k;
+      EXPECT_EQ(t.rest_length[k], t.rest_length[t.spring_color_members[begin]]);
+    }
   }
 }
 

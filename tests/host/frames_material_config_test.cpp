@@ -89,9 +89,11 @@ TEST(Frames, SubstepsNeedAFrameRateAndDtConflictsWithIt) {
 
 // Below 2 the cost budget could stop a setting cheaper than the best (integrator_choice.hpp).
 TEST(ChooseConfig, StopFactorIsZeroOrAtLeastTwo) {
-  EXPECT_EQ(resolve_run_config({{"choose.stop_factor", "0", "--set"}}).choice.stop_factor, 0.0);
-  EXPECT_EQ(resolve_run_config({{"choose.stop_factor", "2", "--set"}}).choice.stop_factor, 2.0);
-  EXPECT_EQ(resolve_run_config({}).choice.stop_factor, 3.0);
+  EXPECT_EQ(resolve_configuration({{"choose.stop_factor", "0", "--set"}}).choose.search.stop_factor,
+            0.0);
+  EXPECT_EQ(resolve_configuration({{"choose.stop_factor", "2", "--set"}}).choose.search.stop_factor,
+            2.0);
+  EXPECT_EQ(resolve_configuration({}).choose.search.stop_factor, 3.0);
   EXPECT_EQ(error_of("choose:\n  stop_factor: 1.5\n"),
             "FILE:2:16: choose.stop_factor = 1.5: out of range; allowed: 0 (no cost budget) or a "
             "real in [2, 1000]");

@@ -158,7 +158,7 @@ TEST(RunKeys, EveryDefaultIsAllowedByItsOwnKey) {
 // library's own, so a program calling sweep::choose_integrators searches as `--choose` does.
 TEST(RunKeys, ChooseDefaultsAreTheSearchLibrarysDefaults) {
   const sweep::ChoiceSettings library;
-  const sweep::ChoiceSettings table = resolve_run_config({}).choice;
+  const sweep::ChoiceSettings table = resolve_configuration({}).choose.search;
   EXPECT_EQ(table.duration, library.duration);
   EXPECT_EQ(table.error_duration, library.error_duration);
   EXPECT_EQ(table.stretch_limit, library.stretch_limit);
@@ -170,6 +170,31 @@ TEST(RunKeys, ChooseDefaultsAreTheSearchLibrarysDefaults) {
   EXPECT_EQ(table.reference_substeps, library.reference_substeps);
   EXPECT_EQ(table.reference_integrator, library.reference_integrator);
   EXPECT_EQ(table.error_mesh, library.error_mesh);
+}
+
+// The same for the monitor, the dt search and a sweep's sections: a program that builds these
+// structs itself judges, searches and sweeps as the command line does.
+TEST(RunKeys, MonitorSearchAndSweepDefaultsAreTheLibrariesDefaults) {
+  const Configuration table = resolve_configuration({});
+  const analysis::MonitorOptions monitor;
+  EXPECT_EQ(table.run.monitor.check_interval, monitor.check_interval);
+  EXPECT_EQ(table.run.monitor.stretch_limit, monitor.stretch_limit);
+  EXPECT_EQ(table.run.monitor.energy_margin, monitor.energy_margin);
+  EXPECT_EQ(table.run.monitor.wind_work_safety, monitor.wind_work_safety);
+  const analysis::MaxDtOptions search;
+  EXPECT_EQ(table.find_max_dt.dt_lower_limit, search.dt_lower_limit);
+  EXPECT_EQ(table.find_max_dt.dt_upper_limit, search.dt_upper_limit);
+  EXPECT_EQ(table.find_max_dt.relative_tolerance, search.relative_tolerance);
+  EXPECT_EQ(table.find_max_dt.growth, search.growth);
+  EXPECT_EQ(table.find_max_dt.max_evaluations, search.max_evaluations);
+  const sweep::WorkPrecisionSettings ladder;
+  EXPECT_EQ(table.sweep.work_precision.reference_integrator, ladder.reference_integrator);
+  EXPECT_EQ(table.sweep.work_precision.refinement, ladder.refinement);
+  EXPECT_EQ(table.sweep.work_precision.dt_start, ladder.dt_start);
+  EXPECT_EQ(table.sweep.work_precision.levels, ladder.levels);
+  const sweep::SlurmSettings slurm;
+  EXPECT_EQ(table.sweep.slurm.tasks, slurm.tasks);
+  EXPECT_EQ(table.sweep.slurm.cpus_per_task, slurm.cpus_per_task);
 }
 
 TEST(RunKeys, UnknownKeyListsTheTableAndSuggestsTheNearest) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <clothlab/io/base64.hpp>
 #include <clothlab/io/frame_formats.hpp>
 #include <cmath>
 #include <cstring>
@@ -7,8 +9,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include "../../host/io/src/base64.hpp"
 
 namespace clothlab::io {
 namespace {
@@ -28,18 +28,20 @@ TEST(Base64, MatchesRfc4648Vectors) {
   EXPECT_THROW(decode_base64("Zm9v!"), std::invalid_argument);
 }
 
-TEST(GridMesh, TwoCounterClockwiseTrianglesPerCell) {
+// The core's triangles (clothlab::grid_triangles), which the wind acts on: counter-clockwise
+// about col_axis x row_axis. The writers used to turn them the other way.
+TEST(GridMesh, TwoTrianglesPerCellFacingAsTheWindsNormals) {
   const GridMesh mesh{3, 4};
-  const std::vector<int32_t> triangles = mesh.triangles();
+  const std::vector<uint32_t>& triangles = mesh.triangles;
   ASSERT_EQ(triangles.size(), 3 * mesh.triangle_count());
   EXPECT_EQ(mesh.triangle_count(), 12u);
-  // Layout: column c at x = c, row r at y = -r; normals must point to +z.
+  // Layout: column c at x = c, row r at y = -r: col_axis x row_axis is -z.
   for (size_t t = 0; t < triangles.size(); t += 3) {
-    const auto xy = [&](int32_t i) { return std::pair<double, double>(i % 4, -(i / 4)); };
+    const auto xy = [&](uint32_t i) { return std::pair<double, double>(i % 4, -(i / 4.0)); };
     const auto [ax, ay] = xy(triangles[t]);
     const auto [bx, by] = xy(triangles[t + 1]);
     const auto [cx, cy] = xy(triangles[t + 2]);
-    EXPECT_GT((bx - ax) * (cy - ay) - (by - ay) * (cx - ax), 0) << "triangle " << t / 3;
+    EXPECT_LT((bx - ax) * (cy - ay) - (by - ay) * (cx - ax), 0) << "triangle " << t / 3;
   }
 }
 
@@ -67,7 +69,7 @@ TEST(VtkPolyData, ReadsBackWhatItWrote) {
     std::ofstream out(path);
     write_vtp(out, vtp_topology(mesh), frame);
   }
-  uint64_t triangles = 0;
+  std::vector<uint32_t> triangles;
   const Frame read = read_vtp(path, &triangles);
   EXPECT_EQ(read.positions, frame.positions);
   EXPECT_EQ(read.velocities, frame.velocities);
@@ -76,7 +78,7 @@ TEST(VtkPolyData, ReadsBackWhatItWrote) {
   EXPECT_DOUBLE_EQ(read.time, 0.12);
   EXPECT_DOUBLE_EQ(read.energy.kinetic, 1.25);
   EXPECT_DOUBLE_EQ(read.energy.gravity, -2);
-  EXPECT_EQ(triangles, 2u);
+  EXPECT_EQ(triangles.size(), 6u);
   fs::remove(path);
 }
 
@@ -105,7 +107,7 @@ TEST(VtkPolyData, Float32ArraysRoundTripBitForBit) {
     std::ofstream out(path, std::ios::binary);
     write_vtp(out, vtp_topology(mesh), frame);
   }
-  uint64_t triangles = 0;
+  std::vector<uint32_t> triangles;
   const Frame read = read_vtp(path, &triangles);
   const auto same_bits = [](const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
@@ -113,37 +115,65 @@ TEST(VtkPolyData, Float32ArraysRoundTripBitForBit) {
   EXPECT_TRUE(same_bits(read.positions, frame.positions));
   EXPECT_TRUE(same_bits(read.velocities, frame.velocities));
   EXPECT_TRUE(same_bits(read.stretch, frame.stretch));
-  EXPECT_EQ(triangles, mesh.triangle_count());
+  EXPECT_EQ(triangles.size(), 3 * mesh.triangle_count());
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   EXPECT_NE(text.str().find("byte_order=\"LittleEndian\" header_type=\"UInt64\""),
             std::string::npos);
   EXPECT_NE(text.str().find("<AppendedData encoding=\"raw\">\n   _"), std::string::npos);
-  EXPECT_NE(text.str().find("NumberOfStrips=\"2\" NumberOfPolys=\"0\""), std::string::npos);
+  EXPECT_NE(text.str().find("NumberOfStrips=\"3\" NumberOfPolys=\"0\""), std::string::npos);
   fs::remove(path);
 }
 
-// One strip per row of cells: the connectivity VTK decomposes into GridMesh's triangles.
+// The same triangle turned to start at its least index: a strip hands VTK every other
+// triangle from another corner.
+std::vector<uint32_t> least_first(const std::vector<uint32_t>& triangles) {
+  std::vector<uint32_t> out;
+  for (size_t t = 0; t < triangles.size(); t += 3) {
+    const auto* p = triangles.data() + t;
+    const size_t k = std::min_element(p, p + 3) - p;
+    out.insert(out.end(), {p[k], p[(k + 1) % 3], p[(k + 2) % 3]});
+  }
+  return out;
+}
+
+// One strip per column of cells: the connectivity VTK decomposes into the mesh's triangles,
+// and read_vtp decomposes it the same way.
 TEST(VtkPolyData, StripsHoldTheGridsTriangles) {
   const GridMesh mesh{3, 3};
   const VtpTopology topology = vtp_topology(mesh);
   ASSERT_EQ(topology.strips, 2u);
   std::vector<int32_t> connectivity((topology.connectivity_bytes - 8) / 4);
   std::memcpy(connectivity.data(), topology.appended.data() + 8, connectivity.size() * 4);
-  EXPECT_EQ(connectivity, (std::vector<int32_t>{0, 3, 1, 4, 2, 5, 3, 6, 4, 7, 5, 8}));
+  EXPECT_EQ(connectivity, (std::vector<int32_t>{0, 1, 3, 4, 6, 7, 1, 2, 4, 5, 7, 8}));
   // vtkTriangleStrip: triangle k is points k, k+1, k+2, every odd one with its first two
   // swapped so that all face the same way.
-  std::vector<int32_t> decomposed;
+  std::vector<uint32_t> decomposed;
   for (size_t strip = 0; strip < 2; ++strip)
     for (size_t k = 0; k + 2 < 6; ++k) {
       const int32_t* p = connectivity.data() + 6 * strip + k;
+      const auto at = [&](size_t i) { return static_cast<uint32_t>(p[i]); };
       if (k % 2 == 0)
-        decomposed.insert(decomposed.end(), {p[0], p[1], p[2]});
+        decomposed.insert(decomposed.end(), {at(0), at(1), at(2)});
       else
-        decomposed.insert(decomposed.end(), {p[1], p[0], p[2]});
+        decomposed.insert(decomposed.end(), {at(1), at(0), at(2)});
     }
-  EXPECT_EQ(decomposed, mesh.triangles());
+  EXPECT_EQ(least_first(decomposed), least_first(mesh.triangles));
+
+  Frame frame;
+  frame.positions.assign(3 * mesh.vertex_count(), 0.0f);
+  frame.velocities = frame.positions;
+  frame.stretch.assign(mesh.vertex_count(), 1.0f);
+  const fs::path path = fs::path(testing::TempDir()) / "frame_formats_strips.vtp";
+  {
+    std::ofstream out(path, std::ios::binary);
+    write_vtp(out, topology, frame);
+  }
+  std::vector<uint32_t> read;
+  read_vtp(path, &read);
+  EXPECT_EQ(read, decomposed);
+  fs::remove(path);
 }
 
 // Frames of the earlier version (UInt32 array headers) still read: a viewer pointed at them.

@@ -243,12 +243,14 @@ TEST(VerletParameters, OutOfRangeValuesAreRejectedByName) {
   }
 }
 
-TEST(VerletParameters, DefaultsAreAGentleRateAndNoPerStepDamping) {
+// No drag by default: Verlet integrates the ODE the other built-ins and the conformance
+// references integrate.
+TEST(VerletParameters, DefaultsAreNoDragAndNoPerStepDamping) {
   const Integrator verlet("verlet");
   const clothlab_integrator& d = verlet.descriptor();
   ASSERT_EQ(d.param_count, 2u);
   EXPECT_STREQ(d.params[0].name, "damping");
-  EXPECT_EQ(d.params[0].default_value[0], 0.1);
+  EXPECT_EQ(d.params[0].default_value[0], 0.0);
   EXPECT_STREQ(d.params[0].unit, "1/s");
   EXPECT_STREQ(d.params[1].name, "damping_per_step");
   EXPECT_EQ(d.params[1].default_value[0], 0.0);

@@ -3,12 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <clothlab/host/plugin_library.hpp>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "mock_system.hpp"
-#include "plugin_library.hpp"
+#include "param_values.hpp"
 
 namespace clothlab::test {
 
@@ -37,14 +38,15 @@ inline const std::vector<std::string>& all_integrators() {
 
 class Integrator {
  public:
-  explicit Integrator(const std::string& id) : library_(integrator_path(id)) {
+  explicit Integrator(const std::string& id)
+      : library_(host::PluginLibrary::load(integrator_path(id))) {
     values_ = default_values(descriptor().params, descriptor().param_count);
   }
   ~Integrator() {
     if (instance_ != nullptr) descriptor().destroy(instance_);
   }
 
-  const clothlab_integrator& descriptor() const { return library_.integrator(); }
+  const clothlab_integrator& descriptor() const { return library_.integrator().descriptor(); }
 
   // Must come before create().
   Integrator& with(const std::string& name, double value) {
@@ -87,7 +89,7 @@ class Integrator {
   void* instance() const { return instance_; }
 
  private:
-  PluginLibrary library_;
+  host::PluginLibrary library_;
   std::vector<clothlab_param_value> values_;
   void* instance_ = nullptr;
   clothlab_message message_{};

@@ -3,12 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <clothlab/host/plugin_library.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "plugin_library.hpp"
+#include "param_values.hpp"
 
 namespace clothlab::test {
 namespace {
@@ -23,8 +24,8 @@ struct Described {
 
 Described describe(const std::string& path,
                    const std::vector<std::pair<std::string, clothlab_param_value>>& overrides) {
-  const PluginLibrary library(path);
-  const clothlab_scenario& scenario = library.scenario();
+  const host::PluginLibrary library = host::PluginLibrary::load(path);
+  const clothlab_scenario& scenario = library.scenario().descriptor();
   std::vector<clothlab_param_value> values = default_values(scenario.params, scenario.param_count);
   for (const auto& [name, value] : overrides) set_value(values, scenario.params, name, value);
   Described out;
@@ -166,8 +167,8 @@ TEST(ScenarioParameters, DeclareTheIssueKeys) {
                                         "shear.kd", "flexion.ks",    "flexion.kd",    "gravity",
                                         "anchored"};
   for (const std::string& path : {sheet, flag}) {
-    const PluginLibrary library(path);
-    const clothlab_scenario& scenario = library.scenario();
+    const host::PluginLibrary library = host::PluginLibrary::load(path);
+    const clothlab_scenario& scenario = library.scenario().descriptor();
     std::vector<std::string> names;
     for (uint32_t i = 0; i < scenario.param_count; ++i) names.push_back(scenario.params[i].name);
     std::vector<std::string> expected = common;
@@ -201,8 +202,8 @@ TEST(ScenarioParameters, LargestGridIsAccepted) {
 }
 
 TEST(ScenarioDescribe, RejectsATooSmallSceneBuffer) {
-  const PluginLibrary library(sheet);
-  const clothlab_scenario& scenario = library.scenario();
+  const host::PluginLibrary library = host::PluginLibrary::load(sheet);
+  const clothlab_scenario& scenario = library.scenario().descriptor();
   const auto values = default_values(scenario.params, scenario.param_count);
   void* instance = nullptr;
   clothlab_message message{};

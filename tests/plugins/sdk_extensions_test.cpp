@@ -59,6 +59,14 @@ TEST(SdkSystemExtensions, AbsentExtensionIsNullAndItsAccessorThrowsUnsupported) 
   }
 }
 
+// The grid is what a host may say, not what it must offer: no grid is an empty optional.
+TEST(SdkSystemExtensions, WithoutTheGridExtensionTheClothIsNoGrid) {
+  ReductionsOnlyHost host;
+  const clothlab_system raw = host.system();
+  const sdk::System<double> system(raw);
+  EXPECT_FALSE(system.grid().has_value());
+}
+
 TEST(SdkSystemExtensions, AHostOlderThan1_2IsNeverAskedEvenIfTheBytesLookLikeAPointer) {
   for (const size_t size : {size_t{CLOTHLAB_SYSTEM_SIZE_1_0}, size_t{CLOTHLAB_SYSTEM_SIZE_1_1}}) {
     ReductionsOnlyHost host;

@@ -7,6 +7,7 @@
 
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/topology.h>
@@ -15,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "mock_system.hpp"
@@ -38,8 +40,9 @@ class SpringHost {
                   return acceleration_of(i, x, v, stride);
                 }) {
     system_.extension_data = this;
-    system_.extensions = [](const char* id) -> const void* {
+    system_.extensions = [this](const char* id) -> const void* {
       if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return grid_.struct_size ? &grid_table : nullptr;
       if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
       if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
       if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
@@ -63,6 +66,20 @@ class SpringHost {
       spring_colors_.insert(spring_colors_.end(), color.begin(), color.end());
       spring_color_offsets_.push_back(static_cast<uint32_t>(spring_colors_.size()));
     }
+  }
+
+  // Offers clothlab.grid/1: the particles are a rows x cols grid `spacing` apart and colour c
+  // of the topology is the stencil colors[c]; the test vouches for both.
+  void set_grid(uint32_t rows, uint32_t cols, double spacing,
+                std::vector<clothlab_grid_color> colors) {
+    grid_colors_ = std::move(colors);
+    grid_ = {sizeof(clothlab_grid),
+             rows,
+             cols,
+             static_cast<uint32_t>(grid_colors_.size()),
+             spacing,
+             spacing,
+             grid_colors_.data()};
   }
 
   // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0);
@@ -212,6 +229,11 @@ class SpringHost {
     return CLOTHLAB_OK;
   }
 
+  static clothlab_status get_grid(void* context, clothlab_grid* out) {
+    *out = self(context).grid_;
+    return CLOTHLAB_OK;
+  }
+
   static clothlab_status reserve(void*) { return CLOTHLAB_OK; }
   template <bool Definite>
   static clothlab_status apply(void* context, double, const void* x, const void* v, double c_x,
@@ -284,6 +306,7 @@ class SpringHost {
   static int32_t constant_external(void*) { return 0; }
 
   static constexpr clothlab_topology_extension topology_table{&get_topology};
+  static constexpr clothlab_grid_extension grid_table{&get_grid};
   static constexpr clothlab_jacobian_extension jacobian_table{
       &reserve, &apply<false>, &diagonal_blocks<false>, &no_pattern, &no_blocks};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
@@ -299,6 +322,8 @@ class SpringHost {
       particle_colors_;
   std::vector<double> rest_, ks_, kd_;
   std::vector<uint8_t> family_;
+  clothlab_grid grid_{};  // struct_size 0: no grid offered
+  std::vector<clothlab_grid_color> grid_colors_;
   MockSystem<Real> system_;
 };
 

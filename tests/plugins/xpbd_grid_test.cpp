@@ -1,9 +1,8 @@
-// XPBD's grid fast path (plugins/integrators/xpbd_grid.hpp, xpbd_row_kernel.hpp): the
-// Provot grid is recognised from the topology alone, only when every colour is one whole
-// stencil parity with one spring law; and the row kernels and the wavefront give the
-// general path's Gauss-Seidel: the same cloth with its colours split in halves (the same
-// sweep order, which the recogniser does not take for a grid) ends in the same state,
-// closer than a change of colour order moves it.
+// XPBD's grid fast path (plugins/integrators/xpbd_grid.hpp, xpbd_grid_sweep.hpp,
+// xpbd_row_kernel.hpp): taken only when the host offers clothlab.grid/1 with a stencil for
+// every colour and every colour has springs; and the row kernels and the wavefront give the
+// general path's Gauss-Seidel: the same cloth on a host that offers no grid ends in the same
+// state, closer than a change of colour order moves it.
 #include "xpbd_grid.hpp"
 
 #include <gtest/gtest.h>
@@ -32,13 +31,20 @@ const Stencil stencils[] = {{0, 1, 800.0, 0.05}, {1, 0, 800.0, 0.05}, {1, 1, 60.
                             {1, -1, 60.0, 0.01}, {0, 2, 5.0, 0.0},    {2, 0, 5.0, 0.0}};
 
 // A rows x cols Provot grid coloured as the host colours it: stencil by stencil, parity 0
-// then 1 ((along / step) % 2 along the stencil's direction).
+// then 1 ((along / step) % 2 along the stencil's direction), with each colour's stencil as
+// clothlab.grid/1 describes it.
 struct ProvotGrid {
   std::vector<TestSpring> springs;
   std::vector<std::vector<uint32_t>> colors;
+  std::vector<clothlab_grid_color> stencil_colors;
 
   ProvotGrid(uint32_t rows, uint32_t cols) {
     for (const Stencil& s : stencils) {
+      const uint32_t col_begin = s.col_step < 0 ? static_cast<uint32_t>(-s.col_step) : 0;
+      const uint32_t col_end = s.col_step > 0 ? cols - static_cast<uint32_t>(s.col_step) : cols;
+      for (uint32_t parity = 0; parity < 2; ++parity)
+        stencil_colors.push_back(
+            {s.row_step, s.col_step, parity, rows - s.row_step, col_begin, col_end});
       std::vector<uint32_t> parity[2];
       const double rest = spacing * std::hypot(s.row_step, s.col_step);
       for (uint32_t r = 0; r + s.row_step < rows; ++r)
@@ -58,25 +64,22 @@ struct ProvotGrid {
   }
 };
 
-// Each colour split into two independent halves, one after the other: the same sweep.
-std::vector<std::vector<uint32_t>> halves(const std::vector<std::vector<uint32_t>>& colors) {
-  std::vector<std::vector<uint32_t>> out;
-  for (const std::vector<uint32_t>& color : colors) {
-    const auto middle = color.begin() + static_cast<std::ptrdiff_t>(color.size() / 2);
-    out.emplace_back(color.begin(), middle);
-    out.emplace_back(middle, color.end());
-  }
-  return out;
-}
-
 // The positions and velocities after 10 steps, every particle started moving (pins too).
+// On a host that offers the grid (`on_grid`) or not; colours in the order given.
 template <class Real>
-std::vector<double> state_after(uint32_t rows, uint32_t cols,
-                                const std::vector<std::vector<uint32_t>>& colors, int iterations,
+std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
+                                const std::vector<uint32_t>& color_order, int iterations,
                                 const std::vector<uint32_t>& pins) {
   const ProvotGrid grid(rows, cols);
   SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
+  std::vector<std::vector<uint32_t>> colors;
+  std::vector<clothlab_grid_color> stencil_colors;
+  for (uint32_t c : color_order) {
+    colors.push_back(grid.colors[c]);
+    stencil_colors.push_back(grid.stencil_colors[c]);
+  }
   network.set_spring_colors(colors);
+  if (on_grid) network.set_grid(rows, cols, spacing, stencil_colors);
   MockSystem<Real>& system = network.system();
   for (uint32_t r = 0; r < rows; ++r)
     for (uint32_t c = 0; c < cols; ++c) {
@@ -118,13 +121,12 @@ std::vector<uint32_t> scattered_pins() {
 template <class Real>
 void expect_grid_path_is_the_general_sweep(int iterations, double tolerance,
                                            const std::vector<uint32_t>& pins = corner_pins) {
-  const ProvotGrid grid(rows, cols);
-  const std::vector<double> fast = state_after<Real>(rows, cols, grid.colors, iterations, pins);
-  const std::vector<double> general =
-      state_after<Real>(rows, cols, halves(grid.colors), iterations, pins);
-  std::vector<std::vector<uint32_t>> reordered(grid.colors.rbegin(), grid.colors.rend());
+  std::vector<uint32_t> order(12), reversed(12);
+  for (uint32_t c = 0; c < 12; ++c) order[c] = c, reversed[c] = 11 - c;
+  const std::vector<double> fast = state_after<Real>(rows, cols, true, order, iterations, pins);
+  const std::vector<double> general = state_after<Real>(rows, cols, false, order, iterations, pins);
   const std::vector<double> other_order =
-      state_after<Real>(rows, cols, halves(reordered), iterations, pins);
+      state_after<Real>(rows, cols, false, reversed, iterations, pins);
   EXPECT_LT(largest_position_difference(fast, general), tolerance);
   EXPECT_GT(largest_position_difference(other_order, general), 10 * tolerance)
       << "the tolerance does not resolve a change of sweep order";
@@ -154,9 +156,10 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
 // come back bit for bit, and their positions never move.
 template <class Real>
 void expect_pins_keep_their_state() {
-  const ProvotGrid grid(rows, cols);
   const std::vector<uint32_t> pins = scattered_pins();
-  const std::vector<double> state = state_after<Real>(rows, cols, grid.colors, 1, pins);
+  std::vector<uint32_t> order(12);
+  for (uint32_t c = 0; c < 12; ++c) order[c] = c;
+  const std::vector<double> state = state_after<Real>(rows, cols, true, order, 1, pins);
   for (uint32_t i : pins) {
     const auto [r, c] = std::pair{i / cols, i % cols};
     const std::array<double, 6> start = {spacing * c, -spacing * r,           0, 0,
@@ -172,32 +175,27 @@ TEST(XpbdGrid, PinsKeepTheirPositionAndVelocityBitForBit) {
   expect_pins_keep_their_state<float>();
 }
 
-// The topology of a mock network as the recogniser sees it.
+// The grid layout XPBD takes from a mock network's topology and grid.
 template <class Body>
-void with_topology(uint32_t n, const std::vector<TestSpring>& springs,
-                   const std::vector<std::vector<uint32_t>>& colors, Body&& body) {
-  SpringHost<double> network(n, {}, springs, {0, 0, 0});
+void with_layout(const ProvotGrid& grid, const std::vector<std::vector<uint32_t>>& colors,
+                 const std::vector<clothlab_grid_color>* stencil_colors, Body&& body) {
+  SpringHost<double> network(63, {}, grid.springs, {0, 0, 0});
   network.set_spring_colors(colors);
-  const auto& raw = network.system().raw();
-  const auto* table = static_cast<const clothlab_topology_extension*>(
-      raw.get_extension(raw.context, CLOTHLAB_EXT_TOPOLOGY));
-  ASSERT_NE(table, nullptr);
-  clothlab_topology topology{};
-  topology.struct_size = sizeof topology;
-  ASSERT_EQ(table->get(raw.context, &topology), CLOTHLAB_OK);
-  body(sdk::Topology(topology));
+  if (stencil_colors != nullptr) network.set_grid(7, 9, spacing, *stencil_colors);
+  const sdk::System<double> system(network.system().raw());
+  body(builtin::grid_layout(system.grid(), system.topology()));
 }
 
-TEST(XpbdGrid, RecognisesTheProvotGridAndItsColours) {
+TEST(XpbdGrid, LaysTheTopologysColoursOnTheHostsGrid) {
   const ProvotGrid grid(7, 9);
-  with_topology(63, grid.springs, grid.colors, [](const sdk::Topology& topology) {
-    const auto layout = builtin::recognise_grid(topology);
+  with_layout(grid, grid.colors, &grid.stencil_colors, [](const auto& layout) {
     ASSERT_TRUE(layout.has_value());
     EXPECT_EQ(layout->rows, 7u);
     EXPECT_EQ(layout->cols, 9u);
     ASSERT_EQ(layout->colors.size(), 12u);
     for (uint32_t c = 0; c < 12; ++c) {
-      EXPECT_EQ(layout->colors[c].stencil, c / 2);
+      EXPECT_EQ(layout->colors[c].row_step, stencils[c / 2].row_step);
+      EXPECT_EQ(layout->colors[c].col_step, stencils[c / 2].col_step);
       EXPECT_EQ(layout->colors[c].parity, c % 2);
     }
     EXPECT_DOUBLE_EQ(layout->colors[0].ks, 800.0);
@@ -205,30 +203,20 @@ TEST(XpbdGrid, RecognisesTheProvotGridAndItsColours) {
   });
 }
 
-TEST(XpbdGrid, RefusesWhatIsNotOneStencilParityPerColour) {
+TEST(XpbdGrid, TakesTheGeneralPathWithoutAGridStencilsOrSprings) {
   const ProvotGrid grid(7, 9);
-  // Halves of colours: each colour a part of a stencil parity.
-  with_topology(63, grid.springs, halves(grid.colors), [](const sdk::Topology& topology) {
-    EXPECT_FALSE(builtin::recognise_grid(topology).has_value());
-  });
-  // Two parities in one colour (not independent, but the recogniser must not care).
-  std::vector<std::vector<uint32_t>> merged = grid.colors;
-  merged[0].insert(merged[0].end(), merged[1].begin(), merged[1].end());
-  merged.erase(merged.begin() + 1);
-  with_topology(63, grid.springs, merged, [](const sdk::Topology& topology) {
-    EXPECT_FALSE(builtin::recognise_grid(topology).has_value());
-  });
-  // One spring of another law in a colour.
-  std::vector<TestSpring> uneven = grid.springs;
-  uneven[grid.colors[2][3]].ks *= 2;
-  with_topology(63, uneven, grid.colors, [](const sdk::Topology& topology) {
-    EXPECT_FALSE(builtin::recognise_grid(topology).has_value());
-  });
-  // A chain is no grid.
-  with_topology(5, {{0, 1, 0.1, 1, 0}, {1, 2, 0.1, 1, 0}, {2, 3, 0.1, 1, 0}, {3, 4, 0.1, 1, 0}},
-                {{0, 2}, {1, 3}}, [](const sdk::Topology& topology) {
-                  EXPECT_FALSE(builtin::recognise_grid(topology).has_value());
-                });
+  // No grid offered: a general mesh, however its springs lie.
+  with_layout(grid, grid.colors, nullptr,
+              [](const auto& layout) { EXPECT_FALSE(layout.has_value()); });
+  // A grid whose colours are no stencils (the reference system's first-fit colours).
+  const std::vector<clothlab_grid_color> none;
+  with_layout(grid, grid.colors, &none,
+              [](const auto& layout) { EXPECT_FALSE(layout.has_value()); });
+  // A colour without springs (its family has ks = kd = 0): no law to project it with.
+  std::vector<std::vector<uint32_t>> emptied = grid.colors;
+  emptied[5].clear();
+  with_layout(grid, emptied, &grid.stencil_colors,
+              [](const auto& layout) { EXPECT_FALSE(layout.has_value()); });
 }
 
 }  // namespace

@@ -168,8 +168,8 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
 }
 
 // A rows x cols grid of unit masses with structural springs (4 colours: direction x parity),
-// the two top corners pinned, under gravity, started with a sideways kick so every spring
-// works.
+// offered as a grid (XPBD's grid path), the two top corners pinned, under gravity, started
+// with a sideways kick so every spring works.
 template <class Real>
 std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, int steps,
                                      int tethers = 0) {
@@ -187,6 +187,11 @@ std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, 
     }
   SpringHost<Real> network(n, {0, cols - 1}, std::move(springs), {0, -g, 0});
   network.set_spring_colors(colors);
+  network.set_grid(rows, cols, 0.01,
+                   {{0, 1, 0, rows, 0, cols - 1},
+                    {0, 1, 1, rows, 0, cols - 1},
+                    {1, 0, 0, rows - 1, 0, cols},
+                    {1, 0, 1, rows - 1, 0, cols}});
   MockSystem<Real>& system = network.system();
   for (uint32_t r = 0; r < rows; ++r)
     for (uint32_t c = 0; c < cols; ++c) {

@@ -87,13 +87,13 @@ double worst_tether_ratio(const builtin::Tethers<Real>& tethers, const MockSyste
   return worst;
 }
 
-// A soft rows x cols structural grid (4 colours, direction x parity, so the grid path takes it)
-// hung from its top row's two corners under gravity: untethered its bottom corners sag far
-// beyond 10 %.
+// A soft rows x cols structural grid (4 colours, direction x parity) hung from its top row's
+// two corners under gravity, offered as a grid (the grid path) or not (the general path):
+// untethered its bottom corners sag far beyond 10 %.
 struct SoftSheet {
   static constexpr uint32_t rows = 12, cols = 12;
   static constexpr double spacing = 0.05;
-  SoftSheet(bool split_colors) : network(rows * cols, {0, cols - 1}, springs(), {0, -g, 0}) {
+  SoftSheet(bool general) : network(rows * cols, {0, cols - 1}, springs(), {0, -g, 0}) {
     std::vector<std::vector<uint32_t>> colors(4);
     uint32_t k = 0;
     for (uint32_t r = 0; r < rows; ++r)
@@ -101,15 +101,13 @@ struct SoftSheet {
         if (c + 1 < cols) colors[c % 2].push_back(k++);
         if (r + 1 < rows) colors[2 + r % 2].push_back(k++);
       }
-    if (split_colors) {  // eight colours: no longer the grid's, the general path
-      std::vector<std::vector<uint32_t>> halves;
-      for (const auto& color : colors) {
-        halves.emplace_back(color.begin(), color.begin() + color.size() / 2);
-        halves.emplace_back(color.begin() + color.size() / 2, color.end());
-      }
-      colors = halves;
-    }
     network.set_spring_colors(colors);
+    if (!general)
+      network.set_grid(rows, cols, spacing,
+                       {{0, 1, 0, rows, 0, cols - 1},
+                        {0, 1, 1, rows, 0, cols - 1},
+                        {1, 0, 0, rows - 1, 0, cols},
+                        {1, 0, 1, rows - 1, 0, cols}});
     for (uint32_t r = 0; r < rows; ++r)
       for (uint32_t c = 0; c < cols; ++c)
         network.system().set_position(r * cols + c, {spacing * c, -spacing * r, 0});
@@ -125,16 +123,16 @@ struct SoftSheet {
   }
   bool on_the_grid_path() {
     const sdk::System<double> view(network.system().raw());
-    return builtin::recognise_grid(view.topology()).has_value();
+    return builtin::grid_layout(view.grid(), view.topology()).has_value();
   }
   SpringHost<double> network;
 };
 
 // The largest distance / limit over the run, checked after every step, of the tethers with up
 // to `per_particle` anchors and slack 0.1, run with `tethers` of them (0: none).
-double hang(bool split_colors, uint32_t per_particle, int tethers) {
-  SoftSheet sheet(split_colors);
-  EXPECT_EQ(sheet.on_the_grid_path(), !split_colors);
+double hang(bool general, uint32_t per_particle, int tethers) {
+  SoftSheet sheet(general);
+  EXPECT_EQ(sheet.on_the_grid_path(), !general);
   MockSystem<double>& system = sheet.network.system();
   // The limits the plugin's tethers have, whatever is run: the untethered run is measured
   // against the same bound.
@@ -153,13 +151,13 @@ double hang(bool split_colors, uint32_t per_particle, int tethers) {
 }
 
 TEST(XpbdTethers, HangingSheetStaysWithinTheSlackOfItsAnchors) {
-  for (bool split : {false, true}) {
-    EXPECT_GT(hang(split, 1, 0), 1.2) << "untethered, split colours " << split;
-    EXPECT_LE(hang(split, 1, 1), 1 + 1e-12) << "one tether, split colours " << split;
-    EXPECT_GT(hang(split, 2, 0), 1.2) << "untethered, split colours " << split;
+  for (bool general : {false, true}) {
+    EXPECT_GT(hang(general, 1, 0), 1.2) << "untethered, general path " << general;
+    EXPECT_LE(hang(general, 1, 1), 1 + 1e-12) << "one tether, general path " << general;
+    EXPECT_GT(hang(general, 2, 0), 1.2) << "untethered, general path " << general;
     // Two per particle, projected in turn once per substep: the second exactly, the first to
     // within what the second moves the particle (xpbd_tethers.hpp).
-    EXPECT_LE(hang(split, 2, 2), 1.015) << "two tethers, split colours " << split;
+    EXPECT_LE(hang(general, 2, 2), 1.015) << "two tethers, general path " << general;
   }
 }
 

@@ -2,9 +2,13 @@
 
 #include "clothlab/sweep/case_spec.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
+#include "run_config.hpp"
+#include "sweep_file.hpp"
 
 namespace clothlab::sweep {
 namespace {
+
+using cli::parse_sweep;
 
 SweepSpec two_by_three() {
   return parse_sweep(R"(steps: 100
@@ -28,14 +32,15 @@ TEST(CaseExpansion, EveryCombinationFirstAxisOutermost) {
   EXPECT_EQ(cases[11].key, "integrator=rk4;mesh=8;dt=0.01");
   EXPECT_EQ(cases[11].index, 11u);
   EXPECT_EQ(cases[4].integrator, "euler");
-  EXPECT_EQ(cases[4].rows, 8u);
-  EXPECT_EQ(cases[4].cols, 8u);
-  EXPECT_EQ(cases[1].rows, 4u);
-  EXPECT_EQ(cases[1].cols, 6u);
   EXPECT_DOUBLE_EQ(cases[1].dt, 0.005);
   EXPECT_EQ(cases[1].steps, 100u);
   EXPECT_EQ(cases[1].precision, "float64");
-  EXPECT_EQ(cases[1].setting("scenario.cols"), "6");
+  EXPECT_EQ(cases[1].setting("mesh"), "4x6");
+  // The key table reads the mesh: rows and cols reach the scenario.
+  const std::vector<Setting> scenario = cli::resolve_run_config(cases[1].settings).scenario_params;
+  ASSERT_EQ(scenario.size(), 2u);
+  EXPECT_EQ(scenario[0].key + "=" + scenario[0].value, "rows=4");
+  EXPECT_EQ(scenario[1].key + "=" + scenario[1].value, "cols=6");
   EXPECT_EQ(cases[1].setting("integrator.plugin"), "euler");
 }
 

@@ -5,10 +5,13 @@
 #include "clothlab/sweep/results_store.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "clothlab/sweep/sweep_runner.hpp"
+#include "sweep_file.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
 namespace {
+
+using cli::parse_sweep;
 
 using testing::read_text;
 using testing::ScratchFolder;

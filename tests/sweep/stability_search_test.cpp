@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "sweep_file.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
@@ -12,14 +13,15 @@ namespace {
 using testing::ScratchFolder;
 
 SweepSpec search_spec() {
-  return parse_sweep(R"(duration: 1
+  return cli::parse_sweep(R"(duration: 1
+dt: 0.001
+find_max_dt: {dt_min: 1e-6, dt_max: 0.5, tolerance: 0.01, growth: 1.5}
 sweep:
   name: st
   mode: stability
   matrix: {integrator: [euler, rk4], mesh: [10]}
-  stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.5, tolerance: 0.01, growth: 1.5}
 )",
-                     "st.yaml");
+                          "st.yaml");
 }
 
 double limit_of(const CaseSpec& c) { return c.integrator == "euler" ? 0.0042 : 0.011; }

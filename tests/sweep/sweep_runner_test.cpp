@@ -5,10 +5,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sweep_file.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
 namespace {
+
+using cli::parse_sweep;
 
 using testing::ScratchFolder;
 

@@ -6,6 +6,7 @@
 
 #include "clothlab/sweep/shard.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
+#include "sweep_file.hpp"
 #include "sweep_test_support.hpp"
 
 namespace clothlab::sweep {
@@ -17,14 +18,14 @@ using testing::ScratchFolder;
 constexpr double kDuration = 0.04, kDiagonal = 2.0;
 
 SweepSpec ladder_spec() {
-  return parse_sweep(R"(duration: 0.04
+  return cli::parse_sweep(R"(duration: 0.04
+work_precision: {reference_integrator: rk4, refinement: 16, dt_start: 0.01, levels: 5}
 sweep:
   name: wp
   mode: work-precision
   matrix: {integrator: [euler, midpoint], scenario: [sheet]}
-  work_precision: {reference_integrator: rk4, refinement: 16, dt_start: 0.01, levels: 5}
 )",
-                     "wp.yaml");
+                          "wp.yaml");
 }
 
 // Fake integrators with a known global error: x = exact + C dt^p along x of particle 0

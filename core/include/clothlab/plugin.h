@@ -14,7 +14,8 @@
  *    ("clothlab.jacobian/1") through `get_extension` on both sides, NULL when absent.
  *    A new capability is a new id, a change of one is a new revision ("/2"); a published
  *    extension struct is never edited. One header per extension, in clothlab/ext/:
- *    host side topology, jacobian, definite-jacobian, cg-step, reductions, external-forces;
+ *    host side topology, grid, jacobian, definite-jacobian, cg-step, reductions,
+ *    external-forces;
  *    integrator side integrator-traits, explicit-scheme, solver-statistics.
  *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
  *    give the same results, because every reader accepts the smaller struct sizes below;

@@ -16,7 +16,8 @@
 //
 // Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(),
 // definite_jacobian(), cg_step(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED
-// when the host lacks one; system.extension<Table>(id) returns nullptr instead. An integrator
+// when the host lacks one; system.grid() is empty when the cloth is no grid;
+// system.extension<Table>(id) returns nullptr instead. An integrator
 // offers its own extensions by declaring `static constexpr clothlab_integrator_traits traits` or
 // `static constexpr clothlab_explicit_scheme explicit_scheme`, and solver statistics
 // (clothlab.solver-statistics/1) by a member
@@ -41,6 +42,7 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -255,6 +257,16 @@ class System {
     check(required<clothlab_topology_extension>(CLOTHLAB_EXT_TOPOLOGY).get(raw_->context, &out),
           "topology failed");
     return Topology(out);
+  }
+  // The grid the cloth is laid out on (clothlab.grid/1), or nothing when the host does not say
+  // it is one. Its first call may allocate: make it from `prepare`.
+  std::optional<Grid> grid() const {
+    const auto* table = extension<clothlab_grid_extension>(CLOTHLAB_EXT_GRID);
+    if (table == nullptr) return std::nullopt;
+    clothlab_grid out{};
+    out.struct_size = sizeof out;
+    check(table->get(raw_->context, &out), "grid failed");
+    return Grid(out);
   }
   Jacobian<Real> jacobian() const {
     return {required<clothlab_jacobian_extension>(CLOTHLAB_EXT_JACOBIAN), raw_->context};

@@ -1,4 +1,4 @@
-#include "base64.hpp"
+#include "clothlab/io/base64.hpp"
 
 #include <array>
 #include <stdexcept>

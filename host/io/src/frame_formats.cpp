@@ -139,21 +139,37 @@ double ascii_value(const std::string& text, const std::string& name,
 }  // namespace
 
 VtpTopology vtp_topology(const GridMesh& mesh) {
-  // Row r's cells as one strip r*cols, (r+1)*cols, r*cols+1, (r+1)*cols+1, ...: VTK takes
-  // its triangles as (a, d, b), (b, d, d+1), ... (every other one turned), the same
-  // counter-clockwise triangles as GridMesh::triangles() in 2*cols indices instead of
-  // 6*(cols-1) and an offset per row instead of one per triangle.
+  // A triangle continues the strip before it when it is that strip's next triangle, else it
+  // starts a strip: VTK reads points p, q, r of a strip as (p, q, r) at an even position and
+  // (q, p, r) at an odd one, so that all face the same way. The core lists a column of cells
+  // as one such strip: 2 * rows indices and one offset per column instead of 6 * (rows - 1)
+  // and one per triangle.
   std::vector<int32_t> connectivity, offsets;
-  if (mesh.triangle_count() > 0) {
-    connectivity.reserve(2 * mesh.vertex_count());
-    for (uint32_t r = 0; r + 1 < mesh.rows; ++r) {
-      for (uint32_t c = 0; c < mesh.cols; ++c) {
-        const auto top = static_cast<int32_t>(r * mesh.cols + c);
-        connectivity.insert(connectivity.end(), {top, top + static_cast<int32_t>(mesh.cols)});
+  connectivity.reserve(2 * mesh.vertex_count());
+  std::size_t strip_begin = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += 3) {
+    const auto* triangle = mesh.triangles.data() + t;
+    const std::size_t length = connectivity.size() - strip_begin;
+    if (length >= 3) {
+      const int32_t before_last = connectivity[connectivity.size() - 2];
+      const int32_t last = connectivity.back();
+      const bool odd = (length - 2) % 2 == 1;
+      const int32_t first = odd ? last : before_last, second = odd ? before_last : last;
+      const auto continues = [&](int k) {
+        return static_cast<int32_t>(triangle[k]) == first &&
+               static_cast<int32_t>(triangle[(k + 1) % 3]) == second;
+      };
+      const int k = continues(0) ? 0 : continues(1) ? 1 : continues(2) ? 2 : -1;
+      if (k >= 0) {
+        connectivity.push_back(static_cast<int32_t>(triangle[(k + 2) % 3]));
+        continue;
       }
       offsets.push_back(static_cast<int32_t>(connectivity.size()));
+      strip_begin = connectivity.size();
     }
+    for (int k = 0; k < 3; ++k) connectivity.push_back(static_cast<int32_t>(triangle[k]));
   }
+  if (!connectivity.empty()) offsets.push_back(static_cast<int32_t>(connectivity.size()));
   VtpTopology topology;
   topology.strips = offsets.size();
   topology.connectivity_bytes = sizeof(ArrayHeader) + bytes_of(connectivity).size();
@@ -219,7 +235,7 @@ void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& fram
     out.write(piece.data(), static_cast<std::streamsize>(piece.size()));
 }
 
-Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
+Frame read_vtp(const std::filesystem::path& path, std::vector<uint32_t>* triangles) {
   const std::string text = read_text(path);
   if (text.find("<VTKFile type=\"PolyData\"") == std::string::npos)
     throw std::runtime_error(path.string() + ": not a VTK XML PolyData file");
@@ -236,14 +252,23 @@ Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles) {
       frame.stretch.size() * 3 != frame.positions.size())
     throw std::runtime_error(path.string() + ": point data sizes do not match the points");
   if (triangles) {
-    // A strip of n points holds n - 2 triangles.
+    const std::vector<int32_t> points = appended_values<int32_t>(text, "connectivity", path);
     const std::vector<int32_t> ends = appended_values<int32_t>(text, "offsets", path);
-    *triangles = 0;
+    triangles->clear();
     int32_t begin = 0;
     for (const int32_t end : ends) {
-      if (end - begin < 3)
+      if (end - begin < 3 || end > static_cast<int32_t>(points.size()))
         throw std::runtime_error(path.string() + ": a triangle strip of fewer than 3 points");
-      *triangles += static_cast<uint64_t>(end - begin - 2);
+      for (int32_t k = begin; k + 2 < end; ++k) {
+        const bool odd = (k - begin) % 2 == 1;
+        for (const int32_t point :
+             {points[k + (odd ? 1 : 0)], points[k + (odd ? 0 : 1)], points[k + 2]}) {
+          if (point < 0 || static_cast<uint64_t>(point) >= frame.stretch.size())
+            throw std::runtime_error(path.string() + ": a triangle strip names point " +
+                                     std::to_string(point) + ", not one of the points");
+          triangles->push_back(static_cast<uint32_t>(point));
+        }
+      }
       begin = end;
     }
   }
@@ -313,7 +338,7 @@ void write_obj(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
     line += '\n';
     out << line;
   }
-  const std::vector<int32_t> triangles = mesh.triangles();
+  const std::vector<uint32_t>& triangles = mesh.triangles;
   for (size_t t = 0; t < triangles.size(); t += 3)
     out << "f " << triangles[t] + 1 << ' ' << triangles[t + 1] + 1 << ' ' << triangles[t + 2] + 1
         << '\n';

@@ -1,21 +1,12 @@
 #include <algorithm>
+#include <clothlab/core/cloth.hpp>
 #include <clothlab/io/frame.hpp>
 #include <cmath>
 
 namespace clothlab::io {
 
-std::vector<int32_t> GridMesh::triangles() const {
-  std::vector<int32_t> indices;
-  indices.reserve(3 * triangle_count());
-  for (uint32_t r = 0; r + 1 < rows; ++r)
-    for (uint32_t c = 0; c + 1 < cols; ++c) {
-      const auto a = static_cast<int32_t>(r * cols + c);
-      const auto b = a + 1;
-      const auto d = a + static_cast<int32_t>(cols);
-      indices.insert(indices.end(), {a, d, b, b, d, d + 1});
-    }
-  return indices;
-}
+GridMesh::GridMesh(uint32_t rows_in, uint32_t cols_in)
+    : rows(rows_in), cols(cols_in), triangles(grid_triangles(rows_in, cols_in)) {}
 
 void compute_stretch(const GridMesh& mesh, double column_rest, double row_rest,
                      const std::vector<float>& positions, std::vector<float>& stretch) {

@@ -2,6 +2,13 @@
 
 namespace clothlab::host {
 
+PluginLoadError cannot_load(const std::filesystem::path& path, const std::string& why,
+                            std::string_view searched) {
+  std::string message = "cannot load plugin " + path.string() + ": " + why;
+  if (!searched.empty()) message += " (plugin search path: " + std::string(searched) + ")";
+  return PluginLoadError(message);
+}
+
 const char* status_name(clothlab_status status) {
   switch (status) {
     case CLOTHLAB_OK:

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <vector>
 
-#include "clothlab/host/identifiers.hpp"
-
 namespace clothlab::host {
 
 namespace {
@@ -160,29 +158,6 @@ bool in_range(const clothlab_param_spec& spec, const clothlab_param_value& value
   for (int k = 0; k < components; ++k)
     if (!(value.v[k] >= spec.min_value && value.v[k] <= spec.max_value)) return false;
   return true;
-}
-
-std::optional<std::string> spec_problem(const clothlab_param_spec& spec) {
-  if (spec.struct_size < CLOTHLAB_PARAM_SPEC_SIZE_1_0)
-    return "parameter spec struct_size " + std::to_string(spec.struct_size) + " < " +
-           std::to_string(CLOTHLAB_PARAM_SPEC_SIZE_1_0);
-  if (spec.name == nullptr || !is_param_name(spec.name))
-    return std::string("parameter name \"") + (spec.name ? spec.name : "(null)") +
-           "\" is not [a-z0-9_.]+";
-  const std::string name = spec.name;
-  if (spec.help == nullptr || spec.unit == nullptr)
-    return "parameter " + name + " has a null string";
-  if (spec.type < CLOTHLAB_PARAM_REAL || spec.type > CLOTHLAB_PARAM_VEC3)
-    return "parameter " + name + " has unknown type " + std::to_string(spec.type);
-  if (!std::isfinite(spec.min_value) || !std::isfinite(spec.max_value) ||
-      spec.min_value > spec.max_value)
-    return "parameter " + name + " has an invalid range";
-  clothlab_param_value fallback{};
-  for (int k = 0; k < 3; ++k) fallback.v[k] = spec.default_value[k];
-  if (!in_range(spec, fallback))
-    return "parameter " + name + " default " + format_param_value(spec, fallback) +
-           " is outside its range";
-  return std::nullopt;
 }
 
 }  // namespace clothlab::host

@@ -1,101 +1,16 @@
 #include "clothlab/host/plugin_library.hpp"
 
-#include <dlfcn.h>
-
-#include <boost/dll/shared_library.hpp>
 #include <map>
-#include <set>
 
+#include "clothlab/host/descriptor_findings.hpp"
 #include "clothlab/host/errors.hpp"
-#include "clothlab/host/identifiers.hpp"
-#include "clothlab/host/param_text.hpp"
+#include "clothlab/host/library_handle.hpp"
 
 namespace fs = std::filesystem;
 
 namespace clothlab::host {
 
-struct LibraryHandle {
-  boost::dll::shared_library library;
-};
-
 namespace {
-
-// Boost.DLL clears dlerror(), so ask the dynamic loader again for its reason.
-std::string dlopen_reason(const fs::path& path) {
-  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (handle == nullptr) {
-    const char* reason = dlerror();
-    std::string text = reason ? reason : "unknown dlopen failure";
-    // dlerror starts with the path, which the caller's message already names.
-    const std::string prefix = path.string() + ": ";
-    if (text.starts_with(prefix)) text.erase(0, prefix.size());
-    return text;
-  }
-  dlclose(handle);
-  return "Boost.DLL could not open it";
-}
-
-// Checks the parts common to integrators and scenarios; returns the problem or "".
-std::string component_problem(const char* kind, uint32_t index, uint32_t struct_size,
-                              size_t minimum_size, const char* id,
-                              std::initializer_list<const char*> strings,
-                              std::initializer_list<bool> functions,
-                              const clothlab_param_spec* params, uint32_t param_count) {
-  const std::string where = std::string(kind) + " #" + std::to_string(index);
-  if (struct_size < minimum_size)
-    return where + " has struct_size " + std::to_string(struct_size) + ", smaller than ABI 1.0's " +
-           std::to_string(minimum_size);
-  if (id == nullptr || !is_plugin_id(id))
-    return where + " has id \"" + (id ? id : "(null)") + "\", expected [a-z0-9_-]+";
-  const std::string named = std::string(kind) + " " + id;
-  for (const char* text : strings)
-    if (text == nullptr) return named + " has a null name, version or description";
-  for (bool present : functions)
-    if (!present) return named + " has a null function pointer";
-  if (param_count > 0 && params == nullptr) return named + " has a null parameter array";
-  std::set<std::string_view> names;
-  for (uint32_t i = 0; i < param_count; ++i) {
-    if (const auto problem = spec_problem(params[i])) return named + ": " + *problem;
-    if (!names.insert(params[i].name).second)
-      return named + " declares parameter " + params[i].name + " twice";
-  }
-  return {};
-}
-
-std::string descriptor_problem(const clothlab_plugin_descriptor& descriptor) {
-  if (descriptor.struct_size < CLOTHLAB_DESCRIPTOR_SIZE_1_0)
-    return "descriptor struct_size " + std::to_string(descriptor.struct_size) +
-           " is smaller than ABI 1.0's " + std::to_string(CLOTHLAB_DESCRIPTOR_SIZE_1_0) + " bytes";
-  if (descriptor.library_name == nullptr || descriptor.library_version == nullptr)
-    return "descriptor has a null library name or version";
-  if ((descriptor.integrator_count > 0 && descriptor.integrators == nullptr) ||
-      (descriptor.scenario_count > 0 && descriptor.scenarios == nullptr))
-    return "descriptor has a null component list";
-  std::set<std::string_view> ids;
-  for (uint32_t i = 0; i < descriptor.integrator_count; ++i) {
-    const clothlab_integrator* c = descriptor.integrators[i];
-    if (c == nullptr) return "integrator #" + std::to_string(i) + " is null";
-    const std::string problem = component_problem(
-        "integrator", i, c->struct_size, CLOTHLAB_INTEGRATOR_SIZE_1_0, c->id,
-        {c->name, c->version, c->description},
-        {c->create != nullptr, c->prepare != nullptr, c->step != nullptr, c->destroy != nullptr},
-        c->params, c->param_count);
-    if (!problem.empty()) return problem;
-    if (!ids.insert(c->id).second) return std::string("duplicate component id ") + c->id;
-  }
-  for (uint32_t i = 0; i < descriptor.scenario_count; ++i) {
-    const clothlab_scenario* c = descriptor.scenarios[i];
-    if (c == nullptr) return "scenario #" + std::to_string(i) + " is null";
-    const std::string problem =
-        component_problem("scenario", i, c->struct_size, CLOTHLAB_SCENARIO_SIZE_1_0, c->id,
-                          {c->name, c->version, c->description},
-                          {c->create != nullptr, c->describe != nullptr, c->destroy != nullptr},
-                          c->params, c->param_count);
-    if (!problem.empty()) return problem;
-    if (!ids.insert(c->id).second) return std::string("duplicate component id ") + c->id;
-  }
-  return {};
-}
 
 template <class Plugin>
 std::string list_ids(const std::vector<Plugin>& plugins) {
@@ -123,44 +38,18 @@ const Plugin& pick(const std::vector<Plugin>& plugins, const fs::path& path, con
 
 }  // namespace
 
-std::string abi_refusal(const clothlab_abi_version& version) {
-  if (clothlab_abi_is_compatible(version)) return {};
-  return "plugin ABI version " + std::to_string(version.major) + "." +
-         std::to_string(version.minor) + " is incompatible with host ABI version " +
-         std::to_string(CLOTHLAB_ABI_VERSION_MAJOR) + "." +
-         std::to_string(CLOTHLAB_ABI_VERSION_MINOR) + " (major versions differ)";
-}
-
 std::string descriptor_refusal(const clothlab_plugin_descriptor& descriptor) {
-  // The version comes first and is checked before any other field is read.
-  if (std::string refusal = abi_refusal(descriptor.abi_version); !refusal.empty()) return refusal;
-  return descriptor_problem(descriptor);
+  const std::vector<DescriptorFinding> findings = descriptor_findings(descriptor);
+  return findings.empty() ? std::string() : describe(findings.front());
 }
 
 PluginLibrary PluginLibrary::load(const fs::path& path, std::string_view searched) {
-  const std::string suffix =
-      searched.empty() ? std::string() : " (plugin search path: " + std::string(searched) + ")";
-  const auto fail = [&](const std::string& why) -> PluginLoadError {
-    return PluginLoadError("cannot load plugin " + path.string() + ": " + why + suffix);
-  };
-
-  std::error_code exists_error;
-  if (!fs::exists(path, exists_error)) throw fail("no such file");
-
-  auto handle = std::make_shared<LibraryHandle>();
-  boost::dll::fs::error_code error;
-  handle->library.load(path, error, boost::dll::load_mode::rtld_now);
-  if (error || !handle->library.is_loaded())
-    throw fail("not a loadable shared library: " + dlopen_reason(path));
-  if (!handle->library.has(CLOTHLAB_PLUGIN_ENTRY_SYMBOL))
-    throw fail("no entry symbol " CLOTHLAB_PLUGIN_ENTRY_SYMBOL " (not a ClothLab plugin)");
-
-  const auto& entry =
-      handle->library.get<const clothlab_plugin_descriptor*()>(CLOTHLAB_PLUGIN_ENTRY_SYMBOL);
-  const clothlab_plugin_descriptor* descriptor = entry();
-  if (descriptor == nullptr) throw fail(CLOTHLAB_PLUGIN_ENTRY_SYMBOL " returned null");
-  if (const std::string problem = descriptor_refusal(*descriptor); !problem.empty())
-    throw fail(problem);
+  std::shared_ptr<const LibraryHandle> handle = LibraryHandle::open(path, searched);
+  const clothlab_plugin_descriptor* descriptor = handle->descriptor();
+  if (descriptor == nullptr)
+    throw cannot_load(path, CLOTHLAB_PLUGIN_ENTRY_SYMBOL " returned null", searched);
+  if (const std::string refusal = descriptor_refusal(*descriptor); !refusal.empty())
+    throw cannot_load(path, refusal, searched);
 
   PluginLibrary library;
   library.path_ = path;

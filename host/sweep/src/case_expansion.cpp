@@ -23,18 +23,6 @@ std::string make_key(const std::vector<std::pair<std::string, std::string>>& coo
   return key;
 }
 
-void append_setting(std::vector<Setting>& settings, const Setting& setting) {
-  if (setting.key == "mesh") {
-    const std::size_t cross = setting.value.find('x');
-    const std::string rows = setting.value.substr(0, cross);
-    const std::string cols = cross == std::string::npos ? rows : setting.value.substr(cross + 1);
-    settings.push_back({"scenario.rows", rows, setting.source});
-    settings.push_back({"scenario.cols", cols, setting.source});
-  } else {
-    settings.push_back(setting);
-  }
-}
-
 // Fills the convenience fields from the settings (later settings win). Values are not checked
 // here: every case goes through the run's one key table before the first case runs, so a value
 // that does not parse leaves its field at the default and never reaches a run.
@@ -51,9 +39,6 @@ void derive_views(CaseSpec& spec) {
       spec.scenario = setting.value;
     } else if (setting.key == "precision") {
       spec.precision = setting.value;
-    } else if ((setting.key == "scenario.rows" || setting.key == "scenario.cols") && whole &&
-               *number <= 1e9) {
-      (setting.key == "scenario.rows" ? spec.rows : spec.cols) = static_cast<uint32_t>(*number);
     } else if (setting.key == "dt" && number) {
       spec.dt = *number;
     } else if (setting.key == "duration" && number) {
@@ -96,7 +81,7 @@ std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
       const Setting& value = spec.axes[a].values[digit[a]];
       c.coordinates.emplace_back(coordinate_name(spec.axes[a].key),
                                  host::canonical_value(value.value));
-      append_setting(c.settings, value);
+      c.settings.push_back(value);
     }
     c.key = make_key(c.coordinates);
     derive_views(c);
@@ -112,7 +97,7 @@ std::vector<CaseSpec> expand_cases(const SweepSpec& spec) {
 CaseSpec with_setting(const CaseSpec& base, const std::string& key, const std::string& value,
                       bool as_coordinate) {
   CaseSpec c = base;
-  append_setting(c.settings, {key, value, "sweep"});
+  c.settings.push_back({key, value, "sweep"});
   derive_views(c);
   if (!as_coordinate) return c;
   const std::string name = coordinate_name(key);

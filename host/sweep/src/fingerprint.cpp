@@ -28,11 +28,6 @@ Fingerprint sweep_fingerprint(const SweepSpec& spec, const PluginIdentity& plugi
     const auto fixed = fingerprint.find(key);
     if (fixed != fingerprint.end()) plugin_ids.insert(fixed->second);
   }
-  const auto& monitor = spec.monitor;
-  fingerprint["monitor.check_interval"] = std::to_string(monitor.check_interval);
-  fingerprint["monitor.stretch_limit"] = host::format_number(monitor.stretch_limit);
-  fingerprint["monitor.energy_margin"] = host::format_number(monitor.energy_margin);
-  fingerprint["monitor.wind_work_safety"] = host::format_number(monitor.wind_work_safety);
   if (spec.mode == SweepMode::WorkPrecision) {
     const auto& wp = spec.work_precision;
     fingerprint["work_precision.reference_integrator"] = wp.reference_integrator;
@@ -45,12 +40,11 @@ Fingerprint sweep_fingerprint(const SweepSpec& spec, const PluginIdentity& plugi
     fingerprint["work_precision.levels"] = std::to_string(wp.levels);
   } else if (spec.mode == SweepMode::Stability) {
     const auto& st = spec.stability;
-    fingerprint["stability.dt_initial"] = host::format_number(st.dt_initial);
-    fingerprint["stability.dt_min"] = host::format_number(st.dt_lower_limit);
-    fingerprint["stability.dt_max"] = host::format_number(st.dt_upper_limit);
-    fingerprint["stability.tolerance"] = host::format_number(st.relative_tolerance);
-    fingerprint["stability.growth"] = host::format_number(st.growth);
-    fingerprint["stability.max_evaluations"] = std::to_string(st.max_evaluations);
+    fingerprint["find_max_dt.dt_min"] = host::format_number(st.dt_lower_limit);
+    fingerprint["find_max_dt.dt_max"] = host::format_number(st.dt_upper_limit);
+    fingerprint["find_max_dt.tolerance"] = host::format_number(st.relative_tolerance);
+    fingerprint["find_max_dt.growth"] = host::format_number(st.growth);
+    fingerprint["find_max_dt.max_evaluations"] = std::to_string(st.max_evaluations);
   }
   if (plugin_identity) {
     for (const std::string& id : plugin_ids) fingerprint["plugin." + id] = plugin_identity(id);

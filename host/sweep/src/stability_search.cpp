@@ -4,21 +4,9 @@
 #include <cmath>
 #include <exception>
 
+#include "clothlab/sweep/case_attempt.hpp"
+
 namespace clothlab::sweep {
-namespace {
-
-CaseResult run_guarded(const CaseRunner& runner, const CaseSpec& c) {
-  try {
-    return runner(c);
-  } catch (const std::exception& error) {
-    CaseResult failed;
-    failed.status = CaseStatus::Failed;
-    failed.reason = error.what();
-    return failed;
-  }
-}
-
-}  // namespace
 
 StabilitySummary run_stability_search(const SweepSpec& spec, const std::vector<CaseSpec>& cases,
                                       const CaseRunner& runner, const DtPredictor& predictor,
@@ -57,7 +45,7 @@ StabilitySummary run_stability_search(const SweepSpec& spec, const std::vector<C
     double failure_dt = 0.0;
     const analysis::MaxDtResult result = analysis::find_max_dt(
         [&](double dt) {
-          const CaseResult probe = run_guarded(runner, with_dt(c, dt));
+          const CaseResult probe = attempt_case(runner, with_dt(c, dt));
           if (!probe.stable() && (failure_dt == 0.0 || dt < failure_dt)) {
             failure_dt = dt;
             first_failure = probe;

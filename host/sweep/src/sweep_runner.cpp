@@ -1,8 +1,8 @@
 #include "clothlab/sweep/sweep_runner.hpp"
 
 #include <chrono>
-#include <clothlab/host/errors.hpp>
-#include <exception>
+
+#include "clothlab/sweep/case_attempt.hpp"
 
 namespace clothlab::sweep {
 
@@ -40,18 +40,7 @@ SweepSummary run_sweep(const std::vector<CaseSpec>& cases, const CaseRunner& run
       ++summary.skipped;
       continue;
     }
-    CaseResult result;
-    try {
-      result = runner(spec);
-    } catch (const std::exception& error) {
-      result = {};
-      result.status = CaseStatus::Failed;
-      result.reason = host::one_line(error.what());
-    } catch (...) {
-      result = {};
-      result.status = CaseStatus::Failed;
-      result.reason = "unknown exception";
-    }
+    const CaseResult result = attempt_case(runner, spec);
     switch (result.status) {
       case CaseStatus::Stable:
         ++summary.stable;

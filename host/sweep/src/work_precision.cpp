@@ -4,9 +4,9 @@
 #include <clothlab/analysis/order_fit.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
-#include <exception>
 #include <map>
 
+#include "clothlab/sweep/case_attempt.hpp"
 #include "clothlab/sweep/sweep_error.hpp"
 #include "clothlab/sweep/sweep_runner.hpp"
 
@@ -74,17 +74,6 @@ CaseSpec run_spec(const CaseSpec& base, double dt, double duration) {
   return with_setting(with_dt(base, dt), "steps", std::to_string(whole_steps(duration, dt)), false);
 }
 
-Trajectory run_guarded(const TrajectoryRunner& runner, const CaseSpec& c) {
-  try {
-    return runner(c);
-  } catch (const std::exception& error) {
-    Trajectory failed;
-    failed.verdict.status = CaseStatus::Failed;
-    failed.verdict.reason = error.what();
-    return failed;
-  }
-}
-
 // Where the case's setting of key was made (the last one: later settings win).
 std::string source_of(const SweepSpec& spec, const CaseSpec& c, const std::string& key) {
   for (auto setting = c.settings.rbegin(); setting != c.settings.rend(); ++setting)
@@ -108,8 +97,8 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
   const std::string integrator = reference_integrator(wp, base);
   CaseSpec reference = with_setting(base, "integrator.plugin", integrator);
   reference = with_setting(reference, "precision", "float64");
-  const Trajectory coarse = run_guarded(runner, run_spec(reference, dt, duration));
-  const Trajectory fine = run_guarded(runner, run_spec(reference, dt / 2.0, duration));
+  const Trajectory coarse = attempt_trajectory(runner, run_spec(reference, dt, duration));
+  const Trajectory fine = attempt_trajectory(runner, run_spec(reference, dt / 2.0, duration));
   for (const Trajectory* run : {&coarse, &fine}) {
     if (!run->verdict.stable()) {
       throw SweepError("work-precision: reference " + integrator + " float64 for " +
@@ -263,7 +252,7 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
                 .first;
         ++summary.references;
       }
-      const Trajectory run = run_guarded(runner, run_spec(c, dt, duration));
+      const Trajectory run = attempt_trajectory(runner, run_spec(c, dt, duration));
       store.append(ladder_row(c, dt, duration, run, reference->second), c.index);
       ++summary.runs;
       if (progress)

@@ -43,6 +43,10 @@ struct Scene {
   std::vector<uint32_t> pinned;
 
   bool has_wind() const { return wind_strength != 0.0; }
+  // Rest distance between neighbouring columns (rows) of the initial layout; 0 where there is
+  // only one.
+  double column_spacing() const { return cols > 1 ? width / (cols - 1) : 0.0; }
+  double row_spacing() const { return rows > 1 ? height / (rows - 1) : 0.0; }
 };
 
 // Copies and validates; throws std::invalid_argument naming the bad field and value.
@@ -55,6 +59,13 @@ struct SpringCounts {
   uint64_t total() const { return structural + shear + flexion; }
 };
 SpringCounts count_springs(uint32_t rows, uint32_t cols);
+
+// The cloth's surface, 3 particle indices per triangle: each grid cell with corners
+// a = (r, c), b = (r, c + 1), c' = (r + 1, c), d = (r + 1, c + 1) is the triangles (a, b, c')
+// and (b, d, c'), the ones wind acts on, counter-clockwise about their normal
+// col_axis x row_axis. Cells go column of cells by column of cells, top to bottom, so that
+// each column of cells is one triangle strip.
+std::vector<uint32_t> grid_triangles(uint32_t rows, uint32_t cols);
 
 // Clouds of fewer particles run on the calling thread whatever PipelineOptions::threads says
 // (a thread team costs more than it saves there). Checks of threaded behaviour use more.

@@ -1,6 +1,6 @@
 // Typed C++ views of the host extensions (clothlab/ext/*.h), returned by
-// System<Real>::topology(), jacobian(), definite_jacobian(), cg_step(), reductions() and
-// external_forces() in sdk.hpp.
+// System<Real>::topology(), grid(), jacobian(), definite_jacobian(), cg_step(), reductions()
+// and external_forces() in sdk.hpp.
 // Each wrapper holds the extension's function table and the system's context; a failing
 // call throws sdk::Error with the host's status.
 #pragma once
@@ -8,6 +8,7 @@
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/topology.h>
@@ -56,6 +57,27 @@ class Topology {
 
  private:
   clothlab_topology raw_;
+};
+
+// The regular grid the cloth is laid out on (host-owned, fixed while the system lives):
+// rows x cols particles, particle r * cols + c.
+class Grid {
+ public:
+  explicit Grid(const clothlab_grid& raw) : raw_(raw) {}
+
+  uint32_t rows() const { return raw_.rows; }
+  uint32_t cols() const { return raw_.cols; }
+  double column_spacing() const { return raw_.column_spacing; }
+  double row_spacing() const { return raw_.row_spacing; }
+  // Topology colour c's stencil and parity at [c]; empty when the colours are no stencils.
+  std::span<const clothlab_grid_color> spring_colors() const {
+    if (raw_.spring_colors == nullptr) return {};
+    return {raw_.spring_colors, raw_.spring_color_count};
+  }
+  const clothlab_grid& raw() const { return raw_; }
+
+ private:
+  clothlab_grid raw_;
 };
 
 // J = c_x (da/dx) + c_v (da/dv) at a state (x, v); v = nullptr leaves out damping.

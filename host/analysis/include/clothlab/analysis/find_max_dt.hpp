@@ -1,4 +1,4 @@
-// Largest stable time step: bracket, then bisect a stability predicate.
+// Largest stable time step: bracket, then bisect a stability predicate (bracket_search.hpp).
 #pragma once
 
 #include <functional>

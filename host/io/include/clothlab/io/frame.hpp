@@ -1,5 +1,5 @@
 // One frame of a cloth run as the frame files hold it: float32 per-vertex data of a
-// rows x cols grid (particle r * cols + c), triangulated two triangles per grid cell.
+// rows x cols grid (particle r * cols + c), triangulated as the core triangulates it.
 #pragma once
 
 #include <cstdint>
@@ -23,14 +23,13 @@ struct Frame {
   FrameEnergy energy;
 };
 
+// The grid's vertices and the core's triangles of it (clothlab::grid_triangles).
 struct GridMesh {
+  GridMesh(uint32_t rows, uint32_t cols);
   uint32_t rows = 0, cols = 0;
+  std::vector<uint32_t> triangles;  // vertex indices, 3 per triangle
   uint64_t vertex_count() const { return uint64_t{rows} * cols; }
-  uint64_t triangle_count() const {
-    return rows > 1 && cols > 1 ? 2 * uint64_t{rows - 1} * (cols - 1) : 0;
-  }
-  // Vertex indices, 3 per triangle, counter-clockwise seen from the front of the layout.
-  std::vector<int32_t> triangles() const;
+  uint64_t triangle_count() const { return triangles.size() / 3; }
 };
 
 // stretch[i] for every vertex from its positions and the rest lengths of its springs.

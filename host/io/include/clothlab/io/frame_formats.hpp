@@ -1,5 +1,5 @@
 // The frame file formats, all written without a library:
-//   .vtp  VTK XML PolyData (ParaView): points, the triangles as one triangle strip per row
+//   .vtp  VTK XML PolyData (ParaView): points, the triangles as one triangle strip per column
 //         of cells, point data velocity and stretch,
 //         field data TimeValue, step and the energies; arrays as raw appended binary
 //         (little-endian, header_type UInt64: no encoding to spend time on; the triangles'
@@ -18,9 +18,9 @@
 
 namespace clothlab::io {
 
-// The triangles as triangle strips (one per row of cells: a quarter of the bytes of separate
-// triangles), VTK's connectivity and offsets arrays, the same in every frame: their appended
-// bytes (each array's UInt64 byte count, then the Int32 values).
+// The mesh's triangles as triangle strips (one per column of cells: a quarter of the bytes of
+// separate triangles), VTK's connectivity and offsets arrays, the same in every frame: their
+// appended bytes (each array's UInt64 byte count, then the Int32 values).
 struct VtpTopology {
   uint64_t strips = 0;
   uint64_t connectivity_bytes = 0;  // the connectivity's count and values: where offsets starts
@@ -39,9 +39,9 @@ void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame)
 void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame);
 
 // Reads a .vtp this module wrote (positions, velocities, stretch, time, step, energy, and
-// the number of triangles its strips hold in *triangles). Throws std::runtime_error naming the file
-// and what is missing.
-Frame read_vtp(const std::filesystem::path& path, uint64_t* triangles = nullptr);
+// the triangles its strips hold in *triangles, 3 point indices each). Throws
+// std::runtime_error naming the file and what is missing.
+Frame read_vtp(const std::filesystem::path& path, std::vector<uint32_t>* triangles = nullptr);
 
 struct CollectionEntry {
   double time = 0;

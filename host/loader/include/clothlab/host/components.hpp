@@ -16,8 +16,8 @@
 
 namespace clothlab::host {
 
-// Keeps one loaded shared library open (defined in plugin_library.cpp).
-struct LibraryHandle;
+// Keeps one loaded shared library open (library_handle.hpp).
+class LibraryHandle;
 
 // An object a plugin created, destroyed through the plugin when the owner goes.
 class PluginObject {
@@ -113,6 +113,7 @@ class ScenarioPlugin {
                  const clothlab_scenario& descriptor);
 
   ComponentInfo info() const;
+  const clothlab_scenario& descriptor() const { return *descriptor_; }
   ParamSet default_params() const;
   ScenarioInstance create(const ParamSet& params) const;
 

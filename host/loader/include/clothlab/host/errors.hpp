@@ -3,6 +3,7 @@
 
 #include <clothlab/plugin.h>
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -20,6 +21,10 @@ class PluginLoadError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// "cannot load plugin PATH: WHY", and " (plugin search path: SEARCHED)" when that is given.
+PluginLoadError cannot_load(const std::filesystem::path& path, const std::string& why,
+                            std::string_view searched = {});
 
 // A plugin call that returned an error status (exit code 2, or 3 for a numerical failure).
 class PluginError : public std::runtime_error {

@@ -40,8 +40,4 @@ ParsedParam parse_param_text(const clothlab_param_spec& spec, std::string_view t
 // Whether the value lies in the spec's range (every component for vec3).
 bool in_range(const clothlab_param_spec& spec, const clothlab_param_value& value);
 
-// Why a plugin's spec is unusable (bad name, unknown type, empty range, default out of
-// range), or nothing if it is fine.
-std::optional<std::string> spec_problem(const clothlab_param_spec& spec);
-
 }  // namespace clothlab::host

@@ -1,5 +1,6 @@
-// One loaded plugin library: opened with Boost.DLL, its descriptor checked, its
-// components wrapped.
+// One loaded plugin library: opened once (LibraryHandle), its descriptor validated
+// (descriptor_findings), its components wrapped. The one way the host, the conformance runner,
+// the tests and the benchmarks load a plugin.
 #pragma once
 
 #include <clothlab/plugin.h>
@@ -17,10 +18,10 @@ namespace clothlab::host {
 
 class PluginLibrary {
  public:
-  // Opens the file and checks its descriptor: entry symbol present, ABI major equal to
-  // this host's (any minor), struct sizes at least what the host reads, non-null strings
-  // and functions, valid parameter specs, ids unique within the library. Throws
-  // PluginLoadError naming the file; `searched` (the search path) is added when given.
+  // Opens the file and refuses it on the first of descriptor_findings (ABI major, struct sizes,
+  // strings, functions, parameter specs, ids). Throws PluginLoadError naming the file, and for a
+  // finding its field, value and what is allowed; `searched` (the search path) is added when
+  // given.
   static PluginLibrary load(const std::filesystem::path& path, std::string_view searched = {});
 
   // Resolves an --integrator/--scenario argument on the search path, then loads it.
@@ -49,11 +50,8 @@ class PluginLibrary {
   std::vector<ScenarioPlugin> scenarios_;
 };
 
-// The loader's gate, as load() applies it: why a plugin of this ABI version is refused (another
-// major), or "" when it is accepted (the same major, any minor).
-std::string abi_refusal(const clothlab_abi_version& version);
-// The version gate, then the descriptor's fields (sizes, strings, functions, parameter specs,
-// unique ids); "" when load() would accept the descriptor.
+// The loader's gate, as load() applies it: the first of descriptor_findings as one line, or ""
+// when load() accepts the descriptor.
 std::string descriptor_refusal(const clothlab_plugin_descriptor& descriptor);
 
 // Load errors for one of several libraries, and ids that appear in more than one.

@@ -19,15 +19,14 @@ struct CaseSpec {
   // Matrix coordinates (axis name, canonical value), for result columns.
   std::vector<std::pair<std::string, std::string>> coordinates;
   // Everything a single run needs, fixed settings first, then the case's axes (later wins).
-  // Keys as in single-run configs: integrator.plugin, scenario.plugin, scenario.rows,
-  // scenario.cols, dt, precision, steps or duration, integrator.<param>, scenario.<param>...
+  // Keys as in single-run configs: integrator.plugin, scenario.plugin, mesh, dt, precision,
+  // steps or duration, integrator.<param>, scenario.<param>...
   std::vector<Setting> settings;
 
   // Convenience views of the settings above (empty / 0 when not set).
   std::string integrator;
   std::string scenario;
   std::string precision;  // "float32" when not set
-  uint32_t rows = 0, cols = 0;
   double dt = 0.0;
   double duration = 0.0;  // s; 0 when given as steps
   uint64_t steps = 0;     // 0 when given as duration

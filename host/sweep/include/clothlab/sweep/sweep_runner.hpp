@@ -24,7 +24,7 @@ struct SweepSummary {
 Row case_row(const CaseSpec& spec, const CaseResult& result);
 
 // Runs every case whose key is not yet in the store. An exception from the runner becomes a
-// Failed row carrying its message; the sweep goes on. progress may be null.
+// Failed row carrying its message (attempt_case); the sweep goes on. progress may be null.
 SweepSummary run_sweep(const std::vector<CaseSpec>& cases, const CaseRunner& runner,
                        ResultsStore& store, Progress* progress);
 

@@ -1,9 +1,14 @@
 // A sweep described in YAML: a single-run config (its keys are the fixed settings of every
-// case) plus a `sweep:` section with the matrix and the mode.
+// case) plus a `sweep:` section with the matrix. Every key but the matrix is a row of the one
+// key table (clothlab --help lists them); host/cli/sweep_file.cpp reads the file.
 //
 //   integrator: {damping: 0.5}         # fixed settings, same keys as a single run
 //   scenario: {mass: 100}
 //   duration: 2.0                      # or steps: N
+//   stability: {interval: 10, max_stretch: 5, energy_margin: 1}   # every case's monitor
+//   work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6,
+//                    self_reference: [verlet]}
+//   find_max_dt: {dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02, growth: 2, max_evaluations: 40}
 //   sweep:
 //     name: seed-2016-matrix
 //     mode: run                        # run | work-precision | stability
@@ -15,11 +20,6 @@
 //       dt: [0.001, 0.005]             # s (run mode only)
 //       precision: [float32, float64]
 //       scenario.structural.ks: [20, 200]   # any setting key: a list of values
-//     monitor: {check_interval: 10, stretch_limit: 5, energy_margin: 1}
-//     work_precision: {reference_integrator: rk4, refinement: 32, dt_start: 0.004, levels: 6,
-//                      self_reference: [verlet]}
-//     stability: {dt_initial: 0.001, dt_min: 1e-6, dt_max: 0.05, tolerance: 0.02,
-//                 growth: 2, max_evaluations: 40}   # growth: bracketing factor
 //   slurm:                             # for --slurm only; not part of any case
 //     partition: batch                 # sbatch --partition (default: the cluster's)
 //     tasks: 8                         # array tasks = shards (--array=1-8)
@@ -29,7 +29,6 @@
 #pragma once
 
 #include <clothlab/analysis/find_max_dt.hpp>
-#include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/config/setting.hpp>
 #include <cstddef>
 #include <cstdint>
@@ -37,10 +36,6 @@
 #include <optional>
 #include <string>
 #include <vector>
-
-namespace YAML {
-class Node;
-}
 
 namespace clothlab::sweep {
 
@@ -81,23 +76,9 @@ struct SweepSpec {
   std::filesystem::path output;  // without extension
   std::vector<Setting> fixed;    // keys outside `sweep:`, flattened
   std::vector<Axis> axes;        // matrix, in file order
-  analysis::MonitorOptions monitor;
   WorkPrecisionSettings work_precision;
   analysis::MaxDtOptions stability;
   SlurmSettings slurm;
 };
-
-// Sets slurm.<name> (partition, tasks, time, cpus_per_task, sbatch) from text, as a `slurm:`
-// key or a --set does; source names it in messages. Throws SweepError.
-void apply_slurm_setting(SlurmSettings& slurm, const std::string& key, const std::string& value,
-                         const std::string& source);
-
-// Parses YAML text; `source` names it in messages. Throws SweepError (an InputError).
-SweepSpec parse_sweep(const std::string& yaml_text, const std::string& source);
-SweepSpec parse_sweep(const YAML::Node& root, const std::string& source);
-// Reads and parses a file. Throws SweepError.
-SweepSpec load_sweep(const std::filesystem::path& path);
-// Whether a YAML file has a `sweep:` section (so it is a sweep, not a single run).
-bool is_sweep_file(const std::filesystem::path& path);
 
 }  // namespace clothlab::sweep

@@ -1,4 +1,4 @@
-// Base64 (RFC 4648, with padding), the encoding of VTK XML "binary" inline data.
+// Base64 (RFC 4648, with padding): how the viewer bundle embeds float arrays in runs.js.
 #pragma once
 
 #include <cstddef>

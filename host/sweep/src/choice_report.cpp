@@ -1,0 +1,114 @@
+#include <cstdio>
+
+#include "clothlab/sweep/progress.hpp"
+#include "integrator_search.hpp"
+
+namespace clothlab::sweep {
+namespace choice_detail {
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g %%", 100 * fraction);
+  return text;
+}
+
+std::string label_of(uint32_t substeps, uint32_t iterations) {
+  return std::to_string(substeps) + (substeps == 1 ? " substep" : " substeps") +
+         (iterations ? " x " + std::to_string(iterations) +
+                           (iterations == 1 ? " iteration" : " iterations")
+                     : "");
+}
+
+void IntegratorSearch::store_row(const CaseSpec& c, uint32_t substeps, uint32_t iterations,
+                                 const Probe& probe) {
+  Row row;
+  row["key"] = "choose;probe;" + c.key + ";substeps=" + std::to_string(substeps) +
+               ";iterations=" + std::to_string(iterations);
+  row["kind"] = "probe";
+  for (const auto& [name, value] : c.coordinates) row[name] = value;
+  row["substeps"] = substeps;
+  row["iterations"] = iterations;
+  row["ms_per_frame"] = probe.ms_per_frame > 0 ? Row(probe.ms_per_frame) : Row();
+  row["max_stretch"] = std::isfinite(probe.max_stretch) ? Row(probe.max_stretch) : Row();
+  row["error"] = std::isfinite(probe.error) ? Row(probe.error) : Row();
+  row["error_mesh"] = settings_.error_mesh.empty() ? "same" : settings_.error_mesh;
+  row["passed"] = probe.passed;
+  row["stopped"] = probe.stopped;
+  row["why"] = probe.why;
+  if (!context_.store.contains(row["key"].get<std::string>())) context_.store.append(row, c.index);
+}
+
+void IntegratorSearch::print(uint32_t substeps, uint32_t iterations, const Probe& probe,
+                             const std::string& note) {
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - context_.start).count();
+  char cost[48] = "";
+  if (probe.ms_per_frame > 0)
+    std::snprintf(cost, sizeof cost, " (%.4g ms/frame)", probe.ms_per_frame);
+  context_.progress << "choose " << position_ << " " << candidate_.integrator << " "
+                    << label_of(substeps, iterations) << ": "
+                    << (probe.passed ? std::string("passes") : probe.why.substr(0, 320)) << cost
+                    << note << " [" << Progress::format_duration(elapsed) << "]\n"
+                    << std::flush;
+}
+
+}  // namespace choice_detail
+
+using choice_detail::percent;
+
+std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSettings& settings) {
+  std::vector<Row> rows;
+  int rank = 0;
+  for (const Choice& choice : choices) {
+    Row row;
+    row["key"] = "choose;choice;integrator=" + choice.integrator;
+    row["rank"] = choice.passed ? Row(++rank) : Row();
+    row["integrator"] = choice.integrator;
+    row["substeps"] = choice.passed ? Row(choice.substeps) : Row();
+    row["iterations"] = choice.passed && choice.iterations ? Row(choice.iterations) : Row();
+    row["iterations_parameter"] =
+        choice.passed && choice.iterations ? Row(choice.iterations_param) : Row();
+    row["dt"] = choice.passed ? Row(1.0 / (settings.frame_rate * choice.substeps)) : Row();
+    row["ms_per_frame"] = choice.passed ? Row(choice.ms_per_frame) : Row();
+    row["real_time_factor"] =
+        choice.passed ? Row(1e3 / settings.frame_rate / choice.ms_per_frame) : Row();
+    row["error"] = choice.passed ? Row(choice.error) : Row();
+    row["error_mesh"] = settings.error_mesh.empty() ? "same" : settings.error_mesh;
+    row["max_stretch"] = choice.passed ? Row(choice.max_stretch) : Row();
+    row["verdict"] = choice.verdict;
+    row["probes"] = choice.probes;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string choice_table(const std::vector<Choice>& choices, const ChoiceSettings& settings) {
+  std::string text;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %11s  %s\n", "rank",
+                "integrator", "substeps", "iterations", "ms/frame", "RTF", "error", "max stretch",
+                "verdict");
+  text += line;
+  int rank = 0;
+  for (const Choice& c : choices) {
+    if (c.passed) {
+      // implicit_euler's iterations are its CG cap: the cell names a parameter other than
+      // "iterations".
+      const std::string iterations = !c.iterations ? "-"
+                                     : c.iterations_param == "iterations"
+                                         ? std::to_string(c.iterations)
+                                         : c.iterations_param + "=" + std::to_string(c.iterations);
+      std::snprintf(line, sizeof line, "%-4d %-20s %8u %10s %12.4g %8.3g %10s %11s  %s\n", ++rank,
+                    c.integrator.c_str(), c.substeps, iterations.c_str(), c.ms_per_frame,
+                    1e3 / settings.frame_rate / c.ms_per_frame, percent(c.error).c_str(),
+                    percent(c.max_stretch - 1).c_str(), c.verdict.c_str());
+    } else {
+      std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %11s  %s\n", "-",
+                    c.integrator.c_str(), "-", "-", "-", "-", "-", "-", c.verdict.c_str());
+    }
+    text += line;
+  }
+  return text;
+}
+
+}  // namespace clothlab::sweep

@@ -1,0 +1,236 @@
+// XPBD's fast path on the grid: a substep as a wavefront over the rows (xpbd_wavefront.hpp),
+// each colour projected a grid row at a time (xpbd_row_kernel.hpp).
+//
+// With several threads the rows split into two bands at a boundary B: one team runs the
+// wavefront down from row 0, the other up from the last row, each touching only its own
+// band's rows, so the two never wait for each other nor share a row in flight. B is where
+// the two meet: the bands claim rows as they go (xpbd_bands.hpp). The rows next to B that
+// neither wavefront reached (lag(phase) below B, lag(phase) - reach above it) are then
+// projected phase by phase, each band's first thread on its side of B, the two meeting
+// after each phase. Within a team each thread takes a contiguous run of phases and waits
+// only for its predecessor to finish the same wavefront time. Every spring sees the same
+// values in any split: the bits do not depend on the thread count.
+//
+// The substep's displacement dx lives in v's memory (the pins' velocities wait in the
+// scratch array), and runs of springs whose ends all have the grid's common inverse mass
+// skip the weights (xpbd_uniform_mass.hpp).
+#pragma once
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "xpbd_bands.hpp"
+#include "xpbd_grid.hpp"
+#include "xpbd_row_kernel.hpp"
+#include "xpbd_substep.hpp"
+#include "xpbd_uniform_mass.hpp"
+#include "xpbd_wavefront.hpp"
+
+namespace clothlab::builtin {
+
+template <class Real>
+class GridSweep {
+ public:
+  // From `prepare`: allocates all a substep needs on up to `threads` threads.
+  void prepare(GridLayout layout, int iterations, uint32_t tether_slots, const Real* inverse_mass,
+               uint32_t particle_count, int threads) {
+    layout_ = std::move(layout);
+    iterations_ = iterations;
+    // n multipliers per colour, kept only when a substep runs more than one iteration.
+    lambda_.assign(iterations > 1 ? layout_.colors.size() * particle_count : 0, 0);
+    phases_ = wavefront_phases(layout_, iterations, tether_slots);
+    // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
+    // can cost a context switch on a loaded machine, one per narrow row would dominate.
+    publish_every_ = std::max<uint32_t>(1, 2048 / layout_.cols);
+    uniform_.find(inverse_mass, layout_.rows, layout_.cols);
+    progress_ = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
+  }
+
+  // One substep on `threads` threads; false when a velocity came out non-finite.
+  bool run(const Substep<Real>& s, int threads) {
+    if (threads == 1) return sweep(s, 0, 1);
+    for (int thread = 0; thread < threads; ++thread) progress_[thread].reset();
+    for (int side = 0; side < 2; ++side) seam_progress_[side].reset();
+    claims_->reset(layout_.rows, band_reserve(phases_));
+    bool finite = true;
+#pragma omp parallel num_threads(threads) reduction(&& : finite)
+    finite = sweep(s, omp_get_thread_num(), omp_get_num_threads());
+    return finite;
+  }
+
+ private:
+  // This thread's phases over its band's wavefront, as long as the band claims rows, then
+  // (each band's first thread, after all bands are done) the seam between the bands;
+  // returns its share of "every velocity is finite".
+  bool sweep(const Substep<Real>& s, int thread, int threads) {
+    const uint32_t reserve = band_reserve(phases_);
+    const Bands bands = bands_of(threads, layout_.rows, reserve);
+    const uint32_t rows = layout_.rows;
+    const bool upper = thread >= bands.lower_threads;
+    const int member = upper ? thread - bands.lower_threads : thread;
+    const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
+    const auto [begin, end] = phases_of(phases_, member, team);
+    bool finite = true;
+    uint32_t held = bands.two ? reserve : rows;  // the band's rows, for its first thread
+    uint32_t time = 0;
+    for (;; ++time) {
+      if (member > 0) {
+        if (!wait_for(progress_[thread - 1], time)) break;
+      } else if (time == held) {
+        if (bands.two) held += claims_->claim();
+        if (time == held) break;
+      }
+      for (std::size_t q = begin; q < end; ++q) {
+        const Phase& phase = phases_[q];
+        if (time < phase.lag) break;  // lags ascend: the later phases start later still
+        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
+                  finite);
+      }
+      if (member + 1 < team && (time + 1) % publish_every_ == 0)
+        progress_[thread].completed.store(time + 1, std::memory_order_release);
+    }
+    if (member + 1 < team) progress_[thread].end(time);
+    if (threads > 1) {
+#pragma omp barrier
+    }
+    // The lower band holds rows [0, boundary), the upper band the rest.
+    if (thread == 0 || (bands.two && thread == bands.lower_threads))
+      run_seam(s, bands.two, upper, upper ? rows - time : time, finite);
+    return finite;
+  }
+
+  // The rows next to the boundary that neither wavefront reached, phase by phase. Two bands:
+  // each band's first thread takes the rows on its side, and the two meet after each phase
+  // (a phase's rows are independent; the next phase reads rows either may have written).
+  // One band: thread 0 takes the last rows.
+  void run_seam(const Substep<Real>& s, bool two_bands, bool upper, uint32_t boundary,
+                bool& finite) {
+    const int side = upper ? 1 : 0;
+    for (std::size_t q = 0; q < phases_.size(); ++q) {
+      const Phase& phase = phases_[q];
+      const uint32_t first = upper ? boundary : boundary - std::min(boundary, phase.lag);
+      const uint32_t last = !two_bands ? layout_.rows
+                            : upper    ? boundary + phase.upward_offset
+                                       : boundary;  // one past
+      for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      // A phase with no lag left no rows on either side: nothing to wait for.
+      if (two_bands && q + 1 < phases_.size() && phase.lag > 0) {
+        seam_progress_[side].completed.store(static_cast<uint32_t>(q + 1),
+                                             std::memory_order_release);
+        wait_for(seam_progress_[1 - side], static_cast<uint32_t>(q));
+      }
+    }
+  }
+
+  // One component of one row, in place: v becomes the substep's displacement
+  // dx = h (v + h a); a pin's dx is 0 and its velocity waits in `pinned_velocity` (the
+  // general path's displacement array, touched only at pins). Nothing reads v between this
+  // phase and the velocity phase, and one array streams where v and dx were two. AllFree:
+  // a run without pins, whose inverse masses need no reading.
+  template <bool AllFree>
+  static void predict_row(Real* __restrict v, Real* __restrict pinned_velocity,
+                          const Real* __restrict a, const Real* __restrict inverse_mass,
+                          std::size_t count, Real h) {
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool free = AllFree || inverse_mass[i] != 0;
+      if (!free) pinned_velocity[i] = v[i];
+      v[i] = free ? h * (v[i] + h * a[i]) : Real(0);
+    }
+  }
+
+  // One component of one row: x += dx, v = dx / h on the free particles, where v holds dx
+  // (a pin gets its velocity back, bit for bit); false if a velocity is not finite (all
+  // exponent bits set): an integer OR vectorises where a flag or a sum would not.
+  template <bool AllFree>
+  static bool velocity_row(Real* __restrict x, Real* __restrict v,
+                           const Real* __restrict pinned_velocity,
+                           const Real* __restrict inverse_mass, std::size_t count, Real inverse_h) {
+    using Bits = std::conditional_t<sizeof(Real) == 4, uint32_t, uint64_t>;
+    constexpr Bits exponent = std::bit_cast<Bits>(std::numeric_limits<Real>::infinity());
+    Bits non_finite = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool free = AllFree || inverse_mass[i] != 0;
+      const Real dx = v[i];
+      const Real speed = free ? dx * inverse_h : pinned_velocity[i];
+      x[i] = free ? x[i] + dx : x[i];
+      v[i] = speed;
+      non_finite |= free && (std::bit_cast<Bits>(speed) & exponent) == exponent;
+    }
+    return non_finite == 0;
+  }
+
+  void run_phase(const Phase& phase, uint32_t row, const Substep<Real>& s, bool& finite) {
+    const std::size_t row_begin = std::size_t{row} * layout_.cols;
+    switch (phase.kind) {
+      case Phase::Kind::predict:
+        uniform_.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
+                                                   s.external_acceleration + e,
+                                                   s.inverse_mass + row_begin + begin, count, s.h);
+          }
+        });
+        return;
+      case Phase::Kind::tether:
+        // On the grid v holds the substep's displacement between predict and velocity.
+        s.tethers->project(row_begin, row_begin + layout_.cols, s.x, s.v, s.inverse_mass, s.stride);
+        return;
+      case Phase::Kind::velocity: {
+        bool bad = false;
+        uniform_.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t e = c * s.stride + row_begin + begin;
+            bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
+                                                            s.inverse_mass + row_begin + begin,
+                                                            count, s.inverse_h);
+          }
+        });
+        finite = finite && !bad;
+        return;
+      }
+      case Phase::Kind::project: {
+        const GridColor& color = layout_.colors[phase.color];
+        if (!color.starts_in_row(row)) return;
+        const auto [varied_begin, varied_end] = uniform_.varied_positions(color, row);
+        Real* lambda = lambda_.empty()
+                           ? nullptr
+                           : lambda_.data() + std::size_t{phase.color} * s.particle_count;
+        project_row(ColorRow<Real>{
+            s.x, s.v, s.inverse_mass, lambda, s.stride, row_begin + color.col_begin,
+            color.col_end - color.col_begin,
+            static_cast<std::size_t>(int64_t{color.row_step} * layout_.cols + color.col_step),
+            color.in_row(), color.col_step == 2 ? 1u : 0u, color.parity,
+            static_cast<Real>(color.rest), static_cast<Real>(color.ks) * s.h_squared,
+            static_cast<Real>(color.kd) * s.h, phase.iteration == 0,
+            phase.iteration + 1 < static_cast<uint32_t>(iterations_),
+            static_cast<Real>(uniform_.value()), varied_begin, varied_end});
+        return;
+      }
+    }
+  }
+
+  GridLayout layout_;
+  int iterations_ = 1;
+  std::vector<Real> lambda_;  // per colour n multipliers, from the row's first particle on
+  std::vector<Phase> phases_;
+  UniformInverseMass uniform_;
+  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
+  std::unique_ptr<Progress[]> progress_;  // one per thread
+  std::unique_ptr<RowClaims> claims_ = std::make_unique<RowClaims>();  // the two bands' rows
+  // The seam's phases done by each band's first thread, the lower band's first.
+  std::unique_ptr<Progress[]> seam_progress_ = std::make_unique<Progress[]>(2);
+};
+
+}  // namespace clothlab::builtin
