@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "isolation.hpp"
 #include "run_report.hpp"
 #include "simulation.hpp"
 
@@ -47,6 +48,15 @@ nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPat
   json["dominant_re"] = prediction.spectrum.dominant_eigenvalue.real();
   json["dominant_im"] = prediction.spectrum.dominant_eigenvalue.imag();
   return json;
+}
+
+void check_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
+  run_isolated(
+      [&] {
+        load_plugins(config, search_path);
+        return nlohmann::json();
+      },
+      config.timeout_s);
 }
 
 }  // namespace clothlab::cli

@@ -20,4 +20,9 @@ nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& s
 // analysis does not know.
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path);
 
+// Loads the configured plugins and applies the parameter values, in a child process: a search
+// or a choice that runs many cases checks them once first, so bad input (a plugin that is not
+// there, a value it refuses) is reported with where it was set instead of as failed runs.
+void check_plugins(const RunConfig& config, const host::PluginSearchPath& search_path);
+
 }  // namespace clothlab::cli

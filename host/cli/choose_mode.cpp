@@ -11,6 +11,7 @@
 #include <clothlab/sweep/trajectory_cache.hpp>
 #include <iostream>
 
+#include "case_execution.hpp"
 #include "output_file.hpp"
 #include "run_config.hpp"
 #include "sweep_mode.hpp"
@@ -82,13 +83,24 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
     throw host::InputError("--choose: no integrator on the plugin path (" + search_path.describe() +
                            ")");
 
+  // The scene is checked before the results store is opened: a failed reference run would
+  // report a scenario that cannot be loaded without where it was set. Each candidate brings
+  // its own integrator, so the reference integrator stands in for it.
+  RunConfig scene = whole.run;
+  scene.integrator = choice.reference_integrator;
+  scene.integrator_source = "choose.reference_integrator";
+  scene.integrator_params.clear();
+  check_plugins(scene, search_path);
+
   // The scene as every case sees it; frame settings are per candidate, the integrator per search.
   sweep::SweepSpec spec;
   spec.source = "--choose";
   spec.name = "choose";
   spec.output = choose.output;
+  // The scenario is named even when it is the default: a case without one has none.
+  spec.fixed.push_back({"scenario.plugin", whole.run.scenario, whole.run.scenario_source});
   for (const Setting& setting : settings)
-    if (!is_frame_or_choice_key(setting.key))
+    if (!is_frame_or_choice_key(setting.key) && setting.key != "scenario.plugin")
       spec.fixed.push_back({setting.key, setting.value, setting.source});
   spec.fixed.push_back({"duration", host::format_number(choice.duration), "choose.duration"});
   spec.work_precision.reference_integrator = choice.reference_integrator;

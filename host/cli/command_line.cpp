@@ -91,6 +91,12 @@ void reject_flag_and_set_conflicts(const std::vector<Setting>& settings) {
   }
 }
 
+po::options_description describe_merge_options() {
+  po::options_description options("clothlab merge options");
+  options.add_options()("help,h", "show this help and exit");
+  return options;
+}
+
 }  // namespace
 
 CommandLine parse_command_line(int argc, const char* const argv[]) {
@@ -141,7 +147,7 @@ std::string usage_text() {
   std::ostringstream text;
   text << "Usage: clothlab [options]\n"
           "       clothlab view RUN_DIR... [--out DIR]   (see clothlab view --help)\n"
-          "       clothlab merge OUTPUT...   (join the shard results of each sweep output)\n"
+          "       clothlab merge OUTPUT...   (joins sweep shards; see clothlab merge --help)\n"
           "Runs one cloth simulation with an integrator plugin on a scenario plugin and prints\n"
           "a summary, or a sweep when the --config file has a `sweep:` section.\n"
           "Every run is judged by the stability monitor (keys stability.interval,\n"
@@ -156,6 +162,38 @@ std::string usage_text() {
           "or SIGTERM, its outputs written.\n\n"
        << describe_options() << "\n"
        << keys_help_text();
+  return text.str();
+}
+
+MergeCommandLine parse_merge_command_line(int argc, const char* const argv[]) {
+  po::options_description options = describe_merge_options();
+  options.add_options()("outputs", po::value<std::vector<std::string>>());
+  po::positional_options_description positional;
+  positional.add("outputs", -1);
+  po::variables_map values;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(options).positional(positional).run(),
+              values);
+    po::notify(values);
+  } catch (const po::error& error) {
+    throw host::InputError(std::string("merge: ") + error.what() +
+                           "; allowed: --help and OUTPUT names (see clothlab merge --help)");
+  }
+  MergeCommandLine merge;
+  merge.help = values.count("help") > 0;
+  if (values.count("outputs")) merge.outputs = values["outputs"].as<std::vector<std::string>>();
+  if (!merge.help && merge.outputs.empty())
+    throw host::InputError("merge: no OUTPUT given; allowed: OUTPUT..., e.g. results/stress");
+  return merge;
+}
+
+std::string merge_usage_text() {
+  std::ostringstream text;
+  text << "Usage: clothlab merge OUTPUT...\n"
+          "Joins the shard results of each sweep output (OUTPUT.shard-K-of-N.sqlite, written by\n"
+          "--shard K/N) into OUTPUT.sqlite, OUTPUT.csv and OUTPUT.json. Every shard must be\n"
+          "complete and of the same sweep. An OUTPUT that starts with '-' follows '--'.\n\n"
+       << describe_merge_options();
   return text.str();
 }
 

@@ -36,4 +36,15 @@ CommandLine parse_command_line(int argc, const char* const argv[]);
 
 std::string usage_text();
 
+// `clothlab merge [--help] OUTPUT...`.
+struct MergeCommandLine {
+  bool help = false;
+  std::vector<std::string> outputs;  // sweep outputs whose shards are joined
+};
+
+// argv[0] is "merge". Throws InputError for an unknown option, or no OUTPUT without --help.
+MergeCommandLine parse_merge_command_line(int argc, const char* const argv[]);
+
+std::string merge_usage_text();
+
 }  // namespace clothlab::cli

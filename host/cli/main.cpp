@@ -49,9 +49,11 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
   if (argc >= 2 && std::string(argv[1]) == "merge") {
-    if (argc == 2)
-      throw clothlab::host::InputError("merge: expected OUTPUT..., e.g. results/stress");
-    merge_sweep_outputs(std::vector<std::string>(argv + 2, argv + argc), std::cout);
+    const MergeCommandLine merge = parse_merge_command_line(argc - 1, argv + 1);
+    if (merge.help)
+      std::cout << merge_usage_text();
+    else
+      merge_sweep_outputs(merge.outputs, std::cout);
     return exit_ok;
   }
   const CommandLine command_line = parse_command_line(argc, argv);

@@ -22,6 +22,8 @@ RunConfig with_dt(RunConfig config, double dt) {
 
 nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path) {
   const RunConfig& config = whole.run;
+  // Every probe below turns an error into an unstable run, so bad input is found first.
+  check_plugins(config, search_path);
   analysis::MaxDtOptions options = whole.find_max_dt;
   nlohmann::json result;
   result["duration"] = config.duration;

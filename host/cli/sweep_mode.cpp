@@ -141,6 +141,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     sweep::SweepSpec spec = load_sweep(request.config_file, request.overrides);
     if (request.out_folder) spec.output = *request.out_folder / spec.output.filename();
     const std::vector<sweep::CaseSpec> all_cases = sweep::expand_cases(spec);
+    if (spec.mode == sweep::SweepMode::WorkPrecision)
+      sweep::check_work_precision_cases(spec, all_cases);
     check_every_case(all_cases, search_path);
     const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
         spec, [&](const std::string& id) { return plugin_identity(search_path, id); });

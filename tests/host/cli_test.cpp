@@ -43,10 +43,14 @@ class Clothlab : public testing::Test {
 
   fs::path file(const std::string& name) const { return folder_ / name; }
 
-  // Runs clothlab with the arguments (shell words) and an optional environment prefix.
-  Outcome run(const std::string& arguments, const std::string& environment = "") const {
+  // Runs clothlab with the arguments (shell words) and an optional environment prefix; with a
+  // time limit a hang is killed (exit code 137) instead of stopping the tests.
+  Outcome run(const std::string& arguments, const std::string& environment = "",
+              int time_limit_s = 0) const {
+    const std::string limit =
+        time_limit_s > 0 ? " timeout -s KILL " + std::to_string(time_limit_s) : "";
     const std::string command = "cd '" + folder_.string() + "' && env -u CLOTHLAB_PLUGIN_PATH " +
-                                environment + " '" CLOTHLAB_EXECUTABLE "' " + arguments +
+                                environment + limit + " '" CLOTHLAB_EXECUTABLE "' " + arguments +
                                 " > stdout.txt 2> stderr.txt";
     const int status = std::system(command.c_str());
     Outcome outcome;
@@ -337,6 +341,24 @@ TEST_F(Clothlab, ShippedConfigsAreAccepted) {
   }
 }
 
+// yaml-cpp reads a ',' outside a [list] or {map} as an empty document without consuming it,
+// so reading a file's documents to the end never ended. These one- and two-character
+// documents (and a ',' after a document) are each one line of bad input naming the file.
+TEST_F(Clothlab, ShortMalformedConfigsAreOneLineOfBadInputNamingTheFile) {
+  for (const char* text :
+       {",",  ",\n", ",,", ",\n,", "[1],", "{a: 1},", "a: 1\n...\n,", "---\n,", "[",
+        "{",  "]",   "}",  ":",    "?",    "-",       "&a",           "*a",     "!",
+        "!!", "&",   "*",  "|",    ">",    "~",       "---",          "@"}) {
+    std::ofstream(file("bad.yaml")) << text;
+    const Outcome outcome = run("--config bad.yaml --steps 1 --quiet", "", 5);
+    EXPECT_EQ(outcome.exit_code, 1) << "'" << text << "': " << outcome.err;
+    EXPECT_EQ(outcome.err.rfind("clothlab: error: bad.yaml:", 0), 0u)
+        << "'" << text << "': " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1)
+        << "'" << text << "': " << outcome.err;
+  }
+}
+
 TEST_F(Clothlab, PluginParamsApplyOnlyToTheirPlugin) {
   const std::string seed = "--config " + (source_dir / "configs/seed-2016.yaml").string() +
                            " --set scenario.rows=6 --set scenario.cols=6 --steps 2 --quiet ";
@@ -372,6 +394,83 @@ TEST_F(Clothlab, UnknownOptionExitsOne) {
   const Outcome outcome = run("--integrater=rk4");
   EXPECT_EQ(outcome.exit_code, 1);
   EXPECT_EQ(outcome.err.rfind("clothlab: error: command line: ", 0), 0u) << outcome.err;
+}
+
+// The duration was found not to be whole ladder steps only after the results store was opened,
+// which left <out>.lock and <out>.sqlite behind (and replaced a store that was there).
+TEST_F(Clothlab, WorkPrecisionDurationIsCheckedBeforeTheResultsStoreIsOpened) {
+  std::ofstream(file("wp.yaml")) << "integrator: euler\n"
+                                    "scenario: {plugin: sheet, rows: 4, cols: 4}\n"
+                                    "duration: 0.04\n"
+                                    "work_precision: {dt_start: 0.003, levels: 2}\n"
+                                    "sweep:\n"
+                                    "  name: wp\n"
+                                    "  mode: work-precision\n"
+                                    "  output: out/wp\n"
+                                    "  matrix: {integrator: [euler]}\n";
+  const std::string error =
+      "clothlab: error: wp.yaml:3:11: duration = 0.04 s is not a whole number of steps of the "
+      "work-precision ladder dt (dt_start / 2^0) = 0.003 s; allowed: a duration that every ladder "
+      "and reference dt divides (a multiple of work_precision.dt_start = 0.003 s when refinement "
+      "is whole)\n";
+  const Outcome fresh = run("--config wp.yaml");
+  EXPECT_EQ(fresh.exit_code, 1);
+  EXPECT_EQ(fresh.err, error);
+  EXPECT_FALSE(fs::exists(file("out")));
+
+  fs::create_directories(file("earlier"));
+  std::ofstream(file("earlier/wp.sqlite")) << "earlier results";
+  const Outcome over_earlier = run("--config wp.yaml --out earlier");
+  EXPECT_EQ(over_earlier.exit_code, 1);
+  EXPECT_EQ(over_earlier.err, error);
+  EXPECT_TRUE(read_text(file("earlier/wp.sqlite")) == "earlier results") << "store replaced";
+  EXPECT_FALSE(fs::exists(file("earlier/wp.lock")));
+}
+
+// A search or a choice ran its cases with the bad plugin name: --find-max-dt counted every
+// probe unstable and exited 0, --choose reported a failed reference without the file.
+TEST_F(Clothlab, PluginNamedInAConfigIsCheckedWithItsPositionBeforeASearchOrAChoice) {
+  std::ofstream(file("scenario.yaml")) << "scenario:\n  plugin: \"..\"\n";
+  std::ofstream(file("integrator.yaml")) << "integrator:\n  plugin: \"..\"\n";
+  for (const auto& [config, mode] :
+       {std::pair{"scenario", "--find-max-dt"}, std::pair{"integrator", "--find-max-dt"},
+        std::pair{"scenario", "--choose --frame-rate 60"}}) {
+    const Outcome outcome = run(std::string("--config ") + config + ".yaml " + mode);
+    EXPECT_EQ(outcome.exit_code, 2) << mode << ": " << outcome.err;
+    const std::string expected =
+        std::string("clothlab: error: ") + config + ".yaml:2:11: " + config + " = ..: plugin ..: ";
+    EXPECT_EQ(outcome.err.rfind(expected, 0), 0u) << mode << ": " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+  }
+  EXPECT_FALSE(fs::exists(file("results")));  // choose.output's folder
+}
+
+// --choose built its cases from the settings given, so without a scenario setting they had
+// none ("empty plugin name") instead of the default scenario.
+TEST_F(Clothlab, ChooseRunsTheDefaultScenario) {
+  const Outcome outcome =
+      run("--choose --frame-rate 60 --set scenario.rows=4 --set scenario.cols=4 --set "
+          "choose.output=choose/choose --set choose.duration=0.1 --set choose.integrators=[euler]");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("1    euler"), std::string::npos) << outcome.out;
+}
+
+// merge's words after "merge" were all taken for output names, so --help was one.
+TEST_F(Clothlab, MergeHelpPrintsItsUsageAndAnUnknownOptionIsOneLine) {
+  const Outcome help = run("merge --help");
+  EXPECT_EQ(help.exit_code, 0) << help.err;
+  EXPECT_EQ(help.out.rfind("Usage: clothlab merge OUTPUT...\n", 0), 0u) << help.out;
+  EXPECT_EQ(help.err, "");
+  const Outcome unknown = run("merge --foo results/stress");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_EQ(unknown.err,
+            "clothlab: error: merge: unrecognised option '--foo'; allowed: --help and OUTPUT "
+            "names (see clothlab merge --help)\n");
+  const Outcome nothing = run("merge");
+  EXPECT_EQ(nothing.exit_code, 1);
+  EXPECT_EQ(nothing.err,
+            "clothlab: error: merge: no OUTPUT given; allowed: OUTPUT..., e.g. results/stress\n");
+  EXPECT_EQ(outputs(), std::vector<std::string>{});
 }
 
 }  // namespace

@@ -16,7 +16,7 @@
  *    extension struct is never edited. One header per extension, in clothlab/ext/:
  *    host side topology, grid, jacobian, definite-jacobian, cg-step, reductions,
  *    external-forces;
- *    integrator side integrator-traits, explicit-scheme.
+ *    integrator side integrator-traits, explicit-scheme, solver-statistics.
  *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
  *    give the same results, because every reader accepts the smaller struct sizes below;
  *    the only price is that the structs stop growing at 1.2.
@@ -144,6 +144,11 @@ typedef struct clothlab_rkn_scheme {
  * aligned. Pinned particles (inverse mass 0) lie outside every active range; integrators
  * must leave their x and v untouched. All callbacks are owned by the host, receive
  * `context`, may use several threads internally and never allocate.
+ *
+ * Force evaluations (the run summary's force_evals): each call of eval_acceleration or
+ * eval_acceleration_at counts one, step_rkn counts its stages. The extensions' calls do not
+ * count: external forces alone (clothlab.external-forces/1), Jacobian and definite-Jacobian
+ * products and cg-step sweeps (an XPBD run, which uses only external forces, reports 0).
  */
 typedef struct clothlab_system {
   uint32_t struct_size;
@@ -301,6 +306,13 @@ typedef struct clothlab_scenario {
 
 /* ------------------------------------------------------------------ entry */
 
+/* A library may hold several integrators and scenarios. The clothlab CLI loads the file an
+ * --integrator / --scenario argument names (NAME: NAME.so on the plugin search path) and
+ * takes its only integrator (scenario), or else the one whose id equals the file name
+ * without ".so"; a library with several and none of that id is refused, listing the ids it
+ * holds. So a library of several integrators is installed once per id that should be
+ * runnable, as <id>.so (a copy or a symbolic link). `clothlab --list-plugins` lists every
+ * id of every library. */
 typedef struct clothlab_plugin_descriptor {
   clothlab_abi_version abi_version; /* first, always: checked before anything else */
   uint32_t struct_size;

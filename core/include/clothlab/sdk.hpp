@@ -333,7 +333,8 @@ void with_precision(const clothlab_system& raw, Body&& body) {
 
 // An integrator's extensions: `static constexpr clothlab_integrator_traits traits` and
 // `static constexpr clothlab_explicit_scheme explicit_scheme` in the Impl class, when
-// declared (see explicit_scheme_of below); NULL for any other id.
+// declared (see explicit_scheme_of below), and clothlab.solver-statistics/1 when Impl has
+// `void last_step_statistics(clothlab_solver_step_statistics&) const`; NULL for any other id.
 template <class Impl>
 const void* integrator_extension(const char* id) noexcept {
   if (id == nullptr) return nullptr;

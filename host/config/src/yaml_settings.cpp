@@ -3,11 +3,13 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include <cerrno>
 #include <clothlab/host/errors.hpp>
 #include <cstring>
 #include <map>
+#include <sstream>
 
 namespace clothlab::config {
 
@@ -132,6 +134,51 @@ class Flattener {
   size_t values_ = 0;
 };
 
+// Records where each document starts; the nodes themselves are built by YAML::Load.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> marks;
+
+  void OnDocumentStart(const YAML::Mark& mark) override { marks.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// Whether text holds a document (a blank or comment-only file holds none); throws for a
+// second one. Parses at most two: yaml-cpp reads a ',' outside a [list] or {map} as an empty
+// document without consuming it, so reading documents to the end (YAML::LoadAll) never ends
+// and keeps allocating nodes.
+bool has_one_document(const std::string& text, const std::string& source) {
+  std::istringstream stream(text);
+  YAML::Parser parser(stream);
+  DocumentStarts starts;
+  while (starts.marks.size() < 2 && parser.HandleNextDocument(starts)) {
+    const YAML::Mark& start = starts.marks.back();
+    if (start.pos >= 0 && static_cast<size_t>(start.pos) < text.size() && text[start.pos] == ',')
+      fail(location(source, start),
+           "YAML syntax error: ',' outside a [list] or {map}; allowed: key: value lines");
+  }
+  if (starts.marks.size() > 1)
+    fail(location(source, starts.marks[1]),
+         "a second YAML document; allowed: one document per file");
+  return !starts.marks.empty();
+}
+
+std::string document_kind(const YAML::Node& root) {
+  if (root.IsSequence()) return "a list";
+  if (root.IsScalar()) return "the value '" + root.Scalar() + "'";
+  return "empty or null (`---`, `~`, an anchor or a tag alone)";
+}
+
 // The same key twice (also spelled differently: a.b and a: {b}) is almost surely a
 // mistake, so it is not silently resolved by order.
 void reject_repeated_keys(const std::vector<Setting>& settings) {
@@ -160,16 +207,11 @@ std::string key_text(const YAML::Node& key, const std::string& source) {
 }
 
 YAML::Node load_yaml_text(const std::string& text, const std::string& source) {
-  std::vector<YAML::Node> documents;
   try {
-    documents = YAML::LoadAll(text);
+    return has_one_document(text, source) ? YAML::Load(text) : YAML::Node();
   } catch (const YAML::Exception& error) {
     fail(location(source, error.mark), "YAML syntax error: " + error.msg);
   }
-  if (documents.size() > 1)
-    fail(location(source, documents[1].Mark()),
-         "a second YAML document; allowed: one document per file");
-  return documents.empty() ? YAML::Node() : documents[0];
 }
 
 YAML::Node load_yaml_file(const std::filesystem::path& path) {
@@ -178,9 +220,12 @@ YAML::Node load_yaml_file(const std::filesystem::path& path) {
 
 std::vector<Setting> flatten_settings(const YAML::Node& root, const std::string& source) {
   std::vector<Setting> settings;
-  if (!root || root.IsNull()) return settings;
+  // No document at all (a blank or comment-only file) has no position and sets nothing; an
+  // empty or null document (`---`, `~`, `&a`, `!`) is refused with the other non-maps.
+  if (root.IsNull() && root.Mark().line < 0) return settings;
   if (!root.IsMap())
-    fail(location(source, root.Mark()), "expected a map of settings (key: value lines)");
+    fail(location(source, root.Mark()), "the document is " + document_kind(root) +
+                                            "; allowed: a map of settings (key: value lines)");
   Flattener(source, settings).map(root, "", 0);
   reject_repeated_keys(settings);
   return settings;

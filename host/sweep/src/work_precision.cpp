@@ -55,24 +55,37 @@ double ladder_dt(const WorkPrecisionSettings& wp, int level) {
   return std::ldexp(wp.dt_start, -level);
 }
 
-uint64_t whole_steps(double duration, double dt) {
+bool is_whole_number_of_steps(double duration, double dt) {
   const double steps = duration / dt;
   const double rounded = std::round(steps);
-  if (rounded < 1.0 || std::abs(steps - rounded) > 1e-6 * rounded) {
+  return rounded >= 1.0 && std::abs(steps - rounded) <= 1e-6 * rounded;
+}
+
+uint64_t whole_steps(double duration, double dt) {
+  if (!is_whole_number_of_steps(duration, dt)) {
     throw SweepError("work-precision: duration " + host::format_number(duration) +
                      " s is not a whole number of steps of " + host::format_number(dt) +
                      " s; choose dt_start, refinement and duration so that it is");
   }
-  return static_cast<uint64_t>(rounded);
+  return static_cast<uint64_t>(std::round(duration / dt));
 }
 
 CaseSpec run_spec(const CaseSpec& base, double dt, double duration) {
   return with_setting(with_dt(base, dt), "steps", std::to_string(whole_steps(duration, dt)), false);
 }
 
+// Where the case's setting of key was made (the last one: later settings win).
+std::string source_of(const SweepSpec& spec, const CaseSpec& c, const std::string& key) {
+  for (auto setting = c.settings.rbegin(); setting != c.settings.rend(); ++setting)
+    if (setting->key == key) return setting->source;
+  return spec.source;
+}
+
 double duration_of(const SweepSpec& spec, const CaseSpec& c) {
   if (c.duration > 0.0) return c.duration;
-  throw SweepError(spec.source + ": work-precision needs duration (T), not steps");
+  throw SweepError(source_of(spec, c, "steps") + ": steps = " + c.setting("steps") +
+                   ": work-precision runs each case to a time T; allowed: duration (T, s) "
+                   "instead of steps");
 }
 
 }  // namespace
@@ -188,6 +201,28 @@ double relative_rms_error(const std::vector<double>& positions,
   return std::sqrt(sum / static_cast<double>(positions.size() / 3)) / diagonal;
 }
 
+void check_work_precision_cases(const SweepSpec& spec, const std::vector<CaseSpec>& cases) {
+  const auto& wp = spec.work_precision;
+  const double reference_dt = ladder_dt(wp, wp.levels - 1) / wp.refinement;
+  std::vector<std::pair<double, std::string>> step_sizes;
+  for (int level = 0; level < wp.levels; ++level)
+    step_sizes.emplace_back(ladder_dt(wp, level),
+                            "ladder dt (dt_start / 2^" + std::to_string(level) + ")");
+  step_sizes.emplace_back(reference_dt, "reference dt (finest ladder dt / refinement)");
+  step_sizes.emplace_back(reference_dt / 2.0, "reference dt (finest ladder dt / refinement / 2)");
+  for (const CaseSpec& c : cases) {
+    const double duration = duration_of(spec, c);
+    for (const auto& [dt, name] : step_sizes)
+      if (!is_whole_number_of_steps(duration, dt))
+        throw SweepError(source_of(spec, c, "duration") + ": duration = " +
+                         host::format_number(duration) + " s is not a whole number of steps of " +
+                         "the work-precision " + name + " = " + host::format_number(dt) +
+                         " s; allowed: a duration that every ladder and reference dt divides (a "
+                         "multiple of work_precision.dt_start = " +
+                         host::format_number(wp.dt_start) + " s when refinement is whole)");
+  }
+}
+
 std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSpec>& cases) {
   return cases.size() * static_cast<std::size_t>(spec.work_precision.levels);
 }
@@ -195,6 +230,7 @@ std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSp
 WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector<CaseSpec>& cases,
                                         const TrajectoryRunner& runner, ResultsStore& store,
                                         Progress* progress) {
+  check_work_precision_cases(spec, cases);
   const auto& wp = spec.work_precision;
   WorkPrecisionSummary summary;
   std::map<std::string, Trajectory> references;  // by reference key, computed on first need

@@ -4,12 +4,16 @@
  * integrators that solve with conjugate gradients at large steps.
  *
  * The linear map is D = c_x K + c_v (da/dv) at a state (x, v), with da/dv exact (as in
- * clothlab.jacobian/1; v NULL: no damping) and K the springs' Hooke stiffness without the
- * two terms that make the exact da/dx indefinite or unsymmetric: per spring of rest length
- * l0, length l and direction n, K = M^-1 ks (max(0, 1 - l0/l) (I - n n^T) + n n^T)
+ * clothlab.jacobian/1; v NULL: no damping) and K the springs' part of da/dx without the
+ * two terms that make the exact da/dx indefinite or unsymmetric: a spring of rest length
+ * l0 and length l between particles i and j, direction n, adds
+ *   (K u)_i += -(ks / m_i) S (u_i - u_j),   (K u)_j += -(ks / m_j) S (u_j - u_i),
+ *   S = max(0, 1 - l0/l) (I - n n^T) + n n^T
  * (a compressed spring keeps no transverse stiffness), and no x-derivative of the damping
- * force. M D is symmetric; for c_x, c_v <= 0, I + D is positive definite in the mass inner
- * product. Rows and columns of pinned particles are zero.
+ * force. K has da/dx's sign (negative semi-definite in the mass inner product), so backward
+ * Euler's matrix I - h^2 da/dx - h da/dv becomes I + D with c_x = -h^2, c_v = -h. M D is
+ * symmetric; for c_x, c_v <= 0, I + D is positive definite in the mass inner product. Rows
+ * and columns of pinned particles are zero.
  *
  * Call `reserve` of clothlab.jacobian/1 from `prepare` first (it readies both). Thread
  * rule: as eval_acceleration. No allocation.

@@ -2,8 +2,9 @@
 //   scenario: {plugin: flag, structural: {ks: 50}}
 // gives scenario.plugin = flag and scenario.structural.ks = 50, the same keys as --set.
 // A sequence of scalars becomes "[a, b, c]". Each setting's source is "file:line:column" of
-// its value. Input is bounded: a regular file of at most 1 MiB, one document, at most
-// 100 000 values after aliases are expanded (a 702-byte alias bomb expands to billions).
+// its value. Input is bounded: a regular file of at most 1 MiB, one document (a map; a blank
+// or comment-only file sets nothing), at most 100 000 values after aliases are expanded (a
+// 702-byte alias bomb expands to billions).
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -19,8 +20,9 @@ namespace clothlab::config {
 // "file:line:column" (1-based) of a node, or the file alone when the node has no position.
 std::string location(const std::string& source, const YAML::Mark& mark);
 
-// Reads and parses one YAML document. Throws InputError naming the path for a missing,
-// unreadable or oversized file, a folder, FIFO or device, a syntax error, or a second document.
+// Reads and parses one YAML document (a null node when the text holds none). Throws InputError
+// naming the path for a missing, unreadable or oversized file, a folder, FIFO or device, a
+// syntax error, or a second document.
 YAML::Node load_yaml_file(const std::filesystem::path& path);
 YAML::Node load_yaml_text(const std::string& text, const std::string& source);
 

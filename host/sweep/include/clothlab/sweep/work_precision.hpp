@@ -64,6 +64,12 @@ WorkPrecisionSummary run_work_precision(const SweepSpec& spec, const std::vector
 Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double dt,
                              const TrajectoryRunner& runner, ResultsStore& store);
 
+// Throws SweepError, naming where the setting was made, for a case given steps instead of a
+// duration or whose duration is not a whole number of steps of every ladder dt and both
+// reference dts. The driver checks this before it opens the results store, so bad input
+// leaves no store behind; run_work_precision checks it again before it runs anything.
+void check_work_precision_cases(const SweepSpec& spec, const std::vector<CaseSpec>& cases);
+
 // Units of work run_work_precision performs (for a Progress total).
 std::size_t work_precision_units(const SweepSpec& spec, const std::vector<CaseSpec>& cases);
 
