@@ -2,6 +2,7 @@
 
 #include <boost/program_options.hpp>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/subcommand_line.hpp>
 #include <sstream>
 
 #include "run_keys.hpp"
@@ -168,17 +169,9 @@ std::string usage_text() {
 MergeCommandLine parse_merge_command_line(int argc, const char* const argv[]) {
   po::options_description options = describe_merge_options();
   options.add_options()("outputs", po::value<std::vector<std::string>>());
-  po::positional_options_description positional;
-  positional.add("outputs", -1);
-  po::variables_map values;
-  try {
-    po::store(po::command_line_parser(argc, argv).options(options).positional(positional).run(),
-              values);
-    po::notify(values);
-  } catch (const po::error& error) {
-    throw host::InputError(std::string("merge: ") + error.what() +
-                           "; allowed: --help and OUTPUT names (see clothlab merge --help)");
-  }
+  const po::variables_map values = host::parse_subcommand_line(
+      argc, argv, options, "outputs",
+      "merge: ", "; allowed: --help and OUTPUT names (see clothlab merge --help)");
   MergeCommandLine merge;
   merge.help = values.count("help") > 0;
   if (values.count("outputs")) merge.outputs = values["outputs"].as<std::vector<std::string>>();

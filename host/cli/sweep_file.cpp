@@ -62,9 +62,11 @@ sweep::Axis read_axis(const std::string& source, const std::string& name, const 
   return axis;
 }
 
-void check_fixed(const std::string& source, const sweep::SweepSpec& spec, const YAML::Node& root) {
+// The file says how long every case runs, once; the command line may change it.
+void check_length(const std::string& source, const std::vector<Setting>& file,
+                  const YAML::Node& root) {
   const auto has = [&](const char* key) {
-    return std::any_of(spec.fixed.begin(), spec.fixed.end(),
+    return std::any_of(file.begin(), file.end(),
                        [&](const Setting& setting) { return setting.key == key; });
   };
   if (has("steps") && has("duration"))
@@ -79,14 +81,24 @@ void check_mode_axes(const std::string& source, const YAML::Node& matrix,
     return std::any_of(spec.axes.begin(), spec.axes.end(),
                        [&](const sweep::Axis& axis) { return axis.key == key; });
   };
-  const bool has_fixed_dt = std::any_of(spec.fixed.begin(), spec.fixed.end(),
-                                        [](const Setting& s) { return s.key == "dt"; });
-  if (spec.mode == sweep::SweepMode::Run && !has_axis("dt") && !has_fixed_dt)
-    fail(source, matrix, "sweep.matrix.dt", "(missing)", "a dt list (or a fixed dt) in run mode");
+  const auto has_fixed = [&](const char* key) {
+    return std::any_of(spec.fixed.begin(), spec.fixed.end(),
+                       [&](const Setting& setting) { return setting.key == key; });
+  };
+  const auto has = [&](const char* key) { return has_axis(key) || has_fixed(key); };
+  if (spec.mode == sweep::SweepMode::Run && !has("dt") && !has("frame_rate"))
+    fail(source, matrix, "sweep.matrix.dt", "(missing)",
+         "a dt or frame_rate list (or a fixed one) in run mode");
   if (spec.mode != sweep::SweepMode::Run && has_axis("dt"))
     fail(source, matrix, "sweep.matrix.dt", "(a list)",
          std::string("no dt axis in ") + sweep::to_string(spec.mode) +
              " mode (it chooses dt itself)");
+  // The searches and ladders set dt for each probe, which a frame rate would contradict.
+  for (const char* key : {"frame_rate", "substeps"})
+    if (spec.mode != sweep::SweepMode::Run && has(key))
+      fail(source, matrix, key, "(set)",
+           std::string("no ") + key + " in " + sweep::to_string(spec.mode) +
+               " mode (it chooses dt itself)");
   if (!has_axis("integrator.plugin"))
     fail(source, matrix, "sweep.matrix.integrator", "(missing)", "a list of integrator ids");
 }
@@ -108,16 +120,32 @@ sweep::SweepSpec parse_sweep(const YAML::Node& root, const std::string& source,
   if (!matrix.IsMap())
     fail(source, matrix, "sweep.matrix", "(not a map)", "a map of key: [values]");
 
-  // The one flattener checks the whole file (repeated keys, empty maps, bounds) and the one key
-  // table every value outside the matrix.
-  std::vector<Setting> settings;
+  // The one flattener checks the whole file (repeated keys, empty maps, bounds).
+  std::vector<Setting> file;
   for (Setting& setting : config::flatten_settings(root, source))
-    if (!setting.key.starts_with("sweep.matrix.")) settings.push_back(std::move(setting));
-  settings.insert(settings.end(), overrides.begin(), overrides.end());
-  const Configuration whole = resolve_configuration(settings);
+    if (!setting.key.starts_with("sweep.matrix.")) file.push_back(std::move(setting));
+  check_length(source, file, root);
 
   sweep::SweepSpec spec;
   spec.source = source;
+  for (const auto& entry : matrix)
+    spec.axes.push_back(read_axis(source, config::key_text(entry.first, source), entry.second));
+  for (const Setting& setting : overrides)
+    for (const sweep::Axis& axis : spec.axes)
+      if (setting.key == axis.key)
+        throw host::InputError(setting.source + ": " + setting.key + " = " + setting.value +
+                               ": the matrix of " + source +
+                               " sets it; allowed: a key the matrix does not set");
+
+  // The command line's settings come after the file's and win. The key table checks them all,
+  // with the matrix's first case, so that keys that go together (dt, frame_rate, substeps) are
+  // checked together; every other case is checked before the first runs (sweep_mode.cpp).
+  std::vector<Setting> settings = file;
+  settings.insert(settings.end(), overrides.begin(), overrides.end());
+  std::vector<Setting> first_case = settings;
+  for (const sweep::Axis& axis : spec.axes) first_case.push_back(axis.values.front());
+  const Configuration whole = resolve_configuration(first_case);
+
   // sweep.* and slurm.* describe the sweep, not a case: a case sees the other keys.
   for (const Setting& setting : settings)
     if (!setting.key.starts_with("sweep.") && !setting.key.starts_with("slurm."))
@@ -133,10 +161,7 @@ sweep::SweepSpec parse_sweep(const YAML::Node& root, const std::string& source,
   spec.stability.dt_initial =
       std::clamp(whole.run.dt, spec.stability.dt_lower_limit, spec.stability.dt_upper_limit);
   spec.slurm = whole.sweep.slurm;
-  for (const auto& entry : matrix)
-    spec.axes.push_back(read_axis(source, config::key_text(entry.first, source), entry.second));
   check_mode_axes(source, matrix, spec);
-  check_fixed(source, spec, root);
   return spec;
 }
 

@@ -6,6 +6,7 @@
 #include <clothlab/ext/integrator_traits.h>
 
 #include <clothlab/host/descriptor_findings.hpp>
+#include <clothlab/host/identifiers.hpp>
 #include <cmath>
 #include <string>
 
@@ -15,15 +16,8 @@
 namespace clothlab::conformance {
 namespace {
 
-std::string quoted(const char* text) {
-  if (text == nullptr) return "null";
-  std::string result(1, '"');
-  result += text;
-  result += '"';
-  return result;
-}
-
 using host::DescriptorPart;
+using host::quoted;
 
 // The check passes when the one validator of descriptors has no finding for it, and otherwise
 // fails with every finding it has.

@@ -1,5 +1,6 @@
 // clothlab-conformance [options] PLUGIN.so... — validates integrator and scenario plugins.
 #include <boost/program_options.hpp>
+#include <clothlab/host/subcommand_line.hpp>
 #include <clothlab/io/atomic_file.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -86,15 +87,11 @@ CommandLine parse(int argc, char** argv) {
   hidden.add_options()("plugin", po::value(&line.plugins));
   po::options_description all;
   all.add(described).add(hidden);
-  po::positional_options_description positional;
-  positional.add("plugin", -1);
   po::variables_map values;
   try {
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(),
-              values);
-    po::notify(values);
-  } catch (const po::error& e) {
-    usage_error(std::string(e.what()) + " (see --help)");
+    values = host::parse_subcommand_line(argc, argv, all, "plugin", "", " (see --help)");
+  } catch (const host::InputError& error) {
+    usage_error(error.what());
   }
   if (values.count("help")) {
     std::cout << described << "\n";

@@ -2,6 +2,7 @@
 
 #include <boost/program_options.hpp>
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/subcommand_line.hpp>
 
 #include "view_bundle.hpp"
 
@@ -17,16 +18,8 @@ void run_view_command(int argc, const char* const argv[], std::ostream& out) {
       "max-frames", po::value<size_t>()->default_value(600),
       "thin longer sequences evenly to this many frames")(
       "runs", po::value<std::vector<std::string>>(), "frame folders written by --frames");
-  po::positional_options_description positional;
-  positional.add("runs", -1);
-  po::variables_map values;
-  try {
-    po::store(po::command_line_parser(argc, argv).options(options).positional(positional).run(),
-              values);
-    po::notify(values);
-  } catch (const po::error& error) {
-    throw host::InputError(std::string("clothlab view: ") + error.what() + "; see view --help");
-  }
+  const po::variables_map values = host::parse_subcommand_line(
+      argc, argv, options, "runs", "clothlab view: ", "; see view --help");
   if (values.count("help")) {
     out << "Usage: clothlab view RUN_DIR [RUN_DIR...] [--out DIR]\n"
            "Writes a static page that plays the frame folders (clothlab --frames RUN_DIR) side\n"

@@ -126,6 +126,38 @@ TEST(SweepFile, SlurmSectionIsReadAndIsNoCaseSetting) {
     EXPECT_EQ(parse_sweep(sweep + "slurm: {time: \"" + time + "\"}\n", "t.yaml").slurm.time, time);
 }
 
+// The command line's settings come after the file's: a length given there replaces the file's,
+// as in a single run; a key the matrix sets is refused, since the matrix would win unseen.
+TEST(SweepFile, CommandLineSettingsWinAndMayNotHideAMatrixAxis) {
+  const std::string sweep =
+      "duration: 1\nsweep:\n  name: x\n  matrix: {integrator: [rk4, euler], dt: [0.001]}\n";
+  const SweepSpec spec = parse_sweep(sweep, "cli.yaml", {{"steps", "7", "--steps"}});
+  for (const CaseSpec& c : expand_cases(spec))
+    EXPECT_EQ(cli::resolve_run_config(c.settings).steps, 7u);
+  try {
+    parse_sweep(sweep, "cli.yaml", {{"integrator.plugin", "verlet", "--integrator"}});
+    ADD_FAILURE() << "an override of a matrix axis was accepted";
+  } catch (const host::InputError& error) {
+    EXPECT_NE(
+        std::string(error.what()).find("--integrator: integrator.plugin = verlet: the matrix"),
+        std::string::npos)
+        << error.what();
+  }
+}
+
+// Keys that go together are checked together, whether fixed or on an axis.
+TEST(SweepFile, FixedSettingsAreCheckedWithTheMatrixsFirstCase) {
+  const SweepSpec spec = parse_sweep(
+      "duration: 1\nsubsteps: 4\nsweep:\n  name: x\n  matrix: {integrator: [rk4], frame_rate: "
+      "[30, 60]}\n",
+      "together.yaml");
+  EXPECT_EQ(spec.axes.size(), 2u);
+  expect_error(
+      "duration: 1\nframe_rate: 60\nsweep:\n  name: x\n  mode: stability\n  matrix: "
+      "{integrator: [rk4]}\n",
+      "frame_rate = '(set)': allowed no frame_rate in stability mode");
+}
+
 // Item 3 of issue 12: a 30 000-character plugin id, sweep name or mesh overflowed the stack
 // (std::regex recursed once per character). Now each is an ordinary value or a one-line error.
 TEST(SweepFile, VeryLongValuesAreCheckedWithoutRecursion) {

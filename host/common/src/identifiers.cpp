@@ -27,6 +27,14 @@ size_t edit_distance(std::string_view a, std::string_view b) {
 
 }  // namespace
 
+std::string quoted(const char* text) {
+  if (text == nullptr) return "null";
+  std::string result(1, '"');
+  result += text;
+  result += '"';
+  return result;
+}
+
 bool is_plugin_id(std::string_view text) {
   return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
     return lower_or_digit(c) || c == '_' || c == '-';

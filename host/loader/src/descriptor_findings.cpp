@@ -14,14 +14,6 @@ namespace clothlab::host {
 
 namespace {
 
-std::string quoted(const char* text) {
-  if (text == nullptr) return "null";
-  std::string result(1, '"');
-  result += text;
-  result += '"';
-  return result;
-}
-
 // "[1, 64]", appended piece by piece: GCC 12 warns falsely on "[" + std::string.
 std::string interval_text(double low, double high) {
   std::string text(1, '[');

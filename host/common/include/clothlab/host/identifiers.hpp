@@ -17,4 +17,7 @@ bool is_param_name(std::string_view text);
 // messages.
 std::string nearest_name(std::string_view typed, std::span<const std::string> candidates);
 
+// A plugin's C string as reports quote it: "text", or null.
+std::string quoted(const char* text);
+
 }  // namespace clothlab::host
