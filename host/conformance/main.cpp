@@ -89,8 +89,8 @@ CommandLine parse(int argc, char** argv) {
   all.add(described).add(hidden);
   po::variables_map values;
   try {
-    values = host::parse_subcommand_line(argc, argv, all, "plugin", "", " (see --help)");
-  } catch (const host::InputError& error) {
+    values = clothlab::host::parse_subcommand_line(argc, argv, all, "plugin", "", " (see --help)");
+  } catch (const clothlab::host::InputError& error) {
     usage_error(error.what());
   }
   if (values.count("help")) {
