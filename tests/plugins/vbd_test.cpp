@@ -1,7 +1,7 @@
 // The vbd plugin on spring networks the mock host publishes (spring_host.hpp): free fall to
-// round-off, the adaptive initial guess, pins left alone bit for bit, the same bits on any
-// thread count, what it reports through clothlab.solver-statistics/1, and a host without the
-// topology. Convergence to backward Euler: implicit_integrators_test.cpp.
+// round-off, the adaptive initial guess, compressed springs, pins left alone bit for bit, the same
+// bits on any thread count, what it reports through clothlab.solver-statistics/1, and a host
+// without the topology. Convergence to backward Euler: implicit_integrators_test.cpp.
 #include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
 
@@ -98,6 +98,25 @@ TEST(Vbd, AdaptiveGuessKeepsARestingClothNearRest) {
   const double adaptive = speed_after(true), inertia = speed_after(false);
   EXPECT_LT(adaptive, 5e-3);
   EXPECT_GT(inertia, 20 * adaptive);
+}
+
+// A particle between two pins, its springs compressed to a fifth of their rest length and
+// nudged 1 cm off the line: the springs push it out (it buckles). Unclamped, the transverse
+// stiffness ks (1 - l0/l) is -4 ks per spring, the block's Hessian indefinite (m/h^2 = 100 against
+// -8000), and its Newton step jumps back to the line instead (the saddle).
+TEST(Vbd, CompressedSpringsBuckleOutward) {
+  SpringHost<double> host(3, {0, 2}, {{0, 1, 1.0, 1000.0, 0.0}, {1, 2, 1.0, 1000.0, 0.0}},
+                          {0, 0, 0});
+  MockSystem<double>& system = host.system();
+  system.set_position(0, {-0.2, 0, 0});
+  system.set_position(1, {0, 0.01, 0});
+  system.set_position(2, {0.2, 0, 0});
+  Integrator vbd("vbd");
+  vbd.with("iterations", 1);
+  vbd.start(system);
+  ASSERT_EQ(vbd.step(system, 0.0, 0.1), CLOTHLAB_OK) << vbd.message();
+  EXPECT_GT(system.position(1)[1], 0.1);
+  EXPECT_GT(system.velocity(1)[1], 0.0);
 }
 
 template <class Real>
