@@ -21,7 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${BUILD_DIR:-build}
 results=${RESULTS_DIR:-results/bench-frames}
-integrators=${INTEGRATORS:-verlet euler xpbd_tethers xpbd rk4 midpoint projective_dynamics implicit_euler}
+integrators=${INTEGRATORS:-verlet euler xpbd_tethers xpbd vbd rk4 midpoint projective_dynamics implicit_euler}
 bin="$build_dir/bin/clothlab"
 # OMP_WAIT_POLICY is passed through as set: on a machine shared with other jobs set it to
 # passive (threads spinning at their barriers lose their core for whole time slices); on an idle

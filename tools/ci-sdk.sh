@@ -17,7 +17,7 @@ faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_st
         throws_through_boundary allocates_every_step misdeclares_scheme
         claims_unconditional_stability)
 cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
-  euler midpoint rk4 verlet xpbd sheet flag c_euler "${faulty[@]/#/faulty_}"
+  euler midpoint rk4 verlet xpbd vbd sheet flag c_euler "${faulty[@]/#/faulty_}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

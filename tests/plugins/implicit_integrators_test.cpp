@@ -1,7 +1,7 @@
-// implicit_euler and projective_dynamics on small spring networks (spring_host.hpp):
+// implicit_euler, projective_dynamics and vbd on small spring networks (spring_host.hpp):
 // against the analytic backward-Euler step of a linear chain, by measured order, against
-// each other (converged projective dynamics = backward Euler on the same springs), and for
-// what they report through clothlab.solver-statistics/1.
+// each other (converged projective dynamics and vertex block descent = backward Euler on the
+// same springs), and for what they report through clothlab.solver-statistics/1.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
@@ -52,7 +52,9 @@ void analytic_backward_euler(Eigen::Vector3d& u, Eigen::Vector3d& v, double h) {
   u += h * v;
 }
 
-TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
+// 25 steps of `integrator` on the chain stretched and moving along x, against the analytic
+// backward-Euler steps.
+void expect_analytic_chain_steps(Integrator& integrator) {
   SpringHost<double> network(4, {0}, axial_chain_springs(), {0, 0, 0});
   MockSystem<double>& system = network.system();
   Eigen::Vector3d u{0.02, -0.01, 0.03}, v{0.5, 0.0, -0.4};
@@ -60,8 +62,6 @@ TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
     system.set_position(i, {0.1 * i + (i > 0 ? u[i - 1] : 0.0), 0, 0});
     system.set_velocity(i, {i > 0 ? v[i - 1] : 0.0, 0, 0});
   }
-  Integrator integrator("implicit_euler");
-  integrator.with("tolerance", 1e-13);
   integrator.start(system);
   const double h = 0.02;
   for (int step = 0; step < 25; ++step) {
@@ -75,6 +75,19 @@ TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
     EXPECT_EQ(system.position(i)[2], 0.0);
   }
   EXPECT_EQ(system.position(0), (Vec3{0, 0, 0}));  // pinned: untouched
+}
+
+TEST(ImplicitEuler, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
+  Integrator integrator("implicit_euler");
+  integrator.with("tolerance", 1e-13);
+  expect_analytic_chain_steps(integrator);
+}
+
+// Along a line the springs are linear: converged block descent is the same backward Euler.
+TEST(Vbd, MatchesTheAnalyticBackwardEulerStepOfALinearChain) {
+  Integrator integrator("vbd");
+  integrator.with("iterations", 200);
+  expect_analytic_chain_steps(integrator);
 }
 
 // Three particles hanging in a triangle from particle 0: nonlinear springs and gravity.
@@ -301,6 +314,37 @@ TEST(ProjectiveDynamics, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
   }
 }
 
+// Block Gauss-Seidel on the incremental potential: the gap to backward Euler shrinks with every
+// doubling of the sweeps, with the springs' damping (a dissipation potential) as without it.
+TEST(Vbd, ConvergesToTheImplicitEulerStepAsIterationsGrow) {
+  const double h = 0.01;
+  const int steps = 5;
+  for (const double kd : {0.0, 2.0}) {
+    const std::vector<Vec3> backward_euler =
+        run_pendulum("implicit_euler", h, steps, {{"tolerance", 1e-14}, {"newton_steps", 8}},
+                     pendulum_damped_by(kd));
+    for (const double adaptive : {0.0, 1.0}) {
+      double previous = INFINITY;
+      for (int iterations : {1, 2, 4, 8, 16, 32, 64}) {
+        const double difference =
+            distance(run_pendulum("vbd", h, steps,
+                                  {{"iterations", iterations}, {"adaptive_guess", adaptive}},
+                                  pendulum_damped_by(kd)),
+                     backward_euler);
+        if (iterations == 1) {
+          EXPECT_GT(difference, 1e-6) << "kd " << kd;  // one sweep is far from converged
+        }
+        if (previous > 1e-12) {
+          EXPECT_LT(difference, previous / 2)
+              << iterations << " iterations, kd " << kd << ", adaptive " << adaptive;
+        }
+        previous = difference;
+      }
+      EXPECT_LT(previous, 1e-12) << "kd " << kd << ", adaptive " << adaptive;
+    }
+  }
+}
+
 TEST(ProjectiveDynamics, FactorsOnceAndAgainOnlyWhenTheStepSizeChanges) {
   SpringHost<double> network(3, {0}, Pendulum::springs(), {0, -9.81, 0});
   Pendulum::place(network);
@@ -334,7 +378,7 @@ TEST(ProjectiveDynamics, DeclaresItsTraits) {
 
 // Float32 systems: the same step as in double, to float precision.
 TEST(ImplicitIntegrators, Float32StepsFollowFloat64) {
-  for (const std::string id : {"implicit_euler", "projective_dynamics"}) {
+  for (const std::string id : {"implicit_euler", "projective_dynamics", "vbd"}) {
     SpringHost<float> single(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     SpringHost<double> reference(3, {0}, Pendulum::springs(), {0, -9.81, 0});
     Pendulum::place(single);

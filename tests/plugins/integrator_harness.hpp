@@ -28,6 +28,7 @@ inline std::string integrator_path(const std::string& id) {
   if (id == "implicit_euler") return CLOTHLAB_TEST_IMPLICIT_EULER_PLUGIN;
   if (id == "projective_dynamics") return CLOTHLAB_TEST_PROJECTIVE_DYNAMICS_PLUGIN;
   if (id == "xpbd") return CLOTHLAB_TEST_XPBD_PLUGIN;
+  if (id == "vbd") return CLOTHLAB_TEST_VBD_PLUGIN;
   throw std::runtime_error("no integrator plugin " + id);
 }
 

@@ -68,6 +68,17 @@ class SpringHost {
     }
   }
 
+  // Replaces the trivial particle colouring (one particle per colour) with `colors`, particle
+  // indices per colour; the test vouches that no spring joins two particles of a colour.
+  void set_particle_colors(const std::vector<std::vector<uint32_t>>& colors) {
+    particle_color_offsets_.assign(1, 0);
+    particle_colors_.clear();
+    for (const std::vector<uint32_t>& color : colors) {
+      particle_colors_.insert(particle_colors_.end(), color.begin(), color.end());
+      particle_color_offsets_.push_back(static_cast<uint32_t>(particle_colors_.size()));
+    }
+  }
+
   // Offers clothlab.grid/1: the particles are a rows x cols grid `spacing` apart and colour c
   // of the topology is the stencil colors[c]; the test vouches for both.
   void set_grid(uint32_t rows, uint32_t cols, double spacing,
@@ -222,7 +233,7 @@ class SpringHost {
             0,
             s.spring_color_offsets_.data(),
             s.spring_colors_.data(),
-            n,
+            static_cast<uint32_t>(s.particle_color_offsets_.size() - 1),
             0,
             s.particle_color_offsets_.data(),
             s.particle_colors_.data()};
