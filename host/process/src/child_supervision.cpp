@@ -71,12 +71,18 @@ void Reader::drain() {
   }
 }
 
-ChildEnd supervise(pid_t child, const std::vector<Reader*>& readers, double timeout_s) {
+ChildEnd supervise(pid_t child, const std::vector<Reader*>& readers, double timeout_s,
+                   const std::function<bool()>& finished) {
   const int pidfd = open_pidfd(child);
   const double deadline = monotonic_seconds() + timeout_s;
   ChildEnd end;
   std::vector<pollfd> watched(readers.size() + 1);
   for (;;) {
+    if (finished && finished()) {
+      end.running = true;
+      if (pidfd >= 0) ::close(pidfd);
+      return end;
+    }
     if (::waitpid(child, &end.status, WNOHANG) == child) break;
     const double left = deadline - monotonic_seconds();
     if (left <= 0) {
