@@ -2,7 +2,9 @@
 # Per-case overhead of `clothlab --config sweep.yaml` end to end on trivial cases (one step of
 # a 2 x 2 sheet): config checks, the case worker (plugin loading and the step per case), the
 # results store, and the CSV/JSON exports at the end. Runs each case count REPEATS times
-# (default 3) and prints the median wall time and ms per case, and the range of ms per case.
+# (default 3) and prints the median wall time and ms per case, the range of ms per case, and
+# the median CPU time (user + system, the program and its children) per case: on a shared
+# machine the wall time also counts the waits for a core.
 # Usage: tools/sweep_overhead.sh [N...]   (default 250 2000 10000; BUILD_DIR default build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,7 +18,7 @@ done
 [[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "sweep_overhead.sh: REPEATS='$repeats': allowed: a whole number >= 1" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "cases  runs  median_wall_s  median_ms_per_case  min_ms  max_ms"
+echo "cases  runs  median_wall_s  median_ms_per_case  min_ms  max_ms  median_cpu_ms_per_case"
 for n in "${sizes[@]}"; do
   # n distinct time steps of 1 us ... n us: n cases that each run one step.
   dts=$(seq -s ', ' 1 "$n" | sed 's/\([0-9][0-9]*\)/\1e-6/g')
@@ -32,20 +34,23 @@ sweep:
     scenario: [sheet]
     dt: [$dts]
 YAML
-  walls=()
+  timings=()
+  TIMEFORMAT='%R %U %S'
   for ((run = 0; run < repeats; ++run)); do
-    start=$(date +%s.%N)
-    "$clothlab" --config "$work/overhead-$n.yaml" --out "$work" > /dev/null
-    end=$(date +%s.%N)
+    # bash's time: wall, then user and system CPU of the program and the children it waited for.
+    timing=$({ time "$clothlab" --config "$work/overhead-$n.yaml" --out "$work" > /dev/null; } 2>&1)
     rows=$(($(wc -l < "$work/overhead-$n.csv") - 1))
     [ "$rows" -eq "$n" ] || { echo "expected $n rows, got $rows" >&2; exit 1; }
-    walls+=("$(awk -v s="$start" -v e="$end" 'BEGIN { printf "%.4f", e - s }')")
+    timings+=("$(awk '{ printf "%.3f %.3f", $1, $2 + $3 }' <<< "$timing")")
   done
-  printf '%s\n' "${walls[@]}" | sort -g | awk -v n="$n" '
-    { wall[NR] = $1 }
-    END {
-      median = NR % 2 ? wall[(NR + 1) / 2] : (wall[NR / 2] + wall[NR / 2 + 1]) / 2
-      printf "%5d  %4d  %13.2f  %18.3f  %6.3f  %6.3f\n", n, NR, median, median * 1000 / n,
-             wall[1] * 1000 / n, wall[NR] * 1000 / n
-    }'
+  median() { sort -g | awk '{ v[NR] = $1 } END { print NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+  walls=$(printf '%s\n' "${timings[@]}" | cut -d' ' -f1)
+  wall=$(median <<< "$walls")
+  cpu=$(printf '%s\n' "${timings[@]}" | cut -d' ' -f2 | median)
+  least=$(sort -g <<< "$walls" | head -1)
+  most=$(sort -g <<< "$walls" | tail -1)
+  awk -v n="$n" -v runs="$repeats" -v wall="$wall" -v least="$least" -v most="$most" -v cpu="$cpu" 'BEGIN {
+    printf "%5d  %4d  %13.2f  %18.3f  %6.3f  %6.3f  %22.3f\n", n, runs, wall, wall * 1000 / n,
+           least * 1000 / n, most * 1000 / n, cpu * 1000 / n
+  }'
 done
