@@ -13,8 +13,9 @@ namespace clothlab::cli {
 
 namespace {
 
-// The answer's envelope: {"value": ...} or {"error": kind, "message": text}. Strings that
-// are not UTF-8 (a plugin's message with byte 0xFF) are kept, with U+FFFD for the bad bytes.
+// JSON as text for the pipe: a request, or an answer's envelope ({"value": ...} or {"error":
+// kind, "message": text}). Strings that are not UTF-8 (a plugin's message with byte 0xFF) are
+// kept, with U+FFFD for the bad bytes.
 std::string envelope(const nlohmann::json& body) {
   return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -143,8 +143,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     }
     std::optional<sweep::Shard> shard;
     if (request.shard) shard = sweep::parse_shard(*request.shard, "--shard");
-    // A reference, not a copy: each case's fork copies the page tables of all the memory the
-    // parent holds, so the parent stays as small as it can.
+    // A reference, not a copy: each worker's fork (the first, and one after each crash or
+    // timeout) copies the page tables of all the memory the parent holds.
     const std::vector<sweep::CaseSpec> shard_part =
         shard ? sweep::shard_cases(all_cases, *shard) : std::vector<sweep::CaseSpec>{};
     const std::vector<sweep::CaseSpec>& cases = shard ? shard_part : all_cases;

@@ -34,6 +34,11 @@ double monotonic_seconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
+void close_all(std::initializer_list<int> fds) {
+  for (int fd : fds)
+    if (fd >= 0) ::close(fd);
+}
+
 bool write_all(int fd, const char* bytes, size_t size) {
   size_t written = 0;
   while (written < size) {

@@ -7,12 +7,16 @@
 
 #include <cstddef>
 #include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 namespace clothlab::process::detail {
 
 double monotonic_seconds();
+
+// Closes each fd that is not -1.
+void close_all(std::initializer_list<int> fds);
 
 // Writes everything, retrying on EINTR; false if the reader is gone.
 bool write_all(int fd, const char* bytes, size_t size);

@@ -21,6 +21,7 @@ namespace clothlab::process {
 namespace {
 
 using detail::ChildEnd;
+using detail::close_all;
 using detail::Reader;
 using detail::signal_text;
 using detail::supervise;
@@ -155,11 +156,6 @@ ChildOutcome not_started(const char* call) {
   outcome.problem =
       std::string("cannot start a child process: ") + call + ": " + std::strerror(errno);
   return outcome;
-}
-
-void close_all(std::initializer_list<int> fds) {
-  for (int fd : fds)
-    if (fd >= 0) ::close(fd);
 }
 
 }  // namespace
