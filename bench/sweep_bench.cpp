@@ -1,9 +1,9 @@
 // Per-case overhead of the sweep machinery, without physics:
 //   BM_StoreAppend/N      one row appended to a results store that already holds N rows
 //                         (the store's cost per case; O(1) means flat in N);
-//   BM_SweepPerCase/N     a whole sweep of N trivial cases: each case forked through the
-//                         sweep's isolation (process::run_isolated) and its row stored; the
-//                         ms_per_case counter is the sweep's own overhead per case.
+//   BM_SweepPerCase/N     a whole sweep of N trivial cases: each case sent to the sweep's
+//                         worker child (process::Worker), its answer parsed and its row
+//                         stored; the ms_per_case counter is the sweep's own overhead per case.
 // Run: build/bin/clothlab_sweep_bench (figures in docs/sweeps.md).
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -34,7 +34,7 @@ void remove_scratch() {
 }
 
 // BM_SweepPerCase runs first: a fork copies the parent's page tables, so the memory the store
-// benchmarks leave behind in the heap would otherwise be charged to every case.
+// benchmarks leave behind in the heap would otherwise be charged to the worker's start.
 std::vector<sweep::CaseSpec> trivial_cases(std::size_t count) {
   std::string values;
   for (std::size_t i = 0; i < count; ++i) values += (i ? ", " : "") + std::to_string(i + 1);
@@ -48,12 +48,11 @@ std::vector<sweep::CaseSpec> trivial_cases(std::size_t count) {
 void BM_SweepPerCase(benchmark::State& state) {
   const auto count = static_cast<std::size_t>(state.range(0));
   const auto cases = trivial_cases(count);
-  const auto trivial_case = [](const sweep::CaseSpec&) {
-    const auto outcome = clothlab::process::run_isolated(
-        [] {
-          return nlohmann::json{{"stable", true}, {"steps", 1}}.dump();
-        },
-        {});
+  clothlab::process::Worker worker(
+      [](const std::string&) { return nlohmann::json{{"stable", true}, {"steps", 1}}.dump(); },
+      {});
+  const auto trivial_case = [&](const sweep::CaseSpec& c) {
+    const auto outcome = worker.ask(c.key);
     sweep::CaseResult result;
     result.metrics = {{"steps", nlohmann::json::parse(outcome.answer)["steps"].get<double>()}};
     return result;

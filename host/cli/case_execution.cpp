@@ -12,7 +12,11 @@ namespace clothlab::cli {
 
 nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& search_path,
                         bool with_positions) {
-  Simulation simulation(config, search_path);
+  return run_case(config, load_plugins(config, search_path), with_positions);
+}
+
+nlohmann::json run_case(const RunConfig& config, LoadedPlugins plugins, bool with_positions) {
+  Simulation simulation(config, std::move(plugins));
   const RunRecord record = simulation.run();
   nlohmann::json json = summary_json(record);
   if (with_positions) {
@@ -26,7 +30,11 @@ nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& s
 }
 
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path) {
-  const Simulation simulation(config, search_path);
+  return predict_case(config, load_plugins(config, search_path));
+}
+
+nlohmann::json predict_case(const RunConfig& config, LoadedPlugins plugins) {
+  const Simulation simulation(config, std::move(plugins));
   const host::IntegratorPlugin& integrator = simulation.integrator();
   const void* declared = integrator.extension(CLOTHLAB_EXT_EXPLICIT_SCHEME);
   if (declared == nullptr) {

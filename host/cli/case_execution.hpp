@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_config.hpp"
+#include "simulation.hpp"
 
 namespace clothlab::cli {
 
@@ -13,12 +14,15 @@ namespace clothlab::cli {
 // "positions" (final x, particle-major) and "diagonal" (the cloth's, m).
 nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& search_path,
                         bool with_positions = false);
+// The same with the plugins already loaded (load_plugins).
+nlohmann::json run_case(const RunConfig& config, LoadedPlugins plugins, bool with_positions);
 
 // The dt_max predicted for the configured integrator on the configured scene from the
 // float64 linearisation at rest, with damping: {"dt_max", "omega_max", "dominant_re",
 // "dominant_im", "method"}. dt_max is null when never unstable. Throws for an integrator the
 // analysis does not know.
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path);
+nlohmann::json predict_case(const RunConfig& config, LoadedPlugins plugins);
 
 // Loads the configured plugins and applies the parameter values, in a child process: a search
 // or a choice that runs many cases checks them once first, so bad input (a plugin that is not

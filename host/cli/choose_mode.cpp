@@ -123,8 +123,9 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                                                    : std::filesystem::path(choose.reference_cache);
     sweep::TrajectoryCache cache(
         cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
+    CaseWorker worker(search_path);
     const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {
-      return run_sweep_trajectory(c, search_path);
+      return run_sweep_trajectory(c, worker);
     };
     const std::vector<sweep::Choice> choices = sweep::choose_integrators(
         spec, base, candidates, choice, runner,

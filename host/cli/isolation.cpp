@@ -13,8 +13,9 @@ namespace clothlab::cli {
 
 namespace {
 
-// The answer's envelope: {"value": ...} or {"error": kind, "message": text}. Strings that
-// are not UTF-8 (a plugin's message with byte 0xFF) are kept, with U+FFFD for the bad bytes.
+// JSON as text for the pipe: a request, or an answer's envelope ({"value": ...} or {"error":
+// kind, "message": text}). Strings that are not UTF-8 (a plugin's message with byte 0xFF) are
+// kept, with U+FFFD for the bad bytes.
 std::string envelope(const nlohmann::json& body) {
   return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -37,15 +38,23 @@ std::string answer_of(const std::function<nlohmann::json()>& work) {
   }
 }
 
+process::IsolationOptions worker_options(bool forward_interrupt) {
+  process::IsolationOptions options;
+  if (forward_interrupt) options.on_child = forward_interrupts_to;
+  return options;
+}
+
 }  // namespace
 
-nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
-                            bool forward_interrupt) {
-  process::IsolationOptions options;
-  options.timeout_s = timeout_s;
-  if (forward_interrupt) options.on_child = forward_interrupts_to;
-  const process::ChildOutcome outcome =
-      process::run_isolated([&] { return answer_of(work); }, options);
+JsonWorker::JsonWorker(const Serve& serve, bool forward_interrupt)
+    : worker_(
+          [serve](const std::string& request) {
+            return answer_of([&] { return serve(nlohmann::json::parse(request)); });
+          },
+          worker_options(forward_interrupt)) {}
+
+nlohmann::json JsonWorker::ask(const nlohmann::json& request, double timeout_s) {
+  const process::ChildOutcome outcome = worker_.ask(envelope(request), timeout_s);
   if (!outcome.answered()) throw std::runtime_error(outcome.problem);
   const nlohmann::json answer = nlohmann::json::parse(outcome.answer, nullptr, false);
   if (answer.is_discarded() || !answer.is_object())
@@ -58,6 +67,12 @@ nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double 
   if (kind == "plugin")
     throw host::PluginError(static_cast<clothlab_status>(answer.value("status", 0)), message);
   throw std::runtime_error(message);
+}
+
+nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
+                            bool forward_interrupt) {
+  JsonWorker worker([&](const nlohmann::json&) { return work(); }, forward_interrupt);
+  return worker.ask(nullptr, timeout_s);
 }
 
 }  // namespace clothlab::cli

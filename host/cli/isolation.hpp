@@ -3,16 +3,29 @@
 // ends only that child.
 #pragma once
 
+#include <clothlab/process/isolation.hpp>
 #include <functional>
 #include <nlohmann/json.hpp>
 
 namespace clothlab::cli {
 
-// Runs work() in a child and returns its JSON. Throws std::runtime_error with a one-line
-// reason when the child threw (its message), crashed (the signal or exit status) or
-// outlived timeout_s. Throws InputError / PluginLoadError / PluginError as the child did,
-// so exit codes do not depend on where the work ran. With forward_interrupt, a SIGINT or
+// A process::Worker that takes and answers JSON: serve(request) runs in the worker child.
+// ask returns serve's JSON, or throws std::runtime_error with a one-line reason when the child
+// threw (its message), crashed (the signal or exit status) or outlived timeout_s (then the
+// next ask starts a new child). Throws InputError / PluginLoadError / PluginError as the child
+// did, so exit codes do not depend on where the work ran. With forward_interrupt, a SIGINT or
 // SIGTERM the program gets (interrupt.hpp) is passed on to the child.
+class JsonWorker {
+ public:
+  using Serve = std::function<nlohmann::json(const nlohmann::json& request)>;
+  explicit JsonWorker(const Serve& serve, bool forward_interrupt = false);
+  nlohmann::json ask(const nlohmann::json& request, double timeout_s);
+
+ private:
+  process::Worker worker_;
+};
+
+// Runs work() in a child of its own (a JsonWorker asked once) and returns its JSON.
 nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
                             bool forward_interrupt = false);
 

@@ -116,6 +116,8 @@ class Simulation {
   // Loads both plugins (PluginLoadError), applies the parameter settings (InputError),
   // creates the scene, the cloth and the integrator (PluginError).
   Simulation(const RunConfig& config, const host::PluginSearchPath& search_path);
+  // The same with the plugins already loaded (load_plugins).
+  Simulation(const RunConfig& config, LoadedPlugins plugins);
 
   // Steps until done or until a stability check fails (the run stops there: past a failed
   // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
@@ -131,8 +133,6 @@ class Simulation {
   const nlohmann::json& scenario_params() const { return scenario_params_; }
 
  private:
-  Simulation(const RunConfig& config, LoadedPlugins plugins);
-
   RunConfig config_;
   host::PluginLibrary integrator_library_;
   host::PluginLibrary scenario_library_;

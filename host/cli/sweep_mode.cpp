@@ -15,7 +15,9 @@
 #include <limits>
 
 #include "case_execution.hpp"
+#include "case_worker.hpp"
 #include "isolation.hpp"
+#include "resident_plugins.hpp"
 #include "run_config.hpp"
 #include "simulation.hpp"
 #include "slurm_sweep.hpp"
@@ -24,9 +26,6 @@
 namespace clothlab::cli {
 
 namespace {
-
-// The case's settings as a single run sees them.
-RunConfig case_config(const sweep::CaseSpec& c) { return resolve_run_config(c.settings); }
 
 // The verdict part of a case result from a run's summary JSON.
 sweep::CaseResult verdict_of(const nlohmann::json& run) {
@@ -40,10 +39,8 @@ sweep::CaseResult verdict_of(const nlohmann::json& run) {
   return result;
 }
 
-sweep::CaseResult run_row(const sweep::CaseSpec& c, const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(c);
-  const nlohmann::json run =
-      run_isolated([&] { return run_case(config, search_path); }, config.timeout_s);
+sweep::CaseResult run_row(const sweep::CaseSpec& c, CaseWorker& worker) {
+  const nlohmann::json run = worker.run(c);
   sweep::CaseResult result = verdict_of(run);
   result.metrics = {{"steps", run["steps"].get<double>()},
                     {"sim_time_s", run["sim_time_s"].get<double>()},
@@ -58,11 +55,10 @@ sweep::CaseResult run_row(const sweep::CaseSpec& c, const host::PluginSearchPath
   return result;
 }
 
-sweep::Trajectory run_trajectory(const sweep::CaseSpec& c,
-                                 const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(c);
-  const nlohmann::json run =
-      run_isolated([&] { return run_case(config, search_path, true); }, config.timeout_s);
+}  // namespace
+
+sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& worker) {
+  const nlohmann::json run = worker.run(c, true);
   sweep::Trajectory trajectory;
   // A diverged run's non-finite positions are JSON nulls; its verdict says enough.
   if (run["stable"].get<bool>()) trajectory.positions = run["positions"].get<std::vector<double>>();
@@ -77,11 +73,10 @@ sweep::Trajectory run_trajectory(const sweep::CaseSpec& c,
   return trajectory;
 }
 
-sweep::DtPrediction predict_row(const sweep::CaseSpec& c,
-                                const host::PluginSearchPath& search_path) {
-  const RunConfig config = case_config(c);
-  const nlohmann::json prediction =
-      run_isolated([&] { return predict_case(config, search_path); }, config.timeout_s);
+namespace {
+
+sweep::DtPrediction predict_row(const sweep::CaseSpec& c, CaseWorker& worker) {
+  const nlohmann::json prediction = worker.predict(c);
   sweep::DtPrediction result;
   result.dt_max = prediction["dt_max"].is_number() ? prediction["dt_max"].get<double>()
                                                    : std::numeric_limits<double>::infinity();
@@ -97,14 +92,15 @@ sweep::DtPrediction predict_row(const sweep::CaseSpec& c,
 void check_every_case(const std::vector<sweep::CaseSpec>& cases,
                       const host::PluginSearchPath& search_path) {
   std::vector<RunConfig> configs;
-  for (const sweep::CaseSpec& c : cases) configs.push_back(case_config(c));
+  for (const sweep::CaseSpec& c : cases) configs.push_back(resolve_run_config(c.settings));
   if (configs.empty()) return;
   try {
     run_isolated(
         [&] {
+          ResidentPlugins resident;
           for (size_t i = 0; i < configs.size(); ++i) {
             try {
-              load_plugins(configs[i], search_path);
+              resident.load(configs[i], search_path);
             } catch (const std::exception& error) {
               throw host::InputError(std::string(error.what()) + " (sweep case " + cases[i].key +
                                      ")");
@@ -130,11 +126,6 @@ std::string plugin_identity(const host::PluginSearchPath& search_path, const std
          sweep::file_hash(path.string());
 }
 
-sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c,
-                                       const host::PluginSearchPath& search_path) {
-  return run_trajectory(c, search_path);
-}
-
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out) {
   try {
@@ -152,8 +143,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     }
     std::optional<sweep::Shard> shard;
     if (request.shard) shard = sweep::parse_shard(*request.shard, "--shard");
-    // A reference, not a copy: each case's fork copies the page tables of all the memory the
-    // parent holds, so the parent stays as small as it can.
+    // A reference, not a copy: each worker's fork (the first, and one after each crash or
+    // timeout) copies the page tables of all the memory the parent holds.
     const std::vector<sweep::CaseSpec> shard_part =
         shard ? sweep::shard_cases(all_cases, *shard) : std::vector<sweep::CaseSpec>{};
     const std::vector<sweep::CaseSpec>& cases = shard ? shard_part : all_cases;
@@ -168,14 +159,14 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
                         {"config", request.config_file.string()},
                         {"cases", all_cases.size()}});
     const bool terminal = sweep::stderr_is_terminal();
+    CaseWorker worker(search_path);
     std::string counts;
     if (spec.mode == sweep::SweepMode::Run) {
       const auto done = std::count_if(cases.begin(), cases.end(),
                                       [&](const auto& c) { return store.contains(c.key); });
       sweep::Progress progress(cases.size(), static_cast<std::size_t>(done), std::cerr, terminal);
       const sweep::SweepSummary summary = sweep::run_sweep(
-          cases, [&](const sweep::CaseSpec& c) { return run_row(c, search_path); }, store,
-          &progress);
+          cases, [&](const sweep::CaseSpec& c) { return run_row(c, worker); }, store, &progress);
       counts = std::to_string(summary.total) + " cases: " + std::to_string(summary.stable) +
                " stable, " + std::to_string(summary.unstable) + " unstable, " +
                std::to_string(summary.failed) + " failed, " + std::to_string(summary.skipped) +
@@ -183,15 +174,15 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     } else if (spec.mode == sweep::SweepMode::WorkPrecision) {
       sweep::Progress progress(sweep::work_precision_units(spec, cases), 0, std::cerr, terminal);
       const sweep::WorkPrecisionSummary summary = sweep::run_work_precision(
-          spec, cases, [&](const sweep::CaseSpec& c) { return run_trajectory(c, search_path); },
+          spec, cases, [&](const sweep::CaseSpec& c) { return run_sweep_trajectory(c, worker); },
           store, &progress);
       counts = std::to_string(summary.references) + " references, " + std::to_string(summary.runs) +
                " ladder runs, " + std::to_string(summary.skipped) + " already done";
     } else {
       sweep::Progress progress(cases.size(), 0, std::cerr, terminal);
       const sweep::StabilitySummary summary = sweep::run_stability_search(
-          spec, cases, [&](const sweep::CaseSpec& c) { return run_row(c, search_path); },
-          [&](const sweep::CaseSpec& c) { return predict_row(c, search_path); }, store, &progress);
+          spec, cases, [&](const sweep::CaseSpec& c) { return run_row(c, worker); },
+          [&](const sweep::CaseSpec& c) { return predict_row(c, worker); }, store, &progress);
       counts = std::to_string(summary.searched) + " searched, " + std::to_string(summary.skipped) +
                " already done";
     }

@@ -1,6 +1,6 @@
 // `clothlab --config sweep.yaml`: a config with a `sweep:` section runs its matrix through
 // clothlab_sweep in the mode it names (run, work-precision, stability). Every case is one
-// Simulation, run in its own child process (isolation.hpp), so a crash is a failed row.
+// Simulation, run in the sweep's worker child (case_worker.hpp), so a crash is a failed row.
 #pragma once
 
 #include <clothlab/host/plugin_search_path.hpp>
@@ -10,6 +10,7 @@
 #include <ostream>
 #include <vector>
 
+#include "case_worker.hpp"
 #include "settings.hpp"
 
 namespace clothlab::cli {
@@ -26,10 +27,9 @@ struct SweepRequest {
   std::vector<std::string> plugin_paths;  // --plugin-path entries, passed on to Slurm tasks
 };
 
-// One case run to its end in a child process, with its final positions: the
-// trajectory runner of the work-precision and choose drivers.
-sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c,
-                                       const host::PluginSearchPath& search_path);
+// One case run to its end in the worker, with its final positions: the trajectory runner
+// of the work-precision and choose drivers.
+sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& worker);
 
 // A plugin file's identity for fingerprints and caches: where it was found, its size and
 // content hash.

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -549,6 +550,55 @@ sweep:
       << rows[0].dump() << "\n"
       << outcome.err;
   EXPECT_EQ(rows[1]["status"], "stable");
+}
+
+// Issue 23: the cases of a sweep share one worker child, replaced after a crash or a timeout.
+// The cases after a crashing and a hanging one give the same rows as in a sweep without them,
+// timings aside: nothing of the killed workers reaches the next case.
+TEST_F(ClothlabStability, RowsAfterACrashAndAHangEqualThoseOfASweepWithoutThem) {
+  const auto sweep = [](const std::string& name, const std::string& integrators) {
+    return "scenario: {rows: 4, cols: 4}\nduration: 0.01\ntimeout: 1\nsweep:\n  name: " + name +
+           "\n  mode: run\n  matrix:\n    dt: [0.001, 0.002]\n    integrator: [" + integrators +
+           "]\n";
+  };
+  write("faulty.yaml",
+        sweep("faulty", "rk4, clothlab_test_crash, euler, clothlab_test_hang, midpoint"));
+  write("sound.yaml", sweep("sound", "rk4, euler, midpoint"));
+  const std::string faulty_plugins =
+      " --plugin-path '" CLOTHLAB_CRASH_PLUGIN_DIR "' --plugin-path '" CLOTHLAB_HANG_PLUGIN_DIR "'";
+  const Outcome faulty = run("--config faulty.yaml --out results" + faulty_plugins);
+  ASSERT_EQ(faulty.exit_code, 0) << faulty.err;
+  const Outcome sound = run("--config sound.yaml --out results");
+  ASSERT_EQ(sound.exit_code, 0) << sound.err;
+
+  const auto without_timings = [](nlohmann::json row) {
+    for (const char* timing : {"wall_time_s", "ms_per_step", "ms_per_step_p90",
+                               "springs_per_second", "real_time_factor"})
+      row.erase(timing);
+    return row;
+  };
+  std::map<std::string, nlohmann::json> sound_rows;
+  const auto sound_json = read_json(file("results/sound.json"));
+  for (const auto& row : sound_json["rows"]) sound_rows[row["key"]] = without_timings(row);
+  ASSERT_EQ(sound_rows.size(), 6u);
+  const auto faulty_rows = read_json(file("results/faulty.json"))["rows"];
+  ASSERT_EQ(faulty_rows.size(), 10u);
+  std::size_t compared = 0;
+  for (const auto& row : faulty_rows) {
+    const std::string integrator = row["integrator"];
+    if (integrator == "clothlab_test_crash" || integrator == "clothlab_test_hang") {
+      EXPECT_EQ(row["status"], "failed") << row.dump();
+      if (integrator == "clothlab_test_hang") {
+        EXPECT_EQ(row["reason"], "timed out after 1 s");
+      }
+      continue;
+    }
+    ASSERT_EQ(sound_rows.count(row["key"]), 1u) << row.dump();
+    EXPECT_EQ(without_timings(row), sound_rows[row["key"]]);
+    EXPECT_EQ(row["status"], "stable") << row.dump();
+    ++compared;
+  }
+  EXPECT_EQ(compared, 6u);
 }
 
 TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {

@@ -34,6 +34,11 @@ double monotonic_seconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
+void close_all(std::initializer_list<int> fds) {
+  for (int fd : fds)
+    if (fd >= 0) ::close(fd);
+}
+
 bool write_all(int fd, const char* bytes, size_t size) {
   size_t written = 0;
   while (written < size) {
@@ -71,12 +76,18 @@ void Reader::drain() {
   }
 }
 
-ChildEnd supervise(pid_t child, const std::vector<Reader*>& readers, double timeout_s) {
+ChildEnd supervise(pid_t child, const std::vector<Reader*>& readers, double timeout_s,
+                   const std::function<bool()>& finished) {
   const int pidfd = open_pidfd(child);
   const double deadline = monotonic_seconds() + timeout_s;
   ChildEnd end;
   std::vector<pollfd> watched(readers.size() + 1);
   for (;;) {
+    if (finished && finished()) {
+      end.running = true;
+      if (pidfd >= 0) ::close(pidfd);
+      return end;
+    }
     if (::waitpid(child, &end.status, WNOHANG) == child) break;
     const double left = deadline - monotonic_seconds();
     if (left <= 0) {

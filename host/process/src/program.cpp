@@ -16,14 +16,11 @@
 
 namespace clothlab::process {
 
+using detail::close_all;
+
 namespace {
 
 constexpr int could_not_exec = 127;
-
-void close_all(std::initializer_list<int> fds) {
-  for (int fd : fds)
-    if (fd >= 0) ::close(fd);
-}
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace clothlab::process {
@@ -34,13 +35,40 @@ struct ChildOutcome {
   bool answered() const { return end == End::Answered; }
 };
 
-// Forks; the child resets the fault signals to their default action (so a crash is a signal
-// the parent sees), asks for SIGKILL when the parent dies, runs work() and sends its bytes
-// back through an O_CLOEXEC pipe, then _exits: nothing of the child, not even an exception
-// thrown while answering, returns into the caller. The parent waits for the child's exit, not
-// for the pipe's end, so a grandchild holding the pipe cannot stall it; the child's process
-// group is killed when it ends. The parent must not have started OpenMP threads (a forked
-// child of a process with a live OpenMP pool can hang).
+// A forked child that serves requests one after another, so that many isolated calls (a
+// sweep's cases) cost a round trip each instead of a process start. The child resets the
+// fault signals to their default action (so a crash is a signal the parent sees), asks for
+// SIGKILL when the parent dies, and answers each request with serve(request) through an
+// O_CLOEXEC pipe; nothing of the child, not even an exception thrown while answering,
+// returns into the caller. A crash, an exit or a hang (killed at the deadline, with the
+// child's process group) ends only that child: the next ask forks a new one. The parent waits
+// for a whole answer or the child's exit, not for the pipe's end, so a grandchild holding the
+// pipe cannot stall it. The parent must not have started OpenMP threads (a forked child of a
+// process with a live OpenMP pool can hang).
+class Worker {
+ public:
+  using Serve = std::function<std::string(const std::string& request)>;
+  // serve runs in the child, which is forked at the first ask (and again after a crash or a
+  // timeout) and sees the parent's memory as it is then. options.timeout_s bounds each ask.
+  Worker(Serve serve, IsolationOptions options);
+  ~Worker();  // kills the child and its process group
+  Worker(const Worker&) = delete;
+  Worker& operator=(const Worker&) = delete;
+
+  ChildOutcome ask(const std::string& request) { return ask(request, options_.timeout_s); }
+  ChildOutcome ask(const std::string& request, double timeout_s);
+  pid_t pid() const;  // the child serving now; 0 when none runs
+
+ private:
+  struct Child;
+  bool start(ChildOutcome& failed);  // forks the child; false (failed says why) if it cannot
+  void stop();
+  Serve serve_;
+  IsolationOptions options_;
+  std::unique_ptr<Child> child_;
+};
+
+// work() once in a child of its own (a Worker asked once).
 ChildOutcome run_isolated(const std::function<std::string()>& work,
                           const IsolationOptions& options);
 
