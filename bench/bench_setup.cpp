@@ -1,7 +1,5 @@
 #include "bench_setup.hpp"
 
-#include <clothlab/host/param_set.hpp>
-
 namespace clothlab::bench {
 namespace {
 
@@ -12,9 +10,17 @@ host::PluginLibrary find_plugin(const std::string& id) {
 }  // namespace
 
 Scene make_scene(const std::string& id, const ParamTexts& params) {
-  const host::PluginLibrary library = find_plugin(id);
-  host::ParamSet values = library.scenario().default_params();
+  host::ParamSet values = scenario_defaults(id);
   for (const auto& [key, text] : params) values.set(key, text, "bench");
+  return make_scene(id, values);
+}
+
+host::ParamSet scenario_defaults(const std::string& id) {
+  return find_plugin(id).scenario().default_params();
+}
+
+Scene make_scene(const std::string& id, const host::ParamSet& values) {
+  const host::PluginLibrary library = find_plugin(id);
   const host::ScenarioInstance instance = library.scenario().create(values);
   return scene_from_abi(instance.describe());
 }
