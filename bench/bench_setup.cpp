@@ -10,17 +10,15 @@ host::PluginLibrary find_plugin(const std::string& id) {
 }  // namespace
 
 Scene make_scene(const std::string& id, const ParamTexts& params) {
-  host::ParamSet values = scenario_defaults(id);
-  for (const auto& [key, text] : params) values.set(key, text, "bench");
-  return make_scene(id, values);
+  return make_scene(id, [&](host::ParamSet& values) {
+    for (const auto& [key, text] : params) values.set(key, text, "bench");
+  });
 }
 
-host::ParamSet scenario_defaults(const std::string& id) {
-  return find_plugin(id).scenario().default_params();
-}
-
-Scene make_scene(const std::string& id, const host::ParamSet& values) {
+Scene make_scene(const std::string& id, const std::function<void(host::ParamSet&)>& set_params) {
   const host::PluginLibrary library = find_plugin(id);
+  host::ParamSet values = library.scenario().default_params();
+  set_params(values);
   const host::ScenarioInstance instance = library.scenario().create(values);
   return scene_from_abi(instance.describe());
 }

@@ -81,7 +81,7 @@ struct ImplicitEuler {
       sdk::int_param("multigrid_levels", 0, 0, 16,
                      "grid levels of the multigrid, the cloth's included; 0 = coarsen until the "
                      "coarsest has at most 256 particles"),
-      sdk::int_param("multigrid_sweeps", 1, 1, 8,
+      sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
                      "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
                      "correction"),
   };

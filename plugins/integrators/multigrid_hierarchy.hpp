@@ -77,6 +77,7 @@ class MultigridHierarchy {
   // is not positive definite (then the V-cycle is no preconditioner for CG).
   bool rebuild() {
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
+      levels_[l].find_couplings();
       transfers_[l].galerkin(levels_[l], levels_[l + 1]);
       if (!smoothers_[l].factor(levels_[l])) return false;
     }

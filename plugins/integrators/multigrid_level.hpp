@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,6 +28,9 @@ class GridLevel {
             offsets_[node(r, c)] + static_cast<std::size_t>((w.row_end - w.row_begin) * w.width());
       }
     blocks_.assign(9 * offsets_.back(), 0.0);
+    couplings_.reserve(kWindow * kWindow);
+    for (int k = 0; k < kWindow * kWindow; ++k)
+      couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
   }
 
   int rows() const { return rows_; }
@@ -67,17 +71,39 @@ class GridLevel {
       }
   }
 
-  // sum -= (row (r, c) of A) x, without the diagonal block where skip_diagonal.
+  // sum -= (row (r, c) of A) x, without the diagonal block where skip_diagonal; only the
+  // offsets `find_couplings` found nonzero somewhere.
   void subtract_row_product(int r, int c, const double* x, double* sum, bool skip_diagonal) const {
     const Window w = window(r, c);
-    const double* a = row_blocks(r, c);
-    for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-      for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9) {
-        if (skip_diagonal && r2 == r && c2 == c) continue;
-        const double* xj = &x[3 * node(r2, c2)];
-        for (int k = 0; k < 3; ++k)
-          sum[k] -= a[3 * k] * xj[0] + a[3 * k + 1] * xj[1] + a[3 * k + 2] * xj[2];
+    const double* row = row_blocks(r, c);
+    for (const Offset& offset : couplings_) {
+      const int r2 = r + offset.rows, c2 = c + offset.cols;
+      if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
+      if (skip_diagonal && offset.rows == 0 && offset.cols == 0) continue;
+      const double* a = row + 9 * ((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
+      const double* xj = &x[3 * node(r2, c2)];
+      for (int k = 0; k < 3; ++k)
+        sum[k] -= a[3 * k] * xj[0] + a[3 * k + 1] * xj[1] + a[3 * k + 2] * xj[2];
+    }
+  }
+
+  // Records which window offsets hold a nonzero block in some row (the fine Provot level
+  // couples 13 of the 25), so products skip the others; call after the blocks change.
+  void find_couplings() {
+    std::array<bool, kWindow * kWindow> used{};
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c) {
+        const Window w = window(r, c);
+        const double* a = row_blocks(r, c);
+        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9)
+            if (std::any_of(a, a + 9, [](double value) { return value != 0.0; }))
+              used[static_cast<std::size_t>((r2 - r + reach) * kWindow + (c2 - c + reach))] = true;
       }
+    couplings_.clear();
+    for (int k = 0; k < kWindow * kWindow; ++k)
+      if (used[static_cast<std::size_t>(k)])
+        couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
   }
 
  private:
@@ -87,8 +113,14 @@ class GridLevel {
            static_cast<std::size_t>((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
   }
 
+  static constexpr int kWindow = 2 * reach + 1;
+  struct Offset {
+    int rows, cols;
+  };
+
   int rows_, cols_;
   std::vector<uint8_t> fixed_;
+  std::vector<Offset> couplings_;     // window offsets with a nonzero block somewhere
   std::vector<std::size_t> offsets_;  // node_count + 1: where each row's blocks begin
   std::vector<double> blocks_;        // 9 per window entry
 };
