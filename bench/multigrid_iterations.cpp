@@ -4,14 +4,15 @@
 // docs/real-cloth.md ("Multigrid"). The system is the first step's: the flag at rest in its
 // initial layout, the definite Jacobian (the plugin's default), right-hand side h a0, solved
 // from 0 to a relative residual (mass norm) of 1e-6 in float64, the multigrid with the
-// plugin's default levels and sweeps.
+// plugin's default coarsest level and sweeps.
 //
-//   build/bin/clothlab_multigrid_iterations [config [side...]]
+//   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]]
 //
 // config (default configs/choose-cotton-flag-200.yaml) gives the material and scenario; sides
-// default to 50 100 200 300 600. One thread: the counts do not depend on it, and the times
-// (whole solves, set-up included) are then comparable on a shared machine. Block-Jacobi stops at
-// 3000 iterations and is then reported as not converged, with the residual it reached.
+// default to 50 100 200 300 600, the steps h = 1/N s to N = 60 and 240. One thread: the counts do
+// not depend on it, and the times (whole solves, set-up included) are then comparable on a shared
+// machine. Block-Jacobi stops at 3000 iterations and is then reported as not converged, with the
+// residual it reached.
 #include <chrono>
 #include <clothlab/config/yaml_settings.hpp>
 #include <clothlab/core/cloth.hpp>
@@ -53,7 +54,9 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   double* const zero = system.alloc_vector();
   std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
   std::optional<builtin::MultigridPreconditioner> preconditioner;
-  if (multigrid) preconditioner.emplace(system, 0, builtin::kDefaultMultigridSweeps);
+  if (multigrid)
+    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes,
+                           builtin::kDefaultMultigridSweeps);
   builtin::PreconditionedCg<double> cg(system, vectors, inverse_blocks, true, false,
                                        preconditioner ? &*preconditioner : nullptr);
   system.acceleration(0.0, system.x(), system.v(), rhs);
@@ -89,9 +92,24 @@ std::string describe(const SolveResult& result) {
 
 int run(int argc, char** argv) {
   const std::string config_path = argc > 1 ? argv[1] : "configs/choose-cotton-flag-200.yaml";
-  std::vector<int> sides;
-  for (int k = 2; k < argc; ++k) sides.push_back(std::atoi(argv[k]));
+  std::vector<int> sides, rates;
+  bool reading_rates = false;
+  for (int k = 2; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--rate") {
+      reading_rates = true;
+      continue;
+    }
+    const int value = std::atoi(arg.c_str());
+    if (value <= 0) {
+      std::fprintf(stderr, "clothlab_multigrid_iterations: '%s' is no positive integer\n",
+                   arg.c_str());
+      return 2;
+    }
+    (reading_rates ? rates : sides).push_back(value);
+  }
   if (sides.empty()) sides = {50, 100, 200, 300, 600};
+  if (rates.empty()) rates = {60, 240};
   const cli::RunConfig config = cli::resolve_run_config(config::read_config_file(config_path));
   if (!config.material) {
     std::fprintf(stderr, "%s: no material.* (the table is for a material's cloth)\n",
@@ -103,7 +121,8 @@ int run(int argc, char** argv) {
   std::printf(
       "| side | h (s) | multigrid levels | multigrid iterations | s | block-Jacobi "
       "iterations | s |\n|---|---|---|---|---|---|---|\n");
-  for (const double h : {1.0 / 60.0, 1.0 / 240.0}) {
+  for (const int rate : rates) {
+    const double h = 1.0 / rate;
     long fewest = 0, most = 0;
     for (const int side : sides) {
       const Scene scene = make_scene(config.scenario, [&](host::ParamSet& values) {
@@ -115,7 +134,9 @@ int run(int argc, char** argv) {
       const SolveResult multigrid = solve(cloth, h, true, kMultigridCap);
       const SolveResult block_jacobi = solve(cloth, h, false, kBlockJacobiCap);
       const std::size_t levels =
-          builtin::plan_levels(static_cast<uint32_t>(side), static_cast<uint32_t>(side), 0).size();
+          builtin::plan_levels(static_cast<uint32_t>(side), static_cast<uint32_t>(side),
+                               builtin::kDefaultCoarsestNodes)
+              .size();
       std::printf("| %d | 1/%.0f | %zu | %s | %s |\n", side, 1.0 / h, levels,
                   describe(multigrid).c_str(), describe(block_jacobi).c_str());
       std::fflush(stdout);

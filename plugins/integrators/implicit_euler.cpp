@@ -78,9 +78,9 @@ struct ImplicitEuler {
       sdk::bool_param("multigrid", false,
                       "CG preconditioned by a geometric multigrid V-cycle on the cloth's grid "
                       "(clothlab.grid/1); 0 = block-Jacobi"),
-      sdk::int_param("multigrid_levels", 0, 0, 16,
-                     "grid levels of the multigrid, the cloth's included; 0 = coarsen until the "
-                     "coarsest has at most 256 particles"),
+      sdk::int_param("multigrid_coarsest", kDefaultCoarsestNodes, 1, kMaxCoarsestNodes,
+                     "multigrid: coarsen the grid while it has more particles than this (and "
+                     "both sides at least 3); a dense direct solve there"),
       sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
                      "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
                      "correction"),
@@ -96,7 +96,7 @@ struct ImplicitEuler {
         definite_(values.flag("definite")),
         warm_start_(values.flag("warm_start")),
         multigrid_(values.flag("multigrid")),
-        multigrid_levels_(values.integer("multigrid_levels")),
+        multigrid_coarsest_(values.integer("multigrid_coarsest")),
         multigrid_sweeps_(values.integer("multigrid_sweeps")) {}
 
   template <class Real>
@@ -108,7 +108,8 @@ struct ImplicitEuler {
     scratch_.allocate(system);
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
     multigrid_preconditioner_.reset();
-    if (multigrid_) multigrid_preconditioner_.emplace(system, multigrid_levels_, multigrid_sweeps_);
+    if (multigrid_)
+      multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_);
     previous_h_ = 0.0;
     last_ = {};
   }
@@ -200,7 +201,7 @@ struct ImplicitEuler {
   bool definite_;
   bool warm_start_;
   bool multigrid_;
-  long multigrid_levels_;
+  long multigrid_coarsest_;
   long multigrid_sweeps_;
   std::optional<MultigridPreconditioner> multigrid_preconditioner_;  // where multigrid_
   double previous_h_ = 0.0;  // the last step's h; 0: no dv to start from

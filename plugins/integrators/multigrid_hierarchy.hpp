@@ -22,32 +22,26 @@ struct GridSize {
   uint32_t rows, cols;
 };
 
-// The level sizes, fine first, for `levels` levels (0: coarsen until the coarsest grid has at
-// most kAutomaticCoarsestNodes nodes). Throws std::invalid_argument, one line, where `levels`
-// is more than the grid allows (an axis must have 3 nodes to coarsen) or leaves a coarsest grid
-// over kMaxCoarsestNodes nodes for the dense direct solve.
-constexpr uint32_t kAutomaticCoarsestNodes = 256;
+// The level sizes, fine first: coarsen while the coarsest grid has more than
+// `coarsest_particles` nodes and both its sides have at least 3 (one more level could not
+// shrink). Throws std::invalid_argument, one line, where that leaves more than
+// kMaxCoarsestNodes nodes for the dense direct solve (a long thin strip of cloth).
+constexpr long kDefaultCoarsestNodes = 256;
 constexpr uint32_t kMaxCoarsestNodes = 1024;
 
-inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long levels) {
-  const auto coarsens = [](GridSize s) { return s.rows >= 3 && s.cols >= 3; };
+inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coarsest_particles) {
   const auto nodes = [](GridSize s) { return uint64_t{s.rows} * s.cols; };
   std::vector<GridSize> sizes{{rows, cols}};
-  while (coarsens(sizes.back()) && (levels == 0 ? nodes(sizes.back()) > kAutomaticCoarsestNodes
-                                                : static_cast<long>(sizes.size()) < levels))
+  while (sizes.back().rows >= 3 && sizes.back().cols >= 3 &&
+         nodes(sizes.back()) > static_cast<uint64_t>(coarsest_particles))
     sizes.push_back({coarse_axis_size(sizes.back().rows), coarse_axis_size(sizes.back().cols)});
-  const std::string grid = std::to_string(rows) + " x " + std::to_string(cols) + " grid";
-  if (levels != 0 && static_cast<long>(sizes.size()) < levels)
-    throw std::invalid_argument("multigrid_levels = " + std::to_string(levels) +
-                                " is more than the " + grid + " allows (at most " +
-                                std::to_string(sizes.size()) + ")");
   const GridSize coarsest = sizes.back();
   if (nodes(coarsest) > kMaxCoarsestNodes)
     throw std::invalid_argument(
-        "multigrid_levels = " + std::to_string(levels) + " leaves the " + grid + " a " +
-        std::to_string(coarsest.rows) + " x " + std::to_string(coarsest.cols) +
-        " coarsest level; its direct solve takes at most " + std::to_string(kMaxCoarsestNodes) +
-        " nodes (use more levels, or 0 = automatic)");
+        "multigrid: the " + std::to_string(rows) + " x " + std::to_string(cols) +
+        " grid coarsens to no fewer than " + std::to_string(coarsest.rows) + " x " +
+        std::to_string(coarsest.cols) + " particles (a side needs 3 to coarsen); the direct " +
+        "solve there takes at most " + std::to_string(kMaxCoarsestNodes));
   return sizes;
 }
 

@@ -29,10 +29,10 @@ namespace clothlab::builtin {
 class MultigridPreconditioner {
  public:
   // From `prepare`: one-line sdk::Error where the cloth is no grid, a spring reaches further
-  // than two spacings, or `levels` (0 = automatic) does not fit the grid.
+  // than two spacings, or the grid does not coarsen far enough (plan_levels).
   template <class Real>
-  MultigridPreconditioner(const sdk::System<Real>& system, long levels, long sweeps)
-      : hierarchy_(plan(system, levels), fixed_particles(system)),
+  MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps)
+      : hierarchy_(plan(system, coarsest_particles), fixed_particles(system)),
         cycle_(hierarchy_, sweeps),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
@@ -119,10 +119,10 @@ class MultigridPreconditioner {
   }
 
   template <class Real>
-  static std::vector<GridSize> plan(const sdk::System<Real>& system, long levels) {
+  static std::vector<GridSize> plan(const sdk::System<Real>& system, long coarsest_particles) {
     const sdk::Grid grid = grid_of(system);
     try {
-      return plan_levels(grid.rows(), grid.cols(), levels);
+      return plan_levels(grid.rows(), grid.cols(), coarsest_particles);
     } catch (const std::invalid_argument& error) {
       throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, error.what());
     }

@@ -112,9 +112,10 @@ struct ClothMatrix {
   std::map<std::pair<int, int>, Eigen::Matrix3d> blocks;  // (i, j): S_ij, the nonzero ones
 };
 
-MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long levels) {
+// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes.
+MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest) {
   MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
-                                                    static_cast<uint32_t>(cloth.cols), levels),
+                                                    static_cast<uint32_t>(cloth.cols), coarsest),
                                cloth.fixed);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
@@ -220,7 +221,8 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
   for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}}) {
     ClothMatrix cloth(rows, cols, 30.0);
-    MultigridHierarchy hierarchy = hierarchy_for(cloth, 2);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, rows * cols - 1);  // two levels
+    ASSERT_EQ(hierarchy.level_count(), 2u);
     const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed);
     Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
     const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
@@ -240,13 +242,14 @@ double asymmetry(VCycle& cycle, const ClothMatrix& cloth) {
 // too (not the pre-smoother's adjoint) is not symmetric, and the check sees it.
 TEST(Multigrid, TheVCycleIsSymmetric) {
   ClothMatrix cloth(23, 18);
-  MultigridHierarchy hierarchy = hierarchy_for(cloth, 3);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);  // 23 x 18, 12 x 10, 7 x 6
+  ASSERT_EQ(hierarchy.level_count(), 3u);
   for (long sweeps : {1L, 2L}) {
     VCycle cycle(hierarchy, sweeps);
     EXPECT_LT(asymmetry(cycle, cloth), 1e-12) << sweeps << " sweeps";
   }
   // The mutant: one level, forward smoothing on both sides of the coarse solve.
-  MultigridHierarchy two_grid = hierarchy_for(cloth, 2);
+  MultigridHierarchy two_grid = hierarchy_for(cloth, 23 * 18 - 1);
   const GridLevel& fine = two_grid.level(0);
   const auto forward_twice = [&](const Eigen::VectorXd& b) {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r(b.size());
@@ -271,7 +274,7 @@ TEST(Multigrid, TheTwoGridFactorIsSmallAndIndependentOfTheGrid) {
   std::vector<double> factors;
   for (int side : {9, 17, 33}) {
     ClothMatrix cloth(side, side);
-    MultigridHierarchy hierarchy = hierarchy_for(cloth, 2);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, side * side - 1);  // two levels
     VCycle cycle(hierarchy, 1);
     const SparseMatrix a = cloth.sparse();
     Eigen::VectorXd e = cloth.rhs(3);
@@ -294,7 +297,7 @@ struct CgOutcome {
 };
 
 CgOutcome multigrid_cg(ClothMatrix& cloth, const Eigen::VectorXd& b, double tolerance) {
-  MultigridHierarchy hierarchy = hierarchy_for(cloth, 0);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes);
   VCycle cycle(hierarchy, 1);
   const SparseMatrix a = cloth.sparse();
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, VCyclePreconditioner> cg;
@@ -345,22 +348,19 @@ TEST(Multigrid, CgIterationsBarelyGrowWithTheGrid) {
   EXPECT_GT(jacobi.back(), 5 * multigrid.back());
 }
 
-TEST(Multigrid, RefusesLevelCountsTheGridDoesNotAllow) {
-  EXPECT_EQ(builtin::plan_levels(60, 60, 0).back().rows, 16u);  // 60, 31, 16: 256 nodes
-  EXPECT_EQ(builtin::plan_levels(60, 60, 7).back().rows, 2u);
+TEST(Multigrid, CoarsensAsFarAsAsked) {
+  EXPECT_EQ(builtin::plan_levels(60, 60, 256).back().rows, 16u);  // 60, 31, 16: 256 nodes
+  EXPECT_EQ(builtin::plan_levels(60, 60, 1).size(), 7u);          // 60, 31, 16, 9, 5, 3, 2
+  EXPECT_EQ(builtin::plan_levels(60, 60, 1).back().rows, 2u);
+  // A strip two particles wide does not coarsen: its 4000 nodes are too many for the dense solve.
   try {
-    (void)builtin::plan_levels(60, 60, 8);
-    ADD_FAILURE() << "8 levels on 60 x 60 accepted";
+    (void)builtin::plan_levels(2, 2000, 256);
+    ADD_FAILURE() << "a 2 x 2000 coarsest level accepted";
   } catch (const std::invalid_argument& error) {
-    EXPECT_STREQ(error.what(),
-                 "multigrid_levels = 8 is more than the 60 x 60 grid allows (at most 7)");
-  }
-  try {
-    (void)builtin::plan_levels(600, 600, 2);
-    ADD_FAILURE() << "a 301 x 301 coarsest level accepted";
-  } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("a 301 x 301 coarsest level"), std::string::npos)
-        << error.what();
+    EXPECT_STREQ(
+        error.what(),
+        "multigrid: the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
+        "needs 3 to coarsen); the direct solve there takes at most 1024");
   }
 }
 
@@ -481,7 +481,7 @@ TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
   EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
 }
 
-TEST(Multigrid, ImplicitEulerRefusesANonGridAndTooManyLevels) {
+TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
   {
     GridNet net(6, 6, false);
     Integrator integrator("implicit_euler");
@@ -492,13 +492,14 @@ TEST(Multigrid, ImplicitEulerRefusesANonGridAndTooManyLevels) {
         << integrator.message();
   }
   {
-    GridNet net(6, 6);
+    GridNet net(2, 600);
     Integrator integrator("implicit_euler");
-    integrator.with("multigrid", 1.0).with("multigrid_levels", 5.0);
+    integrator.with("multigrid", 1.0);
     ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
     EXPECT_NE(integrator.prepare(net.host.system()), CLOTHLAB_OK);
     EXPECT_EQ(integrator.message(),
-              "multigrid_levels = 5 is more than the 6 x 6 grid allows (at most 4)");
+              "multigrid: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
+              "needs 3 to coarsen); the direct solve there takes at most 1024");
   }
 }
 
