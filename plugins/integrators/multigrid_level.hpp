@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace clothlab::builtin {
@@ -38,7 +39,6 @@ class GridLevel {
   std::size_t node_count() const { return static_cast<std::size_t>(rows_) * cols_; }
   std::size_t node(int r, int c) const { return static_cast<std::size_t>(r) * cols_ + c; }
   bool fixed(std::size_t node) const { return fixed_[node] != 0; }
-  const std::vector<uint8_t>& fixed_nodes() const { return fixed_; }
 
   // The window of node (r, c): rows [row_begin, row_end) x columns [col_begin, col_end).
   struct Window {
