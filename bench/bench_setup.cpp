@@ -1,7 +1,5 @@
 #include "bench_setup.hpp"
 
-#include <clothlab/host/param_set.hpp>
-
 namespace clothlab::bench {
 namespace {
 
@@ -12,9 +10,15 @@ host::PluginLibrary find_plugin(const std::string& id) {
 }  // namespace
 
 Scene make_scene(const std::string& id, const ParamTexts& params) {
+  return make_scene(id, [&](host::ParamSet& values) {
+    for (const auto& [key, text] : params) values.set(key, text, "bench");
+  });
+}
+
+Scene make_scene(const std::string& id, const std::function<void(host::ParamSet&)>& set_params) {
   const host::PluginLibrary library = find_plugin(id);
   host::ParamSet values = library.scenario().default_params();
-  for (const auto& [key, text] : params) values.set(key, text, "bench");
+  set_params(values);
   const host::ScenarioInstance instance = library.scenario().create(values);
   return scene_from_abi(instance.describe());
 }

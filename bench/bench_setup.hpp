@@ -3,7 +3,9 @@
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/host/param_set.hpp>
 #include <clothlab/host/plugin_library.hpp>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +16,8 @@ using ParamTexts = std::vector<std::pair<std::string, std::string>>;
 
 // The scene of scenario `id` ("sheet", "flag") with the given parameter texts set.
 Scene make_scene(const std::string& id, const ParamTexts& params);
+// The scene of scenario `id` with its parameters' defaults changed by set_params.
+Scene make_scene(const std::string& id, const std::function<void(host::ParamSet&)>& set_params);
 
 // Parameters of the benchmark cloth at side x side particles: the material of
 // configs/bench-300.yaml (2 cm spacing, 0.6 kg/m^2, lunar gravity), so every size has

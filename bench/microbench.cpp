@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "bench_setup.hpp"
-#include "block_jacobi_cg.hpp"
+#include "preconditioned_cg.hpp"
 #include "reference_forces.hpp"
 
 namespace clothlab::bench {
@@ -184,7 +184,7 @@ void force_evaluation(benchmark::State& state) {
   for (auto _ : state) forces.run();
 }
 
-// implicit_euler's CG (block_jacobi_cg.hpp, the plugin's own code, definite matrix as the
+// implicit_euler's CG (preconditioned_cg.hpp, the plugin's own code, definite matrix as the
 // plugin's default, fused host sweeps where offered and `fused`) on the 300 x 300 flag at
 // h = 1/60 s from rest, right-hand side h a0, on state.range(1) threads.
 class CgSolve {
@@ -211,10 +211,10 @@ class CgSolve {
     system_.copy(solution_, zero_);
     solver_->start(0.0, kStep, system_.x(), system_.v(), rhs_, solution_, false, 0.0);
   }
-  builtin::BlockJacobiCg<float>& solver() { return *solver_; }
+  builtin::PreconditionedCg<float>& solver() { return *solver_; }
   // One iteration; false once CG has stopped.
   bool iterate() {
-    const bool running = solver_->iterate() == builtin::BlockJacobiCg<float>::Outcome::kRunning;
+    const bool running = solver_->iterate() == builtin::PreconditionedCg<float>::Outcome::kRunning;
     benchmark::ClobberMemory();
     return running;
   }
@@ -227,10 +227,10 @@ class CgSolve {
   static constexpr double kStep = 1.0 / 60.0;
   Cloth cloth_;
   sdk::System<float> system_;
-  std::array<float*, builtin::BlockJacobiCg<float>::vector_count> vectors_{};
+  std::array<float*, builtin::PreconditionedCg<float>::vector_count> vectors_{};
   float *rhs_ = nullptr, *solution_ = nullptr, *zero_ = nullptr;
   std::vector<double> inverse_blocks_;
-  std::optional<builtin::BlockJacobiCg<float>> solver_;
+  std::optional<builtin::PreconditionedCg<float>> solver_;
 };
 
 // One CG iteration. A genuine solve, restarted every 20 iterations outside the timing (the

@@ -39,7 +39,8 @@ ParamTexts scenario_params(const YAML::Node& config) {
     if (key == "plugin") continue;
     std::string text;
     if (entry.second.IsSequence()) {
-      for (const auto& item : entry.second) text += (text.empty() ? "[" : ", ") + item.as<std::string>();
+      for (const auto& item : entry.second)
+        text += (text.empty() ? "[" : ", ") + item.as<std::string>();
       text += "]";
     } else {
       text = entry.second.as<std::string>();
@@ -91,8 +92,15 @@ int run(const std::string& config_path, int repetitions, int steps) {
   std::vector<double> baseline_s, fast_s;
   double t = 0.0;
   for (int repetition = 0; repetition < repetitions; ++repetition) {
-    time_block(steps, [&] { baseline.step(static_cast<float>(dt)); }, baseline_s);
-    time_block(steps, [&] { euler.step(t, dt); t += dt; }, fast_s);
+    time_block(
+        steps, [&] { baseline.step(static_cast<float>(dt)); }, baseline_s);
+    time_block(
+        steps,
+        [&] {
+          euler.step(t, dt);
+          t += dt;
+        },
+        fast_s);
   }
   const double baseline_ms = 1e3 * median(baseline_s);
   const double fast_ms = 1e3 * median(fast_s);
@@ -109,7 +117,8 @@ int run(const std::string& config_path, int repetitions, int steps) {
       {"fast_ms_per_step_median", fast_ms},
       {"fast_threads", cloth.threads()},
       {"speedup", baseline_ms / fast_ms},
-      {"baseline_springs_per_second", static_cast<double>(baseline.springs()) / (baseline_ms * 1e-3)},
+      {"baseline_springs_per_second",
+       static_cast<double>(baseline.springs()) / (baseline_ms * 1e-3)},
       {"finite", baseline.finite() && cloth.state_is_finite()},
   };
   std::printf("%s\n", result.dump(2).c_str());

@@ -9,11 +9,15 @@
 // which converges to backward Euler proper. First order; stable at any dt on a damped cloth.
 //
 // Each linear system is solved matrix-free by block-Jacobi preconditioned conjugate gradients in
-// the mass inner product (block_jacobi_cg.hpp): one Jacobian product per iteration; where the
+// the mass inner product (preconditioned_cg.hpp): one Jacobian product per iteration; where the
 // host offers clothlab.cg-step/1, an iteration is two sweeps (the product with the vector
-// updates and dot product around it, and one update sweep). A solve that stops at `max_iterations`
-// (or meets p.Ap <= 0) before the tolerance is reported through clothlab.solver-statistics/1, never
-// passed off as converged.
+// updates and dot product around it, and one update sweep). `multigrid` = 1 preconditions CG
+// with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
+// its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
+// with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
+// and a V-cycle per iteration (docs/real-cloth.md, "Multigrid"). A solve that stops at
+// `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
+// clothlab.solver-statistics/1, never passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
 // or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
@@ -37,10 +41,11 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
-#include "block_jacobi_cg.hpp"
+#include "preconditioned_cg.hpp"
 #include "scratch_vectors.hpp"
 
 namespace clothlab::builtin {
@@ -55,7 +60,7 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 5> params{
+  static constexpr std::array<clothlab_param_spec, 8> params{
       sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
                       "CG stops when the residual's mass norm falls below tolerance x the "
                       "right-hand side's"),
@@ -70,6 +75,15 @@ struct ImplicitEuler {
       sdk::bool_param("warm_start", true,
                       "CG starts from the previous step's dv (scaled by the step ratio); 0 = "
                       "from 0"),
+      sdk::bool_param("multigrid", false,
+                      "CG preconditioned by a geometric multigrid V-cycle on the cloth's grid "
+                      "(clothlab.grid/1); 0 = block-Jacobi"),
+      sdk::int_param("multigrid_coarsest", kDefaultCoarsestNodes, 1, kMaxCoarsestNodes,
+                     "multigrid: coarsen the grid while it has more particles than this (and "
+                     "both sides at least 3); a dense direct solve there"),
+      sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
+                     "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
+                     "correction"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -80,7 +94,10 @@ struct ImplicitEuler {
         max_iterations_(values.integer("max_iterations")),
         newton_steps_(values.integer("newton_steps")),
         definite_(values.flag("definite")),
-        warm_start_(values.flag("warm_start")) {}
+        warm_start_(values.flag("warm_start")),
+        multigrid_(values.flag("multigrid")),
+        multigrid_coarsest_(values.integer("multigrid_coarsest")),
+        multigrid_sweeps_(values.integer("multigrid_sweeps")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -90,6 +107,9 @@ struct ImplicitEuler {
     (void)system.reductions();
     scratch_.allocate(system);
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
+    multigrid_preconditioner_.reset();
+    if (multigrid_)
+      multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_);
     previous_h_ = 0.0;
     last_ = {};
   }
@@ -102,9 +122,11 @@ struct ImplicitEuler {
     Real *const acceleration = vectors[0], *const dv = vectors[1], *const rhs = vectors[2],
                 *const delta = vectors[3], *const x1 = vectors[4], *const v1 = vectors[5],
                 *const zero = vectors[6];
-    std::array<Real*, BlockJacobiCg<Real>::vector_count> cg_vectors{};
+    std::array<Real*, PreconditionedCg<Real>::vector_count> cg_vectors{};
     std::copy(vectors.begin() + step_vectors, vectors.end(), cg_vectors.begin());
-    BlockJacobiCg<Real> solver(system, cg_vectors, inverse_blocks_, definite_);
+    PreconditionedCg<Real> solver(
+        system, cg_vectors, inverse_blocks_, definite_, true,
+        multigrid_preconditioner_ ? &*multigrid_preconditioner_ : nullptr);
     Real* x = system.x();
     Real* v = system.v();
 
@@ -149,21 +171,21 @@ struct ImplicitEuler {
   // Scratch: acceleration, dv (kept from step to step for the warm start), rhs, delta, x1, v1,
   // zero (never written), then CG's.
   static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = BlockJacobiCg<double>::vector_count;
+  static constexpr size_t cg_vectors = PreconditionedCg<double>::vector_count;
 
   // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs from the solution's entries
   // (guess) or 0 (solution zeroed by the caller); adds to last_.
   template <class Real>
-  void solve(BlockJacobiCg<Real>& solver, double t, double h, const Real* x, const Real* v,
+  void solve(PreconditionedCg<Real>& solver, double t, double h, const Real* x, const Real* v,
              const Real* rhs, Real* solution, bool guess) {
     solver.start(t, h, x, v, rhs, solution, guess, tolerance_);
     long iterations = 0;
     bool converged = solver.converged();
     while (!converged && iterations < max_iterations_) {
       const auto outcome = solver.iterate();
-      if (outcome == BlockJacobiCg<Real>::Outcome::kBreakdown) break;  // reported as missed
+      if (outcome == PreconditionedCg<Real>::Outcome::kBreakdown) break;  // reported as missed
       ++iterations;
-      converged = outcome == BlockJacobiCg<Real>::Outcome::kConverged;
+      converged = outcome == PreconditionedCg<Real>::Outcome::kConverged;
     }
     solver.finish();
     const double rhs_norm = solver.rhs_norm();
@@ -178,6 +200,10 @@ struct ImplicitEuler {
   long newton_steps_;
   bool definite_;
   bool warm_start_;
+  bool multigrid_;
+  long multigrid_coarsest_;
+  long multigrid_sweeps_;
+  std::optional<MultigridPreconditioner> multigrid_preconditioner_;  // where multigrid_
   double previous_h_ = 0.0;  // the last step's h; 0: no dv to start from
   ScratchVectors<step_vectors + cg_vectors> scratch_;
   std::vector<double> inverse_blocks_;  // 9 n, row-major 3x3 per particle

@@ -1,6 +1,6 @@
 // clothlab.cg-step/1: the engine's fused CG sweeps against the reference system's (the same
 // calls composed of definite-jacobian apply, axpy and mass_dot), the same bits on any thread
-// count, and implicit_euler's CG (block_jacobi_cg.hpp) fused and through separate calls.
+// count, and implicit_euler's CG (preconditioned_cg.hpp) fused and through separate calls.
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/reductions.h>
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-#include "block_jacobi_cg.hpp"
+#include "preconditioned_cg.hpp"
 #include "extension_support.hpp"
 #include "reference_system.hpp"
 
@@ -218,24 +218,24 @@ Solve<Real> solve(bool fused, int threads, double tolerance) {
   testing::move_off_rest(cloth, 7, 0.01, x, v);
   const sdk::System<Real> system(cloth.system());
   system.jacobian().reserve();
-  std::array<Real*, builtin::BlockJacobiCg<Real>::vector_count> vectors{};
+  std::array<Real*, builtin::PreconditionedCg<Real>::vector_count> vectors{};
   for (Real*& vector : vectors) vector = system.alloc_vector();
   Real* const rhs = system.alloc_vector();
   Real* const solution = system.alloc_vector();
   std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
-  builtin::BlockJacobiCg<Real> cg(system, vectors, inverse_blocks, true, fused);
+  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, fused);
   EXPECT_EQ(cg.fused(), fused);
   const double h = 1.0 / 60.0;
   system.acceleration(0.0, system.x(), system.v(), rhs);
   cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, tolerance);
   Solve<Real> out;
-  auto outcome = builtin::BlockJacobiCg<Real>::Outcome::kRunning;
-  while (outcome == builtin::BlockJacobiCg<Real>::Outcome::kRunning && out.iterations < 2000) {
+  auto outcome = builtin::PreconditionedCg<Real>::Outcome::kRunning;
+  while (outcome == builtin::PreconditionedCg<Real>::Outcome::kRunning && out.iterations < 2000) {
     outcome = cg.iterate();
     ++out.iterations;
   }
   cg.finish();
-  out.converged = outcome == builtin::BlockJacobiCg<Real>::Outcome::kConverged;
+  out.converged = outcome == builtin::PreconditionedCg<Real>::Outcome::kConverged;
   out.solution = values_of<Real>(cloth.system(), solution);
   return out;
 }

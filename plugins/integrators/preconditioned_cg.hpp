@@ -1,7 +1,9 @@
-// Block-Jacobi preconditioned conjugate gradients on A = I + c_x J_x + c_v J_v (J the spring
-// Jacobian clothlab.jacobian/1, or its definite form clothlab.definite-jacobian/1) at a state
-// (x, v), in the mass inner product: M A is symmetric, so CG runs in <a, b> = a^T M b and the
-// tolerance is on |r|_M / |b|_M. The preconditioner is the inverted 3x3 diagonal blocks of A.
+// Preconditioned conjugate gradients on A = I + c_x J_x + c_v J_v (J the spring Jacobian
+// clothlab.jacobian/1, or its definite form clothlab.definite-jacobian/1) at a state (x, v), in
+// the mass inner product: M A is symmetric, so CG runs in <a, b> = a^T M b and the tolerance is
+// on |r|_M / |b|_M. The preconditioner is the inverted 3x3 diagonal blocks of A (block-Jacobi),
+// or, where a MultigridPreconditioner is given, its V-cycle (then always the separate calls:
+// the host's fused sweep applies block-Jacobi only).
 // Pinned particles drop out: every host vector operation and product acts on the active
 // particles only, so the solution's pinned entries stay as they were.
 //
@@ -20,23 +22,27 @@
 #include <optional>
 #include <vector>
 
+#include "multigrid_preconditioner.hpp"
+
 namespace clothlab::builtin {
 
 template <class Real>
-class BlockJacobiCg {
+class PreconditionedCg {
  public:
   // CG's vectors of the system: r, z, p, q, then the fused path's preconditioner blocks.
   static constexpr std::size_t vector_count = 6;
   enum class Outcome { kRunning, kConverged, kBreakdown };
 
   // inverse_blocks: 9 n doubles of scratch. use_cg_step = false keeps the separate calls even
-  // where the host offers clothlab.cg-step/1 (to compare both).
-  BlockJacobiCg(const sdk::System<Real>& system, const std::array<Real*, vector_count>& vectors,
-                std::vector<double>& inverse_blocks, bool definite, bool use_cg_step = true)
+  // where the host offers clothlab.cg-step/1 (to compare both). multigrid: the preconditioner
+  // instead of block-Jacobi, prepared for this system; nullptr for block-Jacobi.
+  PreconditionedCg(const sdk::System<Real>& system, const std::array<Real*, vector_count>& vectors,
+                   std::vector<double>& inverse_blocks, bool definite, bool use_cg_step = true,
+                   MultigridPreconditioner* multigrid = nullptr)
       : system_(system),
         jacobian_(system.jacobian()),
         definite_(definite ? std::optional{system.definite_jacobian()} : std::nullopt),
-        cg_step_(definite && use_cg_step &&
+        cg_step_(definite && use_cg_step && multigrid == nullptr &&
                          system.template extension<clothlab_cg_step_extension>(
                              CLOTHLAB_EXT_CG_STEP) != nullptr
                      ? std::optional{system.cg_step()}
@@ -48,7 +54,8 @@ class BlockJacobiCg {
         q_(vectors[3]),
         block_diagonal_(vectors[4]),
         block_off_diagonal_(vectors[5]),
-        inverse_blocks_(inverse_blocks) {}
+        inverse_blocks_(inverse_blocks),
+        multigrid_(multigrid) {}
 
   bool fused() const { return cg_step_.has_value(); }
 
@@ -60,7 +67,11 @@ class BlockJacobiCg {
     t_ = t, x_ = x, v_ = v, solution_ = solution, pending_ = false;
     c_x_ = -h * h, c_v_ = -h;
     if (cg_step_) cg_step_->linearise(t, x, v, c_x_, c_v_);
-    invert_diagonal_blocks();
+    if (multigrid_ != nullptr) {
+      multigrid_->linearise(system_, [this](const Real* u, Real* out) { apply(u, out); });
+    } else {
+      invert_diagonal_blocks();
+    }
     if (guess) {  // r = rhs - A solution
       apply(solution, q_);
       system_.template lincomb<2>(r_, rhs, {-1.0, -1.0}, {solution, q_});
@@ -176,8 +187,9 @@ class BlockJacobiCg {
     for (int k = 0; k < 9; ++k) b[k] = cofactor[k] / determinant;
   }
 
-  // z = blockdiag(A)^-1 r on the active particles.
+  // z = blockdiag(A)^-1 r, or the multigrid's z, on the active particles.
   void precondition(const Real* r, Real* z) const {
+    if (multigrid_ != nullptr) return multigrid_->apply(system_, r, z);
     const std::size_t stride = system_.stride();
     for (const clothlab_range& range : system_.active())
       for (uint32_t i = range.begin; i < range.end; ++i) {
@@ -196,6 +208,7 @@ class BlockJacobiCg {
   sdk::Reductions<Real> reductions_;
   Real *r_, *z_, *p_, *q_, *block_diagonal_, *block_off_diagonal_;
   std::vector<double>& inverse_blocks_;
+  MultigridPreconditioner* multigrid_;
   double t_ = 0.0, c_x_ = 0.0, c_v_ = 0.0;
   const Real *x_ = nullptr, *v_ = nullptr;
   Real* solution_ = nullptr;

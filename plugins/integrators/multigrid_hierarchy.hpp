@@ -1,0 +1,88 @@
+// The multigrid hierarchy on a rows x cols grid: the fine level (its matrix filled by the
+// caller), coarser levels each with every other node along both axes (multigrid_transfer.hpp),
+// their Galerkin operators R A P, the smoothers' inverted diagonal blocks and the coarsest
+// level's Cholesky factor. All storage is sized when the hierarchy is built; `rebuild` after a
+// change of the fine matrix only computes.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "multigrid_coarse_solve.hpp"
+#include "multigrid_level.hpp"
+#include "multigrid_smoother.hpp"
+#include "multigrid_transfer.hpp"
+
+namespace clothlab::builtin {
+
+struct GridSize {
+  uint32_t rows, cols;
+};
+
+// The level sizes, fine first: coarsen while the coarsest grid has more than
+// `coarsest_particles` nodes and both its sides have at least 3 (one more level could not
+// shrink). Throws std::invalid_argument, one line, where that leaves more than
+// kMaxCoarsestNodes nodes for the dense direct solve (a long thin strip of cloth).
+constexpr long kDefaultCoarsestNodes = 256;
+constexpr uint32_t kMaxCoarsestNodes = 1024;
+
+inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coarsest_particles) {
+  const auto nodes = [](GridSize s) { return uint64_t{s.rows} * s.cols; };
+  std::vector<GridSize> sizes{{rows, cols}};
+  while (sizes.back().rows >= 3 && sizes.back().cols >= 3 &&
+         nodes(sizes.back()) > static_cast<uint64_t>(coarsest_particles))
+    sizes.push_back({coarse_axis_size(sizes.back().rows), coarse_axis_size(sizes.back().cols)});
+  const GridSize coarsest = sizes.back();
+  if (nodes(coarsest) > kMaxCoarsestNodes)
+    throw std::invalid_argument(
+        "multigrid: the " + std::to_string(rows) + " x " + std::to_string(cols) +
+        " grid coarsens to no fewer than " + std::to_string(coarsest.rows) + " x " +
+        std::to_string(coarsest.cols) + " particles (a side needs 3 to coarsen); the direct " +
+        "solve there takes at most " + std::to_string(kMaxCoarsestNodes));
+  return sizes;
+}
+
+class MultigridHierarchy {
+ public:
+  // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c.
+  MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed) {
+    levels_.reserve(sizes.size());
+    levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed));
+    for (std::size_t l = 1; l < sizes.size(); ++l) {
+      transfers_.emplace_back(levels_.back());
+      std::vector<uint8_t> coarse_fixed = transfers_.back().coarse_fixed(levels_.back());
+      levels_.emplace_back(sizes[l].rows, sizes[l].cols, std::move(coarse_fixed));
+    }
+    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l]);
+    coarsest_solve_.emplace(levels_.back());
+  }
+
+  std::size_t level_count() const { return levels_.size(); }
+  GridLevel& level(std::size_t l) { return levels_[l]; }
+  const GridLevel& level(std::size_t l) const { return levels_[l]; }
+  const GridTransfer& transfer(std::size_t l) const { return transfers_[l]; }  // l to l + 1
+  const BlockGaussSeidel& smoother(std::size_t l) const { return smoothers_[l]; }
+  CoarseCholesky& coarsest_solve() { return *coarsest_solve_; }
+
+  // The coarse operators and factors for the fine level's current matrix; false where a level
+  // is not positive definite (then the V-cycle is no preconditioner for CG).
+  bool rebuild() {
+    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
+      levels_[l].find_couplings();
+      transfers_[l].galerkin(levels_[l], levels_[l + 1]);
+      if (!smoothers_[l].factor(levels_[l])) return false;
+    }
+    return coarsest_solve().factor(levels_.back());
+  }
+
+ private:
+  std::vector<GridLevel> levels_;
+  std::vector<GridTransfer> transfers_;
+  std::vector<BlockGaussSeidel> smoothers_;
+  std::optional<CoarseCholesky> coarsest_solve_;
+};
+
+}  // namespace clothlab::builtin

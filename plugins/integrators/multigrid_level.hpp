@@ -1,0 +1,128 @@
+// One level of the multigrid hierarchy: a symmetric block matrix on a rows x cols grid whose
+// node (r, c) couples only to nodes within two grid spacings along each axis (the Provot
+// grid's flexion springs skip one particle, and Galerkin coarsening keeps that reach: see
+// multigrid_transfer.hpp). Row (r, c) stores a 3x3 block for every node of its 5 x 5 window
+// clipped to the grid, ascending, zero where nothing couples. Fixed (Dirichlet) nodes, the pins,
+// have zero rows and columns and stay 0 in every vector.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace clothlab::builtin {
+
+class GridLevel {
+ public:
+  static constexpr int reach = 2;  // grid spacings a row's couplings span along each axis
+
+  GridLevel(uint32_t rows, uint32_t cols, std::vector<uint8_t> fixed)
+      : rows_(static_cast<int>(rows)), cols_(static_cast<int>(cols)), fixed_(std::move(fixed)) {
+    offsets_.resize(node_count() + 1, 0);
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c) {
+        const Window w = window(r, c);
+        offsets_[node(r, c) + 1] =
+            offsets_[node(r, c)] + static_cast<std::size_t>((w.row_end - w.row_begin) * w.width());
+      }
+    blocks_.assign(9 * offsets_.back(), 0.0);
+    couplings_.reserve(kWindow * kWindow);
+    for (int k = 0; k < kWindow * kWindow; ++k)
+      couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
+  }
+
+  int rows() const { return rows_; }
+  int cols() const { return cols_; }
+  std::size_t node_count() const { return static_cast<std::size_t>(rows_) * cols_; }
+  std::size_t node(int r, int c) const { return static_cast<std::size_t>(r) * cols_ + c; }
+  bool fixed(std::size_t node) const { return fixed_[node] != 0; }
+
+  // The window of node (r, c): rows [row_begin, row_end) x columns [col_begin, col_end).
+  struct Window {
+    int row_begin, row_end, col_begin, col_end;
+    int width() const { return col_end - col_begin; }
+  };
+  Window window(int r, int c) const {
+    return {std::max(r - reach, 0), std::min(r + reach + 1, rows_), std::max(c - reach, 0),
+            std::min(c + reach + 1, cols_)};
+  }
+
+  // The 3x3 block (row-major) coupling (r, c) to (r2, c2), which must lie in (r, c)'s window.
+  double* block(int r, int c, int r2, int c2) { return &blocks_[9 * slot(r, c, r2, c2)]; }
+  const double* block(int r, int c, int r2, int c2) const {
+    return &blocks_[9 * slot(r, c, r2, c2)];
+  }
+  // Row (r, c)'s blocks in window order.
+  double* row_blocks(int r, int c) { return &blocks_[9 * offsets_[node(r, c)]]; }
+  const double* row_blocks(int r, int c) const { return &blocks_[9 * offsets_[node(r, c)]]; }
+  void clear() { std::fill(blocks_.begin(), blocks_.end(), 0.0); }
+
+  // out = b - A x on free nodes, 0 on fixed ones; vectors hold 3 doubles per node.
+  void residual(const double* b, const double* x, double* out) const {
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c) {
+        const std::size_t i = node(r, c);
+        double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+        if (!fixed(i)) subtract_row_product(r, c, x, sum, false);
+        for (int k = 0; k < 3; ++k) out[3 * i + k] = fixed(i) ? 0.0 : sum[k];
+      }
+  }
+
+  // sum -= (row (r, c) of A) x, without the diagonal block where skip_diagonal; only the
+  // offsets `find_couplings` found nonzero somewhere.
+  void subtract_row_product(int r, int c, const double* x, double* sum, bool skip_diagonal) const {
+    const Window w = window(r, c);
+    const double* row = row_blocks(r, c);
+    for (const Offset& offset : couplings_) {
+      const int r2 = r + offset.rows, c2 = c + offset.cols;
+      if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
+      if (skip_diagonal && offset.rows == 0 && offset.cols == 0) continue;
+      const double* a = row + 9 * ((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
+      const double* xj = &x[3 * node(r2, c2)];
+      for (int k = 0; k < 3; ++k)
+        sum[k] -= a[3 * k] * xj[0] + a[3 * k + 1] * xj[1] + a[3 * k + 2] * xj[2];
+    }
+  }
+
+  // Records which window offsets hold a nonzero block in some row (the fine Provot level
+  // couples 13 of the 25), so products skip the others; call after the blocks change.
+  void find_couplings() {
+    std::array<bool, kWindow * kWindow> used{};
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c) {
+        const Window w = window(r, c);
+        const double* a = row_blocks(r, c);
+        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9)
+            if (std::any_of(a, a + 9, [](double value) { return value != 0.0; }))
+              used[static_cast<std::size_t>((r2 - r + reach) * kWindow + (c2 - c + reach))] = true;
+      }
+    couplings_.clear();
+    for (int k = 0; k < kWindow * kWindow; ++k)
+      if (used[static_cast<std::size_t>(k)])
+        couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
+  }
+
+ private:
+  std::size_t slot(int r, int c, int r2, int c2) const {
+    const Window w = window(r, c);
+    return offsets_[node(r, c)] +
+           static_cast<std::size_t>((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
+  }
+
+  static constexpr int kWindow = 2 * reach + 1;
+  struct Offset {
+    int rows, cols;
+  };
+
+  int rows_, cols_;
+  std::vector<uint8_t> fixed_;
+  std::vector<Offset> couplings_;     // window offsets with a nonzero block somewhere
+  std::vector<std::size_t> offsets_;  // node_count + 1: where each row's blocks begin
+  std::vector<double> blocks_;        // 9 per window entry
+};
+
+}  // namespace clothlab::builtin

@@ -1,0 +1,146 @@
+// Transfer between a grid level and the next coarser one: prolongation P, bilinear
+// interpolation (each weight times the 3x3 identity), restriction R = P^T, and the Galerkin
+// coarse operator R A P.
+//
+// Along an axis of n >= 3 nodes the coarse level keeps every other node, n / 2 + 1 of them:
+// coarse node k sits on fine node 2k, the last one on fine node n - 1 (for even n the last
+// coarse interval is one fine spacing long). A fine node on a coarse node takes it with weight
+// 1; one between two takes each with 1/2. A coarse node on a fixed fine node is fixed, and P
+// has no weight into or out of a fixed node, so the pins are Dirichlet on every level.
+//
+// Reach: a fine coupling spans at most 2 fine spacings and a node's parents at most 1 coarse
+// spacing, so R A P couples coarse nodes at most 2 coarse spacings apart (GridLevel::reach).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "multigrid_level.hpp"
+
+namespace clothlab::builtin {
+
+// Nodes along a coarse axis for a fine one of n nodes (n >= 3).
+inline uint32_t coarse_axis_size(uint32_t n) { return n / 2 + 1; }
+
+// The fine nodes' parents along one axis: first[f], and first[f] + 1 too where two[f].
+struct AxisParents {
+  explicit AxisParents(int n)
+      : first(static_cast<std::size_t>(n)), two(static_cast<std::size_t>(n)) {
+    for (int f = 0; f < n; ++f) {
+      const bool between = f % 2 == 1 && f != n - 1;
+      first[static_cast<std::size_t>(f)] = f == n - 1 && f % 2 == 1 ? f / 2 + 1 : f / 2;
+      two[static_cast<std::size_t>(f)] = between ? 1 : 0;
+    }
+  }
+  int count(int f) const { return two[static_cast<std::size_t>(f)] ? 2 : 1; }
+  int parent(int f, int k) const { return first[static_cast<std::size_t>(f)] + k; }
+  double weight(int f) const { return two[static_cast<std::size_t>(f)] ? 0.5 : 1.0; }
+
+  std::vector<int> first;
+  std::vector<uint8_t> two;
+};
+
+class GridTransfer {
+ public:
+  explicit GridTransfer(const GridLevel& fine)
+      : row_parents_(fine.rows()), col_parents_(fine.cols()) {}
+
+  // The coarse level's fixed nodes: those on a fixed fine node.
+  std::vector<uint8_t> coarse_fixed(const GridLevel& fine) const {
+    const int coarse_cols = static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.cols())));
+    const int coarse_rows = static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.rows())));
+    std::vector<uint8_t> fixed(static_cast<std::size_t>(coarse_rows) * coarse_cols, 0);
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c)
+        if (row_parents_.count(r) == 1 && col_parents_.count(c) == 1 && fine.fixed(fine.node(r, c)))
+          fixed[static_cast<std::size_t>(row_parents_.parent(r, 0)) * coarse_cols +
+                col_parents_.parent(c, 0)] = 1;
+    return fixed;
+  }
+
+  // coarse_b = R fine_r.
+  void restrict_to(const GridLevel& fine, const double* fine_r, const GridLevel& coarse,
+                   double* coarse_b) const {
+    std::fill(coarse_b, coarse_b + 3 * coarse.node_count(), 0.0);
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c) {
+        const std::size_t f = fine.node(r, c);
+        if (fine.fixed(f)) continue;
+        for_parents(coarse, r, c, [&](std::size_t parent, double w) {
+          for (int k = 0; k < 3; ++k) coarse_b[3 * parent + k] += w * fine_r[3 * f + k];
+        });
+      }
+  }
+
+  // fine_x += P coarse_x.
+  void prolong_add(const GridLevel& fine, const GridLevel& coarse, const double* coarse_x,
+                   double* fine_x) const {
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c) {
+        const std::size_t f = fine.node(r, c);
+        if (fine.fixed(f)) continue;
+        for_parents(coarse, r, c, [&](std::size_t parent, double w) {
+          for (int k = 0; k < 3; ++k) fine_x[3 * f + k] += w * coarse_x[3 * parent + k];
+        });
+      }
+  }
+
+  // coarse = R fine P, a row of A P at a time: (A P)_fJ = sum_g A_fg P_gJ, then
+  // (R A P)_IJ += P_fI (A P)_fJ for f's parents I.
+  void galerkin(const GridLevel& fine, GridLevel& coarse) const {
+    coarse.clear();
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c) {
+        if (fine.fixed(fine.node(r, c))) continue;
+        // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
+        const int row0 = r / 2 - 2, col0 = c / 2 - 2;
+        std::array<double, 9 * kSpan * kSpan> product{};
+        std::array<uint8_t, kSpan * kSpan> touched{};
+        const GridLevel::Window w = fine.window(r, c);
+        const double* a = fine.row_blocks(r, c);
+        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9) {
+            if (fine.fixed(fine.node(r2, c2))) continue;
+            for (int i = 0; i < row_parents_.count(r2); ++i)
+              for (int j = 0; j < col_parents_.count(c2); ++j) {
+                const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
+                if (coarse.fixed(coarse.node(pr, pc))) continue;
+                const int local = (pr - row0) * kSpan + (pc - col0);
+                const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
+                for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
+                touched[local] = 1;
+              }
+          }
+        for (int i = 0; i < row_parents_.count(r); ++i)
+          for (int j = 0; j < col_parents_.count(c); ++j) {
+            const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);
+            if (coarse.fixed(coarse.node(pr, pc))) continue;
+            const double weight = row_parents_.weight(r) * col_parents_.weight(c);
+            for (int local = 0; local < kSpan * kSpan; ++local) {
+              if (!touched[local]) continue;
+              double* target = coarse.block(pr, pc, row0 + local / kSpan, col0 + local % kSpan);
+              for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
+            }
+          }
+      }
+  }
+
+ private:
+  static constexpr int kSpan = 5;
+
+  template <class Visit>
+  void for_parents(const GridLevel& coarse, int r, int c, Visit&& visit) const {
+    for (int i = 0; i < row_parents_.count(r); ++i)
+      for (int j = 0; j < col_parents_.count(c); ++j) {
+        const std::size_t parent =
+            coarse.node(row_parents_.parent(r, i), col_parents_.parent(c, j));
+        if (!coarse.fixed(parent)) visit(parent, row_parents_.weight(r) * col_parents_.weight(c));
+      }
+  }
+
+  AxisParents row_parents_, col_parents_;
+};
+
+}  // namespace clothlab::builtin

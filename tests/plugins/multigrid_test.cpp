@@ -1,0 +1,507 @@
+// implicit_euler's multigrid (plugins/integrators/multigrid_*.hpp): the Galerkin operator
+// against R A P formed here from the bilinear rule, the V-cycle's symmetry (and a non-symmetric
+// cycle the check catches), the two-grid method's convergence factor, multigrid-preconditioned
+// CG (Eigen's CG around the V-cycle) against Eigen's SimplicialLDLT and its iteration count
+// over grid sizes, the matrix the plugin assembles by probing against the host's products, and
+// the plugin's steps and refusals through the C ABI.
+#include <clothlab/ext/solver_statistics.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "integrator_harness.hpp"
+#include "multigrid_cycle.hpp"
+#include "multigrid_preconditioner.hpp"
+#include "spring_host.hpp"
+
+namespace clothlab::test {
+namespace {
+
+using builtin::GridLevel;
+using builtin::MultigridHierarchy;
+using builtin::VCycle;
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+// S = m I + h^2 K of a Provot grid (structural, shear and flexion springs) in a wavy layout,
+// each spring of stiffness k along it and k / 10 across (positive definite like the definite
+// Jacobian), row 0's first and last nodes pinned: as a GridLevel and as an Eigen matrix over all
+// 3 n unknowns (identity rows for the pins, whose right-hand side is 0).
+struct ClothMatrix {
+  ClothMatrix(int rows, int cols, double stiffness_ratio = 2e4)
+      : rows(rows), cols(cols), fixed(static_cast<std::size_t>(rows * cols), 0) {
+    fixed[0] = fixed[static_cast<std::size_t>(cols - 1)] = 1;
+    std::vector<Eigen::Vector3d> x;
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        x.emplace_back(c, -r + 0.3 * std::sin(0.7 * c), 0.4 * std::cos(0.5 * r + 0.3 * c));
+    for (int i = 0; i < rows * cols; ++i)
+      if (!fixed[static_cast<std::size_t>(i)]) block(i, i) = Eigen::Matrix3d::Identity();
+    const int stencils[6][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}, {0, 2}, {2, 0}};
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        for (const auto& s : stencils) {
+          const int r2 = r + s[0], c2 = c + s[1];
+          if (r2 >= rows || c2 < 0 || c2 >= cols) continue;
+          const int i = r * cols + c, j = r2 * cols + c2;
+          const Eigen::Vector3d n =
+              (x[static_cast<std::size_t>(j)] - x[static_cast<std::size_t>(i)]).normalized();
+          const Eigen::Matrix3d along = n * n.transpose();
+          const Eigen::Matrix3d b =
+              stiffness_ratio * (along + 0.1 * (Eigen::Matrix3d::Identity() - along));
+          const bool free_i = !fixed[static_cast<std::size_t>(i)],
+                     free_j = !fixed[static_cast<std::size_t>(j)];
+          if (free_i) block(i, i) += b;
+          if (free_j) block(j, j) += b;
+          if (free_i && free_j) block(i, j) -= b, block(j, i) -= b;
+        }
+  }
+
+  Eigen::Matrix3d& block(int i, int j) {
+    const auto [at, inserted] = blocks.try_emplace({i, j}, Eigen::Matrix3d::Zero());
+    return at->second;
+  }
+
+  GridLevel level() {
+    GridLevel level(static_cast<uint32_t>(rows), static_cast<uint32_t>(cols), fixed);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const GridLevel::Window w = level.window(r, c);
+        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2) {
+            const auto at = blocks.find({r * cols + c, r2 * cols + c2});
+            if (at == blocks.end()) continue;
+            const Eigen::Matrix3d& b = at->second;
+            double* out = level.block(r, c, r2, c2);
+            for (int k = 0; k < 9; ++k) out[k] = b(k / 3, k % 3);
+          }
+      }
+    return level;
+  }
+
+  SparseMatrix sparse() {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i < rows * cols; ++i)
+      if (fixed[static_cast<std::size_t>(i)])
+        for (int k = 0; k < 3; ++k) entries.emplace_back(3 * i + k, 3 * i + k, 1.0);
+    for (const auto& [at, b] : blocks)
+      for (int k = 0; k < 9; ++k)
+        entries.emplace_back(3 * at.first + k / 3, 3 * at.second + k % 3, b(k / 3, k % 3));
+    SparseMatrix matrix(3 * rows * cols, 3 * rows * cols);
+    matrix.setFromTriplets(entries.begin(), entries.end());
+    return matrix;
+  }
+
+  // A right-hand side with 0 on the pins.
+  Eigen::VectorXd rhs(unsigned seed) const {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::VectorXd b(3 * rows * cols);
+    for (int i = 0; i < 3 * rows * cols; ++i)
+      b(i) = fixed[static_cast<std::size_t>(i / 3)] ? 0.0 : uniform(random);
+    return b;
+  }
+
+  int rows, cols;
+  std::vector<uint8_t> fixed;
+  std::map<std::pair<int, int>, Eigen::Matrix3d> blocks;  // (i, j): S_ij, the nonzero ones
+};
+
+// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes.
+MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest) {
+  MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
+                                                    static_cast<uint32_t>(cloth.cols), coarsest),
+                               cloth.fixed);
+  const GridLevel fine = cloth.level();
+  for (int r = 0; r < cloth.rows; ++r)
+    for (int c = 0; c < cloth.cols; ++c) {
+      const GridLevel::Window w = fine.window(r, c);
+      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
+          std::copy_n(fine.block(r, c, r2, c2), 9, hierarchy.level(0).block(r, c, r2, c2));
+    }
+  EXPECT_TRUE(hierarchy.rebuild());
+  return hierarchy;
+}
+
+// z = B b with the cycle.
+Eigen::VectorXd apply_cycle(VCycle& cycle, const Eigen::VectorXd& b) {
+  std::copy(b.data(), b.data() + b.size(), cycle.fine_rhs());
+  const double* z = cycle.apply();
+  return Eigen::Map<const Eigen::VectorXd>(z, b.size());
+}
+
+// Eigen's CG with the V-cycle as its preconditioner.
+class VCyclePreconditioner {
+ public:
+  VCyclePreconditioner() = default;
+  template <class Matrix>
+  explicit VCyclePreconditioner(const Matrix&) {}
+  template <class Matrix>
+  VCyclePreconditioner& analyzePattern(const Matrix&) {
+    return *this;
+  }
+  template <class Matrix>
+  VCyclePreconditioner& factorize(const Matrix&) {
+    return *this;
+  }
+  template <class Matrix>
+  VCyclePreconditioner& compute(const Matrix&) {
+    return *this;
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+  template <class Rhs>
+  Eigen::VectorXd solve(const Rhs& b) const {
+    return apply_cycle(*cycle, b);
+  }
+  VCycle* cycle = nullptr;
+};
+
+// The bilinear prolongation written out from its definition (multigrid_transfer.hpp): along an
+// axis of n nodes, coarse node k on fine node min(2k, n - 1); a fine node between two coarse
+// ones takes 1/2 of each; no weight into or out of a fixed node.
+SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t>& fixed) {
+  const auto axis_weights = [](int n, int f) {
+    std::vector<std::pair<int, double>> out;
+    const int coarse = n / 2 + 1;
+    for (int k = 0; k < coarse; ++k) {
+      const int at = std::min(2 * k, n - 1);
+      if (at == f) return std::vector<std::pair<int, double>>{{k, 1.0}};
+      if (std::abs(at - f) == 1) out.emplace_back(k, 0.5);
+    }
+    return out;
+  };
+  const int coarse_cols = cols / 2 + 1;
+  std::vector<uint8_t> coarse_fixed(static_cast<std::size_t>((rows / 2 + 1) * coarse_cols), 0);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const auto wr = axis_weights(rows, r), wc = axis_weights(cols, c);
+      if (wr.size() == 1 && wc.size() == 1 && fixed[static_cast<std::size_t>(r * cols + c)])
+        coarse_fixed[static_cast<std::size_t>(wr[0].first * coarse_cols + wc[0].first)] = 1;
+    }
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      if (fixed[static_cast<std::size_t>(r * cols + c)]) continue;
+      for (const auto& [kr, w1] : axis_weights(rows, r))
+        for (const auto& [kc, w2] : axis_weights(cols, c)) {
+          const int coarse = kr * coarse_cols + kc;
+          if (coarse_fixed[static_cast<std::size_t>(coarse)]) continue;
+          for (int d = 0; d < 3; ++d)
+            entries.emplace_back(3 * (r * cols + c) + d, 3 * coarse + d, w1 * w2);
+        }
+    }
+  SparseMatrix p(3 * rows * cols, 3 * (rows / 2 + 1) * coarse_cols);
+  p.setFromTriplets(entries.begin(), entries.end());
+  return p;
+}
+
+Eigen::MatrixXd dense_of(const GridLevel& level) {
+  const auto n = static_cast<Eigen::Index>(3 * level.node_count());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < level.rows(); ++r)
+    for (int c = 0; c < level.cols(); ++c) {
+      const GridLevel::Window w = level.window(r, c);
+      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
+          for (int k = 0; k < 9; ++k)
+            out(static_cast<Eigen::Index>(3 * level.node(r, c)) + k / 3,
+                static_cast<Eigen::Index>(3 * level.node(r2, c2)) + k % 3) =
+                level.block(r, c, r2, c2)[k];
+    }
+  return out;
+}
+
+// Even and odd sides both: an even axis ends in a coarse interval of one fine spacing.
+TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
+  for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}}) {
+    ClothMatrix cloth(rows, cols, 30.0);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, rows * cols - 1);  // two levels
+    ASSERT_EQ(hierarchy.level_count(), 2u);
+    const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed);
+    Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
+    const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
+    const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
+    EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm()) << rows << " x " << cols;
+    EXPECT_GT(expected.norm(), 0.0);
+  }
+}
+
+double asymmetry(VCycle& cycle, const ClothMatrix& cloth) {
+  const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
+  const double xBy = x.dot(apply_cycle(cycle, y)), yBx = y.dot(apply_cycle(cycle, x));
+  return std::abs(xBy - yBx) / std::abs(xBy);
+}
+
+// x^T B y = y^T B x to rounding; a cycle with forward Gauss-Seidel after the coarse correction
+// too (not the pre-smoother's adjoint) is not symmetric, and the check sees it.
+TEST(Multigrid, TheVCycleIsSymmetric) {
+  ClothMatrix cloth(23, 18);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);  // 23 x 18, 12 x 10, 7 x 6
+  ASSERT_EQ(hierarchy.level_count(), 3u);
+  for (long sweeps : {1L, 2L}) {
+    VCycle cycle(hierarchy, sweeps);
+    EXPECT_LT(asymmetry(cycle, cloth), 1e-12) << sweeps << " sweeps";
+  }
+  // The mutant: one level, forward smoothing on both sides of the coarse solve.
+  MultigridHierarchy two_grid = hierarchy_for(cloth, 23 * 18 - 1);
+  const GridLevel& fine = two_grid.level(0);
+  const auto forward_twice = [&](const Eigen::VectorXd& b) {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r(b.size());
+    std::vector<double> coarse_b(3 * two_grid.level(1).node_count()), coarse_x(coarse_b.size());
+    two_grid.smoother(0).forward(fine, b.data(), x.data());
+    fine.residual(b.data(), x.data(), r.data());
+    two_grid.transfer(0).restrict_to(fine, r.data(), two_grid.level(1), coarse_b.data());
+    two_grid.coarsest_solve().solve(two_grid.level(1), coarse_b.data(), coarse_x.data());
+    two_grid.transfer(0).prolong_add(fine, two_grid.level(1), coarse_x.data(), x.data());
+    two_grid.smoother(0).forward(fine, b.data(), x.data());
+    return x;
+  };
+  const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
+  const double xBy = x.dot(forward_twice(y)), yBx = y.dot(forward_twice(x));
+  EXPECT_GT(std::abs(xBy - yBx) / std::abs(xBy), 1e-6);
+}
+
+// The two-grid method (exact coarse solve) as a stationary iteration e <- (I - B A) e: its
+// convergence factor is well below 1 and nearly the same at every size, the property the
+// V-cycle's resolution independence rests on.
+TEST(Multigrid, TheTwoGridFactorIsSmallAndIndependentOfTheGrid) {
+  std::vector<double> factors;
+  for (int side : {9, 17, 33}) {
+    ClothMatrix cloth(side, side);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, side * side - 1);  // two levels
+    VCycle cycle(hierarchy, 1);
+    const SparseMatrix a = cloth.sparse();
+    Eigen::VectorXd e = cloth.rhs(3);
+    const auto energy = [&](const Eigen::VectorXd& v) { return std::sqrt(v.dot(a * v)); };
+    double before = 0.0;
+    for (int k = 0; k < 30; ++k) {
+      if (k == 20) before = energy(e);
+      e -= apply_cycle(cycle, a * e);
+    }
+    factors.push_back(std::pow(energy(e) / before, 1.0 / 10.0));
+  }
+  for (double factor : factors) EXPECT_LT(factor, 0.6);
+  const auto [low, high] = std::minmax_element(factors.begin(), factors.end());
+  EXPECT_LT(*high, *low + 0.15) << factors[0] << " " << factors[1] << " " << factors[2];
+}
+
+struct CgOutcome {
+  Eigen::VectorXd x;
+  long iterations;
+};
+
+CgOutcome multigrid_cg(ClothMatrix& cloth, const Eigen::VectorXd& b, double tolerance) {
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes);
+  VCycle cycle(hierarchy, 1);
+  const SparseMatrix a = cloth.sparse();
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, VCyclePreconditioner> cg;
+  cg.preconditioner().cycle = &cycle;
+  cg.setTolerance(tolerance);
+  cg.setMaxIterations(500);
+  cg.compute(a);
+  return {cg.solve(b), static_cast<long>(cg.iterations())};
+}
+
+TEST(Multigrid, PreconditionedCgMatchesADirectSolve) {
+  ClothMatrix cloth(21, 26);
+  const SparseMatrix a = cloth.sparse();
+  const Eigen::VectorXd b = cloth.rhs(4);
+  Eigen::SimplicialLDLT<SparseMatrix> direct(a);
+  ASSERT_EQ(direct.info(), Eigen::Success);
+  const Eigen::VectorXd exact = direct.solve(b);
+  for (double tolerance : {1e-6, 1e-10}) {
+    const CgOutcome cg = multigrid_cg(cloth, b, tolerance);
+    EXPECT_LE((b - a * cg.x).norm(), tolerance * b.norm());
+    const Eigen::VectorXd error = cg.x - exact;
+    // The error in the energy norm is bounded by the residual's in the inverse one.
+    EXPECT_LE(std::sqrt(error.dot(a * error)), 1e3 * tolerance * std::sqrt(exact.dot(a * exact)))
+        << tolerance;
+    EXPECT_LT(cg.iterations, 40);
+  }
+}
+
+// The iteration count to 1e-6 stays within 1.5x as the grid's side grows 4x, while CG with
+// Eigen's diagonal preconditioner needs several times more.
+TEST(Multigrid, CgIterationsBarelyGrowWithTheGrid) {
+  std::vector<long> multigrid, jacobi;
+  for (int side : {17, 33, 65}) {
+    ClothMatrix cloth(side, side);
+    const Eigen::VectorXd b = cloth.rhs(5);
+    multigrid.push_back(multigrid_cg(cloth, b, 1e-6).iterations);
+    const SparseMatrix a = cloth.sparse();
+    Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> diagonal(a);
+    diagonal.setTolerance(1e-6);
+    diagonal.setMaxIterations(5000);
+    const Eigen::VectorXd x = diagonal.solve(b);  // solve() is lazy: evaluate it
+    EXPECT_EQ(diagonal.info(), Eigen::Success) << x.norm();
+    jacobi.push_back(static_cast<long>(diagonal.iterations()));
+  }
+  const auto [low, high] = std::minmax_element(multigrid.begin(), multigrid.end());
+  EXPECT_LE(*high, 1.5 * *low) << multigrid[0] << " " << multigrid[1] << " " << multigrid[2];
+  EXPECT_GT(jacobi.back(), 3 * jacobi.front()) << jacobi[0] << " " << jacobi[2];
+  EXPECT_GT(jacobi.back(), 5 * multigrid.back());
+}
+
+TEST(Multigrid, CoarsensAsFarAsAsked) {
+  EXPECT_EQ(builtin::plan_levels(60, 60, 256).back().rows, 16u);  // 60, 31, 16: 256 nodes
+  EXPECT_EQ(builtin::plan_levels(60, 60, 1).size(), 7u);          // 60, 31, 16, 9, 5, 3, 2
+  EXPECT_EQ(builtin::plan_levels(60, 60, 1).back().rows, 2u);
+  // A strip two particles wide does not coarsen: its 4000 nodes are too many for the dense solve.
+  try {
+    (void)builtin::plan_levels(2, 2000, 256);
+    ADD_FAILURE() << "a 2 x 2000 coarsest level accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(
+        error.what(),
+        "multigrid: the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
+        "needs 3 to coarsen); the direct solve there takes at most 1024");
+  }
+}
+
+// ---------------------------------------------------------------- through the plugin
+
+// A rows x cols Provot net (structural, shear, flexion springs) 5 cm apart in a tilted plane,
+// hanging from its top corners, offered as a grid.
+struct GridNet {
+  static constexpr double kSpacing = 0.05;
+  GridNet(uint32_t rows, uint32_t cols, bool on_grid = true)
+      : host(rows * cols, {0, cols - 1}, springs(rows, cols), {0, -9.81, 0}) {
+    for (uint32_t r = 0; r < rows; ++r)
+      for (uint32_t c = 0; c < cols; ++c)
+        host.system().set_position(r * cols + c, {kSpacing * c, -0.8 * kSpacing * r,
+                                                  0.6 * kSpacing * r + 0.01 * std::sin(c)});
+    if (on_grid) host.set_grid(rows, cols, kSpacing, {});
+  }
+  static std::vector<TestSpring> springs(uint32_t rows, uint32_t cols) {
+    std::vector<TestSpring> out;
+    const int stencils[6][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}, {0, 2}, {2, 0}};
+    for (uint32_t r = 0; r < rows; ++r)
+      for (uint32_t c = 0; c < cols; ++c)
+        for (const auto& s : stencils) {
+          const int r2 = static_cast<int>(r) + s[0], c2 = static_cast<int>(c) + s[1];
+          if (r2 >= static_cast<int>(rows) || c2 < 0 || c2 >= static_cast<int>(cols)) continue;
+          const uint32_t i = r * cols + c,
+                         j = static_cast<uint32_t>(r2) * cols + static_cast<uint32_t>(c2);
+          const double length = kSpacing * std::hypot(s[0], s[1]);
+          out.push_back(
+              {std::min(i, j), std::max(i, j), length, s[0] == 2 || s[1] == 2 ? 50.0 : 5e3, 0.05});
+        }
+    return out;
+  }
+  SpringHost<double> host;
+};
+
+// The matrix the plugin assembles by probing is M (I + J) for the host's definite J: its
+// product with a vector against M (u + J u) from the host's own product.
+TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
+  GridNet net(11, 13);
+  MockSystem<double>& mock = net.host.system();
+  const sdk::System<double> system(mock.raw());
+  mock.allocation_allowed = true;
+  builtin::MultigridPreconditioner preconditioner(system, 0, 1);
+  double* u = system.alloc_vector();
+  double* ju = system.alloc_vector();
+  mock.allocation_allowed = false;
+  const double h = 1.0 / 60.0;
+  const auto product = [&](const double* in, double* out) {
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+  };
+  preconditioner.linearise(system, product);
+  const std::size_t stride = system.stride(), n = system.particle_count();
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < 3 * stride; ++k) u[k] = uniform(random);
+  // The ABI's products ignore u's pinned entries; this mock host does not.
+  for (std::size_t d = 0; d < 3; ++d) u[d * stride] = u[d * stride + 12] = 0.0;
+  product(u, ju);
+  const GridLevel& fine = preconditioner.hierarchy().level(0);
+  std::vector<double> packed(3 * n, 0.0), su(3 * n, 0.0), zero(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t d = 0; d < 3; ++d) packed[3 * i + d] = fine.fixed(i) ? 0.0 : u[d * stride + i];
+  fine.residual(zero.data(), packed.data(), su.data());  // -S u
+  double worst = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (fine.fixed(i)) continue;
+    for (std::size_t d = 0; d < 3; ++d) {
+      const double expected = 1.0 * (u[d * stride + i] + ju[d * stride + i]);  // masses 1 kg
+      worst = std::max(worst, std::abs(-su[3 * i + d] - expected));
+      scale = std::max(scale, std::abs(expected));
+    }
+  }
+  EXPECT_LT(worst, 1e-12 * scale);
+}
+
+double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double out = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int k = 0; k < 3; ++k) out = std::max(out, std::abs(a[i][k] - b[i][k]));
+  return out;
+}
+
+clothlab_solver_step_statistics statistics_of(const Integrator& integrator) {
+  const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
+      integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
+  clothlab_solver_step_statistics out{};
+  out.struct_size = sizeof out;
+  if (extension != nullptr) {
+    EXPECT_EQ(extension->last_step(integrator.instance(), &out), CLOTHLAB_OK);
+  }
+  return out;
+}
+
+// Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
+// tightly) in fewer iterations.
+TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
+  std::vector<Vec3> positions[2];
+  uint64_t iterations[2] = {0, 0};
+  for (bool multigrid : {false, true}) {
+    GridNet net(14, 17);
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", multigrid ? 1.0 : 0.0)
+        .with("tolerance", 1e-10)
+        .with("max_iterations", 5000);
+    integrator.start(net.host.system());
+    for (int n = 0; n < 5; ++n) {
+      ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
+          << integrator.message();
+      const clothlab_solver_step_statistics stats = statistics_of(integrator);
+      ASSERT_EQ(stats.converged, 1u) << "step " << n << " multigrid " << multigrid;
+      iterations[multigrid] += stats.iterations;
+    }
+    for (uint32_t i = 0; i < 14 * 17; ++i)
+      positions[multigrid].push_back(net.host.system().position(i));
+  }
+  EXPECT_LT(max_distance(positions[0], positions[1]), 1e-8);
+  EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
+}
+
+TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
+  {
+    GridNet net(6, 6, false);
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", 1.0);
+    ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
+    EXPECT_NE(integrator.prepare(net.host.system()), CLOTHLAB_OK);
+    EXPECT_NE(integrator.message().find("needs a cloth laid out as a grid"), std::string::npos)
+        << integrator.message();
+  }
+  {
+    GridNet net(2, 600);
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", 1.0);
+    ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
+    EXPECT_NE(integrator.prepare(net.host.system()), CLOTHLAB_OK);
+    EXPECT_EQ(integrator.message(),
+              "multigrid: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
+              "needs 3 to coarsen); the direct solve there takes at most 1024");
+  }
+}
+
+}  // namespace
+}  // namespace clothlab::test
