@@ -1,6 +1,9 @@
 #include "isolation.hpp"
 
+#include <sys/mman.h>
+
 #include <clothlab/host/errors.hpp>
+#include <clothlab/host/plugin_call_marker.hpp>
 #include <clothlab/process/isolation.hpp>
 #include <exception>
 #include <new>
@@ -37,6 +40,41 @@ std::string answer_of(const std::function<nlohmann::json()>& work) {
   }
 }
 
+// The child marks its plugin calls here; the parent reads where a crash or hang happened.
+class SharedCallRecord {
+ public:
+  SharedCallRecord()
+      : record_(static_cast<host::PluginCallRecord*>(::mmap(nullptr, sizeof(host::PluginCallRecord),
+                                                            PROT_READ | PROT_WRITE,
+                                                            MAP_SHARED | MAP_ANONYMOUS, -1, 0))) {
+    // Without one (no memory for a page), crashes are reported without the call.
+    if (record_ == MAP_FAILED) record_ = nullptr;
+  }
+  ~SharedCallRecord() {
+    if (record_ != nullptr) ::munmap(record_, sizeof(host::PluginCallRecord));
+  }
+  SharedCallRecord(const SharedCallRecord&) = delete;
+  SharedCallRecord& operator=(const SharedCallRecord&) = delete;
+
+  host::PluginCallRecord* get() const { return record_; }
+
+ private:
+  host::PluginCallRecord* record_;
+};
+
+// "crashed: signal 11 (SIGSEGV) in xpbd.step (.../xpbd.so) at step 12": the call goes after the
+// signal or exit status, before any sanitizer report (": ==12==ERROR: ...").
+std::string with_call(const std::string& problem, const host::PluginCallRecord* record) {
+  if (record == nullptr) return problem;
+  const std::string where = host::describe_active_call(*record);
+  if (where.empty()) return problem;
+  constexpr std::string_view crashed = "crashed: ";
+  const size_t report =
+      problem.starts_with(crashed) ? problem.find(": ", crashed.size()) : std::string::npos;
+  if (report == std::string::npos) return problem + where;
+  return problem.substr(0, report) + where + problem.substr(report);
+}
+
 }  // namespace
 
 nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double timeout_s,
@@ -44,9 +82,14 @@ nlohmann::json run_isolated(const std::function<nlohmann::json()>& work, double 
   process::IsolationOptions options;
   options.timeout_s = timeout_s;
   if (forward_interrupt) options.on_child = forward_interrupts_to;
-  const process::ChildOutcome outcome =
-      process::run_isolated([&] { return answer_of(work); }, options);
-  if (!outcome.answered()) throw std::runtime_error(outcome.problem);
+  const SharedCallRecord call;
+  const process::ChildOutcome outcome = process::run_isolated(
+      [&] {
+        host::mark_plugin_calls_in(call.get());
+        return answer_of(work);
+      },
+      options);
+  if (!outcome.answered()) throw std::runtime_error(with_call(outcome.problem, call.get()));
   const nlohmann::json answer = nlohmann::json::parse(outcome.answer, nullptr, false);
   if (answer.is_discarded() || !answer.is_object())
     throw std::runtime_error("child process answered something that is not JSON");

@@ -519,13 +519,19 @@ sweep:
   EXPECT_EQ(rows[1]["status"], "stable");
 }
 
-// A single run whose plugin crashes exits 2 (a plugin error) with a one-line reason, not 139.
+// A single run whose plugin crashes exits 2 (a plugin error) with a one-line reason, not 139,
+// that names the plugin's id, the phase, the library and the step.
 TEST_F(ClothlabStability, CrashingSingleRunExitsTwoWithTheReason) {
   const Outcome outcome = run(
       "--integrator clothlab_test_crash --scenario sheet --steps 3 "
       "--set scenario.rows=4 --set scenario.cols=4 --plugin-path '" CLOTHLAB_CRASH_PLUGIN_DIR "'");
   EXPECT_EQ(outcome.exit_code, 2) << outcome.err;
   EXPECT_NE(outcome.err.find("clothlab: error: crashed: "), std::string::npos) << outcome.err;
+  const std::string library =
+      (fs::path(CLOTHLAB_CRASH_PLUGIN_DIR) / "clothlab_test_crash.so").string();
+  EXPECT_NE(outcome.err.find(" in test-crash.step (" + library + ") at step 1"), std::string::npos)
+      << outcome.err;
+  EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
 }
 
 TEST_F(ClothlabStability, CrashingCaseIsAFailedRowAndTheSweepGoesOn) {
@@ -549,6 +555,35 @@ sweep:
       << rows[0].dump() << "\n"
       << outcome.err;
   EXPECT_EQ(rows[1]["status"], "stable");
+}
+
+// A case whose solver missed its tolerance is not a passing case: the sweep records it as
+// unstable by the check "unconverged" at its first missed step; the same case with enough
+// iterations passes.
+TEST_F(ClothlabStability, ASweepCaseWhoseSolverMissedItsToleranceDoesNotPass) {
+  write("solver.yaml", R"(scenario: {plugin: sheet, rows: 4, cols: 5}
+integrator: {plugin: implicit_euler, tolerance: 1.0e-14}
+dt: 0.01
+steps: 10
+sweep:
+  name: solver
+  mode: run
+  matrix:
+    integrator.max_iterations: [1, 1000]
+)");
+  const Outcome outcome = run("--config solver.yaml --out results");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto rows = read_json(file("results/solver.json"))["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["status"], "unstable") << rows[0].dump();
+  EXPECT_EQ(rows[0]["check"], "unconverged");
+  EXPECT_EQ(rows[0]["fail_step"], 1);
+  EXPECT_EQ(
+      rows[0]["reason"].get<std::string>().rfind(
+          "unconverged: the solver missed its tolerance in 10 of 10 steps (first at step 1)", 0),
+      0u)
+      << rows[0].dump();
+  EXPECT_EQ(rows[1]["status"], "stable") << rows[1].dump();
 }
 
 TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {
