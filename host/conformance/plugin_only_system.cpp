@@ -26,6 +26,10 @@ template <>
 const void* PluginOnlySystem::host_table<clothlab_external_forces_extension>() const {
   return host_external_forces_;
 }
+template <>
+const void* PluginOnlySystem::host_table<clothlab_threads_extension>() const {
+  return host_threads_;
+}
 
 template <>
 const char* PluginOnlySystem::extension_id<clothlab_jacobian_extension>() {
@@ -119,6 +123,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    host_threads_ = clothlab_system_extension(&host, CLOTHLAB_EXT_THREADS);
     system_.get_extension = &get_extension;
   }
 }
@@ -130,6 +135,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using C = clothlab_cg_step_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
+  using H = clothlab_threads_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
   static constexpr J jacobian{&reserve_jacobian, &AfterReserve<J, &J::apply>::call,
                               &AfterReserve<J, &J::diagonal_blocks>::call,
@@ -144,6 +150,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
                                      &Forward<E, &E::depends_on_position>::call};
+  static constexpr H threads{&Forward<H, &H::count>::call};
   const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
   if (id == nullptr) return nullptr;
   const allocations::Pause pause;
@@ -154,6 +161,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
+  if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads;
   return nullptr;
 }
 

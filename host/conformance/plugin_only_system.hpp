@@ -20,6 +20,7 @@
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
+#include <clothlab/ext/threads.h>
 #include <clothlab/ext/topology.h>
 #include <clothlab/plugin.h>
 
@@ -89,6 +90,7 @@ class PluginOnlySystem {
   const void* host_cg_step_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
+  const void* host_threads_ = nullptr;
   bool prepare_closed_ = false;
   bool jacobian_reserved_in_prepare_ = false;
   mutable std::string misuse_;
