@@ -16,8 +16,10 @@ struct FlipsTheStiffnessSign {
   static constexpr uint32_t evals_per_step = 1;
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
   static constexpr std::array<clothlab_param_spec, 0> params{};
-  static constexpr double tolerance = 1e-10;
-  static constexpr long max_iterations = 100;
+  // A loose solve, as a game's would be: kept cheap, so that the checks it should pass do not
+  // time out on a shared machine.
+  static constexpr double tolerance = 1e-6;
+  static constexpr long max_iterations = 25;
 
   explicit FlipsTheStiffnessSign(const clothlab::sdk::Params&) {}
 
