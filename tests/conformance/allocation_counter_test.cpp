@@ -44,6 +44,8 @@ TEST(AllocationCounter, CountsAllocationsOfOtherThreads) {
     sink = std::malloc(16);
     std::free(sink);
     stage.store(2);
+    // Ending the thread frees its start-up state: only once the counter is disarmed.
+    while (stage.load() != 3) std::this_thread::yield();
   });
   allocations::arm();
   {
@@ -51,6 +53,8 @@ TEST(AllocationCounter, CountsAllocationsOfOtherThreads) {
     stage.store(1);
     while (stage.load() != 2) std::this_thread::yield();
   }
-  EXPECT_EQ(allocations::disarm(), 2u);  // the worker's malloc and free
+  const uint64_t calls = allocations::disarm();
+  stage.store(3);
   worker.join();
+  EXPECT_EQ(calls, 2u);  // the worker's malloc and free
 }
