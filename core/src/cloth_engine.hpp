@@ -105,6 +105,7 @@ class ClothEngine final : public Engine {
   static double max_abs_callback(void* context, const void* a);
   static clothlab_status external_callback(void* context, double t, const void* x, void* a);
   static int32_t depends_on_position_callback(void* context);
+  static uint32_t threads_callback(void* context);
 
   Scene scene_;
   std::size_t n_ = 0;

@@ -1,11 +1,12 @@
 // The host extensions of ClothEngine (clothlab/ext/): the grid topology and the grid it lies
 // on, the analytic
 // spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
-// and the external forces alone.
+// and the external forces alone, and the thread count the plugin may use.
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
+#include <clothlab/ext/threads.h>
 
 #include <cmath>
 #include <cstring>
@@ -60,6 +61,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
                                                                      &depends_on_position_callback};
+  static constexpr clothlab_threads_extension threads_table{&threads_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
@@ -68,7 +70,15 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads_table;
   return nullptr;
+}
+
+// -------------------------------------------------------------------- threads
+
+template <class Real>
+uint32_t ClothEngine<Real>::threads_callback(void* context) {
+  return static_cast<uint32_t>(static_cast<const ClothEngine*>(context)->threads_);
 }
 
 // ------------------------------------------------------------------- topology

@@ -1,20 +1,27 @@
 // The clothlab program's use of the one child-process runner (clothlab::process): plugin
 // code runs in a child whose JSON answer comes back, so a crash, hang or runaway exception
-// ends only that child.
+// ends only that child, and is reported with the plugin call it happened in.
 #pragma once
 
 #include <clothlab/process/isolation.hpp>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
+
+namespace clothlab::host {
+struct PluginCallRecord;
+}
 
 namespace clothlab::cli {
 
 // A process::Worker that takes and answers JSON: serve(request) runs in the worker child.
 // ask returns serve's JSON, or throws std::runtime_error with a one-line reason when the child
 // threw (its message), crashed (the signal or exit status) or outlived timeout_s (then the
-// next ask starts a new child). Throws InputError / PluginLoadError / PluginError as the child
-// did, so exit codes do not depend on where the work ran. With forward_interrupt, a SIGINT or
-// SIGTERM the program gets (interrupt.hpp) is passed on to the child.
+// next ask starts a new child); a crash or timeout inside a plugin call names it
+// (plugin_call_marker.hpp): "crashed: signal 11 (SIGSEGV) in ID.PHASE (LIBRARY) at step N".
+// Throws InputError / PluginLoadError / PluginError as the child did, so exit codes do not
+// depend on where the work ran. With forward_interrupt, a SIGINT or SIGTERM the program gets
+// (interrupt.hpp) is passed on to the child.
 class JsonWorker {
  public:
   using Serve = std::function<nlohmann::json(const nlohmann::json& request)>;
@@ -22,6 +29,9 @@ class JsonWorker {
   nlohmann::json ask(const nlohmann::json& request, double timeout_s);
 
  private:
+  // Shared with the child: where its plugin calls are marked. Declared before the worker, so
+  // it outlives it.
+  std::shared_ptr<host::PluginCallRecord> call_;
   process::Worker worker_;
 };
 

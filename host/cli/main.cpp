@@ -1,8 +1,8 @@
 // clothlab: runs one cloth simulation, a sweep, or a search for the largest stable dt, or
 // lists the plugins it can find.
-// Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged or failed
-// a stability check (a sweep exits 0 whatever its cases did: they are results), 130 a single
-// run stopped by SIGINT or SIGTERM (its outputs written).
+// Exit codes: 0 ok, 1 bad input, 2 plugin load or plugin error, 3 the run diverged, failed
+// a stability check or its solver missed its tolerance (a sweep exits 0 whatever its cases did:
+// they are results), 130 a single run stopped by SIGINT or SIGTERM (its outputs written).
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
@@ -149,6 +149,7 @@ int run(int argc, const char* const argv[]) {
         return nlohmann::json{{"summary", human_summary(record)},
                               {"stable", record.stable},
                               {"interrupted", record.interrupted},
+                              {"unconverged", record.failed_check == unconverged_check},
                               {"verdict", record.verdict}};
       },
       config.timeout_s, /*forward_interrupt=*/true);
@@ -161,7 +162,8 @@ int run(int argc, const char* const argv[]) {
   if (run["interrupted"].get<bool>())
     return fail(exit_interrupted, run["verdict"].get<std::string>() + " (outputs written)");
   if (!run["stable"].get<bool>())
-    return fail(exit_diverged, "run diverged: " + run["verdict"].get<std::string>());
+    return fail(exit_diverged, (run["unconverged"].get<bool>() ? "run " : "run diverged: ") +
+                                   run["verdict"].get<std::string>());
   return exit_ok;
 }
 

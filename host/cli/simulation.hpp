@@ -30,6 +30,9 @@ struct SolverTotals {
   void add(uint64_t step, const clothlab_solver_step_statistics& statistics);
 };
 
+// The failed_check of a run whose solver missed its tolerance in some step.
+inline constexpr const char* unconverged_check = "unconverged";
+
 inline constexpr size_t max_timing_samples = size_t{1} << 20;
 
 // What a run measured; the raw material of the summary.
@@ -60,7 +63,9 @@ struct RunRecord {
   bool interrupted = false;      // stopped early on request (SIGINT), not by a failed check
   bool stretch_stopped = false;  // ended early by stability.stretch_stop, not by a failed check
   std::string verdict;
-  std::string failed_check;  // "non-finite", "stretch", "energy"; empty while stable
+  // "non-finite", "stretch", "energy", "unconverged" (judged after the last step); empty while
+  // stable.
+  std::string failed_check;
   std::optional<uint64_t> failed_step;
   uint64_t stability_checks = 0;
   // Structural spring length / rest length (warp and weft): at the end, and the largest seen

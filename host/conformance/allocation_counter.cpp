@@ -6,6 +6,7 @@
 // interceptors (strdup, ...) allocate there, so a block must be freed there too.
 #include "allocation_counter.hpp"
 
+#include <atomic>
 #include <cerrno>
 #include <cstddef>
 #include <new>
@@ -35,12 +36,16 @@ __attribute__((weak)) void __interceptor_free(void* pointer);
 
 namespace {
 
+// Armed and counted process-wide: a plugin's own worker threads allocate outside the thread
+// that called step. Paused per thread: the host's code runs on the thread that called it.
+std::atomic<bool> armed{false};
+std::atomic<uint64_t> calls{0};
 // initial-exec: reading the flag must never allocate, even from inside malloc.
-__attribute__((tls_model("initial-exec"))) thread_local bool armed = false;
-__attribute__((tls_model("initial-exec"))) thread_local uint64_t calls = 0;
+__attribute__((tls_model("initial-exec"))) thread_local bool paused = false;
 
 inline void note() {
-  if (armed) ++calls;
+  if (armed.load(std::memory_order_relaxed) && !paused)
+    calls.fetch_add(1, std::memory_order_relaxed);
 }
 
 }  // namespace
@@ -48,18 +53,18 @@ inline void note() {
 namespace clothlab::conformance::allocations {
 
 void arm() {
-  calls = 0;
-  armed = true;
+  calls.store(0);
+  armed.store(true);
 }
 
 uint64_t disarm() {
-  armed = false;
-  return calls;
+  armed.store(false);
+  return calls.load();
 }
 
-Pause::Pause() : was_armed_(armed) { armed = false; }
+Pause::Pause() : was_paused_(paused) { paused = true; }
 
-Pause::~Pause() { armed = was_armed_; }
+Pause::~Pause() { paused = was_paused_; }
 
 }  // namespace clothlab::conformance::allocations
 

@@ -1,6 +1,7 @@
-// Counts heap allocations made by the calling thread while armed. The runner interposes
-// malloc, calloc, realloc, free, the aligned allocators and operator new/delete (as
-// pluginval does), so allocations inside a plugin's step are seen too.
+// Counts heap allocations made by any thread of the process while armed, so a plugin that
+// allocates in its own worker threads during step is seen as well as one that allocates in
+// the calling thread. The runner interposes malloc, calloc, realloc, free, the aligned
+// allocators and operator new/delete (as pluginval does).
 #pragma once
 
 #include <cstdint>
@@ -11,7 +12,7 @@ void arm();
 // Stops counting and returns the calls (allocations and frees) seen since arm().
 uint64_t disarm();
 
-// Suspends counting while the host's own code runs inside an armed region.
+// Suspends counting on this thread while the host's own code runs inside an armed region.
 class Pause {
  public:
   Pause();
@@ -20,7 +21,7 @@ class Pause {
   Pause& operator=(const Pause&) = delete;
 
  private:
-  bool was_armed_;
+  bool was_paused_;
 };
 
 }  // namespace clothlab::conformance::allocations

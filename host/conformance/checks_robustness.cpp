@@ -1,5 +1,6 @@
-// robustness.*: no exception crosses the C boundary, step never touches the heap, and
-// instances on separate cloths do not interfere.
+// robustness.*: no exception crosses the C boundary, step never touches the heap (in any
+// thread, and not through the host's prepare-only calls), and instances on separate cloths do
+// not interfere.
 #include <exception>
 #include <string>
 #include <thread>
@@ -59,18 +60,21 @@ Verdict nothing_escapes(const clothlab_integrator& integrator) {
 
 Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
   Cloth cloth(sheet_scene(8, 8, true), preferred_precision(integrator), pipeline_for(integrator));
-  const PluginOnlySystem measured(cloth.system());
+  PluginOnlySystem measured(cloth.system());
   IntegratorInstance instance(integrator, default_values(integrator));
   clothlab_message message{};
   const clothlab_status prepared =
       integrator.prepare(instance.handle(), &measured.system(), &message);
   require(prepared == CLOTHLAB_OK, "prepare failed: " + describe_status(prepared, message));
+  measured.close_prepare();
   uint64_t calls = 0;
   for (int i = 0; i < measured_steps; ++i) {
     allocations::arm();
     const clothlab_status status =
         integrator.step(instance.handle(), &measured.system(), i * 1e-3, 1e-3, &message);
     calls += allocations::disarm();
+    require(measured.misuse().empty(),
+            "in step " + std::to_string(i + 1) + ": " + measured.misuse());
     require(status == CLOTHLAB_OK, "step failed: " + describe_status(status, message));
   }
   require(calls == 0, std::to_string(calls) + " heap allocator calls during " +

@@ -26,6 +26,49 @@ template <>
 const void* PluginOnlySystem::host_table<clothlab_external_forces_extension>() const {
   return host_external_forces_;
 }
+template <>
+const void* PluginOnlySystem::host_table<clothlab_threads_extension>() const {
+  return host_threads_;
+}
+
+template <>
+const char* PluginOnlySystem::extension_id<clothlab_jacobian_extension>() {
+  return CLOTHLAB_EXT_JACOBIAN;
+}
+template <>
+const char* PluginOnlySystem::extension_id<clothlab_definite_jacobian_extension>() {
+  return CLOTHLAB_EXT_DEFINITE_JACOBIAN;
+}
+template <>
+const char* PluginOnlySystem::extension_id<clothlab_cg_step_extension>() {
+  return CLOTHLAB_EXT_CG_STEP;
+}
+
+bool PluginOnlySystem::allowed_in_step(const char* call) const {
+  if (!prepare_closed_) return true;
+  if (misuse_.empty())
+    misuse_ = std::string(call) + " called after prepare (it may allocate: prepare only)";
+  return false;
+}
+
+bool PluginOnlySystem::jacobian_ready(const char* id) const {
+  if (jacobian_reserved_in_prepare_) return true;
+  if (misuse_.empty())
+    misuse_ = std::string(id) + " used without " CLOTHLAB_EXT_JACOBIAN
+                                "'s reserve in prepare (the host would allocate in step)";
+  return false;
+}
+
+clothlab_status PluginOnlySystem::reserve_jacobian(void* self) {
+  const allocations::Pause pause;
+  auto& wrapper = *static_cast<PluginOnlySystem*>(self);
+  if (!wrapper.allowed_in_step(CLOTHLAB_EXT_JACOBIAN "'s reserve"))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const auto& table = *static_cast<const clothlab_jacobian_extension*>(wrapper.host_jacobian_);
+  const clothlab_status status = table.reserve(wrapper.host_.context);
+  if (status == CLOTHLAB_OK) wrapper.jacobian_reserved_in_prepare_ = true;
+  return status;
+}
 
 PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), system_(host) {
   system_.context = this;
@@ -42,8 +85,9 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
   };
   system_.reserve_rkn = [](void* self, uint32_t stages) {
     const allocations::Pause pause;
-    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-    return host.reserve_rkn(host.context, stages);
+    const auto& wrapper = *static_cast<PluginOnlySystem*>(self);
+    if (!wrapper.allowed_in_step("reserve_rkn")) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+    return wrapper.host_.reserve_rkn(wrapper.host_.context, stages);
   };
   system_.step_rkn = [](void* self, double t, double h, const clothlab_rkn_scheme* scheme) {
     const allocations::Pause pause;
@@ -66,10 +110,11 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
     host.copy(host.context, dst, src);
   };
-  system_.alloc_vector = [](void* self) {
+  system_.alloc_vector = [](void* self) -> void* {
     const allocations::Pause pause;
-    const clothlab_system& host = static_cast<PluginOnlySystem*>(self)->host_;
-    return host.alloc_vector(host.context);
+    const auto& wrapper = *static_cast<PluginOnlySystem*>(self);
+    if (!wrapper.allowed_in_step("alloc_vector")) return nullptr;
+    return wrapper.host_.alloc_vector(wrapper.host_.context);
   };
   if (CLOTHLAB_HAS_FIELD(&host, clothlab_system, get_extension)) {
     host_topology_ = clothlab_system_extension(&host, CLOTHLAB_EXT_TOPOLOGY);
@@ -78,6 +123,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    host_threads_ = clothlab_system_extension(&host, CLOTHLAB_EXT_THREADS);
     system_.get_extension = &get_extension;
   }
 }
@@ -89,18 +135,22 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using C = clothlab_cg_step_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
+  using H = clothlab_threads_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
-  static constexpr J jacobian{&Forward<J, &J::reserve>::call, &Forward<J, &J::apply>::call,
-                              &Forward<J, &J::diagonal_blocks>::call,
-                              &Forward<J, &J::pattern>::call, &Forward<J, &J::blocks>::call};
-  static constexpr D definite_jacobian{&Forward<D, &D::apply>::call,
-                                       &Forward<D, &D::diagonal_blocks>::call};
-  static constexpr C cg_step{&Forward<C, &C::linearise>::call, &Forward<C, &C::product>::call,
-                             &Forward<C, &C::update>::call};
+  static constexpr J jacobian{&reserve_jacobian, &AfterReserve<J, &J::apply>::call,
+                              &AfterReserve<J, &J::diagonal_blocks>::call,
+                              &AfterReserve<J, &J::pattern>::call,
+                              &AfterReserve<J, &J::blocks>::call};
+  static constexpr D definite_jacobian{&AfterReserve<D, &D::apply>::call,
+                                       &AfterReserve<D, &D::diagonal_blocks>::call};
+  static constexpr C cg_step{&AfterReserve<C, &C::linearise>::call,
+                             &AfterReserve<C, &C::product>::call,
+                             &AfterReserve<C, &C::update>::call};
   static constexpr R reductions{&Forward<R, &R::dot>::call, &Forward<R, &R::mass_dot>::call,
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
                                      &Forward<E, &E::depends_on_position>::call};
+  static constexpr H threads{&Forward<H, &H::count>::call};
   const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
   if (id == nullptr) return nullptr;
   const allocations::Pause pause;
@@ -111,6 +161,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
+  if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads;
   return nullptr;
 }
 

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <thread>
 
 using namespace clothlab::conformance;
 
@@ -31,4 +33,28 @@ TEST(AllocationCounter, IgnoresAllocationsWhileDisarmedOrPaused) {
     std::free(sink);
   }
   EXPECT_EQ(allocations::disarm(), 0u);
+}
+
+// A worker started before arming allocates while the arming thread is paused: counted, since a
+// plugin's own threads are not the host's.
+TEST(AllocationCounter, CountsAllocationsOfOtherThreads) {
+  std::atomic<int> stage{0};
+  std::thread worker([&] {
+    while (stage.load() != 1) std::this_thread::yield();
+    sink = std::malloc(16);
+    std::free(sink);
+    stage.store(2);
+    // Ending the thread frees its start-up state: only once the counter is disarmed.
+    while (stage.load() != 3) std::this_thread::yield();
+  });
+  allocations::arm();
+  {
+    const allocations::Pause pause;  // pauses this thread only
+    stage.store(1);
+    while (stage.load() != 2) std::this_thread::yield();
+  }
+  const uint64_t calls = allocations::disarm();
+  stage.store(3);
+  worker.join();
+  EXPECT_EQ(calls, 2u);  // the worker's malloc and free
 }

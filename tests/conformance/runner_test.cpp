@@ -198,7 +198,21 @@ INSTANTIATE_TEST_SUITE_P(
         FaultyCase{"faulty_lacks_step", "library", "loading.abi-policy",
                    "the host loader refuses it at its own version 1.2: integrator lacks-step: "
                    "step = null, allowed a function",
-                   "--filter loading"}),
+                   "--filter loading"},
+        FaultyCase{"faulty_flips_the_stiffness_sign", "flips-the-stiffness-sign",
+                   "stability.default-sheet",
+                   "it diverged at dt = 0.001 s on the default sheet (float32): ",
+                   "--filter stability.default-sheet"},
+        FaultyCase{"faulty_flips_the_stiffness_sign", "flips-the-stiffness-sign",
+                   "stability.default-flag",
+                   "it diverged at dt = 0.001 s on the default flag (float32): ",
+                   "--filter stability.default-flag", "faulty_flips_the_stiffness_sign_flag"},
+        FaultyCase{"faulty_allocates_in_worker_thread", "allocates-in-worker-thread",
+                   "robustness.no-alloc", "heap allocator calls during 10 steps",
+                   "--filter robustness.no-alloc"},
+        FaultyCase{"faulty_reserves_in_step", "reserves-in-step", "robustness.no-alloc",
+                   "in step 1: clothlab.jacobian/1's reserve called after prepare",
+                   "--filter robustness.no-alloc"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
       return std::string(info.param.test_name != nullptr ? info.param.test_name
                                                          : info.param.plugin);
@@ -255,6 +269,23 @@ TEST(ConformanceRun, AsanReportOfAPluginReachesTheFailReason) {
       << first_line << "\n"
       << reason;
   EXPECT_NE(reason.find("overflows_heap_in_step"), std::string::npos) << reason;
+}
+
+// The fault only a run at the defaults shows: an implicit Euler with its stiffness term's sign
+// flipped, declaring no unconditional stability, passes every other check and fails the two
+// default-scene runs, by the stability monitor's verdict.
+TEST(ConformanceRun, OnlyTheDefaultSceneRunsCatchAFlippedStiffnessSign) {
+  // As for a sound plugin below: the other checks must not fail on the clock of shared cores.
+  const RunnerOutput run =
+      run_conformance("--timeout 90 " + plugin("faulty_flips_the_stiffness_sign"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  std::vector<std::string> failed;
+  for (const nlohmann::json& result : run.report["checks"])
+    if (result["passed"] == false) failed.push_back(result["check"].get<std::string>());
+  EXPECT_EQ(failed, (std::vector<std::string>{"stability.default-sheet", "stability.default-flag"}))
+      << run.output;
+  EXPECT_GT(run.report["passed"].get<int>(), 40) << run.output;
 }
 
 TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {

@@ -355,14 +355,17 @@ sweep:
 using clothlab::testing::address_sanitizer;
 
 // "crashed: exited with status N before reporting", N > 0: the reason the sweep records for a
-// child that ended without answering (host/process).
+// child that ended without answering (host/process), followed by the plugin call it was in
+// (" in test-crash.step (...) at step 1") when it was in one.
 bool is_failed_exit(std::string_view reason) {
   constexpr std::string_view prefix = "crashed: exited with status ", suffix = " before reporting";
-  if (reason.size() <= prefix.size() + suffix.size() || !reason.starts_with(prefix) ||
-      !reason.ends_with(suffix))
+  const size_t suffix_at = reason.find(suffix);
+  if (!reason.starts_with(prefix) || suffix_at == std::string_view::npos ||
+      suffix_at <= prefix.size())
     return false;
-  const std::string_view number =
-      reason.substr(prefix.size(), reason.size() - prefix.size() - suffix.size());
+  const std::string_view rest = reason.substr(suffix_at + suffix.size());
+  if (!rest.empty() && !rest.starts_with(" in ")) return false;
+  const std::string_view number = reason.substr(prefix.size(), suffix_at - prefix.size());
   int status = 0;
   const auto [end, error] = std::from_chars(number.data(), number.data() + number.size(), status);
   return error == std::errc() && end == number.data() + number.size() && status > 0;
@@ -516,17 +519,29 @@ sweep:
   const auto rows = read_json(file("results/hang.json"))["rows"];
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0]["status"], "failed");
-  EXPECT_EQ(rows[0]["reason"], "timed out after 0.5 s");
+  // The call it hung in follows: " in hangs-in-step.step (.../clothlab_test_hang.so) at step 1".
+  EXPECT_EQ(rows[0]["reason"].get<std::string>().rfind(
+                "timed out after 0.5 s in hangs-in-step.step (", 0),
+            0u)
+      << rows[0].dump();
   EXPECT_EQ(rows[1]["status"], "stable");
 }
 
-// A single run whose plugin crashes exits 2 (a plugin error) with a one-line reason, not 139.
+// A single run whose plugin crashes exits 2 (a plugin error) with a one-line reason, not 139,
+// that names the plugin's id, the phase, the library and the step.
 TEST_F(ClothlabStability, CrashingSingleRunExitsTwoWithTheReason) {
   const Outcome outcome = run(
       "--integrator clothlab_test_crash --scenario sheet --steps 3 "
       "--set scenario.rows=4 --set scenario.cols=4 --plugin-path '" CLOTHLAB_CRASH_PLUGIN_DIR "'");
   EXPECT_EQ(outcome.exit_code, 2) << outcome.err;
   EXPECT_NE(outcome.err.find("clothlab: error: crashed: "), std::string::npos) << outcome.err;
+  const std::string library =
+      (fs::path(CLOTHLAB_CRASH_PLUGIN_DIR) / "clothlab_test_crash.so").string();
+  EXPECT_NE(outcome.err.find(" in test-crash.step (" + library + ") at step 1"), std::string::npos)
+      << outcome.err;
+  // A sanitizer build's child reports the null store on stderr too.
+  if (!address_sanitizer)
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
 }
 
 TEST_F(ClothlabStability, CrashingCaseIsAFailedRowAndTheSweepGoesOn) {
@@ -589,7 +604,8 @@ TEST_F(ClothlabStability, RowsAfterACrashAndAHangEqualThoseOfASweepWithoutThem) 
     if (integrator == "clothlab_test_crash" || integrator == "clothlab_test_hang") {
       EXPECT_EQ(row["status"], "failed") << row.dump();
       if (integrator == "clothlab_test_hang") {
-        EXPECT_EQ(row["reason"], "timed out after 1 s");
+        EXPECT_TRUE(row["reason"].get<std::string>().starts_with("timed out after 1 s in "))
+            << row.dump();
       }
       continue;
     }
@@ -599,6 +615,36 @@ TEST_F(ClothlabStability, RowsAfterACrashAndAHangEqualThoseOfASweepWithoutThem) 
     ++compared;
   }
   EXPECT_EQ(compared, 6u);
+}
+
+// A case whose solver missed its tolerance is not a passing case: the sweep records it as
+// unstable by the check "unconverged" at its first missed step; the same case with enough
+// iterations passes.
+TEST_F(ClothlabStability, ASweepCaseWhoseSolverMissedItsToleranceDoesNotPass) {
+  write("solver.yaml", R"(scenario: {plugin: sheet, rows: 4, cols: 5}
+integrator: {tolerance: 1.0e-14}
+dt: 0.01
+steps: 10
+sweep:
+  name: solver
+  mode: run
+  matrix:
+    integrator: [implicit_euler]
+    integrator.max_iterations: [1, 1000]
+)");
+  const Outcome outcome = run("--config solver.yaml --out results");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto rows = read_json(file("results/solver.json"))["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["status"], "unstable") << rows[0].dump();
+  EXPECT_EQ(rows[0]["check"], "unconverged");
+  EXPECT_EQ(rows[0]["fail_step"], 1);
+  EXPECT_EQ(
+      rows[0]["reason"].get<std::string>().rfind(
+          "unconverged: the solver missed its tolerance in 10 of 10 steps (first at step 1)", 0),
+      0u)
+      << rows[0].dump();
+  EXPECT_EQ(rows[1]["status"], "stable") << rows[1].dump();
 }
 
 TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {

@@ -204,21 +204,37 @@ TEST_F(Clothlab, SolverStatisticsOfAnImplicitIntegratorReachTheJson) {
   }
 }
 
-TEST_F(Clothlab, ASolveThatMissesItsToleranceIsCountedWithItsStep) {
+// A missed tolerance is a failed check (exit 3, verdict "unconverged"), counted over the whole
+// run rather than stopping it; the same run with a tolerance CG meets is stable (exit 0).
+TEST_F(Clothlab, ASolveThatMissesItsToleranceFailsTheRunCountedWithItsStep) {
+  const std::string run_of_20 = std::string("--integrator=implicit_euler ") + small_sheet +
+                                "--dt 0.01 --steps 20 --quiet --json s.json ";
   const Outcome outcome =
-      run(std::string("--integrator=implicit_euler ") + small_sheet +
-          "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14 --dt 0.01 "
-          "--steps 20 --quiet --json s.json");
-  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+      run(run_of_20 + "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14");
+  ASSERT_EQ(outcome.exit_code, 3) << outcome.err;
+  EXPECT_EQ(outcome.err.rfind("clothlab: error: run unconverged: the solver missed "
+                              "its tolerance in 20 of 20 steps (first at step 1); stable: 20 steps",
+                              0),
+            0u)
+      << outcome.err;
   const auto json = nlohmann::json::parse(read_text(file("s.json")));
+  EXPECT_EQ(json["steps"], 20);  // not stopped at the first miss
+  EXPECT_FALSE(json["stable"]);
+  EXPECT_EQ(json["failed_check"], "unconverged");
+  EXPECT_EQ(json["failed_step"], 1);
   EXPECT_EQ(json["solver"]["non_converged_steps"], 20);
   EXPECT_EQ(json["solver"]["first_non_converged_step"], 1);
   EXPECT_EQ(json["solver"]["iterations_per_step"]["max"], 1);
   EXPECT_GT(json["solver"]["max_residual"].get<double>(), 1e-14);
-  EXPECT_NE(json["verdict"].get<std::string>().find(
-                "the solver missed its tolerance in 20 of 20 steps (first at step 1)"),
-            std::string::npos)
-      << json["verdict"];
+  EXPECT_EQ(json["verdict"].get<std::string>().rfind("unconverged: ", 0), 0u) << json["verdict"];
+
+  const Outcome met = run(run_of_20 + "--set integrator.max_iterations=1000");
+  ASSERT_EQ(met.exit_code, 0) << met.err;
+  const auto met_json = nlohmann::json::parse(read_text(file("s.json")));
+  EXPECT_TRUE(met_json["stable"]);
+  EXPECT_TRUE(met_json["failed_check"].is_null());
+  EXPECT_EQ(met_json["solver"]["non_converged_steps"], 0);
+  EXPECT_EQ(met_json["verdict"].get<std::string>().rfind("stable: 20 steps", 0), 0u);
 }
 
 TEST_F(Clothlab, SolverParameterOutOfRangeIsOneLineOfBadInput) {

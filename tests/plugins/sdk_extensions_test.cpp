@@ -67,6 +67,25 @@ TEST(SdkSystemExtensions, WithoutTheGridExtensionTheClothIsNoGrid) {
   EXPECT_FALSE(system.grid().has_value());
 }
 
+// A host that offers only the thread count (clothlab.threads/1), 3.
+struct ThreeThreadsHost {
+  static uint32_t count(void*) { return 3; }
+  static constexpr clothlab_threads_extension threads{&count};
+  static const void* get_extension(void*, const char* id) {
+    return id != nullptr && std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0 ? &threads : nullptr;
+  }
+};
+
+// The thread count, likewise: nothing from a host that does not offer clothlab.threads/1.
+TEST(SdkSystemExtensions, ThreadsAreTheHostsCountOrNothing) {
+  ReductionsOnlyHost without;
+  const clothlab_system raw_without = without.system();
+  EXPECT_FALSE(sdk::System<double>(raw_without).threads().has_value());
+  clothlab_system raw = raw_without;
+  raw.get_extension = &ThreeThreadsHost::get_extension;
+  EXPECT_EQ(sdk::System<double>(raw).threads(), std::optional<uint32_t>(3));
+}
+
 TEST(SdkSystemExtensions, AHostOlderThan1_2IsNeverAskedEvenIfTheBytesLookLikeAPointer) {
   for (const size_t size : {size_t{CLOTHLAB_SYSTEM_SIZE_1_0}, size_t{CLOTHLAB_SYSTEM_SIZE_1_1}}) {
     ReductionsOnlyHost host;

@@ -15,7 +15,7 @@
  *    A new capability is a new id, a change of one is a new revision ("/2"); a published
  *    extension struct is never edited. One header per extension, in clothlab/ext/:
  *    host side topology, grid, jacobian, definite-jacobian, cg-step, reductions,
- *    external-forces;
+ *    external-forces, threads (the thread count a plugin's own parallel loops keep to);
  *    integrator side integrator-traits, explicit-scheme, solver-statistics.
  *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
  *    give the same results, because every reader accepts the smaller struct sizes below;
@@ -178,7 +178,8 @@ typedef struct clothlab_system {
   /* dst = src on every particle, pinned included. */
   void (*copy)(void *context, void *dst, const void *src);
   /* A zeroed vector owned by the host, freed with the system. Only during `prepare`;
-   * returns NULL when out of memory. */
+   * returns NULL when out of memory. (Like reserve_rkn and clothlab.jacobian/1's reserve,
+   * the conformance runner refuses it after prepare: robustness.no-alloc.) */
   void *(*alloc_vector)(void *context);
 
   /* ---- since 1.1: present when struct_size covers it ---- */
@@ -236,8 +237,9 @@ typedef struct clothlab_integrator {
    * system->alloc_vector, resets history. May be called again to rebind. */
   clothlab_status (*prepare)(void *instance, const clothlab_system *system,
                              clothlab_message *error);
-  /* Advances system->x and system->v from t to t + dt. Must not allocate. dt = 0 leaves
-   * the state unchanged. */
+  /* Advances system->x and system->v from t to t + dt. Must not allocate, in the calling
+   * thread or in any thread of the plugin's own (the conformance runner counts allocator calls
+   * of every thread during step). dt = 0 leaves the state unchanged. */
   clothlab_status (*step)(void *instance, const clothlab_system *system, double t, double dt,
                           clothlab_message *error);
   void (*destroy)(void *instance);

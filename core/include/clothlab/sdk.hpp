@@ -14,7 +14,8 @@
 //     template <class Real> void step(clothlab::sdk::System<Real>&, double t, double dt);
 //   };
 //
-// Host extensions (ABI 1.2, clothlab/ext/): system.topology(), jacobian(),
+// Host extensions (ABI 1.2, clothlab/ext/): system.threads() (nothing when not offered),
+// system.topology(), jacobian(),
 // definite_jacobian(), cg_step(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED
 // when the host lacks one; system.grid() is empty when the cloth is no grid;
 // system.extension<Table>(id) returns nullptr instead. An integrator
@@ -248,6 +249,13 @@ class System {
   template <class Table>
   const Table* extension(const char* id) const {
     return static_cast<const Table*>(clothlab_system_extension(raw_, id));
+  }
+  // The thread count the host lets this system's work use (clothlab.threads/1): a plugin's
+  // own parallel loops keep to it. Nothing when the host does not say.
+  std::optional<uint32_t> threads() const {
+    const auto* table = extension<clothlab_threads_extension>(CLOTHLAB_EXT_THREADS);
+    if (table == nullptr) return std::nullopt;
+    return table->count(raw_->context);
   }
   // The typed extensions; each throws CLOTHLAB_ERROR_UNSUPPORTED when the host lacks it.
   // topology()'s first call may allocate: make it from `prepare`.

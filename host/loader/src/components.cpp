@@ -23,29 +23,34 @@ std::string label_of(std::string_view kind, const char* id) { return std::string
 template <class Descriptor>
 PluginObject create_object(const std::shared_ptr<const LibraryHandle>& library,
                            const Descriptor& descriptor, const ParamSet& params,
-                           const std::string& label) {
+                           const std::string& label, PluginCallSite site) {
   clothlab_message message{};
   void* object = nullptr;
-  check(descriptor.create(params.values().data(), static_cast<uint32_t>(params.values().size()),
-                          &object, &message),
-        message, label, "create");
+  clothlab_status status;
+  {
+    const PluginCallMark mark(site, "create");
+    status = descriptor.create(params.values().data(),
+                               static_cast<uint32_t>(params.values().size()), &object, &message);
+  }
+  check(status, message, label, "create");
   if (object == nullptr)
     throw PluginError(CLOTHLAB_ERROR_INTERNAL, label + " create returned no instance");
-  return PluginObject(library, object, descriptor.destroy);
+  return PluginObject(library, object, descriptor.destroy, std::move(site));
 }
 
 }  // namespace
 
 PluginObject::PluginObject(std::shared_ptr<const LibraryHandle> library, void* object,
-                           void (*destroy)(void*))
-    : library_(std::move(library)), object_(object), destroy_(destroy) {}
+                           void (*destroy)(void*), PluginCallSite site)
+    : library_(std::move(library)), object_(object), destroy_(destroy), site_(std::move(site)) {}
 
 PluginObject::~PluginObject() { release(); }
 
 PluginObject::PluginObject(PluginObject&& other) noexcept
     : library_(std::move(other.library_)),
       object_(std::exchange(other.object_, nullptr)),
-      destroy_(other.destroy_) {}
+      destroy_(other.destroy_),
+      site_(std::move(other.site_)) {}
 
 PluginObject& PluginObject::operator=(PluginObject&& other) noexcept {
   if (this != &other) {
@@ -53,13 +58,17 @@ PluginObject& PluginObject::operator=(PluginObject&& other) noexcept {
     library_ = std::move(other.library_);
     object_ = std::exchange(other.object_, nullptr);
     destroy_ = other.destroy_;
+    site_ = std::move(other.site_);
   }
   return *this;
 }
 
 void PluginObject::release() noexcept {
   // Destroyed before the library reference drops, so the code is still mapped.
-  if (object_ != nullptr) destroy_(object_);
+  if (object_ != nullptr) {
+    const PluginCallMark mark(site_, "destroy");
+    destroy_(object_);
+  }
   object_ = nullptr;
   library_.reset();
 }
@@ -77,19 +86,34 @@ IntegratorInstance::IntegratorInstance(const clothlab_integrator& descriptor, st
 
 void IntegratorInstance::prepare(const clothlab_system& system) {
   clothlab_message message{};
-  check(descriptor_->prepare(object_.get(), &system, &message), message, label_, "prepare");
+  steps_since_prepare_ = 0;
+  clothlab_status status;
+  {
+    const PluginCallMark mark(object_.site(), "prepare");
+    status = descriptor_->prepare(object_.get(), &system, &message);
+  }
+  check(status, message, label_, "prepare");
 }
 
 void IntegratorInstance::step(const clothlab_system& system, double t, double dt) {
   clothlab_message message{};
-  check(descriptor_->step(object_.get(), &system, t, dt, &message), message, label_, "step");
+  clothlab_status status;
+  {
+    const PluginCallMark mark(object_.site(), "step", ++steps_since_prepare_);
+    status = descriptor_->step(object_.get(), &system, t, dt, &message);
+  }
+  check(status, message, label_, "step");
 }
 
 std::optional<clothlab_solver_step_statistics> IntegratorInstance::last_step_statistics() const {
   if (statistics_ == nullptr || statistics_->last_step == nullptr) return std::nullopt;
   clothlab_solver_step_statistics statistics{};
   statistics.struct_size = sizeof statistics;
-  const clothlab_status status = statistics_->last_step(object_.get(), &statistics);
+  clothlab_status status;
+  {
+    const PluginCallMark mark(object_.site(), "statistics", steps_since_prepare_);
+    status = statistics_->last_step(object_.get(), &statistics);
+  }
   if (status != CLOTHLAB_OK)
     throw PluginError(status, label_ + " solver statistics failed (" + status_name(status) + ")");
   return statistics;
@@ -126,8 +150,9 @@ ParamSet IntegratorPlugin::default_params() const { return ParamSet(info().param
 
 IntegratorInstance IntegratorPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("integrator", descriptor_->id);
-  return IntegratorInstance(*descriptor_, label,
-                            create_object(library_, *descriptor_, params, label));
+  return IntegratorInstance(
+      *descriptor_, label,
+      create_object(library_, *descriptor_, params, label, {path_, descriptor_->id}));
 }
 
 // -------------------------------------------------------------------- scenario
@@ -140,7 +165,12 @@ clothlab_scene ScenarioInstance::describe() const {
   clothlab_scene scene{};
   scene.struct_size = sizeof(clothlab_scene);
   clothlab_message message{};
-  check(descriptor_->describe(object_.get(), &scene, &message), message, label_, "describe");
+  clothlab_status status;
+  {
+    const PluginCallMark mark(object_.site(), "describe");
+    status = descriptor_->describe(object_.get(), &scene, &message);
+  }
+  check(status, message, label_, "describe");
   return scene;
 }
 
@@ -162,8 +192,9 @@ ParamSet ScenarioPlugin::default_params() const { return ParamSet(info().params,
 
 ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("scenario", descriptor_->id);
-  return ScenarioInstance(*descriptor_, label,
-                          create_object(library_, *descriptor_, params, label));
+  return ScenarioInstance(
+      *descriptor_, label,
+      create_object(library_, *descriptor_, params, label, {path_, descriptor_->id}));
 }
 
 }  // namespace clothlab::host

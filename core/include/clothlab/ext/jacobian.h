@@ -14,7 +14,12 @@
  *
  * Thread rule: as eval_acceleration (one host thread per system at a time; the host may
  * use several threads inside). No allocation after `prepare`; `reserve` is the call
- * that may allocate and must come from `prepare`.
+ * that may allocate and must come from `prepare`. The conformance runner enforces it
+ * (robustness.no-alloc): after prepare its system refuses `reserve`, and refuses every call
+ * here, of clothlab.definite-jacobian/1 and of clothlab.cg-step/1 when no `reserve` was made
+ * in prepare, with CLOTHLAB_ERROR_INVALID_ARGUMENT and a failed check naming the call. (The
+ * clothlab engine itself readies the Jacobian on first use, so a plugin that skips `reserve`
+ * still runs there, allocating in its first step.)
  */
 #ifndef CLOTHLAB_EXT_JACOBIAN_H
 #define CLOTHLAB_EXT_JACOBIAN_H

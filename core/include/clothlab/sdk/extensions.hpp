@@ -11,6 +11,7 @@
 #include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
+#include <clothlab/ext/threads.h>
 #include <clothlab/ext/topology.h>
 
 #include <cstdint>

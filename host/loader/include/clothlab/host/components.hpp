@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "clothlab/host/param_set.hpp"
+#include "clothlab/host/plugin_call_marker.hpp"
 
 namespace clothlab::host {
 
@@ -22,7 +23,8 @@ class LibraryHandle;
 // An object a plugin created, destroyed through the plugin when the owner goes.
 class PluginObject {
  public:
-  PluginObject(std::shared_ptr<const LibraryHandle> library, void* object, void (*destroy)(void*));
+  PluginObject(std::shared_ptr<const LibraryHandle> library, void* object, void (*destroy)(void*),
+               PluginCallSite site);
   ~PluginObject();
   PluginObject(PluginObject&& other) noexcept;
   PluginObject& operator=(PluginObject&& other) noexcept;
@@ -30,6 +32,8 @@ class PluginObject {
   PluginObject& operator=(const PluginObject&) = delete;
 
   void* get() const { return object_; }
+  // Where calls on the object go, for plugin_call_marker.hpp.
+  const PluginCallSite& site() const { return site_; }
 
  private:
   void release() noexcept;
@@ -37,6 +41,7 @@ class PluginObject {
   std::shared_ptr<const LibraryHandle> library_;
   void* object_;
   void (*destroy_)(void*);
+  PluginCallSite site_;
 };
 
 // Metadata every component shares.
@@ -65,6 +70,7 @@ class IntegratorInstance {
   const clothlab_solver_statistics_extension* statistics_ = nullptr;
   std::string label_;
   PluginObject object_;
+  uint64_t steps_since_prepare_ = 0;
 };
 
 class IntegratorPlugin {
