@@ -71,9 +71,11 @@ struct ImplicitEuler {
                       "CG starts from the previous step's dv (scaled by the step ratio); 0 = "
                       "from 0"),
   };
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE, nullptr, "max_iterations"};
+  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
+                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
+                                                         CLOTHLAB_TRAIT_ITERATIVE |
+                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
+                                                     nullptr, "max_iterations"};
 
   explicit ImplicitEuler(const sdk::Params& values)
       : tolerance_(values.real("tolerance")),
@@ -140,6 +142,8 @@ struct ImplicitEuler {
     }
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
+    // After the solve: contacts change v, and the warm start's dv stays the solver's.
+    system.resolve_contacts(t + h);
     previous_h_ = h;
   }
 
