@@ -132,7 +132,8 @@ TEST(PluginLibrary, AScenarioFromAbi12LoadsWithoutExtensionsAndNeverHasItsTailRe
 }
 
 TEST(PluginLibrary, SdkScenariosOfferTheirExtensionsThroughTheLoader) {
-  const ScenarioPlugin& scenario = PluginLibrary::load(good).scenario();
+  const PluginLibrary library = PluginLibrary::load(good);
+  const ScenarioPlugin& scenario = library.scenario();
   EXPECT_EQ(scenario.descriptor().struct_size, sizeof(clothlab_scenario));
   const auto* echo =
       static_cast<const clothlab_test_point_echo*>(scenario.extension(CLOTHLAB_TEST_POINT_ECHO));

@@ -59,7 +59,9 @@ double projected_area(std::span<const double> positions, std::span<const uint32_
         // Barycentric coordinates of the cell centre.
         const double beta = ((pu - u[a]) * (w[c] - w[a]) - (u[c] - u[a]) * (pw - w[a])) / det;
         const double gamma = ((u[b] - u[a]) * (pw - w[a]) - (pu - u[a]) * (w[b] - w[a])) / det;
-        if (beta >= 0 && gamma >= 0 && beta + gamma <= 1)
+        // A centre on an edge two triangles share rounds to just outside one or both of them.
+        constexpr double edge = 1e-12;
+        if (beta >= -edge && gamma >= -edge && beta + gamma <= 1 + edge)
           covered[static_cast<std::size_t>(j) * resolution + i] = 1;
       }
   }
