@@ -196,7 +196,7 @@ INSTANTIATE_TEST_SUITE_P(
                    "20 force evaluations in 10 steps; declared evals_per_step 1",
                    "--filter lifecycle"},
         FaultyCase{"faulty_lacks_step", "library", "loading.abi-policy",
-                   "the host loader refuses it at its own version 1.2: integrator lacks-step: "
+                   "the host loader refuses it at its own version 1.3: integrator lacks-step: "
                    "step = null, allowed a function",
                    "--filter loading"}),
     [](const ::testing::TestParamInfo<FaultyCase>& info) {
