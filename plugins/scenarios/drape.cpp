@@ -1,7 +1,8 @@
 // Drape test (after Cusick's drape meter): a square cloth, level and centred, falls from just
 // above a support, a sphere or a table (box), and settles over it under gravity and friction.
 // The host reports the drape coefficient, the share of the cloth's area its shadow keeps
-// (clothlab.colliders/1 scenes: the run JSON's `contacts`). Nothing is pinned.
+// (clothlab.colliders/1 scenes: the run JSON's `contacts`). `anchored` pins the cloth's centre
+// particle, as the drape meter clamps the specimen's centre between two discs.
 //
 // Frame: the support's top is at the origin and y is up. The sphere's centre is at
 // (0, -radius, 0); the table is a box of half width `support.size` and half height
@@ -11,6 +12,7 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <span>
+#include <vector>
 
 #include "grid_cloth.hpp"
 
@@ -40,6 +42,7 @@ struct Drape {
              });
 
   explicit Drape(const sdk::Params& values) : cloth_(values), drop_(values.real("drop")) {
+    if (cloth_.anchored) pinned_.push_back((cloth_.rows / 2) * cloth_.cols + cloth_.cols / 2);
     const double size = values.real("support.size");
     support_.struct_size = sizeof support_;
     support_.friction = values.real("friction");
@@ -61,6 +64,8 @@ struct Drape {
     set_vec3(scene.origin, -0.5 * cloth_.width, support_.thickness + drop_, -0.5 * cloth_.height);
     set_vec3(scene.col_axis, 1.0, 0.0, 0.0);
     set_vec3(scene.row_axis, 0.0, 0.0, 1.0);
+    scene.pinned_count = static_cast<uint32_t>(pinned_.size());
+    scene.pinned = pinned_.data();
   }
 
   std::span<const clothlab_collider> colliders() const { return {&support_, 1}; }
@@ -73,6 +78,7 @@ struct Drape {
   double drop_;
   clothlab_collider support_{};
   std::array<double, 3> centre_{};
+  std::vector<uint32_t> pinned_;
 };
 
 }  // namespace clothlab::builtin
