@@ -42,5 +42,9 @@ Cloth::Stretch Cloth::stretch(Springs springs) const { return impl_->engine->str
 Cloth::LongestSpring Cloth::longest_spring(Springs springs) const {
   return impl_->engine->longest_spring(springs);
 }
+void Cloth::set_colliders(std::span<const Collider> colliders) {
+  impl_->engine->set_colliders(colliders);
+}
+Cloth::Contacts Cloth::contacts() const { return impl_->engine->contacts(); }
 
 }  // namespace clothlab

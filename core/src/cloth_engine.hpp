@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "aligned_buffer.hpp"
@@ -37,6 +38,8 @@ class ClothEngine final : public Engine {
   Cloth::Energy energy() const override;
   Cloth::Stretch stretch(Cloth::Springs springs) const override;
   Cloth::LongestSpring longest_spring(Cloth::Springs springs) const override;
+  void set_colliders(std::span<const Collider> colliders) override;
+  Cloth::Contacts contacts() const override;
 
  private:
   struct Span {
@@ -106,6 +109,8 @@ class ClothEngine final : public Engine {
   static clothlab_status external_callback(void* context, double t, const void* x, void* a);
   static int32_t depends_on_position_callback(void* context);
   static uint32_t threads_callback(void* context);
+  // clothlab.contacts/1 (cloth_engine_contacts.cpp).
+  static clothlab_status contacts_resolve_callback(void* context, double t, void* x, void* v);
 
   Scene scene_;
   std::size_t n_ = 0;
@@ -127,6 +132,7 @@ class ClothEngine final : public Engine {
   std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
   AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
+  std::vector<Collider> colliders_;           // at the poses the host last set
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};
   StageCounters counters_;

@@ -3,6 +3,7 @@
 // spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
 // and the external forces alone, and the thread count the plugin may use.
 #include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/reductions.h>
@@ -62,6 +63,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
                                                                      &depends_on_position_callback};
   static constexpr clothlab_threads_extension threads_table{&threads_callback};
+  static constexpr clothlab_contacts_extension contacts_table{&contacts_resolve_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
@@ -71,6 +73,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_CONTACTS) == 0) return &contacts_table;
   return nullptr;
 }
 

@@ -3,6 +3,7 @@
 
 #include <clothlab/core/cloth.hpp>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace clothlab::detail {
@@ -26,6 +27,8 @@ class Engine {
   virtual Cloth::Energy energy() const = 0;
   virtual Cloth::Stretch stretch(Cloth::Springs springs) const = 0;
   virtual Cloth::LongestSpring longest_spring(Cloth::Springs springs) const = 0;
+  virtual void set_colliders(std::span<const Collider> colliders) = 0;
+  virtual Cloth::Contacts contacts() const = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "value_text.hpp"
+
 namespace clothlab {
 namespace {
 
@@ -19,12 +21,7 @@ constexpr double unit_tolerance = 1e-9;
   throw std::invalid_argument("scene." + field + " = " + value + ": allowed " + allowed);
 }
 
-std::string format(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
+std::string format(double value) { return detail::value_text(value); }
 
 std::string format(const double (&v)[3]) {
   std::ostringstream out;

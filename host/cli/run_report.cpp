@@ -19,6 +19,16 @@ std::string printf_text(const char* format, auto... values) {
 }
 
 // Iterations and misses of an iterative integrator; null for the others.
+nlohmann::json contacts_json(const std::optional<RunRecord::ContactFigures>& contacts) {
+  if (!contacts) return nullptr;
+  return {{"colliders", contacts->colliders},
+          {"max_penetration_over_run", contacts->max_penetration_over_run},
+          {"particles_inside_at_end", contacts->particles_inside_at_end},
+          {"drape_coefficient", contacts->drape_coefficient
+                                    ? nlohmann::json(*contacts->drape_coefficient)
+                                    : nlohmann::json(nullptr)}};
+}
+
 nlohmann::json solver_json(const std::optional<SolverTotals>& solver) {
   if (!solver) return nullptr;
   const double steps = static_cast<double>(std::max<uint64_t>(solver->steps, 1));
@@ -129,6 +139,7 @@ nlohmann::json summary_json(const RunRecord& record) {
       record.failed_step ? nlohmann::json(*record.failed_step) : nlohmann::json(nullptr);
   json["stability_checks"] = record.stability_checks;
   json["solver"] = solver_json(record.solver);
+  json["contacts"] = contacts_json(record.contacts);
   json["threads"] = record.threads;
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},
@@ -180,6 +191,15 @@ std::string human_summary(const RunRecord& record) {
         static_cast<unsigned long long>(record.solver->max_iterations),
         static_cast<unsigned long long>(record.solver->factorizations),
         static_cast<unsigned long long>(record.solver->non_converged_steps));
+  if (record.contacts)
+    text += printf_text(
+        "  contacts: %zu collider(s), max penetration %.3g m over the run, %u particles inside "
+        "at the end, drape coefficient %s\n",
+        record.contacts->colliders, record.contacts->max_penetration_over_run,
+        static_cast<unsigned>(record.contacts->particles_inside_at_end),
+        record.contacts->drape_coefficient
+            ? printf_text("%.3f", *record.contacts->drape_coefficient).c_str()
+            : "none (no gravity)");
   text += "  verdict: " + record.verdict + "\n";
   return text;
 }

@@ -1,7 +1,10 @@
 #include "simulation.hpp"
 
+#include <clothlab/ext/integrator_traits.h>
+
 #include <algorithm>
 #include <chrono>
+#include <clothlab/analysis/projected_area.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
@@ -57,6 +60,13 @@ auto create_with_user_params(Create&& create) {
     if (error.status() != CLOTHLAB_ERROR_INVALID_ARGUMENT) throw;
     throw host::InputError(std::string("parameters rejected: ") + error.what());
   }
+}
+
+bool resolves_contacts(const host::IntegratorPlugin& integrator) {
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  return traits != nullptr && traits->struct_size >= sizeof(clothlab_integrator_traits) &&
+         (traits->flags & CLOTHLAB_TRAIT_RESOLVES_CONTACTS) != 0;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -139,6 +149,16 @@ void judge_solver(RunRecord& record) {
   record.failed_step = solver.first_non_converged_step;
 }
 
+std::optional<double> drape_coefficient(const Cloth& cloth) {
+  const Scene& scene = cloth.scene();
+  if (scene.gravity == Vec3{0, 0, 0}) return std::nullopt;
+  std::vector<double> positions;
+  cloth.positions(positions);
+  const std::vector<uint32_t> triangles = grid_triangles(scene.rows, scene.cols);
+  return analysis::projected_area(positions, triangles, scene.gravity) /
+         (scene.width * scene.height);
+}
+
 }  // namespace
 
 LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
@@ -188,12 +208,11 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
   scenario_params_ = params_to_json(scenario_params);
 
   {
-    // The scene's pinned list lives in the scenario instance: copy it before it goes.
-    const host::ScenarioInstance scenario_instance =
-        create_with_user_params([&] { return scenario_->create(scenario_params); });
+    scenario_instance_.emplace(
+        create_with_user_params([&] { return scenario_->create(scenario_params); }));
     Scene scene;
     try {
-      scene = scene_from_abi(scenario_instance.describe());
+      scene = scene_from_abi(scenario_instance_->describe());
     } catch (const std::invalid_argument& error) {
       throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
                               "scenario " + std::string(scenario_->info().id) +
@@ -205,6 +224,14 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     cloth_ = std::make_unique<Cloth>(
         scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
   }
+  colliders_ = SceneColliders(*scenario_, *scenario_instance_, config.dt, config.steps);
+  if (!colliders_.empty() && !resolves_contacts(*integrator_))
+    throw host::InputError("integrator " + std::string(integrator_->info().id) +
+                           " does not resolve contacts (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS in "
+                           "clothlab.integrator-traits/1), which scenario " +
+                           std::string(scenario_->info().id) + "'s " +
+                           std::to_string(colliders_.size()) + " collider(s) need");
+  cloth_->set_colliders(colliders_.at(0.0));
   integrator_instance_.emplace(
       create_with_user_params([&] { return integrator_->create(integrator_params); }));
   integrator_instance_->prepare(cloth_->system());
@@ -232,6 +259,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   for (auto* series : timing_series)
     series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
+  if (!colliders_.empty()) record.contacts.emplace().colliders = colliders_.size();
   analysis::StabilityMonitor monitor(*cloth_, 0.0, config_.monitor);
   auto fail = [&](uint64_t step, std::string check, std::string verdict) {
     record.stable = false;
@@ -253,6 +281,8 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     // t from the step count, not by summing dt, so long runs do not drift.
     const double t = static_cast<double>(step - 1) * config_.dt;
     const StageCounters before = cloth_->counters();
+    // The colliders keep their pose at the step's start over the step.
+    if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
     const auto start = std::chrono::steady_clock::now();
     try {
       integrator_instance_->step(system, t, config_.dt);
@@ -279,6 +309,9 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     }
     record.steps_taken = step;
     if (!record.stable) break;
+    if (record.contacts)
+      record.contacts->max_penetration_over_run =
+          std::max(record.contacts->max_penetration_over_run, cloth_->contacts().max_penetration);
     if (const auto statistics = integrator_instance_->last_step_statistics()) {
       if (!record.solver) record.solver.emplace();
       record.solver->add(step, *statistics);
@@ -308,6 +341,10 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   note_stretch(record, *cloth_, final_stretch.max,
                static_cast<double>(record.steps_taken) * config_.dt);
   record.stability_checks = monitor.checks();
+  if (record.contacts) {
+    record.contacts->particles_inside_at_end = cloth_->contacts().particles_inside;
+    record.contacts->drape_coefficient = drape_coefficient(*cloth_);
+  }
   if (record.interrupted)
     record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
   else if (record.stretch_stopped)

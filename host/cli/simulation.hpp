@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "run_config.hpp"
+#include "scene_colliders.hpp"
 
 namespace clothlab::cli {
 
@@ -82,6 +83,16 @@ struct RunRecord {
   };
   std::vector<EnergySample> energy_trace;
   std::optional<SolverTotals> solver;  // only for integrators that report solver statistics
+  // Scenes with colliders (clothlab.colliders/1) only.
+  struct ContactFigures {
+    std::size_t colliders = 0;
+    double max_penetration_over_run = 0;  // m, into a collider's surface, after any step
+    uint32_t particles_inside_at_end = 0;
+    // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
+    // Cusick drape coefficient's projected area share); null without gravity.
+    std::optional<double> drape_coefficient;
+  };
+  std::optional<ContactFigures> contacts;
   nlohmann::json integrator_params, scenario_params;
 };
 
@@ -144,6 +155,9 @@ class Simulation {
   const host::IntegratorPlugin* integrator_;
   const host::ScenarioPlugin* scenario_;
   nlohmann::json integrator_params_, scenario_params_;
+  // The scenario lives through the run: its colliders' poses are asked for step by step.
+  std::optional<host::ScenarioInstance> scenario_instance_;
+  SceneColliders colliders_;
   // Declared after the cloth so it is destroyed first: it may hold the system's vectors.
   std::unique_ptr<Cloth> cloth_;
   std::optional<host::IntegratorInstance> integrator_instance_;

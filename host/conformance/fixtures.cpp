@@ -1,6 +1,9 @@
 #include "fixtures.hpp"
 
+#include <clothlab/ext/colliders.h>
+
 #include <cstring>
+#include <iterator>
 
 #include "verdict.hpp"
 
@@ -93,6 +96,30 @@ clothlab_scene ScenarioInstance::describe() const {
   const clothlab_status status = scenario_.describe(instance_, &scene, &message);
   require(status == CLOTHLAB_OK, "describe failed: " + describe_status(status, message));
   return scene;
+}
+
+std::vector<double> ScenarioInstance::colliders_at_start() const {
+  const auto* table = static_cast<const clothlab_colliders_extension*>(
+      clothlab_scenario_extension(&scenario_, CLOTHLAB_EXT_COLLIDERS));
+  std::vector<double> fields;
+  if (table == nullptr) return fields;
+  for (uint32_t i = 0; i < table->count(instance_); ++i) {
+    clothlab_collider collider{};
+    collider.struct_size = sizeof collider;
+    clothlab_pose pose{};
+    clothlab_message message{};
+    clothlab_status status = table->describe(instance_, i, &collider, &message);
+    require(status == CLOTHLAB_OK, "collider describe failed: " + describe_status(status, message));
+    status = table->pose(instance_, i, 0.0, &pose, &message);
+    require(status == CLOTHLAB_OK, "collider pose failed: " + describe_status(status, message));
+    fields.insert(fields.end(),
+                  {static_cast<double>(collider.shape), collider.radius, collider.end_radius,
+                   collider.half_length, collider.half_extents[0], collider.half_extents[1],
+                   collider.half_extents[2], collider.friction, collider.thickness});
+    fields.insert(fields.end(), std::begin(pose.position), std::end(pose.position));
+    fields.insert(fields.end(), std::begin(pose.orientation), std::end(pose.orientation));
+  }
+  return fields;
 }
 
 Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy) {

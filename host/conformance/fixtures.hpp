@@ -63,6 +63,9 @@ class ScenarioInstance {
 
   // Fails the check when describe returns an error.
   clothlab_scene describe() const;
+  // The colliders (clothlab.colliders/1) and their poses at t = 0, as raw fields: empty when
+  // the scenario offers none. Fails the check when a call returns an error.
+  std::vector<double> colliders_at_start() const;
 
  private:
   const clothlab_scenario& scenario_;

@@ -56,9 +56,11 @@ struct ProjectiveDynamics {
       sdk::int_param("iterations", 10, 1, 1000,
                      "local/global iterations per step (one back-substitution each)"),
   };
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE, nullptr, "iterations"};
+  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
+                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
+                                                         CLOTHLAB_TRAIT_ITERATIVE |
+                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
+                                                     nullptr, "iterations"};
 
   explicit ProjectiveDynamics(const sdk::Params& values)
       : iterations_(values.integer("iterations")) {}
@@ -129,6 +131,7 @@ struct ProjectiveDynamics {
         v[k * stride + i] = static_cast<Real>((positions_(u, k) - start_(u, k)) / h);
       }
     }
+    system.resolve_contacts(t + h);
   }
 
   void last_step_statistics(clothlab_solver_step_statistics& out) const { out = last_; }

@@ -23,6 +23,11 @@
 // After each step v holds the velocity the host reads for energy and output (the
 // integration itself reads v only to restart):
 //   v_{n+1} = d_n / (dt phi) + dt (1 - 1 / phi) / z a_n       (d_n / dt + dt/2 a_n at c = 0)
+//
+// Contacts: not resolved (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS; the host refuses scenes with
+// colliders). The state that carries the motion is the displacement history d, not v: a contact
+// would have to rewrite d consistently with the velocity it changes, which this form has no
+// inverse for short of restarting the history every step (a different, first-order method).
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>

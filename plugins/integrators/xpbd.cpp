@@ -12,6 +12,8 @@
 //   tethers    (option, xpbd_tethers.hpp) each free particle's long-range attachments to
 //              pinned particles, |p_i - p_anchor| <= (1 + slack) rest, projected once
 //   velocity   v = dx / h,  x += dx
+//   contacts   the host's clothlab.contacts/1 on (x, v): the colliders as the substep's last
+//              constraint (pushed out to the thickness, normal velocity removed, friction)
 // x stays at the substep's start while the projections move only dx, the substep's
 // displacement; the springs see the positions x + dx as (x_i - x_j) + (dx_i - dx_j). So v
 // never comes from x - x_prev: in float32 a substep's motion (g h^2 is ~1e-8 m at h = 25 us)
@@ -111,9 +113,11 @@ struct Xpbd {
                       "a tether's max length is (1 + tether_slack) x the particle's straight-line "
                       "distance to its pin at prepare"),
   };
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE, "substeps", "iterations"};
+  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
+                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
+                                                         CLOTHLAB_TRAIT_ITERATIVE |
+                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
+                                                     "substeps", "iterations"};
 
   explicit Xpbd(const sdk::Params& values)
       : substeps_(static_cast<int>(values.integer("substeps"))),
@@ -174,6 +178,8 @@ struct Xpbd {
       if (!finite)
         throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "non-finite velocity in the substep at t = " +
                                                        std::to_string(t + substep * h));
+      // The colliders as one more constraint, projected after the substep's springs.
+      system.resolve_contacts(t + (substep + 1) * h);
     }
   }
 

@@ -189,14 +189,14 @@ INSTANTIATE_TEST_SUITE_P(
         FaultyCase{"faulty_ruffles_at_random", "ruffles-at-random", "scenario.deterministic",
                    "two describe calls on one instance differ", "--filter scenario.deterministic"},
         FaultyCase{"faulty_ignores_wind", "ignores-wind", "scenario.params",
-                   "setting wind = 1.250000 does not change the scene", "--filter scenario.params"},
+                   "setting wind = 1.250000 changes neither the scene nor its colliders", "--filter scenario.params"},
         FaultyCase{"faulty_offers_only_float32", "offers-only-float32", "numerics.float64",
                    "numerics are measured in float64, which it lacks", "--filter numerics.float64"},
         FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",
                    "20 force evaluations in 10 steps; declared evals_per_step 1",
                    "--filter lifecycle"},
         FaultyCase{"faulty_lacks_step", "library", "loading.abi-policy",
-                   "the host loader refuses it at its own version 1.2: integrator lacks-step: "
+                   "the host loader refuses it at its own version 1.3: integrator lacks-step: "
                    "step = null, allowed a function",
                    "--filter loading"},
         FaultyCase{"faulty_flips_the_stiffness_sign", "flips-the-stiffness-sign",

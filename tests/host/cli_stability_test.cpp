@@ -540,8 +540,9 @@ TEST_F(ClothlabStability, CrashingSingleRunExitsTwoWithTheReason) {
   EXPECT_NE(outcome.err.find(" in test-crash.step (" + library + ") at step 1"), std::string::npos)
       << outcome.err;
   // A sanitizer build's child reports the null store on stderr too.
-  if (!address_sanitizer)
+  if (!address_sanitizer) {
     EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+  }
 }
 
 TEST_F(ClothlabStability, CrashingCaseIsAFailedRowAndTheSweepGoesOn) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "../support/read_text.hpp"
 
@@ -102,6 +103,7 @@ TEST_F(Clothlab, JsonSummaryHasEveryKey) {
                           "verdict",
                           "threads",
                           "counters",
+                          "contacts",
                           "integrator_params",
                           "scenario_params"})
     EXPECT_TRUE(json.contains(key)) << key;
@@ -326,6 +328,93 @@ TEST_F(Clothlab, StateOutIsFullPrecisionCsv) {
   }
   EXPECT_EQ(rows, 6);
   EXPECT_EQ(outputs(), std::vector<std::string>{"state.csv"});  // no temporary left
+}
+
+// The test scenario's cloth dropped on its plane: every built-in that declares
+// CLOTHLAB_TRAIT_RESOLVES_CONTACTS leaves it resting at the plane's thickness (0.01 m).
+const std::string collider_scene =
+    "--scenario=" + (test_plugins / "colliders" / "clothlab_test_collider.so").string() + " ";
+
+TEST_F(Clothlab, EveryContactResolvingBuiltInRestsTheClothOnThePlaneAtItsThickness) {
+  for (const char* integrator :
+       {"euler", "midpoint", "rk4", "implicit_euler", "projective_dynamics", "xpbd"}) {
+    const Outcome outcome = run(std::string("--integrator=") + integrator + " " + collider_scene +
+                                "--dt 0.001 --duration 1.5 --state-out state.csv --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    std::ifstream csv(file("state.csv"));
+    std::string line;
+    std::getline(csv, line);
+    int particles = 0;
+    while (std::getline(csv, line)) {
+      std::stringstream fields(line);
+      std::string field;
+      for (int column = 0; column < 4; ++column) std::getline(fields, field, ',');
+      EXPECT_NEAR(std::stod(field), 0.01, 1e-4) << integrator << ": " << line;
+      ++particles;
+    }
+    EXPECT_EQ(particles, 9) << integrator;
+  }
+}
+
+TEST_F(Clothlab, AnIntegratorThatDoesNotResolveContactsIsRefusedOnAColliderScene) {
+  const Outcome outcome = run("--integrator=verlet " + collider_scene + "--steps 10 --json o.json");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: integrator verlet does not resolve contacts (no "
+            "CLOTHLAB_TRAIT_RESOLVES_CONTACTS in clothlab.integrator-traits/1), which scenario "
+            "test-collider's 1 collider(s) need\n");
+  EXPECT_TRUE(outputs().empty());
+}
+
+TEST_F(Clothlab, MalformedCollidersAndPosesAreOneLineOfBadInputBeforeTheRun) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"--set scenario.shape=1 --set scenario.radius=-0.5",
+       "scenario test-collider: collider 0: radius = -0.5, allowed finite > 0"},
+      {"--set scenario.shape=2 --set scenario.half_length=0",
+       "scenario test-collider: collider 0: half_length = 0, allowed finite > 0"},
+      {"--set scenario.friction=-0.1",
+       "scenario test-collider: collider 0: friction = -0.10000000000000001, allowed finite >= 0"},
+      {"--set scenario.broken_pose_after=0.5",
+       "scenario test-collider: collider 0 (plane): pose at t = 0.5 s: position.x = nan, allowed "
+       "finite"},
+  };
+  for (const auto& [settings, message] : cases) {
+    const Outcome outcome = run("--integrator=euler " + collider_scene + settings +
+                                " --dt 0.001 --steps 1000 --json o.json");
+    EXPECT_EQ(outcome.exit_code, 1) << settings;
+    EXPECT_EQ(outcome.err, "clothlab: error: " + message + "\n") << settings;
+    EXPECT_TRUE(outputs().empty()) << settings;
+  }
+}
+
+// A 24 x 24 cloth dropped on the sphere and on the table settles over it: nothing ends inside
+// the support or sank deeper than the thickness over the run, and its shadow is less than the
+// flat cloth's but more than the support's own (the sphere's pi 0.3^2, the table's 0.6^2).
+TEST_F(Clothlab, DrapeSettlesOverASphereAndATableAndReportsItsDrapeCoefficient) {
+  const std::pair<const char*, double> supports[] = {{"0", 0.283}, {"1", 0.36}};
+  for (const auto& [support, support_shadow] : supports) {
+    const Outcome outcome =
+        run(std::string("--integrator=xpbd --scenario=drape --set scenario.rows=24 "
+                        "--set scenario.cols=24 --set scenario.support=") +
+            support + " --dt 0.01 --duration 3 --json drape.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << support << ": " << outcome.err;
+    const auto json = nlohmann::json::parse(read_text(file("drape.json")));
+    EXPECT_EQ(json["stable"], true) << support;
+    const auto& contacts = json["contacts"];
+    EXPECT_EQ(contacts["colliders"], 1) << support;
+    EXPECT_EQ(contacts["particles_inside_at_end"], 0) << support;
+    EXPECT_LT(contacts["max_penetration_over_run"].get<double>(), 0.005) << support;
+    const double coefficient = contacts["drape_coefficient"].get<double>();
+    EXPECT_LT(coefficient, 0.95) << support;
+    EXPECT_GT(coefficient, support_shadow) << support;
+  }
+}
+
+TEST_F(Clothlab, ScenesWithoutCollidersReportNoContacts) {
+  const Outcome outcome =
+      run(std::string("--integrator=rk4 ") + small_sheet + "--steps 5 --quiet --json sheet.json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_TRUE(nlohmann::json::parse(read_text(file("sheet.json")))["contacts"].is_null());
 }
 
 TEST_F(Clothlab, ConfigErrorExitsOneWithItsPosition) {

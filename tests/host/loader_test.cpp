@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "plugins/test_point_echo.h"
 #include "test_paths.hpp"
 
 namespace clothlab::host {
@@ -117,6 +118,32 @@ TEST(PluginLibrary, ALaterMinorVersionWithAppendedFieldsIsAccepted) {
       PluginLibrary::load(test_plugin_dir("minor") / "clothlab_test_future_minor.so");
   EXPECT_EQ(library.abi_version().minor, 99u);
   EXPECT_EQ(library.name(), "clothlab-test-future-minor");
+}
+
+TEST(PluginLibrary, AScenarioFromAbi12LoadsWithoutExtensionsAndNeverHasItsTailRead) {
+  const PluginLibrary library =
+      PluginLibrary::load(test_plugin_dir("minor") / "clothlab_test_legacy_scenario.so");
+  const ScenarioPlugin& scenario = library.scenario();
+  EXPECT_EQ(scenario.descriptor().struct_size, CLOTHLAB_SCENARIO_SIZE_1_0);
+  EXPECT_EQ(scenario.extension("clothlab.colliders/1"), nullptr);
+  const clothlab_scene scene = scenario.create(scenario.default_params()).describe();
+  EXPECT_EQ(scene.cols, 2u);
+  EXPECT_EQ(scene.pinned_count, 1u);
+}
+
+TEST(PluginLibrary, SdkScenariosOfferTheirExtensionsThroughTheLoader) {
+  const PluginLibrary library = PluginLibrary::load(good);
+  const ScenarioPlugin& scenario = library.scenario();
+  EXPECT_EQ(scenario.descriptor().struct_size, sizeof(clothlab_scenario));
+  const auto* echo =
+      static_cast<const clothlab_test_point_echo*>(scenario.extension(CLOTHLAB_TEST_POINT_ECHO));
+  ASSERT_NE(echo, nullptr);
+  ParamSet params = scenario.default_params();
+  params.set("rows", "5", "test");
+  const ScenarioInstance instance = scenario.create(params);
+  EXPECT_EQ(echo->rows(instance.get()), 5u);
+  EXPECT_EQ(scenario.extension("clothlab.test-point-echo/2"), nullptr);
+  EXPECT_EQ(scenario.extension(nullptr), nullptr);
 }
 
 TEST(PluginLibrary, DescriptorShorterThanTheHostReadsIsRefused) {

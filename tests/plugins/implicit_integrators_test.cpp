@@ -177,7 +177,8 @@ TEST(ImplicitEuler, DeclaresItsTraits) {
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
       integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   ASSERT_NE(traits, nullptr);
-  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE);
+  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
   EXPECT_STREQ(traits->iterations_param, "max_iterations");
   EXPECT_EQ(integrator.descriptor().get_extension("clothlab.solver-statistics/2"), nullptr);
 }
@@ -372,7 +373,8 @@ TEST(ProjectiveDynamics, DeclaresItsTraits) {
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
       integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   ASSERT_NE(traits, nullptr);
-  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE);
+  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
   EXPECT_STREQ(traits->iterations_param, "iterations");
 }
 

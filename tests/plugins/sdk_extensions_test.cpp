@@ -1,12 +1,13 @@
 // The SDK's extension glue: System<Real>::extension finds host tables only on a 1.2 host,
 // the typed accessors throw UNSUPPORTED naming the missing id, an integrator's
-// get_extension returns exactly the tables its class declares, and scenario glue accepts
-// a 1.0-sized scene buffer.
+// get_extension returns exactly the tables its class declares, scenario glue accepts
+// a 1.0-sized scene buffer, and a scenario's get_extension (ABI 1.3) returns its class's tables.
 #include <gtest/gtest.h>
 
 #include <clothlab/sdk.hpp>
 #include <cstring>
 #include <string>
+#include <string_view>
 
 namespace clothlab::test {
 namespace {
@@ -174,6 +175,44 @@ TEST(SdkScenarioGlue, AcceptsA1_0SceneBufferAndRefusesASmallerOne) {
   EXPECT_EQ(scenario.describe(instance, &scene, &message), CLOTHLAB_ERROR_INVALID_ARGUMENT);
   EXPECT_STREQ(message.text, "scene buffer too small");
   scenario.destroy(instance);
+}
+
+// A scenario offering one table of its own, whose function reads the instance.
+struct ScenarioWithTable : TinyScenario {
+  using TinyScenario::TinyScenario;
+  struct Table {
+    int (*answer)(void* instance);
+  };
+  int answer = 42;
+  static const void* extension(std::string_view id) noexcept {
+    static constexpr Table table{
+        [](void* instance) { return static_cast<ScenarioWithTable*>(instance)->answer; }};
+    return id == "test.answer/1" ? &table : nullptr;
+  }
+};
+
+TEST(SdkScenarioExtensions, DescriptorIs1_3SizedAndReturnsOnlyTheClassTables) {
+  const clothlab_scenario& plain = *sdk::scenario_descriptor<TinyScenario>();
+  EXPECT_EQ(plain.struct_size, CLOTHLAB_SCENARIO_SIZE_1_3);
+  EXPECT_EQ(clothlab_scenario_extension(&plain, "test.answer/1"), nullptr);
+
+  const clothlab_scenario& offering = *sdk::scenario_descriptor<ScenarioWithTable>();
+  EXPECT_EQ(clothlab_scenario_extension(&offering, "test.answer/2"), nullptr);
+  EXPECT_EQ(clothlab_scenario_extension(&offering, nullptr), nullptr);
+  const auto* table = static_cast<const ScenarioWithTable::Table*>(
+      clothlab_scenario_extension(&offering, "test.answer/1"));
+  ASSERT_NE(table, nullptr);
+  void* instance = nullptr;
+  clothlab_message message{};
+  ASSERT_EQ(offering.create(nullptr, 0, &instance, &message), CLOTHLAB_OK) << message.text;
+  EXPECT_EQ(table->answer(instance), 42);
+  offering.destroy(instance);
+}
+
+TEST(SdkScenarioExtensions, AScenarioOlderThan1_3IsNeverAskedEvenIfTheBytesLookLikeAPointer) {
+  clothlab_scenario legacy = *sdk::scenario_descriptor<ScenarioWithTable>();
+  legacy.struct_size = CLOTHLAB_SCENARIO_SIZE_1_0;
+  EXPECT_EQ(clothlab_scenario_extension(&legacy, "test.answer/1"), nullptr);
 }
 
 }  // namespace

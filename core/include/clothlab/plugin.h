@@ -12,14 +12,18 @@
  *    Minors 1.1 and 1.2 appended fields; since 1.2 the structs are frozen: the ABI grows
  *    by extensions, optional interfaces looked up by a versioned string id
  *    ("clothlab.jacobian/1") through `get_extension` on both sides, NULL when absent.
+ *    1.3 appended the one field 1.2 left out, `get_extension` on clothlab_scenario, so
+ *    scenarios grow by extensions too; no other struct changed.
  *    A new capability is a new id, a change of one is a new revision ("/2"); a published
  *    extension struct is never edited. One header per extension, in clothlab/ext/:
  *    host side topology, grid, jacobian, definite-jacobian, cg-step, reductions,
- *    external-forces, threads (the thread count a plugin's own parallel loops keep to);
- *    integrator side integrator-traits, explicit-scheme, solver-statistics.
+ *    external-forces, threads (the thread count a plugin's own parallel loops keep to),
+ *    contacts (1.3);
+ *    integrator side integrator-traits, explicit-scheme, solver-statistics;
+ *    scenario side (1.3) colliders.
  *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
  *    give the same results, because every reader accepts the smaller struct sizes below;
- *    the only price is that the structs stop growing at 1.2.
+ *    the only price is that the structs stop growing at 1.2 (the scenario at 1.3).
  *  - Errors are status codes plus a message written into a caller-owned buffer.
  *    No exception, longjmp or C++ type ever crosses the boundary.
  *  - Ownership: the host owns the cloth state and every vector of a clothlab_system;
@@ -35,7 +39,7 @@
 #include <stdint.h>
 
 #define CLOTHLAB_ABI_VERSION_MAJOR 1u
-#define CLOTHLAB_ABI_VERSION_MINOR 2u
+#define CLOTHLAB_ABI_VERSION_MINOR 3u
 
 #if defined(__GNUC__) || defined(__clang__)
 #define CLOTHLAB_EXPORT __attribute__((visibility("default")))
@@ -304,6 +308,13 @@ typedef struct clothlab_scenario {
   /* Fills *scene. The host sets scene->struct_size before the call. */
   clothlab_status (*describe)(void *instance, clothlab_scene *scene, clothlab_message *error);
   void (*destroy)(void *instance);
+
+  /* ---- since 1.3: present when struct_size covers it; the last field ever added ---- */
+
+  /* The scenario extension with this id, or NULL. May be NULL itself (no extensions).
+   * Returns static data; any thread, any time, without an instance. Tables whose
+   * functions concern one scene take the instance `create` made as their first argument. */
+  const void *(*get_extension)(const char *id);
 } clothlab_scenario;
 
 /* ------------------------------------------------------------------ entry */
@@ -351,15 +362,16 @@ static inline int clothlab_abi_is_compatible(clothlab_abi_version plugin_version
 #define CLOTHLAB_INTEGRATOR_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_integrator, destroy)
 #define CLOTHLAB_INTEGRATOR_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_integrator, get_extension)
 #define CLOTHLAB_SCENARIO_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_scenario, destroy)
+#define CLOTHLAB_SCENARIO_SIZE_1_3 CLOTHLAB_FIELD_END(clothlab_scenario, get_extension)
 #define CLOTHLAB_SCENE_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_scene, wind_strength)
 #define CLOTHLAB_PARAM_SPEC_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_param_spec, max_value)
 #define CLOTHLAB_SYSTEM_SIZE_1_0 CLOTHLAB_FIELD_END(clothlab_system, alloc_vector)
 #define CLOTHLAB_SYSTEM_SIZE_1_1 CLOTHLAB_FIELD_END(clothlab_system, step_rkn)
 #define CLOTHLAB_SYSTEM_SIZE_1_2 CLOTHLAB_FIELD_END(clothlab_system, get_extension)
 
-/* The one safe way to look an extension up: NULL when the struct predates 1.2 (its
- * get_extension field is not there to read), when the field is NULL, or when the other
- * side does not offer `id`. */
+/* The one safe way to look an extension up: NULL when the struct predates 1.2 (1.3 for a
+ * scenario: its get_extension field is not there to read), when the field is NULL, or when
+ * the other side does not offer `id`. */
 static inline const void *clothlab_system_extension(const clothlab_system *system,
                                                     const char *id) {
   if (!CLOTHLAB_HAS_FIELD(system, clothlab_system, get_extension) || !system->get_extension)
@@ -372,6 +384,12 @@ static inline const void *clothlab_integrator_extension(const clothlab_integrato
       !integrator->get_extension)
     return NULL;
   return integrator->get_extension(id);
+}
+static inline const void *clothlab_scenario_extension(const clothlab_scenario *scenario,
+                                                      const char *id) {
+  if (!CLOTHLAB_HAS_FIELD(scenario, clothlab_scenario, get_extension) || !scenario->get_extension)
+    return NULL;
+  return scenario->get_extension(id);
 }
 
 #ifdef __cplusplus

@@ -15,20 +15,27 @@
 //   };
 //
 // Host extensions (ABI 1.2, clothlab/ext/): system.threads() (nothing when not offered),
-// system.topology(), jacobian(),
-// definite_jacobian(), cg_step(), reductions(), external_forces() throw CLOTHLAB_ERROR_UNSUPPORTED
+// system.topology(), jacobian(), definite_jacobian(), cg_step(), reductions(), external_forces(),
+// contacts() (ABI 1.3) throw CLOTHLAB_ERROR_UNSUPPORTED
 // when the host lacks one; system.grid() is empty when the cloth is no grid;
 // system.extension<Table>(id) returns nullptr instead. An integrator
 // offers its own extensions by declaring `static constexpr clothlab_integrator_traits traits` or
 // `static constexpr clothlab_explicit_scheme explicit_scheme`, and solver statistics
 // (clothlab.solver-statistics/1) by a member
 // `void last_step_statistics(clothlab_solver_step_statistics&) const`.
+// A scenario (ABI 1.3) offers clothlab.colliders/1 by two members,
+// `std::span<const clothlab_collider> colliders() const` and
+// `clothlab_pose collider_pose(uint32_t index, double t) const`, and extensions the SDK has no
+// glue for by a static member
+// `const void* extension(std::string_view id) noexcept` returning the table for `id`, or
+// nullptr; its tables' functions receive the instance as a `void*`.
 //
 //   CLOTHLAB_PLUGIN_ENTRY("my-plugin", "1.0.0",
 //                         clothlab::sdk::integrators<MyIntegrator>,
 //                         clothlab::sdk::scenarios<>)
 #pragma once
 
+#include <clothlab/ext/colliders.h>
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
@@ -38,6 +45,7 @@
 #include <clothlab/sdk/error.hpp>
 #include <clothlab/sdk/extensions.hpp>
 #include <cmath>
+#include <concepts>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -293,6 +301,15 @@ class System {
     return {required<clothlab_external_forces_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES),
             raw_->context};
   }
+  Contacts<Real> contacts() const {
+    return {required<clothlab_contacts_extension>(CLOTHLAB_EXT_CONTACTS), raw_->context};
+  }
+  // Keeps x and v out of the scene's colliders at time t when the host offers
+  // clothlab.contacts/1; a no-op on a host without it, which has no colliders to keep out of.
+  void resolve_contacts(double t) const {
+    if (extension<clothlab_contacts_extension>(CLOTHLAB_EXT_CONTACTS) != nullptr)
+      contacts().resolve(t, x(), v());
+  }
   Real* alloc_vector() const {
     void* p = raw_->alloc_vector(raw_->context);
     if (p == nullptr) throw std::bad_alloc();
@@ -423,6 +440,53 @@ const clothlab_integrator* integrator_descriptor() {
   return &descriptor;
 }
 
+// A scenario's extensions: clothlab.colliders/1 when its class has colliders() and
+// collider_pose(), and those it returns from a static member
+// `const void* extension(std::string_view id) noexcept`; NULL for any other id.
+template <class Impl>
+const void* scenario_extension(const char* id) noexcept {
+  if (id == nullptr) return nullptr;
+  if constexpr (requires(const Impl& impl, uint32_t index, double t) {
+                  { impl.colliders() } -> std::convertible_to<std::span<const clothlab_collider>>;
+                  { impl.collider_pose(index, t) } -> std::same_as<clothlab_pose>;
+                }) {
+    static const clothlab_colliders_extension colliders{
+        [](void* instance) -> uint32_t {
+          return static_cast<uint32_t>(static_cast<const Impl*>(instance)->colliders().size());
+        },
+        [](void* instance, uint32_t index, clothlab_collider* out,
+           clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            const std::span<const clothlab_collider> all =
+                static_cast<const Impl*>(instance)->colliders();
+            if (out == nullptr || out->struct_size < sizeof(clothlab_collider) ||
+                index >= all.size())
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                          "collider " + std::to_string(index) + ": no such collider or buffer");
+            *out = all[index];
+            out->struct_size = sizeof(clothlab_collider);
+          });
+        },
+        [](void* instance, uint32_t index, double t, clothlab_pose* out,
+           clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            const Impl& impl = *static_cast<const Impl*>(instance);
+            if (out == nullptr || index >= impl.colliders().size())
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                          "collider " + std::to_string(index) + ": no such collider");
+            *out = impl.collider_pose(index, t);
+          });
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS) == 0) return &colliders;
+  }
+  if constexpr (requires(std::string_view name) {
+                  { Impl::extension(name) }
+                  noexcept->std::same_as<const void*>;
+                })
+    return Impl::extension(id);
+  return nullptr;
+}
+
 template <class Impl>
 const clothlab_scenario* scenario_descriptor() {
   static const clothlab_scenario descriptor = {
@@ -451,6 +515,7 @@ const clothlab_scenario* scenario_descriptor() {
         });
       },
       [](void* instance) { delete static_cast<Impl*>(instance); },
+      &scenario_extension<Impl>,
   };
   return &descriptor;
 }

@@ -188,6 +188,10 @@ ComponentInfo ScenarioPlugin::info() const {
           path_};
 }
 
+const void* ScenarioPlugin::extension(const char* id) const {
+  return clothlab_scenario_extension(descriptor_, id);
+}
+
 ParamSet ScenarioPlugin::default_params() const { return ParamSet(info().params, "scenario"); }
 
 ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {

@@ -32,7 +32,8 @@ static const clothlab_scenario scenario = {sizeof(clothlab_scenario),
                                            NULL,
                                            create,
                                            describe,
-                                           destroy};
+                                           destroy,
+                                           NULL};
 static const clothlab_scenario* const scenarios[] = {&scenario};
 
 typedef struct later_minor_descriptor {

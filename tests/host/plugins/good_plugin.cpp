@@ -1,6 +1,9 @@
 // A small, valid test plugin: one integrator (forward Euler on x only, enough to see it
-// step) and one scenario, with a parameter of every type.
+// step) and one scenario, with a parameter of every type and one scenario extension.
 #include <clothlab/sdk.hpp>
+#include <string_view>
+
+#include "test_point_echo.h"
 
 namespace {
 
@@ -44,6 +47,11 @@ struct TestPoint {
     scene.row_axis[1] = -1.0;
     scene.total_mass = 1.0;
     scene.structural = {1.0, 0.0};
+  }
+  static const void* extension(std::string_view id) noexcept {
+    static constexpr clothlab_test_point_echo echo{
+        [](void* instance) { return static_cast<const TestPoint*>(instance)->rows_; }};
+    return id == CLOTHLAB_TEST_POINT_ECHO ? &echo : nullptr;
   }
 
  private:

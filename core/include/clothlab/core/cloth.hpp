@@ -8,9 +8,11 @@
 #include <clothlab/plugin.h>
 
 #include <array>
+#include <clothlab/core/collider.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,8 +20,6 @@ namespace clothlab {
 
 enum class Precision { Float32, Float64 };
 const char* to_string(Precision precision);
-
-using Vec3 = std::array<double, 3>;
 
 struct SpringFamily {
   double ks = 0.0;
@@ -151,6 +151,18 @@ class Cloth {
   };
   LongestSpring longest_spring(Springs springs = Springs::All) const;
   double max_stretch() const { return stretch().max; }
+
+  // The colliders at their current poses, which clothlab.contacts/1 keeps the cloth out of; the
+  // host sets them before each step (none: contacts are a no-op). Allocates only when there are
+  // more than ever before.
+  void set_colliders(std::span<const Collider> colliders);
+  // The cloth against the colliders now: the deepest penetration of a collider's surface (m)
+  // and how many particles lie inside one.
+  struct Contacts {
+    double max_penetration = 0;
+    uint32_t particles_inside = 0;
+  };
+  Contacts contacts() const;
 
  private:
   struct Impl;

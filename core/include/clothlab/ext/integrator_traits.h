@@ -26,6 +26,9 @@ extern "C" {
 /* The result depends on an iteration count (parameter `iterations_param`): the order is
  * measured with iterations at its maximum, and the method is allowed to be inexact. */
 #define CLOTHLAB_TRAIT_ITERATIVE (1u << 1)
+/* Calls the host's clothlab.contacts/1 after each step or substep (ABI 1.3): the host runs
+ * scenes with colliders (clothlab.colliders/1) only with integrators that declare it. */
+#define CLOTHLAB_TRAIT_RESOLVES_CONTACTS (1u << 2)
 
 typedef struct clothlab_integrator_traits {
   uint32_t struct_size;

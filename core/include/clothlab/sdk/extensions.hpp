@@ -1,11 +1,12 @@
 // Typed C++ views of the host extensions (clothlab/ext/*.h), returned by
-// System<Real>::topology(), grid(), jacobian(), definite_jacobian(), cg_step(), reductions()
-// and external_forces() in sdk.hpp.
+// System<Real>::topology(), grid(), jacobian(), definite_jacobian(), cg_step(), reductions(),
+// external_forces() and contacts() in sdk.hpp.
 // Each wrapper holds the extension's function table and the system's context; a failing
 // call throws sdk::Error with the host's status.
 #pragma once
 
 #include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/grid.h>
@@ -221,6 +222,23 @@ class ExternalForces {
 
  private:
   const clothlab_external_forces_extension* table_;
+  void* context_;
+};
+
+// Keeps the cloth out of the scene's colliders (clothlab/ext/contacts.h): call after each step
+// or substep, and declare CLOTHLAB_TRAIT_RESOLVES_CONTACTS.
+template <class Real>
+class Contacts {
+ public:
+  Contacts(const clothlab_contacts_extension& table, void* context)
+      : table_(&table), context_(context) {}
+
+  void resolve(double t, Real* x, Real* v) const {
+    check(table_->resolve(context_, t, x, v), "contact resolution failed");
+  }
+
+ private:
+  const clothlab_contacts_extension* table_;
   void* context_;
 };
 

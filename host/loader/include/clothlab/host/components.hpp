@@ -106,6 +106,8 @@ class ScenarioInstance {
 
   // The scene; its pinned array stays valid while this instance lives. Throws PluginError.
   clothlab_scene describe() const;
+  // The plugin's instance, the first argument of its extensions' functions.
+  void* get() const { return object_.get(); }
 
  private:
   const clothlab_scenario* descriptor_;
@@ -120,6 +122,9 @@ class ScenarioPlugin {
 
   ComponentInfo info() const;
   const clothlab_scenario& descriptor() const { return *descriptor_; }
+  // The scenario extension `id` (clothlab/ext/), or nullptr when the plugin predates
+  // ABI 1.3 or does not offer it.
+  const void* extension(const char* id) const;
   ParamSet default_params() const;
   ScenarioInstance create(const ParamSet& params) const;
 

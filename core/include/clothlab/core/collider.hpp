@@ -1,0 +1,57 @@
+// A rigid analytic body the cloth may not enter (clothlab/ext/colliders.h defines the shapes),
+// and the signed distance of a point from its surface.
+#pragma once
+
+#include <clothlab/ext/colliders.h>
+
+#include <array>
+#include <string_view>
+
+namespace clothlab {
+
+using Vec3 = std::array<double, 3>;
+
+enum class ColliderShape { Sphere, Capsule, Plane, Box };
+
+std::string_view to_string(ColliderShape shape);
+
+// Local to world: world = position + R(orientation) local, orientation a unit quaternion
+// (w, x, y, z).
+struct Pose {
+  Vec3 position{0, 0, 0};
+  std::array<double, 4> orientation{1, 0, 0, 0};
+
+  Vec3 to_world(const Vec3& local) const;
+  Vec3 rotate(const Vec3& local) const;
+  Vec3 to_local(const Vec3& world) const;
+};
+
+struct Collider {
+  ColliderShape shape = ColliderShape::Sphere;
+  double radius = 0;           // sphere; capsule at its -x end
+  double end_radius = 0;       // capsule at its +x end
+  double half_length = 0;      // capsule
+  Vec3 half_extents{0, 0, 0};  // box
+  double friction = 0;         // Coulomb coefficient
+  double thickness = 0;        // particles are kept this far outside the surface
+  Pose pose;
+};
+
+// Copies and validates a scenario's collider; throws std::invalid_argument naming the field,
+// its value and the allowed range ("radius = -1, allowed > 0").
+Collider collider_from_abi(const clothlab_collider& collider);
+// Copies and validates a pose; throws std::invalid_argument for a non-finite component or an
+// orientation that is not a unit quaternion (within 1e-6; the copy is normalised).
+Pose pose_from_abi(const clothlab_pose& pose);
+
+// How far a point lies outside the surface (negative inside) and the outward unit normal of
+// the surface at its closest point (on a shape's medial set, e.g. a sphere's centre, the
+// normal of one of the closest points).
+struct SurfaceDistance {
+  double distance = 0;
+  Vec3 normal{0, 1, 0};
+};
+
+SurfaceDistance surface_distance(const Collider& collider, const Vec3& point);
+
+}  // namespace clothlab

@@ -1,0 +1,21 @@
+// Contact of one particle with the colliders (clothlab/ext/contacts.h): pushed out along the
+// surface normal to the thickness, the normal velocity into the body removed, Coulomb friction
+// on the tangential velocity.
+#pragma once
+
+#include <clothlab/core/collider.hpp>
+#include <span>
+
+namespace clothlab {
+
+// Resolves one particle against every collider in turn; returns whether any touched it.
+// Friction: the tangential velocity shrinks by friction x the normal velocity removed (the
+// normal impulse per unit mass), and stops at 0; so a particle sliding on a surface under
+// gravity g decelerates by friction x g, as Coulomb's law has it.
+bool resolve_contact(std::span<const Collider> colliders, Vec3& x, Vec3& v);
+
+// How deep a point lies inside any collider (0 when outside all): the penetration of the
+// surface itself, not of the thickness band.
+double penetration_depth(std::span<const Collider> colliders, const Vec3& x);
+
+}  // namespace clothlab

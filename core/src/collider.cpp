@@ -1,0 +1,123 @@
+// Collider poses (quaternion rotations) and the checks on a scenario's colliders and poses.
+#include <clothlab/core/collider.hpp>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "value_text.hpp"
+
+namespace clothlab {
+namespace {
+
+// Rotates v by the unit quaternion (w, x, y, z), or by its inverse.
+Vec3 rotate_by(const std::array<double, 4>& q, const Vec3& v, bool inverse) {
+  const double w = q[0];
+  const double s = inverse ? -1.0 : 1.0;
+  const Vec3 u{s * q[1], s * q[2], s * q[3]};
+  // v' = v + 2 w (u x v) + 2 u x (u x v)
+  const Vec3 uv{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const Vec3 uuv{u[1] * uv[2] - u[2] * uv[1], u[2] * uv[0] - u[0] * uv[2],
+                 u[0] * uv[1] - u[1] * uv[0]};
+  return {v[0] + 2 * (w * uv[0] + uuv[0]), v[1] + 2 * (w * uv[1] + uuv[1]),
+          v[2] + 2 * (w * uv[2] + uuv[2])};
+}
+
+void require(bool ok, const std::string& field, double value, const char* allowed) {
+  if (!ok)
+    throw std::invalid_argument(field + " = " + detail::value_text(value) + ", allowed " + allowed);
+}
+
+void require_positive(const std::string& field, double value) {
+  require(std::isfinite(value) && value > 0, field, value, "finite > 0");
+}
+
+}  // namespace
+
+std::string_view to_string(ColliderShape shape) {
+  switch (shape) {
+    case ColliderShape::Sphere:
+      return "sphere";
+    case ColliderShape::Capsule:
+      return "capsule";
+    case ColliderShape::Plane:
+      return "plane";
+    case ColliderShape::Box:
+      return "box";
+  }
+  return "unknown";
+}
+
+Vec3 Pose::rotate(const Vec3& local) const { return rotate_by(orientation, local, false); }
+
+Vec3 Pose::to_world(const Vec3& local) const {
+  const Vec3 turned = rotate(local);
+  return {turned[0] + position[0], turned[1] + position[1], turned[2] + position[2]};
+}
+
+Vec3 Pose::to_local(const Vec3& world) const {
+  return rotate_by(orientation,
+                   {world[0] - position[0], world[1] - position[1], world[2] - position[2]}, true);
+}
+
+Collider collider_from_abi(const clothlab_collider& in) {
+  if (in.struct_size < sizeof(clothlab_collider))
+    throw std::invalid_argument("collider struct_size = " + std::to_string(in.struct_size) +
+                                ", allowed at least " + std::to_string(sizeof(clothlab_collider)));
+  Collider out;
+  switch (in.shape) {
+    case CLOTHLAB_COLLIDER_SPHERE:
+      out.shape = ColliderShape::Sphere;
+      require_positive("radius", in.radius);
+      break;
+    case CLOTHLAB_COLLIDER_CAPSULE:
+      out.shape = ColliderShape::Capsule;
+      require_positive("radius", in.radius);
+      require_positive("end_radius", in.end_radius);
+      require_positive("half_length", in.half_length);
+      break;
+    case CLOTHLAB_COLLIDER_PLANE:
+      out.shape = ColliderShape::Plane;
+      break;
+    case CLOTHLAB_COLLIDER_BOX:
+      out.shape = ColliderShape::Box;
+      for (int k = 0; k < 3; ++k)
+        require_positive("half_extents[" + std::to_string(k) + "]", in.half_extents[k]);
+      break;
+    default:
+      throw std::invalid_argument("shape = " + std::to_string(in.shape) +
+                                  ", allowed 1 (sphere), 2 (capsule), 3 (plane) or 4 (box)");
+  }
+  require(std::isfinite(in.friction) && in.friction >= 0, "friction", in.friction, "finite >= 0");
+  require(std::isfinite(in.thickness) && in.thickness >= 0, "thickness", in.thickness,
+          "finite >= 0");
+  out.radius = in.radius;
+  out.end_radius = in.end_radius;
+  out.half_length = in.half_length;
+  for (int k = 0; k < 3; ++k) out.half_extents[k] = in.half_extents[k];
+  out.friction = in.friction;
+  out.thickness = in.thickness;
+  return out;
+}
+
+Pose pose_from_abi(const clothlab_pose& in) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  static constexpr const char* parts[] = {"w", "x", "y", "z"};
+  Pose out;
+  for (int k = 0; k < 3; ++k) {
+    require(std::isfinite(in.position[k]), std::string("position.") + axes[k], in.position[k],
+            "finite");
+    out.position[k] = in.position[k];
+  }
+  double squared = 0;
+  for (int k = 0; k < 4; ++k) {
+    require(std::isfinite(in.orientation[k]), std::string("orientation.") + parts[k],
+            in.orientation[k], "finite");
+    squared += in.orientation[k] * in.orientation[k];
+  }
+  const double length = std::sqrt(squared);
+  require(std::abs(length - 1) <= 1e-6, "|orientation|", length, "1 (a unit quaternion, 1e-6)");
+  for (int k = 0; k < 4; ++k) out.orientation[k] = in.orientation[k] / length;
+  return out;
+}
+
+}  // namespace clothlab
