@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <thread>
 
+#include "../support/sanitizer.hpp"
+
 using namespace clothlab::conformance;
 
 namespace {
@@ -56,5 +58,11 @@ TEST(AllocationCounter, CountsAllocationsOfOtherThreads) {
   const uint64_t calls = allocations::disarm();
   stage.store(3);
   worker.join();
-  EXPECT_EQ(calls, 2u);  // the worker's malloc and free
+  // The worker's malloc and free; in a sanitizer build the runtime's own bookkeeping for the
+  // thread is counted through its allocation hooks as well.
+  if (clothlab::testing::address_sanitizer) {
+    EXPECT_GE(calls, 2u);
+  } else {
+    EXPECT_EQ(calls, 2u);
+  }
 }
