@@ -10,7 +10,7 @@ profile="${1:-test}"
 packages=(
   cmake g++ make pkg-config
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libsuitesparse-dev
 )
 case "$profile" in
   run) ;;
