@@ -11,6 +11,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "scene_air.hpp"
+
 namespace clothlab::cli {
 
 namespace {
@@ -218,6 +220,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
                               "scenario " + std::string(scenario_->info().id) +
                                   " described an invalid scene: " + error.what());
     }
+    scene.air = scene_air(*scenario_, *scenario_instance_);
     PipelineOptions options;
     options.velocity_forces = integrator_->uses_velocity_forces();
     options.threads = config.threads;

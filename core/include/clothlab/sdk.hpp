@@ -25,7 +25,8 @@
 // `void last_step_statistics(clothlab_solver_step_statistics&) const`.
 // A scenario (ABI 1.3) offers clothlab.colliders/1 by two members,
 // `std::span<const clothlab_collider> colliders() const` and
-// `clothlab_pose collider_pose(uint32_t index, double t) const`, and extensions the SDK has no
+// `clothlab_pose collider_pose(uint32_t index, double t) const`, clothlab.air/1 by a member
+// `clothlab_air air() const`, and extensions the SDK has no
 // glue for by a static member
 // `const void* extension(std::string_view id) noexcept` returning the table for `id`, or
 // nullptr; its tables' functions receive the instance as a `void*`.
@@ -35,6 +36,7 @@
 //                         clothlab::sdk::scenarios<>)
 #pragma once
 
+#include <clothlab/ext/air.h>
 #include <clothlab/ext/colliders.h>
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
@@ -441,7 +443,7 @@ const clothlab_integrator* integrator_descriptor() {
 }
 
 // A scenario's extensions: clothlab.colliders/1 when its class has colliders() and
-// collider_pose(), and those it returns from a static member
+// collider_pose(), clothlab.air/1 when it has air(), and those it returns from a static member
 // `const void* extension(std::string_view id) noexcept`; NULL for any other id.
 template <class Impl>
 const void* scenario_extension(const char* id) noexcept {
@@ -478,6 +480,20 @@ const void* scenario_extension(const char* id) noexcept {
           });
         }};
     if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS) == 0) return &colliders;
+  }
+  if constexpr (requires(const Impl& impl) {
+                  { impl.air() } -> std::same_as<clothlab_air>;
+                }) {
+    static const clothlab_air_extension air{
+        [](void* instance, clothlab_air* out, clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            if (out == nullptr || out->struct_size < sizeof(clothlab_air))
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "air: buffer too small");
+            *out = static_cast<const Impl*>(instance)->air();
+            out->struct_size = sizeof(clothlab_air);
+          });
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_AIR) == 0) return &air;
   }
   if constexpr (requires(std::string_view name) {
                   { Impl::extension(name) }

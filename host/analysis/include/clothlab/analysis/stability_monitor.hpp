@@ -13,7 +13,8 @@
 //         the bound is integrated as dt_interval * max(P_before, P_after) * wind_work_safety (the
 //         speed may peak between samples); this over-estimates the true work by the cos factors
 //         and by v_max against mean speeds, which is fine: a divergence grows without limit and
-//         crosses any such bound, while a calm run stays far below it.
+//         crosses any such bound, while a calm run stays far below it. The air's drag and lift
+//         (clothlab/ext/air.h) add at most rho (C_d + C_l / 2) (|w| + v_max)^2 / 2 to S.
 //       margin = energy_margin * scale, scale = M |g| diagonal + |E0 parts|: the energy the
 //         whole cloth would gain by falling its own diagonal, a size that damped dynamics never
 //         approach in error but divergent ones overshoot within a few steps.
@@ -34,7 +35,7 @@ struct MonitorOptions {
   // corner load does not spread); 5x separates that from a blow-up, which grows without
   // bound. Set 2 (stability.max_stretch) to flag super-elastic cloth as well.
   double stretch_limit = 5.0;
-  double energy_margin = 1.0;    // times the energy scale (see above)
+  double energy_margin = 1.0;  // times the energy scale (see above)
   double wind_work_safety = 2.0;
 };
 
