@@ -46,5 +46,6 @@ void Cloth::set_colliders(std::span<const Collider> colliders) {
   impl_->engine->set_colliders(colliders);
 }
 Cloth::Contacts Cloth::contacts() const { return impl_->engine->contacts(); }
+std::span<const Collider> Cloth::colliders() const { return impl_->engine->colliders(); }
 
 }  // namespace clothlab

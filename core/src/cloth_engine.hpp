@@ -40,6 +40,7 @@ class ClothEngine final : public Engine {
   Cloth::LongestSpring longest_spring(Cloth::Springs springs) const override;
   void set_colliders(std::span<const Collider> colliders) override;
   Cloth::Contacts contacts() const override;
+  std::span<const Collider> colliders() const override { return colliders_; }
 
  private:
   struct Span {

@@ -29,6 +29,7 @@ class Engine {
   virtual Cloth::LongestSpring longest_spring(Cloth::Springs springs) const = 0;
   virtual void set_colliders(std::span<const Collider> colliders) = 0;
   virtual Cloth::Contacts contacts() const = 0;
+  virtual std::span<const Collider> colliders() const = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,

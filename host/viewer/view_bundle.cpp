@@ -6,6 +6,7 @@
 #include <clothlab/io/frame_formats.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <system_error>
 
 namespace fs = std::filesystem;
@@ -55,6 +56,9 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
   const size_t stride = (entries.size() + max_frames - 1) / max_frames;
 
   nlohmann::json times = nlohmann::json::array(), energy = nlohmann::json::array();
+  // The first frame's collider shapes, every frame's poses (a pose: position x y z, then the
+  // orientation quaternion w x y z).
+  nlohmann::json colliders = nlohmann::json::array(), collider_poses = nlohmann::json::array();
   std::string positions = "[", stretch = "[";
   std::vector<uint32_t> triangles;  // the first frame's: every frame has the same
   for (size_t i = 0; i < entries.size(); i += stride) {
@@ -67,6 +71,24 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
     if (frame.positions.size() != 3 * run.value("rows", 0ull) * run.value("cols", 0ull))
       throw host::InputError((dir / entries[i].file).string() +
                              ": point count does not match the mesh in run.json");
+    if (i == 0) {
+      for (const Collider& collider : frame.colliders)
+        colliders.push_back({{"shape", std::string(to_string(collider.shape))},
+                             {"radius", collider.radius},
+                             {"end_radius", collider.end_radius},
+                             {"half_length", collider.half_length},
+                             {"half_extents", collider.half_extents}});
+    }
+    if (frame.colliders.size() != colliders.size())
+      throw host::InputError((dir / entries[i].file).string() + ": " +
+                             std::to_string(frame.colliders.size()) +
+                             " colliders, the first frame " + std::to_string(colliders.size()));
+    nlohmann::json poses = nlohmann::json::array();
+    for (const Collider& collider : frame.colliders) {
+      for (double value : collider.pose.position) poses.push_back(value);
+      for (double value : collider.pose.orientation) poses.push_back(value);
+    }
+    collider_poses.push_back(std::move(poses));
     times.push_back(entries[i].time);
     energy.push_back({frame.energy.kinetic, frame.energy.spring, frame.energy.gravity});
     for (auto [text, values] :
@@ -82,7 +104,9 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
                                {"cols", run.value("cols", 0)},
                                {"triangles", base64_of(triangles)},
                                {"times", times},
-                               {"energy", energy}};
+                               {"energy", energy},
+                               {"colliders", colliders},
+                               {"collider_poses", collider_poses}};
   const std::string head_text = head.dump();
   out << "CLOTHLAB_RUNS.push(Object.assign(" << head_text << ", {positions: " << positions
       << "], stretch: " << stretch << "]}));\n";

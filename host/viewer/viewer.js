@@ -5,6 +5,7 @@
 
 const SWATCHES = [0x4fc3f7, 0xffb74d, 0xaed581, 0xf06292];
 const BACKGROUND = 0x1d2026;
+const COLLIDER_COLOUR = 0xc8b89a;
 const params = new URLSearchParams(location.search);
 
 function decodeBytes(base64) {
@@ -36,18 +37,66 @@ const runs = (window.CLOTHLAB_RUNS || []).map((data, i) => ({
   triangles: new Uint32Array(decodeBytes(data.triangles)),
   positions: data.positions.map(decodeFloats),
   stretch: data.stretch.map(decodeFloats),
+  colliders: data.colliders || [],
+  collider_poses: data.collider_poses || [],
 }));
 const duration = Math.max(...runs.map((run) => run.times[run.times.length - 1]));
 const maxStretch = Math.max(1.05, ...runs.flatMap((run) => run.stretch.map((s) => s.reduce((a, b) => Math.max(a, b), 1))));
 
-// Bounds over every frame of every run: the camera frames them all.
+// Where collider `i` of a run is in frame `index`: its position and orientation.
+function colliderPose(run, index, i) {
+  const p = run.collider_poses[index].slice(7 * i, 7 * i + 7);
+  return { position: new THREE.Vector3(p[0], p[1], p[2]), orientation: new THREE.Quaternion(p[4], p[5], p[6], p[3]) };
+}
+// The largest distance of a bounded collider's surface from its origin; 0 for a plane.
+function colliderReach(shape) {
+  if (shape.shape === "sphere") return shape.radius;
+  if (shape.shape === "capsule") return shape.half_length + Math.max(shape.radius, shape.end_radius);
+  if (shape.shape === "box") return Math.hypot(...shape.half_extents);
+  return 0;
+}
+
+// Bounds over every frame of every run, cloth and bounded colliders: the camera frames them all.
 const bounds = new THREE.Box3();
-for (const run of runs)
+for (const run of runs) {
   for (const frame of run.positions)
     for (let k = 0; k < frame.length; k += 3)
       bounds.expandByPoint(new THREE.Vector3(frame[k], frame[k + 1], frame[k + 2]));
+  run.colliders.forEach((shape, i) => {
+    const reach = colliderReach(shape);
+    if (reach > 0)
+      for (let index = 0; index < run.times.length; ++index)
+        bounds.expandByPoint(colliderPose(run, index, i).position.addScalar(reach))
+          .expandByPoint(colliderPose(run, index, i).position.addScalar(-reach));
+  });
+}
 const centre = bounds.getCenter(new THREE.Vector3());
 const radius = Math.max(1e-3, bounds.getSize(new THREE.Vector3()).length() / 2);
+
+// A collider's shape in its own frame (clothlab/ext/colliders.h): a tapered capsule is drawn as
+// its two end spheres joined by a truncated cone along x, a plane as a square of the view's
+// size in y = 0.
+function colliderObject(shape, material) {
+  if (shape.shape === "sphere") return new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 48, 24), material);
+  if (shape.shape === "box") {
+    const [x, y, z] = shape.half_extents;
+    return new THREE.Mesh(new THREE.BoxGeometry(2 * x, 2 * y, 2 * z), material);
+  }
+  if (shape.shape === "capsule") {
+    const group = new THREE.Group(), h = shape.half_length;
+    const start = new THREE.Mesh(new THREE.SphereGeometry(shape.radius, 32, 16), material);
+    const end = new THREE.Mesh(new THREE.SphereGeometry(shape.end_radius, 32, 16), material);
+    start.position.x = -h;
+    end.position.x = h;
+    const side = new THREE.Mesh(new THREE.CylinderGeometry(shape.end_radius, shape.radius, 2 * h, 32, 1, true), material);
+    side.rotation.z = -Math.PI / 2;  // the cylinder's +y axis onto +x
+    group.add(start, end, side);
+    return group;
+  }
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry(4 * radius, 4 * radius), material);
+  plane.rotation.x = -Math.PI / 2;  // its +z normal onto +y
+  return plane;
+}
 
 const view = document.getElementById("view");
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -70,6 +119,14 @@ for (const [i, run] of runs.entries()) {
   run.wire = new THREE.MeshBasicMaterial({ color: run.swatch, wireframe: true });
   run.mesh = new THREE.Mesh(geometry, run.solid);
   run.scene.add(run.mesh);
+  const colliderMaterial = new THREE.MeshLambertMaterial({ color: COLLIDER_COLOUR, side: THREE.DoubleSide });
+  run.colliderObjects = run.colliders.map((shape) => {
+    const placed = new THREE.Object3D();
+    placed.add(colliderObject(shape, colliderMaterial));
+    placed.visible = params.get("colliders") !== "0";
+    run.scene.add(placed);
+    return placed;
+  });
   run.label = document.createElement("div");
   run.label.className = "label";
   run.label.textContent = `${i + 1}: ${run.run.integrator} on ${run.run.scenario}`;
@@ -179,6 +236,11 @@ function showFrame(run, overlaid) {
   }
   geometry.attributes.color.needsUpdate = true;
   run.mesh.material = overlaid ? run.wire : run.solid;
+  run.colliderObjects.forEach((placed, i) => {
+    const pose = colliderPose(run, index, i);
+    placed.position.copy(pose.position);
+    placed.quaternion.copy(pose.orientation);
+  });
 }
 
 function render() {

@@ -9,6 +9,12 @@
         no-frames                `clothlab view` on a folder without frames: one line, exit 1
         mutant-draws-nothing     the same page with its render call removed: the cloth check
                                  must find no cloth (the check can fail)
+        collider-drawn           a small drape over a larger sphere: the view with its colliders and the
+                                 same view with them hidden (colliders=0) differ in enough
+                                 pixels, below the cloth's top, and the sphere's pixels have
+                                 the collider colour's hue
+        mutant-draws-no-collider the page with the colliders never added to the scene: the
+                                 collider check must find none (the check can fail)
 The screenshots stay in WORK_DIR (printed) as test artefacts.
 """
 import os
@@ -80,6 +86,68 @@ def check_cloth(image, box, name):
     return count
 
 
+def drape_view(out):
+    folder = os.path.join(out, "drape")
+    run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "drape",
+        "--set", "scenario.rows=20", "--set", "scenario.cols=20", "--set", "scenario.width=0.4",
+        "--set", "scenario.height=0.4", "--duration", "0.5",
+        "--set", "frames.rate=30", "--frames", folder, "--quiet")
+    view = os.path.join(out, "view")
+    run(CLOTHLAB, "view", folder, "--out", view)
+    return view
+
+
+def collider_pixels(view, out):
+    """View pixels that change when the colliders are hidden, and their bounding box."""
+    page = os.path.join(view, "index.html")
+    shown = screenshot(page, "t=0.5&paused=1", os.path.join(out, "colliders.png"))
+    hidden = screenshot(page, "t=0.5&paused=1&colliders=0", os.path.join(out, "no-colliders.png"))
+    box = (0, 0, WIDTH - PANEL, HEIGHT)
+    changed = ImageChops.difference(shown.crop(box), hidden.crop(box)).convert("L")
+    mask = changed.point(lambda d: 255 if d > 24 else 0)
+    return shown.crop(box), mask, sum(1 for p in mask.getdata() if p)
+
+
+def collider_drawn():
+    out = os.path.join(WORK, "collider")
+    shutil.rmtree(out, ignore_errors=True)
+    image, mask, count = collider_pixels(drape_view(out), out)
+    area = (WIDTH - PANEL) * HEIGHT
+    if count < 0.02 * area:
+        fail(f"only {count} of {area} view pixels change when the colliders are hidden: no "
+             "collider drawn")
+    # The sphere lies under the cloth: its pixels reach lower in the view than the cloth's top.
+    _, top, _, bottom = mask.getbbox()
+    if bottom < HEIGHT / 2:
+        fail(f"the collider's pixels end at row {bottom}, above the view's middle")
+    # Its colour (viewer.js COLLIDER_COLOUR, shaded): warm grey, red >= green >= blue.
+    warm = sum(1 for (r, g, b), m in zip(image.getdata(), mask.getdata())
+               if m and r + 4 >= g >= b - 4 and r > b)
+    if warm < 0.5 * count:
+        fail(f"{warm} of the {count} collider pixels have the collider colour's hue")
+    print(f"ok: {count} of {area} view pixels are the collider (rows {top}-{bottom}), "
+          f"{warm} in its colour")
+
+
+def mutant_draws_no_collider():
+    out = os.path.join(WORK, "collider-mutant")
+    shutil.rmtree(out, ignore_errors=True)
+    view = drape_view(out)
+    script = os.path.join(view, "viewer.js")
+    with open(script) as stream:
+        text = stream.read()
+    add_call = "run.scene.add(placed);"
+    if add_call not in text:
+        fail(f"viewer.js has no '{add_call}' to remove")
+    with open(script, "w") as stream:
+        stream.write(text.replace(add_call, ""))
+    _, _, count = collider_pixels(view, out)
+    area = (WIDTH - PANEL) * HEIGHT
+    if count >= 0.02 * area:
+        fail(f"a page that draws no collider passes the collider check ({count} of {area} pixels)")
+    print(f"ok: the page without colliders in its scene changes {count} of {area} pixels")
+
+
 def cloth_drawn_and_moving():
     out = os.path.join(WORK, "single")
     shutil.rmtree(out, ignore_errors=True)
@@ -146,4 +214,5 @@ def no_frames():
 
 
 {"cloth-drawn-and-moving": cloth_drawn_and_moving, "side-by-side": side_by_side,
- "no-frames": no_frames, "mutant-draws-nothing": mutant_draws_nothing}[CASE]()
+ "no-frames": no_frames, "mutant-draws-nothing": mutant_draws_nothing,
+ "collider-drawn": collider_drawn, "mutant-draws-no-collider": mutant_draws_no_collider}[CASE]()

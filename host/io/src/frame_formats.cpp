@@ -49,6 +49,50 @@ void field(std::string& out, const char* name, double value) {
   out += "</DataArray>\n";
 }
 
+// Field data of `tuples` tuples of `components` numbers each.
+void field_tuples(std::string& out, const char* name, std::size_t tuples, std::size_t components,
+                  const std::vector<double>& values) {
+  out += "      <DataArray type=\"Float64\" Name=\"";
+  out += name;
+  out += "\" NumberOfTuples=\"" + std::to_string(tuples) + "\" NumberOfComponents=\"" +
+         std::to_string(components) + "\" format=\"ascii\">";
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) out += ' ';
+    out += host::format_number(values[i]);
+  }
+  out += "</DataArray>\n";
+}
+
+constexpr std::size_t kShapeFields = 8, kPoseFields = 7;
+
+uint32_t shape_code(ColliderShape shape) {
+  switch (shape) {
+    case ColliderShape::Sphere:
+      return CLOTHLAB_COLLIDER_SPHERE;
+    case ColliderShape::Capsule:
+      return CLOTHLAB_COLLIDER_CAPSULE;
+    case ColliderShape::Plane:
+      return CLOTHLAB_COLLIDER_PLANE;
+    case ColliderShape::Box:
+      return CLOTHLAB_COLLIDER_BOX;
+  }
+  return 0;
+}
+
+void collider_fields(std::string& out, const std::vector<Collider>& colliders) {
+  if (colliders.empty()) return;
+  std::vector<double> shapes, poses;
+  for (const Collider& c : colliders) {
+    shapes.insert(shapes.end(),
+                  {static_cast<double>(shape_code(c.shape)), c.radius, c.end_radius, c.half_length,
+                   c.half_extents[0], c.half_extents[1], c.half_extents[2], c.thickness});
+    poses.insert(poses.end(), c.pose.position.begin(), c.pose.position.end());
+    poses.insert(poses.end(), c.pose.orientation.begin(), c.pose.orientation.end());
+  }
+  field_tuples(out, "collider_shapes", colliders.size(), kShapeFields, shapes);
+  field_tuples(out, "collider_poses", colliders.size(), kPoseFields, poses);
+}
+
 // A number the file holds, read by the host's one number parser (host::parse_real).
 double number_in(std::string_view text, const std::string& what,
                  const std::filesystem::path& path) {
@@ -136,6 +180,51 @@ double ascii_value(const std::string& text, const std::string& name,
   return number_in(array_body(text, name, path), "DataArray " + name, path);
 }
 
+std::vector<double> ascii_values(const std::string& text, const std::string& name,
+                                 const std::filesystem::path& path) {
+  std::vector<double> values;
+  std::istringstream words{std::string(array_body(text, name, path))};
+  for (std::string word; words >> word;)
+    values.push_back(number_in(word, "DataArray " + name, path));
+  return values;
+}
+
+// The colliders a frame holds, checked by the core's one collider and pose validation.
+std::vector<Collider> read_colliders(const std::string& text, const std::filesystem::path& path) {
+  if (text.find("Name=\"collider_shapes\"") == std::string::npos) return {};
+  const std::vector<double> shapes = ascii_values(text, "collider_shapes", path);
+  const std::vector<double> poses = ascii_values(text, "collider_poses", path);
+  const std::size_t count = shapes.size() / kShapeFields;
+  if (shapes.size() != count * kShapeFields || poses.size() != count * kPoseFields)
+    throw std::runtime_error(path.string() + ": collider_shapes holds " +
+                             std::to_string(shapes.size()) + " numbers and collider_poses " +
+                             std::to_string(poses.size()) + "; allowed 8 and 7 per collider");
+  std::vector<Collider> colliders;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double* shape = shapes.data() + i * kShapeFields;
+    const double* pose = poses.data() + i * kPoseFields;
+    clothlab_collider raw{};
+    raw.struct_size = sizeof raw;
+    raw.shape = static_cast<uint32_t>(shape[0]);
+    raw.radius = shape[1];
+    raw.end_radius = shape[2];
+    raw.half_length = shape[3];
+    for (int k = 0; k < 3; ++k) raw.half_extents[k] = shape[4 + k];
+    raw.thickness = shape[7];
+    clothlab_pose raw_pose{};
+    for (int k = 0; k < 3; ++k) raw_pose.position[k] = pose[k];
+    for (int k = 0; k < 4; ++k) raw_pose.orientation[k] = pose[3 + k];
+    try {
+      colliders.push_back(collider_from_abi(raw));
+      colliders.back().pose = pose_from_abi(raw_pose);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error(path.string() + ": collider " + std::to_string(i) + ": " +
+                               error.what());
+    }
+  }
+  return colliders;
+}
+
 }  // namespace
 
 VtpTopology vtp_topology(const GridMesh& mesh) {
@@ -192,6 +281,7 @@ void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame)
   field(text, "energy_spring", frame.energy.spring);
   field(text, "energy_gravity", frame.energy.gravity);
   field(text, "energy_total", frame.energy.total());
+  collider_fields(text, frame.colliders);
   text += "    </FieldData>\n    <Piece NumberOfPoints=\"";
   text += std::to_string(frame.positions.size() / 3);
   text += "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"";
@@ -248,6 +338,7 @@ Frame read_vtp(const std::filesystem::path& path, std::vector<uint32_t>* triangl
   frame.energy = {ascii_value(text, "energy_kinetic", path),
                   ascii_value(text, "energy_spring", path),
                   ascii_value(text, "energy_gravity", path)};
+  frame.colliders = read_colliders(text, path);
   if (frame.velocities.size() != frame.positions.size() ||
       frame.stretch.size() * 3 != frame.positions.size())
     throw std::runtime_error(path.string() + ": point data sizes do not match the points");

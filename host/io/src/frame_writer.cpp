@@ -25,6 +25,7 @@ struct Snapshot {
   uint64_t step = 0;
   double time = 0;
   Cloth::RawState state;
+  std::vector<Collider> colliders;  // at their poses then
 };
 
 // Frames the stepping thread may be ahead of the writer before it waits: enough to ride out
@@ -135,6 +136,7 @@ struct FrameWriter::Impl {
     compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
     const Cloth::Energy energy = energy_cloth.energy();
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
+    frame.colliders = snapshot.colliders;
     if (vtp) {
       const std::string name = frame_name(frames, "vtp");
       compose_vtp(vtp_file, topology, frame);
@@ -277,6 +279,8 @@ void FrameWriter::submit(const Cloth& cloth, uint64_t step, double t) {
   snapshot.step = step;
   snapshot.time = t;
   cloth.copy_raw_state(snapshot.state);
+  const std::span<const Collider> colliders = cloth.colliders();
+  snapshot.colliders.assign(colliders.begin(), colliders.end());
   {
     std::lock_guard lock(impl.mutex);
     ++impl.submitted;

@@ -172,6 +172,8 @@ class Cloth {
   // host sets them before each step (none: contacts are a no-op). Allocates only when there are
   // more than ever before.
   void set_colliders(std::span<const Collider> colliders);
+  // The colliders as last set (the frames draw them); valid until the next set_colliders.
+  std::span<const Collider> colliders() const;
   // The cloth against the colliders now: the deepest penetration of a collider's surface (m)
   // and how many particles lie inside one.
   struct Contacts {

@@ -2,6 +2,7 @@
 // rows x cols grid (particle r * cols + c), triangulated as the core triangulates it.
 #pragma once
 
+#include <clothlab/core/collider.hpp>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct Frame {
   // Per vertex: the largest length / rest length of its structural springs.
   std::vector<float> stretch;
   FrameEnergy energy;
+  // The scene's colliders (clothlab.colliders/1) at the pose they held over the step that ended
+  // at this frame; none for a scene without.
+  std::vector<Collider> colliders;
 };
 
 // The grid's vertices and the core's triangles of it (clothlab::grid_triangles).

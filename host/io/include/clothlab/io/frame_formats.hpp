@@ -1,7 +1,11 @@
 // The frame file formats, all written without a library:
 //   .vtp  VTK XML PolyData (ParaView): points, the triangles as one triangle strip per column
 //         of cells, point data velocity and stretch,
-//         field data TimeValue, step and the energies; arrays as raw appended binary
+//         field data TimeValue, step and the energies, and for a scene with colliders
+//         collider_shapes (per collider: shape code of clothlab/ext/colliders.h, radius,
+//         end_radius, half_length, half_extents x y z, thickness) and collider_poses (position
+//         x y z, orientation w x y z), ascii; files without them (older ones) read as no
+//         colliders; arrays as raw appended binary
 //         (little-endian, header_type UInt64: no encoding to spend time on; the triangles'
 //         bytes computed once per run and written from where they lie, as are the frame's).
 //   .pvd  the ParaView collection listing the .vtp files with their times.
@@ -38,9 +42,9 @@ struct VtpFile {
 void compose_vtp(VtpFile& file, const VtpTopology& topology, const Frame& frame);
 void write_vtp(std::ostream& out, const VtpTopology& topology, const Frame& frame);
 
-// Reads a .vtp this module wrote (positions, velocities, stretch, time, step, energy, and
-// the triangles its strips hold in *triangles, 3 point indices each). Throws
-// std::runtime_error naming the file and what is missing.
+// Reads a .vtp this module wrote (positions, velocities, stretch, time, step, energy,
+// colliders, and the triangles its strips hold in *triangles, 3 point indices each). Throws
+// std::runtime_error naming the file and what is missing or malformed.
 Frame read_vtp(const std::filesystem::path& path, std::vector<uint32_t>* triangles = nullptr);
 
 struct CollectionEntry {

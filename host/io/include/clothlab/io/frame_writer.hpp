@@ -8,7 +8,8 @@
 // is the four slots, whatever the number of frames. The folder holds:
 //   run.json          the run: integrator, scenario, parameters, mesh, dt, frame times; its
 //                     verdict and summary once finished ("status": running | finished)
-//   frames.pvd        index of frame_NNNNNN.vtp with their times        (format vtp)
+//   frames.pvd        index of frame_NNNNNN.vtp with their times        (format vtp); each
+//                     .vtp holds the scene's colliders at the frame's poses
 //   frame_NNNNNN.obj  one OBJ per frame                                 (format obj)
 //   frames.pc2        point cache of every frame, written when the run ends (format pc2)
 #pragma once
