@@ -16,7 +16,7 @@ build=${1:-build}
 faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_step abi_major_2
         throws_through_boundary allocates_every_step misdeclares_scheme
         claims_unconditional_stability flips_the_stiffness_sign allocates_in_worker_thread
-        reserves_in_step)
+        reserves_in_step claims_to_resolve_contacts jumps_its_collider)
 cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
   euler midpoint rk4 verlet xpbd vbd sheet flag c_euler "${faulty[@]/#/faulty_}"
 
@@ -67,6 +67,8 @@ expectations=(
   "flips_the_stiffness_sign|flips-the-stiffness-sign|stability.default-sheet|--filter stability.default"
   "allocates_in_worker_thread|allocates-in-worker-thread|robustness.no-alloc|--filter robustness.no-alloc"
   "reserves_in_step|reserves-in-step|robustness.no-alloc|--filter robustness.no-alloc"
+  "claims_to_resolve_contacts|claims-to-resolve-contacts|contacts.no-tunnelling|--filter contacts"
+  "jumps_its_collider|jumps-its-collider|scenario.colliders|--filter scenario.colliders"
 )
 for expectation in "${expectations[@]}"; do
   IFS='|' read -r name component check options <<<"$expectation"

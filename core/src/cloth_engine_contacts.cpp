@@ -10,9 +10,14 @@
 
 namespace clothlab::detail {
 
+// The host sets the colliders at each step's start: the positions then are where each particle's
+// path over the step begins.
 template <class Real>
 void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders) {
   colliders_.assign(colliders.begin(), colliders.end());
+  if (colliders_.empty()) return;
+  if (path_start_.size() != x_.size()) path_start_ = AlignedBuffer<Real>(x_.size());
+  std::copy_n(x_.data(), x_.size(), path_start_.data());
 }
 
 template <class Real>
@@ -32,11 +37,17 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       for (int k = 0; k < 3; ++k)
         if (!std::isfinite(position[k]) || !std::isfinite(velocity[k]))
           return CLOTHLAB_ERROR_NUMERICAL;
-      if (!resolve_contact(self.colliders_, position, velocity)) continue;
-      for (int k = 0; k < 3; ++k) {
-        px[k * s + i] = static_cast<Real>(position[k]);
-        pv[k * s + i] = static_cast<Real>(velocity[k]);
+      Real* const start = self.path_start_.data();
+      const Vec3 from{start[i], start[s + i], start[2 * s + i]};
+      const bool touched = resolve_swept_contact(self.colliders_, from, position, velocity);
+      if (touched) {
+        for (int k = 0; k < 3; ++k) {
+          px[k * s + i] = static_cast<Real>(position[k]);
+          pv[k * s + i] = static_cast<Real>(velocity[k]);
+        }
       }
+      // The next substep's path starts where this one's ends.
+      for (int k = 0; k < 3; ++k) start[k * s + i] = px[k * s + i];
     }
   return CLOTHLAB_OK;
 }

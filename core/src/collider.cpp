@@ -1,4 +1,5 @@
 // Collider poses (quaternion rotations) and the checks on a scenario's colliders and poses.
+#include <algorithm>
 #include <clothlab/core/collider.hpp>
 #include <cmath>
 #include <stdexcept>
@@ -118,6 +119,26 @@ Pose pose_from_abi(const clothlab_pose& in) {
   require(std::abs(length - 1) <= 1e-6, "|orientation|", length, "1 (a unit quaternion, 1e-6)");
   for (int k = 0; k < 4; ++k) out.orientation[k] = in.orientation[k] / length;
   return out;
+}
+
+void check_pose_continuity(const Pose& before, const Pose& after, double dt) {
+  const Vec3& p = before.position;
+  const Vec3& q = after.position;
+  const double moved = std::hypot(q[0] - p[0], q[1] - p[1], q[2] - p[2]);
+  if (!(moved <= max_collider_speed * dt))
+    throw std::invalid_argument("position moved " + detail::value_text(moved) + " m in " +
+                                detail::value_text(dt) + " s (" + detail::value_text(moved / dt) +
+                                " m/s), allowed <= " + detail::value_text(max_collider_speed) +
+                                " m/s");
+  double cosine = 0;
+  for (int k = 0; k < 4; ++k) cosine += before.orientation[k] * after.orientation[k];
+  // The rotation between two unit quaternions turns by 2 acos |<a, b>|.
+  const double turned = 2 * std::acos(std::min(1.0, std::abs(cosine)));
+  if (!(turned <= max_collider_turn_rate * dt))
+    throw std::invalid_argument(
+        "orientation turned " + detail::value_text(turned) + " rad in " + detail::value_text(dt) +
+        " s (" + detail::value_text(turned / dt) +
+        " rad/s), allowed <= " + detail::value_text(max_collider_turn_rate) + " rad/s");
 }
 
 }  // namespace clothlab

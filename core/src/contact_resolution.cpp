@@ -27,6 +27,50 @@ bool resolve_contact(std::span<const Collider> colliders, Vec3& x, Vec3& v) {
   return touched;
 }
 
+namespace {
+
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+constexpr int kAdvances = 256;
+
+// Where on the path from `from` to `to` (0 .. 1) it first comes within the collider's thickness;
+// nullopt-like -1 when it never does.
+double first_entry(const Collider& collider, const Vec3& from, const Vec3& to) {
+  const Vec3 path{to[0] - from[0], to[1] - from[1], to[2] - from[2]};
+  const double length = std::sqrt(dot(path, path));
+  if (length == 0) return -1;
+  double s = 0;
+  for (int advance = 0; advance < kAdvances && s <= 1; ++advance) {
+    const Vec3 at{from[0] + s * path[0], from[1] + s * path[1], from[2] + s * path[2]};
+    const double clearance = surface_distance(collider, at).distance - collider.thickness;
+    if (clearance < 0) return s;
+    s += std::max(clearance, length / kAdvances) / length;
+  }
+  return -1;
+}
+
+}  // namespace
+
+bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from, Vec3& x,
+                           Vec3& v) {
+  bool rewound = false;
+  for (const Collider& collider : colliders) {
+    const Vec3 path{x[0] - from[0], x[1] - from[1], x[2] - from[2]};
+    const double half = 0.5 * std::sqrt(dot(path, path));
+    const Vec3 middle{from[0] + 0.5 * path[0], from[1] + 0.5 * path[1], from[2] + 0.5 * path[2]};
+    // The path lies within `half` of its middle: farther than that plus the thickness from the
+    // surface, it cannot touch (the common case, one distance per particle).
+    if (surface_distance(collider, middle).distance > half + collider.thickness) continue;
+    if (dot(surface_distance(collider, from).normal, surface_distance(collider, x).normal) >= 0)
+      continue;  // the same side: the end's own resolution is right
+    const double s = first_entry(collider, from, x);
+    if (s < 0) continue;
+    for (int k = 0; k < 3; ++k) x[k] = from[k] + s * path[k];
+    rewound = true;
+  }
+  return resolve_contact(colliders, x, v) || rewound;
+}
+
 double penetration_depth(std::span<const Collider> colliders, const Vec3& x) {
   double depth = 0;
   for (const Collider& collider : colliders)

@@ -37,10 +37,23 @@ SceneColliders::SceneColliders(const host::ScenarioPlugin& scenario,
     }
   }
   // Every pose the run will ask for, so a scripted path that leaves the finite (or the unit
-  // quaternions) stops the run before its first step.
-  for (uint64_t step = 0; step <= steps; ++step)
-    for (uint32_t index = 0; index < count; ++index)
-      (void)pose(index, static_cast<double>(step) * dt);
+  // quaternions), or jumps between two steps, stops the run before its first step.
+  std::vector<Pose> previous(count);
+  for (uint64_t step = 0; step <= steps; ++step) {
+    const double t = static_cast<double>(step) * dt;
+    for (uint32_t index = 0; index < count; ++index) {
+      const Pose now = pose(index, t);
+      if (step > 0) {
+        try {
+          check_pose_continuity(previous[index], now, dt);
+        } catch (const std::invalid_argument& error) {
+          throw host::InputError(owner(index) + ": pose from t = " + host::format_number(t - dt) +
+                                 " s to " + host::format_number(t) + " s: " + error.what());
+        }
+      }
+      previous[index] = now;
+    }
+  }
 }
 
 std::span<const Collider> SceneColliders::at(double t) {

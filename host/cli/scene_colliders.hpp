@@ -18,8 +18,9 @@ class SceneColliders {
   // None: a scenario without the extension.
   SceneColliders() = default;
   // Reads every collider and its pose at each step start t = k dt, k = 0 .. steps, before the
-  // run: a malformed shape, friction or thickness, or a non-finite or non-unit pose, is an
-  // InputError naming the scenario, the collider, the field, its value and what is allowed;
+  // run: a malformed shape, friction or thickness, a non-finite or non-unit pose, or a pose that
+  // jumps between two steps (check_pose_continuity), is an InputError naming the scenario, the
+  // collider, the field, its value and what is allowed;
   // a failing call is the plugin's PluginError. `instance` must outlive this object.
   SceneColliders(const host::ScenarioPlugin& scenario, const host::ScenarioInstance& instance,
                  double dt, uint64_t steps);

@@ -46,6 +46,7 @@ std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator);
 std::vector<Check> numerics_checks(const clothlab_integrator& integrator);
 std::vector<Check> robustness_checks(const clothlab_integrator& integrator);
 std::vector<Check> stability_checks(const clothlab_integrator& integrator);
+std::vector<Check> contacts_checks(const clothlab_integrator& integrator);
 std::vector<Check> scenario_checks(const clothlab_scenario& scenario);
 
 }  // namespace clothlab::conformance

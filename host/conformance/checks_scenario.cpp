@@ -1,5 +1,8 @@
 // scenario.*: the scene a scenario describes (its cloth, its colliders, its air) is simulable,
 // repeatable and follows its parameters.
+#include <clothlab/ext/colliders.h>
+
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -107,6 +110,48 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
   return {true, std::to_string(changed) + " parameters change the scene as declared"};
 }
 
+// Every collider and its path over two seconds at 60 Hz pass the core's one collider validation,
+// as the host checks them before a run: shapes (collider_from_abi), finite unit poses
+// (pose_from_abi) and no jump between two frames (check_pose_continuity).
+Verdict colliders_valid(const clothlab_scenario& scenario) {
+  const auto* table = static_cast<const clothlab_colliders_extension*>(
+      clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_COLLIDERS));
+  if (table == nullptr) return {true, "no colliders"};
+  const ScenarioInstance instance(scenario, defaults_of(scenario));
+  constexpr double dt = 1.0 / 60.0;
+  constexpr int frames = 120;
+  const uint32_t count = table->count(instance.handle());
+  for (uint32_t i = 0; i < count; ++i) {
+    const std::string which = "collider " + std::to_string(i) + ": ";
+    clothlab_collider raw{};
+    raw.struct_size = sizeof raw;
+    clothlab_message message{};
+    clothlab_status status = table->describe(instance.handle(), i, &raw, &message);
+    require(status == CLOTHLAB_OK, which + "describe failed: " + describe_status(status, message));
+    try {
+      (void)collider_from_abi(raw);
+    } catch (const std::invalid_argument& error) {
+      throw CheckFailure(which + error.what());
+    }
+    Pose previous;
+    for (int frame = 0; frame <= frames; ++frame) {
+      const double t = frame * dt;
+      clothlab_pose raw_pose{};
+      status = table->pose(instance.handle(), i, t, &raw_pose, &message);
+      require(status == CLOTHLAB_OK, which + "pose at t = " + host::format_number(t) +
+                                         " s failed: " + describe_status(status, message));
+      try {
+        const Pose now = pose_from_abi(raw_pose);
+        if (frame > 0) check_pose_continuity(previous, now, dt);
+        previous = now;
+      } catch (const std::invalid_argument& error) {
+        throw CheckFailure(which + "pose at t = " + host::format_number(t) + " s: " + error.what());
+      }
+    }
+  }
+  return {true, std::to_string(count) + " colliders, valid shapes and continuous poses over 2 s"};
+}
+
 }  // namespace
 
 std::vector<Check> scenario_checks(const clothlab_scenario& scenario) {
@@ -115,6 +160,7 @@ std::vector<Check> scenario_checks(const clothlab_scenario& scenario) {
       {c->id, "scenario.valid", [c] { return scene_valid(*c); }},
       {c->id, "scenario.deterministic", [c] { return describe_repeatable(*c); }},
       {c->id, "scenario.params", [c] { return parameters_respected(*c); }},
+      {c->id, "scenario.colliders", [c] { return colliders_valid(*c); }},
   };
 }
 

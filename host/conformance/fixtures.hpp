@@ -68,6 +68,8 @@ class ScenarioInstance {
   std::vector<double> colliders_at_start() const;
   // Its air's fields (clothlab.air/1), empty without the extension.
   std::vector<double> air() const;
+  // The plugin's instance, the first argument of its extensions' functions.
+  void* handle() const { return instance_; }
 
  private:
   const clothlab_scenario& scenario_;

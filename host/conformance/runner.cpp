@@ -151,6 +151,7 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
     run.run_all(numerics_checks(*integrator));
     run.run_all(robustness_checks(*integrator));
     run.run_all(stability_checks(*integrator));
+    run.run_all(contacts_checks(*integrator));
   }
   for (uint32_t i = 0; i < library.scenario_count && library.scenarios; ++i) {
     const clothlab_scenario* scenario = library.scenarios[i];

@@ -377,6 +377,9 @@ TEST_F(Clothlab, MalformedCollidersAndPosesAreOneLineOfBadInputBeforeTheRun) {
       {"--set scenario.broken_pose_after=0.5",
        "scenario test-collider: collider 0 (plane): pose at t = 0.5 s: position.x = nan, allowed "
        "finite"},
+      {"--set scenario.jump_after=0.5",
+       "scenario test-collider: collider 0 (plane): pose from t = 0.499 s to 0.5 s: position "
+       "moved 2 m in 0.001 s (2000 m/s), allowed <= 100 m/s"},
   };
   for (const auto& [settings, message] : cases) {
     const Outcome outcome = run("--integrator=euler " + collider_scene + settings +

@@ -27,13 +27,16 @@ struct ColliderScene {
       real_param("thickness", 0.01, -1.0, 1.0, "m", "contact thickness"),
       real_param("broken_pose_after", -1.0, -1.0, 1e9, "s",
                  "from this time on the pose is not finite; -1 never"),
+      real_param("jump_after", -1.0, -1.0, 1e9, "s",
+                 "from this time on the collider is 2 m to the side; -1 never"),
   };
 
   explicit ColliderScene(const clothlab::sdk::Params& values)
       : rows_(static_cast<uint32_t>(values.integer("rows"))),
         cols_(static_cast<uint32_t>(values.integer("cols"))),
         height_(values.real("height")),
-        broken_after_(values.real("broken_pose_after")) {
+        broken_after_(values.real("broken_pose_after")),
+        jump_after_(values.real("jump_after")) {
     collider_.struct_size = sizeof collider_;
     collider_.shape = static_cast<uint32_t>(values.integer("shape"));
     collider_.radius = collider_.end_radius = values.real("radius");
@@ -60,12 +63,13 @@ struct ColliderScene {
   clothlab_pose collider_pose(uint32_t, double t) const {
     clothlab_pose pose{{0, 0, 0}, {1, 0, 0, 0}};
     if (broken_after_ >= 0 && t >= broken_after_) pose.position[0] = NAN;
+    if (jump_after_ >= 0 && t >= jump_after_) pose.position[0] = 2.0;
     return pose;
   }
 
  private:
   uint32_t rows_, cols_;
-  double height_, broken_after_;
+  double height_, broken_after_, jump_after_;
   clothlab_collider collider_{};
 };
 

@@ -44,6 +44,15 @@ Collider collider_from_abi(const clothlab_collider& collider);
 // orientation that is not a unit quaternion (within 1e-6; the copy is normalised).
 Pose pose_from_abi(const clothlab_pose& pose);
 
+// A scripted path may move a collider fast, not jump: between two poses dt apart it moves at
+// most max_collider_speed and turns at most max_collider_turn_rate (faster than anything a game
+// character carries: a thrown ball flies at about 45 m/s, a bat swings at about 50 rad/s).
+inline constexpr double max_collider_speed = 100.0;      // m/s
+inline constexpr double max_collider_turn_rate = 100.0;  // rad/s
+// Throws std::invalid_argument naming what moved too far, how far and the allowed speed
+// ("position moved 2 m in 0.0167 s (120 m/s), allowed <= 100 m/s").
+void check_pose_continuity(const Pose& before, const Pose& after, double dt);
+
 // How far a point lies outside the surface (negative inside) and the outward unit normal of
 // the surface at its closest point (on a shape's medial set, e.g. a sphere's centre, the
 // normal of one of the closest points).

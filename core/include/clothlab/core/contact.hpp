@@ -14,6 +14,15 @@ namespace clothlab {
 // gravity g decelerates by friction x g, as Coulomb's law has it.
 bool resolve_contact(std::span<const Collider> colliders, Vec3& x, Vec3& v);
 
+// The same for a particle that moved from `from` to x in the last step or substep, so that a
+// fast one cannot pass through a thin collider (a capsule's arm) or past its middle between two
+// resolutions: when the nearest surface at x faces away from the one at `from` and the straight
+// path entered the collider's thickness, the particle goes back to where the path first entered
+// it and is resolved there. The path is searched by conservative advancement (the signed distance
+// bounds how far it may go untouched), in at most 256 advances: a collider thinner than 1/256 of
+// the path can still be missed.
+bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from, Vec3& x, Vec3& v);
+
 // How deep a point lies inside any collider (0 when outside all): the penetration of the
 // surface itself, not of the thickness band.
 double penetration_depth(std::span<const Collider> colliders, const Vec3& x);

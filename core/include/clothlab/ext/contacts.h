@@ -5,6 +5,10 @@
  *   position  pushed out along the surface normal to the thickness
  *   velocity  the normal velocity into the body removed (inelastic contact), and the tangential
  *             velocity reduced by friction x the normal velocity removed (Coulomb), at most to 0
+ * A particle that moved through a collider, or past its middle, since the step's start or the
+ * last resolve (its straight path crossed the collider: the surface nearest its end faces away
+ * from the one nearest its start) is first put back where that path entered the thickness, so a
+ * fast particle does not tunnel through a thin collider however large the step.
  * Force-based integrators call it after each step or substep; position-based ones after each
  * substep's projection. An integrator that does so declares CLOTHLAB_TRAIT_RESOLVES_CONTACTS
  * (clothlab.integrator-traits/1): the host refuses a scene with colliders for any other.
