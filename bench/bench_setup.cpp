@@ -1,5 +1,9 @@
 #include "bench_setup.hpp"
 
+#include <clothlab/ext/colliders.h>
+
+#include <stdexcept>
+
 namespace clothlab::bench {
 namespace {
 
@@ -21,6 +25,29 @@ Scene make_scene(const std::string& id, const std::function<void(host::ParamSet&
   set_params(values);
   const host::ScenarioInstance instance = library.scenario().create(values);
   return scene_from_abi(instance.describe());
+}
+
+std::vector<Collider> make_colliders(const std::string& id, const ParamTexts& params) {
+  const host::PluginLibrary library = find_plugin(id);
+  host::ParamSet values = library.scenario().default_params();
+  for (const auto& [key, text] : params) values.set(key, text, "bench");
+  const host::ScenarioInstance instance = library.scenario().create(values);
+  const auto* table = static_cast<const clothlab_colliders_extension*>(
+      library.scenario().extension(CLOTHLAB_EXT_COLLIDERS));
+  std::vector<Collider> colliders;
+  if (table == nullptr) return colliders;
+  for (uint32_t i = 0; i < table->count(instance.get()); ++i) {
+    clothlab_collider raw{};
+    raw.struct_size = sizeof raw;
+    clothlab_pose pose{};
+    clothlab_message message{};
+    if (table->describe(instance.get(), i, &raw, &message) != CLOTHLAB_OK ||
+        table->pose(instance.get(), i, 0.0, &pose, &message) != CLOTHLAB_OK)
+      throw std::runtime_error(id + ": collider " + std::to_string(i) + ": " + message.text);
+    colliders.push_back(collider_from_abi(raw));
+    colliders.back().pose = pose_from_abi(pose);
+  }
+  return colliders;
 }
 
 ParamTexts bench_cloth_params(int side) {

@@ -19,6 +19,10 @@ Scene make_scene(const std::string& id, const ParamTexts& params);
 // The scene of scenario `id` with its parameters' defaults changed by set_params.
 Scene make_scene(const std::string& id, const std::function<void(host::ParamSet&)>& set_params);
 
+// The colliders (clothlab.colliders/1) of scenario `id` with the given parameter texts set, at
+// their poses at t = 0; none when it offers no colliders.
+std::vector<Collider> make_colliders(const std::string& id, const ParamTexts& params);
+
 // Parameters of the benchmark cloth at side x side particles: the material of
 // configs/bench-300.yaml (2 cm spacing, 0.6 kg/m^2, lunar gravity), so every size has
 // the same per-particle dynamics and the 300 x 300 one is exactly that file's.
