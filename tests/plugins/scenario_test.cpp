@@ -1,5 +1,6 @@
 // The scenario plugins' scenes: pins, layout axes, totals, gravity, wind only for the
 // flag, the smallest grids, and parameter validation.
+#include <clothlab/ext/air.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -172,9 +173,39 @@ TEST(ScenarioParameters, DeclareTheIssueKeys) {
     std::vector<std::string> names;
     for (uint32_t i = 0; i < scenario.param_count; ++i) names.push_back(scenario.params[i].name);
     std::vector<std::string> expected = common;
-    if (path == flag) expected.insert(expected.end(), {"wind.direction", "wind.strength"});
+    if (path == flag)
+      expected.insert(expected.end(), {"wind.direction", "wind.strength", "air.density",
+                                       "air.speed", "air.drag", "air.lift"});
     EXPECT_EQ(names, expected) << path;
   }
+}
+
+// The flag's air (clothlab.air/1): off by default (the seed's flag), and as its parameters say.
+TEST(ScenarioParameters, TheFlagsAirFollowsItsParameters) {
+  const host::PluginLibrary library = host::PluginLibrary::load(flag);
+  const host::ScenarioPlugin& scenario = library.scenario();
+  const auto* table =
+      static_cast<const clothlab_air_extension*>(scenario.extension(CLOTHLAB_EXT_AIR));
+  ASSERT_NE(table, nullptr);
+  const auto air_of = [&](const host::ParamSet& values) {
+    const host::ScenarioInstance instance = scenario.create(values);
+    clothlab_air air{};
+    air.struct_size = sizeof air;
+    clothlab_message message{};
+    EXPECT_EQ(table->describe(instance.get(), &air, &message), CLOTHLAB_OK) << message.text;
+    return air;
+  };
+  EXPECT_EQ(air_of(scenario.default_params()).density, 0.0);
+  host::ParamSet values = scenario.default_params();
+  values.set("air.density", "1.225", "test");
+  values.set("air.speed", "4", "test");
+  values.set("wind.direction", "[0, 0, 2]", "test");
+  const clothlab_air air = air_of(values);
+  EXPECT_EQ(air.density, 1.225);
+  EXPECT_EQ(air.wind_velocity[2], 4.0);
+  EXPECT_EQ(air.wind_velocity[0], 0.0);
+  EXPECT_EQ(air.drag_coefficient, 1.2);
+  EXPECT_EQ(air.lift_coefficient, 1.0);
 }
 
 TEST(ScenarioParameters, OutOfRangeValuesAreRejectedByName) {
