@@ -381,9 +381,14 @@ template <class Real>
 clothlab_status ReferenceSystem<Real>::external(void* context, double, const void* x, void* a) {
   auto& self = *static_cast<ReferenceSystem*>(context);
   const Real* xs = static_cast<const Real*>(x);
+  // The air at the system's current velocities, as the engine does (clothlab/ext/air.h).
+  const Real* vs = static_cast<const Real*>(self.system_.v);
   for (std::size_t i = 0; i < self.n_; ++i)
-    for (std::size_t k = 0; k < 3; ++k) self.x_aos_[3 * i + k] = xs[k * self.stride_ + i];
-  self.cloth_.external_acceleration(self.x_aos_.data(), self.a_aos_.data());
+    for (std::size_t k = 0; k < 3; ++k) {
+      self.x_aos_[3 * i + k] = xs[k * self.stride_ + i];
+      self.v_aos_[3 * i + k] = vs[k * self.stride_ + i];
+    }
+  self.cloth_.external_acceleration(self.x_aos_.data(), self.v_aos_.data(), self.a_aos_.data());
   Real* out = static_cast<Real*>(a);
   bool finite = true;
   for (std::size_t i = 0; i < self.n_; ++i)

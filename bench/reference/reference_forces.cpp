@@ -77,13 +77,15 @@ void ReferenceCloth<Real>::acceleration(const Real* x, const Real* v, Real* a) {
   std::fill(forces_.begin(), forces_.end(), Real(0));
   add_springs(x, v);
   if (scene_.has_wind()) add_wind(x);
+  if (scene_.has_air()) add_air(x, v);
   to_acceleration(a);
 }
 
 template <class Real>
-void ReferenceCloth<Real>::external_acceleration(const Real* x, Real* a) {
+void ReferenceCloth<Real>::external_acceleration(const Real* x, const Real* v, Real* a) {
   std::fill(forces_.begin(), forces_.end(), Real(0));
   if (scene_.has_wind()) add_wind(x);
+  if (scene_.has_air()) add_air(x, v);
   to_acceleration(a);
 }
 
@@ -157,6 +159,60 @@ void ReferenceCloth<Real>::add_wind(const Real* x) {
       const std::size_t a = r * cols + c;
       triangle(a, a + 1, a + cols);             // top-left triangle of the cell
       triangle(a + 1, a + cols + 1, a + cols);  // bottom-right triangle
+    }
+  }
+}
+
+// clothlab/ext/air.h as its comment states it, by angles: drag |cos| q A along u, lift
+// cos sin q A along the unit vector perpendicular to u toward the normal's downstream side
+// (q = density |u|^2 / 2), in double whatever Real is.
+template <class Real>
+void ReferenceCloth<Real>::add_air(const Real* x, const Real* v) {
+  const std::size_t rows = scene_.rows;
+  const std::size_t cols = scene_.cols;
+  const Air& air = scene_.air;
+  auto triangle = [&](std::size_t p1, std::size_t p2, std::size_t p3) {
+    const std::size_t corners[3] = {p1, p2, p3};
+    double e1[3], e2[3], u[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = double{x[3 * p2 + k]} - double{x[3 * p1 + k]};
+      e2[k] = double{x[3 * p3 + k]} - double{x[3 * p1 + k]};
+      double mean = 0;
+      for (std::size_t corner : corners) mean += v == nullptr ? 0.0 : double{v[3 * corner + k]};
+      u[k] = air.wind_velocity[k] - mean / 3;
+    }
+    const double normal[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                              e1[0] * e2[1] - e1[1] * e2[0]};
+    const double norm = std::hypot(normal[0], normal[1], normal[2]);
+    const double speed = std::hypot(u[0], u[1], u[2]);
+    if (norm == 0.0 || speed == 0.0) return;
+    const double area = norm / 2;
+    double n[3], along[3], cosine = 0;
+    for (int k = 0; k < 3; ++k) {
+      n[k] = normal[k] / norm;
+      along[k] = u[k] / speed;
+      cosine += n[k] * along[k];
+    }
+    const double sine = std::sqrt(std::max(0.0, 1 - cosine * cosine));
+    // n's part perpendicular to u has length sin: the lift's unit direction is it over sin
+    // (times the sign of cos, so that the lift does not depend on which way n points).
+    double lift_direction[3] = {0, 0, 0};
+    if (sine > 0)
+      for (int k = 0; k < 3; ++k)
+        lift_direction[k] = std::copysign(1.0, cosine) * (n[k] - cosine * along[k]) / sine;
+    const double pressure_area = 0.5 * air.density * speed * speed * area;
+    const double drag = air.drag_coefficient * pressure_area * std::abs(cosine);
+    const double lift = air.lift_coefficient * pressure_area * std::abs(cosine) * sine;
+    for (int k = 0; k < 3; ++k) {
+      const double force = drag * along[k] + lift * lift_direction[k];
+      for (std::size_t corner : corners) forces_[3 * corner + k] += static_cast<Real>(force / 3);
+    }
+  };
+  for (std::size_t r = 0; r + 1 < rows; ++r) {
+    for (std::size_t c = 0; c + 1 < cols; ++c) {
+      const std::size_t a = r * cols + c;
+      triangle(a, a + 1, a + cols);
+      triangle(a + 1, a + cols + 1, a + cols);
     }
   }
 }

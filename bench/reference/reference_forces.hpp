@@ -34,14 +34,16 @@ class ReferenceCloth {
   // a = M^-1 F(x, v) on unpinned particles, 0 on pinned ones; all arrays particle-major
   // with 3 * particle_count() elements. v == nullptr leaves out damping. No allocation.
   void acceleration(const Real* x, const Real* v, Real* a);
-  // The same for gravity and wind alone (no springs).
-  void external_acceleration(const Real* x, Real* a);
+  // The same for gravity, wind and air alone (no springs); the air at velocities v
+  // (nullptr: at rest).
+  void external_acceleration(const Real* x, const Real* v, Real* a);
   const std::vector<Real>& inverse_masses() const { return inverse_mass_; }
 
  private:
   void add_springs(const Real* x, const Real* v);
   void to_acceleration(Real* a) const;
   void add_wind(const Real* x);
+  void add_air(const Real* x, const Real* v);
 
   Scene scene_;
   std::vector<Spring<Real>> springs_;

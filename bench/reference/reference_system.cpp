@@ -55,7 +55,7 @@ ReferenceSystem<Real>::ReferenceSystem(const Scene& scene, bool velocity_forces)
   system_.reserve_rkn = &reserve_rkn_callback;
   system_.step_rkn = &step_rkn_callback;
   system_.get_extension = &get_extension_callback;
-  wind_ = scene.has_wind();
+  wind_ = scene.has_wind() || scene.has_air();
 
   // The Jacobian's block pattern: each row's particle and spring partners, ascending.
   product_.assign(3 * n_, 0.0);

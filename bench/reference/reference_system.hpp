@@ -112,8 +112,8 @@ class ReferenceSystem {
     double t = 0.0;
     const void *x = nullptr, *v = nullptr;
     double c_x = 0.0, c_v = 0.0;
-  } linearised_;  // cg-step's; x == nullptr: none yet
-  bool wind_ = false;
+  } linearised_;       // cg-step's; x == nullptr: none yet
+  bool wind_ = false;  // external forces depend on the state (wind or air)
   struct Topology {
     std::vector<uint32_t> first, second, triangles, adjacency_offsets, adjacent_springs;
     std::vector<uint32_t> spring_color_offsets, spring_color_members;

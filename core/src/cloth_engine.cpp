@@ -151,6 +151,10 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
 template <class Real>
 clothlab_status ClothEngine<Real>::evaluate(const StateCombination<Real>& x,
                                             const StateCombination<Real>* v, Real* a) {
+  // The air needs velocities: a call without them gets the system's current ones
+  // (clothlab/ext/air.h); no spring is damped by them, as the pipeline was built undamped.
+  const StateCombination<Real> current = in_place<Real>(v_.data());
+  if (v == nullptr && scene_.has_air()) v = &current;
   return forces_->evaluate(x, v, a, counters_) ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 

@@ -362,14 +362,16 @@ template <class Real>
 clothlab_status ClothEngine<Real>::external_callback(void* context, double, const void* x,
                                                      void* a) {
   if (x == nullptr || a == nullptr || x == a) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  const bool finite = static_cast<ClothEngine*>(context)->forces_->evaluate_external(
-      static_cast<const Real*>(x), static_cast<Real*>(a));
+  // The air (clothlab/ext/air.h) at the system's current velocities: the extension takes none.
+  auto* self = static_cast<ClothEngine*>(context);
+  const bool finite = self->forces_->evaluate_external(static_cast<const Real*>(x), self->v_.data(),
+                                                       static_cast<Real*>(a));
   return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
 template <class Real>
 int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
-  return static_cast<ClothEngine*>(context)->forces_->has_wind() ? 1 : 0;
+  return static_cast<ClothEngine*>(context)->forces_->has_cell_forces() ? 1 : 0;
 }
 
 template class ClothEngine<float>;

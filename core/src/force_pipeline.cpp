@@ -43,6 +43,11 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
   }
   wind_strength_ = static_cast<Real>(scene.wind_strength);
   wind_ = scene.has_wind() && rows_ > 1 && cols_ > 1;
+  air_ = scene.has_air() && rows_ > 1 && cols_ > 1;
+  cell_forces_ = wind_ || air_;
+  for (int k = 0; k < 3; ++k) air_wind_[k] = static_cast<Real>(scene.air.wind_velocity[k]);
+  air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
+  air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
 
   for (const Stencil& stencil : kProvotStencils) {
     const SpringFamily& family = scene.*stencil.family;
@@ -60,9 +65,10 @@ ForcePipeline<Real>::ForcePipeline(const Scene& scene, std::size_t stride, const
     damped_per_eval_ += stage.damped ? stage.count : 0;
     stages_.push_back(stage);
   }
-  normals_per_eval_ = wind_ ? 2 * uint64_t{rows_ - 1} * (cols_ - 1) : 0;
+  normals_per_eval_ = cell_forces_ ? 2 * uint64_t{rows_ - 1} * (cols_ - 1) : 0;
 
-  interior_kernel_ = kInteriorKernel && std::is_same_v<Real, float> && stages_.size() == 6;
+  // The interior kernel carries the wind, not the air: air scenes take the row stages.
+  interior_kernel_ = kInteriorKernel && std::is_same_v<Real, float> && stages_.size() == 6 && !air_;
   row_span_ = kMargin + round_up_16(cols_ + kMargin + 2);
   reserve_stages(1);
   for (std::size_t t = 0; t <= static_cast<std::size_t>(threads_); ++t) {

@@ -1,5 +1,6 @@
 // The force evaluation built once for a scene: only the spring stencils that exert force,
-// damping terms only when the integrator uses velocity forces, wind only when it blows.
+// damping terms only when the integrator uses velocity forces, wind only when it blows, air
+// (drag and lift, air_kernel.hpp) only when the scene has some.
 //
 // One fused pass per thread over its block of grid rows, with per-row scratch that stays
 // in cache. For row r it computes every spring starting in r once and the wind on the
@@ -22,10 +23,11 @@
 //
 // Where its parts are: scratch_layout.hpp (which scratch row holds what); force_pipeline.cpp
 // (construction, the scratch, the threads' row blocks); a row's stages in the order they run:
-// row_staging.cpp (state rows into scratch rows and back), spring_stage.cpp, wind_stage.cpp,
-// finish_stage.cpp (accumulators into accelerations); the passes that run the stages over a
-// thread's rows: force_pass.cpp (evaluate) and rkn_sweep.cpp (step_rkn); and external_pass.cpp
-// (evaluate_external: gravity and wind alone, with its own ring of cell rows).
+// row_staging.cpp (state rows into scratch rows and back), spring_stage.cpp, wind_stage.cpp
+// (with air_stage.cpp), finish_stage.cpp (accumulators into accelerations); the passes that run
+// the stages over a thread's rows: force_pass.cpp (evaluate) and rkn_sweep.cpp (step_rkn); and
+// external_pass.cpp (evaluate_external: gravity, wind and air alone, with its own ring of cell
+// rows).
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -54,11 +56,13 @@ class ForcePipeline {
   bool evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v, Real* a,
                 StageCounters& counters);
 
-  // a = gravity + M^-1 wind at x (no springs), through the same wind kernel as evaluate;
-  // 0 where the inverse mass is 0. Returns false when some value is not finite.
-  // One pass per thread over its block: a row's cells, then its accelerations (below).
-  bool evaluate_external(const Real* x, Real* a);
-  bool has_wind() const { return wind_; }
+  // a = gravity + M^-1 (wind + air) at x (no springs), through the same cell kernels as
+  // evaluate, the air at the velocities v (nullptr: at rest); 0 where the inverse mass is 0.
+  // Returns false when some value is not finite. One pass per thread over its block: a row's
+  // cells, then its accelerations (below).
+  bool evaluate_external(const Real* x, const Real* v, Real* a);
+  // Whether the external forces depend on the state: wind on x, air on x and v.
+  bool has_cell_forces() const { return cell_forces_; }
 
   // Scratch for step_rkn with up to `stages` stages. Allocates: not during a step.
   void reserve_stages(uint32_t stages);
@@ -172,8 +176,12 @@ class ForcePipeline {
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
   bool interior_row(std::size_t row) const { return interior_kernel_ && row + 2 < rows_; }
   void add_interior_springs(Real* ring, std::size_t row, const Pass& pass);
-  // The wind stage (wind_stage.cpp): the cells starting in `row`.
+  // The wind stage (wind_stage.cpp): the wind and the air on the cells starting in `row`.
   void add_wind(Real* ring, std::size_t row, Pass& pass);
+  // The air's shares (air_kernel.hpp) of cell row `row` from its corners' rows, added to
+  // `first` and `second` (components span apart).
+  void add_air(const Real* x, const Real* below, const Real* v, const Real* v_below,
+               std::size_t position_span, Real* first, Real* second, std::size_t span) const;
   // The finish stage (finish_stage.cpp): turns row's accumulators into accelerations at out
   // (components `span` apart) and clears them; returns the sum of 0 * a (NaN exactly when some
   // a is not finite).
@@ -189,9 +197,10 @@ class ForcePipeline {
   // then sum the shares of the cells above and beside them. Rows without cells read the zero
   // rows.
   Real* cell_shares(int thread, std::ptrdiff_t q, int triangle);
-  void compute_cells(int thread, const Real* x, std::size_t q);
+  void compute_cells(int thread, const Real* x, const Real* v, std::size_t q);
   Real finish_external_row(int thread, std::size_t row, Real* a);
-  Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, Real* a);
+  Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, const Real* v,
+                     Real* a);
 
   // The fused step (rkn_sweep.cpp): a thread's block of rows through all stages of a step.
   Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
@@ -212,6 +221,10 @@ class ForcePipeline {
   Real wind_direction_[3] = {0, 0, 0};
   Real wind_strength_ = 0;
   bool wind_ = false;
+  Real air_wind_[3] = {0, 0, 0};
+  Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;
+  bool air_ = false;
+  bool cell_forces_ = false;  // wind_ or air_
 
   std::vector<SpringStage> stages_;
   bool interior_kernel_ = false;   // all six stencils, float, AVX-512

@@ -18,7 +18,8 @@ constexpr double unit_tolerance = 1e-9;
 
 [[noreturn]] void reject(const std::string& field, const std::string& value,
                          const std::string& allowed) {
-  throw std::invalid_argument("scene." + field + " = " + value + ": allowed " + allowed);
+  throw std::invalid_argument((field.starts_with("air.") ? "" : "scene.") + field + " = " + value +
+                              ": allowed " + allowed);
 }
 
 std::string format(double value) { return detail::value_text(value); }
@@ -123,6 +124,19 @@ Scene scene_from_abi(const clothlab_scene& abi) {
   std::sort(scene.pinned.begin(), scene.pinned.end());
   scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
   return scene;
+}
+
+Air air_from_abi(const clothlab_air& abi) {
+  if (abi.struct_size < sizeof(clothlab_air)) {
+    reject("air.struct_size", std::to_string(abi.struct_size),
+           ">= " + std::to_string(sizeof(clothlab_air)));
+  }
+  Air air;
+  air.wind_velocity = require_finite("air.wind_velocity", abi.wind_velocity);
+  air.density = require_non_negative("air.density", abi.density);
+  air.drag_coefficient = require_non_negative("air.drag_coefficient", abi.drag_coefficient);
+  air.lift_coefficient = require_non_negative("air.lift_coefficient", abi.lift_coefficient);
+  return air;
 }
 
 }  // namespace clothlab

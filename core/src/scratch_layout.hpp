@@ -39,12 +39,13 @@ constexpr std::size_t thread_rows(std::size_t stages, std::size_t max_terms) {
 
 // A thread's scratch for the external pass (external_pass.cpp): cell shares of two cell
 // rows (2 triangles x 3 components each), rows of zeros standing for the cells beyond the
-// grid, and for a turned grid contiguous copies of two position rows and the finished
-// accelerations.
+// grid, and for a turned grid contiguous copies of two position rows, two velocity rows (for
+// the air) and the finished accelerations.
 inline constexpr std::size_t kCellRowsFrom = 0;
 inline constexpr std::size_t kZeroCellRowsFrom = kCellRowsFrom + 12;
 inline constexpr std::size_t kExternalPositionsFrom = kZeroCellRowsFrom + 6;
-inline constexpr std::size_t kExternalFinishedFrom = kExternalPositionsFrom + 6;
+inline constexpr std::size_t kExternalVelocitiesFrom = kExternalPositionsFrom + 6;
+inline constexpr std::size_t kExternalFinishedFrom = kExternalVelocitiesFrom + 6;
 inline constexpr std::size_t kExternalRows = kExternalFinishedFrom + 3;
 
 // Between the threads' scratch regions.

@@ -1,6 +1,8 @@
-// The wind stage of ForcePipeline (force_pipeline.hpp): the wind on the cells starting in a
-// row (wind_kernel.hpp), its two triangles' shares added to the accumulators of their
-// corners' rows. Rows the interior kernel runs have their cells done by the spring stage.
+// The wind stage of ForcePipeline (force_pipeline.hpp): the wind (wind_kernel.hpp) and the air
+// (air_kernel.hpp) on the cells starting in a row, its two triangles' shares added to the
+// accumulators of their corners' rows. Rows the interior kernel runs (never with air) have
+// their cells done by the spring stage.
+#include <algorithm>
 #include <chrono>
 
 #include "force_pipeline.hpp"
@@ -11,8 +13,8 @@ namespace clothlab::detail {
 
 template <class Real>
 void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
-  if (!wind_ || row + 1 >= rows_) return;  // the last row starts no cell
-  if (interior_row(row)) return;           // its cells went with its springs
+  if (!cell_forces_ || row + 1 >= rows_) return;  // the last row starts no cell
+  if (interior_row(row)) return;                  // its cells went with its springs
   const bool timed = pass.timed;
   const auto start =
       timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
@@ -26,7 +28,18 @@ void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
   for (int k = 0; k < 3; ++k) job.direction[k] = wind_direction_[k];
   job.cells = cols_ - 1;
   job.strength = wind_strength_;
-  wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
+  if (wind_) {
+    wind_row_forces(job);  // column cols - 1 has no cell and is never written: stays 0
+  } else {
+    for (int triangle = 0; triangle < 2; ++triangle)
+      for (int k = 0; k < 3; ++k) std::fill_n(wind_row(ring, triangle, k), job.cells, Real(0));
+  }
+  if (air_) {
+    const bool moving = pass.damped;  // the velocities are staged
+    add_air(job.x, job.below, moving ? staged_row(ring, row, 1, 0) : nullptr,
+            moving ? staged_row(ring, row + 1, 1, 0) : nullptr, row_span_, job.first, job.second,
+            row_span_);
+  }
   for (int k = 0; k < 3; ++k) {
     add_cell_winds(accumulator(ring, row, k), accumulator(ring, row + 1, k), wind_row(ring, 0, k),
                    wind_row(ring, 1, k), cols_);

@@ -11,6 +11,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "scene_air.hpp"
+
 namespace clothlab::cli {
 
 namespace {
@@ -232,6 +234,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
                         attachments_->particles().end());
     std::sort(scene.pinned.begin(), scene.pinned.end());
     scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+    scene.air = scene_air(*scenario_, *scenario_instance_);
     PipelineOptions options;
     options.velocity_forces = integrator_->uses_velocity_forces();
     options.threads = config.threads;

@@ -1,4 +1,4 @@
-// scenario.*: the scene a scenario describes (its cloth and its colliders) is simulable,
+// scenario.*: the scene a scenario describes (its cloth, its colliders, its air) is simulable,
 // repeatable and follows its parameters.
 #include <cmath>
 #include <cstring>
@@ -49,9 +49,10 @@ Verdict describe_repeatable(const clothlab_scenario& scenario) {
   const clothlab_scene b = first.describe();
   require(same_scene(a, b), "two describe calls on one instance differ");
   const ScenarioInstance second(scenario, defaults_of(scenario));
-  require(
-      same_scene(a, second.describe()) && first.colliders_at_start() == second.colliders_at_start(),
-      "two instances with equal parameters differ");
+  require(same_scene(a, second.describe()) &&
+              first.colliders_at_start() == second.colliders_at_start() &&
+              first.air() == second.air(),
+          "two instances with equal parameters differ");
   return {true, ""};
 }
 
@@ -86,6 +87,7 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
   const ScenarioInstance base_instance(scenario, defaults);
   const clothlab_scene base = base_instance.describe();
   const std::vector<double> base_colliders = base_instance.colliders_at_start();
+  const std::vector<double> base_air = base_instance.air();
   int changed = 0;
   for (uint32_t i = 0; i < scenario.param_count; ++i) {
     const clothlab_param_spec& spec = scenario.params[i];
@@ -94,8 +96,9 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
     const ScenarioInstance instance(scenario, values);
     const clothlab_scene scene = instance.describe();
     const std::string what = std::string(spec.name) + " = " + std::to_string(values[i].v[0]);
-    require(!same_scene(scene, base) || instance.colliders_at_start() != base_colliders,
-            "setting " + what + " changes neither the scene nor its colliders");
+    require(!same_scene(scene, base) || instance.colliders_at_start() != base_colliders ||
+                instance.air() != base_air,
+            "setting " + what + " changes neither the scene, nor its colliders, nor its air");
     const std::string wrong = expected_effect(spec, scene, values[i].v[0]);
     require(wrong.empty(), "with " + what + ", " + wrong);
     require_valid_scene(scene);

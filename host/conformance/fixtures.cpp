@@ -1,5 +1,6 @@
 #include "fixtures.hpp"
 
+#include <clothlab/ext/air.h>
 #include <clothlab/ext/colliders.h>
 
 #include <cstring>
@@ -120,6 +121,19 @@ std::vector<double> ScenarioInstance::colliders_at_start() const {
     fields.insert(fields.end(), std::begin(pose.orientation), std::end(pose.orientation));
   }
   return fields;
+}
+
+std::vector<double> ScenarioInstance::air() const {
+  const auto* table = static_cast<const clothlab_air_extension*>(
+      clothlab_scenario_extension(&scenario_, CLOTHLAB_EXT_AIR));
+  if (table == nullptr) return {};
+  clothlab_air air{};
+  air.struct_size = sizeof air;
+  clothlab_message message{};
+  const clothlab_status status = table->describe(instance_, &air, &message);
+  require(status == CLOTHLAB_OK, "air describe failed: " + describe_status(status, message));
+  return {air.wind_velocity[0], air.wind_velocity[1], air.wind_velocity[2],
+          air.density,          air.drag_coefficient, air.lift_coefficient};
 }
 
 Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy) {

@@ -66,6 +66,8 @@ class ScenarioInstance {
   // The colliders (clothlab.colliders/1) and their poses at t = 0, as raw fields: empty when
   // the scenario offers none. Fails the check when a call returns an error.
   std::vector<double> colliders_at_start() const;
+  // Its air's fields (clothlab.air/1), empty without the extension.
+  std::vector<double> air() const;
 
  private:
   const clothlab_scenario& scenario_;

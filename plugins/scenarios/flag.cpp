@@ -5,6 +5,14 @@
 // wind lying in the cloth's plane would never move a flat flag. The default direction,
 // (1, 0, 0.5) normalised, blows mostly along the flag but has a component along its
 // normal (+z); 5 N/m^2 is the dynamic pressure of a ~3 m/s breeze (rho v^2 / 2).
+//
+// The air (clothlab.air/1, drag and lift from the air's velocity relative to each triangle) is
+// off by default (air.density 0), so the default flag is the seed's; `air.density = 1.225` with
+// `wind.strength = 0` replaces the pressure by it, the wind blowing along wind.direction at
+// air.speed. Its coefficients are round illustrative values (a flat plate broadside to a stream
+// has a drag coefficient of about 1.2), not fitted to a fabric.
+#include <clothlab/ext/air.h>
+
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
@@ -21,28 +29,41 @@ struct FlagInWind {
   static constexpr const char* version = "1.0.0";
   static constexpr const char* description =
       "Flag with its left column pinned to a pole, gravity and wind";
-  static constexpr auto params = concat(
-      grid_cloth_params(),
-      std::array{
-          sdk::vec3_param("wind.direction", {1.0, 0.0, 0.5}, -1e3, 1e3, "",
-                          "direction the wind blows towards (normalised; only its component "
-                          "along the cloth normal pushes)"),
-          sdk::real_param("wind.strength", 5.0, 0.0, 1e4, "N/m^2", "wind pressure; 0 = no wind"),
-      });
+  static constexpr auto params =
+      concat(grid_cloth_params(),
+             std::array{
+                 sdk::vec3_param("wind.direction", {1.0, 0.0, 0.5}, -1e3, 1e3, "",
+                                 "direction the wind blows towards (normalised; only its component "
+                                 "along the cloth normal pushes)"),
+                 sdk::real_param("wind.strength", 5.0, 0.0, 1e4, "N/m^2",
+                                 "the seed's wind pressure along the cloth normal; 0 = none"),
+                 sdk::real_param("air.density", 0.0, 0.0, 100.0, "kg/m^3",
+                                 "air for the drag and lift model (1.225 at sea level); 0 = none"),
+                 sdk::real_param("air.speed", 3.0, 0.0, 1e3, "m/s",
+                                 "the air's speed along wind.direction (drag and lift model)"),
+                 sdk::real_param("air.drag", 1.2, 0.0, 10.0, "", "drag coefficient of a triangle"),
+                 sdk::real_param("air.lift", 1.0, 0.0, 10.0, "", "lift coefficient of a triangle"),
+             });
 
   explicit FlagInWind(const sdk::Params& values)
       : cloth_(values), wind_strength_(values.real("wind.strength")) {
+    air_.struct_size = sizeof air_;
+    air_.density = values.real("air.density");
+    air_.drag_coefficient = values.real("air.drag");
+    air_.lift_coefficient = values.real("air.lift");
     const std::array<double, 3> direction = values.vec3("wind.direction");
     const double length = std::hypot(direction[0], direction[1], direction[2]);
-    if (wind_strength_ > 0.0 && !(length > 0.0)) {
+    if ((wind_strength_ > 0.0 || air_.density > 0.0) && !(length > 0.0)) {
       char text[200];
       std::snprintf(text, sizeof text,
                     "parameter wind.direction = (%g, %g, %g) must be non-zero when "
-                    "wind.strength > 0",
+                    "wind.strength > 0 or air.density > 0",
                     direction[0], direction[1], direction[2]);
       throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, text);
     }
     for (int k = 0; k < 3; ++k) wind_direction_[k] = length > 0.0 ? direction[k] / length : 0.0;
+    for (int k = 0; k < 3; ++k)
+      air_.wind_velocity[k] = wind_direction_[k] * values.real("air.speed");
     if (cloth_.anchored)
       for (uint32_t row = 0; row < cloth_.rows; ++row) pinned_.push_back(row * cloth_.cols);
   }
@@ -61,9 +82,12 @@ struct FlagInWind {
     }
   }
 
+  clothlab_air air() const { return air_; }
+
  private:
   GridCloth cloth_;
   double wind_strength_;
+  clothlab_air air_{};
   std::array<double, 3> wind_direction_{};
   std::vector<uint32_t> pinned_;
 };

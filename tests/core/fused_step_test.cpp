@@ -129,6 +129,7 @@ struct Case {
   Pins pins;
   bool wind;
   bool velocity_forces;
+  bool air = false;  // drag and lift (clothlab/ext/air.h), at each stage's velocities
 };
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
@@ -136,7 +137,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   const char* pins[] = {"free", "pins", "column"};
   return std::to_string(c.rows) + "x" + std::to_string(c.cols) + "_t" + std::to_string(c.threads) +
          "_" + pins[static_cast<int>(c.pins)] + (c.wind ? "_wind" : "") +
-         (c.velocity_forces ? "" : "_undamped");
+         (c.velocity_forces ? "" : "_undamped") + (c.air ? "_air" : "");
 }
 
 // 10 g per particle on 1 m springs: the stiffest mode (~170 rad/s) is well resolved at
@@ -158,6 +159,7 @@ Scene scene_for(const Case& c) {
     scene.wind_direction = {0.6, 0.0, 0.8};
     scene.wind_strength = 2.0;
   }
+  if (c.air) scene.air = {{2.0, 0.5, 3.0}, 1.2, 1.1, 0.9};
   testing::add_pins(scene, c.pins == Pins::ColumnAndSingles, c.pins != Pins::None);
   return scene;
 }
@@ -338,27 +340,31 @@ TEST_P(FusedStep, IsAsAccurateAsTheReferenceInFloat32) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, FusedStep,
-                         ::testing::Values(Case{1, 1, 1, Pins::None, false, true},
-                                           Case{2, 1, 1, Pins::None, true, true},
-                                           Case{1, 7, 1, Pins::Singles, false, true},
-                                           Case{3, 3, 1, Pins::ColumnAndSingles, true, true},
-                                           Case{5, 4, 1, Pins::ColumnAndSingles, true, true},
-                                           Case{17, 13, 1, Pins::ColumnAndSingles, true, true},
-                                           Case{17, 13, 1, Pins::Singles, true, false},
-                                           Case{64, 48, 1, Pins::ColumnAndSingles, true, true},
-                                           Case{64, 48, 1, Pins::None, false, true},
-                                           Case{70, 70, 2, Pins::ColumnAndSingles, true, true},
-                                           Case{70, 70, 3, Pins::Singles, true, true},
-                                           Case{130, 40, 2, Pins::Singles, false, true},
-                                           Case{130, 40, 3, Pins::ColumnAndSingles, true, true},
-                                           Case{4100, 1, 2, Pins::Singles, false, true},
-                                           Case{4100, 1, 3, Pins::None, false, true},
-                                           Case{1, 4100, 3, Pins::ColumnAndSingles, false, true},
-                                           Case{4100, 2, 2, Pins::ColumnAndSingles, true, true},
-                                           Case{300, 7, 3, Pins::Singles, true, true},
-                                           Case{300, 15, 1, Pins::ColumnAndSingles, false, true}),
-                         case_name);
+INSTANTIATE_TEST_SUITE_P(
+    Grids, FusedStep,
+    ::testing::Values(Case{1, 1, 1, Pins::None, false, true}, Case{2, 1, 1, Pins::None, true, true},
+                      Case{1, 7, 1, Pins::Singles, false, true},
+                      Case{3, 3, 1, Pins::ColumnAndSingles, true, true},
+                      Case{5, 4, 1, Pins::ColumnAndSingles, true, true},
+                      Case{17, 13, 1, Pins::ColumnAndSingles, true, true},
+                      Case{17, 13, 1, Pins::Singles, true, false},
+                      Case{64, 48, 1, Pins::ColumnAndSingles, true, true},
+                      Case{64, 48, 1, Pins::None, false, true},
+                      Case{70, 70, 2, Pins::ColumnAndSingles, true, true},
+                      Case{70, 70, 3, Pins::Singles, true, true},
+                      Case{130, 40, 2, Pins::Singles, false, true},
+                      Case{130, 40, 3, Pins::ColumnAndSingles, true, true},
+                      Case{4100, 1, 2, Pins::Singles, false, true},
+                      Case{4100, 1, 3, Pins::None, false, true},
+                      Case{1, 4100, 3, Pins::ColumnAndSingles, false, true},
+                      Case{4100, 2, 2, Pins::ColumnAndSingles, true, true},
+                      Case{300, 7, 3, Pins::Singles, true, true},
+                      Case{300, 15, 1, Pins::ColumnAndSingles, false, true},
+                      Case{5, 4, 1, Pins::ColumnAndSingles, false, true, true},
+                      Case{17, 13, 1, Pins::Singles, true, true, true},
+                      Case{70, 70, 2, Pins::ColumnAndSingles, true, true, true},
+                      Case{300, 7, 3, Pins::Singles, false, true, true}),
+    case_name);
 
 // Each row's arithmetic is the same whichever thread sweeps it (a block recomputes the
 // rows above and below it from copies of the same x and v), so threads change nothing.
@@ -387,7 +393,8 @@ INSTANTIATE_TEST_SUITE_P(Grids, FusedStepThreads,
                          ::testing::Values(Case{70, 70, 0, Pins::ColumnAndSingles, true, true},
                                            Case{130, 40, 0, Pins::Singles, true, true},
                                            Case{4100, 1, 0, Pins::Singles, false, true},
-                                           Case{4100, 3, 0, Pins::ColumnAndSingles, true, true}),
+                                           Case{4100, 3, 0, Pins::ColumnAndSingles, true, true},
+                                           Case{70, 70, 0, Pins::Singles, true, true, true}),
                          case_name);
 
 // One free particle under gravity alone, a = g: Runge-Kutta methods of order >= 2 are exact

@@ -157,6 +157,39 @@ TEST(SceneValidation, RejectsTruncatedStruct) {
 namespace clothlab {
 namespace {
 
+// clothlab.air/1's fields: one line naming the field, the value and what is allowed.
+TEST(AirValidation, RejectsEachBadFieldAndAcceptsNoAir) {
+  const auto rejection_of = [](const std::function<void(clothlab_air&)>& edit) -> std::string {
+    clothlab_air air{};
+    air.struct_size = sizeof air;
+    air.density = 1.225;
+    air.drag_coefficient = 1.0;
+    edit(air);
+    try {
+      air_from_abi(air);
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(rejection_of([](clothlab_air&) {}), "");
+  EXPECT_EQ(rejection_of([](clothlab_air& air) { air.density = -1.0; }),
+            "air.density = -1: allowed finite >= 0");
+  EXPECT_EQ(rejection_of([](clothlab_air& air) { air.drag_coefficient = kNaN; }),
+            "air.drag_coefficient = nan: allowed finite >= 0");
+  EXPECT_EQ(rejection_of([](clothlab_air& air) { air.lift_coefficient = -0.5; }),
+            "air.lift_coefficient = -0.5: allowed finite >= 0");
+  EXPECT_EQ(rejection_of([](clothlab_air& air) { air.wind_velocity[1] = kInf; }),
+            "air.wind_velocity = (0, inf, 0): allowed finite components");
+  EXPECT_EQ(rejection_of([](clothlab_air& air) { air.struct_size = 8; }),
+            "air.struct_size = 8: allowed >= " + std::to_string(sizeof(clothlab_air)));
+  clothlab_air none{};
+  none.struct_size = sizeof none;
+  Scene scene;
+  scene.air = air_from_abi(none);
+  EXPECT_FALSE(scene.has_air());
+}
+
 TEST(ClothConstruction, RejectsWhatValidationWouldHave) {
   Scene scene;
   scene.rows = 2;

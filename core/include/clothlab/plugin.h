@@ -20,7 +20,7 @@
  *    external-forces, threads (the thread count a plugin's own parallel loops keep to),
  *    contacts (1.3);
  *    integrator side integrator-traits, explicit-scheme, solver-statistics;
- *    scenario side (1.3) colliders.
+ *    scenario side (1.3) colliders, air.
  *    Why a minor and not a new major: binaries built against 1.0 and 1.1 keep loading and
  *    give the same results, because every reader accepts the smaller struct sizes below;
  *    the only price is that the structs stop growing at 1.2 (the scenario at 1.3).

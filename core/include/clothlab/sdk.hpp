@@ -25,7 +25,8 @@
 // `void last_step_statistics(clothlab_solver_step_statistics&) const`.
 // A scenario (ABI 1.3) offers clothlab.colliders/1 by two members,
 // `std::span<const clothlab_collider> colliders() const` and
-// `clothlab_pose collider_pose(uint32_t index, double t) const`; clothlab.attachments/1 by
+// `clothlab_pose collider_pose(uint32_t index, double t) const`; clothlab.air/1 by a member
+// `clothlab_air air() const`; clothlab.attachments/1 by
 // `std::span<const uint32_t> attached_particles() const` and
 // `void attachment_targets(double t, std::span<double> positions, std::span<double>
 // velocities) const` (3 per attached particle, particle-major); and extensions the SDK has no
@@ -38,6 +39,7 @@
 //                         clothlab::sdk::scenarios<>)
 #pragma once
 
+#include <clothlab/ext/air.h>
 #include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/attachments.h>
 #include <clothlab/ext/colliders.h>
@@ -462,7 +464,7 @@ const clothlab_integrator* integrator_descriptor() {
 }
 
 // A scenario's extensions: clothlab.colliders/1 when its class has colliders() and
-// collider_pose(), and those it returns from a static member
+// collider_pose(), clothlab.air/1 when it has air(), and those it returns from a static member
 // `const void* extension(std::string_view id) noexcept`; NULL for any other id.
 template <class Impl>
 const void* scenario_extension(const char* id) noexcept {
@@ -530,6 +532,20 @@ const void* scenario_extension(const char* id) noexcept {
           });
         }};
     if (std::strcmp(id, CLOTHLAB_EXT_ATTACHMENTS) == 0) return &attachments;
+  }
+  if constexpr (requires(const Impl& impl) {
+                  { impl.air() } -> std::same_as<clothlab_air>;
+                }) {
+    static const clothlab_air_extension air{
+        [](void* instance, clothlab_air* out, clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            if (out == nullptr || out->struct_size < sizeof(clothlab_air))
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "air: buffer too small");
+            *out = static_cast<const Impl*>(instance)->air();
+            out->struct_size = sizeof(clothlab_air);
+          });
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_AIR) == 0) return &air;
   }
   if constexpr (requires(std::string_view name) {
                   { Impl::extension(name) }

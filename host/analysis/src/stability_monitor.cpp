@@ -66,7 +66,7 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
 
 double StabilityMonitor::wind_power_bound(const Cloth& cloth, double stretch) {
   const Scene& scene = cloth.scene();
-  if (!scene.has_wind() || rest_area_ == 0.0) return 0.0;
+  if (!(scene.has_wind() || scene.has_air()) || rest_area_ == 0.0) return 0.0;
   cloth.velocities(velocities_);
   double fastest_squared = 0.0;
   for (std::size_t i = 0; i + 2 < velocities_.size(); i += 3) {
@@ -75,7 +75,16 @@ double StabilityMonitor::wind_power_bound(const Cloth& cloth, double stretch) {
                                                     velocities_[i + 2] * velocities_[i + 2]);
   }
   const double area = rest_area_ * std::max(1.0, stretch) * std::max(1.0, stretch);
-  return std::abs(scene.wind_strength) * area * std::sqrt(fastest_squared);
+  const double fastest = std::sqrt(fastest_squared);
+  // The air's drag and lift on a triangle are at most density (C_d + C_l / 2) A |u|^2 / 2, with
+  // |u| <= |wind| + the fastest particle's speed.
+  const Air& air = scene.air;
+  const double relative = norm(air.wind_velocity) + fastest;
+  const double air_force =
+      scene.has_air() ? 0.5 * air.density * (air.drag_coefficient + 0.5 * air.lift_coefficient) *
+                            relative * relative
+                      : 0.0;
+  return (std::abs(scene.wind_strength) + air_force) * area * fastest;
 }
 
 void StabilityMonitor::fail(StabilityCheck check, uint64_t step, double t, double value,

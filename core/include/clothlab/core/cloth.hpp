@@ -5,6 +5,7 @@
 // clothlab_system whose callbacks evaluate accelerations and vector updates.
 #pragma once
 
+#include <clothlab/ext/air.h>
 #include <clothlab/plugin.h>
 
 #include <array>
@@ -26,6 +27,14 @@ struct SpringFamily {
   double kd = 0.0;
 };
 
+// The drag and lift model of clothlab.air/1 (clothlab/ext/air.h); density 0 = no air.
+struct Air {
+  Vec3 wind_velocity{0, 0, 0};  // m/s
+  double density = 0.0;         // kg/m^3
+  double drag_coefficient = 0.0;
+  double lift_coefficient = 0.0;
+};
+
 // An owned, validated copy of a scenario's clothlab_scene.
 struct Scene {
   uint32_t rows = 1;
@@ -40,9 +49,13 @@ struct Scene {
   Vec3 gravity{0, -9.81, 0};
   Vec3 wind_direction{1, 0, 0};
   double wind_strength = 0.0;
+  Air air;  // from the scenario's clothlab.air/1, when it offers one
   std::vector<uint32_t> pinned;
 
   bool has_wind() const { return wind_strength != 0.0; }
+  bool has_air() const {
+    return air.density > 0.0 && (air.drag_coefficient > 0.0 || air.lift_coefficient > 0.0);
+  }
   // Rest distance between neighbouring columns (rows) of the initial layout; 0 where there is
   // only one.
   double column_spacing() const { return cols > 1 ? width / (cols - 1) : 0.0; }
@@ -51,6 +64,9 @@ struct Scene {
 
 // Copies and validates; throws std::invalid_argument naming the bad field and value.
 Scene scene_from_abi(const clothlab_scene& scene);
+// The same for a scenario's air; throws std::invalid_argument naming "air.FIELD", the value and
+// the allowed range.
+Air air_from_abi(const clothlab_air& air);
 
 struct SpringCounts {
   uint64_t structural = 0;
@@ -81,10 +97,10 @@ struct StageCounters {
   uint64_t force_evals = 0;
   uint64_t springs_evaluated = 0;     // Hooke terms computed
   uint64_t springs_damped = 0;        // damping terms computed
-  uint64_t normals_computed = 0;      // triangle normals for wind
+  uint64_t normals_computed = 0;      // triangle normals for wind and air
   uint64_t particles_integrated = 0;  // active particle updates by vector helpers
   double internal_forces_s = 0.0;     // wall time in spring forces
-  double external_forces_s = 0.0;     // wall time in gravity + wind
+  double external_forces_s = 0.0;     // wall time in gravity + wind + air
 };
 
 // Where the attached particles' targets come from (a scenario's clothlab.attachments/1, through

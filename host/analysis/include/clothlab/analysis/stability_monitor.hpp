@@ -13,7 +13,8 @@
 //         the bound is integrated as dt_interval * max(P_before, P_after) * wind_work_safety (the
 //         speed may peak between samples); this over-estimates the true work by the cos factors
 //         and by v_max against mean speeds, which is fine: a divergence grows without limit and
-//         crosses any such bound, while a calm run stays far below it.
+//         crosses any such bound, while a calm run stays far below it. The air's drag and lift
+//         (clothlab/ext/air.h) add at most rho (C_d + C_l / 2) (|w| + v_max)^2 / 2 to S.
 //       W_attachments is the work the moving attachments have done on the cloth (the integral of
 //         Cloth::attachment_power, by the trapezoid rule over every observed step: a dragged
 //         cape gains the energy its shoulders give it, and loses it again when they stop);
