@@ -4,11 +4,15 @@
 // speeds up to a run, runs, stops and stands, then does it all again from where it stands.
 // The speed is continuous (linear ramps), the path too (arcs at constant speed in the turns),
 // so the attachments' targets (clothlab.attachments/1) and the colliders' poses
-// (clothlab.colliders/1) are continuous in position and the character's velocity.
+// (clothlab.colliders/1) are continuous in position and the character's velocity. The cape
+// moves through air (clothlab.air/1, drag and lift from the air's velocity relative to each
+// triangle; still air by default), which makes it stream behind the running character; the
+// coefficients are the flag's round illustrative values.
 //
 // Frame: y is up and the character starts at the origin facing +x; its body frame has x
 // forward, y up and z to its right. The cape hangs behind the back, its top edge on the line
 // x = -(torso.radius + thickness + back_gap), y = shoulder height, across z; rows go down.
+#include <clothlab/ext/air.h>
 #include <clothlab/ext/colliders.h>
 
 #include <array>
@@ -41,7 +45,6 @@ constexpr auto grid_params() {
 // The gap between the torso's back (plus the contact thickness) and the cape's top edge.
 inline constexpr double back_gap = 0.02;
 inline constexpr double shoulder_height = 1.42;
-inline constexpr double hip_height = 0.95;
 
 // Rotation about +y by psi: body frame to world. Forward (1, 0, 0) goes to (cos, 0, -sin).
 inline Vec3 yaw(double psi, const Vec3& b) {
@@ -197,6 +200,11 @@ struct Cape {
                           "Coulomb coefficient between the cape and the body"),
           sdk::real_param("thickness", 0.01, 0.0, 0.1, "m",
                           "distance the cape is kept from the body's surface"),
+          sdk::real_param("air.density", 1.225, 0.0, 100.0, "kg/m^3",
+                          "air for the drag and lift model (sea level); 0 = none"),
+          sdk::vec3_param("air.wind", {0.0, 0.0, 0.0}, -1e3, 1e3, "m/s", "the air's velocity"),
+          sdk::real_param("air.drag", 1.2, 0.0, 10.0, "", "drag coefficient of a triangle"),
+          sdk::real_param("air.lift", 1.0, 0.0, 10.0, "", "lift coefficient of a triangle"),
       });
 
   explicit Cape(const sdk::Params& values)
@@ -232,6 +240,12 @@ struct Cape {
               {{0.0, top - 0.5 * arm, -0.5 * shoulders}, {s, 0.0, 0.0, s}}};
     if (cloth_.anchored)
       for (uint32_t col = 0; col < cloth_.cols; ++col) attached_.push_back(col);
+    air_.struct_size = sizeof air_;
+    air_.density = values.real("air.density");
+    air_.drag_coefficient = values.real("air.drag");
+    air_.lift_coefficient = values.real("air.lift");
+    const std::array<double, 3> wind = values.vec3("air.wind");
+    for (int axis = 0; axis < 3; ++axis) air_.wind_velocity[axis] = wind[axis];
   }
 
   void describe(clothlab_scene& scene) const {
@@ -253,6 +267,8 @@ struct Cape {
         {body.position[0] + offset[0], body.position[1] + offset[1], body.position[2] + offset[2]},
         {orientation[0], orientation[1], orientation[2], orientation[3]}};
   }
+
+  clothlab_air air() const { return air_; }
 
   std::span<const uint32_t> attached_particles() const { return attached_; }
   // The top edge's points in the body frame, carried along: x = p + R r, v = p' + w y x R r.
@@ -283,6 +299,7 @@ struct Cape {
   std::vector<clothlab_collider> colliders_;
   std::vector<LocalPose> local_;
   std::vector<uint32_t> attached_;
+  clothlab_air air_{};
 };
 
 }  // namespace clothlab::builtin

@@ -504,10 +504,12 @@ TEST_F(Clothlab, TheCapeRunsStableOverItsLoopForEveryBuiltInThatSupportsIt) {
   }
 }
 
+// Without air: the air's drag grows with the square of the speed and caps what a pump injects
+// (the cloth reaches a terminal speed), which no energy criterion can tell from a breeze.
 TEST_F(Clothlab, AnEnergyInjectingIntegratorOnTheCapeIsStillCalledDiverged) {
-  const Outcome outcome =
-      run("--integrator=" + (test_plugins / "pump" / "clothlab_test_pumps_energy.so").string() +
-          " " + small_cape + "--dt 0.002 --duration 8 --json cape.json --quiet");
+  const Outcome outcome = run(
+      "--integrator=" + (test_plugins / "pump" / "clothlab_test_pumps_energy.so").string() + " " +
+      small_cape + "--set scenario.air.density=0 --dt 0.002 --duration 8 --json cape.json --quiet");
   EXPECT_EQ(outcome.exit_code, 3) << outcome.err;
   const auto json = nlohmann::json::parse(read_text(file("cape.json")));
   EXPECT_EQ(json["stable"], false);

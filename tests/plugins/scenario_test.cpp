@@ -172,7 +172,9 @@ TEST(ScenarioParameters, DeclareTheIssueKeys) {
     std::vector<std::string> names;
     for (uint32_t i = 0; i < scenario.param_count; ++i) names.push_back(scenario.params[i].name);
     std::vector<std::string> expected = common;
-    if (path == flag) expected.insert(expected.end(), {"wind.direction", "wind.strength"});
+    if (path == flag)
+      expected.insert(expected.end(), {"wind.direction", "wind.strength", "air.density",
+                                       "air.speed", "air.drag", "air.lift"});
     EXPECT_EQ(names, expected) << path;
   }
 }
