@@ -68,6 +68,9 @@ class ScenarioInstance {
   std::vector<double> colliders_at_start() const;
   // Its air's fields (clothlab.air/1), empty without the extension.
   std::vector<double> air() const;
+  // What moves over the first 20 s, sampled every 0.1 s: the attached particles
+  // (clothlab.attachments/1) and their targets, and the colliders' poses; empty when nothing does.
+  std::vector<double> motion() const;
 
  private:
   const clothlab_scenario& scenario_;

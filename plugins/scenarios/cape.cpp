@@ -254,6 +254,9 @@ struct Cape {
     set_vec3(scene.origin, -back_, cape::shoulder_height, -0.5 * cloth_.width);
     set_vec3(scene.col_axis, 0.0, 0.0, 1.0);
     set_vec3(scene.row_axis, 0.0, -1.0, 0.0);
+    // Pinned as well as attached: the scene says which particles no force moves.
+    scene.pinned_count = static_cast<uint32_t>(attached_.size());
+    scene.pinned = attached_.data();
   }
 
   std::span<const clothlab_collider> colliders() const { return colliders_; }
