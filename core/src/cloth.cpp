@@ -47,5 +47,11 @@ void Cloth::set_colliders(std::span<const Collider> colliders) {
 }
 Cloth::Contacts Cloth::contacts() const { return impl_->engine->contacts(); }
 std::span<const Collider> Cloth::colliders() const { return impl_->engine->colliders(); }
+void Cloth::set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) {
+  impl_->engine->set_attachments(particles, source);
+}
+bool Cloth::move_attachments(double t) { return impl_->engine->move_attachments(t); }
+double Cloth::attachment_power() const { return impl_->engine->attachment_power(); }
+double Cloth::contact_work() const { return impl_->engine->contact_work(); }
 
 }  // namespace clothlab

@@ -41,6 +41,10 @@ class ClothEngine final : public Engine {
   void set_colliders(std::span<const Collider> colliders) override;
   Cloth::Contacts contacts() const override;
   std::span<const Collider> colliders() const override { return colliders_; }
+  void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) override;
+  bool move_attachments(double t) override;
+  double attachment_power() const override;
+  double contact_work() const override { return contact_work_; }
 
  private:
   struct Span {
@@ -112,6 +116,9 @@ class ClothEngine final : public Engine {
   static uint32_t threads_callback(void* context);
   // clothlab.contacts/1 (cloth_engine_contacts.cpp).
   static clothlab_status contacts_resolve_callback(void* context, double t, void* x, void* v);
+  // clothlab.attachment-targets/1 (cloth_engine_attachments.cpp).
+  static uint32_t attachments_count_callback(void* context);
+  static clothlab_status attachments_move_callback(void* context, double t, void* x, void* v);
 
   Scene scene_;
   std::size_t n_ = 0;
@@ -135,6 +142,13 @@ class ClothEngine final : public Engine {
 
   std::vector<Collider> colliders_;  // at the poses the host last set
   AlignedBuffer<Real> path_start_;   // where each particle was at the last resolution or step start
+  std::vector<Collider> colliders_;          // at the poses the host last set
+  std::vector<uint32_t> attached_;           // particles moved to the source's targets
+  std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
+  AttachmentSource* attachment_source_ = nullptr;
+  double contact_work_ = 0;  // energy the contact resolution has added (J)
+  // The energy of particle i's springs with x_i at `position` and its partners in px.
+  double spring_energy_at(const Real* px, std::size_t i, const Vec3& position) const;
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector
   clothlab_system system_{};
   StageCounters counters_;

@@ -16,8 +16,26 @@ template <class Real>
 void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders) {
   colliders_.assign(colliders.begin(), colliders.end());
   if (colliders_.empty()) return;
+  (void)topology();  // built here: the resolution's energy reads it
   if (path_start_.size() != x_.size()) path_start_ = AlignedBuffer<Real>(x_.size());
   std::copy_n(x_.data(), x_.size(), path_start_.data());
+}
+
+template <class Real>
+double ClothEngine<Real>::spring_energy_at(const Real* px, std::size_t i,
+                                           const Vec3& position) const {
+  const GridTopology& springs = *topology_;
+  const std::size_t s = stride_;
+  double energy = 0.0;
+  for (uint32_t k = springs.adjacency_offsets[i]; k < springs.adjacency_offsets[i + 1]; ++k) {
+    const uint32_t spring = springs.adjacent_springs[k];
+    const uint32_t j = springs.first[spring] == i ? springs.second[spring] : springs.first[spring];
+    const double stretch =
+        std::hypot(px[j] - position[0], px[s + j] - position[1], px[2 * s + j] - position[2]) -
+        springs.rest_length[spring];
+    energy += 0.5 * springs.ks[spring] * stretch * stretch;
+  }
+  return energy;
 }
 
 template <class Real>
@@ -29,6 +47,7 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
   Real* const px = static_cast<Real*>(x);
   Real* const pv = static_cast<Real*>(v);
   const std::size_t s = self.stride_;
+  const double mass = self.scene_.total_mass / static_cast<double>(self.n_);
   // Serial: a handful of colliders against the particles costs a fraction of a force pass.
   for (const clothlab_range& range : self.active_)
     for (std::size_t i = range.begin; i < range.end; ++i) {
@@ -39,8 +58,16 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
           return CLOTHLAB_ERROR_NUMERICAL;
       Real* const start = self.path_start_.data();
       const Vec3 from{start[i], start[s + i], start[2 * s + i]};
-      const bool touched = resolve_swept_contact(self.colliders_, from, position, velocity);
-      if (touched) {
+      const Vec3 before = position, velocity_before = velocity;
+      if (resolve_swept_contact(self.colliders_, from, position, velocity)) {
+        // What the move did to the particle's energy (StabilityMonitor counts it as work).
+        double work =
+            self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
+        for (int k = 0; k < 3; ++k)
+          work +=
+              mass * (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
+                      self.scene_.gravity[k] * (position[k] - before[k]));
+        self.contact_work_ += std::max(work, 0.0);
         for (int k = 0; k < 3; ++k) {
           px[k * s + i] = static_cast<Real>(position[k]);
           pv[k * s + i] = static_cast<Real>(velocity[k]);

@@ -2,6 +2,7 @@
 // on, the analytic
 // spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
 // and the external forces alone, and the thread count the plugin may use.
+#include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
@@ -64,6 +65,8 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
                                                                      &depends_on_position_callback};
   static constexpr clothlab_threads_extension threads_table{&threads_callback};
   static constexpr clothlab_contacts_extension contacts_table{&contacts_resolve_callback};
+  static constexpr clothlab_attachment_targets_extension attachments_table{
+      &attachments_count_callback, &attachments_move_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
@@ -74,6 +77,7 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads_table;
   if (std::strcmp(id, CLOTHLAB_EXT_CONTACTS) == 0) return &contacts_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_ATTACHMENT_TARGETS) == 0) return &attachments_table;
   return nullptr;
 }
 

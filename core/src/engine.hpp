@@ -30,6 +30,10 @@ class Engine {
   virtual void set_colliders(std::span<const Collider> colliders) = 0;
   virtual Cloth::Contacts contacts() const = 0;
   virtual std::span<const Collider> colliders() const = 0;
+  virtual void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) = 0;
+  virtual bool move_attachments(double t) = 0;
+  virtual double attachment_power() const = 0;
+  virtual double contact_work() const = 0;
 };
 
 std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,

@@ -26,7 +26,8 @@ nlohmann::json contacts_json(const std::optional<RunRecord::ContactFigures>& con
           {"particles_inside_at_end", contacts->particles_inside_at_end},
           {"drape_coefficient", contacts->drape_coefficient
                                     ? nlohmann::json(*contacts->drape_coefficient)
-                                    : nlohmann::json(nullptr)}};
+                                    : nlohmann::json(nullptr)},
+          {"work", contacts->work}};
 }
 
 nlohmann::json solver_json(const std::optional<SolverTotals>& solver) {
@@ -140,6 +141,10 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["stability_checks"] = record.stability_checks;
   json["solver"] = solver_json(record.solver);
   json["contacts"] = contacts_json(record.contacts);
+  json["attachments"] = record.attachments
+                            ? nlohmann::json{{"particles", record.attachments->particles},
+                                             {"work", record.attachments->work}}
+                            : nlohmann::json(nullptr);
   json["threads"] = record.threads;
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},

@@ -64,11 +64,11 @@ auto create_with_user_params(Create&& create) {
   }
 }
 
-bool resolves_contacts(const host::IntegratorPlugin& integrator) {
+bool declares_trait(const host::IntegratorPlugin& integrator, uint32_t trait) {
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
       integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   return traits != nullptr && traits->struct_size >= sizeof(clothlab_integrator_traits) &&
-         (traits->flags & CLOTHLAB_TRAIT_RESOLVES_CONTACTS) != 0;
+         (traits->flags & trait) != 0;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -220,15 +220,33 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
                               "scenario " + std::string(scenario_->info().id) +
                                   " described an invalid scene: " + error.what());
     }
+    attachments_ = std::make_unique<SceneAttachments>(
+        *scenario_, *scenario_instance_, scene.rows * scene.cols, config.dt, config.steps);
+    if (!attachments_->empty() && !declares_trait(*integrator_, CLOTHLAB_TRAIT_MOVES_ATTACHMENTS))
+      throw host::InputError("integrator " + std::string(integrator_->info().id) +
+                             " does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS in "
+                             "clothlab.integrator-traits/1), which scenario " +
+                             std::string(scenario_->info().id) + "'s " +
+                             std::to_string(attachments_->particles().size()) +
+                             " attached particle(s) need");
+    // An attached particle is pinned: the integrators leave it to the attachment's target.
+    scene.pinned.insert(scene.pinned.end(), attachments_->particles().begin(),
+                        attachments_->particles().end());
+    std::sort(scene.pinned.begin(), scene.pinned.end());
+    scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
     scene.air = scene_air(*scenario_, *scenario_instance_);
     PipelineOptions options;
     options.velocity_forces = integrator_->uses_velocity_forces();
     options.threads = config.threads;
     cloth_ = std::make_unique<Cloth>(
         scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
+    if (!attachments_->empty()) {
+      cloth_->set_attachments(attachments_->particles(), *attachments_);
+      (void)cloth_->move_attachments(0.0);  // checked finite when read above
+    }
   }
   colliders_ = SceneColliders(*scenario_, *scenario_instance_, config.dt, config.steps);
-  if (!colliders_.empty() && !resolves_contacts(*integrator_))
+  if (!colliders_.empty() && !declares_trait(*integrator_, CLOTHLAB_TRAIT_RESOLVES_CONTACTS))
     throw host::InputError("integrator " + std::string(integrator_->info().id) +
                            " does not resolve contacts (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS in "
                            "clothlab.integrator-traits/1), which scenario " +
@@ -263,6 +281,8 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
   if (!colliders_.empty()) record.contacts.emplace().colliders = colliders_.size();
+  if (!attachments_->empty())
+    record.attachments.emplace().particles = attachments_->particles().size();
   analysis::StabilityMonitor monitor(*cloth_, 0.0, config_.monitor);
   auto fail = [&](uint64_t step, std::string check, std::string verdict) {
     record.stable = false;
@@ -347,7 +367,9 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   if (record.contacts) {
     record.contacts->particles_inside_at_end = cloth_->contacts().particles_inside;
     record.contacts->drape_coefficient = drape_coefficient(*cloth_);
+    record.contacts->work = cloth_->contact_work();
   }
+  if (record.attachments) record.attachments->work = monitor.attachment_work();
   if (record.interrupted)
     record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
   else if (record.stretch_stopped)

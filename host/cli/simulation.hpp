@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "run_config.hpp"
+#include "scene_attachments.hpp"
 #include "scene_colliders.hpp"
 
 namespace clothlab::cli {
@@ -91,8 +92,19 @@ struct RunRecord {
     // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
     // Cusick drape coefficient's projected area share); null without gravity.
     std::optional<double> drape_coefficient;
+    // The energy the contact resolution added over the run (J, Cloth::contact_work), which the
+    // stability monitor's energy bound allows for.
+    double work = 0;
   };
   std::optional<ContactFigures> contacts;
+  // Scenes with attachments (clothlab.attachments/1) only.
+  struct AttachmentFigures {
+    std::size_t particles = 0;
+    // The work the moving attachments did on the cloth over the run (J; negative when they
+    // took energy out), which the stability monitor's energy bound allows for.
+    double work = 0;
+  };
+  std::optional<AttachmentFigures> attachments;
   nlohmann::json integrator_params, scenario_params;
 };
 
@@ -158,6 +170,8 @@ class Simulation {
   // The scenario lives through the run: its colliders' poses are asked for step by step.
   std::optional<host::ScenarioInstance> scenario_instance_;
   SceneColliders colliders_;
+  // Held by pointer: the cloth keeps its address as the source of the attachments' targets.
+  std::unique_ptr<SceneAttachments> attachments_;
   // Declared after the cloth so it is destroyed first: it may hold the system's vectors.
   std::unique_ptr<Cloth> cloth_;
   std::optional<host::IntegratorInstance> integrator_instance_;

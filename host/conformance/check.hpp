@@ -44,6 +44,8 @@ std::vector<Check> descriptor_checks(const clothlab_plugin_descriptor& library);
 std::vector<Check> parameter_checks(const ParameterSubject& subject, const Settings& settings);
 std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator);
 std::vector<Check> numerics_checks(const clothlab_integrator& integrator);
+// Only for an integrator declaring CLOTHLAB_TRAIT_MOVES_ATTACHMENTS.
+std::vector<Check> attachment_checks(const clothlab_integrator& integrator);
 std::vector<Check> robustness_checks(const clothlab_integrator& integrator);
 std::vector<Check> stability_checks(const clothlab_integrator& integrator);
 std::vector<Check> contacts_checks(const clothlab_integrator& integrator);

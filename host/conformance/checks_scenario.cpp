@@ -91,6 +91,7 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
   const clothlab_scene base = base_instance.describe();
   const std::vector<double> base_colliders = base_instance.colliders_at_start();
   const std::vector<double> base_air = base_instance.air();
+  const std::vector<double> base_motion = base_instance.motion();
   int changed = 0;
   for (uint32_t i = 0; i < scenario.param_count; ++i) {
     const clothlab_param_spec& spec = scenario.params[i];
@@ -100,8 +101,9 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
     const clothlab_scene scene = instance.describe();
     const std::string what = std::string(spec.name) + " = " + std::to_string(values[i].v[0]);
     require(!same_scene(scene, base) || instance.colliders_at_start() != base_colliders ||
-                instance.air() != base_air,
-            "setting " + what + " changes neither the scene, nor its colliders, nor its air");
+                instance.air() != base_air || instance.motion() != base_motion,
+            "setting " + what +
+                " changes neither the scene, nor its colliders, nor its air, nor what moves");
     const std::string wrong = expected_effect(spec, scene, values[i].v[0]);
     require(wrong.empty(), "with " + what + ", " + wrong);
     require_valid_scene(scene);

@@ -1,6 +1,7 @@
 #include "fixtures.hpp"
 
 #include <clothlab/ext/air.h>
+#include <clothlab/ext/attachments.h>
 #include <clothlab/ext/colliders.h>
 
 #include <cstring>
@@ -119,6 +120,42 @@ std::vector<double> ScenarioInstance::colliders_at_start() const {
                    collider.half_extents[2], collider.friction, collider.thickness});
     fields.insert(fields.end(), std::begin(pose.position), std::end(pose.position));
     fields.insert(fields.end(), std::begin(pose.orientation), std::end(pose.orientation));
+  }
+  return fields;
+}
+
+std::vector<double> ScenarioInstance::motion() const {
+  const auto* attachments = static_cast<const clothlab_attachments_extension*>(
+      clothlab_scenario_extension(&scenario_, CLOTHLAB_EXT_ATTACHMENTS));
+  const auto* colliders = static_cast<const clothlab_colliders_extension*>(
+      clothlab_scenario_extension(&scenario_, CLOTHLAB_EXT_COLLIDERS));
+  std::vector<double> fields;
+  clothlab_message message{};
+  const uint32_t attached = attachments ? attachments->count(instance_) : 0;
+  std::vector<uint32_t> particles(attached);
+  std::vector<double> positions(3 * attached), velocities(3 * attached);
+  if (attached > 0) {
+    const clothlab_status status = attachments->particles(instance_, particles.data(), &message);
+    require(status == CLOTHLAB_OK, "attachments failed: " + describe_status(status, message));
+    fields.assign(particles.begin(), particles.end());
+  }
+  for (int sample = 0; sample <= 200; ++sample) {
+    const double t = 0.1 * sample;
+    if (attached > 0) {
+      const clothlab_status status =
+          attachments->targets(instance_, t, positions.data(), velocities.data(), &message);
+      require(status == CLOTHLAB_OK,
+              "attachment targets failed: " + describe_status(status, message));
+      fields.insert(fields.end(), positions.begin(), positions.end());
+      fields.insert(fields.end(), velocities.begin(), velocities.end());
+    }
+    for (uint32_t i = 0; colliders != nullptr && i < colliders->count(instance_); ++i) {
+      clothlab_pose pose{};
+      const clothlab_status status = colliders->pose(instance_, i, t, &pose, &message);
+      require(status == CLOTHLAB_OK, "collider pose failed: " + describe_status(status, message));
+      fields.insert(fields.end(), std::begin(pose.position), std::end(pose.position));
+      fields.insert(fields.end(), std::begin(pose.orientation), std::end(pose.orientation));
+    }
   }
   return fields;
 }

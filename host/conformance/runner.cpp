@@ -149,6 +149,7 @@ void run_components(const clothlab_plugin_descriptor& library, PluginRun& run,
     run.run_all(parameter_checks(subject_of(*integrator), options.settings));
     run.run_all(lifecycle_checks(*integrator));
     run.run_all(numerics_checks(*integrator));
+    run.run_all(attachment_checks(*integrator));
     run.run_all(robustness_checks(*integrator));
     run.run_all(stability_checks(*integrator));
     run.run_all(contacts_checks(*integrator));

@@ -1,6 +1,7 @@
 // What every integrator that the host steps by its fused Runge-Kutta-Nystrom sweep shares: the
 // table declared as data (clothlab.explicit-scheme/1, from which the host derives the cost and
 // the stability limit), the sweep's storage reserved in `prepare`, one step_rkn per step, then
+// the attachments moved to their targets at the step's end (clothlab.attachment-targets/1) and
 // the host's contact resolution (clothlab.contacts/1) on the step's end state.
 // A method is its table: `struct Rk4 : FusedRknIntegrator<rk4_scheme> { ... }`.
 #pragma once
@@ -26,7 +27,8 @@ class FusedRknIntegrator {
   static constexpr clothlab_rkn_scheme raw_scheme = Scheme.raw();
   static constexpr clothlab_explicit_scheme explicit_scheme = sdk::explicit_scheme_of(raw_scheme);
   static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_RESOLVES_CONTACTS, nullptr, nullptr};
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, nullptr, nullptr};
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -39,6 +41,8 @@ class FusedRknIntegrator {
     (void)prepared_for_.bind(system);
     if (dt == 0.0) return;
     system.step_rkn(t, dt, Scheme);
+    // The stages saw the attachments where the step started (as the colliders).
+    system.move_attachments(t + dt);
     system.resolve_contacts(t + dt);
   }
 

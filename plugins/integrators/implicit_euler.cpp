@@ -85,11 +85,11 @@ struct ImplicitEuler {
                      "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
                      "correction"),
   };
-  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
-                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
-                                                         CLOTHLAB_TRAIT_ITERATIVE |
-                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
-                                                     nullptr, "max_iterations"};
+  static constexpr clothlab_integrator_traits traits{
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
+      nullptr, "max_iterations"};
 
   explicit ImplicitEuler(const sdk::Params& values)
       : tolerance_(values.real("tolerance")),
@@ -164,6 +164,8 @@ struct ImplicitEuler {
     }
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
+    // The solve saw the attachments' motion through their velocities in h^2 (da/dx) v0.
+    system.move_attachments(t + h);
     // After the solve: contacts change v, and the warm start's dv stays the solver's.
     system.resolve_contacts(t + h);
     previous_h_ = h;

@@ -56,11 +56,11 @@ struct ProjectiveDynamics {
       sdk::int_param("iterations", 10, 1, 1000,
                      "local/global iterations per step (one back-substitution each)"),
   };
-  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
-                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
-                                                         CLOTHLAB_TRAIT_ITERATIVE |
-                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
-                                                     nullptr, "iterations"};
+  static constexpr clothlab_integrator_traits traits{
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
+      nullptr, "iterations"};
 
   explicit ProjectiveDynamics(const sdk::Params& values)
       : iterations_(values.integer("iterations")) {}
@@ -86,6 +86,8 @@ struct ProjectiveDynamics {
     const size_t stride = system.stride();
     Real* x = system.x();
     Real* v = system.v();
+    // Implicit in the positions: the global solves hold the attachments at the step's end.
+    system.move_attachments(t + h);
     system.external_forces().acceleration(t, x, external);
     for (uint32_t i = 0; i < unknown_of_.size(); ++i) {
       const int32_t u = unknown_of_[i];

@@ -103,7 +103,8 @@ struct Vbd {
                      "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
   };
   static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_ITERATIVE, nullptr, "iterations"};
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_ITERATIVE | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, nullptr, "iterations"};
 
   explicit Vbd(const sdk::Params& values)
       : iterations_(static_cast<int>(values.integer("iterations"))),
@@ -138,6 +139,8 @@ struct Vbd {
     last_ = {sizeof(clothlab_solver_step_statistics), 1, 0, 0, 0.0};
     if (h == 0.0) return;
     Solver<Real>& solver = solver_for<Real>();
+    // Implicit in the positions: the sweeps hold the attachments at the step's end.
+    system.move_attachments(t + h);
     system.external_forces().acceleration(t, system.x(), external_acceleration);
     const StepArrays<Real> arrays{&solver,
                                   system.x(),

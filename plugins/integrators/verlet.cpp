@@ -28,6 +28,7 @@
 // colliders). The state that carries the motion is the displacement history d, not v: a contact
 // would have to rewrite d consistently with the velocity it changes, which this form has no
 // inverse for short of restarting the history every step (a different, first-order method).
+// Attachments: moved to their targets after the step (clothlab.attachment-targets/1).
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
@@ -61,6 +62,8 @@ struct StormerVerlet {
   static constexpr clothlab_rkn_scheme raw_scheme = velocity_verlet.raw();
   static constexpr clothlab_explicit_scheme explicit_scheme =
       sdk::explicit_scheme_of(raw_scheme, true);
+  static constexpr clothlab_integrator_traits traits{
+      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, nullptr, nullptr};
 
   explicit StormerVerlet(const sdk::Params& values)
       : damping_rate_(values.real("damping")), damping_per_step_(values.real("damping_per_step")) {}
@@ -94,6 +97,9 @@ struct StormerVerlet {
     system.axpy(x, 1.0, displacement);
     system.template lincomb<2>(v, displacement, {k.velocity_d - 1.0, k.velocity_a},
                                {displacement, acceleration});
+    // The step's one evaluation saw the attachments at its start; the history d holds only
+    // free particles, so moving the pinned ones leaves it consistent.
+    system.move_attachments(t + dt);
   }
 
  private:

@@ -113,11 +113,11 @@ struct Xpbd {
                       "a tether's max length is (1 + tether_slack) x the particle's straight-line "
                       "distance to its pin at prepare"),
   };
-  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
-                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
-                                                         CLOTHLAB_TRAIT_ITERATIVE |
-                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
-                                                     "substeps", "iterations"};
+  static constexpr clothlab_integrator_traits traits{
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
+      "substeps", "iterations"};
 
   explicit Xpbd(const sdk::Params& values)
       : substeps_(static_cast<int>(values.integer("substeps"))),
@@ -159,6 +159,7 @@ struct Xpbd {
     const double h = dt / substeps_;
     Solver<Real>& solver = solver_for<Real>();
     if (!wind) external.acceleration(t, system.x(), external_acceleration);
+    const bool attachments = system.has_attachments();
     if (solver.tethers.active()) solver.tethers.refresh_anchors(system.x(), system.stride());
     const Substep<Real> arrays{system.inverse_mass(),
                                external_acceleration,
@@ -173,6 +174,12 @@ struct Xpbd {
                                static_cast<Real>(1.0 / h)};
     for (int substep = 0; substep < substeps_; ++substep) {
       if (wind) external.acceleration(t + substep * h, system.x(), external_acceleration);
+      // The substep's constraints hold the attachments (and the tethers' anchors on them) at
+      // the substep's end.
+      if (attachments) {
+        system.move_attachments(t + (substep + 1) * h);
+        if (solver.tethers.active()) solver.tethers.refresh_anchors(system.x(), system.stride());
+      }
       const bool finite =
           solver.on_grid ? solver.grid.run(arrays, threads_) : solver.general.run(arrays, threads_);
       if (!finite)

@@ -199,10 +199,13 @@ INSTANTIATE_TEST_SUITE_P(
                    "--filter scenario.valid"},
         FaultyCase{"faulty_ruffles_at_random", "ruffles-at-random", "scenario.deterministic",
                    "two describe calls on one instance differ", "--filter scenario.deterministic"},
-        FaultyCase{
-            "faulty_ignores_wind", "ignores-wind", "scenario.params",
-            "setting wind = 1.250000 changes neither the scene, nor its colliders, nor its air",
-            "--filter scenario.params"},
+        FaultyCase{"faulty_ignores_wind", "ignores-wind", "scenario.params",
+                   "setting wind = 1.250000 changes neither the scene, nor its colliders, nor its "
+                   "air, nor "
+                   "what moves",
+                   "--filter scenario.params"},
+        FaultyCase{"faulty_ignores_attachments", "ignores-attachments", "attachments.follow-f64",
+                   "attached particle 0 off its target after step 1", "--filter attachments"},
         FaultyCase{"faulty_offers_only_float32", "offers-only-float32", "numerics.float64",
                    "numerics are measured in float64, which it lacks", "--filter numerics.float64"},
         FaultyCase{"faulty_undercounts_evals", "undercounts-evals", "lifecycle.evals-per-step",

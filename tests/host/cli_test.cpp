@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -410,6 +412,126 @@ TEST_F(Clothlab, DrapeSettlesOverASphereAndATableAndReportsItsDrapeCoefficient) 
     const double coefficient = contacts["drape_coefficient"].get<double>();
     EXPECT_LT(coefficient, 0.95) << support;
     EXPECT_GT(coefficient, support_shadow) << support;
+  }
+}
+
+// The test scenario's particle 0 goes round a circle of radius 0.1 m at 3 rad/s from the origin:
+// every built-in leaves it exactly on the circle (up to the float32 rounding of the target) after
+// each of the first steps, while the cloth hangs from it.
+const std::string attachment_scene =
+    "--scenario=" + (test_plugins / "attachments" / "clothlab_test_attachment.so").string() + " ";
+
+TEST_F(Clothlab, EveryBuiltInLeavesAnAttachedParticleOnItsPathAfterEachStep) {
+  const double dt = 0.004;
+  for (const char* integrator : {"euler", "midpoint", "rk4", "verlet", "implicit_euler",
+                                 "projective_dynamics", "xpbd", "vbd"}) {
+    for (const int steps : {1, 2, 3, 10, 25}) {
+      const Outcome outcome = run(std::string("--integrator=") + integrator + " " +
+                                  attachment_scene + "--dt " + std::to_string(dt) + " --steps " +
+                                  std::to_string(steps) + " --state-out state.csv --quiet");
+      ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+      std::ifstream csv(file("state.csv"));
+      std::string line;
+      std::getline(csv, line);
+      std::getline(csv, line);  // row 0, col 0: particle 0
+      std::stringstream fields(line);
+      std::string field;
+      std::array<double, 8> values{};
+      for (double& value : values) {
+        std::getline(fields, field, ',');
+        value = std::stod(field);
+      }
+      const double angle = 3.0 * steps * dt;
+      const std::array<double, 6> expected = {
+          0.1 * (std::cos(angle) - 1.0), 0.1 * std::sin(angle), 0.0,
+          -0.3 * std::sin(angle),        0.3 * std::cos(angle), 0.0};
+      for (int k = 0; k < 6; ++k)
+        EXPECT_NEAR(values[2 + k], expected[k], 1e-7)
+            << integrator << " after " << steps << " steps, coordinate " << k;
+    }
+  }
+}
+
+TEST_F(Clothlab, AnAttachmentOutOfRangeNonFiniteOrJumpingIsOneLineOfBadInputBeforeTheRun) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"--set scenario.particle=9",
+       "scenario test-attachment: attachment 0: particle = 9, allowed 0 .. 8 (the cloth's rows x "
+       "cols particles)"},
+      {"--set scenario.broken_after=0.5",
+       "scenario test-attachment: attachment 0 (particle 0): target at t = 0.5 s: position.y = "
+       "nan, allowed finite"},
+      {"--set scenario.jump_at=0.25",
+       "scenario test-attachment: attachment 0 (particle 0): target jumps 0.9995924331779968 m "
+       "between t = 0.248 and 0.25 s, allowed a continuous path (at most 0.0012000010000000002 "
+       "m: twice the step times its velocity there)"},
+  };
+  for (const auto& [settings, message] : cases) {
+    const Outcome outcome = run("--integrator=euler " + attachment_scene + settings +
+                                " --dt 0.002 --steps 1000 --json o.json");
+    EXPECT_EQ(outcome.exit_code, 1) << settings;
+    EXPECT_EQ(outcome.err, "clothlab: error: " + message + "\n") << settings;
+    EXPECT_TRUE(outputs().empty()) << settings;
+  }
+}
+
+TEST_F(Clothlab, AnIntegratorThatDoesNotMoveAttachmentsIsRefusedOnAnAttachmentScene) {
+  const Outcome outcome =
+      run("--integrator=" + (test_plugins / "good" / "clothlab_test_good.so").string() + " " +
+          attachment_scene + "--steps 10 --json o.json");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: integrator test-drift does not move attachments (no "
+            "CLOTHLAB_TRAIT_MOVES_ATTACHMENTS in clothlab.integrator-traits/1), which scenario "
+            "test-attachment's 1 attached particle(s) need\n");
+  EXPECT_TRUE(outputs().empty());
+}
+
+// A small cape over the script's whole loop (walk, turn, run at 5 m/s, stop, rest: 8 s): every
+// built-in that moves attachments and resolves contacts keeps it stable, with no particle left
+// inside the body; the work its shoulders did is reported.
+const std::string small_cape = "--scenario=cape --set scenario.rows=12 --set scenario.cols=8 ";
+
+TEST_F(Clothlab, TheCapeRunsStableOverItsLoopForEveryBuiltInThatSupportsIt) {
+  for (const char* integrator :
+       {"euler", "midpoint", "rk4", "implicit_euler", "projective_dynamics", "xpbd"}) {
+    const std::string dt = std::string(integrator) == "xpbd" ? "0.01" : "0.002";
+    const Outcome outcome = run(std::string("--integrator=") + integrator + " " + small_cape +
+                                "--dt " + dt + " --duration 8 --json cape.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    const auto json = nlohmann::json::parse(read_text(file("cape.json")));
+    EXPECT_EQ(json["stable"], true) << integrator << ": " << json["verdict"];
+    EXPECT_EQ(json["contacts"]["colliders"], 4) << integrator;
+    EXPECT_EQ(json["contacts"]["particles_inside_at_end"], 0) << integrator;
+    EXPECT_EQ(json["attachments"]["particles"], 8) << integrator;
+    EXPECT_TRUE(json["attachments"]["work"].is_number()) << integrator;
+  }
+}
+
+// Without air: the air's drag grows with the square of the speed and caps what a pump injects
+// (the cloth reaches a terminal speed), which no energy criterion can tell from a breeze.
+TEST_F(Clothlab, AnEnergyInjectingIntegratorOnTheCapeIsStillCalledDiverged) {
+  const Outcome outcome = run(
+      "--integrator=" + (test_plugins / "pump" / "clothlab_test_pumps_energy.so").string() + " " +
+      small_cape + "--set scenario.air.density=0 --dt 0.002 --duration 8 --json cape.json --quiet");
+  EXPECT_EQ(outcome.exit_code, 3) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("cape.json")));
+  EXPECT_EQ(json["stable"], false);
+  EXPECT_EQ(json["failed_check"], "energy") << json["verdict"];
+}
+
+TEST_F(Clothlab, TheCapesBodyAndScriptRefuseValuesOutOfRangeBeforeTheRun) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"torso.radius=0", "scenario.torso.radius = 0: out of range; allowed: real in [0.01, 1] m"},
+      {"arms.length=0", "scenario.arms.length = 0: out of range; allowed: real in [0.01, 2] m"},
+      {"friction=-0.1", "scenario.friction = -0.1: out of range; allowed: real in [0, 10]"},
+      {"turn.duration=0",
+       "scenario.turn.duration = 0: out of range; allowed: real in [0.01, 100] s"},
+  };
+  for (const auto& [setting, message] : cases) {
+    const Outcome outcome =
+        run("--integrator=xpbd --scenario=cape --set scenario." + setting + " --steps 3");
+    EXPECT_EQ(outcome.exit_code, 1) << setting;
+    EXPECT_EQ(outcome.err, "clothlab: error: --set: " + message + "\n") << setting;
   }
 }
 

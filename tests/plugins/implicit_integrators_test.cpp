@@ -178,7 +178,7 @@ TEST(ImplicitEuler, DeclaresItsTraits) {
       integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   ASSERT_NE(traits, nullptr);
   EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
+                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS);
   EXPECT_STREQ(traits->iterations_param, "max_iterations");
   EXPECT_EQ(integrator.descriptor().get_extension("clothlab.solver-statistics/2"), nullptr);
 }
@@ -374,7 +374,7 @@ TEST(ProjectiveDynamics, DeclaresItsTraits) {
       integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   ASSERT_NE(traits, nullptr);
   EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
+                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS);
   EXPECT_STREQ(traits->iterations_param, "iterations");
 }
 

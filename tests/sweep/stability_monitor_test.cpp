@@ -6,6 +6,9 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <span>
+#include <string>
+#include <vector>
 
 namespace clothlab::analysis {
 namespace {
@@ -167,6 +170,70 @@ TEST(StabilityMonitor, AFreeClothPushedByTheAirStaysWithinTheWorkBound) {
   const Verdict verdict = run(cloth, 5e-4, 2000, options);
   EXPECT_TRUE(verdict.stable) << verdict.reason;
   EXPECT_GT(cloth.energy().kinetic, 1.0);
+}
+
+// The hanging spring's top particle lifted at a steady 1 m/s for 20 s: the free particle rises
+// 20 m, 19.6 J of gravitational energy, about 9 times the monitor's margin.
+class SteadyLift final : public AttachmentSource {
+ public:
+  bool targets(double t, std::span<double> positions,
+               std::span<double> velocities) noexcept override {
+    positions[0] = positions[2] = velocities[0] = velocities[2] = 0.0;
+    positions[1] = speed * t;
+    velocities[1] = speed;
+    return true;
+  }
+  static constexpr double speed = 1.0;
+};
+
+struct LiftedRun {
+  Verdict verdict;
+  double energy_gain = 0, attachment_work = 0;
+};
+
+// Symplectic Euler with the pin moved to its target after each step (as the built-ins do).
+LiftedRun lift(double dt, double duration, double velocity_gain) {
+  Cloth cloth(hanging_spring(), Precision::Float64, {});
+  SteadyLift source;
+  const uint32_t top = 0;
+  cloth.set_attachments({&top, 1}, source);
+  EXPECT_TRUE(cloth.move_attachments(0.0));
+  MonitorOptions options;
+  options.check_interval = 1;
+  options.stretch_limit = 1e12;  // the energy check alone
+  StabilityMonitor monitor(cloth, 0.0, options);
+  const double initial = cloth.energy().total();
+  SymplecticEulerLoop loop(cloth);
+  const int steps = static_cast<int>(std::lround(duration / dt));
+  std::vector<double> x, v;
+  for (int i = 1; i <= steps && monitor.verdict().stable; ++i) {
+    loop.step((i - 1) * dt, dt);
+    if (velocity_gain != 1.0) {  // the mutant: a little energy from nowhere every step
+      cloth.positions(x);
+      cloth.velocities(v);
+      for (int axis = 0; axis < 3; ++axis) v[3 + axis] *= velocity_gain;
+      cloth.set_state(x, v);
+    }
+    EXPECT_TRUE(cloth.move_attachments(i * dt));
+    monitor.observe(cloth, static_cast<uint64_t>(i), i * dt);
+  }
+  return {monitor.verdict(), cloth.energy().total() - initial, monitor.attachment_work()};
+}
+
+TEST(StabilityMonitor, APinLiftingTheClothDoesWorkThatBalancesItsEnergyGain) {
+  const LiftedRun run = lift(1e-3, 20.0, 1.0);
+  EXPECT_TRUE(run.verdict.stable) << run.verdict.reason;
+  // Undamped: the energy gained is the work the pin did, to the trapezoid rule's error.
+  EXPECT_GT(run.energy_gain, 19.0);
+  EXPECT_NEAR(run.attachment_work, run.energy_gain, 1e-3 * run.energy_gain);
+}
+
+TEST(StabilityMonitor, AnEnergyInjectingStepOnALiftedClothIsStillFlagged) {
+  // 0.2 % more velocity per step: the mutant's energy grows without bound beyond the work.
+  const LiftedRun run = lift(1e-3, 20.0, 1.002);
+  EXPECT_FALSE(run.verdict.stable);
+  EXPECT_EQ(run.verdict.fired, StabilityCheck::Energy) << run.verdict.reason;
+  EXPECT_NE(run.verdict.reason.find("attachment work"), std::string::npos) << run.verdict.reason;
 }
 
 TEST(StabilityMonitor, RejectsOptionsOutOfRange) {

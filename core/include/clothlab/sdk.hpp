@@ -25,8 +25,11 @@
 // `void last_step_statistics(clothlab_solver_step_statistics&) const`.
 // A scenario (ABI 1.3) offers clothlab.colliders/1 by two members,
 // `std::span<const clothlab_collider> colliders() const` and
-// `clothlab_pose collider_pose(uint32_t index, double t) const`, clothlab.air/1 by a member
-// `clothlab_air air() const`, and extensions the SDK has no
+// `clothlab_pose collider_pose(uint32_t index, double t) const`; clothlab.air/1 by a member
+// `clothlab_air air() const`; clothlab.attachments/1 by
+// `std::span<const uint32_t> attached_particles() const` and
+// `void attachment_targets(double t, std::span<double> positions, std::span<double>
+// velocities) const` (3 per attached particle, particle-major); and extensions the SDK has no
 // glue for by a static member
 // `const void* extension(std::string_view id) noexcept` returning the table for `id`, or
 // nullptr; its tables' functions receive the instance as a `void*`.
@@ -37,12 +40,15 @@
 #pragma once
 
 #include <clothlab/ext/air.h>
+#include <clothlab/ext/attachment_targets.h>
+#include <clothlab/ext/attachments.h>
 #include <clothlab/ext/colliders.h>
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 #include <clothlab/plugin.h>
 
+#include <algorithm>
 #include <array>
 #include <clothlab/sdk/error.hpp>
 #include <clothlab/sdk/extensions.hpp>
@@ -312,6 +318,21 @@ class System {
     if (extension<clothlab_contacts_extension>(CLOTHLAB_EXT_CONTACTS) != nullptr)
       contacts().resolve(t, x(), v());
   }
+  // Whether the scene has attached particles (clothlab.attachment-targets/1), which
+  // move_attachments moves; false on a host without the extension.
+  bool has_attachments() const {
+    const auto* table =
+        extension<clothlab_attachment_targets_extension>(CLOTHLAB_EXT_ATTACHMENT_TARGETS);
+    return table != nullptr && table->count(raw_->context) != 0;
+  }
+  // Sets the attached particles of x and v to their targets at time t; a no-op on a host
+  // without clothlab.attachment-targets/1 or on a scene without attachments.
+  void move_attachments(double t) const {
+    const auto* table =
+        extension<clothlab_attachment_targets_extension>(CLOTHLAB_EXT_ATTACHMENT_TARGETS);
+    if (table != nullptr && table->count(raw_->context) != 0)
+      check(table->move(raw_->context, t, raw_->x, raw_->v), "moving the attachments failed");
+  }
   Real* alloc_vector() const {
     void* p = raw_->alloc_vector(raw_->context);
     if (p == nullptr) throw std::bad_alloc();
@@ -480,6 +501,37 @@ const void* scenario_extension(const char* id) noexcept {
           });
         }};
     if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS) == 0) return &colliders;
+  }
+  if constexpr (requires(const Impl& impl, double t, std::span<double> out) {
+                  { impl.attached_particles() } -> std::convertible_to<std::span<const uint32_t>>;
+                  impl.attachment_targets(t, out, out);
+                }) {
+    static const clothlab_attachments_extension attachments{
+        [](void* instance) -> uint32_t {
+          return static_cast<uint32_t>(
+              static_cast<const Impl*>(instance)->attached_particles().size());
+        },
+        [](void* instance, uint32_t* out, clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            const std::span<const uint32_t> all =
+                static_cast<const Impl*>(instance)->attached_particles();
+            if (out == nullptr && !all.empty())
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "attachments: no buffer");
+            std::copy(all.begin(), all.end(), out);
+          });
+        },
+        [](void* instance, double t, double* positions, double* velocities,
+           clothlab_message* error) -> clothlab_status {
+          return guarded(error, [&] {
+            const Impl& impl = *static_cast<const Impl*>(instance);
+            const std::size_t values = 3 * impl.attached_particles().size();
+            if ((positions == nullptr || velocities == nullptr) && values != 0)
+              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "attachment targets: no buffer");
+            impl.attachment_targets(t, std::span<double>(positions, values),
+                                    std::span<double>(velocities, values));
+          });
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_ATTACHMENTS) == 0) return &attachments;
   }
   if constexpr (requires(const Impl& impl) {
                   { impl.air() } -> std::same_as<clothlab_air>;

@@ -41,7 +41,7 @@ const char* to_string(StabilityCheck check) {
 }
 
 StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorOptions& options)
-    : options_(options), last_time_(t0) {
+    : options_(options), last_time_(t0), attachment_time_(t0) {
   validate(options);
   const Scene& scene = cloth.scene();
   const Cloth::Energy energy = cloth.energy();
@@ -50,7 +50,18 @@ StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorO
   energy_scale_ = scene.total_mass * norm(scene.gravity) * diagonal + std::abs(energy.kinetic) +
                   std::abs(energy.spring) + std::abs(energy.gravity);
   rest_area_ = scene.rows > 1 && scene.cols > 1 ? scene.width * scene.height : 0.0;
-  if (cloth.state_is_finite()) last_power_ = wind_power_bound(cloth, cloth.max_stretch());
+  if (cloth.state_is_finite()) {
+    last_power_ = wind_power_bound(cloth, cloth.max_stretch());
+    attachment_power_ = cloth.attachment_power();
+  }
+}
+
+void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
+  if (!(t > attachment_time_)) return;
+  const double power = cloth.attachment_power();
+  attachment_work_ += 0.5 * (power + attachment_power_) * (t - attachment_time_);
+  attachment_power_ = power;
+  attachment_time_ = t;
 }
 
 double StabilityMonitor::wind_power_bound(const Cloth& cloth, double stretch) {
@@ -82,6 +93,8 @@ void StabilityMonitor::fail(StabilityCheck check, uint64_t step, double t, doubl
 }
 
 const Verdict& StabilityMonitor::observe(const Cloth& cloth, uint64_t step, double t) {
+  // Every step: the attachments' power changes as fast as the cloth moves.
+  if (verdict_.stable) add_attachment_work(cloth, t);
   if (step % options_.check_interval != 0) return verdict_;
   return check(cloth, step, t);
 }
@@ -107,13 +120,18 @@ const Verdict& StabilityMonitor::check(const Cloth& cloth, uint64_t step, double
       std::max(0.0, t - last_time_) * std::max(power, last_power_) * options_.wind_work_safety;
   last_time_ = t;
   last_power_ = power;
+  add_attachment_work(cloth, t);
+  const double contact_work = cloth.contact_work();
   const double energy = cloth.energy().total();
-  const double limit = initial_energy_ + wind_work_ + options_.energy_margin * energy_scale_;
+  const double limit = initial_energy_ + wind_work_ + attachment_work_ + contact_work +
+                       options_.energy_margin * energy_scale_;
   if (!(energy <= limit)) {
     reason << "energy " << energy << " J above initial " << initial_energy_
-           << " J + wind work bound " << wind_work_ << " J + margin "
-           << options_.energy_margin * energy_scale_ << " J at step " << step << " (t = " << t
-           << " s)";
+           << " J + wind work bound " << wind_work_ << " J";
+    if (attachment_work_ != 0.0) reason << " + attachment work " << attachment_work_ << " J";
+    if (contact_work != 0.0) reason << " + contact work " << contact_work << " J";
+    reason << " + margin " << options_.energy_margin * energy_scale_ << " J at step " << step
+           << " (t = " << t << " s)";
     fail(StabilityCheck::Energy, step, t, energy, limit, reason.str());
   }
   return verdict_;

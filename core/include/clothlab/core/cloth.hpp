@@ -103,6 +103,17 @@ struct StageCounters {
   double external_forces_s = 0.0;     // wall time in gravity + wind + air
 };
 
+// Where the attached particles' targets come from (a scenario's clothlab.attachments/1, through
+// the host): called inside steps, so it must not allocate.
+class AttachmentSource {
+ public:
+  virtual ~AttachmentSource() = default;
+  // Writes the targets at time t, 3 values per attached particle, particle-major; false when
+  // one is not finite.
+  virtual bool targets(double t, std::span<double> positions,
+                       std::span<double> velocities) noexcept = 0;
+};
+
 class Cloth {
  public:
   Cloth(const Scene& scene, Precision precision, PipelineOptions options);
@@ -181,6 +192,25 @@ class Cloth {
     uint32_t particles_inside = 0;
   };
   Contacts contacts() const;
+  // The energy clothlab.contacts/1 has added to the cloth since construction (J): over each
+  // particle it moved, its kinetic and gravitational energy and its springs' energy after the
+  // move less before, where that is positive (a moving collider pushing the cloth; a move that
+  // took energy away, such as removing the velocity into a body, counts 0: a bound, not a
+  // balance).
+  double contact_work() const;
+
+  // The particles clothlab.attachment-targets/1 moves to the targets `source` gives (each
+  // pinned in the scene; `source` outlives the cloth). None (the default): the extension's
+  // count is 0 and its move a no-op. Allocates. Throws std::invalid_argument for a particle
+  // out of range or not pinned.
+  void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source);
+  // Moves the attached particles of the cloth's own state to their targets at t (the host does
+  // so before the first step); false when a target is not finite.
+  bool move_attachments(double t);
+  // The power the attachments deliver to the cloth now (W): over the attached particles, the
+  // velocity times the force holding them against their springs (Hooke, and the damping when
+  // the integrator uses velocity forces). 0 without attachments.
+  double attachment_power() const;
 
  private:
   struct Impl;

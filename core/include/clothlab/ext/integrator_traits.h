@@ -29,6 +29,10 @@ extern "C" {
 /* Calls the host's clothlab.contacts/1 after each step or substep (ABI 1.3): the host runs
  * scenes with colliders (clothlab.colliders/1) only with integrators that declare it. */
 #define CLOTHLAB_TRAIT_RESOLVES_CONTACTS (1u << 2)
+/* Calls the host's clothlab.attachment-targets/1 once per step or substep (ABI 1.3), so the
+ * attached particles follow their targets: the host runs scenes with attachments
+ * (clothlab.attachments/1) only with integrators that declare it. */
+#define CLOTHLAB_TRAIT_MOVES_ATTACHMENTS (1u << 3)
 
 typedef struct clothlab_integrator_traits {
   uint32_t struct_size;

@@ -4,7 +4,7 @@
 //  1. non-finite state (any NaN/inf in x or v);
 //  2. stretch: the longest spring over its rest length beyond stretch_limit (default 2);
 //  3. energy: total energy (kinetic + spring + gravity; gravity is a potential, so it is inside)
-//     above E0 + W_wind + margin, where
+//     above E0 + W_wind + W_attachments + W_contacts + margin, where
 //       W_wind bounds the work the wind can have done. A triangle's wind force has magnitude at
 //         most S A (S = wind strength, A = its area), so the power on the cloth is at most
 //         P = S A_cloth v_max. A_cloth is at most the rest area times max_stretch^2 (every grid
@@ -15,6 +15,11 @@
 //         and by v_max against mean speeds, which is fine: a divergence grows without limit and
 //         crosses any such bound, while a calm run stays far below it. The air's drag and lift
 //         (clothlab/ext/air.h) add at most rho (C_d + C_l / 2) (|w| + v_max)^2 / 2 to S.
+//       W_attachments is the work the moving attachments have done on the cloth (the integral of
+//         Cloth::attachment_power, by the trapezoid rule over every observed step: a dragged
+//         cape gains the energy its shoulders give it, and loses it again when they stop);
+//       W_contacts is the energy the contact resolution has added (Cloth::contact_work: a
+//         moving collider pushing the cloth);
 //       margin = energy_margin * scale, scale = M |g| diagonal + |E0 parts|: the energy the
 //         whole cloth would gain by falling its own diagonal, a size that damped dynamics never
 //         approach in error but divergent ones overshoot within a few steps.
@@ -67,10 +72,12 @@ class StabilityMonitor {
   double initial_energy() const { return initial_energy_; }
   double energy_scale() const { return energy_scale_; }
   double wind_work_bound() const { return wind_work_; }
+  double attachment_work() const { return attachment_work_; }
   uint64_t checks() const { return checks_; }
 
  private:
   double wind_power_bound(const Cloth& cloth, double stretch);
+  void add_attachment_work(const Cloth& cloth, double t);
   void fail(StabilityCheck check, uint64_t step, double t, double value, double limit,
             std::string reason);
 
@@ -81,6 +88,9 @@ class StabilityMonitor {
   double wind_work_ = 0.0;
   double last_time_ = 0.0;
   double last_power_ = 0.0;
+  double attachment_work_ = 0.0;
+  double attachment_power_ = 0.0;  // at attachment_time_
+  double attachment_time_ = 0.0;
   uint64_t checks_ = 0;
   std::vector<double> velocities_;  // reused between checks
   Verdict verdict_;

@@ -1,0 +1,95 @@
+// The host extension clothlab.attachment-targets/1 of ClothEngine
+// (clothlab/ext/attachment_targets.h): the attached particles set to their targets' positions
+// and velocities.
+#include <clothlab/ext/attachment_targets.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cloth_engine.hpp"
+
+namespace clothlab::detail {
+
+template <class Real>
+void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
+                                        AttachmentSource& source) {
+  for (const uint32_t particle : particles) {
+    if (particle >= n_)
+      throw std::invalid_argument("attached particle " + std::to_string(particle) +
+                                  " out of range (the cloth has " + std::to_string(n_) +
+                                  " particles)");
+    if (inverse_mass_[particle] != 0)
+      throw std::invalid_argument("attached particle " + std::to_string(particle) +
+                                  " is not pinned");
+  }
+  attached_.assign(particles.begin(), particles.end());
+  target_x_.assign(3 * attached_.size(), 0.0);
+  target_v_.assign(3 * attached_.size(), 0.0);
+  attachment_source_ = attached_.empty() ? nullptr : &source;
+  if (!attached_.empty()) (void)topology();  // built here: attachment_power reads its springs
+}
+
+template <class Real>
+double ClothEngine<Real>::attachment_power() const {
+  if (attached_.empty()) return 0.0;
+  const GridTopology& springs = *topology_;
+  const std::size_t s = stride_;
+  double power = 0.0;
+  for (const uint32_t i : attached_) {
+    const Vec3 v_own{v_[i], v_[s + i], v_[2 * s + i]};
+    for (uint32_t k = springs.adjacency_offsets[i]; k < springs.adjacency_offsets[i + 1]; ++k) {
+      const uint32_t spring = springs.adjacent_springs[k];
+      const uint32_t j =
+          springs.first[spring] == i ? springs.second[spring] : springs.first[spring];
+      Vec3 d{}, dv{};
+      for (std::size_t axis = 0; axis < 3; ++axis) {
+        d[axis] = x_[axis * s + j] - x_[axis * s + i];
+        dv[axis] = v_[axis * s + j] - v_own[axis];
+      }
+      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (length == 0.0) continue;
+      // Force on i along d per unit length of d (spring_kernel.hpp's law).
+      double magnitude = springs.ks[spring] * (length - springs.rest_length[spring]);
+      if (velocity_forces_)
+        magnitude += springs.kd[spring] * (dv[0] * d[0] + dv[1] * d[1] + dv[2] * d[2]) / length;
+      // The attachment holds i with the opposite force, and moves it at v_own.
+      power -= magnitude / length * (d[0] * v_own[0] + d[1] * v_own[1] + d[2] * v_own[2]);
+    }
+  }
+  return power;
+}
+
+template <class Real>
+bool ClothEngine<Real>::move_attachments(double t) {
+  return attachments_move_callback(this, t, x_.data(), v_.data()) == CLOTHLAB_OK;
+}
+
+template <class Real>
+uint32_t ClothEngine<Real>::attachments_count_callback(void* context) {
+  return static_cast<uint32_t>(static_cast<const ClothEngine*>(context)->attached_.size());
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::attachments_move_callback(void* context, double t, void* x,
+                                                             void* v) {
+  ClothEngine& self = *static_cast<ClothEngine*>(context);
+  if (self.attachment_source_ == nullptr) return CLOTHLAB_OK;
+  if (x == nullptr || v == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  if (!self.attachment_source_->targets(t, self.target_x_, self.target_v_))
+    return CLOTHLAB_ERROR_NUMERICAL;
+  Real* const px = static_cast<Real*>(x);
+  Real* const pv = static_cast<Real*>(v);
+  const std::size_t s = self.stride_;
+  for (std::size_t k = 0; k < self.attached_.size(); ++k)
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      px[axis * s + self.attached_[k]] = static_cast<Real>(self.target_x_[3 * k + axis]);
+      pv[axis * s + self.attached_[k]] = static_cast<Real>(self.target_v_[3 * k + axis]);
+    }
+  return CLOTHLAB_OK;
+}
+
+template class ClothEngine<float>;
+template class ClothEngine<double>;
+
+}  // namespace clothlab::detail

@@ -1,0 +1,43 @@
+// The attached particles a scenario offers (clothlab.attachments/1), read and checked before the
+// run, and the source of their targets during it.
+#pragma once
+
+#include <clothlab/ext/attachments.h>
+
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/host/components.hpp>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace clothlab::cli {
+
+class SceneAttachments final : public AttachmentSource {
+ public:
+  // None: a scenario without the extension.
+  SceneAttachments() = default;
+  // Reads the attached particles and their targets at each step start t = k dt, k = 0 .. steps,
+  // before the run: a particle out of range (`particles` on the cloth), a non-finite target, or
+  // one that moves between two step starts farther than twice its faster velocity there allows
+  // (a jump), is an InputError naming the scenario, the attachment, the value and what is
+  // allowed; a failing call is the plugin's PluginError. `instance` must outlive this object.
+  SceneAttachments(const host::ScenarioPlugin& scenario, const host::ScenarioInstance& instance,
+                   uint32_t particles, double dt, uint64_t steps);
+
+  bool empty() const { return particles_.empty(); }
+  std::span<const uint32_t> particles() const { return particles_; }
+  bool targets(double t, std::span<double> positions,
+               std::span<double> velocities) noexcept override;
+
+ private:
+  void read(double t, std::vector<double>& positions, std::vector<double>& velocities) const;
+  std::string owner(std::size_t index) const;
+
+  const clothlab_attachments_extension* table_ = nullptr;
+  void* instance_ = nullptr;
+  std::string scenario_id_;
+  std::vector<uint32_t> particles_;
+};
+
+}  // namespace clothlab::cli
