@@ -140,9 +140,8 @@ class ClothEngine final : public Engine {
   std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
   AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
-  std::vector<Collider> colliders_;  // at the poses the host last set
-  AlignedBuffer<Real> path_start_;   // where each particle was at the last resolution or step start
   std::vector<Collider> colliders_;          // at the poses the host last set
+  AlignedBuffer<Real> path_start_;  // where each particle was at the last resolution or step start
   std::vector<uint32_t> attached_;           // particles moved to the source's targets
   std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
   AttachmentSource* attachment_source_ = nullptr;
