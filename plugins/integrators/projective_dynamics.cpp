@@ -8,6 +8,10 @@
 // y and z. Converged, this is backward Euler on the same springs and the same damping as
 // eval_acceleration (below), the step implicit_euler converges to with more Newton steps;
 // each iteration lowers the energy, so few iterations give a damped but stable step.
+// On stiff cloth the iteration contracts slowly (a spectral radius near 1); `chebyshev_rho`
+// > 0 accelerates it (Wang 2015, chebyshev_weights.hpp): after `chebyshev_delay` plain
+// iterations each new iterate is extrapolated from the two before it. docs/real-cloth.md
+// ("Chebyshev acceleration") has the counts and how to estimate rho.
 //
 // Damping: eval_acceleration damps each spring along its direction n only,
 // -kd n n^T (v_i - v_j). In the matrix it enters isotropically, as h D (-kd (v_i - v_j)),
@@ -42,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "chebyshev_weights.hpp"
 #include "cholmod_factorization.hpp"
 #include "projective_dynamics_matrix.hpp"
 #include "scratch_vectors.hpp"
@@ -59,12 +64,17 @@ struct ProjectiveDynamics {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 0;  // springs are its own; external forces only
   static constexpr uint32_t flags = 0;
-  static constexpr std::array<clothlab_param_spec, 2> params{
+  static constexpr std::array<clothlab_param_spec, 4> params{
       sdk::int_param("iterations", 10, 1, 1000,
                      "local/global iterations per step (one back-substitution each)"),
       sdk::int_param("factorization", 0, 0, 1,
                      "the constant matrix's sparse Cholesky: 0 = Eigen SimplicialLDLT, "
                      "1 = SuiteSparse CHOLMOD supernodal"),
+      sdk::real_param("chebyshev_rho", 0.0, 0.0, 0.9999, "",
+                      "Chebyshev acceleration of the iterations (Wang 2015): the estimated "
+                      "spectral radius of one local/global iteration; 0 = off"),
+      sdk::int_param("chebyshev_delay", 10, 1, 1000,
+                     "plain iterations before Chebyshev acceleration starts"),
   };
   static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
                                                      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
@@ -74,7 +84,8 @@ struct ProjectiveDynamics {
 
   explicit ProjectiveDynamics(const sdk::Params& values)
       : iterations_(values.integer("iterations")),
-        use_cholmod_(values.integer("factorization") == 1) {}
+        use_cholmod_(values.integer("factorization") == 1),
+        chebyshev_(values.real("chebyshev_rho"), values.integer("chebyshev_delay")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -120,12 +131,16 @@ struct ProjectiveDynamics {
             h * h * spring.ks * pinned_position_[3 * size_t{spring.pinned} + k];
 
     positions_ = inertial_;
+    chebyshev_.restart();
     for (long iteration = 0; iteration < iterations_; ++iteration) {
       rhs_ = fixed_rhs_;
       project_springs(h);
-      if (iteration + 1 == iterations_) previous_ = positions_;
+      if (chebyshev_.active()) older_.swap(previous_);  // older_ = the iterate before this one
+      if (chebyshev_.active() || iteration + 1 == iterations_) previous_ = positions_;
       positions_ = rhs_;
       solve_in_place(positions_);
+      const double omega = chebyshev_.next();
+      if (omega != 1.0) positions_ = omega * (positions_ - older_) + older_;
     }
     const double moved = max_difference(positions_, start_);
     const double change = max_difference(positions_, previous_);
@@ -188,7 +203,8 @@ struct ProjectiveDynamics {
       ldlt_.analyze(system_matrix_);
 
     pinned_position_.assign(3 * unknown_of.size(), 0.0);
-    for (Positions* buffer : {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
+    for (Positions* buffer :
+         {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_, &older_})
       buffer->setZero(matrix_.unknowns(), 3);
   }
 
@@ -269,7 +285,9 @@ struct ProjectiveDynamics {
   SimplicialLdltFactorization ldlt_;
   CholmodFactorization cholmod_;
   double factored_h_ = std::numeric_limits<double>::quiet_NaN();
-  Positions start_, inertial_, fixed_rhs_, rhs_, positions_, previous_;
+  ChebyshevWeights chebyshev_;
+  // previous_: the iterate the last solve started from; older_: the one before it (Chebyshev).
+  Positions start_, inertial_, fixed_rhs_, rhs_, positions_, previous_, older_;
   clothlab_solver_step_statistics last_{};
 };
 
