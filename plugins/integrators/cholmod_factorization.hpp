@@ -2,8 +2,8 @@
 // (projective_dynamics.cpp), given as its upper triangle already in elimination order (the
 // plugin's AMD order, kept: CHOLMOD's natural ordering, then its elimination-tree postorder).
 // The three coordinates are one n x 3 right-hand side, solved by dense kernels per
-// supernode. The right-hand side, solution and solve workspace are allocated once, so a
-// solve does not allocate; a numeric factorisation does (CHOLMOD's update workspace).
+// supernode. The right-hand side, solution and solve workspace are allocated once and reused
+// by cholmod_solve2; a numeric factorisation allocates (CHOLMOD's update workspace).
 #pragma once
 
 #include <cholmod.h>
