@@ -8,6 +8,10 @@
 // y and z. Converged, this is backward Euler on the same springs and the same damping as
 // eval_acceleration (below), the step implicit_euler converges to with more Newton steps;
 // each iteration lowers the energy, so few iterations give a damped but stable step.
+// On stiff cloth the iteration contracts slowly (a spectral radius near 1); `chebyshev_rho`
+// > 0 accelerates it (Wang 2015, chebyshev_weights.hpp): after `chebyshev_delay` plain
+// iterations each new iterate is extrapolated from the two before it. docs/real-cloth.md
+// ("Chebyshev acceleration") has the counts and how to estimate rho.
 //
 // Damping: eval_acceleration damps each spring along its direction n only,
 // -kd n n^T (v_i - v_j). In the matrix it enters isotropically, as h D (-kd (v_i - v_j)),
@@ -18,27 +22,35 @@
 // come from clothlab.external-forces/1 at x0, explicitly.
 //
 // Pinned particles are eliminated: the unknowns are the active particles, numbered in the
-// fill-reducing (AMD) order computed once in `prepare`, so Eigen's SimplicialLDLT factors
-// the matrix in natural order with no permuted copy (and its factors solve all three
-// coordinates in one sweep). The matrix is factored on the first step and again only when h
-// changes (stiffness and pins are fixed while a system lives;
-// `prepare` starts over); `step` solves into preallocated vectors and does not allocate
-// (except a refactorisation above 16384 active particles: see PreorderedLDLT).
+// fill-reducing (AMD) order computed once in `prepare`, so the factorisation works in natural
+// order with no permuted copy, and its factors solve all three coordinates in one sweep. Two
+// factorisations, the parameter `factorization`: 0, Eigen's SimplicialLDLT
+// (simplicial_ldlt_factorization.hpp), 1, SuiteSparse CHOLMOD's supernodal LL^T
+// (cholmod_factorization.hpp); docs/performance.md compares them. The matrix is factored on the
+// first step and again only when h changes (stiffness and pins are fixed while a system lives;
+// `prepare` starts over). A matrix that is not positive definite (a negative stiffness) is a
+// numerical error naming the pivot. `step` solves into preallocated vectors and does not
+// allocate, except in a factorisation with CHOLMOD (its update workspace) or with Eigen above
+// 16384 active particles (see SimplicialLdltFactorization).
 // The factorisation is double in both precisions: states are converted at the boundary.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
+#include "chebyshev_weights.hpp"
+#include "cholmod_factorization.hpp"
+#include "projective_dynamics_matrix.hpp"
 #include "scratch_vectors.hpp"
+#include "simplicial_ldlt_factorization.hpp"
 
 namespace clothlab::builtin {
 
@@ -52,9 +64,17 @@ struct ProjectiveDynamics {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 0;  // springs are its own; external forces only
   static constexpr uint32_t flags = 0;
-  static constexpr std::array<clothlab_param_spec, 1> params{
+  static constexpr std::array<clothlab_param_spec, 4> params{
       sdk::int_param("iterations", 10, 1, 1000,
                      "local/global iterations per step (one back-substitution each)"),
+      sdk::int_param("factorization", 0, 0, 1,
+                     "the constant matrix's sparse Cholesky: 0 = Eigen SimplicialLDLT, "
+                     "1 = SuiteSparse CHOLMOD supernodal"),
+      sdk::real_param("chebyshev_rho", 0.0, 0.0, 0.9999, "",
+                      "Chebyshev acceleration of the iterations (Wang 2015): the estimated "
+                      "spectral radius of one local/global iteration; 0 = off"),
+      sdk::int_param("chebyshev_delay", 10, 1, 1000,
+                     "plain iterations before Chebyshev acceleration starts"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -63,14 +83,15 @@ struct ProjectiveDynamics {
       nullptr, "iterations"};
 
   explicit ProjectiveDynamics(const sdk::Params& values)
-      : iterations_(values.integer("iterations")) {}
+      : iterations_(values.integer("iterations")),
+        use_cholmod_(values.integer("factorization") == 1),
+        chebyshev_(values.real("chebyshev_rho"), values.integer("chebyshev_delay")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
     const sdk::Topology topology = system.topology();
     (void)system.external_forces();  // checked here, so a host without it fails in prepare
     scratch_.allocate(system);
-    number_unknowns(system, topology);
     assemble(system, topology);
     factored_h_ = std::numeric_limits<double>::quiet_NaN();
     last_ = {};
@@ -89,8 +110,8 @@ struct ProjectiveDynamics {
     // Implicit in the positions: the global solves hold the attachments at the step's end.
     system.move_attachments(t + h);
     system.external_forces().acceleration(t, x, external);
-    for (uint32_t i = 0; i < unknown_of_.size(); ++i) {
-      const int32_t u = unknown_of_[i];
+    for (uint32_t i = 0; i < matrix_.unknown_of().size(); ++i) {
+      const int32_t u = matrix_.unknown_of()[i];
       for (size_t k = 0; k < 3; ++k) {
         const size_t j = k * stride + i;
         if (u < 0) {
@@ -105,19 +126,23 @@ struct ProjectiveDynamics {
     fixed_rhs_.noalias() = damping_ * start_;
     fixed_rhs_ *= h;
     for (Eigen::Index u = 0; u < fixed_rhs_.rows(); ++u)
-      fixed_rhs_.row(u) += mass_[u] * inertial_.row(u);
+      fixed_rhs_.row(u) += matrix_.mass()[u] * inertial_.row(u);
     for (const PinnedSpring& spring : pinned_springs_)
       for (size_t k = 0; k < 3; ++k)
         fixed_rhs_(spring.unknown, k) +=
             h * h * spring.ks * pinned_position_[3 * size_t{spring.pinned} + k];
 
     positions_ = inertial_;
+    chebyshev_.restart();
     for (long iteration = 0; iteration < iterations_; ++iteration) {
       rhs_ = fixed_rhs_;
       project_springs(h);
-      if (iteration + 1 == iterations_) previous_ = positions_;
+      if (chebyshev_.active()) older_.swap(previous_);  // older_ = the iterate before this one
+      if (chebyshev_.active() || iteration + 1 == iterations_) previous_ = positions_;
       positions_ = rhs_;
       solve_in_place(positions_);
+      const double omega = chebyshev_.next();
+      if (omega != 1.0) positions_ = omega * (positions_ - older_) + older_;
     }
     const double moved = max_difference(positions_, start_);
     const double change = max_difference(positions_, previous_);
@@ -125,8 +150,8 @@ struct ProjectiveDynamics {
     last_.iterations = static_cast<uint64_t>(iterations_);
     last_.residual = moved > 0.0 ? change / moved : 0.0;
 
-    for (uint32_t i = 0; i < unknown_of_.size(); ++i) {
-      const int32_t u = unknown_of_[i];
+    for (uint32_t i = 0; i < matrix_.unknown_of().size(); ++i) {
+      const int32_t u = matrix_.unknown_of()[i];
       if (u < 0) continue;
       for (size_t k = 0; k < 3; ++k) {
         x[k * stride + i] = static_cast<Real>(positions_(u, k));
@@ -143,26 +168,6 @@ struct ProjectiveDynamics {
   // One row per unknown: a particle's x, y, z side by side for the 3-wide solves.
   using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-  // SimplicialLDLT's numeric factorisation of an upper triangle already in elimination
-  // order. Its public factorize() first builds a (here identical) reordered copy, which
-  // allocates; factorize_preordered, the step it then runs, is protected, hence the
-  // subclass. That step's workspace (3 arrays of n) is on the stack up to Eigen's
-  // EIGEN_STACK_ALLOCATION_LIMIT (16384 unknowns), on the heap above it.
-  class PreorderedLDLT
-      : public Eigen::SimplicialLDLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> {
-   public:
-    // The symbolic analysis, and the diagonal's storage, which the first factorisation
-    // would otherwise allocate.
-    void analyze(const Matrix& upper) {
-      this->analyzePattern(upper);
-      this->m_diag.resize(upper.rows());
-    }
-    void refactorize(const Matrix& upper) { this->template factorize_preordered<true>(upper); }
-    // The factors by reference (matrixL() is a view, but vectorD() returns a copy).
-    const Matrix& lower() const { return this->m_matrix; }
-    const Eigen::VectorXd& diagonal() const { return this->m_diag; }
-  };
-
   // A spring with one end pinned: its pull toward the pinned end is constant over a step.
   struct PinnedSpring {
     int32_t unknown;
@@ -176,130 +181,53 @@ struct ProjectiveDynamics {
     double rest_length, ks, kd;
   };
 
-  // unknown_of_[particle] = its row in the global system in AMD order, -1 when pinned.
-  template <class Real>
-  void number_unknowns(const sdk::System<Real>& system, const sdk::Topology& topology) {
-    const uint32_t n = system.particle_count();
-    std::vector<int32_t> natural(n, -1);
-    int32_t count = 0;
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i) natural[i] = count++;
-    std::vector<Eigen::Triplet<double, int>> entries;
-    for (int32_t u = 0; u < count; ++u) entries.emplace_back(u, u, 1.0);
-    for (uint32_t s = 0; s < topology.spring_count(); ++s) {
-      const int32_t a = natural[topology.first()[s]], b = natural[topology.second()[s]];
-      if (a < 0 || b < 0) continue;
-      entries.emplace_back(a, b, 1.0);
-      entries.emplace_back(b, a, 1.0);
-    }
-    Matrix graph(count, count);
-    graph.setFromTriplets(entries.begin(), entries.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> elimination_order;
-    Eigen::AMDOrdering<int>()(graph, elimination_order);
-    // AMD returns the elimination order; row u of the reordered system is the unknown
-    // eliminated u-th (as SimplicialLDLT applies it: P = order^-1).
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> new_row =
-        elimination_order.inverse();
-    unknown_of_.assign(n, -1);
-    for (uint32_t i = 0; i < n; ++i)
-      if (natural[i] >= 0) unknown_of_[i] = new_row.indices()[natural[i]];
-  }
-
-  // M, D and K over the unknowns, upper triangle, one sparsity pattern for all three (so
-  // M + h D + h^2 K is formed value by value), the spring lists and every step buffer.
+  // The constant matrix (projective_dynamics_matrix.hpp), the spring lists and every step
+  // buffer.
   template <class Real>
   void assemble(const sdk::System<Real>& system, const sdk::Topology& topology) {
-    const auto count = static_cast<Eigen::Index>(
-        std::count_if(unknown_of_.begin(), unknown_of_.end(), [](int32_t u) { return u >= 0; }));
-    mass_.assign(static_cast<size_t>(count), 0.0);
-    for (uint32_t i = 0; i < unknown_of_.size(); ++i)
-      if (unknown_of_[i] >= 0) mass_[unknown_of_[i]] = 1.0 / system.inverse_mass()[i];
-
-    struct Entry {
-      int32_t row, col;
-      double mass, kd, ks;
-    };
-    std::vector<Entry> entries;
-    for (Eigen::Index u = 0; u < count; ++u)
-      entries.push_back({static_cast<int32_t>(u), static_cast<int32_t>(u), mass_[u], 0, 0});
+    matrix_.build(system, topology);
+    const std::vector<int32_t>& unknown_of = matrix_.unknown_of();
     springs_.clear();
     pinned_springs_.clear();
     for (uint32_t s = 0; s < topology.spring_count(); ++s) {
       const uint32_t i = topology.first()[s], j = topology.second()[s];
-      const int32_t a = unknown_of_[i], b = unknown_of_[j];
+      const int32_t a = unknown_of[i], b = unknown_of[j];
       if (a < 0 && b < 0) continue;
       const double ks = topology.ks()[s], kd = topology.kd()[s];
       springs_.push_back({a, b, i, j, topology.rest_length()[s], ks, kd});
-      if (a >= 0) entries.push_back({a, a, 0, kd, ks});
-      if (b >= 0) entries.push_back({b, b, 0, kd, ks});
-      if (a >= 0 && b >= 0)
-        entries.push_back({std::min(a, b), std::max(a, b), 0, -kd, -ks});
-      else
-        pinned_springs_.push_back({a >= 0 ? a : b, a >= 0 ? j : i, ks});
+      if (a < 0 || b < 0) pinned_springs_.push_back({a >= 0 ? a : b, a >= 0 ? j : i, ks});
     }
-    const auto upper = [&](double Entry::*field) {
-      std::vector<Eigen::Triplet<double, int>> triplets;
-      triplets.reserve(entries.size());
-      for (const Entry& e : entries) triplets.emplace_back(e.row, e.col, e.*field);
-      Matrix matrix(count, count);
-      matrix.setFromTriplets(triplets.begin(), triplets.end());  // keeps explicit zeros
-      return matrix;
-    };
-    mass_matrix_ = upper(&Entry::mass);
-    damping_upper_ = upper(&Entry::kd);
-    stiffness_ = upper(&Entry::ks);
-    damping_ = damping_upper_.selfadjointView<Eigen::Upper>();
-    system_matrix_ = mass_matrix_;
-    factorization_.analyze(system_matrix_);
+    damping_ = matrix_.damping_upper().selfadjointView<Eigen::Upper>();
+    system_matrix_ = matrix_.pattern();
+    if (use_cholmod_)
+      cholmod_.analyze(system_matrix_);
+    else
+      ldlt_.analyze(system_matrix_);
 
-    pinned_position_.assign(3 * unknown_of_.size(), 0.0);
-    for (Positions* buffer : {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_})
-      buffer->setZero(count, 3);
+    pinned_position_.assign(3 * unknown_of.size(), 0.0);
+    for (Positions* buffer :
+         {&start_, &inertial_, &fixed_rhs_, &rhs_, &positions_, &previous_, &older_})
+      buffer->setZero(matrix_.unknowns(), 3);
   }
 
   // System matrix M + h D + h^2 K, entry by entry in the shared pattern, then factored.
   void factor(double h) {
-    const Eigen::Index nonzeros = system_matrix_.nonZeros();
-    double* values = system_matrix_.valuePtr();
-    for (Eigen::Index k = 0; k < nonzeros; ++k)
-      values[k] = mass_matrix_.valuePtr()[k] + h * damping_upper_.valuePtr()[k] +
-                  h * h * stiffness_.valuePtr()[k];
-    factorization_.refactorize(system_matrix_);
-    if (factorization_.info() != Eigen::Success)
-      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "factorising M + h D + h^2 K failed");
+    matrix_.combine(h, system_matrix_);
+    const std::string failure =
+        use_cholmod_ ? cholmod_.factorize(system_matrix_) : ldlt_.factorize(system_matrix_);
+    if (!failure.empty())
+      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "factorising M + h D + h^2 K (h = " +
+                                                     std::to_string(h) + ") failed: " + failure);
     factored_h_ = h;
     ++last_.factorizations;
   }
 
-  // x = (L D L^T)^-1 x with the factors of SimplicialLDLT, all three columns in one sweep
-  // over L each way (Eigen's solve sweeps L once per column, three times the memory traffic).
-  void solve_in_place(Positions& positions) const {
-    const Matrix& lower = factorization_.lower();
-    const Eigen::VectorXd& diagonal = factorization_.diagonal();
-    const int* column_start = lower.outerIndexPtr();
-    const int* row = lower.innerIndexPtr();
-    const double* value = lower.valuePtr();
-    double* x = positions.data();
-    const auto count = static_cast<int>(lower.cols());
-    for (int j = 0; j < count; ++j) {  // L y = b, L unit lower triangular
-      const double x0 = x[3 * j], x1 = x[3 * j + 1], x2 = x[3 * j + 2];
-      for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
-        if (row[p] <= j) continue;  // the unit diagonal
-        double* target = &x[3 * row[p]];
-        target[0] -= value[p] * x0, target[1] -= value[p] * x1, target[2] -= value[p] * x2;
-      }
-    }
-    for (int j = 0; j < count; ++j)
-      for (int k = 0; k < 3; ++k) x[3 * j + k] /= diagonal[j];
-    for (int j = count - 1; j >= 0; --j) {  // L^T x = y
-      double x0 = x[3 * j], x1 = x[3 * j + 1], x2 = x[3 * j + 2];
-      for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
-        if (row[p] <= j) continue;
-        const double* source = &x[3 * row[p]];
-        x0 -= value[p] * source[0], x1 -= value[p] * source[1], x2 -= value[p] * source[2];
-      }
-      x[3 * j] = x0, x[3 * j + 1] = x1, x[3 * j + 2] = x2;
-    }
+  // positions = (M + h D + h^2 K)^-1 positions, the three coordinates at once.
+  void solve_in_place(Positions& positions) {
+    if (use_cholmod_)
+      cholmod_.solve_in_place(positions.data());
+    else
+      ldlt_.solve_in_place(positions.data());
   }
 
   // rhs_ += h^2 sum_s ks_s A_s^T d_s, d_s the spring's current vector at its rest length,
@@ -348,17 +276,20 @@ struct ProjectiveDynamics {
   }
 
   long iterations_;
+  bool use_cholmod_;
   ScratchVectors<1> scratch_;  // the external acceleration
-  std::vector<int32_t> unknown_of_;
-  std::vector<double> mass_;
+  ProjectiveDynamicsMatrix matrix_;
   std::vector<Spring> springs_;
   std::vector<PinnedSpring> pinned_springs_;
   std::vector<double> pinned_position_;  // 3 n, particle-major; pinned entries only
-  Matrix mass_matrix_, damping_upper_, stiffness_, system_matrix_;
+  Matrix system_matrix_;
   Matrix damping_;  // D in full, for D x0
-  PreorderedLDLT factorization_;
+  SimplicialLdltFactorization ldlt_;
+  CholmodFactorization cholmod_;
   double factored_h_ = std::numeric_limits<double>::quiet_NaN();
-  Positions start_, inertial_, fixed_rhs_, rhs_, positions_, previous_;
+  ChebyshevWeights chebyshev_;
+  // previous_: the iterate the last solve started from; older_: the one before it (Chebyshev).
+  Positions start_, inertial_, fixed_rhs_, rhs_, positions_, previous_, older_;
   clothlab_solver_step_statistics last_{};
 };
 
