@@ -103,7 +103,8 @@ struct Vbd {
                      "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
   };
   static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_ITERATIVE, nullptr, "iterations"};
+      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_ITERATIVE | CLOTHLAB_TRAIT_LOCAL_SOLVES,
+      nullptr, "iterations"};
 
   explicit Vbd(const sdk::Params& values)
       : iterations_(static_cast<int>(values.integer("iterations"))),

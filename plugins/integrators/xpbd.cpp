@@ -113,11 +113,11 @@ struct Xpbd {
                       "a tether's max length is (1 + tether_slack) x the particle's straight-line "
                       "distance to its pin at prepare"),
   };
-  static constexpr clothlab_integrator_traits traits{sizeof(clothlab_integrator_traits),
-                                                     CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE |
-                                                         CLOTHLAB_TRAIT_ITERATIVE |
-                                                         CLOTHLAB_TRAIT_RESOLVES_CONTACTS,
-                                                     "substeps", "iterations"};
+  static constexpr clothlab_integrator_traits traits{
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_LOCAL_SOLVES,
+      "substeps", "iterations"};
 
   explicit Xpbd(const sdk::Params& values)
       : substeps_(static_cast<int>(values.integer("substeps"))),
