@@ -39,6 +39,9 @@ void Cloth::set_raw_state(const RawState& state) { impl_->engine->set_raw_state(
 bool Cloth::state_is_finite() const { return impl_->engine->state_is_finite(); }
 Cloth::Energy Cloth::energy() const { return impl_->engine->energy(); }
 Cloth::Stretch Cloth::stretch(Springs springs) const { return impl_->engine->stretch(springs); }
+double Cloth::stretch_percentile(Springs springs, double fraction) const {
+  return impl_->engine->stretch_percentile(springs, fraction);
+}
 Cloth::LongestSpring Cloth::longest_spring(Springs springs) const {
   return impl_->engine->longest_spring(springs);
 }

@@ -98,6 +98,13 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   const Real inverse_mass = static_cast<Real>(static_cast<double>(n_) / scene.total_mass);
   for (std::size_t i = 0; i < n_; ++i) inverse_mass_[i] = inverse_mass;
   for (uint32_t pinned : scene.pinned) inverse_mass_[pinned] = 0;
+  near_pin_.assign(n_, 0);
+  for (uint32_t pinned : scene.pinned) {
+    const uint32_t row = pinned / scene.cols, col = pinned % scene.cols;
+    for (uint32_t r = row > 2 ? row - 2 : 0; r <= std::min(row + 2, scene.rows - 1); ++r)
+      for (uint32_t c = col > 2 ? col - 2 : 0; c <= std::min(col + 2, scene.cols - 1); ++c)
+        near_pin_[std::size_t{r} * scene.cols + c] = 1;
+  }
 
   // Active ranges: maximal runs between pinned indices (scene.pinned is sorted, unique).
   std::size_t begin = 0;

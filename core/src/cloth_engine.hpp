@@ -37,6 +37,7 @@ class ClothEngine final : public Engine {
   bool state_is_finite() const override;
   Cloth::Energy energy() const override;
   Cloth::Stretch stretch(Cloth::Springs springs) const override;
+  double stretch_percentile(Cloth::Springs springs, double fraction) const override;
   Cloth::LongestSpring longest_spring(Cloth::Springs springs) const override;
   void set_colliders(std::span<const Collider> colliders) override;
   Cloth::Contacts contacts() const override;
@@ -127,6 +128,10 @@ class ClothEngine final : public Engine {
   bool parallel_ = false;
 
   AlignedBuffer<Real> x_, v_, inverse_mass_;
+  // 1 where a pinned particle lies within two rows and two columns: the springs that
+  // Stretch::max_away_from_pins leaves out.
+  std::vector<uint8_t> near_pin_;
+  mutable std::vector<double> stretch_ratios_;  // stretch_percentile's selection
   std::vector<clothlab_range> active_;
   std::vector<Span> active_chunks_;  // active ranges cut into pieces for threads
   uint64_t active_particles_ = 0;

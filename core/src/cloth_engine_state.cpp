@@ -138,10 +138,11 @@ Cloth::Energy ClothEngine<Real>::energy() const {
 template <class Real>
 Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
   const Real* x = x_.data();
+  const uint8_t* near_pin = near_pin_.data();
   const std::size_t cols = scene_.cols;
-  double worst = 0.0;
+  double worst = 0.0, worst_away = 0.0;
   double sum = 0.0;
-  std::size_t springs = 0;
+  std::size_t springs = 0, away = 0;
   for (const Stencil& stencil : kProvotStencils) {
     const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
     if (extent.count() == 0) continue;
@@ -150,20 +151,49 @@ Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
     const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
     const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
     const auto rows = static_cast<std::ptrdiff_t>(extent.row_end);
-#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(max : worst) \
-    reduction(+ : sum)
+#pragma omp parallel for num_threads(threads_) if (parallel_) reduction(max : worst, worst_away) \
+    reduction(+ : sum, away)
     for (std::ptrdiff_t r = 0; r < rows; ++r) {
       const std::size_t first = static_cast<std::size_t>(r) * cols;
-#pragma omp simd reduction(max : worst) reduction(+ : sum)
+#pragma omp simd reduction(max : worst, worst_away) reduction(+ : sum, away)
       for (std::size_t c = extent.col_begin; c < extent.col_end; ++c) {
         const double ratio = spring_length(x, stride_, first + c, offset) * inverse_rest;
         worst = std::max(worst, ratio);
         sum += ratio;
+        const bool counted = (near_pin[first + c] | near_pin[first + c + offset]) == 0;
+        worst_away = std::max(worst_away, counted ? ratio : 0.0);
+        away += counted;
       }
     }
   }
   if (springs == 0) return {};
-  return {worst, sum / static_cast<double>(springs)};
+  return {worst, sum / static_cast<double>(springs), away > 0 ? worst_away : 1.0};
+}
+
+template <class Real>
+double ClothEngine<Real>::stretch_percentile(Cloth::Springs which, double fraction) const {
+  if (!(fraction > 0.0 && fraction <= 1.0))
+    throw std::invalid_argument("stretch_percentile: fraction " + std::to_string(fraction) +
+                                " outside (0, 1]");
+  const Real* x = x_.data();
+  const std::size_t cols = scene_.cols;
+  stretch_ratios_.clear();
+  for (const Stencil& stencil : kProvotStencils) {
+    if (which == Cloth::Springs::Structural && stencil.family != &Scene::structural) continue;
+    const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
+    const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
+    const auto offset = static_cast<std::size_t>(stencil_offset(stencil, scene_.cols));
+    for (uint32_t r = 0; r < extent.row_end; ++r)
+      for (uint32_t c = extent.col_begin; c < extent.col_end; ++c)
+        stretch_ratios_.push_back(spring_length(x, stride_, r * cols + c, offset) * inverse_rest);
+  }
+  if (stretch_ratios_.empty()) return 1.0;
+  // Nearest rank: the ceil(fraction n)-th smallest (1-based).
+  const auto count = static_cast<double>(stretch_ratios_.size());
+  const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(fraction * count)));
+  const auto nth = stretch_ratios_.begin() + static_cast<std::ptrdiff_t>(rank - 1);
+  std::nth_element(stretch_ratios_.begin(), nth, stretch_ratios_.end());
+  return *nth;
 }
 
 template <class Real>

@@ -26,6 +26,7 @@ class Engine {
   virtual bool state_is_finite() const = 0;
   virtual Cloth::Energy energy() const = 0;
   virtual Cloth::Stretch stretch(Cloth::Springs springs) const = 0;
+  virtual double stretch_percentile(Cloth::Springs springs, double fraction) const = 0;
   virtual Cloth::LongestSpring longest_spring(Cloth::Springs springs) const = 0;
   virtual void set_colliders(std::span<const Collider> colliders) = 0;
   virtual Cloth::Contacts contacts() const = 0;

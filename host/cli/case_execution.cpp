@@ -1,5 +1,8 @@
 #include "case_execution.hpp"
 
+#include <clothlab/ext/integrator_traits.h>
+
+#include <clothlab/analysis/local_solve_bound.hpp>
 #include <clothlab/analysis/stability_prediction.hpp>
 #include <cmath>
 #include <stdexcept>
@@ -55,6 +58,22 @@ nlohmann::json predict_case(const RunConfig& config, LoadedPlugins plugins) {
   json["omega_max"] = prediction.spectrum.omega_max;
   json["dominant_re"] = prediction.spectrum.dominant_eigenvalue.real();
   json["dominant_im"] = prediction.spectrum.dominant_eigenvalue.imag();
+  return json;
+}
+
+nlohmann::json local_solve_case(const RunConfig& config, LoadedPlugins plugins) {
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      plugins.integrator->extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  if (traits == nullptr || traits->struct_size < sizeof(clothlab_integrator_traits) ||
+      (traits->flags & CLOTHLAB_TRAIT_LOCAL_SOLVES) == 0)
+    return nullptr;
+  const Simulation simulation(config, std::move(plugins));
+  const analysis::LocalSolveBound bound = analysis::local_solve_bound(simulation.cloth().scene());
+  nlohmann::json json;
+  json["dt_max"] =
+      std::isfinite(bound.dt_max) ? nlohmann::json(bound.dt_max) : nlohmann::json(nullptr);
+  json["particle_mass"] = bound.particle_mass;
+  json["stiffness"] = bound.stiffness;
   return json;
 }
 

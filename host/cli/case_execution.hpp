@@ -24,6 +24,11 @@ nlohmann::json run_case(const RunConfig& config, LoadedPlugins plugins, bool wit
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path);
 nlohmann::json predict_case(const RunConfig& config, LoadedPlugins plugins);
 
+// For an integrator that declares CLOTHLAB_TRAIT_LOCAL_SOLVES, the step below which it delivers
+// the scene's warp/weft stiffness (analysis/local_solve_bound.hpp): {"dt_max", "particle_mass",
+// "stiffness"}, dt_max null without stiffness; null for any other integrator.
+nlohmann::json local_solve_case(const RunConfig& config, LoadedPlugins plugins);
+
 // Loads the configured plugins and applies the parameter values, in a child process: a search
 // or a choice that runs many cases checks them once first, so bad input (a plugin that is not
 // there, a value it refuses) is reported with where it was set instead of as failed runs.

@@ -11,7 +11,8 @@
 namespace clothlab::cli {
 namespace {
 
-// A request: {"task": "run" | "positions" | "predict", "settings": [[key, value, source]...]}.
+// A request: {"task": "run" | "positions" | "predict" | "local-solve", "settings": [[key, value,
+// source]...]}.
 nlohmann::json serve_case(const nlohmann::json& request, const host::PluginSearchPath& search_path,
                           ResidentPlugins& resident) {
   std::vector<Setting> settings;
@@ -21,6 +22,7 @@ nlohmann::json serve_case(const nlohmann::json& request, const host::PluginSearc
   const std::string task = request.at("task");
   LoadedPlugins plugins = resident.load(config, search_path);
   if (task == "predict") return predict_case(config, std::move(plugins));
+  if (task == "local-solve") return local_solve_case(config, std::move(plugins));
   return run_case(config, std::move(plugins), task == "positions");
 }
 
@@ -45,5 +47,7 @@ nlohmann::json CaseWorker::run(const sweep::CaseSpec& c, bool with_positions) {
 }
 
 nlohmann::json CaseWorker::predict(const sweep::CaseSpec& c) { return ask("predict", c); }
+
+nlohmann::json CaseWorker::local_solve(const sweep::CaseSpec& c) { return ask("local-solve", c); }
 
 }  // namespace clothlab::cli

@@ -16,10 +16,11 @@ class CaseWorker {
   // search_path must outlive the worker.
   explicit CaseWorker(const host::PluginSearchPath& search_path);
 
-  // run_case and predict_case (case_execution.hpp) of the case's settings, in the child,
-  // bounded by the case's timeout; throws as JsonWorker::ask.
+  // run_case, predict_case and local_solve_case (case_execution.hpp) of the case's settings, in
+  // the child, bounded by the case's timeout; throws as JsonWorker::ask.
   nlohmann::json run(const sweep::CaseSpec& c, bool with_positions = false);
   nlohmann::json predict(const sweep::CaseSpec& c);
+  nlohmann::json local_solve(const sweep::CaseSpec& c);
 
  private:
   nlohmann::json ask(const std::string& task, const sweep::CaseSpec& c);

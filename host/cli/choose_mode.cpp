@@ -3,12 +3,14 @@
 #include <clothlab/ext/integrator_traits.h>
 
 #include <algorithm>
+#include <clothlab/analysis/local_solve_bound.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <clothlab/sweep/integrator_choice.hpp>
 #include <clothlab/sweep/sweep_error.hpp>
 #include <clothlab/sweep/trajectory_cache.hpp>
+#include <cstdio>
 #include <iostream>
 
 #include "case_execution.hpp"
@@ -37,6 +39,7 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
       if (traits != nullptr && traits->struct_size >= sizeof(clothlab_integrator_traits)) {
         candidate.iterations_param = traits->iterations_param ? traits->iterations_param : "";
         candidate.substeps_param = traits->substeps_param ? traits->substeps_param : "";
+        candidate.solves_locally = (traits->flags & CLOTHLAB_TRAIT_LOCAL_SOLVES) != 0;
       }
       const host::ParamSet params = integrator.default_params();
       for (const clothlab_param_spec& spec : params.specs()) {
@@ -63,6 +66,26 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
   return chosen;
 }
 
+// The m / h^2 bound of each local solver on the scene (in the worker: the scene is the
+// scenario plugin's), as the fewest substeps per frame.
+void predict_local_solvers(std::vector<sweep::ChoiceCandidate>& candidates,
+                           const sweep::CaseSpec& base, double frame_rate, CaseWorker& worker) {
+  for (sweep::ChoiceCandidate& candidate : candidates) {
+    if (!candidate.solves_locally) continue;
+    const nlohmann::json bound =
+        worker.local_solve(sweep::with_setting(base, "integrator.plugin", candidate.integrator));
+    if (!bound.is_object() || !bound["dt_max"].is_number()) continue;
+    analysis::LocalSolveBound figures;
+    figures.dt_max = bound["dt_max"].get<double>();
+    candidate.predicted_substeps = figures.substeps_per_frame(frame_rate);
+    char how[160];
+    std::snprintf(how, sizeof how, "h <= sqrt(m / ks) = sqrt(%.3g kg / %.4g N/m) = %.3g s",
+                  bound["particle_mass"].get<double>(), bound["stiffness"].get<double>(),
+                  figures.dt_max);
+    candidate.prediction = how;
+  }
+}
+
 bool is_frame_or_choice_key(const std::string& key) {
   return key == "frame_rate" || key == "substeps" || key == "dt" || key.starts_with("choose.") ||
          key == "integrator.plugin";
@@ -78,7 +101,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                    [](const Setting& setting) { return setting.key == "frame_rate"; }))
     throw host::InputError("--choose needs frame_rate (Hz): --frame-rate 60 or frame_rate: 60");
   const sweep::ChoiceSettings& choice = choose.search;
-  const std::vector<sweep::ChoiceCandidate> candidates = candidates_for(whole, search_path);
+  std::vector<sweep::ChoiceCandidate> candidates = candidates_for(whole, search_path);
   if (candidates.empty())
     throw host::InputError("--choose: no integrator on the plugin path (" + search_path.describe() +
                            ")");
@@ -114,6 +137,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                         {"frame_rate", choice.frame_rate},
                         {"T", choice.duration},
                         {"stretch_limit", choice.stretch_limit},
+                        {"reference_stretch_factor", choice.reference_stretch_factor},
                         {"error_tolerance", choice.error_tolerance},
                         {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
                         {"reference_integrator", choice.reference_integrator},
@@ -124,6 +148,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
     sweep::TrajectoryCache cache(
         cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
     CaseWorker worker(search_path);
+    predict_local_solvers(candidates, base, choice.frame_rate, worker);
     const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {
       return run_sweep_trajectory(c, worker);
     };
@@ -140,6 +165,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         {"T", choice.duration},
         {"error_T", choice.error_duration > 0 ? choice.error_duration : choice.duration},
         {"stretch_limit", choice.stretch_limit},
+        {"reference_stretch_factor", choice.reference_stretch_factor},
         {"error_tolerance", choice.error_tolerance},
         {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh}};
     for (const sweep::Row& row : store.rows())
@@ -158,8 +184,9 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                                : std::string("per-spring values"))
         << ", " << host::format_number(choice.frame_rate)
         << " Hz, T = " << host::format_number(choice.duration)
-        << " s; pass: stretch <= " << host::format_number(choice.stretch_limit)
-        << " x rest, error <= " << host::format_number(100 * choice.error_tolerance)
+        << " s; pass: stretch away from the pins <= " << host::format_number(choice.stretch_limit)
+        << " x rest and its strain <= " << host::format_number(choice.reference_stretch_factor)
+        << " x the reference's, error <= " << host::format_number(100 * choice.error_tolerance)
         << " % of the cloth diagonal"
         << " at T = "
         << host::format_number(choice.error_duration > 0 ? choice.error_duration : choice.duration)
@@ -169,7 +196,10 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         << " float64, dt " << host::format_number(reference.value("reference_dt", 0.0))
         << " s, estimated own error "
         << host::format_number(100 * reference.value("reference_error_estimate", 0.0))
-        << " % of the diagonal"
+        << " % of the diagonal, stretch away from the pins "
+        << host::format_number(reference.value("max_stretch_away_from_pins", 0.0))
+        << " (99th percentile " << host::format_number(reference.value("p99_stretch", 0.0))
+        << ", max " << host::format_number(reference.value("max_stretch", 0.0)) << ")"
         << (cache.hits() > 0 ? " (from the cache " + cache_folder.string() + ")" : std::string())
         << "\n"
         << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "

@@ -147,8 +147,16 @@ const KeyInfo keys[] = {
        c.choose.search.stop_factor = v.number;
      }},
     {"choose.stretch_limit", T::Real, 1, 1e6, "x rest length", nullptr, "1.1",
-     "--choose: longest spring allowed", nullptr,
+     "--choose: longest warp/weft spring allowed, those within two spacings of a pin left out",
+     nullptr,
      [](Configuration& c, const KeyValue& v) { c.choose.search.stretch_limit = v.number; }},
+    {"choose.reference_stretch_factor", T::Real, 1, 1e6, "", nullptr, "1.5",
+     "--choose: a method's strain (stretch - 1, away from the pins) over the error run at most "
+     "this x the reference's",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) {
+       c.choose.search.reference_stretch_factor = v.number;
+     }},
     {"choose.error_tolerance", T::PositiveReal, 0, 1, "of the cloth diagonal", nullptr, "0.01",
      "--choose: RMS position error allowed against the reference", nullptr,
      [](Configuration& c, const KeyValue& v) { c.choose.search.error_tolerance = v.number; }},
@@ -184,8 +192,8 @@ const KeyInfo keys[] = {
      [](Configuration& c, const KeyValue& v) { c.run.monitor.stretch_limit = v.number; }},
     {"stability.stretch_stop", T::Real, 0, 1e6, "", "0 (run to the end) or a real in [1, 1e6]",
      "0",
-     "end the run (not a failure) at the first check where the warp/weft stretch exceeds this "
-     "x rest (--choose sets its stretch limit); 0: run to the end",
+     "end the run (not a failure) at the first check where the warp/weft stretch away from the "
+     "pins exceeds this x rest (--choose sets its stretch limit); 0: run to the end",
      nullptr,
      [](Configuration& c, const KeyValue& v) {
        if (v.number > 0 && v.number < 1)

@@ -125,6 +125,10 @@ nlohmann::json summary_json(const RunRecord& record) {
         {"to_row", spring.row + spring.row_step},
         {"to_col", static_cast<int64_t>(spring.col) + spring.col_step}};
   }
+  json["max_stretch_away_from_pins"] = {{"final", record.final_stretch.max_away_from_pins},
+                                        {"over_run", record.max_stretch_away_from_pins_over_run}};
+  json["p99_stretch"] = {{"final", record.final_p99_stretch},
+                         {"over_run", record.p99_stretch_over_run}};
   json["mean_stretch"] = record.final_stretch.mean;
   json["springs"] = record.springs.total();
   json["force_evals"] = counters.force_evals;
@@ -183,6 +187,9 @@ std::string human_summary(const RunRecord& record) {
                       record.final_stretch.max, record.max_stretch_over_run, where.c_str(),
                       record.final_stretch.mean, record.material.empty() ? "" : "; material ",
                       record.material.c_str());
+  text += printf_text(
+      "  robust stretch over the run: 99th percentile %.4g, max away from the pins %.4g\n",
+      record.p99_stretch_over_run, record.max_stretch_away_from_pins_over_run);
   text += printf_text(
       "  per step: internal forces %.4g ms, external forces %.4g ms, integrate %.4g ms; "
       "%.3g springs/s\n",

@@ -78,6 +78,12 @@ struct RunRecord {
   // saw a spring beyond its rest length.
   std::optional<double> max_stretch_over_run_time;
   Cloth::LongestSpring max_stretch_over_run_spring;
+  // The robust figures beside the maximum (issue 21), the largest seen at the checks: the
+  // warp/weft stretch's 99th percentile (nearest rank) and its maximum over the springs away
+  // from the pins (Cloth::Stretch::max_away_from_pins). The final state's percentile.
+  double p99_stretch_over_run = 1.0;
+  double max_stretch_away_from_pins_over_run = 1.0;
+  double final_p99_stretch = 1.0;
   struct EnergySample {
     double t;
     Cloth::Energy energy;

@@ -51,6 +51,11 @@ sweep::CaseResult run_row(const sweep::CaseSpec& c, CaseWorker& worker) {
                     {"springs_per_second", run["springs_per_second"].get<double>()},
                     {"real_time_factor", run["real_time_factor"].get<double>()},
                     {"threads", run["threads"].get<double>()}};
+  // The warp/weft stretch over the run: its maximum and the robust figures beside it (a
+  // diverged run's are null in the JSON and left out here).
+  for (const char* figure : {"max_stretch", "max_stretch_away_from_pins", "p99_stretch"})
+    if (run[figure]["over_run"].is_number())
+      result.metrics.emplace_back(figure, run[figure]["over_run"].get<double>());
   result.notes = {{"verdict", run["verdict"].get<std::string>()}};
   return result;
 }
@@ -65,8 +70,13 @@ sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& wor
   trajectory.diagonal = run["diagonal"].get<double>();
   trajectory.wall_s = run["wall_time_s"].get<double>();
   trajectory.force_evals = run["force_evals"].get<uint64_t>();
-  const nlohmann::json& stretch = run["max_stretch"]["over_run"];
-  trajectory.max_stretch = stretch.is_number() ? stretch.get<double>() : NAN;
+  const auto over_run = [&](const char* figure) {
+    const nlohmann::json& stretch = run[figure]["over_run"];
+    return stretch.is_number() ? stretch.get<double>() : NAN;
+  };
+  trajectory.max_stretch = over_run("max_stretch");
+  trajectory.max_stretch_away_from_pins = over_run("max_stretch_away_from_pins");
+  trajectory.p99_stretch = over_run("p99_stretch");
   trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();
   trajectory.ms_per_frame_p10 = run["ms_per_frame"]["p10"].get<double>();
   trajectory.verdict = verdict_of(run);

@@ -104,7 +104,8 @@ struct Vbd {
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_ITERATIVE | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, nullptr, "iterations"};
+      CLOTHLAB_TRAIT_ITERATIVE | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS | CLOTHLAB_TRAIT_LOCAL_SOLVES,
+      nullptr, "iterations"};
 
   explicit Vbd(const sdk::Params& values)
       : iterations_(static_cast<int>(values.integer("iterations"))),

@@ -123,8 +123,11 @@ TEST_F(ClothlabStability, StretchStopEndsTheRunAtTheFirstCheckPastIt) {
   EXPECT_LT(steps, 1000);
   EXPECT_EQ(steps % 10, 0);  // at a check
   EXPECT_GT(json["max_stretch"]["over_run"].get<double>(), 1.05);
+  // The stop judges the robust figure, the springs at the pins left out.
+  EXPECT_GT(json["max_stretch_away_from_pins"]["over_run"].get<double>(), 1.05);
   EXPECT_NE(json["verdict"].get<std::string>().find("stopped at step " + std::to_string(steps)),
             std::string::npos);
+  EXPECT_NE(json["verdict"].get<std::string>().find("away from the pins"), std::string::npos);
   // Without it the same run goes to the end.
   ASSERT_EQ(run(tiny_sheet + "--integrator rk4 --dt 0.001 --duration 1 --json full.json --quiet")
                 .exit_code,

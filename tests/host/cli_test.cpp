@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -684,6 +685,24 @@ TEST_F(Clothlab, ChooseRunsTheDefaultScenario) {
           "choose.output=choose/choose --set choose.duration=0.1 --set choose.integrators=[euler]");
   EXPECT_EQ(outcome.exit_code, 0) << outcome.err;
   EXPECT_NE(outcome.out.find("1    euler"), std::string::npos) << outcome.out;
+}
+
+// A local solver (xpbd declares CLOTHLAB_TRAIT_LOCAL_SOLVES) gets the substeps the m / h^2
+// bound predicts in its verdict and row; an explicit method does not.
+TEST_F(Clothlab, ChoosePredictsALocalSolversSubsteps) {
+  const Outcome outcome =
+      run("--choose --frame-rate 60 --scenario sheet --set scenario.rows=4 --set scenario.cols=4 "
+          "--set choose.output=choose/choose --set choose.duration=0.1 --set "
+          "choose.integrators=[xpbd,euler]");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto ranked = nlohmann::json::parse(read_text(file("choose/choose-ranked.json")));
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto& row : ranked["ranking"]) rows[row["integrator"]] = row;
+  EXPECT_TRUE(rows.at("euler")["predicted_substeps"].is_null());
+  const std::string verdict = rows.at("xpbd")["verdict"];
+  EXPECT_NE(verdict.find("the m / h^2 bound predicts"), std::string::npos) << verdict;
+  EXPECT_EQ(rows.at("euler")["verdict"].get<std::string>().find("m / h^2"), std::string::npos);
+  EXPECT_NE(outcome.err.find("xpbd: the m / h^2 bound predicts"), std::string::npos) << outcome.err;
 }
 
 // merge's words after "merge" were all taken for output names, so --help was one.

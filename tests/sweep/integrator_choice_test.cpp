@@ -32,9 +32,15 @@ using testing::ScratchFolder;
 //   dear:      unstable below 11 substeps, 2.5 ms per substep
 //   solver:    has iterations, unstable below 12 of them, 3 ms per substep and iteration
 //   walker:    has iterations, unstable below 4 substeps, 10 x the usual cost
+//   cornered:  the spring at a pin stretches 30 %, the rest of the cloth 2 %
+//   soft:      stretch (everywhere) 1 + 0.2 / substeps: 10 % at 2 substeps, a strain 1.5 x
+//              the reference's 2 % from 7 substeps
+// Every run's robust stretch (away from the pins) is its maximum but for cornered's; its 99th
+// percentile half way to 1.
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
-// steps. `runs` lists every run as "integrator rows substeps".
-// The grid's rows as the run would get them: the later of scenario.rows and mesh; "0" unset.
+// steps, and its robust stretch is `reference_stretch` (0: the reference has no such figure).
+// `runs` lists every run as "integrator rows substeps". The grid's rows as the run would get them:
+// the later of scenario.rows and mesh; "0" unset.
 std::string rows_of(const CaseSpec& c) {
   for (auto setting = c.settings.rbegin(); setting != c.settings.rend(); ++setting) {
     if (setting->key == "scenario.rows") return setting->value;
@@ -45,6 +51,7 @@ std::string rows_of(const CaseSpec& c) {
 
 struct FakeRuns {
   double reference_gap = 0.0;
+  double reference_stretch = 0.0;
   double time_scale = 1.0;
   // "integrator substeps" whose first `bursts` short runs (the first frames) other jobs slow
   // 10-fold.
@@ -62,6 +69,7 @@ struct FakeRuns {
     run.diagonal = 1.0;
     if (c.precision == "float64") {
       run.positions = {c.dt > 3e-5 ? reference_gap : 0.0, 0, 0};  // the coarser of the two
+      run.max_stretch = run.max_stretch_away_from_pins = reference_stretch;
       return run;
     }
     const double substeps = std::stod(c.setting("substeps"));
@@ -104,6 +112,13 @@ struct FakeRuns {
     if (c.integrator == "damped") error = 0.03 + 0.001 / substeps;
     if (c.integrator == "saturated") error = substeps <= 2 ? 0.2 : 0.5 / (substeps * substeps);
     if (c.integrator == "stretchy") run.max_stretch = 1.0 + 0.5 / substeps;
+    if (c.integrator == "soft") run.max_stretch = 1.0 + 0.2 / substeps;
+    run.max_stretch_away_from_pins = run.max_stretch;
+    if (c.integrator == "cornered") {
+      run.max_stretch = 1.3;
+      run.max_stretch_away_from_pins = 1.02;
+    }
+    run.p99_stretch = (1.0 + run.max_stretch_away_from_pins) / 2;
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
       run.verdict.reason = "energy";
@@ -277,9 +292,76 @@ TEST(IntegratorChoice, EndsSceneMeshRunsAtTheStretchLimit) {
   EXPECT_NE(
       std::find(fixture.runs.stretch_stops.begin(), fixture.runs.stretch_stops.end(), "40 1.2"),
       fixture.runs.stretch_stops.end());
-  EXPECT_NE(fixture.progress.str().find("stretchy 2 substeps: stretch 1.25 above 1.2"),
+  EXPECT_NE(
+      fixture.progress.str().find("stretchy 2 substeps: stretch 1.25 away from the pins above 1.2"),
+      std::string::npos)
+      << fixture.progress.str();
+}
+
+// The stretch judged is the robust one: a cloth whose only long spring is the one at a pin
+// (a stress concentration that grows as the mesh refines) passes at its cheapest setting, and
+// the rows report both figures.
+TEST(IntegratorChoice, JudgesTheStretchAwayFromThePins) {
+  Fixture fixture;
+  const std::vector<Choice> choices = fixture.choose({{"cornered", false}});
+  ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_EQ(choices[0].substeps, 1u);
+  EXPECT_EQ(choices[0].max_stretch, 1.3);
+  EXPECT_EQ(choices[0].max_stretch_away_from_pins, 1.02);
+  EXPECT_EQ(choices[0].p99_stretch, 1.01);
+  const Row row = choice_rows(choices, fixture.settings).at(0);
+  EXPECT_EQ(row["max_stretch"], 1.3);
+  EXPECT_EQ(row["max_stretch_away_from_pins"], 1.02);
+  EXPECT_NE(choice_table(choices, fixture.settings).find("2 %"), std::string::npos);
+  // (Judged on the maximum, the mutant this test catches, it would fail at every setting: the
+  // pin's spring does not shorten with the step.) The robust figure is judged all the same:
+  // under a limit below it, nothing passes.
+  Fixture strict;
+  strict.settings.stretch_limit = 1.01;
+  EXPECT_FALSE(strict.choose({{"cornered", false}})[0].passed);
+}
+
+// A method may not stretch more than reference_stretch_factor x the reference's own robust
+// stretch (as strain): soft passes the 10 % limit from 2 substeps, but its 10 % is 5 x the
+// reference's 2 %; it needs 7 substeps for 1.5 x (1 + 0.2 / 7 <= 1.03).
+TEST(IntegratorChoice, HoldsTheStretchWithinAFactorOfTheReferences) {
+  Fixture fixture;
+  fixture.runs.reference_stretch = 1.02;
+  const std::vector<Choice> choices = fixture.choose({{"soft", false}});
+  ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
+  EXPECT_GE(choices[0].substeps, 7u);
+  EXPECT_LE(choices[0].substeps, 8u);
+  EXPECT_LE(choices[0].max_stretch_away_from_pins, 1.03);
+  EXPECT_NE(fixture.progress.str().find("soft 2 substeps: stretch 1.1 away from the pins, a "
+                                        "strain over 1.5 x the reference's (1.02)"),
             std::string::npos)
       << fixture.progress.str();
+  // The factor is a setting: at 5 x the reference's strain, 2 substeps pass.
+  Fixture lenient;
+  lenient.runs.reference_stretch = 1.02;
+  lenient.settings.reference_stretch_factor = 5;
+  EXPECT_EQ(lenient.choose({{"soft", false}})[0].substeps, 2u);
+}
+
+// A local solver's predicted substeps (the m / h^2 bound, worked out by the caller) are stated
+// in its verdict, its row and a progress line; a candidate without one gets none.
+TEST(IntegratorChoice, StatesTheSubstepsPredictedForALocalSolver) {
+  Fixture fixture;
+  ChoiceCandidate local{"stretchy", false};
+  local.solves_locally = true;
+  local.predicted_substeps = 4;
+  local.prediction = "h <= sqrt(m / ks) = 5 ms";
+  const std::vector<Choice> choices = fixture.choose({local, {"explicit", false}});
+  ASSERT_EQ(choices.size(), 2u);
+  EXPECT_EQ(choices[0].integrator, "stretchy");
+  EXPECT_EQ(choices[0].verdict,
+            "real time; the m / h^2 bound predicts 4 substeps or more (h <= sqrt(m / ks) = 5 ms)");
+  EXPECT_EQ(choices[1].verdict.find("m / h^2"), std::string::npos);
+  const std::vector<Row> rows = choice_rows(choices, fixture.settings);
+  EXPECT_EQ(rows[0]["predicted_substeps"], 4);
+  EXPECT_TRUE(rows[1]["predicted_substeps"].is_null());
+  EXPECT_NE(fixture.progress.str().find("choose [1/2] stretchy: the m / h^2 bound predicts 4"),
+            std::string::npos);
 }
 
 TEST(IntegratorChoice, LeavesASubstepCountWhereIterationsDoNotHelp) {

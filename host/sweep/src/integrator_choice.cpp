@@ -57,8 +57,19 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
     // Appended to, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that here.
     std::string position = "[";
     position += std::to_string(i + 1) + "/" + std::to_string(candidates.size()) + "]";
-    choices.push_back(
-        choice_detail::IntegratorSearch(base, candidates[i], position, context).run());
+    const ChoiceCandidate& candidate = candidates[i];
+    const std::string predicted = candidate.predicted_substeps == 0
+                                      ? std::string()
+                                      : "the m / h^2 bound predicts " +
+                                            std::to_string(candidate.predicted_substeps) +
+                                            " substeps or more (" + candidate.prediction + ")";
+    if (!predicted.empty())
+      progress << "choose " << position << " " << candidate.integrator << ": " << predicted << "\n"
+               << std::flush;
+    Choice choice = choice_detail::IntegratorSearch(base, candidate, position, context).run();
+    choice.predicted_substeps = candidate.predicted_substeps;
+    if (!predicted.empty()) choice.verdict += "; " + predicted;
+    choices.push_back(choice);
   }
   std::stable_sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
     if (a.passed != b.passed) return a.passed;

@@ -106,6 +106,8 @@ Choice IntegratorSearch::run() {
   choice.ms_per_frame = chosen.ms_per_frame;
   choice.error = chosen.error;
   choice.max_stretch = chosen.max_stretch;
+  choice.max_stretch_away_from_pins = chosen.max_stretch_away_from_pins;
+  choice.p99_stretch = chosen.p99_stretch;
   choice.verdict =
       chosen.ms_per_frame <= 1e3 / settings_.frame_rate ? "real time" : "slower than real time";
   if (const auto note = unrefined_.find(*best); note != unrefined_.end())

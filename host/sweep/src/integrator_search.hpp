@@ -27,6 +27,7 @@ struct Probe {
   bool error_failed = false;  // failed on the error criterion (the other runs were fine)
   bool stopped = false;       // killed by the cost budget: slower than the best verdict so far
   double ms_per_frame = 0, error = NAN, max_stretch = NAN;
+  double max_stretch_away_from_pins = NAN, p99_stretch = NAN;  // the robust figures over T
   std::string why;  // the failed criterion; empty when passed
 };
 
@@ -116,6 +117,7 @@ class IntegratorSearch {
   bool judge_stretch(const Trajectory& run, Probe& probe, const std::string& where) const;
   bool judge_run(const Trajectory& run, Probe& probe, const std::string& where);
   bool judge_error(const Trajectory& measured, Probe& probe) const;
+  bool judge_stretch_against_reference(const Trajectory& measured, Probe& probe) const;
   std::string judge_progress(uint32_t substeps, uint32_t iterations, const Probe& probe);
 
   // The probe's row in the store and its progress line (choice_report.cpp).

@@ -43,6 +43,8 @@ Trajectory TrajectoryCache::run(const TrajectoryRunner& runner, const CaseSpec& 
         run.wall_s = cached.at("wall_s").get<double>();
         run.force_evals = cached.at("force_evals").get<uint64_t>();
         run.max_stretch = cached.at("max_stretch").get<double>();
+        run.max_stretch_away_from_pins = cached.at("max_stretch_away_from_pins").get<double>();
+        run.p99_stretch = cached.at("p99_stretch").get<double>();
         run.ms_per_frame = cached.at("ms_per_frame").get<double>();
         ++hits_;
         return run;
@@ -58,6 +60,8 @@ Trajectory TrajectoryCache::run(const TrajectoryRunner& runner, const CaseSpec& 
                                  {"wall_s", run.wall_s},
                                  {"force_evals", run.force_evals},
                                  {"max_stretch", run.max_stretch},
+                                 {"max_stretch_away_from_pins", run.max_stretch_away_from_pins},
+                                 {"p99_stretch", run.p99_stretch},
                                  {"ms_per_frame", run.ms_per_frame}};
   try {
     std::filesystem::create_directories(folder_);

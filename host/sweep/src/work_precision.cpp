@@ -121,6 +121,10 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
     // reference's order is what is being measured, so it gets no estimate.
     row["reference_error_estimate"] = is_self_referenced(wp, base) ? Row() : Row(difference / 15.0);
     row["wall_s"] = coarse.wall_s + fine.wall_s;
+    // The converged model's own stretch over the run: what a method's is held to (--choose).
+    row["max_stretch"] = fine.max_stretch;
+    row["max_stretch_away_from_pins"] = fine.max_stretch_away_from_pins;
+    row["p99_stretch"] = fine.p99_stretch;
     store.append(row, base.index);
   }
   return fine;

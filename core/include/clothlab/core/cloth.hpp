@@ -162,11 +162,19 @@ class Cloth {
   // structural ones alone (the warp and weft threads: whether the cloth hangs like cloth or
   // like rubber; shear springs lengthen when the weave shears, which real cloth does easily).
   // A cloth without such springs counts as unstretched.
+  // max_away_from_pins: the largest over the springs with neither end within two rows and two
+  // columns of a pinned particle. A pin is a point load: the springs at it stretch more the
+  // finer the mesh (a stress concentration, not the cloth). 1 when every spring is that near.
   struct Stretch {
     double max = 1, mean = 1;
+    double max_away_from_pins = 1;
   };
   enum class Springs { All, Structural };
   Stretch stretch(Springs springs = Springs::All) const;
+  // The nearest-rank percentile of length / rest length over the springs: the smallest ratio
+  // that at least `fraction` (in (0, 1]) of them do not exceed; 1 without springs. A selection
+  // over a copy of the ratios: for checks and reports, not the step loop.
+  double stretch_percentile(Springs springs, double fraction) const;
   // The spring with the largest length / rest length: from particle (row, col) to
   // (row + row_step, col + col_step). Where the maximum of stretch() sits (a corner, a fold, a
   // free edge); one scalar pass, for reports rather than the step loop.

@@ -33,14 +33,21 @@ extern "C" {
  * attached particles follow their targets: the host runs scenes with attachments
  * (clothlab.attachments/1) only with integrators that declare it. */
 #define CLOTHLAB_TRAIT_MOVES_ATTACHMENTS (1u << 3)
+/* Solves locally: its iterations move one particle (or one constraint) at a time against its
+ * neighbours' current positions, Gauss-Seidel or Jacobi sweeps of a position-based method
+ * (XPBD, vertex block descent). Short of convergence a substep h then delivers a spring
+ * stiffness of about m / h^2 at most (m: a particle's mass), so a cloth of warp/weft stiffness
+ * ks behaves like itself only for h <~ sqrt(m / ks); `clothlab --choose` predicts the fewest
+ * substeps per frame from that bound and reports it beside the ones it measures. */
+#define CLOTHLAB_TRAIT_LOCAL_SOLVES (1u << 4)
 
 typedef struct clothlab_integrator_traits {
   uint32_t struct_size;
   uint32_t flags; /* CLOTHLAB_TRAIT_* */
   /* Name of the parameter counting substeps per step ("substeps"), or NULL. */
-  const char *substeps_param;
+  const char* substeps_param;
   /* Name of the parameter counting solver iterations ("iterations"), or NULL. */
-  const char *iterations_param;
+  const char* iterations_param;
 } clothlab_integrator_traits;
 
 #ifdef __cplusplus

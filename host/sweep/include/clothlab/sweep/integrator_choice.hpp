@@ -3,12 +3,15 @@
 // and its positions at T within a tolerance of a converged reference.
 //
 // Per integrator, a candidate (substeps, iterations) runs T at the scene's mesh; it passes when
-//   - the run is stable by the monitor (finite, energy, divergence-sized stretch) and the
-//     largest structural (warp / weft) spring stretch over the run is at most stretch_limit,
-//     and
+//   - the run is stable by the monitor (finite, energy, divergence-sized stretch) and its
+//     robust stretch over the run is at most stretch_limit: the largest structural (warp /
+//     weft) spring stretch with the springs within two spacings of a pin left out (a pin is a
+//     point load whose springs stretch more the finer the mesh: Cloth::Stretch), and
 //   - the RMS position error at T over the cloth diagonal, against the reference, is at most
-//     error_tolerance. The error is measured on error_mesh (a smaller mesh where the scene's own
-//     would make the reference too expensive; the rows say which) with the same setting.
+//     error_tolerance, and the run's robust strain (stretch - 1) over that run is at most
+//     reference_stretch_factor x the reference's own (a method may not sag like a softer
+//     cloth). Both are measured on error_mesh (a smaller mesh where the scene's own would make
+//     the reference too expensive; the rows say which) with the same setting.
 // The reference is compute_reference (work_precision.hpp): reference_integrator in float64 at
 // dt = 1 / (frame_rate reference_substeps), checked against dt / 2; its estimated own error is
 // stored with it. When the reference's two runs differ by more than the tolerance it is not
@@ -70,10 +73,12 @@
 namespace clothlab::sweep {
 
 struct ChoiceSettings {
-  double frame_rate = 60.0;       // Hz
-  double duration = 1.0;          // T of the runs judged for stability, stretch and cost, s
-  double error_duration = 0.0;    // T of the error; 0: duration (the flag needs it shorter)
-  double stretch_limit = 1.10;    // x rest length
+  double frame_rate = 60.0;     // Hz
+  double duration = 1.0;        // T of the runs judged for stability, stretch and cost, s
+  double error_duration = 0.0;  // T of the error; 0: duration (the flag needs it shorter)
+  double stretch_limit = 1.10;  // x rest length, the robust figure (header)
+  // A method's robust strain over the error run at most this x the reference's (header).
+  double reference_stretch_factor = 1.5;
   double error_tolerance = 0.01;  // RMS position error / cloth diagonal
   uint32_t max_substeps = 4096;
   uint32_t max_iterations = 32;  // and at most the parameter's own maximum
@@ -98,6 +103,12 @@ struct ChoiceCandidate {
   std::string iterations_param = "iterations";
   std::string substeps_param = "substeps";
   uint32_t iterations_limit = UINT32_MAX;
+  // A local solver's (CLOTHLAB_TRAIT_LOCAL_SOLVES) fewest substeps per frame by the m / h^2
+  // bound (analysis/local_solve_bound.hpp) and how it follows ("h <= sqrt(m / ks) = ... s"),
+  // stated in its verdict beside what the search measures; 0: no prediction.
+  bool solves_locally = false;
+  uint32_t predicted_substeps = 0;
+  std::string prediction = {};
 };
 
 struct Choice {
@@ -107,6 +118,8 @@ struct Choice {
   uint32_t iterations = 0;       // 0: the method has none
   std::string iterations_param;  // the parameter they set ("iterations", "max_iterations")
   double ms_per_frame = 0, error = 0, max_stretch = 0;
+  double max_stretch_away_from_pins = 0, p99_stretch = 0;  // the robust figures over T
+  uint32_t predicted_substeps = 0;                         // ChoiceCandidate's
   // "real time", "slower than real time" or why nothing passed ("slower than <best> ...
   // (stopped at ...)", "too slow: ...", "converges elsewhere: ...", "no setting passed ...")
   std::string verdict;

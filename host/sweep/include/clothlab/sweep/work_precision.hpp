@@ -28,7 +28,12 @@ struct Trajectory {
   double diagonal = 0.0;          // cloth diagonal, m (sqrt(width^2 + height^2))
   double wall_s = 0.0;            // wall time spent stepping
   uint64_t force_evals = 0;
-  double max_stretch = 0.0;       // largest spring length / rest length seen over the run
+  double max_stretch = 0.0;  // largest spring length / rest length seen over the run
+  // The robust figures beside it, the largest seen over the run (issue 21): the warp/weft
+  // stretch with the springs within two spacings of a pin left out (what --choose judges),
+  // and its 99th percentile.
+  double max_stretch_away_from_pins = 0.0;
+  double p99_stretch = 0.0;
   double ms_per_frame = 0.0;      // median wall time of a frame (substeps steps), ms
   double ms_per_frame_p10 = 0.0;  // its 10th percentile: the least disturbed by other jobs
   CaseResult verdict;             // status Stable, or Unstable/Failed with step and reason
