@@ -23,6 +23,8 @@ Precision Cloth::precision() const { return impl_->precision; }
 uint32_t Cloth::particle_count() const { return impl_->engine->system().particle_count; }
 const SpringCounts& Cloth::springs() const { return impl_->springs; }
 int Cloth::threads() const { return impl_->engine->threads(); }
+void Cloth::begin_step() { impl_->engine->begin_step(); }
+void Cloth::end_step() { impl_->engine->end_step(); }
 
 const StageCounters& Cloth::counters() const { return impl_->engine->counters(); }
 void Cloth::reset_counters() { impl_->engine->counters() = StageCounters{}; }

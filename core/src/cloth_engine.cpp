@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -78,7 +79,9 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     }
   }
   threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
-  parallel_ = threads_ > 1 && n_ >= parallel_from_particles;
+  parallel_capable_ = threads_ > 1 && n_ >= parallel_from_particles;
+  parallel_ = parallel_capable_;
+  governor_ = TeamGovernor(threads_, options.adaptive_threads && parallel_capable_);
   if (parallel_) {
     // Start the thread team now: its first start allocates, which a step must not do.
 #pragma omp parallel num_threads(threads_)
@@ -153,6 +156,36 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   system_.reserve_rkn = &reserve_rkn_callback;
   system_.step_rkn = &step_rkn_callback;
   system_.get_extension = &get_extension_callback;
+}
+
+namespace {
+
+// CPU time of all the process's threads, spinning ones included.
+double process_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+}  // namespace
+
+template <class Real>
+void ClothEngine<Real>::begin_step() {
+  if (!parallel_capable_) return;
+  parallel_ = governor_.team_step();
+  counters_.steps_on_one_thread += parallel_ ? 0 : 1;
+  forces_->set_parallel(parallel_);
+  if (jacobian_) jacobian_->set_parallel(parallel_);
+  step_start_ = std::chrono::steady_clock::now();
+  step_cpu_start_s_ = process_cpu_seconds();
+}
+
+template <class Real>
+void ClothEngine<Real>::end_step() {
+  if (!parallel_capable_) return;
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
+  governor_.finished(wall_s, process_cpu_seconds() - step_cpu_start_s_);
 }
 
 template <class Real>

@@ -2,6 +2,8 @@
 // force pipeline and the system callbacks integrators drive it through.
 #pragma once
 
+#include <chrono>
+#include <clothlab/core/team_governor.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -24,7 +26,9 @@ class ClothEngine final : public Engine {
 
   const clothlab_system& system() const override { return system_; }
   // Threads the force and vector passes actually use: small clothes run on one.
-  int threads() const override { return parallel_ ? threads_ : 1; }
+  int threads() const override { return parallel_capable_ ? threads_ : 1; }
+  void begin_step() override;
+  void end_step() override;
   StageCounters& counters() override { return counters_; }
 
   void positions(std::vector<double>& out) const override;
@@ -125,7 +129,11 @@ class ClothEngine final : public Engine {
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
   int threads_ = 1;
-  bool parallel_ = false;
+  bool parallel_capable_ = false;  // the cloth is large enough for the team
+  bool parallel_ = false;          // this step runs on the team
+  TeamGovernor governor_{1, false};
+  std::chrono::steady_clock::time_point step_start_{};
+  double step_cpu_start_s_ = 0;
 
   AlignedBuffer<Real> x_, v_, inverse_mass_;
   // 1 where a pinned particle lies within two rows and two columns: the springs that

@@ -14,6 +14,8 @@ class Engine {
 
   virtual const clothlab_system& system() const = 0;
   virtual int threads() const = 0;
+  virtual void begin_step() = 0;
+  virtual void end_step() = 0;
   virtual StageCounters& counters() = 0;
 
   virtual void positions(std::vector<double>& out) const = 0;

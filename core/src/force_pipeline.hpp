@@ -51,6 +51,10 @@ class ForcePipeline {
   ForcePipeline(const Scene& scene, std::size_t stride, const Real* inverse_mass,
                 bool velocity_forces, int threads, bool parallel, std::size_t col_pitch = 1);
 
+  // Whether the passes run on the thread team (false: on the calling thread alone); the engine
+  // sets it per step (TeamGovernor). Results are the same bits either way.
+  void set_parallel(bool parallel) { parallel_ = parallel; }
+
   // a = M^-1 F(x, v) on every particle (0 where the inverse mass is 0). v == nullptr
   // skips damping. Returns false when some acceleration is not finite. No allocation.
   bool evaluate(const StateCombination<Real>& x, const StateCombination<Real>* v, Real* a,
@@ -216,7 +220,7 @@ class ForcePipeline {
   const Real* inverse_mass_ = nullptr;       // in pipeline row order
   AlignedBuffer<Real> turned_inverse_mass_;  // a turned grid's inverse masses, row by row
   int threads_ = 1;
-  bool parallel_ = false;
+  bool parallel_ = false;  // set_parallel
   Real gravity_[3] = {0, 0, 0};
   Real wind_direction_[3] = {0, 0, 0};
   Real wind_strength_ = 0;

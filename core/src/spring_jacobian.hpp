@@ -38,6 +38,10 @@ class SpringJacobian {
   SpringJacobian(const Scene& scene, const GridTopology& topology, const Real* inverse_mass,
                  std::size_t stride, bool damping, int threads, bool parallel);
 
+  // Whether the passes run on the thread team (false: on the calling thread alone); the engine
+  // sets it per step (TeamGovernor). Results are the same bits either way.
+  void set_parallel(bool parallel) { parallel_ = parallel; }
+
   // out = J u (Real vectors of the system); v == nullptr: no damping terms.
   void apply(const Real* x, const Real* v, double c_x, double c_v, const Real* u, Real* out) const;
   // As apply and diagonal_blocks, with J in Baraff and Witkin's definite form
@@ -121,7 +125,7 @@ class SpringJacobian {
   std::vector<StencilSprings> stencils_;
   bool damping_;
   int threads_;
-  bool parallel_;
+  bool parallel_;  // set_parallel
   // Block CSR pattern: row i's columns, ascending; the slot of each adjacency entry's
   // block and of each diagonal block in it.
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;

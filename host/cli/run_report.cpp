@@ -153,7 +153,8 @@ nlohmann::json summary_json(const RunRecord& record) {
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},
                       {"normals_computed", counters.normals_computed},
-                      {"particles_integrated", counters.particles_integrated}};
+                      {"particles_integrated", counters.particles_integrated},
+                      {"steps_on_one_thread", counters.steps_on_one_thread}};
   json["integrator_params"] = record.integrator_params;
   json["scenario_params"] = record.scenario_params;
   return json;

@@ -245,6 +245,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     PipelineOptions options;
     options.velocity_forces = integrator_->uses_velocity_forces();
     options.threads = config.threads;
+    options.adaptive_threads = config.adaptive_threads;
     cloth_ = std::make_unique<Cloth>(
         scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
     if (!attachments_->empty()) {
@@ -314,6 +315,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     // The colliders keep their pose at the step's start over the step.
     if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
     const auto start = std::chrono::steady_clock::now();
+    cloth_->begin_step();
     try {
       integrator_instance_->step(system, t, config_.dt);
     } catch (const host::PluginError& error) {
@@ -321,6 +323,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
       fail(step, "non-finite",
            "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")");
     }
+    cloth_->end_step();
     const double step_s = seconds_since(start);
     record.step_total_s += step_s;
     if ((step - 1) % record.timing_stride == 0) {

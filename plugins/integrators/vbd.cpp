@@ -24,11 +24,11 @@
 // stable, dissipative step (the cloth is softer than its springs until the sweeps converge).
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/threads.hpp>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -99,8 +99,7 @@ struct Vbd {
       sdk::bool_param("adaptive_guess", true,
                       "start from the paper's adaptive initial guess; 0 = from inertia "
                       "(x0 + h v + h^2 a_ext)"),
-      sdk::int_param("threads", 0, 0, 256,
-                     "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
+      sdk::threads_param(),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -110,7 +109,7 @@ struct Vbd {
   explicit Vbd(const sdk::Params& values)
       : iterations_(static_cast<int>(values.integer("iterations"))),
         adaptive_guess_(values.flag("adaptive_guess")),
-        requested_threads_(static_cast<int>(values.integer("threads"))) {}
+        requested_threads_(values.integer("threads")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -124,13 +123,9 @@ struct Vbd {
          {&solver.start, &solver.inertial, &solver.displacement, &solver.previous_velocity})
       buffer->assign(entries, 0);
     solver.has_previous = false;
-    const int threads = requested_threads_ == 0 ? omp_get_max_threads() : requested_threads_;
-    threads_ = solver.blocks.block_count() >= parallel_from_blocks ? std::max(threads, 1) : 1;
-    // The first parallel region builds the thread team (allocates): here, not in step.
-    if (threads_ > 1) {
-#pragma omp parallel num_threads(threads_)
-      { (void)omp_get_thread_num(); }
-    }
+    threads_ = sdk::plugin_threads(system, requested_threads_,
+                                   solver.blocks.block_count() >= parallel_from_blocks);
+    sdk::start_thread_team(threads_);
     last_ = {};
   }
 
@@ -270,7 +265,7 @@ struct Vbd {
 
   int iterations_;
   bool adaptive_guess_;
-  int requested_threads_;
+  long requested_threads_;
   int threads_ = 1;
   ScratchVectors<1> scratch_;  // the external acceleration
   Solver<float> solver_f32_;

@@ -38,11 +38,11 @@
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
 // in h to the spring dynamics with the scene's ks and kd; one iteration per substep adds an
 // O(h^2) per-step Gauss-Seidel error, which keeps the method first order.
-#include <omp.h>
 
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/threads.hpp>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -104,8 +104,7 @@ struct Xpbd {
   static constexpr std::array<clothlab_param_spec, 5> params{
       sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
       sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
-      sdk::int_param("threads", 0, 0, 256,
-                     "threads for the colour sweeps; 0 = all (omp_get_max_threads)"),
+      sdk::threads_param(),
       sdk::int_param("tethers", tethered_build ? 3 : 0, 0, 16,
                      "long-range attachments per free particle to pinned particles (the nearest "
                      "pin of each pinned island, then pins spread along it); 0 = off"),
@@ -123,7 +122,7 @@ struct Xpbd {
   explicit Xpbd(const sdk::Params& values)
       : substeps_(static_cast<int>(values.integer("substeps"))),
         iterations_(static_cast<int>(values.integer("iterations"))),
-        requested_threads_(static_cast<int>(values.integer("threads"))),
+        requested_threads_(values.integer("threads")),
         tethers_per_particle_(static_cast<uint32_t>(values.integer("tethers"))),
         tether_slack_(values.real("tether_slack")) {}
 
@@ -135,8 +134,8 @@ struct Xpbd {
     Solver<Real>& solver = solver_for<Real>();
     solver.tethers.build(topology, system.x(), system.stride(), system.inverse_mass(),
                          tethers_per_particle_, tether_slack_);
-    const int threads = requested_threads_ == 0 ? omp_get_max_threads() : requested_threads_;
-    threads_ = topology.spring_count() >= parallel_from_springs ? std::max(threads, 1) : 1;
+    threads_ = sdk::plugin_threads(system, requested_threads_,
+                                   topology.spring_count() >= parallel_from_springs);
     std::optional<GridLayout> grid = grid_layout(system.grid(), topology);
     solver.on_grid = grid.has_value();
     if (grid)
@@ -144,11 +143,7 @@ struct Xpbd {
                           system.inverse_mass(), system.particle_count(), threads_);
     else
       solver.general.build(system, topology, iterations_);
-    // The first parallel region builds the thread team (allocates): here, not in step.
-    if (threads_ > 1) {
-#pragma omp parallel num_threads(threads_)
-      { (void)omp_get_thread_num(); }
-    }
+    sdk::start_thread_team(threads_);
   }
 
   template <class Real>
@@ -202,7 +197,7 @@ struct Xpbd {
 
   int substeps_;
   int iterations_;
-  int requested_threads_;
+  long requested_threads_;
   uint32_t tethers_per_particle_;
   double tether_slack_;
   int threads_ = 1;

@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -211,15 +213,24 @@ struct Trajectory {
 constexpr int kSteps = 20;
 constexpr double kStep = 1e-3;
 
-// From the start state, kSteps steps of the scheme through the system's callbacks.
+// From the start state, kSteps steps of the scheme through the system's callbacks. With a
+// `bracketing` cloth each step is bracketed as a host does (Cloth::begin_step, end_step), and
+// steps 0 and kSteps / 2 also sleep inside their bracket: they get far less than their share
+// of CPU, as when another process takes a core, so the adaptive team runs the next ones alone.
 template <class Real, class Start>
-Trajectory run(const clothlab_system& system, uint32_t cols, const Scheme& scheme) {
+Trajectory run(const clothlab_system& system, uint32_t cols, const Scheme& scheme,
+               Cloth* bracketing = nullptr) {
   set_start_state<Real, Start>(system, cols);
   const State start = read_state<Real>(system);
   EXPECT_EQ(system.reserve_rkn(system.context, scheme.stages), CLOTHLAB_OK);
   const clothlab_rkn_scheme raw = scheme.raw();
   for (int step = 0; step < kSteps; ++step) {
+    if (bracketing) bracketing->begin_step();
     const clothlab_status status = system.step_rkn(system.context, step * kStep, kStep, &raw);
+    if (bracketing) {
+      if (step % (kSteps / 2) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      bracketing->end_step();
+    }
     EXPECT_EQ(status, CLOTHLAB_OK) << "step " << step;
     if (status != CLOTHLAB_OK) break;
   }
@@ -387,6 +398,25 @@ void expect_same_for_any_thread_count(const Case& c) {
 TEST_P(FusedStepThreads, GiveBitwiseTheSameStateAsOneThread) {
   expect_same_for_any_thread_count<double>(GetParam());
   expect_same_for_any_thread_count<float>(GetParam());
+}
+
+// The adaptive team (team_governor.hpp) switches steps between the team and the calling
+// thread: the state is bitwise the one of a fixed team.
+TEST(FusedStepAdaptiveTeam, StepsOnOneThreadGiveBitwiseTheSameState) {
+  const Case c{70, 70, 0, Pins::ColumnAndSingles, true, true};
+  for (const bool adaptive : {false, true}) {
+    Cloth cloth(scene_for(c), Precision::Float32, {c.velocity_forces, 2, adaptive});
+    const State end = run<float, float>(cloth.system(), c.cols, rk4(), &cloth).end;
+    const State fixed = run_engine<float>(c, rk4(), 2).end;
+    // 4 after each sleeping step; more where this machine's other jobs took a core meanwhile.
+    if (adaptive) {
+      EXPECT_GE(cloth.counters().steps_on_one_thread, 8u);
+    } else {
+      EXPECT_EQ(cloth.counters().steps_on_one_thread, 0u);
+    }
+    EXPECT_TRUE(close(end.x, fixed.x, 0.0, c.cols)) << "adaptive " << adaptive << ", positions";
+    EXPECT_TRUE(close(end.v, fixed.v, 0.0, c.cols)) << "adaptive " << adaptive << ", velocities";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Grids, FusedStepThreads,

@@ -113,8 +113,8 @@ TEST_F(Clothlab, JsonSummaryHasEveryKey) {
   for (const char* key : {"median", "p10", "p90"}) EXPECT_TRUE(json["ms_per_step"].contains(key));
   for (const char* key : {"internal_forces", "external_forces", "integrate"})
     EXPECT_TRUE(json["phase_ms"].contains(key));
-  for (const char* key :
-       {"springs_evaluated", "springs_damped", "normals_computed", "particles_integrated"})
+  for (const char* key : {"springs_evaluated", "springs_damped", "normals_computed",
+                          "particles_integrated", "steps_on_one_thread"})
     EXPECT_TRUE(json["counters"].contains(key)) << key;
   EXPECT_EQ(json["integrator"], "rk4");
   EXPECT_EQ(json["scenario"], "sheet");

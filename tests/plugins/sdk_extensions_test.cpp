@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/threads.hpp>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -85,6 +86,24 @@ TEST(SdkSystemExtensions, ThreadsAreTheHostsCountOrNothing) {
   clothlab_system raw = raw_without;
   raw.get_extension = &ThreeThreadsHost::get_extension;
   EXPECT_EQ(sdk::System<double>(raw).threads(), std::optional<uint32_t>(3));
+}
+
+// A plugin's thread count (sdk/threads.hpp): its parameter when set, else the host's count,
+// else the runtime's default; one thread for work too small to split.
+TEST(SdkPluginThreads, TheParameterThenTheHostThenTheRuntime) {
+  EXPECT_EQ(sdk::resolve_threads(2, 3u, 8, true), 2);
+  EXPECT_EQ(sdk::resolve_threads(0, 3u, 8, true), 3);
+  EXPECT_EQ(sdk::resolve_threads(0, std::nullopt, 8, true), 8);
+  EXPECT_EQ(sdk::resolve_threads(4, 3u, 8, false), 1);
+  EXPECT_EQ(sdk::resolve_threads(0, 0u, 8, true), 1);  // a host's 0 is still one thread
+
+  ReductionsOnlyHost without;
+  clothlab_system raw = without.system();
+  raw.get_extension = &ThreeThreadsHost::get_extension;
+  const sdk::System<double> system(raw);
+  EXPECT_EQ(sdk::plugin_threads(system, 0, true), 3);
+  EXPECT_EQ(sdk::plugin_threads(system, 2, true), 2);
+  EXPECT_EQ(sdk::plugin_threads(system, 0, false), 1);
 }
 
 TEST(SdkSystemExtensions, AHostOlderThan1_2IsNeverAskedEvenIfTheBytesLookLikeAPointer) {

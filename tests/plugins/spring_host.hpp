@@ -10,6 +10,7 @@
 #include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
+#include <clothlab/ext/threads.h>
 #include <clothlab/ext/topology.h>
 
 #include <algorithm>
@@ -47,6 +48,7 @@ class SpringHost {
       if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
       if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
       if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return threads_ ? &threads_table : nullptr;
       return nullptr;
     };
     build_topology(particle_count);
@@ -92,6 +94,9 @@ class SpringHost {
              spacing,
              grid_colors_.data()};
   }
+
+  // Offers clothlab.threads/1: the host lets the system's work use `count` threads.
+  void set_threads(uint32_t count) { threads_ = count; }
 
   // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0);
   // definite: clothlab.definite-jacobian/1's form.
@@ -318,6 +323,8 @@ class SpringHost {
 
   static constexpr clothlab_topology_extension topology_table{&get_topology};
   static constexpr clothlab_grid_extension grid_table{&get_grid};
+  static uint32_t threads_count(void* context) { return self(context).threads_; }
+  static constexpr clothlab_threads_extension threads_table{&threads_count};
   static constexpr clothlab_jacobian_extension jacobian_table{
       &reserve, &apply<false>, &diagonal_blocks<false>, &no_pattern, &no_blocks};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
@@ -334,6 +341,7 @@ class SpringHost {
   std::vector<double> rest_, ks_, kd_;
   std::vector<uint8_t> family_;
   clothlab_grid grid_{};  // struct_size 0: no grid offered
+  uint32_t threads_ = 0;  // 0: clothlab.threads/1 not offered
   std::vector<clothlab_grid_color> grid_colors_;
   MockSystem<Real> system_;
 };

@@ -1,7 +1,8 @@
 // The vbd plugin on spring networks the mock host publishes (spring_host.hpp): free fall to
-// round-off, the adaptive initial guess, compressed springs, pins left alone bit for bit, the same
-// bits on any thread count, what it reports through clothlab.solver-statistics/1, and a host
-// without the topology. Convergence to backward Euler: implicit_integrators_test.cpp.
+// round-off, the adaptive initial guess, compressed springs, pins left alone bit for bit,
+// what it reports through clothlab.solver-statistics/1, and a host
+// without the topology. Convergence to backward Euler: implicit_integrators_test.cpp; the same
+// bits on any thread count: thread_identity_test.cpp.
 #include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
 
@@ -138,59 +139,6 @@ void expect_pins_untouched() {
 
 TEST(Vbd, PinnedParticlesStayBitForBitFloat64) { expect_pins_untouched<double>(); }
 TEST(Vbd, PinnedParticlesStayBitForBitFloat32) { expect_pins_untouched<float>(); }
-
-// A rows x cols grid of unit masses with structural springs, coloured as a checkerboard, the
-// two top corners pinned, under gravity, started with a sideways kick so every spring works.
-template <class Real>
-std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads) {
-  std::vector<TestSpring> springs;
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) {
-      if (c + 1 < cols) springs.push_back({r * cols + c, r * cols + c + 1, 0.01, 500.0, 0.1});
-      if (r + 1 < rows) springs.push_back({r * cols + c, (r + 1) * cols + c, 0.01, 500.0, 0.1});
-    }
-  SpringHost<Real> network(rows * cols, {0, cols - 1}, std::move(springs), {0, -g, 0});
-  std::vector<std::vector<uint32_t>> colors(2);
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) colors[(r + c) % 2].push_back(r * cols + c);
-  network.set_particle_colors(colors);
-  MockSystem<Real>& system = network.system();
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) {
-      system.set_position(r * cols + c, {0.01 * c, -0.01 * r, 0});
-      system.set_velocity(r * cols + c, {0, 0, std::sin(0.1 * (r * cols + c))});
-    }
-  Integrator vbd("vbd");
-  vbd.with("threads", threads).with("iterations", 3);
-  vbd.start(system);
-  vbd.run(system, 3, 5e-3);
-  std::vector<double> state;
-  for (uint32_t i = 0; i < rows * cols; ++i)
-    for (const Vec3& q : {system.position(i), system.velocity(i)})
-      state.insert(state.end(), q.begin(), q.end());
-  return state;
-}
-
-template <class Real>
-void expect_bitwise_identical_across_threads() {
-  // 70 x 70: 4898 free particles, above the plugin's threshold for running in parallel.
-  const std::vector<double> one = grid_state_after<Real>(70, 70, 1);
-  for (int threads : {2, 3}) {
-    const std::vector<double> many = grid_state_after<Real>(70, 70, threads);
-    ASSERT_EQ(many.size(), one.size());
-    size_t differing = 0;
-    for (size_t k = 0; k < one.size(); ++k) differing += std::memcmp(&one[k], &many[k], 8) != 0;
-    EXPECT_EQ(differing, 0u) << threads << " threads";
-  }
-}
-
-TEST(Vbd, BitwiseIdenticalAcrossThreadCountsFloat64) {
-  expect_bitwise_identical_across_threads<double>();
-}
-
-TEST(Vbd, BitwiseIdenticalAcrossThreadCountsFloat32) {
-  expect_bitwise_identical_across_threads<float>();
-}
 
 // The sweeps it ran and the last sweep's largest correction relative to the step's motion:
 // small once converged, large after one sweep on a stiff, moving cloth.

@@ -2,8 +2,8 @@
 // through the topology and external-forces extensions (spring_host.hpp): the static sag of a
 // hanging chain (Hooke's law, in the soft and the stiff regime), the period of a single spring and
 // of a stiff pendulum (the constrained limit), independence of the iteration count (lambda is reset
-// once per substep, not per iteration: newton#2933), bitwise identity across thread counts (with
-// and without tethers), pins left alone. Tethers themselves: xpbd_tethers_test.cpp.
+// once per substep, not per iteration: newton#2933), pins left alone. Tethers themselves:
+// xpbd_tethers_test.cpp; bitwise identity across thread counts: thread_identity_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -165,73 +165,6 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
   const double exact = 2 * std::numbers::pi * std::sqrt(1.0 / g) * (1 + theta0 * theta0 / 16);
   EXPECT_NEAR(measured_period(x, 0.0, dt), exact, 2e-3 * exact);
   EXPECT_LT(worst_length_error, 1e-5);  // the static stretch m g / ks is 1e-6 m
-}
-
-// A rows x cols grid of unit masses with structural springs (4 colours: direction x parity),
-// offered as a grid (XPBD's grid path), the two top corners pinned, under gravity, started
-// with a sideways kick so every spring works.
-template <class Real>
-std::vector<double> grid_state_after(uint32_t rows, uint32_t cols, int threads, int steps,
-                                     int tethers = 0) {
-  const uint32_t n = rows * cols;
-  std::vector<TestSpring> springs;
-  std::vector<std::vector<uint32_t>> colors(4);
-  const auto add = [&](uint32_t i, uint32_t j, uint32_t color) {
-    colors[color].push_back(static_cast<uint32_t>(springs.size()));
-    springs.push_back({i, j, 0.01, 500.0, 0.1});
-  };
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) {
-      if (c + 1 < cols) add(r * cols + c, r * cols + c + 1, c % 2);
-      if (r + 1 < rows) add(r * cols + c, (r + 1) * cols + c, 2 + r % 2);
-    }
-  SpringHost<Real> network(n, {0, cols - 1}, std::move(springs), {0, -g, 0});
-  network.set_spring_colors(colors);
-  network.set_grid(rows, cols, 0.01,
-                   {{0, 1, 0, rows, 0, cols - 1},
-                    {0, 1, 1, rows, 0, cols - 1},
-                    {1, 0, 0, rows - 1, 0, cols},
-                    {1, 0, 1, rows - 1, 0, cols}});
-  MockSystem<Real>& system = network.system();
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) {
-      system.set_position(r * cols + c, {0.01 * c, -0.01 * r, 0});
-      system.set_velocity(r * cols + c, {0, 0, std::sin(0.1 * (r * cols + c))});
-    }
-  Integrator xpbd("xpbd");
-  xpbd.with("threads", threads).with("substeps", 4).with("iterations", 2).with("tethers", tethers);
-  xpbd.start(system);
-  xpbd.run(system, steps, 5e-3);
-  std::vector<double> state;
-  for (uint32_t i = 0; i < n; ++i)
-    for (const Vec3& q : {system.position(i), system.velocity(i)})
-      state.insert(state.end(), q.begin(), q.end());
-  return state;
-}
-
-template <class Real>
-void expect_bitwise_identical_across_threads(int tethers = 0) {
-  // 190 x 190: 71820 springs, above the plugin's threshold for running in parallel.
-  const std::vector<double> one = grid_state_after<Real>(190, 190, 1, 4, tethers);
-  for (int threads : {2, 3}) {
-    const std::vector<double> many = grid_state_after<Real>(190, 190, threads, 4, tethers);
-    ASSERT_EQ(many.size(), one.size());
-    size_t differing = 0;
-    for (size_t k = 0; k < one.size(); ++k) differing += std::memcmp(&one[k], &many[k], 8) != 0;
-    EXPECT_EQ(differing, 0u) << threads << " threads";
-  }
-}
-
-TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsFloat64) {
-  expect_bitwise_identical_across_threads<double>();
-}
-
-TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsFloat32) {
-  expect_bitwise_identical_across_threads<float>();
-}
-
-TEST(Xpbd, BitwiseIdenticalAcrossThreadCountsWithTethers) {
-  expect_bitwise_identical_across_threads<float>(2);
 }
 
 TEST(Xpbd, ZeroStepLeavesTheStateAlone) {

@@ -90,6 +90,9 @@ inline constexpr std::size_t parallel_from_particles = 4096;
 struct PipelineOptions {
   bool velocity_forces = true;  // false: no damping stage (integrator ignores v)
   int threads = 0;              // 0: all hardware threads
+  // Steps bracketed by Cloth::begin_step / end_step run on the calling thread alone for a while
+  // after a step on the team lost a core to another process (team_governor.hpp).
+  bool adaptive_threads = true;
 };
 
 // Cumulative counters since construction (or reset_counters), for the run summary.
@@ -99,6 +102,7 @@ struct StageCounters {
   uint64_t springs_damped = 0;        // damping terms computed
   uint64_t normals_computed = 0;      // triangle normals for wind and air
   uint64_t particles_integrated = 0;  // active particle updates by vector helpers
+  uint64_t steps_on_one_thread = 0;   // steps the adaptive team ran on the calling thread
   double internal_forces_s = 0.0;     // wall time in spring forces
   double external_forces_s = 0.0;     // wall time in gravity + wind + air
 };
@@ -129,6 +133,11 @@ class Cloth {
   uint32_t particle_count() const;
   const SpringCounts& springs() const;
   int threads() const;
+  // Around each integrator step: lets the engine pick the team or the calling thread for the
+  // step and the work up to the next begin_step (PipelineOptions::adaptive_threads). A host
+  // that never calls them keeps every step on the team.
+  void begin_step();
+  void end_step();
 
   const StageCounters& counters() const;
   void reset_counters();
