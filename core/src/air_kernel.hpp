@@ -1,7 +1,6 @@
 // The drag and lift of clothlab.air/1 (clothlab/ext/air.h) on the two triangles of each grid
-// cell along one row of cells, added to the per-corner shares the wind kernel writes
-// (wind_kernel.hpp: triangles (a, b, c') and (b, d, c'), `first` and `second` at the cell's
-// column).
+// cell along one row of cells (grid_cell.hpp), added to the per-corner shares the wind kernel
+// writes (wind_kernel.hpp: `first` and `second` at the cell's column).
 //
 // With N = e1 x e2 (|N| = 2 area) and the relative air velocity u = wind - mean corner velocity,
 // the header's forces are, without any normalised vector,
@@ -14,6 +13,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "grid_cell.hpp"
 #include "inverse_sqrt.hpp"
 
 namespace clothlab::detail {
@@ -60,23 +60,15 @@ inline void add_air_row_forces(const AirRow<Real>& row) {
   const Real* __restrict v_below = row.v_below;
   Real* __restrict first = row.first;
   Real* __restrict second = row.second;
-  const std::size_t py = row.position_span, pz = 2 * row.position_span;
   const std::size_t y = row.span, z = 2 * row.span;
   const Real wind[3] = {row.wind[0], row.wind[1], row.wind[2]};
   const Real third = Real(1) / Real(3);
 #pragma omp simd
   for (std::size_t c = 0; c < row.cells; ++c) {
-    const Real a[3] = {x[c], x[c + py], x[c + pz]};
-    const Real b[3] = {x[c + 1], x[c + 1 + py], x[c + 1 + pz]};
-    const Real c_[3] = {below[c], below[c + py], below[c + pz]};
-    const Real d[3] = {below[c + 1], below[c + 1 + py], below[c + 1 + pz]};
-    Real ab[3], ac[3], bd[3], bc[3], v_first[3] = {0, 0, 0}, v_second[3] = {0, 0, 0};
-    for (int k = 0; k < 3; ++k) {
-      ab[k] = b[k] - a[k];
-      ac[k] = c_[k] - a[k];
-      bd[k] = d[k] - b[k];
-      bc[k] = c_[k] - b[k];
-    }
+    Real a[3], b[3], c_[3], d[3], ab[3], ac[3], bd[3], bc[3];
+    load_cell_corners(x, below, c, row.position_span, a, b, c_, d);
+    cell_triangle_edges(a, b, c_, d, ab, ac, bd, bc);
+    Real v_first[3] = {0, 0, 0}, v_second[3] = {0, 0, 0};
     if (v != nullptr) {
       for (int k = 0; k < 3; ++k) {
         const std::size_t s = k * row.position_span;

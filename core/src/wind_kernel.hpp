@@ -1,8 +1,7 @@
 // Wind pressure on the two triangles of each grid cell along one row of cells
 // (seed eq. 3.2, per triangle).
 //
-// Cell c has corners a = c, b = c + 1 in this row and c' = c, d = c + 1 in the next;
-// triangles (a, b, c') and (b, d, c'). Each gets F = strength * area * (n_hat . w) n_hat,
+// The cell's two triangles (grid_cell.hpp) each get F = strength * area * (n_hat . w) n_hat,
 // a third to each corner; the per-corner share is stored at the cell's column in `first`
 // (triangle abc') and `second` (triangle bdc'), gathered later by shifted reads.
 //
@@ -13,6 +12,7 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "grid_cell.hpp"
 #include "inverse_sqrt.hpp"
 
 namespace clothlab::detail {
@@ -51,12 +51,7 @@ inline void cell_wind_shares(const Lane (&a)[3], const Lane (&b)[3], const Lane 
                              const Lane (&d)[3], const Lane (&w)[3], Lane strength_sixth,
                              Lane (&first)[3], Lane (&second)[3]) {
   Lane ab[3], ac[3], bd[3], bc[3];
-  for (int k = 0; k < 3; ++k) {
-    ab[k] = b[k] - a[k];
-    ac[k] = c[k] - a[k];
-    bd[k] = d[k] - b[k];
-    bc[k] = c[k] - b[k];
-  }
+  cell_triangle_edges(a, b, c, d, ab, ac, bd, bc);
   triangle_wind_share(ab, ac, w, strength_sixth, first);
   triangle_wind_share(bd, bc, w, strength_sixth, second);
 }
@@ -67,16 +62,13 @@ inline void wind_row_forces_portable(const WindRow<Real>& row) {
   const Real* __restrict below = row.below;
   Real* __restrict first = row.first;
   Real* __restrict second = row.second;
-  const std::size_t py = row.position_span, pz = 2 * row.position_span;
   const std::size_t y = row.span, z = 2 * row.span;
   const Real w[3] = {row.direction[0], row.direction[1], row.direction[2]};
   const Real strength_sixth = row.strength / Real(6);
 #pragma omp simd
   for (std::size_t c = 0; c < row.cells; ++c) {
-    const Real a[3] = {x[c], x[c + py], x[c + pz]};
-    const Real b[3] = {x[c + 1], x[c + 1 + py], x[c + 1 + pz]};
-    const Real c_[3] = {below[c], below[c + py], below[c + pz]};
-    const Real d[3] = {below[c + 1], below[c + 1 + py], below[c + 1 + pz]};
+    Real a[3], b[3], c_[3], d[3];
+    load_cell_corners(x, below, c, row.position_span, a, b, c_, d);
     Real share_first[3], share_second[3];
     cell_wind_shares(a, b, c_, d, w, strength_sixth, share_first, share_second);
     first[c] = share_first[0];
