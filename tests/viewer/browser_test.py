@@ -19,8 +19,9 @@
                                  +x; at t = 0 and t = 1: the pixels that change when the
                                  colliders are hidden are many and in the collider colour's hue
                                  (the character), cloth pixels lie around it with their centre
-                                 behind it (the cape), and the character's centre moves right,
-                                 the way the camera draws +x, by at least 5 % of the view
+                                 behind it (the cape), and the character's centre moves across
+                                 the view the way the run's torso walks along the camera's right
+                                 axis (runs.js), by at least 5 % of the view
         mutant-character-frozen  the page drawing every collider at its first pose: the motion
                                  check must fail, and the cape check (the cape walked on, ahead
                                  of the frozen character); the character is still found
@@ -28,6 +29,8 @@
                                  check must fail, the character and motion checks pass
 The screenshots stay in WORK_DIR (printed) as test artefacts.
 """
+import json
+import math
 import os
 import shutil
 import subprocess
@@ -176,10 +179,9 @@ def mutant_draws_no_collider():
 
 
 # The cape run: the character stands at t = 0 and by CAPE_LATE has walked about 1.1 m along +x
-# (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight). The orbit camera's
-# azimuth (viewer.js, 0.6 rad) draws world +x to the right, so the character moves right and its
-# cape, behind its back, is to its left.
+# (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight).
 CAPE_LATE = 1.0
+CAMERA_AZIMUTH = 0.6  # viewer.js orbit.azimuth: the camera's right axis is (cos, 0, -sin)
 
 
 def cape_view(out):
@@ -192,6 +194,18 @@ def cape_view(out):
     return view
 
 
+def walk_rightwards(view):
+    """How far the torso (the run's first collider) goes from the first to the last frame along
+    the camera's right axis, in metres, from the runs.js the page plays."""
+    with open(os.path.join(view, "runs.js")) as stream:
+        text = stream.read()
+    opening = "Object.assign("
+    head, _ = json.JSONDecoder().raw_decode(text, text.index(opening) + len(opening))
+    first, last = head["collider_poses"][0], head["collider_poses"][-1]
+    return ((last[0] - first[0]) * math.cos(CAMERA_AZIMUTH)
+            - (last[2] - first[2]) * math.sin(CAMERA_AZIMUTH))
+
+
 def centroid(mask):
     width, count, x, y = mask.size[0], 0, 0, 0
     for k, p in enumerate(mask.getdata()):
@@ -202,10 +216,15 @@ def centroid(mask):
 
 def cape_problems(view, out):
     """What the cape's view fails of: the character drawn, the cape drawn behind it, the character
-    moving right with the walk; None for each check it passes."""
+    moving across the view the way its torso walks in the run; None for each check it passes."""
     area = (WIDTH - PANEL) * HEIGHT
     problems = {"character": None, "cape": None, "motion": None}
     centres = []
+    # The character faces the way it walks: its back, and the cape, are on the other side.
+    walk = walk_rightwards(view)
+    if abs(walk) < 0.5:
+        fail(f"the run's torso goes only {walk:.2f} m across the view: the cape run is too short")
+    behind = "left" if walk > 0 else "right"
     for t in (0, CAPE_LATE):
         image, mask, count, hidden = collider_pixels(view, out, t, f"cape-t{t}-")
         if count < 0.01 * area:
@@ -221,7 +240,7 @@ def cape_problems(view, out):
         centres.append(centre)
         # The cape: cloth pixels, with the character hidden, within the character's bounding box
         # grown on every side by its larger side (the cape is about as long as the character is
-        # tall), and their centre behind (left of) the character's.
+        # tall), and their centre behind the character's.
         left, top, right, bottom = mask.getbbox()
         margin = max(right - left, bottom - top)
         near = (max(0, left - margin), max(0, top - margin), min(WIDTH - PANEL, right + margin),
@@ -232,21 +251,21 @@ def cape_problems(view, out):
             problems["cape"] = problems["cape"] or (
                 f"t = {t}: only {cloth_count} cloth pixels near the character ({count} pixels): "
                 "no cape drawn")
-        elif near[0] + cloth_centre[0] >= centre[0]:
+        elif (near[0] + cloth_centre[0] - centre[0]) * walk >= 0:
             problems["cape"] = problems["cape"] or (
                 f"t = {t}: the cape's centre (column {near[0] + cloth_centre[0]:.0f}) is not "
-                f"behind (left of) the character's (column {centre[0]:.0f})")
+                f"behind ({behind} of) the character's (column {centre[0]:.0f})")
         print(f"t = {t}: {count} character pixels ({warm} in its colour) centred at "
               f"({centre[0]:.0f}, {centre[1]:.0f}); {cloth_count} cape pixels near it")
     if len(centres) == 2:
         dx, dy = centres[1][0] - centres[0][0], centres[1][1] - centres[0][1]
         print(f"the character's centre moved ({dx:.0f}, {dy:.0f}) pixels from t = 0 to "
-              f"t = {CAPE_LATE}")
-        if dx < 0.05 * (WIDTH - PANEL) or abs(dy) > dx:
+              f"t = {CAPE_LATE}; its torso walked {walk:.2f} m to the camera's right")
+        if dx * walk <= 0 or abs(dx) < 0.05 * (WIDTH - PANEL) or abs(dy) > abs(dx):
             problems["motion"] = (
                 f"the character's centre moved ({dx:.0f}, {dy:.0f}) pixels from t = 0 to "
-                f"t = {CAPE_LATE}, not rightwards with the walk by at least "
-                f"{0.05 * (WIDTH - PANEL):.0f}")
+                f"t = {CAPE_LATE}, not {'right' if walk > 0 else 'left'} with its walk of "
+                f"{abs(walk):.2f} m by at least {0.05 * (WIDTH - PANEL):.0f} pixels")
     return problems
 
 
@@ -257,7 +276,7 @@ def cape_and_character():
     for problem in problems.values():
         if problem:
             fail(problem)
-    print("ok: the character and its cape are drawn, and the character walks right")
+    print("ok: the character and its cape are drawn, and the character walks as in the run")
 
 
 def cape_mutant(name, code, replacement, caught, passed):
