@@ -15,8 +15,22 @@
                                  the collider colour's hue
         mutant-draws-no-collider the page with the colliders never added to the scene: the
                                  collider check must find none (the check can fail)
+        cape-and-character       a small cape run, 1 s of the character starting to walk along
+                                 +x; at t = 0 and t = 1: the pixels that change when the
+                                 colliders are hidden are many and in the collider colour's hue
+                                 (the character), cloth pixels lie around it with their centre
+                                 behind it (the cape), and the character's centre moves across
+                                 the view the way the run's torso walks along the camera's right
+                                 axis (runs.js), by at least 5 % of the view
+        mutant-character-frozen  the page drawing every collider at its first pose: the motion
+                                 check must fail, and the cape check (the cape walked on, ahead
+                                 of the frozen character); the character is still found
+        mutant-draws-no-cape     the page with the cloth never added to the scene: the cape
+                                 check must fail, the character and motion checks pass
 The screenshots stay in WORK_DIR (printed) as test artefacts.
 """
+import json
+import math
 import os
 import shutil
 import subprocess
@@ -62,12 +76,18 @@ def screenshot(page, query, path):
     return Image.open(path).convert("RGB")
 
 
+def differing(first, second):
+    """The mask of the pixels where two images clearly differ in any channel (a brightness
+    difference would miss a dark blue cloth on the dark background)."""
+    red, green, blue = ImageChops.difference(first, second).split()
+    largest = ImageChops.lighter(ImageChops.lighter(red, green), blue)
+    return largest.point(lambda d: 255 if d > 24 else 0)
+
+
 def cloth_pixels(image, box):
     """Pixels in box (left, top, right, bottom) that are clearly not background."""
     region = image.crop(box)
-    background = Image.new("RGB", region.size, BACKGROUND)
-    difference = ImageChops.difference(region, background).convert("L")
-    mask = difference.point(lambda d: 255 if d > 24 else 0)
+    mask = differing(region, Image.new("RGB", region.size, BACKGROUND))
     return mask, sum(1 for p in mask.getdata() if p)
 
 
@@ -86,6 +106,17 @@ def check_cloth(image, box, name):
     return count
 
 
+def mutate_page(view, code, replacement):
+    """A mutant of the page written by `clothlab view`: `code` in its viewer.js replaced."""
+    script = os.path.join(view, "viewer.js")
+    with open(script) as stream:
+        text = stream.read()
+    if code not in text:
+        fail(f"viewer.js has no '{code}' to replace")
+    with open(script, "w") as stream:
+        stream.write(text.replace(code, replacement))
+
+
 def drape_view(out):
     folder = os.path.join(out, "drape")
     run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "drape",
@@ -97,21 +128,29 @@ def drape_view(out):
     return view
 
 
-def collider_pixels(view, out):
-    """View pixels that change when the colliders are hidden, and their bounding box."""
+def collider_pixels(view, out, t=0.5, name=""):
+    """The view at time t with its colliders, the mask of the pixels that change when the colliders
+    are hidden (colliders=0), their count, and the view with the colliders hidden."""
     page = os.path.join(view, "index.html")
-    shown = screenshot(page, "t=0.5&paused=1", os.path.join(out, "colliders.png"))
-    hidden = screenshot(page, "t=0.5&paused=1&colliders=0", os.path.join(out, "no-colliders.png"))
+    shown = screenshot(page, f"t={t}&paused=1", os.path.join(out, f"{name}colliders.png"))
+    hidden = screenshot(page, f"t={t}&paused=1&colliders=0",
+                        os.path.join(out, f"{name}no-colliders.png"))
     box = (0, 0, WIDTH - PANEL, HEIGHT)
-    changed = ImageChops.difference(shown.crop(box), hidden.crop(box)).convert("L")
-    mask = changed.point(lambda d: 255 if d > 24 else 0)
-    return shown.crop(box), mask, sum(1 for p in mask.getdata() if p)
+    mask = differing(shown.crop(box), hidden.crop(box))
+    return shown.crop(box), mask, sum(1 for p in mask.getdata() if p), hidden.crop(box)
+
+
+def collider_coloured(image, mask):
+    """How many of the mask's pixels have the collider colour's hue (viewer.js COLLIDER_COLOUR,
+    shaded): warm grey, red >= green >= blue."""
+    return sum(1 for (r, g, b), m in zip(image.getdata(), mask.getdata())
+               if m and r + 4 >= g >= b - 4 and r > b)
 
 
 def collider_drawn():
     out = os.path.join(WORK, "collider")
     shutil.rmtree(out, ignore_errors=True)
-    image, mask, count = collider_pixels(drape_view(out), out)
+    image, mask, count, _ = collider_pixels(drape_view(out), out)
     area = (WIDTH - PANEL) * HEIGHT
     if count < 0.02 * area:
         fail(f"only {count} of {area} view pixels change when the colliders are hidden: no "
@@ -120,9 +159,7 @@ def collider_drawn():
     _, top, _, bottom = mask.getbbox()
     if bottom < HEIGHT / 2:
         fail(f"the collider's pixels end at row {bottom}, above the view's middle")
-    # Its colour (viewer.js COLLIDER_COLOUR, shaded): warm grey, red >= green >= blue.
-    warm = sum(1 for (r, g, b), m in zip(image.getdata(), mask.getdata())
-               if m and r + 4 >= g >= b - 4 and r > b)
+    warm = collider_coloured(image, mask)
     if warm < 0.5 * count:
         fail(f"{warm} of the {count} collider pixels have the collider colour's hue")
     print(f"ok: {count} of {area} view pixels are the collider (rows {top}-{bottom}), "
@@ -133,19 +170,140 @@ def mutant_draws_no_collider():
     out = os.path.join(WORK, "collider-mutant")
     shutil.rmtree(out, ignore_errors=True)
     view = drape_view(out)
-    script = os.path.join(view, "viewer.js")
-    with open(script) as stream:
-        text = stream.read()
-    add_call = "run.scene.add(placed);"
-    if add_call not in text:
-        fail(f"viewer.js has no '{add_call}' to remove")
-    with open(script, "w") as stream:
-        stream.write(text.replace(add_call, ""))
-    _, _, count = collider_pixels(view, out)
+    mutate_page(view, "run.scene.add(placed);", "")
+    _, _, count, _ = collider_pixels(view, out)
     area = (WIDTH - PANEL) * HEIGHT
     if count >= 0.02 * area:
         fail(f"a page that draws no collider passes the collider check ({count} of {area} pixels)")
     print(f"ok: the page without colliders in its scene changes {count} of {area} pixels")
+
+
+# The cape run: the character stands at t = 0 and by CAPE_LATE has walked about 1.1 m along +x
+# (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight).
+CAPE_LATE = 1.0
+CAMERA_AZIMUTH = 0.6  # viewer.js orbit.azimuth: the camera's right axis is (cos, 0, -sin)
+
+
+def cape_view(out):
+    folder = os.path.join(out, "cape")
+    run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "cape",
+        "--set", "scenario.rows=16", "--set", "scenario.cols=10", "--duration", str(CAPE_LATE),
+        "--set", "frames.rate=30", "--frames", folder, "--quiet")
+    view = os.path.join(out, "view")
+    run(CLOTHLAB, "view", folder, "--out", view)
+    return view
+
+
+def walk_rightwards(view):
+    """How far the torso (the run's first collider) goes from the first to the last frame along
+    the camera's right axis, in metres, from the runs.js the page plays."""
+    with open(os.path.join(view, "runs.js")) as stream:
+        text = stream.read()
+    opening = "Object.assign("
+    head, _ = json.JSONDecoder().raw_decode(text, text.index(opening) + len(opening))
+    first, last = head["collider_poses"][0], head["collider_poses"][-1]
+    return ((last[0] - first[0]) * math.cos(CAMERA_AZIMUTH)
+            - (last[2] - first[2]) * math.sin(CAMERA_AZIMUTH))
+
+
+def centroid(mask):
+    width, count, x, y = mask.size[0], 0, 0, 0
+    for k, p in enumerate(mask.getdata()):
+        if p:
+            count, x, y = count + 1, x + k % width, y + k // width
+    return (x / count, y / count) if count else None
+
+
+def cape_problems(view, out):
+    """What the cape's view fails of: the character drawn, the cape drawn behind it, the character
+    moving across the view the way its torso walks in the run; None for each check it passes."""
+    area = (WIDTH - PANEL) * HEIGHT
+    problems = {"character": None, "cape": None, "motion": None}
+    centres = []
+    # The character faces the way it walks: its back, and the cape, are on the other side.
+    walk = walk_rightwards(view)
+    if abs(walk) < 0.5:
+        fail(f"the run's torso goes only {walk:.2f} m across the view: the cape run is too short")
+    behind = "left" if walk > 0 else "right"
+    for t in (0, CAPE_LATE):
+        image, mask, count, hidden = collider_pixels(view, out, t, f"cape-t{t}-")
+        if count < 0.01 * area:
+            problems["character"] = problems["character"] or (
+                f"t = {t}: only {count} of {area} view pixels change when the colliders are "
+                "hidden: no character drawn")
+            continue
+        warm = collider_coloured(image, mask)
+        if warm < 0.5 * count:
+            problems["character"] = problems["character"] or (
+                f"t = {t}: {warm} of the {count} character pixels have the collider colour's hue")
+        centre = centroid(mask)
+        centres.append(centre)
+        # The cape: cloth pixels, with the character hidden, within the character's bounding box
+        # grown on every side by its larger side (the cape is about as long as the character is
+        # tall), and their centre behind the character's.
+        left, top, right, bottom = mask.getbbox()
+        margin = max(right - left, bottom - top)
+        near = (max(0, left - margin), max(0, top - margin), min(WIDTH - PANEL, right + margin),
+                min(HEIGHT, bottom + margin))
+        cloth, cloth_count = cloth_pixels(hidden, near)
+        cloth_centre = centroid(cloth)
+        if cloth_count < 0.2 * count:
+            problems["cape"] = problems["cape"] or (
+                f"t = {t}: only {cloth_count} cloth pixels near the character ({count} pixels): "
+                "no cape drawn")
+        elif (near[0] + cloth_centre[0] - centre[0]) * walk >= 0:
+            problems["cape"] = problems["cape"] or (
+                f"t = {t}: the cape's centre (column {near[0] + cloth_centre[0]:.0f}) is not "
+                f"behind ({behind} of) the character's (column {centre[0]:.0f})")
+        print(f"t = {t}: {count} character pixels ({warm} in its colour) centred at "
+              f"({centre[0]:.0f}, {centre[1]:.0f}); {cloth_count} cape pixels near it")
+    if len(centres) == 2:
+        dx, dy = centres[1][0] - centres[0][0], centres[1][1] - centres[0][1]
+        print(f"the character's centre moved ({dx:.0f}, {dy:.0f}) pixels from t = 0 to "
+              f"t = {CAPE_LATE}; its torso walked {walk:.2f} m to the camera's right")
+        if dx * walk <= 0 or abs(dx) < 0.05 * (WIDTH - PANEL) or abs(dy) > abs(dx):
+            problems["motion"] = (
+                f"the character's centre moved ({dx:.0f}, {dy:.0f}) pixels from t = 0 to "
+                f"t = {CAPE_LATE}, not {'right' if walk > 0 else 'left'} with its walk of "
+                f"{abs(walk):.2f} m by at least {0.05 * (WIDTH - PANEL):.0f} pixels")
+    return problems
+
+
+def cape_and_character():
+    out = os.path.join(WORK, "cape")
+    shutil.rmtree(out, ignore_errors=True)
+    problems = cape_problems(cape_view(out), out)
+    for problem in problems.values():
+        if problem:
+            fail(problem)
+    print("ok: the character and its cape are drawn, and the character walks as in the run")
+
+
+def cape_mutant(name, code, replacement, caught, passed):
+    """The cape's page with `code` in viewer.js replaced: the checks in `caught` must fail and
+    those in `passed` must still pass (the mutant breaks what it means to, not everything)."""
+    out = os.path.join(WORK, name)
+    shutil.rmtree(out, ignore_errors=True)
+    view = cape_view(out)
+    mutate_page(view, code, replacement)
+    problems = cape_problems(view, out)
+    for check in caught:
+        if not problems[check]:
+            fail(f"the mutant passes the {check} check")
+        print(f"ok: the {check} check fails on the mutant: {problems[check]}")
+    for check in passed:
+        if problems[check]:
+            fail(f"the mutant should pass the {check} check: {problems[check]}")
+
+
+def mutant_character_frozen():
+    # The cape walks on without the frozen character: by t = 1 s it is ahead of it, not behind.
+    cape_mutant("cape-frozen", "const pose = colliderPose(run, index, i);",
+                "const pose = colliderPose(run, 0, i);", ["motion", "cape"], ["character"])
+
+
+def mutant_draws_no_cape():
+    cape_mutant("cape-undrawn", "run.scene.add(run.mesh);", "", ["cape"], ["character", "motion"])
 
 
 def cloth_drawn_and_moving():
@@ -159,8 +317,7 @@ def cloth_drawn_and_moving():
     late = screenshot(page, "t=0.8&paused=1", os.path.join(out, "t0.8.png"))
     check_cloth(early, view, "t = 0")
     check_cloth(late, view, "t = 0.8")
-    moved = ImageChops.difference(early.crop(view), late.crop(view)).convert("L")
-    changed = sum(1 for p in moved.getdata() if p > 24)
+    changed = sum(1 for p in differing(early.crop(view), late.crop(view)).getdata() if p)
     if changed < 0.01 * (view[2] * view[3]):
         fail(f"only {changed} view pixels differ between t = 0 and t = 0.8: the cloth did not move")
     print(f"ok: {changed} view pixels changed between t = 0 and t = 0.8 s")
@@ -185,14 +342,7 @@ def mutant_draws_nothing():
     folder = frames(out, "rk4")
     view = os.path.join(out, "view")
     run(CLOTHLAB, "view", folder, "--out", view)
-    script = os.path.join(view, "viewer.js")
-    with open(script) as stream:
-        text = stream.read()
-    render_call = "renderer.render(run.scene, camera);"
-    if render_call not in text:
-        fail(f"viewer.js has no '{render_call}' to remove")
-    with open(script, "w") as stream:
-        stream.write(text.replace(render_call, ""))
+    mutate_page(view, "renderer.render(run.scene, camera);", "")
     image = screenshot(os.path.join(view, "index.html"), "t=0.5&paused=1",
                        os.path.join(out, "nothing-drawn.png"))
     _, count = cloth_pixels(image, (0, 0, WIDTH - PANEL, HEIGHT))
@@ -215,4 +365,7 @@ def no_frames():
 
 {"cloth-drawn-and-moving": cloth_drawn_and_moving, "side-by-side": side_by_side,
  "no-frames": no_frames, "mutant-draws-nothing": mutant_draws_nothing,
- "collider-drawn": collider_drawn, "mutant-draws-no-collider": mutant_draws_no_collider}[CASE]()
+ "collider-drawn": collider_drawn, "mutant-draws-no-collider": mutant_draws_no_collider,
+ "cape-and-character": cape_and_character,
+ "mutant-character-frozen": mutant_character_frozen,
+ "mutant-draws-no-cape": mutant_draws_no_cape}[CASE]()
