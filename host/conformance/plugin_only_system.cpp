@@ -30,6 +30,10 @@ template <>
 const void* PluginOnlySystem::host_table<clothlab_threads_extension>() const {
   return host_threads_;
 }
+template <>
+const void* PluginOnlySystem::host_table<clothlab_grid_extension>() const {
+  return host_grid_;
+}
 
 template <>
 const char* PluginOnlySystem::extension_id<clothlab_jacobian_extension>() {
@@ -124,6 +128,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
     host_threads_ = clothlab_system_extension(&host, CLOTHLAB_EXT_THREADS);
+    host_grid_ = clothlab_system_extension(&host, CLOTHLAB_EXT_GRID);
     system_.get_extension = &get_extension;
   }
 }
@@ -136,6 +141,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
   using H = clothlab_threads_extension;
+  using G = clothlab_grid_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
   static constexpr J jacobian{&reserve_jacobian, &AfterReserve<J, &J::apply>::call,
                               &AfterReserve<J, &J::diagonal_blocks>::call,
@@ -151,6 +157,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
                                      &Forward<E, &E::depends_on_position>::call};
   static constexpr H threads{&Forward<H, &H::count>::call};
+  static constexpr G grid{&Forward<G, &G::get>::call};
   const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
   if (id == nullptr) return nullptr;
   const allocations::Pause pause;
@@ -162,6 +169,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads;
+  if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid;
   return nullptr;
 }
 

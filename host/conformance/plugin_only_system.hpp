@@ -18,6 +18,7 @@
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/threads.h>
@@ -91,6 +92,7 @@ class PluginOnlySystem {
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
   const void* host_threads_ = nullptr;
+  const void* host_grid_ = nullptr;
   bool prepare_closed_ = false;
   bool jacobian_reserved_in_prepare_ = false;
   mutable std::string misuse_;

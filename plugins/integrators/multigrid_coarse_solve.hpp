@@ -45,6 +45,13 @@ class CoarseCholesky {
     return cholesky_.info() == Eigen::Success;
   }
 
+  // Bytes of the dense matrix, its factor and the index arrays.
+  std::size_t storage_bytes() const {
+    return 2 * static_cast<std::size_t>(matrix_.size()) * sizeof(double) +
+           static_cast<std::size_t>(rhs_.size()) * sizeof(double) +
+           dense_index_.size() * sizeof(long) + free_nodes_.size() * sizeof(std::size_t);
+  }
+
   // x = A^-1 b on the free nodes, 0 on fixed ones.
   void solve(const GridLevel& level, const double* b, double* x) {
     for (std::size_t k = 0; k < free_nodes_.size(); ++k)

@@ -29,6 +29,14 @@ class VCycle {
     }
   }
 
+  // Bytes of the per-level vectors.
+  std::size_t storage_bytes() const {
+    std::size_t doubles = 0;
+    for (std::size_t l = 0; l < solution_.size(); ++l)
+      doubles += solution_[l].size() + rhs_[l].size() + residual_[l].size();
+    return doubles * sizeof(double);
+  }
+
   // The fine level's right-hand side, to fill before `apply`.
   double* fine_rhs() { return rhs_[0].data(); }
   // z = B b for b in fine_rhs(); the result stays valid until the next apply.

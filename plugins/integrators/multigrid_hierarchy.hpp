@@ -67,6 +67,15 @@ class MultigridHierarchy {
   const BlockGaussSeidel& smoother(std::size_t l) const { return smoothers_[l]; }
   CoarseCholesky& coarsest_solve() { return *coarsest_solve_; }
 
+  // Bytes of every level's matrix, the smoothers' and the coarsest level's factors (the
+  // transfers' per-axis parent tables are a few bytes per row and column, left out).
+  std::size_t storage_bytes() const {
+    std::size_t bytes = coarsest_solve_->storage_bytes();
+    for (const GridLevel& level : levels_) bytes += level.storage_bytes();
+    for (const BlockGaussSeidel& smoother : smoothers_) bytes += smoother.storage_bytes();
+    return bytes;
+  }
+
   // The coarse operators and factors for the fine level's current matrix; false where a level
   // is not positive definite (then the V-cycle is no preconditioner for CG).
   bool rebuild() {

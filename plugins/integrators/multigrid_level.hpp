@@ -71,6 +71,11 @@ class GridLevel {
       }
   }
 
+  // Bytes of the level's storage: its blocks, row starts and fixed flags.
+  std::size_t storage_bytes() const {
+    return blocks_.size() * sizeof(double) + offsets_.size() * sizeof(std::size_t) + fixed_.size();
+  }
+
   // sum -= (row (r, c) of A) x, without the diagonal block where skip_diagonal; only the
   // offsets `find_couplings` found nonzero somewhere.
   void subtract_row_product(int r, int c, const double* x, double* sum, bool skip_diagonal) const {

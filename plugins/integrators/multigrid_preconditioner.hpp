@@ -5,23 +5,20 @@
 //
 // S's blocks come from J's products, not from a host block table: the definite Jacobian has
 // none, and probing gives whichever form CG solves with. Every spring joins particles at most
-// two grid spacings apart (checked here), so particles whose rows and columns are equal mod 5
-// share no neighbour: one product with e_d on all particles of such a class gives column d of
-// every block coupling to them, 75 products in all. A single-precision system's blocks carry
-// its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric.
+// two grid spacings apart (checked, multigrid_grid.hpp), so particles whose rows and columns are
+// equal mod 5 share no neighbour: one product with e_d on all particles of such a class gives
+// column d of every block coupling to them, 75 products in all. A single-precision system's blocks
+// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric.
 // Pinned particles are the fine level's Dirichlet nodes.
 #pragma once
 
 #include <algorithm>
 #include <clothlab/sdk.hpp>
 #include <cstddef>
-#include <cstdlib>
-#include <optional>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "multigrid_cycle.hpp"
+#include "multigrid_grid.hpp"
 #include "multigrid_hierarchy.hpp"
 
 namespace clothlab::builtin {
@@ -32,12 +29,13 @@ class MultigridPreconditioner {
   // than two spacings, or the grid does not coarsen far enough (plan_levels).
   template <class Real>
   MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps)
-      : hierarchy_(plan(system, coarsest_particles), fixed_particles(system)),
+      : hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
+                   fixed_particles(system)),
         cycle_(hierarchy_, sweeps),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
         probe_product_(system.alloc_vector()) {
-    check_spring_reach(system);
+    check_spring_reach(system, hierarchy_.level(0).cols());
     const Real* inverse_mass = system.inverse_mass();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) mass_[i] = 1.0 / inverse_mass[i];
@@ -104,52 +102,6 @@ class MultigridPreconditioner {
 
  private:
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
-
-  template <class Real>
-  static sdk::Grid grid_of(const sdk::System<Real>& system) {
-    const std::optional<sdk::Grid> grid = system.grid();
-    if (!grid)
-      throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                       "multigrid = 1 needs a cloth laid out as a grid (clothlab.grid/1); this "
-                       "scene is not one");
-    if (uint64_t{grid->rows()} * grid->cols() != system.particle_count())
-      throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                       "multigrid: the grid's rows x cols is not the particle count");
-    return *grid;
-  }
-
-  template <class Real>
-  static std::vector<GridSize> plan(const sdk::System<Real>& system, long coarsest_particles) {
-    const sdk::Grid grid = grid_of(system);
-    try {
-      return plan_levels(grid.rows(), grid.cols(), coarsest_particles);
-    } catch (const std::invalid_argument& error) {
-      throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, error.what());
-    }
-  }
-
-  template <class Real>
-  static std::vector<uint8_t> fixed_particles(const sdk::System<Real>& system) {
-    std::vector<uint8_t> fixed(system.particle_count(), 1);
-    for (const clothlab_range& range : system.active())
-      std::fill(fixed.begin() + range.begin, fixed.begin() + range.end, 0);
-    return fixed;
-  }
-
-  template <class Real>
-  void check_spring_reach(const sdk::System<Real>& system) const {
-    const sdk::Topology topology = system.topology();
-    const long cols = hierarchy_.level(0).cols();
-    for (uint32_t s = 0; s < topology.spring_count(); ++s) {
-      const long a = topology.first()[s], b = topology.second()[s];
-      if (std::abs(a / cols - b / cols) > GridLevel::reach ||
-          std::abs(a % cols - b % cols) > GridLevel::reach)
-        throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                         "multigrid: spring " + std::to_string(s) + " joins particles " +
-                             std::to_string(a) + " and " + std::to_string(b) +
-                             ", more than 2 grid spacings apart");
-    }
-  }
 
   // The offset in [-reach, reach] from index n to the nearest index of class `target` mod 5.
   static int offset_to(int target, int n) {

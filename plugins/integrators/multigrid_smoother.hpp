@@ -36,6 +36,8 @@ class BlockGaussSeidel {
     return true;
   }
 
+  std::size_t storage_bytes() const { return inverse_diagonal_.size() * sizeof(double); }
+
   void forward(const GridLevel& level, const double* b, double* x) const {
     for (int color = 0; color < kPeriod * kPeriod; ++color) sweep(level, color, b, x);
   }

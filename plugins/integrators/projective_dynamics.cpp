@@ -23,16 +23,21 @@
 //
 // Pinned particles are eliminated: the unknowns are the active particles, numbered in the
 // fill-reducing (AMD) order computed once in `prepare`, so the factorisation works in natural
-// order with no permuted copy, and its factors solve all three coordinates in one sweep. Two
-// factorisations, the parameter `factorization`: 0, Eigen's SimplicialLDLT
+// order with no permuted copy, and its factors solve all three coordinates in one sweep. The
+// parameter `factorization` picks the global solve: 0, Eigen's SimplicialLDLT
 // (simplicial_ldlt_factorization.hpp), 1, SuiteSparse CHOLMOD's supernodal LL^T
-// (cholmod_factorization.hpp); docs/performance.md compares them. The matrix is factored on the
-// first step and again only when h changes (stiffness and pins are fixed while a system lives;
-// `prepare` starts over). A matrix that is not positive definite (a negative stiffness) is a
-// numerical error naming the pivot. `step` solves into preallocated vectors and does not
-// allocate, except in a factorisation with CHOLMOD (its update workspace) or with Eigen above
-// 16384 active particles (see SimplicialLdltFactorization).
-// The factorisation is double in both precisions: states are converted at the boundary.
+// (cholmod_factorization.hpp), 2, no factorisation but geometric multigrid on the cloth's grid
+// (clothlab.grid/1; multigrid_global_solve.hpp): V-cycles from the previous iterate to
+// `multigrid_tolerance` relative to the residual of the step's start positions, with storage and
+// setup linear in the particles (unknowns then in the particles' order); docs/performance.md
+// compares the three. A multigrid solve that stops at `multigrid_max_cycles` first is reported
+// through clothlab.solver-statistics/1 (converged 0). The matrix is factored (or the hierarchy
+// built) on the first step and again only when h changes (stiffness and pins are fixed while a
+// system lives; `prepare` starts over). A matrix that is not positive definite (a negative
+// stiffness) is a numerical error naming the pivot. `step` solves into preallocated vectors and
+// does not allocate, except in a factorisation with CHOLMOD (its update workspace) or with Eigen
+// above 16384 active particles (see SimplicialLdltFactorization). The factorisation is double in
+// both precisions: states are converted at the boundary.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
@@ -43,11 +48,14 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "chebyshev_weights.hpp"
 #include "cholmod_factorization.hpp"
+#include "multigrid_global_solve.hpp"
+#include "multigrid_grid.hpp"
 #include "projective_dynamics_matrix.hpp"
 #include "scratch_vectors.hpp"
 #include "simplicial_ldlt_factorization.hpp"
@@ -60,16 +68,30 @@ struct ProjectiveDynamics {
   static constexpr const char* version = "1.0.0";
   static constexpr const char* description =
       "Local/global projective dynamics (Liu et al. 2013) on the springs with a prefactored "
-      "(M + h D + h^2 K); first order when converged, unconditionally stable";
+      "(M + h D + h^2 K) or a multigrid global solve; first order when converged, "
+      "unconditionally stable";
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 0;  // springs are its own; external forces only
   static constexpr uint32_t flags = 0;
-  static constexpr std::array<clothlab_param_spec, 4> params{
+  static constexpr std::array<clothlab_param_spec, 8> params{
       sdk::int_param("iterations", 10, 1, 1000,
-                     "local/global iterations per step (one back-substitution each)"),
-      sdk::int_param("factorization", 0, 0, 1,
-                     "the constant matrix's sparse Cholesky: 0 = Eigen SimplicialLDLT, "
-                     "1 = SuiteSparse CHOLMOD supernodal"),
+                     "local/global iterations per step (one global solve each)"),
+      sdk::int_param("factorization", 0, 0, 2,
+                     "the constant matrix's global solve: 0 = Eigen SimplicialLDLT, "
+                     "1 = SuiteSparse CHOLMOD supernodal, 2 = no factorisation: multigrid "
+                     "V-cycles on the cloth's grid (clothlab.grid/1) to multigrid_tolerance"),
+      sdk::real_param("multigrid_tolerance", kDefaultGlobalSolveTolerance, 1e-14, 1e-1, "",
+                      "factorization 2: V-cycles from the previous iterate until |b - A x| <= "
+                      "this x |b - A x0|, x0 the step's start positions"),
+      sdk::int_param("multigrid_max_cycles", kDefaultGlobalSolveMaxCycles, 1, 10000,
+                     "factorization 2: V-cycles per global solve at most; a solve that hits it "
+                     "is reported"),
+      sdk::int_param("multigrid_coarsest", kDefaultCoarsestNodes, 1, kMaxCoarsestNodes,
+                     "factorization 2: coarsen the grid while it has more particles than this "
+                     "(and both sides at least 3); a dense direct solve there"),
+      sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
+                     "factorization 2: coloured block Gauss-Seidel sweeps before and after each "
+                     "coarse correction"),
       sdk::real_param("chebyshev_rho", 0.0, 0.0, 0.9999, "",
                       "Chebyshev acceleration of the iterations (Wang 2015): the estimated "
                       "spectral radius of one local/global iteration; 0 = off"),
@@ -84,7 +106,11 @@ struct ProjectiveDynamics {
 
   explicit ProjectiveDynamics(const sdk::Params& values)
       : iterations_(values.integer("iterations")),
-        use_cholmod_(values.integer("factorization") == 1),
+        solve_(static_cast<GlobalSolve>(values.integer("factorization"))),
+        multigrid_tolerance_(values.real("multigrid_tolerance")),
+        multigrid_max_cycles_(values.integer("multigrid_max_cycles")),
+        multigrid_coarsest_(values.integer("multigrid_coarsest")),
+        multigrid_sweeps_(values.integer("multigrid_sweeps")),
         chebyshev_(values.real("chebyshev_rho"), values.integer("chebyshev_delay")) {}
 
   template <class Real>
@@ -92,6 +118,7 @@ struct ProjectiveDynamics {
     const sdk::Topology topology = system.topology();
     (void)system.external_forces();  // checked here, so a host without it fails in prepare
     scratch_.allocate(system);
+    multigrid_.reset();
     assemble(system, topology);
     factored_h_ = std::numeric_limits<double>::quiet_NaN();
     last_ = {};
@@ -139,8 +166,7 @@ struct ProjectiveDynamics {
       project_springs(h);
       if (chebyshev_.active()) older_.swap(previous_);  // older_ = the iterate before this one
       if (chebyshev_.active() || iteration + 1 == iterations_) previous_ = positions_;
-      positions_ = rhs_;
-      solve_in_place(positions_);
+      solve(rhs_, positions_);
       const double omega = chebyshev_.next();
       if (omega != 1.0) positions_ = omega * (positions_ - older_) + older_;
     }
@@ -185,7 +211,15 @@ struct ProjectiveDynamics {
   // buffer.
   template <class Real>
   void assemble(const sdk::System<Real>& system, const sdk::Topology& topology) {
-    matrix_.build(system, topology);
+    const bool multigrid = solve_ == GlobalSolve::kMultigrid;
+    // Checked before the matrix is built, so a scene without a grid fails fast.
+    const std::vector<GridSize> levels =
+        multigrid ? plan_grid_levels(system, multigrid_coarsest_, "factorization = 2")
+                  : std::vector<GridSize>{};
+    if (multigrid) check_spring_reach(system, static_cast<long>(levels[0].cols));
+    matrix_.build(system, topology,
+                  multigrid ? ProjectiveDynamicsMatrix::Order::kParticles
+                            : ProjectiveDynamicsMatrix::Order::kFillReducing);
     const std::vector<int32_t>& unknown_of = matrix_.unknown_of();
     springs_.clear();
     pinned_springs_.clear();
@@ -199,10 +233,15 @@ struct ProjectiveDynamics {
     }
     damping_ = matrix_.damping_upper().selfadjointView<Eigen::Upper>();
     system_matrix_ = matrix_.pattern();
-    if (use_cholmod_)
-      cholmod_.analyze(system_matrix_);
-    else
-      ldlt_.analyze(system_matrix_);
+    if (solve_ == GlobalSolve::kCholmod) cholmod_.analyze(system_matrix_);
+    if (solve_ == GlobalSolve::kLdlt) ldlt_.analyze(system_matrix_);
+    if (multigrid) {
+      std::vector<uint32_t> node_of(static_cast<size_t>(matrix_.unknowns()));
+      for (uint32_t i = 0; i < unknown_of.size(); ++i)
+        if (unknown_of[i] >= 0) node_of[static_cast<size_t>(unknown_of[i])] = i;
+      multigrid_.emplace(levels, fixed_particles(system), std::move(node_of), multigrid_sweeps_,
+                         multigrid_tolerance_, multigrid_max_cycles_);
+    }
 
     pinned_position_.assign(3 * unknown_of.size(), 0.0);
     for (Positions* buffer :
@@ -210,11 +249,22 @@ struct ProjectiveDynamics {
       buffer->setZero(matrix_.unknowns(), 3);
   }
 
-  // System matrix M + h D + h^2 K, entry by entry in the shared pattern, then factored.
+  // System matrix M + h D + h^2 K, entry by entry in the shared pattern, then factored (or
+  // the multigrid hierarchy built on it).
   void factor(double h) {
     matrix_.combine(h, system_matrix_);
-    const std::string failure =
-        use_cholmod_ ? cholmod_.factorize(system_matrix_) : ldlt_.factorize(system_matrix_);
+    std::string failure;
+    switch (solve_) {
+      case GlobalSolve::kLdlt:
+        failure = ldlt_.factorize(system_matrix_);
+        break;
+      case GlobalSolve::kCholmod:
+        failure = cholmod_.factorize(system_matrix_);
+        break;
+      case GlobalSolve::kMultigrid:
+        failure = multigrid_->factorize(system_matrix_);
+        break;
+    }
     if (!failure.empty())
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "factorising M + h D + h^2 K (h = " +
                                                      std::to_string(h) + ") failed: " + failure);
@@ -222,9 +272,18 @@ struct ProjectiveDynamics {
     ++last_.factorizations;
   }
 
-  // positions = (M + h D + h^2 K)^-1 positions, the three coordinates at once.
-  void solve_in_place(Positions& positions) {
-    if (use_cholmod_)
+  // positions = (M + h D + h^2 K)^-1 rhs, the three coordinates at once; the multigrid
+  // starts from positions' current iterate, measures its tolerance against the step's start
+  // and records a solve that misses it.
+  void solve(const Positions& rhs, Positions& positions) {
+    if (solve_ == GlobalSolve::kMultigrid) {
+      const MultigridGlobalSolve::Outcome outcome =
+          multigrid_->solve(rhs.data(), start_.data(), positions.data());
+      if (!outcome.converged) last_.converged = 0;
+      return;
+    }
+    positions = rhs;
+    if (solve_ == GlobalSolve::kCholmod)
       cholmod_.solve_in_place(positions.data());
     else
       ldlt_.solve_in_place(positions.data());
@@ -275,8 +334,15 @@ struct ProjectiveDynamics {
     return unknown >= 0 ? positions_(unknown, k) - start_(unknown, k) : 0.0;
   }
 
+  // The global solve, as the parameter `factorization` numbers it.
+  enum class GlobalSolve : long { kLdlt = 0, kCholmod = 1, kMultigrid = 2 };
+
   long iterations_;
-  bool use_cholmod_;
+  GlobalSolve solve_;
+  double multigrid_tolerance_;
+  long multigrid_max_cycles_;
+  long multigrid_coarsest_;
+  long multigrid_sweeps_;
   ScratchVectors<1> scratch_;  // the external acceleration
   ProjectiveDynamicsMatrix matrix_;
   std::vector<Spring> springs_;
@@ -286,6 +352,7 @@ struct ProjectiveDynamics {
   Matrix damping_;  // D in full, for D x0
   SimplicialLdltFactorization ldlt_;
   CholmodFactorization cholmod_;
+  std::optional<MultigridGlobalSolve> multigrid_;  // where solve_ is kMultigrid
   double factored_h_ = std::numeric_limits<double>::quiet_NaN();
   ChebyshevWeights chebyshev_;
   // previous_: the iterate the last solve started from; older_: the one before it (Chebyshev).

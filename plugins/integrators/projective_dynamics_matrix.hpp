@@ -1,7 +1,9 @@
 // Projective dynamics' constant matrix M + h D + h^2 K (projective_dynamics.cpp) over the
-// active particles of a system: the unknowns numbered in a fill-reducing (AMD) order, and M, D
-// and K as upper triangles in one sparsity pattern, so that the matrix of any h is formed value
-// by value. Shared by the plugin and bench/pd_factorization.cpp.
+// active particles of a system: the unknowns numbered in a fill-reducing (AMD) order for a
+// factorisation, or in the particles' order for the multigrid (which needs no fill-reducing
+// order and whose setup stays linear without it), and M, D and K as upper triangles in one
+// sparsity pattern, so that the matrix of any h is formed value by value. Shared by the plugin
+// and bench/pd_factorization.cpp.
 #pragma once
 
 #include <Eigen/OrderingMethods>
@@ -9,6 +11,7 @@
 #include <algorithm>
 #include <clothlab/sdk.hpp>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace clothlab::builtin {
@@ -17,13 +20,16 @@ class ProjectiveDynamicsMatrix {
  public:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+  enum class Order { kFillReducing, kParticles };
+
   template <class Real>
-  void build(const sdk::System<Real>& system, const sdk::Topology& topology) {
-    number_unknowns(system, topology);
+  void build(const sdk::System<Real>& system, const sdk::Topology& topology,
+             Order order = Order::kFillReducing) {
+    number_unknowns(system, topology, order);
     assemble(system, topology);
   }
 
-  // unknown_of()[particle] = its row in the global system in AMD order, -1 when pinned.
+  // unknown_of()[particle] = its row in the global system, -1 when pinned.
   const std::vector<int32_t>& unknown_of() const { return unknown_of_; }
   const std::vector<double>& mass() const { return mass_; }  // per unknown
   Eigen::Index unknowns() const { return stiffness_.rows(); }
@@ -42,12 +48,17 @@ class ProjectiveDynamicsMatrix {
 
  private:
   template <class Real>
-  void number_unknowns(const sdk::System<Real>& system, const sdk::Topology& topology) {
+  void number_unknowns(const sdk::System<Real>& system, const sdk::Topology& topology,
+                       Order order) {
     const uint32_t n = system.particle_count();
     std::vector<int32_t> natural(n, -1);
     int32_t count = 0;
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) natural[i] = count++;
+    if (order == Order::kParticles) {
+      unknown_of_ = std::move(natural);
+      return;
+    }
     std::vector<Eigen::Triplet<double, int>> entries;
     for (int32_t u = 0; u < count; ++u) entries.emplace_back(u, u, 1.0);
     for (uint32_t s = 0; s < topology.spring_count(); ++s) {

@@ -411,6 +411,23 @@ INSTANTIATE_TEST_SUITE_P(Conformance, SoundPlugin, ::testing::ValuesIn(sound_plu
                            return name;
                          });
 
+// The multigrid settings need clothlab.grid/1: robustness.no-alloc's plugin-only system must
+// pass it on (without it prepare failed, "needs a cloth laid out as a grid"), and the solves
+// must not allocate or depend on the thread count.
+TEST(ConformanceRun, TheMultigridSettingsPassNoAllocAndThreads) {
+  for (const std::string setting :
+       {"implicit_euler.multigrid=1", "projective_dynamics.factorization=2"}) {
+    const std::string id = setting.substr(0, setting.find('.'));
+    const RunnerOutput run =
+        run_conformance("--timeout 90 --filter 'no-alloc|threads-f' --param " + setting + " " +
+                        BUILTIN_PLUGIN_DIR + std::string("/") + id + ".so");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    ASSERT_FALSE(run.report.is_null()) << run.output;
+    EXPECT_EQ(run.report["failed"], 0) << run.output;
+    EXPECT_EQ(run.report["passed"], 3) << run.output;
+  }
+}
+
 TEST(ConformanceRun, WritesJunitAndPrintsTheSeed) {
   const std::string junit = ::testing::TempDir() + "conformance-junit.xml";
   const RunnerOutput run =
