@@ -5,10 +5,12 @@
 // state with N iterations, against the converged step. The plain iteration's asymptotic
 // spectral radius is the ratio of its last two changes at the most iterations (of the ladder)
 // where they are still above 1e-7 of the step; without --rho that estimate is used. The
-// converged step is 1000 iterations accelerated with the first rho, its own error estimated by
-// how far it moved over the ladder's last rung (errors below 10x that are not reported). The
-// error is the largest particle distance to the converged step relative to the largest
-// distance a particle moves in the step.
+// converged step is the plugin's most iterations (projective_dynamics 1000, xpbd 100)
+// accelerated with the first rho that does not diverge there (else plain), its own error
+// estimated by how far it moved over the ladder's last rung (errors below 10x that are not
+// reported). The error is the largest particle distance to the converged step relative to the
+// largest distance a particle moves in the step. A rho whose step fails (xpbd reports
+// divergence as an error) is "diverged" from that rung on.
 //
 //   build/bin/clothlab_pd_iterations [config] [--integrator projective_dynamics|xpbd]
 //       [--side N] [--rate R] [--delay S] [--rho r ...]
@@ -34,7 +36,6 @@
 namespace clothlab::bench {
 namespace {
 
-constexpr long kMostIterations = 1000;  // both plugins' maximum
 const std::vector<long> kLadder = {1,  2,  3,  4,   6,   8,   11,  16,  23,  32,
                                    45, 64, 91, 128, 181, 256, 362, 512, 724, 1000};
 const std::vector<double> kErrors = {1e-2, 1e-3, 1e-4, 1e-5, 1e-6};
@@ -130,12 +131,18 @@ int run(int argc, char** argv) {
     if (integrator_id == "xpbd") params.emplace_back("substeps", "1");  // h is one substep
     return params;
   };
+  // The ladder up to the plugin's most iterations.
+  const long most = integrator_id == "xpbd" ? 100 : 1000;
+  std::vector<long> ladder;
+  for (const long n : kLadder)
+    if (n < most) ladder.push_back(n);
+  ladder.push_back(most);
   const Positions start = step_once(scene, integrator_id, 0.0, with(1, 0.0));
   // The plain iteration's asymptotic radius: the ratio of its last two changes (power
   // iteration on the error; needs no converged step), at the most iterations whose changes
   // are still well above rounding.
   double estimate = 0.0;
-  for (auto count = kLadder.rbegin(); count != kLadder.rend() && estimate == 0.0; ++count) {
+  for (auto count = ladder.rbegin(); count != ladder.rend() && estimate == 0.0; ++count) {
     const Positions last[3] = {step_once(scene, integrator_id, h, with(*count - 2, 0.0)),
                                step_once(scene, integrator_id, h, with(*count - 1, 0.0)),
                                step_once(scene, integrator_id, h, with(*count, 0.0))};
@@ -144,20 +151,37 @@ int run(int argc, char** argv) {
       estimate = largest_distance(last[2], last[1]) / change;
   }
   if (rhos.empty()) rhos.push_back(std::min(estimate, 0.9999));
-  // The converged step: the plugin's most iterations, accelerated with the first rho; its
-  // error estimated by its change over the ladder's last rung.
-  const Positions converged =
-      step_once(scene, integrator_id, h, with(kMostIterations, rhos.front()));
+  // The converged step: the plugin's most iterations, accelerated with the first rho that does
+  // not diverge there (else plain); its error estimated by its change over the ladder's last
+  // rung.
+  double reference_rho = 0.0;
+  Positions converged;
+  for (const double rho : rhos) {
+    try {
+      converged = step_once(scene, integrator_id, h, with(most, rho));
+      reference_rho = rho;
+      break;
+    } catch (const std::exception&) {
+    }
+  }
+  if (converged.empty()) converged = step_once(scene, integrator_id, h, with(most, 0.0));
   const double moved = largest_distance(converged, start);
   const double reference_error =
       largest_distance(converged, step_once(scene, integrator_id, h,
-                                            with(kLadder[kLadder.size() - 2], rhos.front()))) /
+                                            with(ladder[ladder.size() - 2], reference_rho))) /
       moved;
+  // NaN where the step failed (diverged).
   const auto errors_of = [&](double rho) {
     std::vector<double> errors;
-    for (const long n : kLadder)
-      errors.push_back(
-          largest_distance(step_once(scene, integrator_id, h, with(n, rho)), converged) / moved);
+    for (const long n : ladder) {
+      try {
+        errors.push_back(
+            largest_distance(step_once(scene, integrator_id, h, with(n, rho)), converged) / moved);
+      } catch (const std::exception& error) {
+        std::fprintf(stderr, "rho %s, %ld iterations: %s\n", number(rho).c_str(), n, error.what());
+        errors.push_back(std::nan(""));
+      }
+    }
     return errors;
   };
   std::vector<std::vector<double>> errors = {errors_of(0.0)};
@@ -168,16 +192,17 @@ int run(int argc, char** argv) {
       "iterations with rho %s (they changed it by %.1e of the step's motion, %.3g m, after "
       "%ld)\nplain iteration's estimated spectral radius: %.6f\n\n",
       integrator_id.c_str(), config.material->name.c_str(), config.scenario.c_str(), side, side,
-      rate, kMostIterations, number(rhos.front()).c_str(), reference_error, moved,
-      kLadder[kLadder.size() - 2], estimate);
+      rate, most, number(reference_rho).c_str(), reference_error, moved, ladder[ladder.size() - 2],
+      estimate);
   std::printf("| iterations | plain |");
   for (const double rho : rhos) std::printf(" rho %s |", number(rho).c_str());
   std::printf("\n|---|---|");
   for (std::size_t m = 0; m < rhos.size(); ++m) std::printf("---|");
   std::printf("\n");
-  for (std::size_t r = 0; r < kLadder.size(); ++r) {
-    std::printf("| %ld |", kLadder[r]);
-    for (const std::vector<double>& method : errors) std::printf(" %.2e |", method[r]);
+  for (std::size_t r = 0; r < ladder.size(); ++r) {
+    std::printf("| %ld |", ladder[r]);
+    for (const std::vector<double>& method : errors)
+      std::isnan(method[r]) ? std::printf(" diverged |") : std::printf(" %.2e |", method[r]);
     std::printf("\n");
   }
   std::printf("\n| error | plain |");
@@ -189,12 +214,14 @@ int run(int argc, char** argv) {
     if (target < 10 * reference_error) continue;  // below what the reference resolves
     std::printf("| %.0e |", target);
     for (const std::vector<double>& method : errors) {
-      const auto reached =
-          std::find_if(method.begin(), method.end(), [&](double e) { return e <= target; });
+      const auto reached = std::find_if(method.begin(), method.end(),
+                                        [&](double e) { return e <= target || std::isnan(e); });
       if (reached == method.end())
-        std::printf(" > %ld |", kLadder.back());
+        std::printf(" > %ld |", ladder.back());
+      else if (std::isnan(*reached))
+        std::printf(" diverged |");
       else
-        std::printf(" %ld |", kLadder[static_cast<std::size_t>(reached - method.begin())]);
+        std::printf(" %ld |", ladder[static_cast<std::size_t>(reached - method.begin())]);
     }
     std::printf("\n");
   }

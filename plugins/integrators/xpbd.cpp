@@ -113,7 +113,7 @@ struct Xpbd {
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
   static constexpr std::array<clothlab_param_spec, 7> params{
       sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
-      sdk::int_param("iterations", 1, 1, 1000, "Gauss-Seidel sweeps over the springs per substep"),
+      sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
       sdk::threads_param(),
       sdk::int_param("tethers", tethered_build ? 3 : 0, 0, 16,
                      "long-range attachments per free particle to pinned particles (the nearest "
