@@ -6,8 +6,9 @@
 // holds for every iterate while the directions grad C stand still; an affine combination of
 // iterates keeps that relation, so the extrapolated lambda is the multiplier the extrapolated
 // positions carry, and the next sweep's compliance term (alpha~ lambda in eq. 26) sees the
-// force the positions hold. Extrapolating dx alone would leave lambda behind the positions, and
-// the converged substep would no longer satisfy C + alpha~ lambda = 0.
+// force the positions hold. Extrapolating dx alone would leave lambda behind the positions: the
+// sweeps would settle where each spring's lambda is not the force its displacement carries, off
+// backward Euler.
 //
 // An extrapolation with a rho above what the sweeps allow can grow the error from sweep to
 // sweep instead of shrinking it (finite for many sweeps: 1e45 m after 1000 on a stiff net).
