@@ -9,6 +9,8 @@
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
 //              by colour (the topology extension's independent sets), each colour's springs
 //              in parallel: no two share a particle, so every thread count gives the same bits
+//              (option: Chebyshev acceleration of the sweeps, xpbd_chebyshev.hpp, on the
+//              general path; a grid cloth then takes the general path too)
 //   tethers    (option, xpbd_tethers.hpp) each free particle's long-range attachments to
 //              pinned particles, |p_i - p_anchor| <= (1 + slack) rest, projected once
 //   velocity   v = dx / h,  x += dx
@@ -22,6 +24,7 @@
 // Where the parts are:
 //   xpbd_constraint.hpp     the constraint law of one spring (eq. 26 with damping)
 //   xpbd_general_sweep.hpp  a substep over any topology, spring by spring
+//   xpbd_chebyshev.hpp      Chebyshev acceleration of the general sweep's iterations
 //   xpbd_grid.hpp           the host's grid (clothlab.grid/1) and its colours as stencils
 //   xpbd_grid_sweep.hpp     a substep on the grid, row by row, on up to two bands of threads
 //   xpbd_wavefront.hpp      the grid substep's phases and their lags
@@ -34,6 +37,12 @@
 // cloth along a tether by more than the slack, the tethered cloth converges (in h) to another
 // solution, so they are off by default (`tethers` 0) and the accuracy below holds without them.
 //
+// Chebyshev acceleration (`chebyshev_rho` > 0) runs on the general path only: the grid sweep
+// pipelines a substep's iterations as phases of one wavefront over the rows
+// (xpbd_wavefront.hpp), so no moment holds a complete iterate to extrapolate from. With it on,
+// a grid cloth is swept by the general path (same Gauss-Seidel order, without the grid's
+// row kernels); with it off (the default) nothing changes.
+//
 // Accuracy: one converged projection per substep is backward Euler on the elastic dynamics
 // (same equation as its Newton step for a single spring), so XPBD converges at first order
 // in h to the spring dynamics with the scene's ks and kd; one iteration per substep adds an
@@ -44,6 +53,7 @@
 #include <clothlab/sdk.hpp>
 #include <clothlab/sdk/threads.hpp>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <utility>
@@ -87,7 +97,7 @@ struct Xpbd {
   static constexpr const char* name = tethered_build
                                           ? "XPBD with long-range attachments (tethers) to the pins"
                                           : "XPBD distance constraints with substeps";
-  static constexpr const char* version = "1.1.0";
+  static constexpr const char* version = "1.2.0";
   static constexpr const char* description =
       tethered_build
           ? "xpbd with tethers 3 by default: Kim et al. 2012 long-range attachments, each free "
@@ -101,7 +111,7 @@ struct Xpbd {
   // The damping (kd) is part of the constraint projection; the flag makes the host and the
   // conformance runner treat the scene's damping as present.
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 5> params{
+  static constexpr std::array<clothlab_param_spec, 7> params{
       sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
       sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
       sdk::threads_param(),
@@ -111,6 +121,12 @@ struct Xpbd {
       sdk::real_param("tether_slack", 0.0, 0.0, 1.0, "",
                       "a tether's max length is (1 + tether_slack) x the particle's straight-line "
                       "distance to its pin at prepare"),
+      sdk::real_param("chebyshev_rho", 0.0, 0.0, 0.9999, "",
+                      "Chebyshev acceleration of a substep's sweeps (Wang 2015): the estimated "
+                      "spectral radius of one sweep; 0 = off. On: the general (not the grid) "
+                      "path"),
+      sdk::int_param("chebyshev_delay", 10, 1, 1000,
+                     "plain sweeps of a substep before Chebyshev acceleration starts"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -124,7 +140,9 @@ struct Xpbd {
         iterations_(static_cast<int>(values.integer("iterations"))),
         requested_threads_(values.integer("threads")),
         tethers_per_particle_(static_cast<uint32_t>(values.integer("tethers"))),
-        tether_slack_(values.real("tether_slack")) {}
+        tether_slack_(values.real("tether_slack")),
+        chebyshev_rho_(values.real("chebyshev_rho")),
+        chebyshev_delay_(values.integer("chebyshev_delay")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -137,12 +155,12 @@ struct Xpbd {
     threads_ = sdk::plugin_threads(system, requested_threads_,
                                    topology.spring_count() >= parallel_from_springs);
     std::optional<GridLayout> grid = grid_layout(system.grid(), topology);
-    solver.on_grid = grid.has_value();
-    if (grid)
+    solver.on_grid = grid.has_value() && chebyshev_rho_ == 0.0;
+    if (solver.on_grid)
       solver.grid.prepare(std::move(*grid), iterations_, solver.tethers.slots(),
                           system.inverse_mass(), system.particle_count(), threads_);
     else
-      solver.general.build(system, topology, iterations_);
+      solver.general.build(system, topology, iterations_, chebyshev_rho_, chebyshev_delay_);
     sdk::start_thread_team(threads_);
   }
 
@@ -178,6 +196,9 @@ struct Xpbd {
       }
       const bool finite =
           solver.on_grid ? solver.grid.run(arrays, threads_) : solver.general.run(arrays, threads_);
+      if (!solver.on_grid && solver.general.diverged())
+        throw_divergence(t + substep * h, solver.general.first_change(),
+                         solver.general.last_change());
       if (!finite)
         throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, "non-finite velocity in the substep at t = " +
                                                        std::to_string(t + substep * h));
@@ -187,6 +208,17 @@ struct Xpbd {
   }
 
  private:
+  // The accelerated sweeps of the substep at t grew their change (xpbd_chebyshev.hpp).
+  [[noreturn]] void throw_divergence(double t, double first_change, double last_change) const {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "chebyshev_rho %g diverges: the last of the %d sweeps of the substep at t = %g "
+                  "s moved a particle by %.3g m, more than the first (%.3g m); lower "
+                  "chebyshev_rho or raise chebyshev_delay",
+                  chebyshev_rho_, iterations_, t, last_change, first_change);
+    throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL, text);
+  }
+
   template <class Real>
   Solver<Real>& solver_for() {
     if constexpr (sizeof(Real) == 4)
@@ -200,6 +232,8 @@ struct Xpbd {
   long requested_threads_;
   uint32_t tethers_per_particle_;
   double tether_slack_;
+  double chebyshev_rho_;
+  long chebyshev_delay_;
   int threads_ = 1;
   ScratchVectors<2> scratch_;  // external acceleration, the substep's displacement
   Solver<float> solver_f32_;
@@ -210,5 +244,5 @@ struct Xpbd {
 
 CLOTHLAB_PLUGIN_ENTRY(clothlab::builtin::tethered_build ? "clothlab-builtin-xpbd-tethers"
                                                         : "clothlab-builtin-xpbd",
-                      "1.1.0", clothlab::sdk::integrators<clothlab::builtin::Xpbd>,
+                      "1.2.0", clothlab::sdk::integrators<clothlab::builtin::Xpbd>,
                       clothlab::sdk::scenarios<>)

@@ -3,7 +3,8 @@
 // Predict dx = h (v + h a) on the free particles, then `iterations` Gauss-Seidel sweeps over
 // the springs colour by colour (the topology extension's independent sets), each colour's
 // springs in parallel: no two share a particle, so every thread count gives the same bits.
-// Then the tethers, and v = dx / h, x += dx on the free particles.
+// Then the tethers, and v = dx / h, x += dx on the free particles. With Chebyshev
+// acceleration on (xpbd_chebyshev.hpp), each sweep's iterate is extrapolated.
 #pragma once
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "xpbd_chebyshev.hpp"
 #include "xpbd_constraint.hpp"
 #include "xpbd_substep.hpp"
 
@@ -22,8 +24,9 @@ template <class Real>
 class GeneralSweep {
  public:
   // Copies the springs colour by colour; springs with both ends pinned never move and are
-  // left out (their colour ranges shrink accordingly).
-  void build(const sdk::System<Real>& system, const sdk::Topology& topology, int iterations) {
+  // left out (their colour ranges shrink accordingly). rho = 0: no acceleration.
+  void build(const sdk::System<Real>& system, const sdk::Topology& topology, int iterations,
+             double chebyshev_rho, long chebyshev_delay) {
     iterations_ = iterations;
     const Real* inverse_mass = system.inverse_mass();
     springs_.clear();
@@ -40,29 +43,53 @@ class GeneralSweep {
       color_offsets_.push_back(static_cast<uint32_t>(springs_.size()));
     }
     lambda_.assign(springs_.size(), 0);
+    chebyshev_.build(chebyshev_rho, chebyshev_delay, iterations, system.particle_count(),
+                     system.stride(), springs_.size());
   }
 
   // One substep; false when a velocity came out non-finite. The worksharing loops run on the
   // team of a parallel region, or, on one thread, orphaned (no team, no barrier cost, no
   // allocation).
   bool run(const Substep<Real>& s, int threads) {
-    if (threads == 1) return sweep(s);
+    if (threads == 1) {
+      const Share share = sweep(s);
+      first_change_ = share.first_change, last_change_ = share.last_change;
+      return share.finite;
+    }
     bool finite = true;
-#pragma omp parallel num_threads(threads) reduction(&& : finite)
-    finite = sweep(s);
+    Real first = 0, last = 0;
+#pragma omp parallel num_threads(threads) reduction(&& : finite) reduction(max : first, last)
+    {
+      const Share share = sweep(s);
+      finite = share.finite, first = share.first_change, last = share.last_change;
+    }
+    first_change_ = first, last_change_ = last;
     return finite;
   }
+
+  // Whether the last substep's accelerated sweeps diverged (xpbd_chebyshev.hpp), and by how much:
+  // the largest displacement change of its first and of its last sweep.
+  bool diverged() const { return last_change_ > first_change_; }
+  Real first_change() const { return first_change_; }
+  Real last_change() const { return last_change_; }
 
  private:
   // The tethers are projected in blocks of particles, a vector loop each.
   static constexpr long tether_block = 256;
 
-  // Predict, project colour by colour, update velocities. Returns this thread's share of
-  // "every velocity is finite".
-  bool sweep(const Substep<Real>& s) {
+  // This thread's share of "every velocity is finite" and of the first and last sweeps' changes
+  // (0 without acceleration).
+  struct Share {
+    bool finite;
+    Real first_change, last_change;
+  };
+
+  // Predict, project colour by colour, update velocities.
+  Share sweep(const Substep<Real>& s) {
     const auto n = static_cast<long>(s.particle_count);
     const Constraint<Real>* springs = springs_.data();
     Real* lambda = lambda_.data();
+    Real first_change = 0, last_change = 0;
 #pragma omp for schedule(static)
     for (long i = 0; i < n; ++i)
       for (std::size_t c = 0; c < 3; ++c) {
@@ -71,7 +98,8 @@ class GeneralSweep {
         if (s.inverse_mass[i] == 0) continue;
         s.displacement[e] = s.h * (s.v[e] + s.h * s.external_acceleration[e]);
       }
-    for (int iteration = 0; iteration < iterations_; ++iteration)
+    for (int iteration = 0; iteration < iterations_; ++iteration) {
+      if (chebyshev_.active()) chebyshev_.save(iteration, s.displacement, lambda);
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
         const long begin = color_offsets_[color], end = color_offsets_[color + 1];
 #pragma omp for schedule(static)
@@ -79,6 +107,11 @@ class GeneralSweep {
           project_constraint(springs[k], lambda[k], iteration == 0, s.x, s.displacement, s.stride,
                              s.h, s.h_squared);
       }
+      if (!chebyshev_.active()) continue;
+      chebyshev_.extrapolate(iteration, s.displacement, lambda);
+      if (iteration == 0) first_change = chebyshev_.change(iteration, s.displacement);
+      if (iteration + 1 == iterations_) last_change = chebyshev_.change(iteration, s.displacement);
+    }
     if (s.tethers != nullptr) {
       const long blocks = (n + tether_block - 1) / tether_block;
 #pragma omp for schedule(static)
@@ -98,13 +131,15 @@ class GeneralSweep {
         finite = finite && std::isfinite(s.v[e]);
       }
     }
-    return finite;
+    return {finite, first_change, last_change};
   }
 
   int iterations_ = 1;
   std::vector<Constraint<Real>> springs_;
   std::vector<Real> lambda_;             // one per spring
   std::vector<uint32_t> color_offsets_;  // springs of colour c: [offsets[c], offsets[c + 1])
+  XpbdChebyshev<Real> chebyshev_;
+  Real first_change_ = 0, last_change_ = 0;  // of the last substep
 };
 
 }  // namespace clothlab::builtin

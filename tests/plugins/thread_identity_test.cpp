@@ -106,6 +106,13 @@ INSTANTIATE_TEST_SUITE_P(
         ThreadedCase{"VbdFloat32", "vbd", true, 70, 3, {{"iterations", 3}}},
         ThreadedCase{"XpbdFloat64", "xpbd", false, 190, 4, {{"substeps", 4}, {"iterations", 2}}},
         ThreadedCase{"XpbdFloat32", "xpbd", true, 190, 4, {{"substeps", 4}, {"iterations", 2}}},
+        ThreadedCase{
+            "XpbdChebyshev",
+            "xpbd",
+            false,
+            190,
+            4,
+            {{"substeps", 4}, {"iterations", 4}, {"chebyshev_rho", 0.5}, {"chebyshev_delay", 1}}},
         ThreadedCase{"XpbdWithTethers",
                      "xpbd",
                      true,

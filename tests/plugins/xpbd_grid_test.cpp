@@ -65,11 +65,17 @@ struct ProvotGrid {
 };
 
 // The positions and velocities after 10 steps, every particle started moving (pins too).
-// On a host that offers the grid (`on_grid`) or not; colours in the order given.
+// On a host that offers the grid (`on_grid`) or not; colours in the order given; Chebyshev
+// acceleration (chebyshev_rho, chebyshev_delay) set when `chebyshev` is.
+struct ChebyshevSetting {
+  double rho;
+  long delay;
+};
 template <class Real>
 std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
                                 const std::vector<uint32_t>& color_order, int iterations,
-                                const std::vector<uint32_t>& pins) {
+                                const std::vector<uint32_t>& pins,
+                                const ChebyshevSetting* chebyshev = nullptr) {
   const ProvotGrid grid(rows, cols);
   SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
   std::vector<std::vector<uint32_t>> colors;
@@ -88,6 +94,9 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
     }
   Integrator xpbd("xpbd");
   xpbd.with("substeps", 4).with("iterations", iterations).with("threads", 1);
+  if (chebyshev != nullptr)
+    xpbd.with("chebyshev_rho", chebyshev->rho)
+        .with("chebyshev_delay", static_cast<double>(chebyshev->delay));
   xpbd.start(system);
   xpbd.run(system, 10, 1e-2);
   std::vector<double> state;
@@ -150,6 +159,25 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
   std::vector<uint32_t> middle = scattered_pins();
   middle.push_back(rows / 2 * cols + cols / 2);
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6, middle);
+}
+
+// Chebyshev acceleration on: a grid cloth takes the general sweep (with weights of 1, the same
+// bits as the general host's plain sweep); off (rho 0, any delay): the grid path's bits. In
+// float32 the grid path's row kernels (the shared inverse mass, reciprocals) round otherwise
+// than the general sweep, which tells the two paths apart.
+TEST(XpbdGrid, ChebyshevTakesTheGeneralPathAndOffKeepsTheGridPath) {
+  std::vector<uint32_t> order(12);
+  for (uint32_t c = 0; c < 12; ++c) order[c] = c;
+  const ChebyshevSetting unit_weights{0.9, 3}, off{0.0, 1};
+  const std::vector<double> grid = state_after<float>(rows, cols, true, order, 3, corner_pins);
+  const std::vector<double> general = state_after<float>(rows, cols, false, order, 3, corner_pins);
+  const std::vector<double> accelerated =
+      state_after<float>(rows, cols, true, order, 3, corner_pins, &unit_weights);
+  const std::vector<double> grid_off =
+      state_after<float>(rows, cols, true, order, 3, corner_pins, &off);
+  ASSERT_NE(grid, general) << "the two paths cannot be told apart";
+  EXPECT_EQ(accelerated, general);
+  EXPECT_EQ(grid_off, grid);
 }
 
 // The grid path keeps its displacements in v during a substep: the pins' velocities must
