@@ -1,6 +1,7 @@
 // Drives one integrator plugin through the C ABI against a MockSystem.
 #pragma once
 
+#include <clothlab/ext/solver_statistics.h>
 #include <gtest/gtest.h>
 
 #include <clothlab/host/plugin_library.hpp>
@@ -95,5 +96,17 @@ class Integrator {
   void* instance_ = nullptr;
   clothlab_message message_{};
 };
+
+// The solver statistics of the integrator's last step; zeros if it offers none.
+inline clothlab_solver_step_statistics solver_statistics_of(const Integrator& integrator) {
+  const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
+      integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
+  clothlab_solver_step_statistics out{};
+  out.struct_size = sizeof out;
+  if (extension != nullptr) {
+    EXPECT_EQ(extension->last_step(integrator.instance(), &out), CLOTHLAB_OK);
+  }
+  return out;
+}
 
 }  // namespace clothlab::test

@@ -10,6 +10,7 @@
 
 #include <clothlab/plugin.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -21,6 +22,14 @@
 namespace clothlab::test {
 
 using Vec3 = std::array<double, 3>;
+
+// The largest difference of any coordinate between two lists of vectors of the same length.
+inline double largest_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double largest = 0.0;
+  for (std::size_t p = 0; p < a.size(); ++p)
+    for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[p][k] - b[p][k]));
+  return largest;
+}
 
 // Acceleration of active particle i at time t. v is nullptr when the integrator does not
 // want velocity-dependent forces. Vectors are SoA: component k of particle i at k*stride+i.

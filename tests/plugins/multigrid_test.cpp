@@ -371,28 +371,13 @@ TEST(Multigrid, CoarsensAsFarAsAsked) {
 struct GridNet {
   static constexpr double kSpacing = 0.05;
   GridNet(uint32_t rows, uint32_t cols, bool on_grid = true)
-      : host(rows * cols, {0, cols - 1}, springs(rows, cols), {0, -9.81, 0}) {
+      : host(rows * cols, {0, cols - 1}, provot_net_springs(rows, cols, kSpacing, 5e3, 50.0, 0.05),
+             {0, -9.81, 0}) {
     for (uint32_t r = 0; r < rows; ++r)
       for (uint32_t c = 0; c < cols; ++c)
         host.system().set_position(r * cols + c, {kSpacing * c, -0.8 * kSpacing * r,
                                                   0.6 * kSpacing * r + 0.01 * std::sin(c)});
     if (on_grid) host.set_grid(rows, cols, kSpacing, {});
-  }
-  static std::vector<TestSpring> springs(uint32_t rows, uint32_t cols) {
-    std::vector<TestSpring> out;
-    const int stencils[6][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}, {0, 2}, {2, 0}};
-    for (uint32_t r = 0; r < rows; ++r)
-      for (uint32_t c = 0; c < cols; ++c)
-        for (const auto& s : stencils) {
-          const int r2 = static_cast<int>(r) + s[0], c2 = static_cast<int>(c) + s[1];
-          if (r2 >= static_cast<int>(rows) || c2 < 0 || c2 >= static_cast<int>(cols)) continue;
-          const uint32_t i = r * cols + c,
-                         j = static_cast<uint32_t>(r2) * cols + static_cast<uint32_t>(c2);
-          const double length = kSpacing * std::hypot(s[0], s[1]);
-          out.push_back(
-              {std::min(i, j), std::max(i, j), length, s[0] == 2 || s[1] == 2 ? 50.0 : 5e3, 0.05});
-        }
-    return out;
   }
   SpringHost<double> host;
 };
@@ -437,24 +422,6 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   EXPECT_LT(worst, 1e-12 * scale);
 }
 
-double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double out = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (int k = 0; k < 3; ++k) out = std::max(out, std::abs(a[i][k] - b[i][k]));
-  return out;
-}
-
-clothlab_solver_step_statistics statistics_of(const Integrator& integrator) {
-  const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
-      integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
-  clothlab_solver_step_statistics out{};
-  out.struct_size = sizeof out;
-  if (extension != nullptr) {
-    EXPECT_EQ(extension->last_step(integrator.instance(), &out), CLOTHLAB_OK);
-  }
-  return out;
-}
-
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
 // tightly) in fewer iterations.
 TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
@@ -470,14 +437,14 @@ TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
     for (int n = 0; n < 5; ++n) {
       ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
           << integrator.message();
-      const clothlab_solver_step_statistics stats = statistics_of(integrator);
+      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
       ASSERT_EQ(stats.converged, 1u) << "step " << n << " multigrid " << multigrid;
       iterations[multigrid] += stats.iterations;
     }
     for (uint32_t i = 0; i < 14 * 17; ++i)
       positions[multigrid].push_back(net.host.system().position(i));
   }
-  EXPECT_LT(max_distance(positions[0], positions[1]), 1e-8);
+  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
   EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
 }
 

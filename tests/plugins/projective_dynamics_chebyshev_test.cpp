@@ -63,13 +63,6 @@ std::vector<Vec3> one_step(long iterations, double rho) {
   return positions;
 }
 
-double largest_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double largest = 0.0;
-  for (size_t p = 0; p < a.size(); ++p)
-    for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[p][k] - b[p][k]));
-  return largest;
-}
-
 // The fewest iterations (of 1..limit) whose step is within `error` of `converged`.
 long iterations_to(double error, double rho, const std::vector<Vec3>& converged, long limit) {
   for (long n = 1; n <= limit; ++n)

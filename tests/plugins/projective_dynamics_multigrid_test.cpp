@@ -25,22 +25,10 @@ using builtin::MultigridGlobalSolve;
 
 constexpr double kSpacing = 0.02;
 
-// A cotton-like Provot flag of rows x cols particles, 2 cm apart: structural and shear springs
-// (ks 6000 N/m), flexion springs two apart (ks 60 N/m), all damped (kd 0.02).
-std::vector<TestSpring> flag_springs(uint32_t rows, uint32_t cols) {
-  std::vector<TestSpring> out;
-  const int stencils[6][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}, {0, 2}, {2, 0}};
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c)
-      for (const auto& s : stencils) {
-        const int r2 = static_cast<int>(r) + s[0], c2 = static_cast<int>(c) + s[1];
-        if (r2 >= static_cast<int>(rows) || c2 < 0 || c2 >= static_cast<int>(cols)) continue;
-        const uint32_t i = r * cols + c, j = static_cast<uint32_t>(r2) * cols + c2;
-        const bool flexion = s[0] == 2 || s[1] == 2;
-        out.push_back({std::min(i, j), std::max(i, j), kSpacing * std::hypot(s[0], s[1]),
-                       flexion ? 60.0 : 6000.0, 0.02});
-      }
-  return out;
+// A cotton-like Provot flag 2 cm apart: structural and shear springs (ks 6000 N/m), flexion
+// springs two apart (ks 60 N/m), all damped (kd 0.02).
+std::vector<TestSpring> cotton_flag_springs(uint32_t rows, uint32_t cols) {
+  return provot_net_springs(rows, cols, kSpacing, 6000.0, 60.0, 0.02);
 }
 
 // The global system of a rows x cols flag pinned along its left column, written out here from
@@ -58,7 +46,7 @@ struct FlagSystem {
     }
     std::vector<Eigen::Triplet<double, int>> entries;
     for (int u = 0; u < static_cast<int>(node_of.size()); ++u) entries.emplace_back(u, u, kMass);
-    for (const TestSpring& s : flag_springs(rows, cols)) {
+    for (const TestSpring& s : cotton_flag_springs(rows, cols)) {
       const double k = h * h * s.ks;
       const int a = unknown_of[s.first], b = unknown_of[s.second];
       if (a >= 0) entries.emplace_back(a, a, k);
@@ -221,31 +209,15 @@ TEST(ProjectiveDynamicsMultigrid, AMatrixReachingBeyondTwoSpacingsIsRefused) {
 // that gravity stretches and bends it from the first step; offered as a grid unless told not.
 struct GridFlag {
   GridFlag(uint32_t rows, uint32_t cols, bool on_grid = true)
-      : host(rows * cols, left_column(rows, cols), flag_springs(rows, cols), {0, -9.81, 0}) {
+      : host(rows * cols, left_column(rows, cols), cotton_flag_springs(rows, cols), {0, -9.81, 0}) {
     for (uint32_t r = 0; r < rows; ++r)
       for (uint32_t c = 0; c < cols; ++c)
         host.system().set_position(r * cols + c,
                                    {kSpacing * c, -kSpacing * r, 0.005 * c * c * kSpacing});
     if (on_grid) host.set_grid(rows, cols, kSpacing, {});
   }
-  static std::vector<uint32_t> left_column(uint32_t rows, uint32_t cols) {
-    std::vector<uint32_t> pinned;
-    for (uint32_t r = 0; r < rows; ++r) pinned.push_back(r * cols);
-    return pinned;
-  }
   SpringHost<double> host;
 };
-
-clothlab_solver_step_statistics statistics_of(const Integrator& integrator) {
-  const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
-      integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));
-  clothlab_solver_step_statistics out{};
-  out.struct_size = sizeof out;
-  if (extension != nullptr) {
-    EXPECT_EQ(extension->last_step(integrator.instance(), &out), CLOTHLAB_OK);
-  }
-  return out;
-}
 
 // Coarsening the 9 x 12 flag while it has more than 12 particles: 9 x 12, 5 x 7, 3 x 4 (with
 // the default 256 it would be one level, a dense direct solve).
@@ -262,7 +234,7 @@ std::vector<Vec3> run_flag(double factorization, double tolerance, int steps) {
   for (int n = 0; n < steps; ++n) {
     EXPECT_EQ(integrator.step(flag.host.system(), n / 240.0, 1.0 / 240.0), CLOTHLAB_OK)
         << integrator.message();
-    EXPECT_EQ(statistics_of(integrator).converged, 1u) << "step " << n;
+    EXPECT_EQ(solver_statistics_of(integrator).converged, 1u) << "step " << n;
   }
   std::vector<Vec3> state;
   for (uint32_t i = 0; i < kRows * kCols; ++i) {
@@ -270,13 +242,6 @@ std::vector<Vec3> run_flag(double factorization, double tolerance, int steps) {
     state.push_back(flag.host.system().velocity(i));
   }
   return state;
-}
-
-double largest_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double largest = 0.0;
-  for (size_t p = 0; p < a.size(); ++p)
-    for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[p][k] - b[p][k]));
-  return largest;
 }
 
 // 30 steps, each 10 local/global iterations: the multigrid path follows the LDLT path, closer
@@ -300,7 +265,7 @@ TEST(ProjectiveDynamicsMultigrid, ASolveThatMissesItsToleranceIsReported) {
   integrator.start(flag.host.system());
   ASSERT_EQ(integrator.step(flag.host.system(), 0.0, 1.0 / 60.0), CLOTHLAB_OK)
       << integrator.message();
-  EXPECT_EQ(statistics_of(integrator).converged, 0u);
+  EXPECT_EQ(solver_statistics_of(integrator).converged, 0u);
 }
 
 // The message of an integrator that `create`s or `prepare`s with the given settings; empty
@@ -339,9 +304,9 @@ TEST(ProjectiveDynamicsMultigrid, BadSettingsAreOneLineErrors) {
 
 TEST(ProjectiveDynamicsMultigrid, ANonPositiveDefiniteMatrixIsAOneLineError) {
   // One spring of the flag with a negative stiffness strong enough that A is indefinite.
-  std::vector<TestSpring> springs = flag_springs(5, 5);
+  std::vector<TestSpring> springs = cotton_flag_springs(5, 5);
   springs[7].ks = -1e7;
-  SpringHost<double> host(25, GridFlag::left_column(5, 5), springs, {0, -9.81, 0});
+  SpringHost<double> host(25, left_column(5, 5), springs, {0, -9.81, 0});
   for (uint32_t i = 0; i < 25; ++i)
     host.system().set_position(i, {kSpacing * (i % 5), -kSpacing * (i / 5), 0});
   host.set_grid(5, 5, kSpacing, {});

@@ -29,6 +29,34 @@ struct TestSpring {
   double rest_length, ks, kd;
 };
 
+// The springs of a rows x cols Provot net `spacing` apart in row-major order: structural and
+// shear springs of stiffness ks, flexion springs two apart of stiffness ks_flexion, all damped
+// by kd.
+inline std::vector<TestSpring> provot_net_springs(uint32_t rows, uint32_t cols, double spacing,
+                                                  double ks, double ks_flexion, double kd) {
+  std::vector<TestSpring> out;
+  const int stencils[6][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}, {0, 2}, {2, 0}};
+  for (uint32_t r = 0; r < rows; ++r)
+    for (uint32_t c = 0; c < cols; ++c)
+      for (const auto& s : stencils) {
+        const int r2 = static_cast<int>(r) + s[0], c2 = static_cast<int>(c) + s[1];
+        if (r2 >= static_cast<int>(rows) || c2 < 0 || c2 >= static_cast<int>(cols)) continue;
+        const uint32_t i = r * cols + c,
+                       j = static_cast<uint32_t>(r2) * cols + static_cast<uint32_t>(c2);
+        const bool flexion = s[0] == 2 || s[1] == 2;
+        out.push_back({std::min(i, j), std::max(i, j), spacing * std::hypot(s[0], s[1]),
+                       flexion ? ks_flexion : ks, kd});
+      }
+  return out;
+}
+
+// The first particle of every row: a net pinned along its left column.
+inline std::vector<uint32_t> left_column(uint32_t rows, uint32_t cols) {
+  std::vector<uint32_t> pinned;
+  for (uint32_t r = 0; r < rows; ++r) pinned.push_back(r * cols);
+  return pinned;
+}
+
 template <class Real>
 class SpringHost {
  public:

@@ -94,13 +94,6 @@ NetStep one_substep(const Net& net, long iterations, double rho, long delay = 1,
   return result;
 }
 
-double largest_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double largest = 0.0;
-  for (size_t p = 0; p < a.size(); ++p)
-    for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(a[p][k] - b[p][k]));
-  return largest;
-}
-
 // Where the springs keep their directions, the converged XPBD substep is backward Euler: with
 // dx = x - x0 and each spring's multiplier at the root of eq. 26,
 // lambda = -(ks h^2 C + kd h n.(dx_i - dx_j)), every free particle balances
