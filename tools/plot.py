@@ -16,6 +16,12 @@
       clothlab --choose probes: cost per frame against position error, one colour per
       integrator (filled: the probe passed every criterion; hollow: it failed one), with the
       tolerance as a line.
+  plot.py scaling results/choose-cotton-flag-{50,100,200,300}-ranked.json --out docs/img
+      clothlab --choose's ranked files of one scene at several meshes: ms per frame of each
+      integrator's cheapest passing setting against particle count, log-log, with n^1 and
+      n^1.5 guides; --table PATH also writes the Markdown table (setting, ms/frame, robust
+      stretch, error per method and mesh, and each method's growth from --growth-from to the
+      largest mesh against the particle ratio).
   plot.py energy energy-verlet.csv energy-xpbd.csv ... --out plots/
       total energy over time from clothlab --energy-out files, one line per file (named by
       the run's integrator): numerical damping made visible.
@@ -48,7 +54,8 @@ ASYMPTOTIC_POINTS = 4
 FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
            "verlet": "tab:red", "forward-euler": "tab:purple", "implicit_euler": "tab:brown",
-           "projective_dynamics": "tab:pink", "xpbd": "tab:olive"}
+           "projective_dynamics": "tab:pink", "xpbd": "tab:olive", "xpbd_tethers": "tab:cyan",
+           "vbd": "tab:gray"}
 
 
 class InputProblem(Exception):
@@ -344,6 +351,116 @@ def plot_choose(args):
     return save(figure, args.out, "choose-cost-error")
 
 
+def read_ranked(path):
+    """A clothlab --choose ranked file: (scene mesh, its settings, its ranking rows)."""
+    try:
+        with open(path) as stream:
+            document = json.load(stream)
+    except OSError as error:
+        raise InputProblem(f"{path}: cannot read results: {error.strerror}")
+    except json.JSONDecodeError as error:
+        raise InputProblem(f"{path}: not a results file: {error}")
+    if not isinstance(document, dict) or not isinstance(document.get("ranking"), list):
+        raise InputProblem(f"{path}: expected clothlab --choose's -ranked.json (a \"ranking\" list)")
+    settings = document.get("settings") or {}
+    mesh = settings.get("mesh")
+    if not mesh:
+        raise InputProblem(f"{path}: settings.mesh missing: rerun --choose with scenario.rows and "
+                           "scenario.cols (or mesh) set")
+    return str(mesh), settings, document["ranking"]
+
+
+def setting_text(row):
+    iterations = number(row.get("iterations"))
+    text = f"{int(row['substeps'])} substeps"
+    return text + (f" x {int(iterations)} iterations" if iterations else "")
+
+
+def growth_table(meshes, growth_from):
+    """Markdown: per integrator and mesh the cheapest passing setting and its figures, then
+    the growth of ms/frame from growth_from to the largest mesh against the particle ratio."""
+    largest = meshes[-1][0]
+    ratio = mesh_particles(largest) / mesh_particles(growth_from)
+    integrators = []
+    for _, _, ranking in meshes:
+        integrators += [str(r.get("integrator")) for r in ranking
+                        if str(r.get("integrator")) not in integrators]
+    header = ["method"] + [mesh for mesh, _, _ in meshes] + [
+        f"growth {growth_from} to {largest} (particles x{ratio:g})"]
+    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    for integrator in integrators:
+        cells, cost = [], {}
+        for mesh, _, ranking in meshes:
+            row = next((r for r in ranking if str(r.get("integrator")) == integrator), None)
+            if row is None:
+                cells.append("not searched")
+            elif number(row.get("ms_per_frame")) is None or row.get("rank") is None:
+                cells.append("no pass: " + str(row.get("verdict", "")).split(";")[0][:90])
+            else:
+                cost[mesh] = row["ms_per_frame"]
+                stretch = number(row.get("max_stretch_away_from_pins"))
+                cells.append(f"**{row['ms_per_frame']:.4g}** ms; {setting_text(row)}; "
+                             + (f"stretch {100 * (stretch - 1):.2f} %; " if stretch else "")
+                             + f"error {100 * row['error']:.2f} %")
+        if growth_from in cost and largest in cost:
+            growth = cost[largest] / cost[growth_from]
+            cells.append(f"x{growth:.3g} ({growth / ratio:.2f} x the particle ratio)")
+        else:
+            cells.append("-")
+        lines.append("| " + " | ".join([integrator] + cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_scaling(args):
+    meshes = sorted((read_ranked(path) for path in args.results),
+                    key=lambda entry: mesh_particles(entry[0]))
+    names = [mesh for mesh, _, _ in meshes]
+    if len(set(names)) != len(names):
+        raise InputProblem("scaling: two files of the same mesh (" + ", ".join(names) + ")")
+    if args.growth_from not in names:
+        raise InputProblem(f"--growth-from {args.growth_from}: not among the meshes "
+                           + ", ".join(names))
+    figure, axis = plt.subplots(figsize=(6.5, 4.8))
+    integrators = sorted({str(r.get("integrator")) for _, _, ranking in meshes for r in ranking})
+    anchors = []
+    for integrator in integrators:
+        points = [(mesh_particles(mesh), r["ms_per_frame"]) for mesh, _, ranking in meshes
+                  for r in ranking if str(r.get("integrator")) == integrator
+                  and r.get("rank") is not None and number(r.get("ms_per_frame")) is not None]
+        if not points:
+            continue
+        anchors.append(points[0])
+        label = integrator
+        if len(points) >= 2:
+            (n0, c0), (n1, c1) = points[0], points[-1]
+            label += f" (slope {math.log(c1 / c0) / math.log(n1 / n0):.2f})"
+        axis.loglog(*zip(*points), "o-", color=COLOURS.get(integrator), label=label)
+    if not anchors:
+        raise InputProblem("scaling: no integrator passed at any mesh")
+    # The guides start at the cheapest method's first point, so that a line parallel to one
+    # reads as that growth.
+    n0, c0 = min(anchors, key=lambda point: (point[0], point[1]))
+    n1 = mesh_particles(names[-1])
+    for power, style in ((1.0, ":"), (1.5, "--")):
+        axis.loglog([n0, n1], [c0, c0 * (n1 / n0) ** power], style, color="black", linewidth=1,
+                    label=f"n^{power:g} guide")
+    axis.axhline(1000 / float(meshes[0][1].get("frame_rate") or 60), color="grey",
+                 linestyle="-.", linewidth=1, label="real time (one frame)")
+    axis.set_xlabel("particles n")
+    axis.set_ylabel("ms per frame at the cheapest passing setting")
+    axis.set_title("choose: cost per frame against mesh size\n"
+                   f"meshes {', '.join(names)}; cloth: {args.cloth}; machine: {args.machine}",
+                   fontsize=8)
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=7, loc="upper left")
+    written = save(figure, args.out, "scaling")
+    if args.table:
+        with open(args.table, "w") as stream:
+            stream.write(growth_table(meshes, args.growth_from))
+        written.append(args.table)
+    return written
+
+
 def read_energy(path):
     try:
         with open(path, newline="") as stream:
@@ -390,10 +507,17 @@ def main(argv=None):
     choose = commands.add_parser("choose", help="clothlab --choose: cost per frame vs error")
     choose.add_argument("results")
     choose.set_defaults(run=plot_choose)
+    scaling = commands.add_parser("scaling", help="clothlab --choose at several meshes: "
+                                  "ms per frame vs particles")
+    scaling.add_argument("results", nargs="+", help="the -ranked.json of each mesh")
+    scaling.add_argument("--table", help="also write the Markdown table to this path")
+    scaling.add_argument("--growth-from", default="100x100",
+                         help="the mesh the growth column starts from (default 100x100)")
+    scaling.set_defaults(run=plot_scaling)
     energy = commands.add_parser("energy", help="energy over time per integrator")
     energy.add_argument("traces", nargs="+")
     energy.set_defaults(run=plot_energy)
-    for command in (wp, st, cost, choose, energy):
+    for command in (wp, st, cost, choose, scaling, energy):
         command.add_argument("--out", default="plots", help="output folder (default plots)")
         command.add_argument("--cloth", default="default cloth (plugins/README.md)",
                              help="the cloth (material) of the results, for the caption")

@@ -135,6 +135,72 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn("steps present: 0.001, 0.002", result.stderr)
 
+    def write_ranked(self, side, ranking, mesh=True):
+        path = self.path(f"choose-{side}-ranked.json")
+        settings = {"frame_rate": 60.0, "error_tolerance": 0.01}
+        if mesh:
+            settings["mesh"] = f"{side}x{side}"
+        with open(path, "w") as stream:
+            json.dump({"scene": None, "settings": settings, "ranking": ranking}, stream)
+        return path
+
+    def test_scaling_across_meshes(self):
+        # verlet grows as n^1.5, xpbd as n; vbd passes only at the smallest mesh.
+        paths = []
+        for side in (50, 100, 300):
+            n = side * side
+            ranking = [{"integrator": "verlet", "rank": 1, "substeps": side * 4,
+                        "ms_per_frame": 1e-3 * n ** 1.5, "error": 0.004,
+                        "max_stretch_away_from_pins": 1.05},
+                       {"integrator": "xpbd", "rank": 2, "substeps": 64, "iterations": 2,
+                        "ms_per_frame": 0.5 * n, "error": 0.008,
+                        "max_stretch_away_from_pins": 1.08}]
+            ranking.append({"integrator": "vbd", "rank": 3, "substeps": 8, "ms_per_frame": 9.0,
+                            "error": 0.002} if side == 50 else
+                           {"integrator": "vbd", "rank": None, "ms_per_frame": None,
+                            "verdict": "slower than verlet; stopped"})
+            paths.append(self.write_ranked(side, ranking))
+        table = self.path("scaling.md")
+        result = run_plot("scaling", *reversed(paths), "--out", self.out, "--table", table,
+                          "--machine", "test machine", "--cloth", "cotton")
+        self.assert_written(result, ["scaling"])
+        svg = self.svg("scaling")
+        self.assertIn("verlet (slope 1.50)", svg)
+        self.assertIn("xpbd (slope 1.00)", svg)
+        self.assertIn(">vbd<", svg)  # one point: no slope
+        for fact in ("n^1 guide", "n^1.5 guide", "meshes 50x50, 100x100, 300x300",
+                     "cloth: cotton", "machine: test machine"):
+            self.assertIn(fact, svg)
+        with open(table) as stream:
+            lines = stream.read().splitlines()
+        self.assertEqual(lines[0], "| method | 50x50 | 100x100 | 300x300 | "
+                                   "growth 100x100 to 300x300 (particles x9) |")
+        verlet = next(line for line in lines if line.startswith("| verlet "))
+        self.assertIn("x27 (3.00 x the particle ratio)", verlet)
+        self.assertIn("**2.7e+04** ms; 1200 substeps; stretch 5.00 %; error 0.40 %", verlet)
+        xpbd = next(line for line in lines if line.startswith("| xpbd "))
+        self.assertIn("64 substeps x 2 iterations", xpbd)
+        self.assertIn("x9 (1.00 x the particle ratio)", xpbd)
+        vbd = next(line for line in lines if line.startswith("| vbd "))
+        self.assertIn("no pass: slower than verlet", vbd)
+        self.assertTrue(vbd.endswith("| - |"), vbd)
+
+    def test_scaling_refuses_files_it_cannot_place(self):
+        row = [{"integrator": "euler", "rank": 1, "substeps": 4, "ms_per_frame": 2.0,
+                "error": 0.001}]
+        no_mesh = self.write_ranked(20, row, mesh=False)
+        result = run_plot("scaling", no_mesh, "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertIn("settings.mesh missing", result.stderr)
+        twice = self.write_ranked(30, row)
+        result = run_plot("scaling", twice, twice, "--growth-from", "30x30", "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("two files of the same mesh (30x30, 30x30)", result.stderr)
+        result = run_plot("scaling", twice, "--out", self.out)  # default --growth-from 100x100
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("--growth-from 100x100: not among the meshes 30x30", result.stderr)
+
     def test_bad_input_is_one_line_and_exit_code_1(self):
         with open(self.path("broken.json"), "w") as stream:
             stream.write("{\"rows\": [")
