@@ -6,9 +6,16 @@
 # the date, commit and load average (uptime) before and after it: on a shared machine the
 # ratios within one run are what count. Then:
 #   tools/plot.py scaling results/choose-cotton-flag-{50,100,200,300}-ranked.json --out docs/img
-# Usage: tools/choose-scaling.sh [side ...]   (from the repository root, after the build)
+# Usage: tools/choose-scaling.sh [side ...] [-- clothlab option ...]
+#   (from the repository root, after the build); the options after -- go to every run, e.g.
+#   -- --set choose.duration=0.25
 set -euo pipefail
-sides=("$@")
+sides=()
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do
+  sides+=("$1")
+  shift
+done
+[ $# -eq 0 ] || shift
 [ ${#sides[@]} -gt 0 ] || sides=(50 100 200 300)
 mkdir -p results
 for side in "${sides[@]}"; do
@@ -17,11 +24,12 @@ for side in "${sides[@]}"; do
   log="results/choose-cotton-flag-$side.txt"
   {
     echo "commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD || echo ' (modified)')"
+    echo "options: ${*:-none}"
     echo "before: $(date -u '+%F %T UTC') $(uptime)"
   } >"$log"
   start=$(date +%s)
   build/bin/clothlab --choose --config "$config" --set plugin_params.implicit_euler.multigrid=1 \
-    >>"$log"
+    "$@" >>"$log"
   echo "after: $(date -u '+%F %T UTC') $(uptime); wall $(($(date +%s) - start)) s" >>"$log"
   cat "$log"
 done
