@@ -22,6 +22,11 @@
       n^1.5 guides; --table PATH also writes the Markdown table (setting, ms/frame, robust
       stretch, error per method and mesh, and each method's growth from --growth-from to the
       largest mesh against the particle ratio).
+  plot.py front results/choose-cotton-flag-300.json --out docs/img [--table front.md]
+      clothlab --choose probes of one scene that ran at its mesh (cost, error and robust
+      stretch all measured): real-time factor against error, one colour per integrator,
+      filled where no other probe is at least as good in all three (the front), each front
+      point labelled with its stretch; --table PATH writes the front as Markdown.
   plot.py energy energy-verlet.csv energy-xpbd.csv ... --out plots/
       total energy over time from clothlab --energy-out files, one line per file (named by
       the run's integrator): numerical damping made visible.
@@ -461,6 +466,68 @@ def plot_scaling(args):
     return written
 
 
+def dominates(a, b):
+    """a is at least as good as b in cost, error and robust stretch, and better in one."""
+    keys = ("ms_per_frame", "error", "max_stretch_away_from_pins")
+    return all(a[k] <= b[k] for k in keys) and any(a[k] < b[k] for k in keys)
+
+
+def plot_front(args):
+    rows = read_rows(args.results)
+    probes = [r for r in rows if r.get("kind") == "probe" and number(r.get("ms_per_frame"))
+              and number(r.get("error")) is not None
+              and number(r.get("max_stretch_away_from_pins")) is not None]
+    if not probes:
+        raise InputProblem(f"{args.results}: no choose probes with a cost, an error and a "
+                           "robust stretch (none ran at the scene's mesh)")
+    with open(args.results) as stream:
+        document = json.load(stream) if args.results.endswith(".json") else {}
+    sweep = document.get("sweep", {})
+    frame_ms = 1000 / (number(sweep.get("frame_rate")) or 60)
+    front = [p for p in probes if not any(dominates(q, p) for q in probes)]
+    figure, axis = plt.subplots(figsize=(7, 5))
+    for integrator in sorted({str(r.get("integrator")) for r in probes}):
+        colour = COLOURS.get(integrator)
+        for on_front in (True, False):
+            chosen = [r for r in probes if str(r.get("integrator")) == integrator
+                      and (r in front) == on_front]
+            if chosen:
+                axis.loglog([r["error"] for r in chosen],
+                            [frame_ms / r["ms_per_frame"] for r in chosen], "o", color=colour,
+                            markerfacecolor=colour if on_front else "none", linestyle="none",
+                            label=integrator + ("" if on_front else " (dominated)"))
+    for r in front:
+        axis.annotate(f"{100 * (r['max_stretch_away_from_pins'] - 1):.1f} %",
+                      (r["error"], frame_ms / r["ms_per_frame"]), fontsize=6,
+                      xytext=(3, 3), textcoords="offset points")
+    tolerance = number(sweep.get("error_tolerance"))
+    if tolerance is not None:
+        axis.axvline(tolerance, color="grey", linestyle="--", label=f"tolerance {tolerance:g}")
+    axis.axhline(1, color="grey", linestyle="-.", label="real time (RTF 1)")
+    axis.set_xlabel("RMS position error / cloth diagonal"
+                    + (f" (at {values_of(probes, 'error_mesh')})" if values_of(probes, "error_mesh")
+                       else ""))
+    axis.set_ylabel("real-time factor")
+    axis.set_title("choose: the front of real-time factor, error and robust stretch (filled; "
+                   "labels: stretch away from the pins)\n"
+                   f"cloth: {args.cloth}; machine: {args.machine}", fontsize=8)
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=6, loc="best")
+    written = save(figure, args.out, "choose-front")
+    if args.table:
+        lines = ["| method | setting | ms/frame | RTF | error | stretch away from the pins "
+                 "| passed (or why not) |", "|" + " --- |" * 7]
+        for r in sorted(front, key=lambda r: r["ms_per_frame"]):
+            lines.append(f"| {r.get('integrator')} | {setting_text(r)} | {r['ms_per_frame']:.4g} | "
+                         f"{frame_ms / r['ms_per_frame']:.3g} | {100 * r['error']:.2f} % | "
+                         f"{100 * (r['max_stretch_away_from_pins'] - 1):.2f} % | "
+                         + ("yes" if r.get("passed") else str(r.get("why", ""))[:120]) + " |")
+        with open(args.table, "w") as stream:
+            stream.write("\n".join(lines) + "\n")
+        written.append(args.table)
+    return written
+
+
 def read_energy(path):
     try:
         with open(path, newline="") as stream:
@@ -514,10 +581,14 @@ def main(argv=None):
     scaling.add_argument("--growth-from", default="100x100",
                          help="the mesh the growth column starts from (default 100x100)")
     scaling.set_defaults(run=plot_scaling)
+    front = commands.add_parser("front", help="clothlab --choose probes: RTF vs error vs stretch")
+    front.add_argument("results")
+    front.add_argument("--table", help="also write the front as a Markdown table to this path")
+    front.set_defaults(run=plot_front)
     energy = commands.add_parser("energy", help="energy over time per integrator")
     energy.add_argument("traces", nargs="+")
     energy.set_defaults(run=plot_energy)
-    for command in (wp, st, cost, choose, scaling, energy):
+    for command in (wp, st, cost, choose, scaling, front, energy):
         command.add_argument("--out", default="plots", help="output folder (default plots)")
         command.add_argument("--cloth", default="default cloth (plugins/README.md)",
                              help="the cloth (material) of the results, for the caption")

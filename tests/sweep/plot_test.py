@@ -201,6 +201,38 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn("--growth-from 100x100: not among the meshes 30x30", result.stderr)
 
+    def test_front_of_cost_error_and_stretch(self):
+        def probe(integrator, substeps, iterations, ms, error, stretch, passed=False):
+            return {"key": f"{integrator}{substeps}x{iterations}", "kind": "probe",
+                    "integrator": integrator, "substeps": substeps, "iterations": iterations,
+                    "ms_per_frame": ms, "error": error, "max_stretch_away_from_pins": stretch,
+                    "error_mesh": "100x100", "passed": passed, "why": "" if passed else "too soft"}
+        rows = [probe("verlet", 2048, 0, 1000.0, 0.002, 1.05, passed=True),
+                probe("xpbd", 64, 1, 100.0, 0.03, 1.40),       # cheapest: on the front
+                probe("xpbd", 128, 1, 200.0, 0.02, 1.30),      # better error and stretch: on it
+                probe("xpbd", 256, 1, 400.0, 0.02, 1.30),      # dominated by 128 (cost)
+                probe("vbd", 8, 4, 1500.0, 0.002, 1.05),       # dominated by verlet (cost)
+                probe("euler", 64, 0, None, 0.5, None)]        # never ran at the scene's mesh
+        with open(self.path("choose.json"), "w") as stream:
+            json.dump({"sweep": {"frame_rate": 60, "error_tolerance": 0.01}, "rows": rows}, stream)
+        table = self.path("front.md")
+        result = run_plot("front", self.path("choose.json"), "--out", self.out, "--table", table)
+        self.assert_written(result, ["choose-front"])
+        svg = self.svg("choose-front")
+        self.assertIn("xpbd (dominated)", svg)
+        self.assertIn("vbd (dominated)", svg)
+        self.assertNotIn("euler", svg)
+        with open(table) as stream:
+            lines = stream.read().splitlines()[2:]
+        self.assertEqual([line.split(" | ")[0:2] for line in lines],
+                         [["| xpbd", "64 substeps x 1 iterations"],
+                          ["| xpbd", "128 substeps x 1 iterations"], ["| verlet", "2048 substeps"]])
+        self.assertIn("| 1000 | 0.0167 | 0.20 % | 5.00 % | yes |", lines[2])
+        self.assertTrue(lines[0].endswith("| too soft |"), lines[0])
+        result = run_plot("front", self.path("missing.json"), "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("missing.json", result.stderr)
+
     def test_bad_input_is_one_line_and_exit_code_1(self):
         with open(self.path("broken.json"), "w") as stream:
             stream.write("{\"rows\": [")
