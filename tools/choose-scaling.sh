@@ -9,6 +9,8 @@
 # Usage: tools/choose-scaling.sh [side ...] [-- clothlab option ...]
 #   (from the repository root, after the build); the options after -- go to every run, e.g.
 #   -- --set choose.duration=0.25
+# CHOOSE_TAG=name writes results/choose-cotton-flag-<side>-<name>.* instead (another search
+# of the same scene, e.g. one integrator alone: -- --set 'choose.integrators=[implicit_euler]').
 set -euo pipefail
 sides=()
 while [ $# -gt 0 ] && [ "$1" != "--" ]; do
@@ -21,7 +23,8 @@ mkdir -p results
 for side in "${sides[@]}"; do
   config="configs/choose-cotton-flag-$side.yaml"
   [ -f "$config" ] || { echo "choose-scaling.sh: $config: no preset for side $side" >&2; exit 1; }
-  log="results/choose-cotton-flag-$side.txt"
+  output="results/choose-cotton-flag-$side${CHOOSE_TAG:+-$CHOOSE_TAG}"
+  log="$output.txt"
   {
     echo "commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD || echo ' (modified)')"
     echo "options: ${*:-none}"
@@ -29,7 +32,7 @@ for side in "${sides[@]}"; do
   } >"$log"
   start=$(date +%s)
   build/bin/clothlab --choose --config "$config" --set plugin_params.implicit_euler.multigrid=1 \
-    "$@" >>"$log"
+    --set choose.output="$output" "$@" >>"$log"
   echo "after: $(date -u '+%F %T UTC') $(uptime); wall $(($(date +%s) - start)) s" >>"$log"
   cat "$log"
 done
