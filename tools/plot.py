@@ -40,6 +40,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 import matplotlib
@@ -381,6 +382,18 @@ def setting_text(row):
     return text + (f" x {int(iterations)} iterations" if iterations else "")
 
 
+def cost_bound(verdict):
+    """The least ms/frame a search stopped by --choose's cost budget proves for its
+    integrator's passing settings, from the verdict ("so 65 to 128 substeps cost at least X
+    ms/frame", or where the stopped setting is the first candidate, "its fastest of 5 first
+    frames took X ms"); None for any other verdict."""
+    if not verdict.startswith("slower than"):
+        return None
+    found = re.search(r"cost at least ([0-9.e+]+) ms/frame", verdict) or \
+        re.search(r"first frames took ([0-9.e+]+) ms", verdict)
+    return float(found.group(1)) if found else None
+
+
 def growth_table(meshes, growth_from):
     """Markdown: per integrator and mesh the cheapest passing setting and its figures, then
     the growth of ms/frame from growth_from to the largest mesh against the particle ratio."""
@@ -400,7 +413,9 @@ def growth_table(meshes, growth_from):
             if row is None:
                 cells.append("not searched")
             elif number(row.get("ms_per_frame")) is None or row.get("rank") is None:
-                cells.append("no pass: " + str(row.get("verdict", "")).split(";")[0][:90])
+                bound = cost_bound(str(row.get("verdict", "")))
+                cells.append(f">= {bound:.4g} ms (stopped by the cost budget)" if bound else
+                             "no pass: " + str(row.get("verdict", "")).split(";")[0][:90])
             else:
                 cost[mesh] = row["ms_per_frame"]
                 stretch = number(row.get("max_stretch_away_from_pins"))

@@ -158,7 +158,15 @@ class PlotTest(unittest.TestCase):
             ranking.append({"integrator": "vbd", "rank": 3, "substeps": 8, "ms_per_frame": 9.0,
                             "error": 0.002} if side == 50 else
                            {"integrator": "vbd", "rank": None, "ms_per_frame": None,
-                            "verdict": "slower than verlet; stopped"})
+                            "verdict": "no setting passed up to 4096 substeps"})
+            # Stopped by the cost budget: the bound its verdict proves, first-frames form at
+            # 100x100, the bracket's at 300x300.
+            ranking.append({"integrator": "rk4", "rank": None, "ms_per_frame": None,
+                            "verdict": "slower than verlet at 192 substeps (71.47 ms/frame): "
+                            + ("its fastest of 5 first frames took 92.44 ms (twice), over 1 x "
+                               "(stop_factor / 2); stopped at 1 substep" if side == 100 else
+                               "its fastest of 5 first frames took 332.1 ms (twice), so 65 to "
+                               "128 substeps cost at least 168.7 ms/frame, over 1 x")})
             paths.append(self.write_ranked(side, ranking))
         table = self.path("scaling.md")
         result = run_plot("scaling", *reversed(paths), "--out", self.out, "--table", table,
@@ -182,8 +190,12 @@ class PlotTest(unittest.TestCase):
         self.assertIn("64 substeps x 2 iterations", xpbd)
         self.assertIn("x9 (1.00 x the particle ratio)", xpbd)
         vbd = next(line for line in lines if line.startswith("| vbd "))
-        self.assertIn("no pass: slower than verlet", vbd)
+        self.assertIn("no pass: no setting passed up to 4096 substeps", vbd)
         self.assertTrue(vbd.endswith("| - |"), vbd)
+        rk4 = next(line for line in lines if line.startswith("| rk4 "))
+        self.assertEqual(rk4, "| rk4 | >= 168.7 ms (stopped by the cost budget) | >= 92.44 ms "
+                              "(stopped by the cost budget) | >= 168.7 ms (stopped by the cost "
+                              "budget) | - |")
 
     def test_scaling_refuses_files_it_cannot_place(self):
         row = [{"integrator": "euler", "rank": 1, "substeps": 4, "ms_per_frame": 2.0,
