@@ -447,6 +447,14 @@ def plot_scaling(args):
         points = [(mesh_particles(mesh), r["ms_per_frame"]) for mesh, _, ranking in meshes
                   for r in ranking if str(r.get("integrator")) == integrator
                   and r.get("rank") is not None and number(r.get("ms_per_frame")) is not None]
+        # A search stopped by the cost budget: the least cost its verdict proves, hollow.
+        bounds = [(mesh_particles(mesh), cost_bound(str(r.get("verdict", ""))))
+                  for mesh, _, ranking in meshes for r in ranking
+                  if str(r.get("integrator")) == integrator and r.get("rank") is None]
+        bounds = [(n, bound) for n, bound in bounds if bound]
+        if bounds:
+            axis.loglog(*zip(*bounds), "^", color=COLOURS.get(integrator), markerfacecolor="none",
+                        linestyle="none", label=f"{integrator}: at least (stopped)")
         if not points:
             continue
         anchors.append(points[0])

@@ -176,6 +176,7 @@ class PlotTest(unittest.TestCase):
         self.assertIn("verlet (slope 1.50)", svg)
         self.assertIn("xpbd (slope 1.00)", svg)
         self.assertIn(">vbd<", svg)  # one point: no slope
+        self.assertIn("rk4: at least (stopped)", svg)
         for fact in ("n^1 guide", "n^1.5 guide", "meshes 50x50, 100x100, 300x300",
                      "cloth: cotton", "machine: test machine"):
             self.assertIn(fact, svg)
