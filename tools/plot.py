@@ -16,6 +16,17 @@
       clothlab --choose probes: cost per frame against position error, one colour per
       integrator (filled: the probe passed every criterion; hollow: it failed one), with the
       tolerance as a line.
+  plot.py scaling results/choose-cotton-flag-{50,100,200,300}-ranked.json --out docs/img
+      clothlab --choose's ranked files of one scene at several meshes: ms per frame of each
+      integrator's cheapest passing setting against particle count, log-log, with n^1 and
+      n^1.5 guides; --table PATH also writes the Markdown table (setting, ms/frame, robust
+      stretch, error per method and mesh, and each method's growth from --growth-from to the
+      largest mesh against the particle ratio).
+  plot.py front results/choose-cotton-flag-300.json --out docs/img [--table front.md]
+      clothlab --choose probes of one scene that ran at its mesh (cost, error and robust
+      stretch all measured): real-time factor against error, one colour per integrator,
+      filled where no other probe is at least as good in all three (the front), each front
+      point labelled with its stretch; --table PATH writes the front as Markdown.
   plot.py energy energy-verlet.csv energy-xpbd.csv ... --out plots/
       total energy over time from clothlab --energy-out files, one line per file (named by
       the run's integrator): numerical damping made visible.
@@ -29,6 +40,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 import matplotlib
@@ -48,7 +60,8 @@ ASYMPTOTIC_POINTS = 4
 FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
            "verlet": "tab:red", "forward-euler": "tab:purple", "implicit_euler": "tab:brown",
-           "projective_dynamics": "tab:pink", "xpbd": "tab:olive"}
+           "projective_dynamics": "tab:pink", "xpbd": "tab:olive", "xpbd_tethers": "tab:cyan",
+           "vbd": "tab:gray"}
 
 
 class InputProblem(Exception):
@@ -344,6 +357,200 @@ def plot_choose(args):
     return save(figure, args.out, "choose-cost-error")
 
 
+def read_ranked(path):
+    """A clothlab --choose ranked file: (scene mesh, its settings, its ranking rows)."""
+    try:
+        with open(path) as stream:
+            document = json.load(stream)
+    except OSError as error:
+        raise InputProblem(f"{path}: cannot read results: {error.strerror}")
+    except json.JSONDecodeError as error:
+        raise InputProblem(f"{path}: not a results file: {error}")
+    if not isinstance(document, dict) or not isinstance(document.get("ranking"), list):
+        raise InputProblem(f"{path}: expected clothlab --choose's -ranked.json (a \"ranking\" list)")
+    settings = document.get("settings") or {}
+    mesh = settings.get("mesh")
+    if not mesh:
+        raise InputProblem(f"{path}: settings.mesh missing: rerun --choose with scenario.rows and "
+                           "scenario.cols (or mesh) set")
+    return str(mesh), settings, document["ranking"]
+
+
+def setting_text(row):
+    iterations = number(row.get("iterations"))
+    text = f"{int(row['substeps'])} substeps"
+    return text + (f" x {int(iterations)} iterations" if iterations else "")
+
+
+def cost_bound(verdict):
+    """The least ms/frame a search stopped by --choose's cost budget proves for its
+    integrator's passing settings, from the verdict ("so 65 to 128 substeps cost at least X
+    ms/frame", or where the stopped setting is the first candidate, "its fastest of 5 first
+    frames took X ms"); None for any other verdict."""
+    if not verdict.startswith("slower than"):
+        return None
+    found = re.search(r"cost at least ([0-9.e+]+) ms/frame", verdict) or \
+        re.search(r"first frames took ([0-9.e+]+) ms", verdict)
+    return float(found.group(1)) if found else None
+
+
+def growth_table(meshes, growth_from):
+    """Markdown: per integrator and mesh the cheapest passing setting and its figures, then
+    the growth of ms/frame from growth_from to the largest mesh against the particle ratio."""
+    largest = meshes[-1][0]
+    ratio = mesh_particles(largest) / mesh_particles(growth_from)
+    integrators = []
+    for _, _, ranking in meshes:
+        integrators += [str(r.get("integrator")) for r in ranking
+                        if str(r.get("integrator")) not in integrators]
+    header = ["method"] + [mesh for mesh, _, _ in meshes] + [
+        f"growth {growth_from} to {largest} (particles x{ratio:g})"]
+    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    for integrator in integrators:
+        cells, cost = [], {}
+        for mesh, _, ranking in meshes:
+            row = next((r for r in ranking if str(r.get("integrator")) == integrator), None)
+            if row is None:
+                cells.append("not searched")
+            elif number(row.get("ms_per_frame")) is None or row.get("rank") is None:
+                bound = cost_bound(str(row.get("verdict", "")))
+                cells.append(f">= {bound:.4g} ms (stopped by the cost budget)" if bound else
+                             "no pass: " + str(row.get("verdict", "")).split(";")[0][:90])
+            else:
+                cost[mesh] = row["ms_per_frame"]
+                stretch = number(row.get("max_stretch_away_from_pins"))
+                cells.append(f"**{row['ms_per_frame']:.4g}** ms; {setting_text(row)}; "
+                             + (f"stretch {100 * (stretch - 1):.2f} %; " if stretch else "")
+                             + f"error {100 * row['error']:.2f} %")
+        if growth_from in cost and largest in cost:
+            growth = cost[largest] / cost[growth_from]
+            cells.append(f"x{growth:.3g} ({growth / ratio:.2f} x the particle ratio)")
+        else:
+            cells.append("-")
+        lines.append("| " + " | ".join([integrator] + cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_scaling(args):
+    meshes = sorted((read_ranked(path) for path in args.results),
+                    key=lambda entry: mesh_particles(entry[0]))
+    names = [mesh for mesh, _, _ in meshes]
+    if len(set(names)) != len(names):
+        raise InputProblem("scaling: two files of the same mesh (" + ", ".join(names) + ")")
+    if args.growth_from not in names:
+        raise InputProblem(f"--growth-from {args.growth_from}: not among the meshes "
+                           + ", ".join(names))
+    figure, axis = plt.subplots(figsize=(6.5, 4.8))
+    integrators = sorted({str(r.get("integrator")) for _, _, ranking in meshes for r in ranking})
+    anchors = []
+    for integrator in integrators:
+        points = [(mesh_particles(mesh), r["ms_per_frame"]) for mesh, _, ranking in meshes
+                  for r in ranking if str(r.get("integrator")) == integrator
+                  and r.get("rank") is not None and number(r.get("ms_per_frame")) is not None]
+        # A search stopped by the cost budget: the least cost its verdict proves, hollow.
+        bounds = [(mesh_particles(mesh), cost_bound(str(r.get("verdict", ""))))
+                  for mesh, _, ranking in meshes for r in ranking
+                  if str(r.get("integrator")) == integrator and r.get("rank") is None]
+        bounds = [(n, bound) for n, bound in bounds if bound]
+        if bounds:
+            axis.loglog(*zip(*bounds), "^", color=COLOURS.get(integrator), markerfacecolor="none",
+                        linestyle="none", label=f"{integrator}: at least (stopped)")
+        if not points:
+            continue
+        anchors.append(points[0])
+        label = integrator
+        if len(points) >= 2:
+            (n0, c0), (n1, c1) = points[0], points[-1]
+            label += f" (slope {math.log(c1 / c0) / math.log(n1 / n0):.2f})"
+        axis.loglog(*zip(*points), "o-", color=COLOURS.get(integrator), label=label)
+    if not anchors:
+        raise InputProblem("scaling: no integrator passed at any mesh")
+    # The guides start at the cheapest method's first point, so that a line parallel to one
+    # reads as that growth.
+    n0, c0 = min(anchors, key=lambda point: (point[0], point[1]))
+    n1 = mesh_particles(names[-1])
+    for power, style in ((1.0, ":"), (1.5, "--")):
+        axis.loglog([n0, n1], [c0, c0 * (n1 / n0) ** power], style, color="black", linewidth=1,
+                    label=f"n^{power:g} guide")
+    axis.axhline(1000 / float(meshes[0][1].get("frame_rate") or 60), color="grey",
+                 linestyle="-.", linewidth=1, label="real time (one frame)")
+    axis.set_xlabel("particles n")
+    axis.set_ylabel("ms per frame at the cheapest passing setting")
+    axis.set_title("choose: cost per frame against mesh size\n"
+                   f"meshes {', '.join(names)}; cloth: {args.cloth}; machine: {args.machine}",
+                   fontsize=8)
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=7, loc="upper left")
+    written = save(figure, args.out, "scaling")
+    if args.table:
+        with open(args.table, "w") as stream:
+            stream.write(growth_table(meshes, args.growth_from))
+        written.append(args.table)
+    return written
+
+
+def dominates(a, b):
+    """a is at least as good as b in cost, error and robust stretch, and better in one."""
+    keys = ("ms_per_frame", "error", "max_stretch_away_from_pins")
+    return all(a[k] <= b[k] for k in keys) and any(a[k] < b[k] for k in keys)
+
+
+def plot_front(args):
+    rows = read_rows(args.results)
+    probes = [r for r in rows if r.get("kind") == "probe" and number(r.get("ms_per_frame"))
+              and number(r.get("error")) is not None
+              and number(r.get("max_stretch_away_from_pins")) is not None]
+    if not probes:
+        raise InputProblem(f"{args.results}: no choose probes with a cost, an error and a "
+                           "robust stretch (none ran at the scene's mesh)")
+    with open(args.results) as stream:
+        document = json.load(stream) if args.results.endswith(".json") else {}
+    sweep = document.get("sweep", {})
+    frame_ms = 1000 / (number(sweep.get("frame_rate")) or 60)
+    front = [p for p in probes if not any(dominates(q, p) for q in probes)]
+    figure, axis = plt.subplots(figsize=(7, 5))
+    for integrator in sorted({str(r.get("integrator")) for r in probes}):
+        colour = COLOURS.get(integrator)
+        for on_front in (True, False):
+            chosen = [r for r in probes if str(r.get("integrator")) == integrator
+                      and (r in front) == on_front]
+            if chosen:
+                axis.loglog([r["error"] for r in chosen],
+                            [frame_ms / r["ms_per_frame"] for r in chosen], "o", color=colour,
+                            markerfacecolor=colour if on_front else "none", linestyle="none",
+                            label=integrator + ("" if on_front else " (dominated)"))
+    for r in front:
+        axis.annotate(f"{100 * (r['max_stretch_away_from_pins'] - 1):.1f} %",
+                      (r["error"], frame_ms / r["ms_per_frame"]), fontsize=6,
+                      xytext=(3, 3), textcoords="offset points")
+    tolerance = number(sweep.get("error_tolerance"))
+    if tolerance is not None:
+        axis.axvline(tolerance, color="grey", linestyle="--", label=f"tolerance {tolerance:g}")
+    axis.axhline(1, color="grey", linestyle="-.", label="real time (RTF 1)")
+    axis.set_xlabel("RMS position error / cloth diagonal"
+                    + (f" (at {values_of(probes, 'error_mesh')})" if values_of(probes, "error_mesh")
+                       else ""))
+    axis.set_ylabel("real-time factor")
+    axis.set_title("choose: the front of real-time factor, error and robust stretch (filled; "
+                   "labels: stretch away from the pins)\n"
+                   f"cloth: {args.cloth}; machine: {args.machine}", fontsize=8)
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=6, loc="best")
+    written = save(figure, args.out, "choose-front")
+    if args.table:
+        lines = ["| method | setting | ms/frame | RTF | error | stretch away from the pins "
+                 "| passed (or why not) |", "|" + " --- |" * 7]
+        for r in sorted(front, key=lambda r: r["ms_per_frame"]):
+            lines.append(f"| {r.get('integrator')} | {setting_text(r)} | {r['ms_per_frame']:.4g} | "
+                         f"{frame_ms / r['ms_per_frame']:.3g} | {100 * r['error']:.2f} % | "
+                         f"{100 * (r['max_stretch_away_from_pins'] - 1):.2f} % | "
+                         + ("yes" if r.get("passed") else str(r.get("why", ""))[:120]) + " |")
+        with open(args.table, "w") as stream:
+            stream.write("\n".join(lines) + "\n")
+        written.append(args.table)
+    return written
+
+
 def read_energy(path):
     try:
         with open(path, newline="") as stream:
@@ -390,10 +597,21 @@ def main(argv=None):
     choose = commands.add_parser("choose", help="clothlab --choose: cost per frame vs error")
     choose.add_argument("results")
     choose.set_defaults(run=plot_choose)
+    scaling = commands.add_parser("scaling", help="clothlab --choose at several meshes: "
+                                  "ms per frame vs particles")
+    scaling.add_argument("results", nargs="+", help="the -ranked.json of each mesh")
+    scaling.add_argument("--table", help="also write the Markdown table to this path")
+    scaling.add_argument("--growth-from", default="100x100",
+                         help="the mesh the growth column starts from (default 100x100)")
+    scaling.set_defaults(run=plot_scaling)
+    front = commands.add_parser("front", help="clothlab --choose probes: RTF vs error vs stretch")
+    front.add_argument("results")
+    front.add_argument("--table", help="also write the front as a Markdown table to this path")
+    front.set_defaults(run=plot_front)
     energy = commands.add_parser("energy", help="energy over time per integrator")
     energy.add_argument("traces", nargs="+")
     energy.set_defaults(run=plot_energy)
-    for command in (wp, st, cost, choose, energy):
+    for command in (wp, st, cost, choose, scaling, front, energy):
         command.add_argument("--out", default="plots", help="output folder (default plots)")
         command.add_argument("--cloth", default="default cloth (plugins/README.md)",
                              help="the cloth (material) of the results, for the caption")

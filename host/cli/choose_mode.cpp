@@ -86,6 +86,19 @@ void predict_local_solvers(std::vector<sweep::ChoiceCandidate>& candidates,
   }
 }
 
+// The scene's mesh as its settings give it ("200x200"), so that tables across meshes can be
+// drawn from the ranked files alone (tools/plot.py scaling); null where the scenario's own
+// default size stands.
+nlohmann::ordered_json scene_mesh(const RunConfig& run) {
+  std::string rows, cols;
+  for (const Setting& setting : run.scenario_params) {
+    if (setting.key == "rows") rows = setting.value;
+    if (setting.key == "cols") cols = setting.value;
+  }
+  if (rows.empty() || cols.empty()) return nullptr;
+  return rows + "x" + cols;
+}
+
 bool is_frame_or_choice_key(const std::string& key) {
   return key == "frame_rate" || key == "substeps" || key == "dt" || key.starts_with("choose.") ||
          key == "integrator.plugin";
@@ -161,6 +174,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
     ranked["scene"] =
         base.key.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(base.key);
     ranked["settings"] = {
+        {"mesh", scene_mesh(whole.run)},
         {"frame_rate", choice.frame_rate},
         {"T", choice.duration},
         {"error_T", choice.error_duration > 0 ? choice.error_duration : choice.duration},

@@ -699,6 +699,20 @@ TEST_F(Clothlab, ChooseRunsTheDefaultScenario) {
   EXPECT_NE(outcome.out.find("1    euler"), std::string::npos) << outcome.out;
 }
 
+// The ranked file names the scene's mesh, so that tools/plot.py scaling can place a search
+// among other meshes' from the file alone; null where the scenario's default size stands.
+TEST_F(Clothlab, ChooseRankedFileNamesTheSceneMesh) {
+  const std::string common =
+      "--choose --frame-rate 60 --set choose.output=choose/choose --set choose.duration=0.05 "
+      "--set choose.integrators=[euler] ";
+  ASSERT_EQ(run(common + "--set mesh=5x4").exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(read_text(file("choose/choose-ranked.json")))["settings"]["mesh"],
+            "5x4");
+  ASSERT_EQ(run(common + "--set scenario.rows=6 --set scenario.cols=3").exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(read_text(file("choose/choose-ranked.json")))["settings"]["mesh"],
+            "6x3");
+}
+
 // A local solver (xpbd declares CLOTHLAB_TRAIT_LOCAL_SOLVES) gets the substeps the m / h^2
 // bound predicts in its verdict and row; an explicit method does not.
 TEST_F(Clothlab, ChoosePredictsALocalSolversSubsteps) {

@@ -135,6 +135,117 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertIn("steps present: 0.001, 0.002", result.stderr)
 
+    def write_ranked(self, side, ranking, mesh=True):
+        path = self.path(f"choose-{side}-ranked.json")
+        settings = {"frame_rate": 60.0, "error_tolerance": 0.01}
+        if mesh:
+            settings["mesh"] = f"{side}x{side}"
+        with open(path, "w") as stream:
+            json.dump({"scene": None, "settings": settings, "ranking": ranking}, stream)
+        return path
+
+    def test_scaling_across_meshes(self):
+        # verlet grows as n^1.5, xpbd as n; vbd passes only at the smallest mesh.
+        paths = []
+        for side in (50, 100, 300):
+            n = side * side
+            ranking = [{"integrator": "verlet", "rank": 1, "substeps": side * 4,
+                        "ms_per_frame": 1e-3 * n ** 1.5, "error": 0.004,
+                        "max_stretch_away_from_pins": 1.05},
+                       {"integrator": "xpbd", "rank": 2, "substeps": 64, "iterations": 2,
+                        "ms_per_frame": 0.5 * n, "error": 0.008,
+                        "max_stretch_away_from_pins": 1.08}]
+            ranking.append({"integrator": "vbd", "rank": 3, "substeps": 8, "ms_per_frame": 9.0,
+                            "error": 0.002} if side == 50 else
+                           {"integrator": "vbd", "rank": None, "ms_per_frame": None,
+                            "verdict": "no setting passed up to 4096 substeps"})
+            # Stopped by the cost budget: the bound its verdict proves, first-frames form at
+            # 100x100, the bracket's at 300x300.
+            ranking.append({"integrator": "rk4", "rank": None, "ms_per_frame": None,
+                            "verdict": "slower than verlet at 192 substeps (71.47 ms/frame): "
+                            + ("its fastest of 5 first frames took 92.44 ms (twice), over 1 x "
+                               "(stop_factor / 2); stopped at 1 substep" if side == 100 else
+                               "its fastest of 5 first frames took 332.1 ms (twice), so 65 to "
+                               "128 substeps cost at least 168.7 ms/frame, over 1 x")})
+            paths.append(self.write_ranked(side, ranking))
+        table = self.path("scaling.md")
+        result = run_plot("scaling", *reversed(paths), "--out", self.out, "--table", table,
+                          "--machine", "test machine", "--cloth", "cotton")
+        self.assert_written(result, ["scaling"])
+        svg = self.svg("scaling")
+        self.assertIn("verlet (slope 1.50)", svg)
+        self.assertIn("xpbd (slope 1.00)", svg)
+        self.assertIn(">vbd<", svg)  # one point: no slope
+        self.assertIn("rk4: at least (stopped)", svg)
+        for fact in ("n^1 guide", "n^1.5 guide", "meshes 50x50, 100x100, 300x300",
+                     "cloth: cotton", "machine: test machine"):
+            self.assertIn(fact, svg)
+        with open(table) as stream:
+            lines = stream.read().splitlines()
+        self.assertEqual(lines[0], "| method | 50x50 | 100x100 | 300x300 | "
+                                   "growth 100x100 to 300x300 (particles x9) |")
+        verlet = next(line for line in lines if line.startswith("| verlet "))
+        self.assertIn("x27 (3.00 x the particle ratio)", verlet)
+        self.assertIn("**2.7e+04** ms; 1200 substeps; stretch 5.00 %; error 0.40 %", verlet)
+        xpbd = next(line for line in lines if line.startswith("| xpbd "))
+        self.assertIn("64 substeps x 2 iterations", xpbd)
+        self.assertIn("x9 (1.00 x the particle ratio)", xpbd)
+        vbd = next(line for line in lines if line.startswith("| vbd "))
+        self.assertIn("no pass: no setting passed up to 4096 substeps", vbd)
+        self.assertTrue(vbd.endswith("| - |"), vbd)
+        rk4 = next(line for line in lines if line.startswith("| rk4 "))
+        self.assertEqual(rk4, "| rk4 | >= 168.7 ms (stopped by the cost budget) | >= 92.44 ms "
+                              "(stopped by the cost budget) | >= 168.7 ms (stopped by the cost "
+                              "budget) | - |")
+
+    def test_scaling_refuses_files_it_cannot_place(self):
+        row = [{"integrator": "euler", "rank": 1, "substeps": 4, "ms_per_frame": 2.0,
+                "error": 0.001}]
+        no_mesh = self.write_ranked(20, row, mesh=False)
+        result = run_plot("scaling", no_mesh, "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertIn("settings.mesh missing", result.stderr)
+        twice = self.write_ranked(30, row)
+        result = run_plot("scaling", twice, twice, "--growth-from", "30x30", "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("two files of the same mesh (30x30, 30x30)", result.stderr)
+        result = run_plot("scaling", twice, "--out", self.out)  # default --growth-from 100x100
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("--growth-from 100x100: not among the meshes 30x30", result.stderr)
+
+    def test_front_of_cost_error_and_stretch(self):
+        def probe(integrator, substeps, iterations, ms, error, stretch, passed=False):
+            return {"key": f"{integrator}{substeps}x{iterations}", "kind": "probe",
+                    "integrator": integrator, "substeps": substeps, "iterations": iterations,
+                    "ms_per_frame": ms, "error": error, "max_stretch_away_from_pins": stretch,
+                    "error_mesh": "100x100", "passed": passed, "why": "" if passed else "too soft"}
+        rows = [probe("verlet", 2048, 0, 1000.0, 0.002, 1.05, passed=True),
+                probe("xpbd", 64, 1, 100.0, 0.03, 1.40),       # cheapest: on the front
+                probe("xpbd", 128, 1, 200.0, 0.02, 1.30),      # better error and stretch: on it
+                probe("xpbd", 256, 1, 400.0, 0.02, 1.30),      # dominated by 128 (cost)
+                probe("vbd", 8, 4, 1500.0, 0.002, 1.05),       # dominated by verlet (cost)
+                probe("euler", 64, 0, None, 0.5, None)]        # never ran at the scene's mesh
+        with open(self.path("choose.json"), "w") as stream:
+            json.dump({"sweep": {"frame_rate": 60, "error_tolerance": 0.01}, "rows": rows}, stream)
+        table = self.path("front.md")
+        result = run_plot("front", self.path("choose.json"), "--out", self.out, "--table", table)
+        self.assert_written(result, ["choose-front"])
+        svg = self.svg("choose-front")
+        self.assertIn("xpbd (dominated)", svg)
+        self.assertIn("vbd (dominated)", svg)
+        self.assertNotIn("euler", svg)
+        with open(table) as stream:
+            lines = stream.read().splitlines()[2:]
+        self.assertEqual([line.split(" | ")[0:2] for line in lines],
+                         [["| xpbd", "64 substeps x 1 iterations"],
+                          ["| xpbd", "128 substeps x 1 iterations"], ["| verlet", "2048 substeps"]])
+        self.assertIn("| 1000 | 0.0167 | 0.20 % | 5.00 % | yes |", lines[2])
+        self.assertTrue(lines[0].endswith("| too soft |"), lines[0])
+        result = run_plot("front", self.path("missing.json"), "--out", self.out)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("missing.json", result.stderr)
+
     def test_bad_input_is_one_line_and_exit_code_1(self):
         with open(self.path("broken.json"), "w") as stream:
             stream.write("{\"rows\": [")

@@ -75,6 +75,33 @@ TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
   EXPECT_EQ(cache.hits(), 1);
 }
 
+// --choose's error run at a 200 x 200 and at a 300 x 300 scene is the same 100 x 100 run
+// ("mesh" over the scene's rows and cols): one reference serves both, and the scene that is
+// 100 x 100 itself.
+TEST(TrajectoryCache, ServesTheSameMeshHoweverItIsSpelt) {
+  ScratchFolder folder;
+  TrajectoryCache cache(folder.path(), nullptr);
+  CountingRuns runs;
+  const auto scene = [](const std::string& side, const std::string& error_mesh) {
+    std::vector<Setting> settings = {{"scenario.rows", side, "test"},
+                                     {"scenario.cols", side, "test"}};
+    if (!error_mesh.empty()) settings.push_back({"mesh", error_mesh, "test"});
+    return reference_case(settings);
+  };
+  cache.run(std::ref(runs), scene("200", "100x100"));
+  cache.run(std::ref(runs), scene("300", "100x100"));
+  cache.run(std::ref(runs), scene("100", ""));
+  EXPECT_EQ(runs.calls, 1);
+  EXPECT_EQ(cache.hits(), 2);
+  cache.run(std::ref(runs), scene("200", "100x50"));
+  cache.run(std::ref(runs), scene("100", "100x50"));
+  EXPECT_EQ(runs.calls, 2);
+  // A later rows setting wins over the mesh, as in a run.
+  cache.run(std::ref(runs),
+            reference_case({{"mesh", "100x50", "test"}, {"scenario.rows", "40", "test"}}));
+  EXPECT_EQ(runs.calls, 3);
+}
+
 TEST(TrajectoryCache, KeepsNeitherUnstableRunsNorUnreadableFiles) {
   ScratchFolder folder;
   TrajectoryCache cache(folder.path(), nullptr);

@@ -1,5 +1,6 @@
 #include "clothlab/sweep/trajectory_cache.hpp"
 
+#include <clothlab/config/mesh_sides.hpp>
 #include <clothlab/io/atomic_file.hpp>
 #include <cmath>
 #include <fstream>
@@ -15,8 +16,19 @@ TrajectoryCache::TrajectoryCache(std::filesystem::path folder, PluginIdentity pl
 
 std::string TrajectoryCache::identity(const CaseSpec& c) const {
   std::map<std::string, std::string> effective;
-  for (const Setting& setting : c.settings)
-    if (setting.key != "timeout") effective[setting.key] = setting.value;
+  for (const Setting& setting : c.settings) {
+    if (setting.key == "timeout") continue;
+    // "mesh" sets scenario.rows and scenario.cols: the same run however it is spelt (--choose
+    // gives its error mesh as "mesh" over the scene's rows and cols, so the error run of a
+    // 200 x 200 and of a 300 x 300 scene is one run).
+    if (setting.key == "mesh") {
+      const config::MeshSides sides = config::mesh_sides(setting.value);
+      effective["scenario.rows"] = sides.rows;
+      effective["scenario.cols"] = sides.cols;
+    } else {
+      effective[setting.key] = setting.value;
+    }
+  }
   std::string text;
   for (const auto& [key, value] : effective) text += key + "=" + value + "\n";
   if (plugin_identity_)
