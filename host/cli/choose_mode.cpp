@@ -40,6 +40,8 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
         candidate.iterations_param = traits->iterations_param ? traits->iterations_param : "";
         candidate.substeps_param = traits->substeps_param ? traits->substeps_param : "";
         candidate.solves_locally = (traits->flags & CLOTHLAB_TRAIT_LOCAL_SOLVES) != 0;
+        candidate.moves_attachments = (traits->flags & CLOTHLAB_TRAIT_MOVES_ATTACHMENTS) != 0;
+        candidate.resolves_contacts = (traits->flags & CLOTHLAB_TRAIT_RESOLVES_CONTACTS) != 0;
       }
       const host::ParamSet params = integrator.default_params();
       for (const clothlab_param_spec& spec : params.specs()) {
@@ -72,8 +74,16 @@ void predict_local_solvers(std::vector<sweep::ChoiceCandidate>& candidates,
                            const sweep::CaseSpec& base, double frame_rate, CaseWorker& worker) {
   for (sweep::ChoiceCandidate& candidate : candidates) {
     if (!candidate.solves_locally) continue;
-    const nlohmann::json bound =
-        worker.local_solve(sweep::with_setting(base, "integrator.plugin", candidate.integrator));
+    nlohmann::json bound;
+    try {
+      bound =
+          worker.local_solve(sweep::with_setting(base, "integrator.plugin", candidate.integrator));
+    } catch (const host::InputError&) {
+      // The scene refuses the candidate (an attachment or a collider it cannot handle): the
+      // search lists it as refused with that reason; any other input error recurs at its
+      // first probe.
+      continue;
+    }
     if (!bound.is_object() || !bound["dt_max"].is_number()) continue;
     analysis::LocalSolveBound figures;
     figures.dt_max = bound["dt_max"].get<double>();

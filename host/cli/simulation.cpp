@@ -288,7 +288,14 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   for (auto* series : timing_series)
     series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
-  if (!colliders_.empty()) record.contacts.emplace().colliders = colliders_.size();
+  if (!colliders_.empty()) {
+    record.contacts.emplace().colliders = colliders_.size();
+    const std::span<const Collider> shapes = colliders_.at(0.0);
+    record.contacts->thickness =
+        std::min_element(shapes.begin(), shapes.end(), [](const Collider& a, const Collider& b) {
+          return a.thickness < b.thickness;
+        })->thickness;
+  }
   if (!attachments_->empty())
     record.attachments.emplace().particles = attachments_->particles().size();
   analysis::StabilityMonitor monitor(*cloth_, 0.0, config_.monitor);

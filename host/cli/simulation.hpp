@@ -94,6 +94,9 @@ struct RunRecord {
   struct ContactFigures {
     std::size_t colliders = 0;
     double max_penetration_over_run = 0;  // m, into a collider's surface, after any step
+    // The thinnest collider's thickness (m): a penetration past it went through the band the
+    // contacts keep clear, the bound `clothlab --choose` judges (no tunnelling).
+    double thickness = 0;
     uint32_t particles_inside_at_end = 0;
     // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
     // Cusick drape coefficient's projected area share); null without gravity.

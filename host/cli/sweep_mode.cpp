@@ -77,6 +77,15 @@ sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& wor
   trajectory.max_stretch = over_run("max_stretch");
   trajectory.max_stretch_away_from_pins = over_run("max_stretch_away_from_pins");
   trajectory.p99_stretch = over_run("p99_stretch");
+  if (run["attachments"].is_object())
+    trajectory.attached_particles = run["attachments"]["particles"].get<uint32_t>();
+  if (const nlohmann::json& contacts = run["contacts"]; contacts.is_object()) {
+    trajectory.colliders = contacts["colliders"].get<uint32_t>();
+    // A diverged run's penetration is a JSON null (not finite): NAN judges nothing.
+    if (contacts["max_penetration_over_run"].is_number())
+      trajectory.max_penetration = contacts["max_penetration_over_run"].get<double>();
+    trajectory.collider_thickness = contacts["thickness"].get<double>();
+  }
   trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();
   trajectory.ms_per_frame_p10 = run["ms_per_frame"]["p10"].get<double>();
   trajectory.verdict = verdict_of(run);

@@ -134,9 +134,12 @@ class Script {
   static BodyState within(const Segment& segment, double tau) {
     BodyState state{segment.start, {}, segment.heading, segment.turn_rate};
     if (segment.turn_rate == 0.0) {
-      const double covered =
-          segment.v0 * tau + (segment.v1 - segment.v0) * tau * tau / (2.0 * segment.duration);
-      const double speed = segment.v0 + (segment.v1 - segment.v0) * tau / segment.duration;
+      // A straight segment may last 0 s (walk.duration, run.duration = 0); only the ramps,
+      // at least 0.01 s long, divide by their duration.
+      const double acceleration =
+          segment.v1 == segment.v0 ? 0.0 : (segment.v1 - segment.v0) / segment.duration;
+      const double covered = segment.v0 * tau + acceleration * tau * tau / 2.0;
+      const double speed = segment.v0 + acceleration * tau;
       const Vec3 forward = yaw(segment.heading, {1.0, 0.0, 0.0});
       for (int axis = 0; axis < 3; ++axis) {
         state.position[axis] += covered * forward[axis];

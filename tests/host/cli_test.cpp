@@ -731,6 +731,31 @@ TEST_F(Clothlab, ChoosePredictsALocalSolversSubsteps) {
   EXPECT_NE(outcome.err.find("xpbd: the m / h^2 bound predicts"), std::string::npos) << outcome.err;
 }
 
+// On the cape (moving attachments and colliders), the integrators that cannot handle them are
+// listed as refused with what they lack instead of ending the search (vbd's m / h^2 bound is a
+// Simulation of the scene, which refuses it too), and the rows carry the penetration and the
+// thickness it is judged against.
+TEST_F(Clothlab, ChooseOnTheCapeRefusesWhatCannotHandleItAndJudgesThePenetration) {
+  const Outcome outcome =
+      run("--choose --frame-rate 60 --scenario cape --set scenario.rows=8 --set scenario.cols=6 "
+          "--set choose.output=choose/choose --set choose.duration=0.1 --set "
+          "choose.integrators=[verlet,vbd,euler]");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto ranked = nlohmann::json::parse(read_text(file("choose/choose-ranked.json")));
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto& row : ranked["ranking"]) rows[row["integrator"]] = row;
+  for (const char* refused : {"verlet", "vbd"}) {
+    const std::string verdict = rows.at(refused)["verdict"];
+    EXPECT_EQ(verdict.rfind("refused: does not resolve contacts", 0), 0u) << verdict;
+    EXPECT_NE(verdict.find("which the scene's 4 collider(s) need"), std::string::npos) << verdict;
+  }
+  ASSERT_EQ(rows.at("euler")["rank"], 1) << outcome.out;
+  EXPECT_EQ(rows.at("euler")["collider_thickness"], 0.01);
+  EXPECT_LE(rows.at("euler")["max_penetration"].get<double>(), 0.01);
+  EXPECT_NE(outcome.out.find("refused: does not resolve contacts"), std::string::npos)
+      << outcome.out;
+}
+
 // merge's words after "merge" were all taken for output names, so --help was one.
 TEST_F(Clothlab, MergeHelpPrintsItsUsageAndAnUnknownOptionIsOneLine) {
   const Outcome help = run("merge --help");

@@ -97,5 +97,25 @@ TEST_F(Cape, RunsOnAcrossTheLoopWithoutAJump) {
     EXPECT_NEAR(v[i], (std::array{0.0, 0.0, -1.5})[i % 3], 1e-12);
 }
 
+// The straight segments may last 0 s (configs/choose-cape-*.yaml compress the loop so): the
+// targets stay finite through them (they were NaN: 0 / 0 in the straight walk's distance).
+TEST_F(Cape, StraightSegmentsOfNoDurationKeepTheTargetsFinite) {
+  host::ParamSet params = library_.scenario().default_params();
+  for (const char* key : {"walk.duration", "run.duration"}) params.set(key, "0", "test");
+  const host::ScenarioInstance compressed = library_.scenario().create(params);
+  const uint32_t count = table_->count(compressed.get());
+  std::vector<double> x(3 * count), v(3 * count);
+  // Start 0.5 s, turn 1 s, speed-up 1 s, stop 1 s: the zero-length segments at 0.5 and 2.5 s.
+  for (const double t : {0.5, 0.50001, 2.5, 2.50001, 3.2}) {
+    clothlab_message message{};
+    ASSERT_EQ(table_->targets(compressed.get(), t, x.data(), v.data(), &message), CLOTHLAB_OK)
+        << message.text;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      EXPECT_TRUE(std::isfinite(x[i])) << "t = " << t << ", " << i;
+      EXPECT_TRUE(std::isfinite(v[i])) << "t = " << t << ", " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace clothlab::test

@@ -35,6 +35,8 @@ using testing::ScratchFolder;
 //   cornered:  the spring at a pin stretches 30 %, the rest of the cloth 2 %
 //   soft:      stretch (everywhere) 1 + 0.2 / substeps: 10 % at 2 substeps, a strain 1.5 x
 //              the reference's 2 % from 7 substeps
+//   tunneller: on a scene with colliders, lies 0.04 / substeps m deep in one (thickness 0.01 m,
+//              every other method 0.002 m deep): the thickness is kept from 4 substeps
 // Every run's robust stretch (away from the pins) is its maximum but for cornered's; its 99th
 // percentile half way to 1.
 // The reference (rk4, float64) sits at x = 0 with a difference `reference_gap` between its two
@@ -52,6 +54,9 @@ std::string rows_of(const CaseSpec& c) {
 struct FakeRuns {
   double reference_gap = 0.0;
   double reference_stretch = 0.0;
+  // The scene's attached particles and colliders, as every run reports them.
+  uint32_t attached_particles = 0;
+  uint32_t colliders = 0;
   double time_scale = 1.0;
   // "integrator substeps" whose first `bursts` short runs (the first frames) other jobs slow
   // 10-fold.
@@ -67,6 +72,8 @@ struct FakeRuns {
     ++calls;
     Trajectory run;
     run.diagonal = 1.0;
+    run.attached_particles = attached_particles;
+    run.colliders = colliders;
     if (c.precision == "float64") {
       run.positions = {c.dt > 3e-5 ? reference_gap : 0.0, 0, 0};  // the coarser of the two
       run.max_stretch = run.max_stretch_away_from_pins = reference_stretch;
@@ -119,6 +126,10 @@ struct FakeRuns {
       run.max_stretch_away_from_pins = 1.02;
     }
     run.p99_stretch = (1.0 + run.max_stretch_away_from_pins) / 2;
+    if (colliders > 0) {
+      run.collider_thickness = 0.01;
+      run.max_penetration = c.integrator == "tunneller" ? 0.04 / substeps : 0.002;
+    }
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
       run.verdict.reason = "energy";
@@ -556,6 +567,80 @@ TEST(IntegratorChoice, RefusesAnUnconvergedReference) {
       0.05;  // the two reference fixture.runs differ by 5 % of the diagonal
   EXPECT_THROW(fixture.choose({{"explicit", false}}), SweepError);
   EXPECT_EQ(fixture.runs.calls, 2);  // nothing judged against it
+}
+
+// On a scene with colliders, a probe whose particles lie deeper in a collider than its
+// thickness fails with both figures in its verdict (tunnelling), and a shallower one passes.
+TEST(IntegratorChoice, FailsAProbeThatPenetratesDeeperThanTheColliderThickness) {
+  Fixture fixture;
+  fixture.runs.colliders = 2;
+  ChoiceCandidate tunneller{"tunneller", false};
+  tunneller.resolves_contacts = true;
+  ChoiceCandidate steady{"steady", false};
+  steady.resolves_contacts = true;
+  const std::vector<Choice> choices = fixture.choose({steady, tunneller});
+  ASSERT_EQ(choices.size(), 2u);
+  const auto found = [&](const std::string& id) {
+    return *std::find_if(choices.begin(), choices.end(),
+                         [&](const Choice& choice) { return choice.integrator == id; });
+  };
+  const Choice tunnelling = found("tunneller");
+  ASSERT_TRUE(tunnelling.passed) << tunnelling.verdict;
+  EXPECT_EQ(tunnelling.substeps, 4u);  // 0.04 / 4 = the thickness; 2 substeps: 0.02 m
+  EXPECT_LE(tunnelling.max_penetration, 0.01);
+  EXPECT_EQ(tunnelling.collider_thickness, 0.01);
+  EXPECT_NE(fixture.progress.str().find(
+                "tunneller 2 substeps: penetration 0.02 m into a collider above its thickness "
+                "0.01 m"),
+            std::string::npos)
+      << fixture.progress.str();
+  const Choice shallow = found("steady");
+  ASSERT_TRUE(shallow.passed) << shallow.verdict;
+  EXPECT_EQ(shallow.substeps, 1u);
+  EXPECT_EQ(shallow.max_penetration, 0.002);
+  EXPECT_NE(choice_table(choices, fixture.settings).find("0.002 m"), std::string::npos);
+  const std::vector<Row> ranked = choice_rows(choices, fixture.settings);
+  EXPECT_EQ(ranked[0]["collider_thickness"], 0.01);
+  EXPECT_TRUE(ranked[0]["max_penetration"].is_number());
+}
+
+// Without colliders the penetration judges nothing and the rows leave it empty.
+TEST(IntegratorChoice, LeavesThePenetrationOutOnASceneWithoutColliders) {
+  Fixture fixture;
+  const std::vector<Choice> choices = fixture.choose({{"tunneller", false}});
+  ASSERT_TRUE(choices.at(0).passed) << choices[0].verdict;
+  EXPECT_EQ(choices[0].substeps, 1u);
+  EXPECT_TRUE(choice_rows(choices, fixture.settings).at(0)["max_penetration"].is_null());
+}
+
+// A candidate that lacks a trait the scene needs is listed as refused, with what is missing,
+// and never run; the others are searched as usual.
+TEST(IntegratorChoice, RefusesCandidatesThatCannotMoveAttachmentsOrResolveContacts) {
+  Fixture fixture;
+  fixture.runs.attached_particles = 20;
+  fixture.runs.colliders = 3;
+  ChoiceCandidate able{"steady", false};
+  able.moves_attachments = able.resolves_contacts = true;
+  ChoiceCandidate no_contacts{"explicit", false};
+  no_contacts.moves_attachments = true;
+  const ChoiceCandidate neither{"stretchy", false};
+  const std::vector<Choice> choices = fixture.choose({no_contacts, neither, able});
+  ASSERT_EQ(choices.size(), 3u);
+  EXPECT_EQ(choices[0].integrator, "steady");
+  EXPECT_TRUE(choices[0].passed);
+  EXPECT_EQ(choices[1].integrator, "explicit");
+  EXPECT_FALSE(choices[1].passed);
+  EXPECT_EQ(choices[1].verdict,
+            "refused: does not resolve contacts (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS), which the "
+            "scene's 3 collider(s) need");
+  EXPECT_EQ(choices[2].verdict,
+            "refused: does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS), which the "
+            "scene's 20 attached particle(s) need; does not resolve contacts (no "
+            "CLOTHLAB_TRAIT_RESOLVES_CONTACTS), which the scene's 3 collider(s) need");
+  for (const std::string& run : fixture.runs.runs) EXPECT_EQ(run.rfind("steady ", 0), 0u) << run;
+  EXPECT_NE(fixture.progress.str().find("choose [1/3] explicit: refused: "), std::string::npos);
+  EXPECT_NE(choice_table(choices, fixture.settings).find("refused: does not resolve contacts"),
+            std::string::npos);
 }
 
 }  // namespace

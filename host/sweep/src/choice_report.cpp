@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 
 #include "clothlab/sweep/progress.hpp"
@@ -33,6 +34,8 @@ void IntegratorSearch::store_row(const CaseSpec& c, uint32_t substeps, uint32_t 
   row["max_stretch"] = figure(probe.max_stretch);
   row["max_stretch_away_from_pins"] = figure(probe.max_stretch_away_from_pins);
   row["p99_stretch"] = figure(probe.p99_stretch);
+  row["max_penetration"] = figure(probe.max_penetration);
+  row["collider_thickness"] = figure(probe.collider_thickness);
   row["error"] = std::isfinite(probe.error) ? Row(probe.error) : Row();
   row["error_mesh"] = settings_.error_mesh.empty() ? "same" : settings_.error_mesh;
   row["passed"] = probe.passed;
@@ -81,6 +84,11 @@ std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSet
     row["max_stretch_away_from_pins"] =
         choice.passed ? Row(choice.max_stretch_away_from_pins) : Row();
     row["p99_stretch"] = choice.passed ? Row(choice.p99_stretch) : Row();
+    const auto figure = [&](double value) {
+      return choice.passed && std::isfinite(value) ? Row(value) : Row();
+    };
+    row["max_penetration"] = figure(choice.max_penetration);
+    row["collider_thickness"] = figure(choice.collider_thickness);
     row["predicted_substeps"] = choice.predicted_substeps ? Row(choice.predicted_substeps) : Row();
     row["verdict"] = choice.verdict;
     row["probes"] = choice.probes;
@@ -93,9 +101,10 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
   std::string text;
   char line[512];
   // "stretch": the robust figure judged (away from the pins); "max stretch": at the pins too.
-  std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %8s %11s  %s\n", "rank",
+  // "penetration": the deepest into a collider over the run (m), on scenes with colliders.
+  std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %8s %11s %11s  %s\n", "rank",
                 "integrator", "substeps", "iterations", "ms/frame", "RTF", "error", "stretch",
-                "max stretch", "verdict");
+                "max stretch", "penetration", "verdict");
   text += line;
   int rank = 0;
   for (const Choice& c : choices) {
@@ -106,14 +115,18 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
                                      : c.iterations_param == "iterations"
                                          ? std::to_string(c.iterations)
                                          : c.iterations_param + "=" + std::to_string(c.iterations);
-      std::snprintf(line, sizeof line, "%-4d %-20s %8u %10s %12.4g %8.3g %10s %8s %11s  %s\n",
+      char penetration[32] = "-";
+      if (std::isfinite(c.max_penetration))
+        std::snprintf(penetration, sizeof penetration, "%.3g m", c.max_penetration);
+      std::snprintf(line, sizeof line, "%-4d %-20s %8u %10s %12.4g %8.3g %10s %8s %11s %11s  %s\n",
                     ++rank, c.integrator.c_str(), c.substeps, iterations.c_str(), c.ms_per_frame,
                     1e3 / settings.frame_rate / c.ms_per_frame, percent(c.error).c_str(),
                     percent(c.max_stretch_away_from_pins - 1).c_str(),
-                    percent(c.max_stretch - 1).c_str(), c.verdict.c_str());
+                    percent(c.max_stretch - 1).c_str(), penetration, c.verdict.c_str());
     } else {
-      std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %8s %11s  %s\n", "-",
-                    c.integrator.c_str(), "-", "-", "-", "-", "-", "-", "-", c.verdict.c_str());
+      std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %8s %11s %11s  %s\n", "-",
+                    c.integrator.c_str(), "-", "-", "-", "-", "-", "-", "-", "-",
+                    c.verdict.c_str());
     }
     text += line;
   }

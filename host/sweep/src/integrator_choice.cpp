@@ -13,6 +13,28 @@ using choice_detail::error_duration;
 using choice_detail::percent;
 using host::format_number;
 
+namespace {
+
+// What the candidate lacks of what the scene needs (the reference's run shows the scene's
+// attachments and colliders), as "refused: ..."; empty when nothing.
+std::string refusal(const ChoiceCandidate& candidate, const Trajectory& reference) {
+  std::string missing;
+  if (reference.attached_particles > 0 && !candidate.moves_attachments)
+    missing =
+        "does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS), which the "
+        "scene's " +
+        std::to_string(reference.attached_particles) + " attached particle(s) need";
+  if (reference.colliders > 0 && !candidate.resolves_contacts)
+    missing += (missing.empty() ? "" : "; ") +
+               std::string(
+                   "does not resolve contacts (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS), "
+                   "which the scene's ") +
+               std::to_string(reference.colliders) + " collider(s) need";
+  return missing.empty() ? "" : "refused: " + missing;
+}
+
+}  // namespace
+
 std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& base,
                                        const std::vector<ChoiceCandidate>& candidates,
                                        const ChoiceSettings& settings,
@@ -58,6 +80,15 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
     std::string position = "[";
     position += std::to_string(i + 1) + "/" + std::to_string(candidates.size()) + "]";
     const ChoiceCandidate& candidate = candidates[i];
+    if (const std::string refused = refusal(candidate, reference); !refused.empty()) {
+      progress << "choose " << position << " " << candidate.integrator << ": " << refused << "\n"
+               << std::flush;
+      Choice choice;
+      choice.integrator = candidate.integrator;
+      choice.verdict = refused;
+      choices.push_back(choice);
+      continue;
+    }
     const std::string predicted = candidate.predicted_substeps == 0
                                       ? std::string()
                                       : "the m / h^2 bound predicts " +

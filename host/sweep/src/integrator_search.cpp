@@ -107,6 +107,8 @@ Choice IntegratorSearch::run() {
   choice.error = chosen.error;
   choice.max_stretch = chosen.max_stretch;
   choice.max_stretch_away_from_pins = chosen.max_stretch_away_from_pins;
+  choice.max_penetration = chosen.max_penetration;
+  choice.collider_thickness = chosen.collider_thickness;
   choice.p99_stretch = chosen.p99_stretch;
   choice.verdict =
       chosen.ms_per_frame <= 1e3 / settings_.frame_rate ? "real time" : "slower than real time";

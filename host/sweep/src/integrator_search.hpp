@@ -28,6 +28,7 @@ struct Probe {
   bool stopped = false;       // killed by the cost budget: slower than the best verdict so far
   double ms_per_frame = 0, error = NAN, max_stretch = NAN;
   double max_stretch_away_from_pins = NAN, p99_stretch = NAN;  // the robust figures over T
+  double max_penetration = NAN, collider_thickness = NAN;      // over the run at the mesh
   std::string why;  // the failed criterion; empty when passed
 };
 
@@ -115,6 +116,7 @@ class IntegratorSearch {
   bool judge_error_run(const CaseSpec& c, Probe& probe);
   bool judge_full_run(const CaseSpec& c, Probe& probe, double& wall_s);
   bool judge_stretch(const Trajectory& run, Probe& probe, const std::string& where) const;
+  bool judge_penetration(const Trajectory& run, Probe& probe, const std::string& where) const;
   bool judge_run(const Trajectory& run, Probe& probe, const std::string& where);
   bool judge_error(const Trajectory& measured, Probe& probe) const;
   bool judge_stretch_against_reference(const Trajectory& measured, Probe& probe) const;

@@ -35,7 +35,8 @@ bool IntegratorSearch::judge_first_frames(const CaseSpec& c, uint32_t substeps, 
   const auto limit = [&](double best) { return settings_.stop_factor / 2 * best / floor_fraction; };
   if (first.ms_per_frame_p10 <= limit(context_.best.ms_per_frame))
     return judge_run(first, probe, "in its first frames") &&
-           judge_stretch(first, probe, " in its first frames");
+           judge_stretch(first, probe, " in its first frames") &&
+           judge_penetration(first, probe, " in its first frames");
   const Trajectory again = attempt_within(short_case, timeout_s);
   const double fastest = again.verdict.stable() || !timed_out(again)
                              ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
@@ -47,7 +48,8 @@ bool IntegratorSearch::judge_first_frames(const CaseSpec& c, uint32_t substeps, 
   const double yardstick = std::max(context_.best.ms_per_frame, best_now);
   if (fastest <= limit(yardstick))
     return judge_run(first, probe, "in its first frames") &&
-           judge_stretch(first, probe, " in its first frames");
+           judge_stretch(first, probe, " in its first frames") &&
+           judge_penetration(first, probe, " in its first frames");
   char cost[192];
   int length = std::snprintf(
       cost, sizeof cost, "its fastest of %g first frames took %.4g ms (twice)", frames, fastest);
@@ -81,9 +83,11 @@ bool IntegratorSearch::judge_full_run(const CaseSpec& c, Probe& probe, double& w
   probe.max_stretch = run.max_stretch;
   probe.max_stretch_away_from_pins = run.max_stretch_away_from_pins;
   probe.p99_stretch = run.p99_stretch;
+  probe.max_penetration = run.max_penetration;
+  probe.collider_thickness = run.collider_thickness;
   wall_s = run.wall_s;
   if (stopped_by_budget(run, timeout_s, "its run", probe) || !judge_run(run, probe, "") ||
-      !judge_stretch(run, probe, ""))
+      !judge_stretch(run, probe, "") || !judge_penetration(run, probe, ""))
     return false;
   return !same_error_run() || judge_error(run, probe);
 }
@@ -98,6 +102,19 @@ bool IntegratorSearch::judge_stretch(const Trajectory& run, Probe& probe,
   probe.p99_stretch = run.p99_stretch;
   probe.why = "stretch " + format_number(run.max_stretch_away_from_pins) +
               " away from the pins above " + format_number(settings_.stretch_limit) + where;
+  return false;
+}
+
+// A particle deeper inside a collider's surface than its thickness went through the band the
+// contacts keep clear: at a larger penetration it tunnels through a thin body part.
+bool IntegratorSearch::judge_penetration(const Trajectory& run, Probe& probe,
+                                         const std::string& where) const {
+  if (!(run.max_penetration > run.collider_thickness)) return true;
+  probe.max_penetration = run.max_penetration;
+  probe.collider_thickness = run.collider_thickness;
+  probe.why = "penetration " + format_number(run.max_penetration) +
+              " m into a collider above its thickness " + format_number(run.collider_thickness) +
+              " m" + where;
   return false;
 }
 

@@ -58,6 +58,8 @@ Trajectory TrajectoryCache::run(const TrajectoryRunner& runner, const CaseSpec& 
         run.max_stretch_away_from_pins = cached.at("max_stretch_away_from_pins").get<double>();
         run.p99_stretch = cached.at("p99_stretch").get<double>();
         run.ms_per_frame = cached.at("ms_per_frame").get<double>();
+        run.attached_particles = cached.at("attached_particles").get<uint32_t>();
+        run.colliders = cached.at("colliders").get<uint32_t>();
         ++hits_;
         return run;
       }
@@ -74,7 +76,9 @@ Trajectory TrajectoryCache::run(const TrajectoryRunner& runner, const CaseSpec& 
                                  {"max_stretch", run.max_stretch},
                                  {"max_stretch_away_from_pins", run.max_stretch_away_from_pins},
                                  {"p99_stretch", run.p99_stretch},
-                                 {"ms_per_frame", run.ms_per_frame}};
+                                 {"ms_per_frame", run.ms_per_frame},
+                                 {"attached_particles", run.attached_particles},
+                                 {"colliders", run.colliders}};
   try {
     std::filesystem::create_directories(folder_);
     io::write_file_atomically(path, record.dump());

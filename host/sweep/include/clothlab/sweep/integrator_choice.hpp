@@ -12,6 +12,12 @@
 //     reference_stretch_factor x the reference's own (a method may not sag like a softer
 //     cloth). Both are measured on error_mesh (a smaller mesh where the scene's own would make
 //     the reference too expensive; the rows say which) with the same setting.
+// On a scene with colliders, a run at the scene's mesh also fails when a particle lay deeper
+// inside a collider's surface than the collider's thickness after a step (it went through the
+// band the contacts keep clear: tunnelling); the rows carry that largest penetration.
+// A candidate that lacks what the scene needs (its traits do not declare moving attachments or
+// resolving contacts, and the reference's run had attached particles or colliders) is not
+// searched: its row says "refused: ..." and what is missing.
 // The reference is compute_reference (work_precision.hpp): reference_integrator in float64 at
 // dt = 1 / (frame_rate reference_substeps), checked against dt / 2; its estimated own error is
 // stored with it. When the reference's two runs differ by more than the tolerance it is not
@@ -61,6 +67,7 @@
 //     double ends that substep count (the solver has converged there).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -109,6 +116,10 @@ struct ChoiceCandidate {
   bool solves_locally = false;
   uint32_t predicted_substeps = 0;
   std::string prediction = {};
+  // Its clothlab.integrator-traits/1 flags CLOTHLAB_TRAIT_MOVES_ATTACHMENTS and
+  // CLOTHLAB_TRAIT_RESOLVES_CONTACTS: a scene with attachments or colliders needs them.
+  bool moves_attachments = false;
+  bool resolves_contacts = false;
 };
 
 struct Choice {
@@ -119,7 +130,10 @@ struct Choice {
   std::string iterations_param;  // the parameter they set ("iterations", "max_iterations")
   double ms_per_frame = 0, error = 0, max_stretch = 0;
   double max_stretch_away_from_pins = 0, p99_stretch = 0;  // the robust figures over T
-  uint32_t predicted_substeps = 0;                         // ChoiceCandidate's
+  // Over the run at the scene's mesh: the deepest penetration of a collider's surface and the
+  // thinnest collider's thickness (m); NAN without colliders.
+  double max_penetration = NAN, collider_thickness = NAN;
+  uint32_t predicted_substeps = 0;  // ChoiceCandidate's
   // "real time", "slower than real time" or why nothing passed ("slower than <best> ...
   // (stopped at ...)", "too slow: ...", "converges elsewhere: ...", "no setting passed ...")
   std::string verdict;

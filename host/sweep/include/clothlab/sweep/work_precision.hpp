@@ -12,6 +12,7 @@
 // has no velocity forces and its own drag): their reference is themselves at dt_ref, per problem.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -34,6 +35,13 @@ struct Trajectory {
   // and its 99th percentile.
   double max_stretch_away_from_pins = 0.0;
   double p99_stretch = 0.0;
+  // What the scene needs of an integrator and the contacts over the run (issue 22): its
+  // attached particles and colliders (0: none), the deepest penetration of a collider's surface
+  // after a step (m) and the thinnest collider's thickness (m); both NAN without colliders.
+  uint32_t attached_particles = 0;
+  uint32_t colliders = 0;
+  double max_penetration = NAN;
+  double collider_thickness = NAN;
   double ms_per_frame = 0.0;      // median wall time of a frame (substeps steps), ms
   double ms_per_frame_p10 = 0.0;  // its 10th percentile: the least disturbed by other jobs
   CaseResult verdict;             // status Stable, or Unstable/Failed with step and reason
