@@ -164,7 +164,9 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
 // Chebyshev acceleration on: a grid cloth takes the general sweep (with weights of 1, the same
 // bits as the general host's plain sweep); off (rho 0, any delay): the grid path's bits. In
 // float32 the grid path's row kernels (the shared inverse mass, reciprocals) round otherwise
-// than the general sweep, which tells the two paths apart.
+// than the general sweep, which tells the two paths apart where the AVX-512 kernel is built; a
+// portable build's grid path gives the general sweep's bits, and only the first two checks hold
+// there.
 TEST(XpbdGrid, ChebyshevTakesTheGeneralPathAndOffKeepsTheGridPath) {
   std::vector<uint32_t> order(12);
   for (uint32_t c = 0; c < 12; ++c) order[c] = c;
@@ -175,9 +177,11 @@ TEST(XpbdGrid, ChebyshevTakesTheGeneralPathAndOffKeepsTheGridPath) {
       state_after<float>(rows, cols, true, order, 3, corner_pins, &unit_weights);
   const std::vector<double> grid_off =
       state_after<float>(rows, cols, true, order, 3, corner_pins, &off);
-  ASSERT_NE(grid, general) << "the two paths cannot be told apart";
   EXPECT_EQ(accelerated, general);
   EXPECT_EQ(grid_off, grid);
+#if defined(__AVX512F__) && defined(__BMI2__)
+  EXPECT_NE(grid, general) << "the two paths cannot be told apart";
+#endif
 }
 
 // The grid path keeps its displacements in v during a substep: the pins' velocities must
