@@ -104,9 +104,9 @@ const KeyInfo keys[] = {
      "precision", [](Configuration& c, const KeyValue& v) { c.run.float64 = v.text == "float64"; }},
     {"threads", T::Whole, 0, max_threads, "", nullptr, "0", "worker threads, 0 = all cores",
      "threads", [](Configuration& c, const KeyValue& v) { c.run.threads = whole<int>(v); }},
-    {"thread_team", T::Choice, 0, 0, "", "adaptive, fixed", "adaptive",
-     "adaptive: after a step whose threads lost a core to another process, steps run on one "
-     "thread for a while (docs/performance.md); fixed: every step on `threads`",
+    {"thread_team", T::Choice, 0, 0, "", "fixed, adaptive", "fixed",
+     "fixed: every step on `threads`; adaptive: after a step whose threads lost a core to "
+     "another process, steps run on one thread for a while (docs/performance.md)",
      nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.adaptive_threads = v.text == "adaptive"; }},
     {"timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "600",
