@@ -15,10 +15,10 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <clothlab/config/yaml_settings.hpp>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/sdk.hpp>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <random>
@@ -189,48 +189,18 @@ void Solve(benchmark::State& state) {
 
 using Ldlt = builtin::SimplicialLdltFactorization;
 using Cholmod = builtin::CholmodFactorization;
-BENCHMARK(Factor<Ldlt>)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(Factor<Cholmod>)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(Solve<Ldlt>)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(Solve<Cholmod>)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(MultigridSetup)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(MultigridSolve)
-    ->Arg(100)
-    ->Arg(200)
-    ->Arg(300)
-    ->Unit(benchmark::kMillisecond)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+// The flag sides every benchmark here runs, timed alike.
+void on_flag_sides(benchmark::internal::Benchmark* runs) {
+  runs->Arg(100)->Arg(200)->Arg(300)->Unit(benchmark::kMillisecond);
+  runs->MeasureProcessCPUTime()->UseRealTime();
+}
+
+BENCHMARK(Factor<Ldlt>)->Apply(on_flag_sides);
+BENCHMARK(Factor<Cholmod>)->Apply(on_flag_sides);
+BENCHMARK(Solve<Ldlt>)->Apply(on_flag_sides);
+BENCHMARK(Solve<Cholmod>)->Apply(on_flag_sides);
+BENCHMARK(MultigridSetup)->Apply(on_flag_sides);
+BENCHMARK(MultigridSolve)->Apply(on_flag_sides);
 
 }  // namespace
 }  // namespace clothlab::bench

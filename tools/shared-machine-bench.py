@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""The engine on a shared machine (issue 23): per-step median and p90 of the 300 x 300 rk4 flag
-(configs/bench-300-soft.yaml, float32, 2 threads, 400 steps), quiet and with one co-running
-busy process that this script starts before the run and stops after it.
+"""The engine on a shared machine (issue 23): per-step median and p90 of a scene, quiet and with
+one co-running busy process that this script starts before the run and stops after it. Scenes
+(--scene): rk4-300, the 300 x 300 rk4 flag (configs/bench-300-soft.yaml), steps of about 10 ms
+on two cores; verlet-200, the 200 x 200 cotton flag with verlet at 832 substeps per frame
+(configs/choose-cotton-flag-200.yaml), steps of about 1 ms. Float32, 2 threads, 400 steps.
 
 Each repetition runs every variant as a pair back to back, quiet then contended, so a drift of
 the machine's load hits both halves of a pair alike; the load average is read before each run.
@@ -12,8 +14,9 @@ The figures of a variant are the medians over repetitions of each run's median a
 the median over repetitions of the pairs' contended-p90 / quiet-p90 ratio; solo_q and solo_c
 are the steps the adaptive team ran on one thread (the run's counters.steps_on_one_thread).
 
-Usage: tools/shared-machine-bench.py [--bin DIR] [--reps R] [--steps S] [--threads T]
-                                     [--busy N] [--results DIR] [VARIANT ...]
+Usage: tools/shared-machine-bench.py [--bin DIR] [--scene rk4-300|verlet-200] [--reps R]
+                                     [--steps S] [--threads T] [--busy N] [--results DIR]
+                                     [VARIANT ...]
 Environment: none needed; the variants' assignments are added to this script's own."""
 import argparse
 import json
@@ -26,6 +29,13 @@ import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+SCENES = {
+    "rk4-300": ("rk4 flag 300x300", ["--config", str(ROOT / "configs/bench-300-soft.yaml"),
+                                     "--integrator", "rk4", "--scenario", "flag"]),
+    "verlet-200": ("verlet cotton flag 200x200 at 832 substeps",
+                   ["--config", str(ROOT / "configs/choose-cotton-flag-200.yaml"),
+                    "--set", "integrator=verlet", "--set", "substeps=832"]),
+}
 
 
 def parse_variant(text):
@@ -48,9 +58,8 @@ def load_average():
 
 def run_once(args, env, extra, json_path):
     threads = [] if "--threads" in extra else ["--threads", str(args.threads)]
-    command = [str(args.bin / "clothlab"), "--config", str(ROOT / "configs/bench-300-soft.yaml"),
-               "--integrator", "rk4", "--scenario", "flag", "--steps", str(args.steps),
-               "--quiet", "--json", str(json_path)] + threads + extra
+    command = [str(args.bin / "clothlab")] + SCENES[args.scene][1] + [
+        "--steps", str(args.steps), "--quiet", "--json", str(json_path)] + threads + extra
     result = subprocess.run(command, env={**os.environ, **env}, stdout=subprocess.DEVNULL)
     if result.returncode != 0:
         sys.exit(f"shared-machine-bench: {' '.join(command)} exited {result.returncode}")
@@ -81,6 +90,7 @@ def main():
     signal.signal(signal.SIGHUP, stop_on_signal)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bin", type=pathlib.Path, default=ROOT / "build/bin")
+    parser.add_argument("--scene", choices=sorted(SCENES), default="rk4-300")
     parser.add_argument("--reps", type=int, default=5)
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--threads", type=int, default=2)
@@ -101,7 +111,7 @@ def main():
     if subprocess.run(["git", "-C", str(ROOT), "diff", "--quiet", "HEAD"]).returncode != 0:
         commit += " (with local changes)"
     print(f"# {model}, {os.cpu_count()} CPUs; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())};"
-          f" commit {commit}; rk4 flag 300x300, {args.threads} threads, {args.steps} steps, "
+          f" commit {commit}; {SCENES[args.scene][0]}, {args.threads} threads, {args.steps} steps, "
           f"{args.reps} pairs, {args.busy} busy process(es) when contended")
     print("variant  rep  load_q  quiet_median  quiet_p90  load_c  contended_median  contended_p90"
           "  p90_ratio  solo_q  solo_c")

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <ctime>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -158,17 +157,6 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   system_.get_extension = &get_extension_callback;
 }
 
-namespace {
-
-// CPU time of all the process's threads, spinning ones included.
-double process_cpu_seconds() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-}  // namespace
-
 template <class Real>
 void ClothEngine<Real>::begin_step() {
   if (!parallel_capable_) return;
@@ -177,7 +165,6 @@ void ClothEngine<Real>::begin_step() {
   forces_->set_parallel(parallel_);
   if (jacobian_) jacobian_->set_parallel(parallel_);
   step_start_ = std::chrono::steady_clock::now();
-  step_cpu_start_s_ = process_cpu_seconds();
 }
 
 template <class Real>
@@ -185,7 +172,7 @@ void ClothEngine<Real>::end_step() {
   if (!parallel_capable_) return;
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start_).count();
-  governor_.finished(wall_s, process_cpu_seconds() - step_cpu_start_s_);
+  governor_.finished(wall_s);
 }
 
 template <class Real>

@@ -133,7 +133,6 @@ class ClothEngine final : public Engine {
   bool parallel_ = false;          // this step runs on the team
   TeamGovernor governor_{1, false};
   std::chrono::steady_clock::time_point step_start_{};
-  double step_cpu_start_s_ = 0;
 
   AlignedBuffer<Real> x_, v_, inverse_mass_;
   // 1 where a pinned particle lies within two rows and two columns: the springs that
@@ -153,9 +152,9 @@ class ClothEngine final : public Engine {
   std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
   AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
-  std::vector<Collider> colliders_;          // at the poses the host last set
-  AlignedBuffer<Real> path_start_;  // where each particle was at the last resolution or step start
-  std::vector<uint32_t> attached_;           // particles moved to the source's targets
+  std::vector<Collider> colliders_;  // at the poses the host last set
+  AlignedBuffer<Real> path_start_;   // where each particle was at the last resolution or step start
+  std::vector<uint32_t> attached_;   // particles moved to the source's targets
   std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
   AttachmentSource* attachment_source_ = nullptr;
   double contact_work_ = 0;  // energy the contact resolution has added (J)

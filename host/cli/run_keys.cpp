@@ -105,8 +105,8 @@ const KeyInfo keys[] = {
     {"threads", T::Whole, 0, max_threads, "", nullptr, "0", "worker threads, 0 = all cores",
      "threads", [](Configuration& c, const KeyValue& v) { c.run.threads = whole<int>(v); }},
     {"thread_team", T::Choice, 0, 0, "", "fixed, adaptive", "fixed",
-     "fixed: every step on `threads`; adaptive: after a step whose threads lost a core to "
-     "another process, steps run on one thread for a while (docs/performance.md)",
+     "fixed: every step on `threads`; adaptive: steps run on one thread while a step on one "
+     "thread, probed now and then, beats the team's (docs/performance.md)",
      nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.adaptive_threads = v.text == "adaptive"; }},
     {"timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "600",

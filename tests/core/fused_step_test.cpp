@@ -215,8 +215,9 @@ constexpr double kStep = 1e-3;
 
 // From the start state, kSteps steps of the scheme through the system's callbacks. With a
 // `bracketing` cloth each step is bracketed as a host does (Cloth::begin_step, end_step), and
-// steps 0 and kSteps / 2 also sleep inside their bracket: they get far less than their share
-// of CPU, as when another process takes a core, so the adaptive team runs the next ones alone.
+// steps 2 and kSteps / 2 + 2 also sleep inside their bracket: they take far longer than the
+// team steps before them, as when another process takes a core, so the adaptive team probes a
+// step alone, which beats the slow step, and runs the next ones alone.
 template <class Real, class Start>
 Trajectory run(const clothlab_system& system, uint32_t cols, const Scheme& scheme,
                Cloth* bracketing = nullptr) {
@@ -228,7 +229,7 @@ Trajectory run(const clothlab_system& system, uint32_t cols, const Scheme& schem
     if (bracketing) bracketing->begin_step();
     const clothlab_status status = system.step_rkn(system.context, step * kStep, kStep, &raw);
     if (bracketing) {
-      if (step % (kSteps / 2) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (step % (kSteps / 2) == 2) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       bracketing->end_step();
     }
     EXPECT_EQ(status, CLOTHLAB_OK) << "step " << step;
@@ -408,9 +409,9 @@ TEST(FusedStepAdaptiveTeam, StepsOnOneThreadGiveBitwiseTheSameState) {
     Cloth cloth(scene_for(c), Precision::Float32, {c.velocity_forces, 2, adaptive});
     const State end = run<float, float>(cloth.system(), c.cols, rk4(), &cloth).end;
     const State fixed = run_engine<float>(c, rk4(), 2).end;
-    // 4 after each sleeping step; more where this machine's other jobs took a core meanwhile.
+    // The probe after a sleeping step and its hold of 4; more where the team's tries lost.
     if (adaptive) {
-      EXPECT_GE(cloth.counters().steps_on_one_thread, 8u);
+      EXPECT_GE(cloth.counters().steps_on_one_thread, 5u);
     } else {
       EXPECT_EQ(cloth.counters().steps_on_one_thread, 0u);
     }

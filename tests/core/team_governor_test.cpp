@@ -1,58 +1,106 @@
-// The adaptive thread team (team_governor.hpp): when a step on the team got less than its share
-// of CPU the steps after it run on the calling thread, for a hold that doubles while tries of
-// the team still find a core taken and falls back once one gets its share. That the engine's
-// steps give the same bits either way: fused_step_test.cpp, FusedStepAdaptiveTeam.
+// The adaptive thread team (team_governor.hpp): team steps with a probe on one thread now and
+// then, alone for a hold when the probe beats the team, back to the team when its tries are
+// clearly faster. That the engine's steps give the same bits either way: fused_step_test.cpp,
+// FusedStepAdaptiveTeam.
 #include <gtest/gtest.h>
 
 #include <clothlab/core/team_governor.hpp>
+#include <string>
 #include <vector>
 
 namespace clothlab {
 namespace {
 
-constexpr double kWall = 1e-3;
-constexpr double kFullShare = 2 * kWall;  // two threads that both had their core
-constexpr double kHalfShare = kWall;      // one of them waited for a core the whole step
+// A machine on which a team step takes `team_s` and a step alone `alone_s`; the governor's
+// choices, step by step, as 'T' (team) and 'a' (alone).
+struct Machine {
+  double team_s, alone_s;
 
-// Steps that run on one thread before the team is tried again.
-int solo_steps_after(TeamGovernor& governor, double cpu_s) {
-  EXPECT_TRUE(governor.team_step());
-  governor.finished(kWall, cpu_s);
-  int solo = 0;
-  while (!governor.team_step()) {
-    governor.finished(kWall, 0.5 * kWall);
-    ++solo;
-    if (solo > 1000) break;
+  std::string run(TeamGovernor& governor, int steps) const {
+    std::string choices;
+    for (int step = 0; step < steps; ++step) {
+      const bool team = governor.team_step();
+      choices += team ? 'T' : 'a';
+      governor.finished(team ? team_s : alone_s);
+    }
+    return choices;
   }
-  return solo;
+};
+
+// The lengths of the runs of 'a' in a choice string.
+std::vector<int> alone_runs(const std::string& choices) {
+  std::vector<int> runs;
+  int length = 0;
+  for (const char choice : choices + 'T') {
+    if (choice == 'a') {
+      ++length;
+    } else if (length > 0) {
+      runs.push_back(length);
+      length = 0;
+    }
+  }
+  return runs;
 }
 
-TEST(TeamGovernor, AStepThatGotItsShareKeepsTheTeam) {
+TEST(TeamGovernor, AFasterTeamKeepsItsStepsAndProbesAtIntervalsThatDouble) {
   TeamGovernor governor(2, true);
-  for (int step = 0; step < 10; ++step) EXPECT_EQ(solo_steps_after(governor, kFullShare), 0);
+  const std::string choices = Machine{1e-3, 1.8e-3}.run(governor, 1000);
+  std::vector<std::size_t> probes;
+  for (std::size_t step = 0; step < choices.size(); ++step)
+    if (choices[step] == 'a') probes.push_back(step);
+  // 16, 32, 64, 128, 256, 256 team steps between single probes.
+  EXPECT_EQ(probes, (std::vector<std::size_t>{16, 49, 114, 243, 500, 757}));
 }
 
-TEST(TeamGovernor, AStepThatLostACoreRunsTheNextOnesAloneForAHoldThatDoubles) {
+TEST(TeamGovernor, AFasterThreadAloneRunsHoldsThatDoubleBetweenTriesOfTheTeam) {
   TeamGovernor governor(2, true);
-  std::vector<int> holds;
-  for (int try_count = 0; try_count < 9; ++try_count)
-    holds.push_back(solo_steps_after(governor, kHalfShare));
-  EXPECT_EQ(holds, (std::vector<int>{4, 8, 16, 32, 64, 128, 256, 256, 256}));
-  // A try that gets its share: the team stays, and the next loss holds for the least again.
-  EXPECT_EQ(solo_steps_after(governor, kFullShare), 0);
-  EXPECT_EQ(solo_steps_after(governor, kHalfShare), 4);
+  const std::string choices = Machine{3e-3, 2e-3}.run(governor, 3000);
+  EXPECT_EQ(choices.substr(0, 16), std::string(16, 'T'));
+  const std::vector<int> runs = alone_runs(choices);
+  ASSERT_GE(runs.size(), 8u);
+  // The probe, then its hold of 4, are one run; each later run is a hold after a failed try.
+  EXPECT_EQ(std::vector<int>(runs.begin(), runs.begin() + 8),
+            (std::vector<int>{5, 8, 16, 32, 64, 128, 256, 256}));
+  // Each try is kTrySteps team steps.
+  EXPECT_NE(choices.find(std::string(5, 'a') + "TTTT" + std::string(8, 'a')), std::string::npos);
 }
 
-TEST(TeamGovernor, JustBelowTheLeastShareIsALossJustAboveIsNot) {
+TEST(TeamGovernor, ATeamStepMuchSlowerThanTheRecentOnesProbesAtOnce) {
   TeamGovernor governor(2, true);
-  EXPECT_EQ(solo_steps_after(governor, 1.01 * TeamGovernor::kLeastShare * kFullShare), 0);
-  EXPECT_EQ(solo_steps_after(governor, 0.99 * TeamGovernor::kLeastShare * kFullShare), 4);
+  const Machine quiet{1e-3, 1.8e-3};
+  EXPECT_EQ(quiet.run(governor, 5), "TTTTT");
+  ASSERT_TRUE(governor.team_step());
+  governor.finished(1.6e-3);  // slower than 1.5 x the mean of the last five
+  EXPECT_FALSE(governor.team_step());
+  governor.finished(1.8e-3);  // the probe loses to the team's recent mean: the team goes on
+  EXPECT_TRUE(governor.team_step());
+}
+
+TEST(TeamGovernor, JustUnderTheSlowStepBoundIsNoProbe) {
+  TeamGovernor governor(2, true);
+  EXPECT_EQ((Machine{1e-3, 1.8e-3}.run(governor, 5)), "TTTTT");
+  governor.finished(1.49e-3);
+  EXPECT_TRUE(governor.team_step());
+}
+
+// Alone after a probe that won; then the tries of a team that takes `team_s`.
+std::string after_a_won_probe(double team_s) {
+  TeamGovernor governor(2, true);
+  Machine{1e-3, 1e-3}.run(governor, 16);
+  governor.finished(0.5e-3);  // the probe beats the team
+  return Machine{team_s, 1e-3}.run(governor, 4 + 4 + 8);
+}
+
+TEST(TeamGovernor, TheTeamComesBackOnlyWhenClearlyFasterThanTheHold) {
+  EXPECT_EQ(after_a_won_probe(0.89e-3), "aaaaTTTTTTTTTTTT");
+  EXPECT_EQ(after_a_won_probe(0.91e-3), "aaaaTTTTaaaaaaaa");
 }
 
 TEST(TeamGovernor, OneThreadOrDisabledAlwaysRunsTheTeam) {
   TeamGovernor one(1, true), disabled(2, false);
-  EXPECT_EQ(solo_steps_after(one, 0.0), 0);
-  EXPECT_EQ(solo_steps_after(disabled, 0.0), 0);
+  const Machine busy{3e-3, 1e-3};
+  EXPECT_EQ(busy.run(one, 300), std::string(300, 'T'));
+  EXPECT_EQ(busy.run(disabled, 300), std::string(300, 'T'));
 }
 
 }  // namespace

@@ -90,8 +90,8 @@ inline constexpr std::size_t parallel_from_particles = 4096;
 struct PipelineOptions {
   bool velocity_forces = true;  // false: no damping stage (integrator ignores v)
   int threads = 0;              // 0: all hardware threads
-  // Steps bracketed by Cloth::begin_step / end_step run on the calling thread alone for a while
-  // after a step on the team lost a core to another process (team_governor.hpp).
+  // Steps bracketed by Cloth::begin_step / end_step run on the calling thread alone while a
+  // step alone is faster than the team's, as when another process took a core (team_governor.hpp).
   bool adaptive_threads = true;
 };
 

@@ -1,55 +1,130 @@
 // Whether the next step runs its parallel passes on the whole thread team or on the calling
-// thread alone, from what the last steps got of the machine.
+// thread alone, judged by which of the two the machine lets finish a step sooner.
 //
-// A step on a team of T threads should get T x its wall time of CPU: the threads work or spin
-// at a barrier (OpenMP's default wait policy). Much less means another process took a core, and
-// then every barrier waits for a thread that waits for a core, a scheduler time slice at a
-// time. So the steps after such a step run on the calling thread, which has a core to itself,
-// and the team is tried again after `hold` steps; the hold doubles while the tries find a core
-// still taken, and falls back to its least once a try gets its share. Results do not depend on
-// it: every pass gives the same bits on any thread count. docs/performance.md, "The engine on a
-// shared machine", has the measurements behind the numbers.
+// A team step waits at every barrier for its slowest thread; when another process takes a
+// core, that thread waits for the core a scheduler time slice at a time, and the team's step
+// can take longer than the calling thread's alone. How much of the CPU the team got does not
+// tell: a short step's threads sleep between its passes on an idle machine too. So the
+// governor measures both: among team steps it runs one step alone now and then (a probe, whose
+// interval doubles while the team wins) and at once after a team step much slower than the
+// recent ones; when the probe beats the team's recent mean, the steps after it run alone for a
+// hold, after which a few team steps try again. The team comes back only when it is clearly
+// faster, and the hold doubles while the tries lose. Results do not depend on it: every pass
+// gives the same bits on any thread count. docs/performance.md, "The engine on a shared
+// machine", has the measurements behind the numbers.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 namespace clothlab {
 
 class TeamGovernor {
  public:
-  // A team step that gets less than this share of T x wall time of CPU lost a core.
-  static constexpr double kLeastShare = 0.8;
+  static constexpr uint32_t kLeastProbeInterval = 16, kMostProbeInterval = 256;
   static constexpr uint32_t kLeastHold = 4, kMostHold = 256;
+  // A team step this much slower than the recent team steps' mean calls for a probe now.
+  static constexpr double kSlowStep = 1.5;
+  // The team comes back when its tries' mean is below this fraction of the hold's steps' mean:
+  // a team barely faster than one thread is not worth the core it takes from the machine.
+  static constexpr double kTeamGain = 0.9;
+  static constexpr uint32_t kTrySteps = 4;
 
   // `team`: the threads of a full step; a governor of one thread, or a disabled one, always
   // says "team" (the engine then runs exactly as configured).
-  TeamGovernor(int team, bool enabled) : team_(team), enabled_(enabled && team > 1) {}
+  TeamGovernor(int team, bool enabled) : enabled_(enabled && team > 1) {}
 
   // Whether the coming step runs on the team.
-  bool team_step() const { return !enabled_ || solo_left_ == 0; }
+  bool team_step() const { return !enabled_ || mode_ == Mode::team || mode_ == Mode::trying; }
 
-  // The step that team_step() decided took `wall_s` seconds and the process `cpu_s` seconds
-  // of CPU time over them.
-  void finished(double wall_s, double cpu_s) {
+  // The step that team_step() decided took `wall_s` seconds.
+  void finished(double wall_s) {
     if (!enabled_) return;
-    if (solo_left_ > 0) {
-      --solo_left_;
-      return;
-    }
-    if (wall_s > 0 && cpu_s < kLeastShare * team_ * wall_s) {
-      solo_left_ = hold_;
-      hold_ = std::min(2 * hold_, kMostHold);
-    } else {
-      hold_ = kLeastHold;
+    switch (mode_) {
+      case Mode::team:
+        return finished_team_step(wall_s);
+      case Mode::probing:
+        return finished_probe(wall_s);
+      case Mode::alone:
+        return finished_alone(wall_s);
+      case Mode::trying:
+        return finished_try(wall_s);
     }
   }
 
  private:
-  int team_;
+  enum class Mode { team, probing, alone, trying };
+  static constexpr uint32_t kRecentSteps = 8;
+
+  void finished_team_step(double wall_s) {
+    const bool slow = recent_count_ > 0 && wall_s > kSlowStep * recent_mean();
+    remember_team_step(wall_s);
+    if (slow || --until_probe_ == 0) mode_ = Mode::probing;
+  }
+
+  void finished_probe(double wall_s) {
+    if (wall_s < recent_mean()) {
+      start_hold();
+    } else {
+      mode_ = Mode::team;
+      probe_interval_ = std::min(2 * probe_interval_, kMostProbeInterval);
+      until_probe_ = probe_interval_;
+    }
+  }
+
+  void finished_alone(double wall_s) {
+    alone_sum_ += wall_s;
+    ++alone_count_;
+    if (--alone_left_ == 0) {
+      mode_ = Mode::trying;
+      try_sum_ = 0;
+      try_left_ = kTrySteps;
+    }
+  }
+
+  void finished_try(double wall_s) {
+    try_sum_ += wall_s;
+    if (--try_left_ > 0) return;
+    if (try_sum_ / kTrySteps < kTeamGain * alone_sum_ / alone_count_) {
+      mode_ = Mode::team;
+      hold_ = kLeastHold;
+      probe_interval_ = kLeastProbeInterval;
+      until_probe_ = probe_interval_;
+      recent_count_ = recent_next_ = 0;
+      for (uint32_t k = 0; k < kTrySteps; ++k) remember_team_step(try_sum_ / kTrySteps);
+    } else {
+      hold_ = std::min(2 * hold_, kMostHold);
+      start_hold();
+    }
+  }
+
+  void start_hold() {
+    mode_ = Mode::alone;
+    alone_left_ = hold_;
+    alone_sum_ = 0;
+    alone_count_ = 0;
+  }
+
+  void remember_team_step(double wall_s) {
+    recent_[recent_next_] = wall_s;
+    recent_next_ = (recent_next_ + 1) % kRecentSteps;
+    recent_count_ = std::min(recent_count_ + 1, kRecentSteps);
+  }
+
+  double recent_mean() const {
+    double sum = 0;
+    for (uint32_t k = 0; k < recent_count_; ++k) sum += recent_[k];
+    return recent_count_ > 0 ? sum / recent_count_ : 0.0;
+  }
+
   bool enabled_;
-  uint32_t hold_ = kLeastHold;
-  uint32_t solo_left_ = 0;
+  Mode mode_ = Mode::team;
+  std::array<double, kRecentSteps> recent_{};
+  uint32_t recent_next_ = 0, recent_count_ = 0;
+  uint32_t probe_interval_ = kLeastProbeInterval, until_probe_ = kLeastProbeInterval;
+  uint32_t hold_ = kLeastHold, alone_left_ = 0, alone_count_ = 0, try_left_ = 0;
+  double alone_sum_ = 0, try_sum_ = 0;
 };
 
 }  // namespace clothlab
