@@ -62,6 +62,14 @@ bool integrator_uses_velocity_forces(const std::string& id) {
   return find_plugin(id).integrator().uses_velocity_forces();
 }
 
+double integrator_param_maximum(const std::string& id, const std::string& name) {
+  const host::PluginLibrary library = find_plugin(id);  // holds the table while it is read
+  const host::ParamSet values = library.integrator().default_params();
+  for (const clothlab_param_spec& spec : values.specs())
+    if (spec.name == name) return spec.max_value;
+  throw std::runtime_error(id + ": no parameter " + name);
+}
+
 namespace {
 host::ParamSet integrator_values(const host::PluginLibrary& library, const ParamTexts& params) {
   host::ParamSet values = library.integrator().default_params();

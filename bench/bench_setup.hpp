@@ -45,4 +45,7 @@ class BoundIntegrator {
 // Whether integrator `id` needs damping forces (decides the Cloth's pipeline).
 bool integrator_uses_velocity_forces(const std::string& id);
 
+// The largest value integrator `id`'s parameter `name` takes, from its parameter table.
+double integrator_param_maximum(const std::string& id, const std::string& name);
+
 }  // namespace clothlab::bench

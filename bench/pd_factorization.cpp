@@ -68,15 +68,10 @@ const FlagMatrix& flag(int side, Order order) {
   const sdk::System<double> system(cloth.system());
   builtin::ProjectiveDynamicsMatrix matrix;
   matrix.build(system, system.topology(), order);
-  FlagMatrix out{matrix.pattern(), std::vector<uint32_t>(static_cast<size_t>(matrix.unknowns())),
+  FlagMatrix out{matrix.pattern(), matrix.node_of(),
                  std::vector<uint8_t>(matrix.unknown_of().size(), 1)};
   matrix.combine(kStep, out.matrix);
-  for (uint32_t i = 0; i < matrix.unknown_of().size(); ++i) {
-    const int32_t u = matrix.unknown_of()[i];
-    if (u < 0) continue;
-    out.node_of[static_cast<size_t>(u)] = i;
-    out.fixed[i] = 0;
-  }
+  for (const uint32_t node : out.node_of) out.fixed[node] = 0;
   return built.emplace(std::pair{side, order}, std::move(out)).first->second;
 }
 

@@ -5,7 +5,7 @@
 // state with N iterations, against the converged step. The plain iteration's asymptotic
 // spectral radius is the ratio of its last two changes at the most iterations (of the ladder)
 // where they are still above 1e-7 of the step; without --rho that estimate is used. The
-// converged step is the plugin's most iterations (projective_dynamics 1000, xpbd 100)
+// converged step is the plugin's most iterations (its `iterations` parameter's maximum)
 // accelerated with the first rho that does not diverge there (else plain), its own error
 // estimated by how far it moved over the ladder's last rung (errors below 10x that are not
 // reported). The error is the largest particle distance to the converged step relative to the
@@ -132,7 +132,7 @@ int run(int argc, char** argv) {
     return params;
   };
   // The ladder up to the plugin's most iterations.
-  const long most = integrator_id == "xpbd" ? 100 : 1000;
+  const auto most = static_cast<long>(integrator_param_maximum(integrator_id, "iterations"));
   std::vector<long> ladder;
   for (const long n : kLadder)
     if (n < most) ladder.push_back(n);

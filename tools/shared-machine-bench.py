@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The engine on a shared machine (issue 23): per-step median and p90 of a scene, quiet and with
 one co-running busy process that this script starts before the run and stops after it. Scenes
-(--scene): rk4-300, the 300 x 300 rk4 flag (configs/bench-300-soft.yaml), steps of about 10 ms
-on two cores; verlet-200, the 200 x 200 cotton flag with verlet at 832 substeps per frame
-(configs/choose-cotton-flag-200.yaml), steps of about 1 ms. Float32, 2 threads, 400 steps.
+(--scene): rk4-300, the 300 x 300 rk4 flag (configs/bench-300-soft.yaml), a long step;
+verlet-200, the 200 x 200 cotton flag with verlet at 832 substeps per frame
+(configs/choose-cotton-flag-200.yaml), a step about a tenth as long (docs/performance.md).
+Float32, 2 threads, 400 steps.
 
 Each repetition runs every variant as a pair back to back, quiet then contended, so a drift of
 the machine's load hits both halves of a pair alike; the load average is read before each run.

@@ -65,7 +65,7 @@ namespace clothlab::builtin {
 struct ProjectiveDynamics {
   static constexpr const char* id = "projective_dynamics";
   static constexpr const char* name = "Projective dynamics (fast mass-spring)";
-  static constexpr const char* version = "1.0.0";
+  static constexpr const char* version = "1.1.0";
   static constexpr const char* description =
       "Local/global projective dynamics (Liu et al. 2013) on the springs with a prefactored "
       "(M + h D + h^2 K) or a multigrid global solve; first order when converged, "
@@ -236,10 +236,7 @@ struct ProjectiveDynamics {
     if (solve_ == GlobalSolve::kCholmod) cholmod_.analyze(system_matrix_);
     if (solve_ == GlobalSolve::kLdlt) ldlt_.analyze(system_matrix_);
     if (multigrid) {
-      std::vector<uint32_t> node_of(static_cast<size_t>(matrix_.unknowns()));
-      for (uint32_t i = 0; i < unknown_of.size(); ++i)
-        if (unknown_of[i] >= 0) node_of[static_cast<size_t>(unknown_of[i])] = i;
-      multigrid_.emplace(levels, fixed_particles(system), std::move(node_of), multigrid_sweeps_,
+      multigrid_.emplace(levels, fixed_particles(system), matrix_.node_of(), multigrid_sweeps_,
                          multigrid_tolerance_, multigrid_max_cycles_);
     }
 
@@ -362,6 +359,6 @@ struct ProjectiveDynamics {
 
 }  // namespace clothlab::builtin
 
-CLOTHLAB_PLUGIN_ENTRY("clothlab-builtin-projective-dynamics", "1.0.0",
+CLOTHLAB_PLUGIN_ENTRY("clothlab-builtin-projective-dynamics", "1.1.0",
                       clothlab::sdk::integrators<clothlab::builtin::ProjectiveDynamics>,
                       clothlab::sdk::scenarios<>)

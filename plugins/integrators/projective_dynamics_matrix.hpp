@@ -31,6 +31,13 @@ class ProjectiveDynamicsMatrix {
 
   // unknown_of()[particle] = its row in the global system, -1 when pinned.
   const std::vector<int32_t>& unknown_of() const { return unknown_of_; }
+  // The inverse: node_of()[row] = the particle of that row.
+  std::vector<uint32_t> node_of() const {
+    std::vector<uint32_t> nodes(static_cast<size_t>(unknowns()));
+    for (uint32_t i = 0; i < unknown_of_.size(); ++i)
+      if (unknown_of_[i] >= 0) nodes[static_cast<size_t>(unknown_of_[i])] = i;
+    return nodes;
+  }
   const std::vector<double>& mass() const { return mass_; }  // per unknown
   Eigen::Index unknowns() const { return stiffness_.rows(); }
   const Matrix& damping_upper() const { return damping_upper_; }

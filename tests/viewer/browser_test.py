@@ -32,6 +32,7 @@ The screenshots stay in WORK_DIR (printed) as test artefacts.
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -181,7 +182,14 @@ def mutant_draws_no_collider():
 # The cape run: the character stands at t = 0 and by CAPE_LATE has walked about 1.1 m along +x
 # (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight).
 CAPE_LATE = 1.0
-CAMERA_AZIMUTH = 0.6  # viewer.js orbit.azimuth: the camera's right axis is (cos, 0, -sin)
+def camera_azimuth(view):
+    """The page's starting orbit.azimuth, read from its viewer.js: the camera's right axis is
+    (cos, 0, -sin) of it."""
+    with open(os.path.join(view, "viewer.js")) as stream:
+        match = re.search(r"const orbit = \{ azimuth: ([-0-9.e]+),", stream.read())
+    if match is None:
+        raise AssertionError(f"{view}/viewer.js: no `const orbit = {{ azimuth: ... }}` to read")
+    return float(match.group(1))
 
 
 def cape_view(out):
@@ -202,8 +210,8 @@ def walk_rightwards(view):
     opening = "Object.assign("
     head, _ = json.JSONDecoder().raw_decode(text, text.index(opening) + len(opening))
     first, last = head["collider_poses"][0], head["collider_poses"][-1]
-    return ((last[0] - first[0]) * math.cos(CAMERA_AZIMUTH)
-            - (last[2] - first[2]) * math.sin(CAMERA_AZIMUTH))
+    azimuth = camera_azimuth(view)
+    return (last[0] - first[0]) * math.cos(azimuth) - (last[2] - first[2]) * math.sin(azimuth)
 
 
 def centroid(mask):
