@@ -6,7 +6,12 @@
 // from 0 to a relative residual (mass norm) of 1e-6 in float64, the multigrid with the
 // plugin's default coarsest level and sweeps.
 //
-//   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]]
+//   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]] [--split]
+//
+// --split prints, for the multigrid alone, where a solve's time goes instead: the set-up (the
+// preconditioner's build in CG's start: 75 probing products, then the Galerkin products and
+// factors, whose share is the set-up less 75 products timed on their own) against the
+// iterations (one product and one V-cycle each), and the set-up in iterations.
 //
 // config (default configs/choose-cotton-flag-200.yaml) gives the material and scenario; sides
 // default to 50 100 200 300 600, the steps h = 1/N s to N = 60 and 240. One thread: the counts do
@@ -40,8 +45,16 @@ struct SolveResult {
   long iterations = 0;
   bool converged = false;
   double relative_residual = 0.0;
-  double seconds = 0.0;  // the whole solve: set-up (preconditioner) and iterations
+  double seconds = 0.0;          // the whole solve: set-up (preconditioner) and iterations
+  double setup_seconds = 0.0;    // CG's start: the preconditioner's build and first residual
+  double probing_seconds = 0.0;  // 75 Jacobian products, the probing's share of the set-up
 };
+
+constexpr int kProbingProducts = 75;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 // Solves the first backward-Euler system of `cloth` at step h with one preconditioner.
 SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
@@ -66,6 +79,7 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   SolveResult result;
   const auto start = std::chrono::steady_clock::now();
   cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, kTolerance);
+  result.setup_seconds = seconds_since(start);
   result.converged = cg.converged();
   while (!result.converged && result.iterations < cap) {
     const auto outcome = cg.iterate();
@@ -74,8 +88,12 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
     result.converged = outcome == builtin::PreconditionedCg<double>::Outcome::kConverged;
   }
   cg.finish();
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = seconds_since(start);
   result.relative_residual = cg.residual_norm() / cg.rhs_norm();
+  const auto probing_start = std::chrono::steady_clock::now();
+  for (int k = 0; k < kProbingProducts; ++k)
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, rhs, solution);
+  result.probing_seconds = seconds_since(probing_start);
   return result;
 }
 
@@ -90,12 +108,48 @@ std::string describe(const SolveResult& result) {
   return text;
 }
 
+// The config's scenario at side x side particles in its material.
+Scene make_side_scene(const cli::RunConfig& config, int side) {
+  return make_scene(config.scenario, [&](host::ParamSet& values) {
+    values.set("rows", std::to_string(side), "bench");
+    values.set("cols", std::to_string(side), "bench");
+    cli::apply_material(*config.material, {}, values);
+  });
+}
+
+int print_split(const cli::RunConfig& config, const std::vector<int>& sides,
+                const std::vector<int>& rates) {
+  std::printf(
+      "| side | h (s) | set-up ms | of which probing ms | Galerkin + factors ms | iterations | "
+      "iterations ms | ms per iteration | set-up in iterations |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
+  for (const int rate : rates)
+    for (const int side : sides) {
+      const Scene scene = make_side_scene(config, side);
+      const Cloth cloth(scene, Precision::Float64, PipelineOptions{true, 1});
+      const SolveResult r = solve(cloth, 1.0 / rate, true, kMultigridCap);
+      const double iterating = r.seconds - r.setup_seconds;
+      const double per_iteration = iterating / static_cast<double>(std::max(r.iterations, 1L));
+      std::printf("| %d | 1/%d | %.1f | %.1f | %.1f | %ld%s | %.1f | %.2f | %.1f |\n", side, rate,
+                  1e3 * r.setup_seconds, 1e3 * r.probing_seconds,
+                  1e3 * (r.setup_seconds - r.probing_seconds), r.iterations,
+                  r.converged ? "" : " (not converged)", 1e3 * iterating, 1e3 * per_iteration,
+                  r.setup_seconds / per_iteration);
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   const std::string config_path = argc > 1 ? argv[1] : "configs/choose-cotton-flag-200.yaml";
   std::vector<int> sides, rates;
-  bool reading_rates = false;
+  bool reading_rates = false, split = false;
   for (int k = 2; k < argc; ++k) {
     const std::string arg = argv[k];
+    if (arg == "--split") {
+      split = true;
+      continue;
+    }
     if (arg == "--rate") {
       reading_rates = true;
       continue;
@@ -118,6 +172,7 @@ int run(int argc, char** argv) {
   }
   std::printf("%s, %s scenario, float64, 1 thread, CG from 0 to a relative residual of %g\n\n",
               config.material->name.c_str(), config.scenario.c_str(), kTolerance);
+  if (split) return print_split(config, sides, rates);
   std::printf(
       "| side | h (s) | multigrid levels | multigrid iterations | s | block-Jacobi "
       "iterations | s |\n|---|---|---|---|---|---|---|\n");
@@ -125,11 +180,7 @@ int run(int argc, char** argv) {
     const double h = 1.0 / rate;
     long fewest = 0, most = 0;
     for (const int side : sides) {
-      const Scene scene = make_scene(config.scenario, [&](host::ParamSet& values) {
-        values.set("rows", std::to_string(side), "bench");
-        values.set("cols", std::to_string(side), "bench");
-        cli::apply_material(*config.material, {}, values);
-      });
+      const Scene scene = make_side_scene(config, side);
       const Cloth cloth(scene, Precision::Float64, PipelineOptions{true, 1});
       const SolveResult multigrid = solve(cloth, h, true, kMultigridCap);
       const SolveResult block_jacobi = solve(cloth, h, false, kBlockJacobiCap);

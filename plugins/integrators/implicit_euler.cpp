@@ -15,8 +15,9 @@
 // with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
 // its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
 // with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
-// and a V-cycle per iteration (docs/real-cloth.md, "Multigrid"). A solve that stops at
-// `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
+// and a V-cycle per iteration (docs/real-cloth.md, "Multigrid"); `multigrid_rebuild` = N reuses
+// that set-up for N solves, and the step statistics count the builds as factorisations. A solve
+// that stops at `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
 // clothlab.solver-statistics/1, never passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
@@ -60,7 +61,7 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 8> params{
+  static constexpr std::array<clothlab_param_spec, 9> params{
       sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
                       "CG stops when the residual's mass norm falls below tolerance x the "
                       "right-hand side's"),
@@ -84,6 +85,10 @@ struct ImplicitEuler {
       sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
                      "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
                      "correction"),
+      sdk::int_param("multigrid_rebuild", 1, 1, 1024,
+                     "multigrid: build the hierarchy for every Nth linear solve and reuse it in "
+                     "between (CG still converges on the current matrix); always after prepare "
+                     "and when the step size changes"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -99,7 +104,8 @@ struct ImplicitEuler {
         warm_start_(values.flag("warm_start")),
         multigrid_(values.flag("multigrid")),
         multigrid_coarsest_(values.integer("multigrid_coarsest")),
-        multigrid_sweeps_(values.integer("multigrid_sweeps")) {}
+        multigrid_sweeps_(values.integer("multigrid_sweeps")),
+        multigrid_rebuild_(values.integer("multigrid_rebuild")) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
@@ -111,7 +117,8 @@ struct ImplicitEuler {
     inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
     multigrid_preconditioner_.reset();
     if (multigrid_)
-      multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_);
+      multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_,
+                                        multigrid_rebuild_);
     previous_h_ = 0.0;
     last_ = {};
   }
@@ -131,6 +138,7 @@ struct ImplicitEuler {
         multigrid_preconditioner_ ? &*multigrid_preconditioner_ : nullptr);
     Real* x = system.x();
     Real* v = system.v();
+    const uint64_t rebuilds_before = rebuild_count();
 
     // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
     system.acceleration(t, x, v, acceleration);
@@ -162,6 +170,8 @@ struct ImplicitEuler {
       solve(solver, t + h, h, x1, v1, rhs, delta, false);
       system.axpy(dv, 1.0, delta);
     }
+    // Each multigrid build ends in a factorisation of its coarsest level.
+    last_.factorizations = rebuild_count() - rebuilds_before;
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
     // The solve saw the attachments' motion through their velocities in h^2 (da/dx) v0.
@@ -178,6 +188,10 @@ struct ImplicitEuler {
   // zero (never written), then CG's.
   static constexpr size_t step_vectors = 7;
   static constexpr size_t cg_vectors = PreconditionedCg<double>::vector_count;
+
+  uint64_t rebuild_count() const {
+    return multigrid_preconditioner_ ? multigrid_preconditioner_->rebuild_count() : 0;
+  }
 
   // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs from the solution's entries
   // (guess) or 0 (solution zeroed by the caller); adds to last_.
@@ -209,6 +223,7 @@ struct ImplicitEuler {
   bool multigrid_;
   long multigrid_coarsest_;
   long multigrid_sweeps_;
+  long multigrid_rebuild_;
   std::optional<MultigridPreconditioner> multigrid_preconditioner_;  // where multigrid_
   double previous_h_ = 0.0;  // the last step's h; 0: no dv to start from
   ScratchVectors<step_vectors + cg_vectors> scratch_;

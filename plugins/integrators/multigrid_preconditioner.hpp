@@ -10,11 +10,19 @@
 // column d of every block coupling to them, 75 products in all. A single-precision system's blocks
 // carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric.
 // Pinned particles are the fine level's Dirichlet nodes.
+//
+// Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
+// `prepare_solve` can keep the last hierarchy for up to `rebuild_interval` solves. CG's products
+// still use the current matrix, so the answer is converged as before; a V-cycle of an older
+// symmetric positive definite matrix is still a symmetric positive definite preconditioner, and
+// only the iteration count changes (on cotton it grows by more than the set-up saves:
+// docs/real-cloth.md, "Reusing the hierarchy over steps").
 #pragma once
 
 #include <algorithm>
 #include <clothlab/sdk.hpp>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "multigrid_cycle.hpp"
@@ -28,8 +36,10 @@ class MultigridPreconditioner {
   // From `prepare`: one-line sdk::Error where the cloth is no grid, a spring reaches further
   // than two spacings, or the grid does not coarsen far enough (plan_levels).
   template <class Real>
-  MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps)
-      : hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
+  MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps,
+                          long rebuild_interval = 1)
+      : rebuild_interval_(rebuild_interval),
+        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
                    fixed_particles(system)),
         cycle_(hierarchy_, sweeps),
         mass_(system.particle_count(), 0.0),
@@ -45,6 +55,22 @@ class MultigridPreconditioner {
   MultigridPreconditioner& operator=(const MultigridPreconditioner&) = delete;
 
   const MultigridHierarchy& hierarchy() const { return hierarchy_; }
+
+  // Hierarchies built so far (each ends in a factorisation of the coarsest level).
+  uint64_t rebuild_count() const { return rebuild_count_; }
+
+  // Readies the V-cycle for a solve whose matrix has J's position weight c_x = -h^2: linearises
+  // (see `linearise`) where there is no valid hierarchy, c_x changed since the last build (the
+  // old matrix may then be far from the new one), or `rebuild_interval` solves used the last.
+  template <class Real, class Product>
+  void prepare_solve(const sdk::System<Real>& system, double c_x, Product&& product) {
+    if (!valid_ || c_x != built_c_x_ || solves_since_rebuild_ >= rebuild_interval_) {
+      valid_ = false;  // until linearise succeeds: a throw leaves no hierarchy to reuse
+      linearise(system, product);
+      valid_ = true, built_c_x_ = c_x, solves_since_rebuild_ = 0;
+    }
+    ++solves_since_rebuild_;
+  }
 
   // Assembles S = M (I + J), J applied by product(u, out): out = J u, and rebuilds the levels.
   template <class Real, class Product>
@@ -78,6 +104,7 @@ class MultigridPreconditioner {
         for (int k = 0; k < 3; ++k) diagonal[4 * k] += mass_[fine.node(r, c)];
       }
     symmetrise(fine);
+    ++rebuild_count_;
     if (!hierarchy_.rebuild())
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
                        "multigrid: the linearised matrix is not positive definite (definite = 0 "
@@ -137,6 +164,11 @@ class MultigridPreconditioner {
       }
   }
 
+  long rebuild_interval_;  // solves per hierarchy at most
+  bool valid_ = false;     // the hierarchy holds a successfully built matrix
+  double built_c_x_ = 0.0;
+  long solves_since_rebuild_ = 0;
+  uint64_t rebuild_count_ = 0;
   MultigridHierarchy hierarchy_;
   VCycle cycle_;
   std::vector<double> mass_;  // per particle, 0 where pinned

@@ -413,10 +413,12 @@ INSTANTIATE_TEST_SUITE_P(Conformance, SoundPlugin, ::testing::ValuesIn(sound_plu
 
 // The multigrid settings need clothlab.grid/1: robustness.no-alloc's plugin-only system must
 // pass it on (without it prepare failed, "needs a cloth laid out as a grid"), and the solves
-// must not allocate or depend on the thread count.
+// must not allocate or depend on the thread count, also when the hierarchy is reused.
 TEST(ConformanceRun, TheMultigridSettingsPassNoAllocAndThreads) {
   for (const std::string setting :
-       {"implicit_euler.multigrid=1", "projective_dynamics.factorization=2"}) {
+       {"implicit_euler.multigrid=1",
+        "implicit_euler.multigrid=1 --param implicit_euler.multigrid_rebuild=4",
+        "projective_dynamics.factorization=2"}) {
     const std::string id = setting.substr(0, setting.find('.'));
     const RunnerOutput run =
         run_conformance("--timeout 90 --filter 'no-alloc|threads-f' --param " + setting + " " +

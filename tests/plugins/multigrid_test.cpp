@@ -448,6 +448,54 @@ TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
   EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
 }
 
+// multigrid_rebuild = 4 builds the hierarchy (one coarsest factorisation each, in the step
+// statistics) on steps 0 and 4 only, again when the step size changes and after a new prepare,
+// and its steps reach rebuild = 1's state to the CG tolerance: CG's products use the current
+// matrix whichever hierarchy preconditions them.
+TEST(Multigrid, ImplicitEulerReusesTheHierarchyBetweenRebuilds) {
+  const double h = 1.0 / 60.0;
+  const std::vector<double> steps{h, h, h, h, h, h, 0.5 * h, 0.5 * h};
+  std::vector<Vec3> positions[2];
+  std::vector<uint64_t> factorizations[2];
+  for (const int rebuild : {1, 4}) {
+    const bool reusing = rebuild > 1;
+    GridNet net(14, 17);
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", 1.0)
+        .with("multigrid_rebuild", rebuild)
+        .with("tolerance", 1e-10)
+        .with("max_iterations", 5000);
+    integrator.start(net.host.system());
+    double t = 0.0;
+    for (const double dt : steps) {
+      ASSERT_EQ(integrator.step(net.host.system(), t, dt), CLOTHLAB_OK) << integrator.message();
+      t += dt;
+      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
+      ASSERT_EQ(stats.converged, 1u) << "t " << t << " rebuild " << rebuild;
+      factorizations[reusing].push_back(stats.factorizations);
+    }
+    ASSERT_EQ(integrator.prepare(net.host.system()), CLOTHLAB_OK) << integrator.message();
+    ASSERT_EQ(integrator.step(net.host.system(), t, 0.5 * h), CLOTHLAB_OK) << integrator.message();
+    factorizations[reusing].push_back(solver_statistics_of(integrator).factorizations);
+    for (uint32_t i = 0; i < 14 * 17; ++i)
+      positions[reusing].push_back(net.host.system().position(i));
+  }
+  EXPECT_EQ(factorizations[0], std::vector<uint64_t>(steps.size() + 1, 1));
+  // Steps 0 and 4 by the interval, 6 for the new h, then the first after prepare.
+  EXPECT_EQ(factorizations[1], (std::vector<uint64_t>{1, 0, 0, 0, 1, 0, 1, 0, 1}));
+  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
+}
+
+TEST(Multigrid, ImplicitEulerRefusesARebuildIntervalOutOfRange) {
+  for (const double rebuild : {0.0, 1025.0}) {
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid_rebuild", rebuild);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
+    EXPECT_NE(integrator.message().find("multigrid_rebuild"), std::string::npos)
+        << integrator.message();
+  }
+}
+
 TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
   {
     GridNet net(6, 6, false);
