@@ -61,8 +61,7 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       const Vec3 before = position, velocity_before = velocity;
       if (resolve_swept_contact(self.colliders_, from, position, velocity)) {
         // What the move did to the particle's energy (StabilityMonitor counts it as work).
-        double work =
-            self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
+        double work = self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
         for (int k = 0; k < 3; ++k)
           work +=
               mass * (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
@@ -89,6 +88,9 @@ Cloth::Contacts ClothEngine<Real>::contacts() const {
     for (std::size_t i = range.begin; i < range.end; ++i) {
       const double depth = penetration_depth(colliders_, {px[i], px[s + i], px[2 * s + i]});
       out.max_penetration = std::max(out.max_penetration, depth);
+      out.max_depth_past_thickness =
+          std::max(out.max_depth_past_thickness,
+                   depth_past_thickness(colliders_, {px[i], px[s + i], px[2 * s + i]}));
       if (depth > 0) ++out.particles_inside;
     }
   return out;

@@ -78,4 +78,11 @@ double penetration_depth(std::span<const Collider> colliders, const Vec3& x) {
   return depth;
 }
 
+double depth_past_thickness(std::span<const Collider> colliders, const Vec3& x) {
+  double past = 0;
+  for (const Collider& collider : colliders)
+    past = std::max(past, -surface_distance(collider, x).distance - collider.thickness);
+  return past;
+}
+
 }  // namespace clothlab

@@ -23,6 +23,7 @@ nlohmann::json contacts_json(const std::optional<RunRecord::ContactFigures>& con
   if (!contacts) return nullptr;
   return {{"colliders", contacts->colliders},
           {"max_penetration_over_run", contacts->max_penetration_over_run},
+          {"max_depth_past_thickness_over_run", contacts->max_depth_past_thickness_over_run},
           {"thickness", contacts->thickness},
           {"particles_inside_at_end", contacts->particles_inside_at_end},
           {"drape_coefficient", contacts->drape_coefficient

@@ -290,7 +290,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
 
   if (!colliders_.empty()) {
     record.contacts.emplace().colliders = colliders_.size();
-    const std::span<const Collider> shapes = colliders_.at(0.0);
+    const std::span<const Collider> shapes = cloth_->colliders();
     record.contacts->thickness =
         std::min_element(shapes.begin(), shapes.end(), [](const Collider& a, const Collider& b) {
           return a.thickness < b.thickness;
@@ -349,9 +349,13 @@ RunRecord Simulation::run(const RunHooks& hooks) {
     }
     record.steps_taken = step;
     if (!record.stable) break;
-    if (record.contacts)
+    if (record.contacts) {
+      const Cloth::Contacts now = cloth_->contacts();
       record.contacts->max_penetration_over_run =
-          std::max(record.contacts->max_penetration_over_run, cloth_->contacts().max_penetration);
+          std::max(record.contacts->max_penetration_over_run, now.max_penetration);
+      record.contacts->max_depth_past_thickness_over_run = std::max(
+          record.contacts->max_depth_past_thickness_over_run, now.max_depth_past_thickness);
+    }
     if (const auto statistics = integrator_instance_->last_step_statistics()) {
       if (!record.solver) record.solver.emplace();
       record.solver->add(step, *statistics);

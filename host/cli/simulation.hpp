@@ -94,9 +94,11 @@ struct RunRecord {
   struct ContactFigures {
     std::size_t colliders = 0;
     double max_penetration_over_run = 0;  // m, into a collider's surface, after any step
-    // The thinnest collider's thickness (m): a penetration past it went through the band the
-    // contacts keep clear, the bound `clothlab --choose` judges (no tunnelling).
-    double thickness = 0;
+    // The largest depth past the thickness of the collider a particle lay in, after any step
+    // (m): it went through the band the contacts keep clear, what `clothlab --choose` judges
+    // (no tunnelling).
+    double max_depth_past_thickness_over_run = 0;
+    double thickness = 0;  // the thinnest collider's (m)
     uint32_t particles_inside_at_end = 0;
     // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
     // Cusick drape coefficient's projected area share); null without gravity.

@@ -84,6 +84,9 @@ sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& wor
     // A diverged run's penetration is a JSON null (not finite): NAN judges nothing.
     if (contacts["max_penetration_over_run"].is_number())
       trajectory.max_penetration = contacts["max_penetration_over_run"].get<double>();
+    if (contacts["max_depth_past_thickness_over_run"].is_number())
+      trajectory.max_depth_past_thickness =
+          contacts["max_depth_past_thickness_over_run"].get<double>();
     trajectory.collider_thickness = contacts["thickness"].get<double>();
   }
   trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();

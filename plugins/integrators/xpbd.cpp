@@ -123,10 +123,11 @@ struct Xpbd {
                       "distance to its pin at prepare"),
       sdk::real_param("chebyshev_rho", 0.0, 0.0, 0.9999, "",
                       "Chebyshev acceleration of a substep's sweeps (Wang 2015): the estimated "
-                      "spectral radius of one sweep; 0 = off. On: the general (not the grid) "
-                      "path"),
+                      "spectral radius of one sweep; 0 = off. On (with chebyshev_delay below "
+                      "iterations): the general (not the grid) path"),
       sdk::int_param("chebyshev_delay", 10, 1, 1000,
-                     "plain sweeps of a substep before Chebyshev acceleration starts"),
+                     "plain sweeps of a substep before Chebyshev acceleration starts; at "
+                     "iterations or more, none is accelerated"),
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
@@ -155,12 +156,16 @@ struct Xpbd {
     threads_ = sdk::plugin_threads(system, requested_threads_,
                                    topology.spring_count() >= parallel_from_springs);
     std::optional<GridLayout> grid = grid_layout(system.grid(), topology);
-    solver.on_grid = grid.has_value() && chebyshev_rho_ == 0.0;
+    // Every sweep before the delay has weight 1: a delay of `iterations` or more accelerates
+    // nothing, and such a setting keeps the grid path and no divergence check.
+    const bool accelerated = chebyshev_rho_ > 0.0 && chebyshev_delay_ < iterations_;
+    solver.on_grid = grid.has_value() && !accelerated;
     if (solver.on_grid)
       solver.grid.prepare(std::move(*grid), iterations_, solver.tethers.slots(),
                           system.inverse_mass(), system.particle_count(), threads_);
     else
-      solver.general.build(system, topology, iterations_, chebyshev_rho_, chebyshev_delay_);
+      solver.general.build(system, topology, iterations_, accelerated ? chebyshev_rho_ : 0.0,
+                           chebyshev_delay_);
     sdk::start_thread_team(threads_);
   }
 

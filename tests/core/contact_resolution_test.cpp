@@ -175,5 +175,31 @@ TEST(ContactResolution, TheEnginesContactsExtensionKeepsTheClothOnTheFloor) {
   }
 }
 
+// Each particle's depth past the thickness is against the collider it lies in: 0.015 m inside a
+// floor 0.02 m thick is within its band, though deeper than the thinner ball's 0.005 m; 0.01 m
+// inside the ball is 0.005 m past its thickness.
+TEST(ContactResolution, TheDepthPastTheThicknessIsEachCollidersOwn) {
+  const Collider floor = ground(0.5, 0.02);
+  Collider ball;
+  ball.shape = ColliderShape::Sphere;
+  ball.pose.position = {5, 0, 0};
+  ball.radius = 0.1;
+  ball.thickness = 0.005;
+  const Collider both[] = {floor, ball};
+  EXPECT_NEAR(penetration_depth(both, {0, -0.015, 0}), 0.015, 1e-15);
+  EXPECT_EQ(depth_past_thickness(both, {0, -0.015, 0}), 0.0);
+  EXPECT_NEAR(depth_past_thickness(both, {5, 0.09, 0}), 0.005, 1e-15);
+  EXPECT_EQ(depth_past_thickness(both, {0, 1, 0}), 0.0);  // outside both
+
+  Scene scene = testing::bare_scene(1, 1);
+  Cloth cloth(scene, Precision::Float64, PipelineOptions{});
+  cloth.set_colliders(both);
+  cloth.set_state({0, -0.015, 0}, {0, 0, 0});
+  EXPECT_NEAR(cloth.contacts().max_penetration, 0.015, 1e-15);
+  EXPECT_EQ(cloth.contacts().max_depth_past_thickness, 0.0);
+  cloth.set_state({5, 0.09, 0}, {0, 0, 0});
+  EXPECT_NEAR(cloth.contacts().max_depth_past_thickness, 0.005, 1e-15);
+}
+
 }  // namespace
 }  // namespace clothlab

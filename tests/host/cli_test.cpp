@@ -411,6 +411,7 @@ TEST_F(Clothlab, DrapeSettlesOverASphereAndATableAndReportsItsDrapeCoefficient) 
     EXPECT_EQ(contacts["colliders"], 1) << support;
     EXPECT_EQ(contacts["particles_inside_at_end"], 0) << support;
     EXPECT_LT(contacts["max_penetration_over_run"].get<double>(), 0.005) << support;
+    EXPECT_LE(contacts["max_depth_past_thickness_over_run"].get<double>(), 1e-6) << support;
     const double coefficient = contacts["drape_coefficient"].get<double>();
     EXPECT_LT(coefficient, 0.95) << support;
     EXPECT_GT(coefficient, support_shadow) << support;

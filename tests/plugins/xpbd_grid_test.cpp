@@ -66,7 +66,11 @@ struct ProvotGrid {
 
 // The positions and velocities after 10 steps, every particle started moving (pins too).
 // On a host that offers the grid (`on_grid`) or not; colours in the order given; Chebyshev
-// acceleration (chebyshev_rho, chebyshev_delay) set when `chebyshev` is.
+// acceleration (chebyshev_rho, chebyshev_delay) set when `chebyshev` is. With
+// `parities_swapped`, the host's topology lists each stencil's two parities the other way
+// round than its grid stencils: the general path sweeps in the topology's order, the grid path
+// in the stencils', so the two end apart on every build (in one order, a build without the
+// AVX-512 kernel gives both paths the same bits).
 struct ChebyshevSetting {
   double rho;
   long delay;
@@ -75,13 +79,15 @@ template <class Real>
 std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
                                 const std::vector<uint32_t>& color_order, int iterations,
                                 const std::vector<uint32_t>& pins,
-                                const ChebyshevSetting* chebyshev = nullptr) {
+                                const ChebyshevSetting* chebyshev = nullptr,
+                                bool parities_swapped = false) {
   const ProvotGrid grid(rows, cols);
   SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
   std::vector<std::vector<uint32_t>> colors;
   std::vector<clothlab_grid_color> stencil_colors;
   for (uint32_t c : color_order) {
-    colors.push_back(grid.colors[c]);
+    // Colours 2k and 2k + 1 are one stencil's parities 0 and 1.
+    colors.push_back(grid.colors[parities_swapped ? c ^ 1u : c]);
     stencil_colors.push_back(grid.stencil_colors[c]);
   }
   network.set_spring_colors(colors);
@@ -161,27 +167,40 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6, middle);
 }
 
-// Chebyshev acceleration on: a grid cloth takes the general sweep (with weights of 1, the same
-// bits as the general host's plain sweep); off (rho 0, any delay): the grid path's bits. In
-// float32 the grid path's row kernels (the shared inverse mass, reciprocals) round otherwise
-// than the general sweep, which tells the two paths apart where the AVX-512 kernel is built; a
-// portable build's grid path gives the general sweep's bits, and only the first two checks hold
-// there.
-TEST(XpbdGrid, ChebyshevTakesTheGeneralPathAndOffKeepsTheGridPath) {
+// A grid cloth on the host whose topology swaps the parities (state_after): the grid path and
+// the general path end apart, and a setting's bits say which path it took.
+template <class Real>
+std::vector<double> swapped_parities_state(bool on_grid, const ChebyshevSetting* chebyshev) {
   std::vector<uint32_t> order(12);
   for (uint32_t c = 0; c < 12; ++c) order[c] = c;
-  const ChebyshevSetting unit_weights{0.9, 3}, off{0.0, 1};
-  const std::vector<double> grid = state_after<float>(rows, cols, true, order, 3, corner_pins);
-  const std::vector<double> general = state_after<float>(rows, cols, false, order, 3, corner_pins);
-  const std::vector<double> accelerated =
-      state_after<float>(rows, cols, true, order, 3, corner_pins, &unit_weights);
-  const std::vector<double> grid_off =
-      state_after<float>(rows, cols, true, order, 3, corner_pins, &off);
-  EXPECT_EQ(accelerated, general);
-  EXPECT_EQ(grid_off, grid);
-#if defined(__AVX512F__) && defined(__BMI2__)
-  EXPECT_NE(grid, general) << "the two paths cannot be told apart";
-#endif
+  return state_after<Real>(rows, cols, on_grid, order, 3, corner_pins, chebyshev, true);
+}
+
+// Chebyshev acceleration on (chebyshev_delay below the iterations): a grid cloth takes the
+// general sweep, the same bits as on a host without a grid; off (rho 0, any delay): the grid
+// path's bits.
+TEST(XpbdGrid, ChebyshevTakesTheGeneralPathAndOffKeepsTheGridPath) {
+  const ChebyshevSetting accelerating{0.5, 1}, off{0.0, 1};
+  const std::vector<double> grid = swapped_parities_state<float>(true, nullptr);
+  const std::vector<double> general = swapped_parities_state<float>(false, nullptr);
+  ASSERT_NE(grid, general) << "the two paths cannot be told apart";
+  const std::vector<double> accelerated = swapped_parities_state<float>(true, &accelerating);
+  const std::vector<double> accelerated_general =
+      swapped_parities_state<float>(false, &accelerating);
+  ASSERT_NE(accelerated, grid) << "the accelerated sweeps cannot be told from the grid path";
+  EXPECT_EQ(accelerated, accelerated_general);
+  EXPECT_EQ(swapped_parities_state<float>(true, &off), grid);
+}
+
+// A delay of the iterations or more leaves every weight 1: nothing to accelerate, so the grid
+// cloth keeps the grid path (not the general one, which would give the same sweeps slower and
+// check them for divergence).
+TEST(XpbdGrid, ChebyshevDelayedPastTheIterationsKeepsTheGridPath) {
+  const std::vector<double> grid = swapped_parities_state<double>(true, nullptr);
+  ASSERT_NE(grid, swapped_parities_state<double>(false, nullptr))
+      << "the two paths cannot be told apart";
+  for (const ChebyshevSetting delayed : {ChebyshevSetting{0.9, 3}, ChebyshevSetting{0.9, 10}})
+    EXPECT_EQ(swapped_parities_state<double>(true, &delayed), grid) << "delay " << delayed.delay;
 }
 
 // The grid path keeps its displacements in v during a substep: the pins' velocities must

@@ -127,8 +127,13 @@ struct FakeRuns {
     }
     run.p99_stretch = (1.0 + run.max_stretch_away_from_pins) / 2;
     if (colliders > 0) {
+      // The thinnest collider is 0.01 m thick; "cushioned" lies 0.015 m inside one 0.02 m
+      // thick, "rounded" a float32 rounding past a thickness of 0.
       run.collider_thickness = 0.01;
       run.max_penetration = c.integrator == "tunneller" ? 0.04 / substeps : 0.002;
+      run.max_depth_past_thickness = std::max(0.0, run.max_penetration - 0.01);
+      if (c.integrator == "cushioned") run.max_penetration = 0.015;
+      if (c.integrator == "rounded") run.max_depth_past_thickness = 5e-7;
     }
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
@@ -589,9 +594,8 @@ TEST(IntegratorChoice, FailsAProbeThatPenetratesDeeperThanTheColliderThickness) 
   EXPECT_EQ(tunnelling.substeps, 4u);  // 0.04 / 4 = the thickness; 2 substeps: 0.02 m
   EXPECT_LE(tunnelling.max_penetration, 0.01);
   EXPECT_EQ(tunnelling.collider_thickness, 0.01);
-  EXPECT_NE(fixture.progress.str().find(
-                "tunneller 2 substeps: penetration 0.02 m into a collider above its thickness "
-                "0.01 m"),
+  EXPECT_NE(fixture.progress.str().find("tunneller 2 substeps: a particle 0.01 m past the "
+                                        "thickness of a collider (deepest penetration 0.02 m)"),
             std::string::npos)
       << fixture.progress.str();
   const Choice shallow = found("steady");
@@ -602,6 +606,25 @@ TEST(IntegratorChoice, FailsAProbeThatPenetratesDeeperThanTheColliderThickness) 
   const std::vector<Row> ranked = choice_rows(choices, fixture.settings);
   EXPECT_EQ(ranked[0]["collider_thickness"], 0.01);
   EXPECT_TRUE(ranked[0]["max_penetration"].is_number());
+}
+
+// Each particle against the thickness of the collider it lies in: deeper than the thinnest
+// collider's thickness but within its own collider's band passes (judged against the thinnest,
+// "cushioned" would fail at every setting), and so does a depth past the thickness within the
+// rounding tolerance.
+TEST(IntegratorChoice, JudgesThePenetrationAgainstItsOwnCollidersThickness) {
+  Fixture fixture;
+  fixture.runs.colliders = 2;
+  std::vector<ChoiceCandidate> candidates = {{"cushioned", false}, {"rounded", false}};
+  for (ChoiceCandidate& candidate : candidates) candidate.resolves_contacts = true;
+  const std::vector<Choice> choices = fixture.choose(candidates);
+  ASSERT_EQ(choices.size(), 2u);
+  for (const Choice& choice : choices) {
+    ASSERT_TRUE(choice.passed) << choice.integrator << ": " << choice.verdict;
+    EXPECT_EQ(choice.substeps, 1u) << choice.integrator;
+  }
+  const Choice& cushioned = choices[0].integrator == "cushioned" ? choices[0] : choices[1];
+  EXPECT_GT(cushioned.max_penetration, cushioned.collider_thickness);
 }
 
 // Without colliders the penetration judges nothing and the rows leave it empty.

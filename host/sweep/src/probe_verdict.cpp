@@ -5,6 +5,13 @@
 
 namespace clothlab::sweep::choice_detail {
 
+namespace {
+// How far past a collider's thickness a particle may lie and not count as tunnelling: the
+// contacts put it exactly at the thickness, which float32 positions a few metres from the
+// origin round by up to ~5e-7 m (with thickness 0, onto either side of the surface).
+constexpr double tunnelling_tolerance_m = 1e-6;
+}  // namespace
+
 bool timed_out(const Trajectory& run) {
   return run.verdict.status == CaseStatus::Failed &&
          run.verdict.reason.find("timed out") != std::string::npos;
@@ -105,16 +112,16 @@ bool IntegratorSearch::judge_stretch(const Trajectory& run, Probe& probe,
   return false;
 }
 
-// A particle deeper inside a collider's surface than its thickness went through the band the
-// contacts keep clear: at a larger penetration it tunnels through a thin body part.
+// A particle deeper inside a collider's surface than that collider's thickness went through the
+// band the contacts keep clear: at a larger penetration it tunnels through a thin body part.
 bool IntegratorSearch::judge_penetration(const Trajectory& run, Probe& probe,
                                          const std::string& where) const {
-  if (!(run.max_penetration > run.collider_thickness)) return true;
+  if (!(run.max_depth_past_thickness > tunnelling_tolerance_m)) return true;
   probe.max_penetration = run.max_penetration;
   probe.collider_thickness = run.collider_thickness;
-  probe.why = "penetration " + format_number(run.max_penetration) +
-              " m into a collider above its thickness " + format_number(run.collider_thickness) +
-              " m" + where;
+  probe.why = "a particle " + format_number(run.max_depth_past_thickness) +
+              " m past the thickness of a collider (deepest penetration " +
+              format_number(run.max_penetration) + " m)" + where;
   return false;
 }
 

@@ -202,10 +202,12 @@ class Cloth {
   void set_colliders(std::span<const Collider> colliders);
   // The colliders as last set (the frames draw them); valid until the next set_colliders.
   std::span<const Collider> colliders() const;
-  // The cloth against the colliders now: the deepest penetration of a collider's surface (m)
-  // and how many particles lie inside one.
+  // The cloth against the colliders now: the deepest penetration of a collider's surface (m),
+  // the largest depth past the thickness of the collider it lies in (m; tunnelling) and how
+  // many particles lie inside one.
   struct Contacts {
     double max_penetration = 0;
+    double max_depth_past_thickness = 0;
     uint32_t particles_inside = 0;
   };
   Contacts contacts() const;

@@ -27,4 +27,8 @@ bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from
 // surface itself, not of the thickness band.
 double penetration_depth(std::span<const Collider> colliders, const Vec3& x);
 
+// How far a point lies past a collider's thickness into it, the largest over the colliders
+// (0 when no collider holds it deeper than its thickness): each against its own thickness.
+double depth_past_thickness(std::span<const Collider> colliders, const Vec3& x);
+
 }  // namespace clothlab

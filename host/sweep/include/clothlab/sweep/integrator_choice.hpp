@@ -13,8 +13,9 @@
 //     cloth). Both are measured on error_mesh (a smaller mesh where the scene's own would make
 //     the reference too expensive; the rows say which) with the same setting.
 // On a scene with colliders, a run at the scene's mesh also fails when a particle lay deeper
-// inside a collider's surface than the collider's thickness after a step (it went through the
-// band the contacts keep clear: tunnelling); the rows carry that largest penetration.
+// inside a collider's surface than that collider's thickness (by over 1e-6 m) after a step (it
+// went through the band the contacts keep clear: tunnelling); the rows carry the largest
+// penetration.
 // A candidate that lacks what the scene needs (its traits do not declare moving attachments or
 // resolving contacts, and the reference's run had attached particles or colliders) is not
 // searched: its row says "refused: ..." and what is missing.

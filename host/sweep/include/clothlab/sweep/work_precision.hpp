@@ -37,10 +37,12 @@ struct Trajectory {
   double p99_stretch = 0.0;
   // What the scene needs of an integrator and the contacts over the run (issue 22): its
   // attached particles and colliders (0: none), the deepest penetration of a collider's surface
-  // after a step (m) and the thinnest collider's thickness (m); both NAN without colliders.
+  // after a step (m), the largest depth past the thickness of the collider a particle lay in
+  // (m) and the thinnest collider's thickness (m); all NAN without colliders.
   uint32_t attached_particles = 0;
   uint32_t colliders = 0;
   double max_penetration = NAN;
+  double max_depth_past_thickness = NAN;
   double collider_thickness = NAN;
   double ms_per_frame = 0.0;      // median wall time of a frame (substeps steps), ms
   double ms_per_frame_p10 = 0.0;  // its 10th percentile: the least disturbed by other jobs
