@@ -1,7 +1,7 @@
-// The adaptive thread team (team_governor.hpp): team steps with a probe on one thread now and
-// then, alone for a hold when the probe beats the team, back to the team when its tries are
-// clearly faster. That the engine's steps give the same bits either way: fused_step_test.cpp,
-// FusedStepAdaptiveTeam.
+// The adaptive thread team (team_governor.hpp): team steps with a probe of a few steps on one
+// thread now and then, alone for a hold when the probe beats the team, back to the team when
+// its tries are clearly faster. That the engine's steps give the same bits either way:
+// fused_step_test.cpp, FusedStepAdaptiveTeam.
 #include <gtest/gtest.h>
 
 #include <clothlab/core/team_governor.hpp>
@@ -27,53 +27,60 @@ struct Machine {
   }
 };
 
-// The lengths of the runs of 'a' in a choice string.
-std::vector<int> alone_runs(const std::string& choices) {
-  std::vector<int> runs;
-  int length = 0;
-  for (const char choice : choices + 'T') {
-    if (choice == 'a') {
-      ++length;
-    } else if (length > 0) {
-      runs.push_back(length);
-      length = 0;
+// Where each run of 'a' in a choice string starts, and how long it is.
+struct AloneRuns {
+  std::vector<std::size_t> starts;
+  std::vector<int> lengths;
+};
+
+AloneRuns alone_runs(const std::string& choices) {
+  AloneRuns runs;
+  for (std::size_t step = 0; step < choices.size(); ++step) {
+    if (choices[step] != 'a') continue;
+    if (step == 0 || choices[step - 1] != 'a') {
+      runs.starts.push_back(step);
+      runs.lengths.push_back(0);
     }
+    ++runs.lengths.back();
   }
   return runs;
 }
 
-TEST(TeamGovernor, AFasterTeamKeepsItsStepsAndProbesAtIntervalsThatDouble) {
+TEST(TeamGovernor, AClearlyFasterTeamKeepsItsStepsAndProbesAtIntervalsThatDouble) {
   TeamGovernor governor(2, true);
-  const std::string choices = Machine{1e-3, 1.8e-3}.run(governor, 1000);
-  std::vector<std::size_t> probes;
-  for (std::size_t step = 0; step < choices.size(); ++step)
-    if (choices[step] == 'a') probes.push_back(step);
-  // 16, 32, 64, 128, 256, 256 team steps between single probes.
-  EXPECT_EQ(probes, (std::vector<std::size_t>{16, 49, 114, 243, 500, 757}));
+  const AloneRuns runs = alone_runs(Machine{1e-3, 1.8e-3}.run(governor, 1000));
+  // Probes of 3 steps after 16, 32, 64, 128, 256, 256 team steps.
+  EXPECT_EQ(runs.starts, (std::vector<std::size_t>{16, 51, 118, 249, 508, 767}));
+  EXPECT_EQ(runs.lengths, std::vector<int>(6, 3));
+}
+
+TEST(TeamGovernor, ACloseCallIsProbedAgainAfterTheLeastInterval) {
+  TeamGovernor governor(2, true);
+  // The team is faster, but not by the gain that would double the interval.
+  const AloneRuns runs = alone_runs(Machine{1e-3, 1.05e-3}.run(governor, 100));
+  EXPECT_EQ(runs.starts, (std::vector<std::size_t>{16, 35, 54, 73, 92}));
 }
 
 TEST(TeamGovernor, AFasterThreadAloneRunsHoldsThatDoubleBetweenTriesOfTheTeam) {
   TeamGovernor governor(2, true);
   const std::string choices = Machine{3e-3, 2e-3}.run(governor, 3000);
   EXPECT_EQ(choices.substr(0, 16), std::string(16, 'T'));
-  const std::vector<int> runs = alone_runs(choices);
-  ASSERT_GE(runs.size(), 8u);
+  const AloneRuns runs = alone_runs(choices);
+  ASSERT_GE(runs.lengths.size(), 8u);
   // The probe, then its hold of 4, are one run; each later run is a hold after a failed try.
-  EXPECT_EQ(std::vector<int>(runs.begin(), runs.begin() + 8),
-            (std::vector<int>{5, 8, 16, 32, 64, 128, 256, 256}));
+  EXPECT_EQ(std::vector<int>(runs.lengths.begin(), runs.lengths.begin() + 8),
+            (std::vector<int>{7, 8, 16, 32, 64, 128, 256, 256}));
   // Each try is kTrySteps team steps.
-  EXPECT_NE(choices.find(std::string(5, 'a') + "TTTT" + std::string(8, 'a')), std::string::npos);
+  EXPECT_NE(choices.find(std::string(7, 'a') + "TTTT" + std::string(8, 'a')), std::string::npos);
 }
 
 TEST(TeamGovernor, ATeamStepMuchSlowerThanTheRecentOnesProbesAtOnce) {
   TeamGovernor governor(2, true);
-  const Machine quiet{1e-3, 1.8e-3};
-  EXPECT_EQ(quiet.run(governor, 5), "TTTTT");
+  EXPECT_EQ((Machine{1e-3, 1.8e-3}.run(governor, 5)), "TTTTT");
   ASSERT_TRUE(governor.team_step());
   governor.finished(1.6e-3);  // slower than 1.5 x the mean of the last five
-  EXPECT_FALSE(governor.team_step());
-  governor.finished(1.8e-3);  // the probe loses to the team's recent mean: the team goes on
-  EXPECT_TRUE(governor.team_step());
+  // The probe loses to the team's recent mean: the team goes on.
+  EXPECT_EQ((Machine{1e-3, 1.8e-3}.run(governor, 4)), "aaaT");
 }
 
 TEST(TeamGovernor, JustUnderTheSlowStepBoundIsNoProbe) {
@@ -83,11 +90,12 @@ TEST(TeamGovernor, JustUnderTheSlowStepBoundIsNoProbe) {
   EXPECT_TRUE(governor.team_step());
 }
 
-// Alone after a probe that won; then the tries of a team that takes `team_s`.
+// Alone after a probe that won (1 ms alone against 1.2 ms on the team); then the tries of a
+// team that takes `team_s`.
 std::string after_a_won_probe(double team_s) {
   TeamGovernor governor(2, true);
-  Machine{1e-3, 1e-3}.run(governor, 16);
-  governor.finished(0.5e-3);  // the probe beats the team
+  const std::string probed = Machine{1.2e-3, 1e-3}.run(governor, 16 + 3);
+  EXPECT_EQ(probed, std::string(16, 'T') + "aaa");
   return Machine{team_s, 1e-3}.run(governor, 4 + 4 + 8);
 }
 

@@ -5,13 +5,14 @@
 // core, that thread waits for the core a scheduler time slice at a time, and the team's step
 // can take longer than the calling thread's alone. How much of the CPU the team got does not
 // tell: a short step's threads sleep between its passes on an idle machine too. So the
-// governor measures both: among team steps it runs one step alone now and then (a probe, whose
-// interval doubles while the team wins) and at once after a team step much slower than the
-// recent ones; when the probe beats the team's recent mean, the steps after it run alone for a
-// hold, after which a few team steps try again. The team comes back only when it is clearly
-// faster, and the hold doubles while the tries lose. Results do not depend on it: every pass
-// gives the same bits on any thread count. docs/performance.md, "The engine on a shared
-// machine", has the measurements behind the numbers.
+// governor measures both: among team steps it runs a few steps alone now and then (a probe) and
+// at once after a team step much slower than the recent ones. When the probe's mean beats the
+// team's recent mean, the steps after it run alone for a hold, after which a few team steps try
+// again; the team comes back only when it is clearly faster, and the hold doubles while the
+// tries lose. The probe interval doubles while the team clearly wins and falls back to its
+// least when the two are close, so a noisy machine is probed often where the choice is close.
+// Results do not depend on it: every pass gives the same bits on any thread count.
+// docs/performance.md, "The engine on a shared machine", has the measurements behind the numbers.
 #pragma once
 
 #include <algorithm>
@@ -26,10 +27,11 @@ class TeamGovernor {
   static constexpr uint32_t kLeastHold = 4, kMostHold = 256;
   // A team step this much slower than the recent team steps' mean calls for a probe now.
   static constexpr double kSlowStep = 1.5;
-  // The team comes back when its tries' mean is below this fraction of the hold's steps' mean:
-  // a team barely faster than one thread is not worth the core it takes from the machine.
+  // The team wins clearly (it comes back after a hold; its probe interval doubles) when its
+  // mean is below this fraction of the steps' alone: a team barely faster than one thread is
+  // not worth the core it takes from the machine.
   static constexpr double kTeamGain = 0.9;
-  static constexpr uint32_t kTrySteps = 4;
+  static constexpr uint32_t kTrySteps = 4, kProbeSteps = 3;
 
   // `team`: the threads of a full step; a governor of one thread, or a disabled one, always
   // says "team" (the engine then runs exactly as configured).
@@ -45,7 +47,7 @@ class TeamGovernor {
       case Mode::team:
         return finished_team_step(wall_s);
       case Mode::probing:
-        return finished_probe(wall_s);
+        return finished_probe_step(wall_s);
       case Mode::alone:
         return finished_alone(wall_s);
       case Mode::trying:
@@ -60,17 +62,28 @@ class TeamGovernor {
   void finished_team_step(double wall_s) {
     const bool slow = recent_count_ > 0 && wall_s > kSlowStep * recent_mean();
     remember_team_step(wall_s);
-    if (slow || --until_probe_ == 0) mode_ = Mode::probing;
+    if (slow || --until_probe_ == 0) {
+      mode_ = Mode::probing;
+      probe_sum_ = 0;
+      probe_left_ = kProbeSteps;
+    }
   }
 
-  void finished_probe(double wall_s) {
-    if (wall_s < recent_mean()) {
+  void finished_probe_step(double wall_s) {
+    probe_sum_ += wall_s;
+    if (--probe_left_ > 0) return;
+    const double alone = probe_sum_ / kProbeSteps, team = recent_mean();
+    if (alone < team) {
       start_hold();
-    } else {
-      mode_ = Mode::team;
-      probe_interval_ = std::min(2 * probe_interval_, kMostProbeInterval);
-      until_probe_ = probe_interval_;
+      alone_sum_ = probe_sum_;  // the probe's steps were alone too
+      alone_count_ = kProbeSteps;
+      return;
     }
+    mode_ = Mode::team;
+    const bool clear_win = team < kTeamGain * alone;
+    probe_interval_ =
+        clear_win ? std::min(2 * probe_interval_, kMostProbeInterval) : kLeastProbeInterval;
+    until_probe_ = probe_interval_;
   }
 
   void finished_alone(double wall_s) {
@@ -123,8 +136,8 @@ class TeamGovernor {
   std::array<double, kRecentSteps> recent_{};
   uint32_t recent_next_ = 0, recent_count_ = 0;
   uint32_t probe_interval_ = kLeastProbeInterval, until_probe_ = kLeastProbeInterval;
-  uint32_t hold_ = kLeastHold, alone_left_ = 0, alone_count_ = 0, try_left_ = 0;
-  double alone_sum_ = 0, try_sum_ = 0;
+  uint32_t hold_ = kLeastHold, alone_left_ = 0, alone_count_ = 0, try_left_ = 0, probe_left_ = 0;
+  double alone_sum_ = 0, try_sum_ = 0, probe_sum_ = 0;
 };
 
 }  // namespace clothlab
