@@ -28,7 +28,9 @@ sdk::Grid grid_of(const sdk::System<Real>& system, const std::string& setting) {
                          "is not one");
   if (uint64_t{grid->rows()} * grid->cols() != system.particle_count())
     throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                     "multigrid: the grid's rows x cols is not the particle count");
+                     setting + ": the grid's " + std::to_string(grid->rows()) + " x " +
+                         std::to_string(grid->cols()) + " is not the particle count " +
+                         std::to_string(system.particle_count()));
   return *grid;
 }
 
@@ -40,7 +42,7 @@ std::vector<GridSize> plan_grid_levels(const sdk::System<Real>& system, long coa
   try {
     return plan_levels(grid.rows(), grid.cols(), coarsest_particles);
   } catch (const std::invalid_argument& error) {
-    throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, error.what());
+    throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, setting + ": " + error.what());
   }
 }
 
@@ -55,14 +57,14 @@ std::vector<uint8_t> fixed_particles(const sdk::System<Real>& system) {
 
 // Every spring joins particles at most GridLevel::reach spacings apart along each axis.
 template <class Real>
-void check_spring_reach(const sdk::System<Real>& system, long cols) {
+void check_spring_reach(const sdk::System<Real>& system, long cols, const std::string& setting) {
   const sdk::Topology topology = system.topology();
   for (uint32_t s = 0; s < topology.spring_count(); ++s) {
     const long a = topology.first()[s], b = topology.second()[s];
     if (std::abs(a / cols - b / cols) > GridLevel::reach ||
         std::abs(a % cols - b % cols) > GridLevel::reach)
       throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                       "multigrid: spring " + std::to_string(s) + " joins particles " +
+                       setting + ": spring " + std::to_string(s) + " joins particles " +
                            std::to_string(a) + " and " + std::to_string(b) +
                            ", more than 2 grid spacings apart");
   }

@@ -38,7 +38,7 @@ inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coar
   const GridSize coarsest = sizes.back();
   if (nodes(coarsest) > kMaxCoarsestNodes)
     throw std::invalid_argument(
-        "multigrid: the " + std::to_string(rows) + " x " + std::to_string(cols) +
+        "the " + std::to_string(rows) + " x " + std::to_string(cols) +
         " grid coarsens to no fewer than " + std::to_string(coarsest.rows) + " x " +
         std::to_string(coarsest.cols) + " particles (a side needs 3 to coarsen); the direct " +
         "solve there takes at most " + std::to_string(kMaxCoarsestNodes));

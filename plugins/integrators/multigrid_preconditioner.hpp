@@ -45,7 +45,7 @@ class MultigridPreconditioner {
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
         probe_product_(system.alloc_vector()) {
-    check_spring_reach(system, hierarchy_.level(0).cols());
+    check_spring_reach(system, hierarchy_.level(0).cols(), "multigrid = 1");
     const Real* inverse_mass = system.inverse_mass();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) mass_[i] = 1.0 / inverse_mass[i];

@@ -216,7 +216,7 @@ struct ProjectiveDynamics {
     const std::vector<GridSize> levels =
         multigrid ? plan_grid_levels(system, multigrid_coarsest_, "factorization = 2")
                   : std::vector<GridSize>{};
-    if (multigrid) check_spring_reach(system, static_cast<long>(levels[0].cols));
+    if (multigrid) check_spring_reach(system, static_cast<long>(levels[0].cols), "factorization = 2");
     matrix_.build(system, topology,
                   multigrid ? ProjectiveDynamicsMatrix::Order::kParticles
                             : ProjectiveDynamicsMatrix::Order::kFillReducing);

@@ -79,7 +79,7 @@ TEST(TeamGovernor, ATeamStepMuchSlowerThanTheRecentOnesProbesAtOnce) {
   EXPECT_EQ((Machine{1e-3, 1.8e-3}.run(governor, 5)), "TTTTT");
   ASSERT_TRUE(governor.team_step());
   governor.finished(1.6e-3);  // slower than 1.5 x the mean of the last five
-  // The probe loses to the team's recent mean: the team goes on.
+  // The probe loses to the slow step: the team goes on.
   EXPECT_EQ((Machine{1e-3, 1.8e-3}.run(governor, 4)), "aaaT");
 }
 
@@ -102,6 +102,20 @@ std::string after_a_won_probe(double team_s) {
 TEST(TeamGovernor, TheTeamComesBackOnlyWhenClearlyFasterThanTheHold) {
   EXPECT_EQ(after_a_won_probe(0.89e-3), "aaaaTTTTTTTTTTTT");
   EXPECT_EQ(after_a_won_probe(0.91e-3), "aaaaTTTTaaaaaaaa");
+}
+
+TEST(TeamGovernor, ATryThatWinsHalvesTheHoldForTheNextLoss) {
+  TeamGovernor governor(2, true);
+  // Alone is faster: the probe's hold of 4, then holds of 8, 16, 32 after lost tries.
+  const std::string lost = Machine{3e-3, 2e-3}.run(governor, 16 + 7 + 4 + 8 + 4 + 16 + 4 + 32);
+  EXPECT_EQ(alone_runs(lost).lengths, (std::vector<int>{7, 8, 16, 32}));
+  // The machine frees up: the next try wins and the team runs.
+  const std::string won = Machine{1e-3, 2e-3}.run(governor, 4 + 15);
+  EXPECT_EQ(won, std::string(19, 'T'));
+  // The core is taken again: a slow team step, a probe that beats it, and a hold of 32 / 2
+  // steps, not 4.
+  const std::string again = Machine{3e-3, 2e-3}.run(governor, 1 + 3 + 16 + 1);
+  EXPECT_EQ(again, "T" + std::string(3 + 16, 'a') + "T");
 }
 
 TEST(TeamGovernor, OneThreadOrDisabledAlwaysRunsTheTeam) {

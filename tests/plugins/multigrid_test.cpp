@@ -359,7 +359,7 @@ TEST(Multigrid, CoarsensAsFarAsAsked) {
   } catch (const std::invalid_argument& error) {
     EXPECT_STREQ(
         error.what(),
-        "multigrid: the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
+        "the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
         "needs 3 to coarsen); the direct solve there takes at most 1024");
   }
 }
@@ -513,8 +513,22 @@ TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
     ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
     EXPECT_NE(integrator.prepare(net.host.system()), CLOTHLAB_OK);
     EXPECT_EQ(integrator.message(),
-              "multigrid: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
+              "multigrid = 1: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
               "needs 3 to coarsen); the direct solve there takes at most 1024");
+  }
+  {
+    // A spring three columns long reaches past the levels' 5 x 5 block windows.
+    std::vector<TestSpring> springs = provot_net_springs(6, 6, GridNet::kSpacing, 5e3, 50.0, 0.05);
+    springs.push_back({0, 3, 3 * GridNet::kSpacing, 5e3, 0.05});
+    SpringHost<double> host(36, {0, 5}, springs, {0, -9.81, 0});
+    host.set_grid(6, 6, GridNet::kSpacing, {});
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", 1.0);
+    ASSERT_EQ(integrator.create(), CLOTHLAB_OK);
+    EXPECT_NE(integrator.prepare(host.system()), CLOTHLAB_OK);
+    EXPECT_EQ(integrator.message(),
+              "multigrid = 1: spring " + std::to_string(springs.size() - 1) +
+                  " joins particles 0 and 3, more than 2 grid spacings apart");
   }
 }
 

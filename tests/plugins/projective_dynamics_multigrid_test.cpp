@@ -294,7 +294,7 @@ TEST(ProjectiveDynamicsMultigrid, BadSettingsAreOneLineErrors) {
             "parameter factorization = 3 is outside [0, 2]");
   GridFlag strip(2, 600);
   EXPECT_EQ(refusal(strip, {}),
-            "multigrid: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
+            "factorization = 2: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
             "needs 3 to coarsen); the direct solve there takes at most 1024");
   GridFlag loose(6, 6, false);
   EXPECT_EQ(refusal(loose, {}),

@@ -7,12 +7,13 @@
 // tell: a short step's threads sleep between its passes on an idle machine too. So the
 // governor measures both: among team steps it runs a few steps alone now and then (a probe) and
 // at once after a team step much slower than the recent ones. When the probe's mean beats the
-// team's recent mean, the steps after it run alone for a hold, after which a few team steps try
-// again; the team comes back only when it is clearly faster, and the hold doubles while the
-// tries lose. The probe interval doubles while the team clearly wins and falls back to its
-// least when the two are close, so a noisy machine is probed often where the choice is close.
-// Results do not depend on it: every pass gives the same bits on any thread count.
-// docs/performance.md, "The engine on a shared machine", has the measurements behind the numbers.
+// team's recent mean (or the slow step), the steps after it run alone for a hold, after which a few
+// team steps try again; the team comes back only when it is clearly faster, and the hold doubles
+// while the tries lose and halves when one wins. The probe interval doubles while the team clearly
+// wins and falls back to its least when the two are close, so a noisy machine is probed often where
+// the choice is close. Results do not depend on it: every pass gives the same bits on any thread
+// count. docs/performance.md, "The engine on a shared machine", has the measurements behind the
+// numbers.
 #pragma once
 
 #include <algorithm>
@@ -66,13 +67,15 @@ class TeamGovernor {
       mode_ = Mode::probing;
       probe_sum_ = 0;
       probe_left_ = kProbeSteps;
+      // A slow step is measured against itself: the mean still holds the steps before it.
+      probe_reference_ = slow ? wall_s : recent_mean();
     }
   }
 
   void finished_probe_step(double wall_s) {
     probe_sum_ += wall_s;
     if (--probe_left_ > 0) return;
-    const double alone = probe_sum_ / kProbeSteps, team = recent_mean();
+    const double alone = probe_sum_ / kProbeSteps, team = probe_reference_;
     if (alone < team) {
       start_hold();
       alone_sum_ = probe_sum_;  // the probe's steps were alone too
@@ -101,7 +104,7 @@ class TeamGovernor {
     if (--try_left_ > 0) return;
     if (try_sum_ / kTrySteps < kTeamGain * alone_sum_ / alone_count_) {
       mode_ = Mode::team;
-      hold_ = kLeastHold;
+      hold_ = std::max(kLeastHold, hold_ / 2);  // a contention that comes and goes: stay wary
       probe_interval_ = kLeastProbeInterval;
       until_probe_ = probe_interval_;
       recent_count_ = recent_next_ = 0;
@@ -137,7 +140,7 @@ class TeamGovernor {
   uint32_t recent_next_ = 0, recent_count_ = 0;
   uint32_t probe_interval_ = kLeastProbeInterval, until_probe_ = kLeastProbeInterval;
   uint32_t hold_ = kLeastHold, alone_left_ = 0, alone_count_ = 0, try_left_ = 0, probe_left_ = 0;
-  double alone_sum_ = 0, try_sum_ = 0, probe_sum_ = 0;
+  double alone_sum_ = 0, try_sum_ = 0, probe_sum_ = 0, probe_reference_ = 0;
 };
 
 }  // namespace clothlab
