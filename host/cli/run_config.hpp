@@ -42,7 +42,7 @@ struct RunConfig {
   double duration = 0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;               // 0: all cores
-  bool adaptive_threads = false;  // thread_team: PipelineOptions::adaptive_threads
+  bool adaptive_threads = true;   // thread_team: PipelineOptions::adaptive_threads
   // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
   // takes longer is killed and reported as timed out.
   double timeout_s = 0;

@@ -104,7 +104,7 @@ const KeyInfo keys[] = {
      "precision", [](Configuration& c, const KeyValue& v) { c.run.float64 = v.text == "float64"; }},
     {"threads", T::Whole, 0, max_threads, "", nullptr, "0", "worker threads, 0 = all cores",
      "threads", [](Configuration& c, const KeyValue& v) { c.run.threads = whole<int>(v); }},
-    {"thread_team", T::Choice, 0, 0, "", "fixed, adaptive", "fixed",
+    {"thread_team", T::Choice, 0, 0, "", "fixed, adaptive", "adaptive",
      "fixed: every step on `threads`; adaptive: steps run on one thread while a step on one "
      "thread, probed now and then, beats the team's (docs/performance.md)",
      nullptr,
