@@ -86,12 +86,10 @@ Cloth::Contacts ClothEngine<Real>::contacts() const {
   const std::size_t s = stride_;
   for (const clothlab_range& range : active_)
     for (std::size_t i = range.begin; i < range.end; ++i) {
-      const double depth = penetration_depth(colliders_, {px[i], px[s + i], px[2 * s + i]});
-      out.max_penetration = std::max(out.max_penetration, depth);
-      out.max_depth_past_thickness =
-          std::max(out.max_depth_past_thickness,
-                   depth_past_thickness(colliders_, {px[i], px[s + i], px[2 * s + i]}));
-      if (depth > 0) ++out.particles_inside;
+      const ContactDepths depths = contact_depths(colliders_, {px[i], px[s + i], px[2 * s + i]});
+      out.max_penetration = std::max(out.max_penetration, depths.penetration);
+      out.max_depth_past_thickness = std::max(out.max_depth_past_thickness, depths.past_thickness);
+      if (depths.penetration > 0) ++out.particles_inside;
     }
   return out;
 }

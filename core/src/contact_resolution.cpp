@@ -71,18 +71,22 @@ bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from
   return resolve_contact(colliders, x, v) || rewound;
 }
 
+ContactDepths contact_depths(std::span<const Collider> colliders, const Vec3& x) {
+  ContactDepths depths;
+  for (const Collider& collider : colliders) {
+    const double inside = -surface_distance(collider, x).distance;
+    depths.penetration = std::max(depths.penetration, inside);
+    depths.past_thickness = std::max(depths.past_thickness, inside - collider.thickness);
+  }
+  return depths;
+}
+
 double penetration_depth(std::span<const Collider> colliders, const Vec3& x) {
-  double depth = 0;
-  for (const Collider& collider : colliders)
-    depth = std::max(depth, -surface_distance(collider, x).distance);
-  return depth;
+  return contact_depths(colliders, x).penetration;
 }
 
 double depth_past_thickness(std::span<const Collider> colliders, const Vec3& x) {
-  double past = 0;
-  for (const Collider& collider : colliders)
-    past = std::max(past, -surface_distance(collider, x).distance - collider.thickness);
-  return past;
+  return contact_depths(colliders, x).past_thickness;
 }
 
 }  // namespace clothlab

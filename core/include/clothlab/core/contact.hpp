@@ -31,4 +31,10 @@ double penetration_depth(std::span<const Collider> colliders, const Vec3& x);
 // (0 when no collider holds it deeper than its thickness): each against its own thickness.
 double depth_past_thickness(std::span<const Collider> colliders, const Vec3& x);
 
+// Both depths above from one distance per collider.
+struct ContactDepths {
+  double penetration = 0, past_thickness = 0;
+};
+ContactDepths contact_depths(std::span<const Collider> colliders, const Vec3& x);
+
 }  // namespace clothlab
