@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "bench_setup.hpp"
-#include "material.hpp"
+#include "material_scene.hpp"
 #include "preconditioned_cg.hpp"
 #include "run_config.hpp"
 
@@ -108,15 +108,6 @@ std::string describe(const SolveResult& result) {
   return text;
 }
 
-// The config's scenario at side x side particles in its material.
-Scene make_side_scene(const cli::RunConfig& config, int side) {
-  return make_scene(config.scenario, [&](host::ParamSet& values) {
-    values.set("rows", std::to_string(side), "bench");
-    values.set("cols", std::to_string(side), "bench");
-    cli::apply_material(*config.material, {}, values);
-  });
-}
-
 int print_split(const cli::RunConfig& config, const std::vector<int>& sides,
                 const std::vector<int>& rates) {
   std::printf(
@@ -125,7 +116,7 @@ int print_split(const cli::RunConfig& config, const std::vector<int>& sides,
       "|---|---|---|---|---|---|---|---|---|\n");
   for (const int rate : rates)
     for (const int side : sides) {
-      const Scene scene = make_side_scene(config, side);
+      const Scene scene = make_material_scene(config, side);
       const Cloth cloth(scene, Precision::Float64, PipelineOptions{true, 1});
       const SolveResult r = solve(cloth, 1.0 / rate, true, kMultigridCap);
       const double iterating = r.seconds - r.setup_seconds;
@@ -180,7 +171,7 @@ int run(int argc, char** argv) {
     const double h = 1.0 / rate;
     long fewest = 0, most = 0;
     for (const int side : sides) {
-      const Scene scene = make_side_scene(config, side);
+      const Scene scene = make_material_scene(config, side);
       const Cloth cloth(scene, Precision::Float64, PipelineOptions{true, 1});
       const SolveResult multigrid = solve(cloth, h, true, kMultigridCap);
       const SolveResult block_jacobi = solve(cloth, h, false, kBlockJacobiCap);

@@ -30,7 +30,7 @@
 
 #include "bench_setup.hpp"
 #include "cholmod_factorization.hpp"
-#include "material.hpp"
+#include "material_scene.hpp"
 #include "multigrid_global_solve.hpp"
 #include "projective_dynamics_matrix.hpp"
 #include "run_config.hpp"
@@ -59,11 +59,7 @@ const FlagMatrix& flag(int side, Order order) {
   if (found != built.end()) return found->second;
   const cli::RunConfig config = cli::resolve_run_config(config::read_config_file(kConfig));
   if (!config.material) throw std::runtime_error(std::string(kConfig) + ": no material");
-  const Scene scene = make_scene(config.scenario, [&](host::ParamSet& values) {
-    values.set("rows", std::to_string(side), "bench");
-    values.set("cols", std::to_string(side), "bench");
-    cli::apply_material(*config.material, {}, values);
-  });
+  const Scene scene = make_material_scene(config, side);
   const Cloth cloth(scene, Precision::Float64, PipelineOptions{true, 1});
   const sdk::System<double> system(cloth.system());
   builtin::ProjectiveDynamicsMatrix matrix;

@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "bench_setup.hpp"
-#include "material.hpp"
+#include "material_scene.hpp"
 #include "run_config.hpp"
 
 namespace clothlab::bench {
@@ -118,11 +118,7 @@ int run(int argc, char** argv) {
                  config_path.c_str());
     return 2;
   }
-  const Scene scene = make_scene(config.scenario, [&](host::ParamSet& values) {
-    values.set("rows", std::to_string(side), "bench");
-    values.set("cols", std::to_string(side), "bench");
-    cli::apply_material(*config.material, {}, values);
-  });
+  const Scene scene = make_material_scene(config, side);
   const double h = 1.0 / rate;
   const auto with = [&](long iterations, double rho) {
     ParamTexts params = {{"iterations", std::to_string(iterations)},
