@@ -7,7 +7,7 @@
 //   D = density C_d |u . N| u / 4,   L = density C_l (u . N) (|u|^2 N - (u . N) u) / (4 |N| |u|),
 // a third of each to every corner. A degenerate triangle or a still stream gets no lift (and,
 // as the products say, no drag). Scalar in an `omp simd` loop: air scenes are not the hot path
-// the wind's AVX-512 kernel is written for.
+// the wind's SIMD kernel is written for.
 #pragma once
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // The definite Jacobian's product (jacobian_row_kernel.hpp, JacobianForm::kDefinite) for all six
-// Provot stencils starting in one grid row r, in one sweep over its columns, 16 floats at a time
-// on AVX-512, from each spring's inverse length, which the state fixes and
+// Provot stencils starting in one grid row r, in one sweep over its columns, a block of SIMD lanes
+// (float_lanes.hpp) at a time, from each spring's inverse length, which the state fixes and
 // definite_inverse_length_row stores once per linearisation: a CG solve takes hundreds of
 // products at one state. One stored float per spring rather than its two coefficients: the
 // sweep is bound by the bytes it streams, and the coefficients follow from 1/l in a few
@@ -22,7 +22,7 @@
 #include "interior_row_kernel.hpp"
 #include "jacobian_row_kernel.hpp"
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
 
 namespace clothlab::detail {
 
@@ -37,29 +37,27 @@ struct DefiniteDirection {
   std::size_t stride;
 };
 
-// The update at columns [c, c + 16) within `lanes`; fresh: the new p where active, else 0 (as
-// the sweep reads p). The one arithmetic of the update, whether the sweep does it (the row two
+// The update at the block of columns from c within `lanes`; fresh: the new p where active, else 0
+// (as the sweep reads p). The one arithmetic of the update, whether the sweep does it (the row two
 // below) or a row pass before it (definite_direction_row): the same bits either way.
-inline void definite_direction_block(const DefiniteDirection& row, std::size_t c, __mmask16 lanes,
-                                     __m512 (&fresh)[3]) {
-  const __mmask16 active = _mm512_mask_cmp_ps_mask(
-      lanes, _mm512_maskz_loadu_ps(lanes, row.inverse_mass + c), _mm512_setzero_ps(), _CMP_GT_OQ);
+inline void definite_direction_block(const DefiniteDirection& row, std::size_t c, LaneMask lanes,
+                                     Floats (&fresh)[3]) {
+  const LaneMask active =
+      both(lanes, greater(load_floats(lanes, row.inverse_mass + c), zero_floats()));
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t e = c + k * row.stride;
-    const __m512 p = _mm512_maskz_loadu_ps(lanes, row.p + e);
-    _mm512_mask_storeu_ps(row.solution + e, active,
-                          _mm512_fmadd_ps(_mm512_set1_ps(row.alpha), p,
-                                          _mm512_maskz_loadu_ps(lanes, row.solution + e)));
-    const __m512 next =
-        _mm512_fmadd_ps(_mm512_set1_ps(row.beta), p, _mm512_maskz_loadu_ps(lanes, row.z + e));
-    _mm512_mask_storeu_ps(row.p + e, active, next);
-    fresh[k] = _mm512_maskz_mov_ps(active, next);
+    const Floats p = load_floats(lanes, row.p + e);
+    store_floats(active, row.solution + e,
+                 fused_multiply_add(broadcast(row.alpha), p, load_floats(lanes, row.solution + e)));
+    const Floats next = fused_multiply_add(broadcast(row.beta), p, load_floats(lanes, row.z + e));
+    store_floats(active, row.p + e, next);
+    fresh[k] = keep(active, next);
   }
 }
 
 inline void definite_direction_row(const DefiniteDirection& row, std::size_t cols) {
-  __m512 fresh[3];
-  for (std::size_t c = 0; c < cols; c += 16)
+  Floats fresh[3];
+  for (std::size_t c = 0; c < cols; c += kLanes)
     definite_direction_block(row, c, columns_in(c, 0, cols), fresh);
 }
 
@@ -94,55 +92,52 @@ struct DefiniteInverseLengthRow {
 };
 
 inline void definite_inverse_length_row(const DefiniteInverseLengthRow& row) {
-  for (std::size_t c = 0; c < row.cols; c += 16) {
-    const __mmask16 valid = columns_in(c, row.col_begin, row.col_end);
-    __m512 squared = _mm512_setzero_ps();
+  for (std::size_t c = 0; c < row.cols; c += kLanes) {
+    const LaneMask valid = columns_in(c, row.col_begin, row.col_end);
+    Floats squared = zero_floats();
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * row.stride;
-      const __m512 d =
-          _mm512_maskz_loadu_ps(valid, row.x_partner + e) - _mm512_maskz_loadu_ps(valid, row.x + e);
+      const Floats d = load_floats(valid, row.x_partner + e) - load_floats(valid, row.x + e);
       squared = squared + d * d;
     }
-    const __mmask16 in_row = columns_in(c, 0, row.cols);
-    _mm512_mask_storeu_ps(row.inverse_length + c, in_row,
-                          _mm512_maskz_mov_ps(valid, inverse_sqrt_or_zero(squared)));
+    const LaneMask in_row = columns_in(c, 0, row.cols);
+    store_floats(in_row, row.inverse_length + c, keep(valid, inverse_sqrt_or_zero(squared)));
   }
 }
 
 // right1, right2: the (0,1) and (0,2) products of the block before (zero before the first);
-// dot: the row's <u, q> so far, in two sets of 8 double lanes.
+// dot: the row's <u, q> so far, in two sets of double lanes (add_widened).
 template <bool Edge>
 __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow& row, std::size_t c,
-                                                              __m512 (&right1)[3],
-                                                              __m512 (&right2)[3],
-                                                              __m512d (&dot)[2]) {
-  using Vec3 = __m512[3];
+                                                              Floats (&right1)[3],
+                                                              Floats (&right2)[3],
+                                                              Doubles (&dot)[2]) {
+  using Vec3 = Floats[3];
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
-  const __m512 zero = _mm512_setzero_ps();
-  const auto lanes = [&](std::size_t begin, std::size_t end) -> __mmask16 {
+  const Floats zero = zero_floats();
+  const auto lanes = [&](std::size_t begin, std::size_t end) -> LaneMask {
     if constexpr (Edge) return columns_in(c, begin, end);
-    return __mmask16(0xffff);
+    return all_lanes();
   };
-  const auto load = [&](const float* p, std::ptrdiff_t shift, __mmask16 valid, Vec3& out) {
-    for (std::size_t k = 0; k < 3; ++k)
-      out[k] = _mm512_maskz_loadu_ps(valid, p + c + k * stride + shift);
+  const auto load = [&](const float* p, std::ptrdiff_t shift, LaneMask valid, Vec3& out) {
+    for (std::size_t k = 0; k < 3; ++k) out[k] = load_floats(valid, p + c + k * stride + shift);
   };
   // u at (row, shift) where that particle is active and the lane a spring.
-  const auto direction = [&](int dr, std::ptrdiff_t shift, __mmask16 valid, Vec3& out) {
-    const __mmask16 active = _mm512_mask_cmp_ps_mask(
-        valid, _mm512_maskz_loadu_ps(valid, row.inverse_mass[dr] + c + shift), zero, _CMP_GT_OQ);
+  const auto direction = [&](int dr, std::ptrdiff_t shift, LaneMask valid, Vec3& out) {
+    const LaneMask active =
+        both(valid, greater(load_floats(valid, row.inverse_mass[dr] + c + shift), zero));
     load(row.u[dr], shift, active, out);
   };
-  const __mmask16 all = lanes(0, cols);
+  const LaneMask all = lanes(0, cols);
   // Into a row of the product; an edge block stores only the row's own columns.
   const auto put = [&](float* p, bool first, const Vec3& value) {
     for (std::size_t k = 0; k < 3; ++k) {
       float* q = p + c + k * stride;
-      const __m512 sum = first ? value[k] : _mm512_add_ps(_mm512_maskz_loadu_ps(all, q), value[k]);
+      const Floats sum = first ? value[k] : load_floats(all, q) + value[k];
       if constexpr (Edge) {
-        _mm512_mask_storeu_ps(q, all, sum);
+        store_floats(all, q, sum);
       } else {
-        _mm512_storeu_ps(q, sum);
+        store_floats(q, sum);
       }
     }
   };
@@ -152,7 +147,7 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   // Stencil s to the partner at (r + dr, c + dc): its product joins `own`; returns it.
   // Inlined by force: as a call, its vectors go through memory (GCC 12 does not inline it).
   // fresh: the partners' u, already loaded.
-  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, __mmask16 valid, Vec3& product,
+  const auto spring = [&](int s, int dr, std::ptrdiff_t dc, LaneMask valid, Vec3& product,
                           const Vec3* fresh = nullptr) __attribute__((always_inline)) {
     Vec3 partner, du, d;
     load(row.x[dr], dc, valid, partner);
@@ -166,11 +161,10 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
       du[k] = du[k] - u[k];
     }
     // 1/l is 0 in the lanes without a spring (and for a zero-length one): no force there.
-    __m512 across, along;
-    definite_coefficients(_mm512_maskz_loadu_ps(valid, row.inverse_length[s] + c),
-                          _mm512_set1_ps(row.ks[s]), _mm512_set1_ps(row.ks_rest[s]),
-                          _mm512_set1_ps(row.along_scale[s]), _mm512_set1_ps(row.c_x), zero, across,
-                          along);
+    Floats across, along;
+    definite_coefficients(load_floats(valid, row.inverse_length[s] + c), broadcast(row.ks[s]),
+                          broadcast(row.ks_rest[s]), broadcast(row.along_scale[s]),
+                          broadcast(row.c_x), zero, across, along);
     along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
     for (std::size_t k = 0; k < 3; ++k) {
       product[k] = across * du[k] + along * d[k];
@@ -178,24 +172,19 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
     }
   };
   const auto store_scratch = [&](float* p, const Vec3& value) {
-    for (std::size_t k = 0; k < 3; ++k) _mm512_storeu_ps(p + c + k * span, value[k]);
+    for (std::size_t k = 0; k < 3; ++k) store_floats(p + c + k * span, value[k]);
   };
   Vec3 product;
-  // The in-row partner ends, one and two columns over, join `own` a lane up (valignd; the
-  // maskz form, as the plain one's header trips GCC 12's -Wuninitialized), the block's last
-  // lanes carried into the next block.
+  // The in-row partner ends, one and two columns over, join `own` one and two lanes up, the
+  // block's last lanes carried into the next block.
   spring(0, 0, 1, lanes(0, cols - 1), product);
   for (std::size_t k = 0; k < 3; ++k) {
-    own[k] =
-        own[k] - _mm512_castsi512_ps(_mm512_maskz_alignr_epi32(
-                     0xffff, _mm512_castps_si512(product[k]), _mm512_castps_si512(right1[k]), 15));
+    own[k] = own[k] - shift_up<1>(product[k], right1[k]);
     right1[k] = product[k];
   }
   spring(4, 0, 2, lanes(0, cols >= 2 ? cols - 2 : 0), product);
   for (std::size_t k = 0; k < 3; ++k) {
-    own[k] =
-        own[k] - _mm512_castsi512_ps(_mm512_maskz_alignr_epi32(
-                     0xffff, _mm512_castps_si512(product[k]), _mm512_castps_si512(right2[k]), 14));
+    own[k] = own[k] - shift_up<2>(product[k], right2[k]);
     right2[k] = product[k];
   }
   if (row.rows_below[0]) {
@@ -225,44 +214,35 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   if (!row.write[0]) return;
   // Row r is complete now (the rows above added theirs before): out = q = u + M^-1 (sum), u
   // being 0 and M^-1 0 on pinned particles, and the block's m u.q into the row's dot.
-  const __m512 inverse_mass = _mm512_maskz_loadu_ps(all, row.inverse_mass[0] + c);
-  __m512 u_dot_q = zero;
+  const Floats inverse_mass = load_floats(all, row.inverse_mass[0] + c);
+  Floats u_dot_q = zero;
   for (std::size_t k = 0; k < 3; ++k) {
     float* q = row.out[0] + c + k * stride;
-    const __m512 sum = row.first[0] ? own[k] : own[k] + _mm512_maskz_loadu_ps(all, q);
-    const __m512 value = u[k] + inverse_mass * sum;
+    const Floats sum = row.first[0] ? own[k] : own[k] + load_floats(all, q);
+    const Floats value = u[k] + inverse_mass * sum;
     u_dot_q = u_dot_q + u[k] * value;
     if constexpr (Edge) {
-      _mm512_mask_storeu_ps(q, all, value);
+      store_floats(all, q, value);
     } else {
-      _mm512_storeu_ps(q, value);
+      store_floats(q, value);
     }
   }
-  const __m512 term = _mm512_maskz_loadu_ps(all, row.mass + c) * u_dot_q;
-  // maskz forms: the plain ones' headers (and _mm512_castps512_ps256's) trip GCC 12's
-  // -Wmaybe-uninitialized.
-  const __m512d terms = _mm512_castps_pd(term);
-  dot[0] = dot[0] + _mm512_maskz_cvtps_pd(
-                        0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, terms, 0)));
-  dot[1] = dot[1] + _mm512_maskz_cvtps_pd(
-                        0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, terms, 1)));
+  add_widened(load_floats(all, row.mass + c) * u_dot_q, dot);
 }
 
 // One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns); with
 // write[0], row r's shifted product q = u + D u is final and the return value is its <u, q>.
 inline double definite_row(const DefiniteRow& row) {
   const std::size_t cols = row.cols;
-  __m512 right1[3], right2[3];
-  for (std::size_t k = 0; k < 3; ++k) right1[k] = right2[k] = _mm512_setzero_ps();
-  __m512d dot[2] = {_mm512_setzero_pd(), _mm512_setzero_pd()};
+  Floats right1[3], right2[3];
+  for (std::size_t k = 0; k < 3; ++k) right1[k] = right2[k] = zero_floats();
+  Doubles dot[2] = {zero_doubles(), zero_doubles()};
   std::size_t c = 0;
   definite_row_block<true>(row, c, right1, right2, dot);
-  for (c = 16; c + 16 + 2 <= cols; c += 16) definite_row_block<false>(row, c, right1, right2, dot);
-  for (; c < cols; c += 16) definite_row_block<true>(row, c, right1, right2, dot);
-  alignas(64) double lanes[8];  // summed in a fixed order (_mm512_reduce_add_pd trips GCC 12)
-  _mm512_store_pd(lanes, dot[0] + dot[1]);
-  return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) +
-         ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+  for (c = kLanes; c + kLanes + 2 <= cols; c += kLanes)
+    definite_row_block<false>(row, c, right1, right2, dot);
+  for (; c < cols; c += kLanes) definite_row_block<true>(row, c, right1, right2, dot);
+  return lane_sum(dot);
 }
 
 // The scratch rows' partner ends after the sweep: row r + 1 gets those of (1,1) and (1,-1)
@@ -270,16 +250,15 @@ inline double definite_row(const DefiniteRow& row) {
 inline void definite_row_shifted_ends(const DefiniteRow& row) {
   if (!row.rows_below[0] || !row.write[1]) return;
   const std::size_t stride = row.stride, span = row.span, cols = row.cols;
-  // 16 lanes as the sweep's loads of the row: narrower stores here would not forward to them.
+  // As wide as the sweep's loads of the row: narrower stores here would not forward to them.
   for (std::size_t k = 0; k < 3; ++k) {
     float* out = row.out[1] + k * stride;
     const float* below_right = row.ends_below[0] + k * span - 1;
     const float* below_left = row.ends_below[1] + k * span + 1;
-    for (std::size_t c = 0; c < cols; c += 16) {
-      const __mmask16 lanes = columns_in(c, 0, cols);
-      const __m512 ends = _mm512_maskz_loadu_ps(lanes, below_right + c) +
-                          _mm512_maskz_loadu_ps(lanes, below_left + c);
-      _mm512_mask_storeu_ps(out + c, lanes, _mm512_maskz_loadu_ps(lanes, out + c) - ends);
+    for (std::size_t c = 0; c < cols; c += kLanes) {
+      const LaneMask lanes = columns_in(c, 0, cols);
+      const Floats ends = load_floats(lanes, below_right + c) + load_floats(lanes, below_left + c);
+      store_floats(lanes, out + c, load_floats(lanes, out + c) - ends);
     }
   }
 }

@@ -6,15 +6,15 @@
 // grouped as the force pass's accumulators group them (same bits), and a = F w + g where
 // the inverse mass w is not 0, else 0.
 //
-// Written twice like the other row kernels: a portable `omp simd` loop, and 16 floats per
-// iteration on AVX-512 (the compiler vectorises the loop at 256 bits only).
+// Written twice like the other row kernels: a portable `omp simd` loop, and a block of SIMD
+// lanes per iteration for float (the compiler vectorises the loop at 256 bits only).
 #pragma once
 
 #include <cstddef>
 #include <limits>
 #include <type_traits>
 
-#include "inverse_sqrt.hpp"
+#include "float_lanes.hpp"
 
 namespace clothlab::detail {
 
@@ -60,10 +60,10 @@ inline Real external_row_accelerations_portable(const ExternalRow<Real>& row) {
   return probe;
 }
 
-#if defined(__AVX512F__)
-inline float external_row_accelerations_avx512(const ExternalRow<float>& row) {
-  __m512 probe = _mm512_setzero_ps();
-  const __m512 zero = _mm512_setzero_ps();
+#if defined(CLOTHLAB_FLOAT_LANES)
+inline float external_row_accelerations_lanes(const ExternalRow<float>& row) {
+  Floats probe = zero_floats();
+  const Floats zero = zero_floats();
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t component = k * row.share_span;
     const float* first_above = row.first_above + component;
@@ -71,30 +71,28 @@ inline float external_row_accelerations_avx512(const ExternalRow<float>& row) {
     const float* first_own = row.first_own + component;
     const float* second_own = row.second_own + component;
     float* out = row.out + k * row.out_span;
-    const __m512 g = _mm512_set1_ps(row.gravity[k]);
-    for_each_16(0, row.cols, [&](std::size_t c, auto lanes) {
-      const __m512 from_above = lanes.load(first_above + c) + lanes.load(second_above + c) +
+    const Floats g = broadcast(row.gravity[k]);
+    for_each_lane_block(0, row.cols, [&](std::size_t c, auto lanes) {
+      const Floats from_above = lanes.load(first_above + c) + lanes.load(second_above + c) +
                                 lanes.load(second_above + c - 1);
-      const __m512 from_row = lanes.load(first_own + c) + lanes.load(first_own + c - 1) +
+      const Floats from_row = lanes.load(first_own + c) + lanes.load(first_own + c - 1) +
                               lanes.load(second_own + c - 1);
-      const __m512 force = from_above + from_row;
-      const __m512 weight = lanes.load(row.inverse_mass + c);
-      const __mmask16 free = _mm512_cmp_ps_mask(weight, zero, _CMP_GT_OQ);
-      const __m512 value = _mm512_maskz_fmadd_ps(free, force, weight, g);
+      const Floats force = from_above + from_row;
+      const Floats weight = lanes.load(row.inverse_mass + c);
+      const Floats value = keep(greater(weight, zero), fused_multiply_add(force, weight, g));
       lanes.store(out + c, value);
-      probe = _mm512_fmadd_ps(value, zero, probe);
+      probe = fused_multiply_add(value, zero, probe);
     });
   }
   // NaN in some lane exactly when some value was not finite.
-  const __mmask16 broken = _mm512_cmp_ps_mask(probe, probe, _CMP_UNORD_Q);
-  return broken == 0 ? 0.0f : std::numeric_limits<float>::quiet_NaN();
+  return no_lane(unordered(probe, probe)) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
 }
 #endif
 
 template <class Real>
 inline Real external_row_accelerations(const ExternalRow<Real>& row) {
-#if defined(__AVX512F__)
-  if constexpr (std::is_same_v<Real, float>) return external_row_accelerations_avx512(row);
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) return external_row_accelerations_lanes(row);
 #endif
   return external_row_accelerations_portable(row);
 }

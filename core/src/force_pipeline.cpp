@@ -4,12 +4,14 @@
 
 #include <type_traits>
 
+#include "float_lanes.hpp"
+
 namespace clothlab::detail {
 namespace {
 
 using namespace scratch;
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
 constexpr bool kInteriorKernel = true;
 #else
 constexpr bool kInteriorKernel = false;

@@ -231,7 +231,7 @@ class ForcePipeline {
   bool cell_forces_ = false;  // wind_ or air_
 
   std::vector<SpringStage> stages_;
-  bool interior_kernel_ = false;   // all six stencils, float, AVX-512
+  bool interior_kernel_ = false;   // all six stencils, float, SIMD lanes
   std::size_t row_span_ = 0;       // margin + columns + margin
   std::size_t thread_stride_ = 0;  // elements from one thread's scratch to the next
   uint32_t reserved_stages_ = 0;

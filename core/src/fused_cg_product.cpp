@@ -1,5 +1,5 @@
 // The fused CG kernel of SpringJacobian (spring_jacobian.hpp): the definite product of
-// clothlab.cg-step/1 for float on AVX-512 with all six stencils. linearise_definite stores each
+// clothlab.cg-step/1 for float with SIMD lanes and all six stencils. linearise_definite stores each
 // spring's inverse length once per solve; definite_rows sweeps a thread's rows once per product
 // (definite_row_kernel.hpp): q = u + D u, the rows' shares of <u, q> and, with a direction, CG's
 // solution and direction updates, all in the one sweep.
@@ -14,7 +14,7 @@ template <class Real>
 void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, double c_x,
                                               double c_v) const {
   linearised_ = {x, v, c_x, c_v};
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     if (!definite_kernel_) return;
     const auto rows = static_cast<std::ptrdiff_t>(rows_);
@@ -46,7 +46,7 @@ void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, doub
 template <class Real>
 void SpringJacobian<Real>::definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end,
                                          Real* scratch, const Direction* direction) const {
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     const std::size_t head_end = std::min(begin + 2, end);
     const std::size_t tail_begin = std::max(end >= 2 ? end - 2 : 0, head_end);

@@ -1,6 +1,6 @@
 // All six Provot stencils of one interior grid row (a row every stencil starts in), and
-// the wind on the cells below it, in one sweep over its columns, 16 floats at a time on
-// AVX-512.
+// the wind on the cells below it, in one sweep over its columns, a block of SIMD lanes
+// (float_lanes.hpp) at a time.
 //
 // Per column block the row's own positions and velocities are loaded once and the forces
 // on its own particles summed in registers over the six springs; only the partners' ends
@@ -17,7 +17,7 @@
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
 
 namespace clothlab::detail {
 
@@ -32,36 +32,29 @@ struct InteriorRow {
   std::size_t span;   // between the components of every row above, as in SpringRow
   std::size_t cols;
   float rest[6], ks[6], kd[6];
-  __m512 wind_direction[3];  // broadcast; used only with wind
-  __m512 wind_strength_sixth;
+  Floats wind_direction[3];  // broadcast; used only with wind
+  Floats wind_strength_sixth;
 };
-
-// Lanes of the block at column c whose column lies in [begin, end).
-inline __mmask16 columns_in(std::size_t c, std::size_t begin, std::size_t end) {
-  const std::size_t low = begin > c ? begin - c : 0;
-  const std::size_t high = end > c ? (end - c < 16 ? end - c : 16) : 0;
-  return __mmask16(((1u << high) - 1) & ~((1u << low) - 1));
-}
 
 // Edge blocks (the first, and those reaching the last two columns) mask each spring and
 // cell to its columns; their loads and stores may reach into the zero margins around a
 // row, where masked lanes add exactly 0.
 template <bool Damped, bool Wind, bool Edge>
 inline void interior_row_block(const InteriorRow& row, std::size_t c) {
-  using Vec3 = __m512[3];
+  using Vec3 = Floats[3];
   const std::size_t span = row.span;
   const auto load = [&](const float* p, std::ptrdiff_t shift, Vec3& out) {
-    for (std::size_t k = 0; k < 3; ++k) out[k] = _mm512_loadu_ps(p + c + k * span + shift);
+    for (std::size_t k = 0; k < 3; ++k) out[k] = load_floats(p + c + k * span + shift);
   };
   const auto add_to = [&](float* p, std::ptrdiff_t shift, const Vec3& value) {
     for (std::size_t k = 0; k < 3; ++k) {
       float* q = p + c + k * span + shift;
-      _mm512_storeu_ps(q, _mm512_loadu_ps(q) + value[k]);
+      store_floats(q, load_floats(q) + value[k]);
     }
   };
-  const auto mask = [](Vec3& value, __mmask16 valid) {
+  const auto mask = [](Vec3& value, LaneMask valid) {
     if constexpr (Edge) {
-      for (std::size_t k = 0; k < 3; ++k) value[k] = _mm512_maskz_mov_ps(valid, value[k]);
+      for (std::size_t k = 0; k < 3; ++k) value[k] = keep(valid, value[k]);
     }
   };
   const std::size_t cols = row.cols;
@@ -70,7 +63,7 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
   if constexpr (Damped) load(row.v[0], 0, v);
   // Force of stencil s on the own end, partner at `partner` (row r + dr, column c + dc).
   // Returns the force on the partner end, -f.
-  const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, __mmask16 valid,
+  const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, LaneMask valid,
                           Vec3& on_partner) {
     Vec3 d, dv = {};
     for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - x[k];
@@ -78,9 +71,9 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
       load(row.v[dr], dc, dv);
       for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
     }
-    const __m512 scale = spring_force_scale<Damped>(
-        d[0], d[1], d[2], dv[0], dv[1], dv[2], _mm512_set1_ps(row.rest[s]),
-        _mm512_set1_ps(row.ks[s]), _mm512_set1_ps(row.kd[s]));
+    const Floats scale =
+        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], broadcast(row.rest[s]),
+                                   broadcast(row.ks[s]), broadcast(row.kd[s]));
     Vec3 f;
     for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
     mask(f, valid);
@@ -101,7 +94,7 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
     Vec3 first;
     cell_wind_shares(x, right, below, below_right, row.wind_direction, row.wind_strength_sixth,
                      first, second);
-    const __mmask16 cells = columns_in(c, 0, cols - 1);
+    const LaneMask cells = columns_in(c, 0, cols - 1);
     mask(first, cells);
     mask(second, cells);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -142,8 +135,9 @@ inline void interior_row_forces(const InteriorRow& row) {
   std::size_t c = 0;
   interior_row_block<Damped, Wind, true>(row, c);
   // Blocks clear of both edges: every lane of every stencil is a spring.
-  for (c = 16; c + 16 + 2 <= cols; c += 16) interior_row_block<Damped, Wind, false>(row, c);
-  for (; c < cols; c += 16) interior_row_block<Damped, Wind, true>(row, c);
+  for (c = kLanes; c + kLanes + 2 <= cols; c += kLanes)
+    interior_row_block<Damped, Wind, false>(row, c);
+  for (; c < cols; c += kLanes) interior_row_block<Damped, Wind, true>(row, c);
 }
 
 }  // namespace clothlab::detail

@@ -3,9 +3,9 @@
 // entries of u count as 0) and M the spring's block of J (spring_jacobian.hpp). Each
 // spring once, from the state; the caller moves p onto both ends by shifted adds.
 //
-// The formula is written once over a lane type (a scalar Real inside `omp simd`, or 16
-// floats on AVX-512), in raw dot products of d = x_partner - x_own so that a zero-length
-// spring (inverse length 0) gives exactly 0 without a branch:
+// The formula is written once over a lane type (a scalar Real inside `omp simd`, or a block
+// of SIMD lanes of float, float_lanes.hpp), in raw dot products of d = x_partner - x_own so that a
+// zero-length spring (inverse length 0) gives exactly 0 without a branch:
 //   q = 1/l^2, a = (1/l) (ks (l - l0) + kd (d.dv)/l), b = (1/l) (ks l0 - kd (d.dv)/l),
 //   p = c_x a du + d [c_x q (b (d.du) + kd (dv.du - q (d.dv)(d.du))) + c_v kd q (d.du)].
 // The definite form (Baraff & Witkin) keeps ks n n^T and the transverse ks (1 - l0/l) only
@@ -50,19 +50,16 @@ struct JacobianRow {
 
 inline float lane_max(float a, float b) { return a > b ? a : b; }
 inline double lane_max(double a, double b) { return a > b ? a : b; }
-#if defined(__AVX512F__)
-// A blend rather than _mm512_max_ps, whose header trips GCC 12's -Wmaybe-uninitialized.
-inline __m512 lane_max(__m512 a, __m512 b) {
-  return _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, b, _CMP_GT_OQ), b, a);
-}
+#if defined(CLOTHLAB_FLOAT_LANES)
+inline Floats lane_max(Floats a, Floats b) { return select(greater(a, b), a, b); }
 #endif
 
 // `value` where `test` > 0, else 0.
 inline float lane_where_positive(float test, float value) { return test > 0 ? value : 0.0f; }
 inline double lane_where_positive(double test, double value) { return test > 0 ? value : 0.0; }
-#if defined(__AVX512F__)
-inline __m512 lane_where_positive(__m512 test, __m512 value) {
-  return _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(test, _mm512_setzero_ps(), _CMP_GT_OQ), value);
+#if defined(CLOTHLAB_FLOAT_LANES)
+inline Floats lane_where_positive(Floats test, Floats value) {
+  return keep(greater(test, zero_floats()), value);
 }
 #endif
 
@@ -146,26 +143,23 @@ inline void jacobian_row_portable(const JacobianRow<Real>& row) {
   }
 }
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
 template <JacobianForm Form, bool Damped, bool Direct>
-inline void jacobian_row_avx512(const JacobianRow<float>& row) {
-  const __m512 rest = _mm512_set1_ps(row.rest), ks = _mm512_set1_ps(row.ks),
-               kd = _mm512_set1_ps(row.kd), c_x = _mm512_set1_ps(row.c_x),
-               c_v = _mm512_set1_ps(row.c_v), zero = _mm512_setzero_ps();
+inline void jacobian_row_lanes(const JacobianRow<float>& row) {
+  const Floats rest = broadcast(row.rest), ks = broadcast(row.ks), kd = broadcast(row.kd),
+               c_x = broadcast(row.c_x), c_v = broadcast(row.c_v), zero = zero_floats();
   const std::size_t stride = row.stride, span = row.span;
-  for_each_16(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
-    const __mmask16 own_active =
-        _mm512_cmp_ps_mask(lanes.load(row.inverse_mass + c), zero, _CMP_GT_OQ);
-    const __mmask16 partner_active =
-        _mm512_cmp_ps_mask(lanes.load(row.inverse_mass_partner + c), zero, _CMP_GT_OQ);
-    __m512 d[3], dv[3] = {zero, zero, zero}, du[3], out[3];
+  for_each_lane_block(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
+    const LaneMask own_active = greater(lanes.load(row.inverse_mass + c), zero);
+    const LaneMask partner_active = greater(lanes.load(row.inverse_mass_partner + c), zero);
+    Floats d[3], dv[3] = {zero, zero, zero}, du[3], out[3];
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t e = c + k * stride;
       d[k] = lanes.load(row.x_partner + e) - lanes.load(row.x + e);
       if constexpr (Damped && Form == JacobianForm::kExact)
         dv[k] = lanes.load(row.v_partner + e) - lanes.load(row.v + e);
-      du[k] = _mm512_maskz_mov_ps(partner_active, lanes.load(row.u_partner + e)) -
-              _mm512_maskz_mov_ps(own_active, lanes.load(row.u + e));
+      du[k] = keep(partner_active, lanes.load(row.u_partner + e)) -
+              keep(own_active, lanes.load(row.u + e));
     }
     spring_product<Form, Damped>(d, dv, du, rest, ks, kd, c_x, c_v, zero, out);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -183,9 +177,9 @@ inline void jacobian_row_avx512(const JacobianRow<float>& row) {
 
 template <class Real, JacobianForm Form, bool Damped, bool Direct>
 inline void jacobian_row(const JacobianRow<Real>& row) {
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
-    jacobian_row_avx512<Form, Damped, Direct>(row);
+    jacobian_row_lanes<Form, Damped, Direct>(row);
     return;
   }
 #endif

@@ -40,8 +40,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
                          static_cast<Real>(stencil_rest_length(scene, stencil)),
                          static_cast<Real>(law.ks), static_cast<Real>(law.kd)});
   }
-#if defined(__AVX512F__)
-  definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
+#if defined(CLOTHLAB_FLOAT_LANES)
+  // Only with 16 lanes: on 8 (AVX2) the fused sweep's live vectors outgrow the 16 registers
+  // and spill, and the separate products measured faster (docs/performance.md).
+  definite_kernel_ =
+      kLanes == 16 && std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
   if (definite_kernel_) {
     ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
     plane_ = (n_ + 15) / 16 * 16;

@@ -101,7 +101,7 @@ class SpringJacobian {
   void apply_rows(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out,
                   std::size_t begin, std::size_t end, Real* p) const;
   // The fused CG kernel (fused_cg_product.cpp): the shifted definite product's rows
-  // [begin, end) by definite_row_kernel.hpp (float on AVX-512 with all six stencils); scratch:
+  // [begin, end) by definite_row_kernel.hpp (float with SIMD lanes and all six stencils); scratch:
   // the thread's two rows of shifted ends.
   void definite_rows(Real* u, Real* out, std::size_t begin, std::size_t end, Real* scratch,
                      const Direction* direction) const;

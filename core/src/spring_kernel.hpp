@@ -6,7 +6,7 @@
 // row accumulators (`own[c] += f`, `partner[c] -= f`, partner shifted to line up).
 //
 // The formula is written once over a lane type: a scalar Real inside an `omp simd` loop,
-// or, for float on AVX-512, 16 lanes per iteration with masked ends.
+// or, for float, a block of SIMD lanes per iteration (float_lanes.hpp) with masked ends.
 #pragma once
 
 #include <cstddef>
@@ -86,25 +86,25 @@ inline void spring_row_forces_portable(const SpringRow<Real>& row) {
   }
 }
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
 template <bool Damped, bool Forward>
-inline void spring_row_forces_avx512(const SpringRow<float>& row) {
-  const __m512 rest = _mm512_set1_ps(row.rest);
-  const __m512 ks = _mm512_set1_ps(row.ks);
-  const __m512 kd = _mm512_set1_ps(row.kd);
+inline void spring_row_forces_lanes(const SpringRow<float>& row) {
+  const Floats rest = broadcast(row.rest);
+  const Floats ks = broadcast(row.ks);
+  const Floats kd = broadcast(row.kd);
   const std::size_t span = row.span;
-  for_each_16(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
+  for_each_lane_block(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, int k) { return lanes.load(p + c + k * span); };
-    const auto store = [&](float* p, int k, __m512 value) { lanes.store(p + c + k * span, value); };
-    __m512 d[3], dv[3] = {};
+    const auto store = [&](float* p, int k, Floats value) { lanes.store(p + c + k * span, value); };
+    Floats d[3], dv[3] = {};
     for (int k = 0; k < 3; ++k) d[k] = load(row.x_partner, k) - load(row.x, k);
     if constexpr (Damped) {
       for (int k = 0; k < 3; ++k) dv[k] = load(row.v_partner, k) - load(row.v, k);
     }
-    const __m512 scale =
+    const Floats scale =
         spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
     for (int k = 0; k < 3; ++k) {
-      const __m512 force = scale * d[k];
+      const Floats force = scale * d[k];
       if constexpr (Forward) {
         store(row.own, k, load(row.own, k) + force);
         store(row.partner, k, load(row.partner, k) - force);
@@ -118,9 +118,9 @@ inline void spring_row_forces_avx512(const SpringRow<float>& row) {
 
 template <class Real, bool Damped, bool Forward>
 inline void spring_row_forces(const SpringRow<Real>& row) {
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
-    spring_row_forces_avx512<Damped, Forward>(row);
+    spring_row_forces_lanes<Damped, Forward>(row);
     return;
   }
 #endif

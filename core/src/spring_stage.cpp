@@ -1,7 +1,7 @@
 // The spring stage of ForcePipeline (force_pipeline.hpp): the forces of the springs starting
 // in a row onto the accumulators of rows r .. r + 2. Per stencil through spring_kernel.hpp,
-// or, for float on AVX-512 with all six stencils and two rows below, all of them and the
-// row's cells in one sweep of the interior kernel (interior_row_kernel.hpp).
+// or, for float with SIMD lanes (float_lanes.hpp), all six stencils and two rows below, all of
+// them and the row's cells in one sweep of the interior kernel (interior_row_kernel.hpp).
 #include <algorithm>
 #include <type_traits>
 
@@ -65,7 +65,7 @@ void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& p
 
 template <class Real>
 void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, const Pass& pass) {
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     InteriorRow job{};
     bool damped = false;
@@ -88,8 +88,8 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
       job.kd[s] = stage_damped ? stage.kd : 0.0f;  // one damped sweep; undamped ones add 0
       damped = damped || stage_damped;
     }
-    for (int k = 0; k < 3; ++k) job.wind_direction[k] = _mm512_set1_ps(wind_direction_[k]);
-    job.wind_strength_sixth = _mm512_set1_ps(wind_strength_ / 6.0f);
+    for (int k = 0; k < 3; ++k) job.wind_direction[k] = broadcast(wind_direction_[k]);
+    job.wind_strength_sixth = broadcast(wind_strength_ / 6.0f);
     if (damped) {
       if (wind_) {
         interior_row_forces<true, true>(job);
@@ -104,7 +104,7 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
     return;
   }
 #endif
-  (void)ring, (void)row, (void)pass;  // only float on AVX-512 has the interior kernel
+  (void)ring, (void)row, (void)pass;  // only float with SIMD lanes has the interior kernel
 }
 
 template void ForcePipeline<float>::add_springs(float*, std::size_t, const Pass&);

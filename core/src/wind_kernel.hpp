@@ -5,8 +5,8 @@
 // a third to each corner; the per-corner share is stored at the cell's column in `first`
 // (triangle abc') and `second` (triangle bdc'), gathered later by shifted reads.
 //
-// Written once over a lane type like the spring kernel: scalar in an `omp simd` loop, or
-// 16 floats per iteration on AVX-512.
+// Written once over a lane type like the spring kernel: scalar in an `omp simd` loop, or a
+// block of SIMD lanes per iteration for float.
 #pragma once
 
 #include <cstddef>
@@ -80,17 +80,17 @@ inline void wind_row_forces_portable(const WindRow<Real>& row) {
   }
 }
 
-#if defined(__AVX512F__)
-inline void wind_row_forces_avx512(const WindRow<float>& row) {
-  const __m512 w[3] = {_mm512_set1_ps(row.direction[0]), _mm512_set1_ps(row.direction[1]),
-                       _mm512_set1_ps(row.direction[2])};
-  const __m512 strength_sixth = _mm512_set1_ps(row.strength / 6.0f);
+#if defined(CLOTHLAB_FLOAT_LANES)
+inline void wind_row_forces_lanes(const WindRow<float>& row) {
+  const Floats w[3] = {broadcast(row.direction[0]), broadcast(row.direction[1]),
+                       broadcast(row.direction[2])};
+  const Floats strength_sixth = broadcast(row.strength / 6.0f);
   const std::size_t span = row.span, position_span = row.position_span;
-  for_each_16(0, row.cells, [&](std::size_t c, auto lanes) {
+  for_each_lane_block(0, row.cells, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, std::size_t k) {
       return lanes.load(p + c + k * position_span);
     };
-    __m512 a[3], b[3], below[3], d[3], first[3], second[3];
+    Floats a[3], b[3], below[3], d[3], first[3], second[3];
     for (std::size_t k = 0; k < 3; ++k) {
       a[k] = load(row.x, k);
       b[k] = load(row.x + 1, k);
@@ -108,9 +108,9 @@ inline void wind_row_forces_avx512(const WindRow<float>& row) {
 
 template <class Real>
 inline void wind_row_forces(const WindRow<Real>& row) {
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
-    wind_row_forces_avx512(row);
+    wind_row_forces_lanes(row);
     return;
   }
 #endif

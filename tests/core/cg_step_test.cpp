@@ -93,7 +93,7 @@ void expect_near(const std::vector<double>& engine, const std::vector<double>& o
 }
 
 // Tiny grids and strips (some stencils empty: the per-stencil path) and grids wide enough for
-// the row kernel's interior blocks (float32 on AVX-512).
+// the row kernel's interior blocks (float32 with SIMD lanes, float_lanes.hpp).
 template <class Real>
 void expect_sweeps_match_reference(double tolerance) {
   for (const auto& [rows, cols] :

@@ -202,7 +202,8 @@ TEST_P(StagedEval, EqualsEvaluationOfTheFormedStateInFloat32) {
 // Each side rounds the spring vectors between positions of size max |x| (the grid is as
 // wide as its columns): an error of eps * max |x| that springs turn into accelerations of
 // up to eps * kSpringRate * max |x|, which bounds what summation order, contraction and the
-// float AVX-512 kernel's rsqrt14 + Newton change. Measured: at most 0.25 of it.
+// float kernels' 1/sqrt estimate + Newton step change. Measured with AVX-512's 14-bit
+// estimate: at most 0.25 of it (AVX2's 12-bit one passes it too).
 constexpr double kRoundOffBound = 2.0;
 
 template <class Real>

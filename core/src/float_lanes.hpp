@@ -1,0 +1,177 @@
+// The SIMD lanes of the engine's hand-written float kernels: 16 floats on AVX-512, 8 on AVX2
+// with FMA (most laptops, AMD Zen 2 and 3). A kernel is written once against `Floats` and the
+// few operations below (arithmetic through GCC's vector operators); each build compiles it for
+// the one instruction set it targets. Without either, CLOTHLAB_FLOAT_LANES stays undefined and
+// the kernels' portable loops run.
+#pragma once
+
+#include <cfloat>
+#include <cstddef>
+
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+#include <immintrin.h>
+#define CLOTHLAB_FLOAT_LANES 1
+#endif
+
+#if defined(CLOTHLAB_FLOAT_LANES)
+
+namespace clothlab::detail {
+
+#if defined(__AVX512F__)
+
+using Floats = __m512;
+using LaneMask = __mmask16;  // a bit per lane
+using Doubles = __m512d;     // half as many doubles as Floats lanes
+inline constexpr std::size_t kLanes = 16;
+
+inline Floats broadcast(float value) { return _mm512_set1_ps(value); }
+inline Floats zero_floats() { return _mm512_setzero_ps(); }
+inline Floats load_floats(const float* p) { return _mm512_loadu_ps(p); }
+inline void store_floats(float* p, Floats value) { _mm512_storeu_ps(p, value); }
+// Masked: lanes outside the mask read 0 and are not written (nor touched in memory).
+inline Floats load_floats(LaneMask lanes, const float* p) {
+  return _mm512_maskz_loadu_ps(lanes, p);
+}
+inline void store_floats(LaneMask lanes, float* p, Floats value) {
+  _mm512_mask_storeu_ps(p, lanes, value);
+}
+inline Floats keep(LaneMask lanes, Floats value) { return _mm512_maskz_mov_ps(lanes, value); }
+inline LaneMask all_lanes() { return LaneMask(0xffff); }
+inline LaneMask both(LaneMask a, LaneMask b) { return LaneMask(a & b); }
+inline bool no_lane(LaneMask lanes) { return lanes == 0; }
+// Lanes [low, high) of a block, 0 <= low <= high <= kLanes.
+inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
+  return LaneMask(((1u << high) - 1) & ~((1u << low) - 1));
+}
+inline LaneMask greater(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+inline LaneMask not_less(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_NLT_UQ); }
+inline LaneMask unordered(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_UNORD_Q); }
+// a where the mask is set, else b. A blend rather than _mm512_max_ps in lane_max: that
+// one's header trips GCC 12's -Wmaybe-uninitialized.
+inline Floats select(LaneMask lanes, Floats a, Floats b) {
+  return _mm512_mask_blend_ps(lanes, b, a);
+}
+inline Floats fused_multiply_add(Floats a, Floats b, Floats c) { return _mm512_fmadd_ps(a, b, c); }
+inline Floats fused_negated_multiply_add(Floats a, Floats b, Floats c) {  // c - a b
+  return _mm512_fnmadd_ps(a, b, c);
+}
+// 1/sqrt(s) to within about 12 (AVX2) or 14 (AVX-512) bits, 0 outside the mask.
+inline Floats inverse_sqrt_estimate(LaneMask lanes, Floats s) {
+  return _mm512_maskz_rsqrt14_ps(lanes, s);
+}
+// Lanes moved Shift places up, the lowest Shift from the top of `before` (valignd; the maskz
+// form, as the plain one's header trips GCC 12's -Wuninitialized).
+template <int Shift>
+inline Floats shift_up(Floats value, Floats before) {
+  return _mm512_castsi512_ps(_mm512_maskz_alignr_epi32(0xffff, _mm512_castps_si512(value),
+                                                       _mm512_castps_si512(before), 16 - Shift));
+}
+// The lanes' values widened to double, the low half into sums[0] and the high into sums[1].
+// maskz forms: the plain ones' headers (and _mm512_castps512_ps256's) trip GCC 12's
+// -Wmaybe-uninitialized.
+inline void add_widened(Floats value, Doubles (&sums)[2]) {
+  const __m512d halves = _mm512_castps_pd(value);
+  sums[0] = sums[0] + _mm512_maskz_cvtps_pd(
+                          0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, halves, 0)));
+  sums[1] = sums[1] + _mm512_maskz_cvtps_pd(
+                          0xff, _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(0xf, halves, 1)));
+}
+inline Doubles zero_doubles() { return _mm512_setzero_pd(); }
+// The sum of both sets' lanes in a fixed order (_mm512_reduce_add_pd trips GCC 12).
+inline double lane_sum(const Doubles (&sums)[2]) {
+  alignas(64) double lanes[8];
+  _mm512_store_pd(lanes, sums[0] + sums[1]);
+  return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) +
+         ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+}
+
+#else  // AVX2 and FMA
+
+using Floats = __m256;
+using LaneMask = __m256;  // all bits set in a lane that is in
+using Doubles = __m256d;
+inline constexpr std::size_t kLanes = 8;
+
+inline Floats broadcast(float value) { return _mm256_set1_ps(value); }
+inline Floats zero_floats() { return _mm256_setzero_ps(); }
+inline Floats load_floats(const float* p) { return _mm256_loadu_ps(p); }
+inline void store_floats(float* p, Floats value) { _mm256_storeu_ps(p, value); }
+inline Floats load_floats(LaneMask lanes, const float* p) {
+  return _mm256_maskload_ps(p, _mm256_castps_si256(lanes));
+}
+inline void store_floats(LaneMask lanes, float* p, Floats value) {
+  _mm256_maskstore_ps(p, _mm256_castps_si256(lanes), value);
+}
+inline Floats keep(LaneMask lanes, Floats value) { return _mm256_and_ps(lanes, value); }
+inline LaneMask all_lanes() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
+inline LaneMask both(LaneMask a, LaneMask b) { return _mm256_and_ps(a, b); }
+inline bool no_lane(LaneMask lanes) { return _mm256_movemask_ps(lanes) == 0; }
+inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i below_high = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(high)), lane);
+  const __m256i below_low = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(low)), lane);
+  return _mm256_castsi256_ps(_mm256_andnot_si256(below_low, below_high));
+}
+inline LaneMask greater(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+inline LaneMask not_less(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_NLT_UQ); }
+inline LaneMask unordered(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_UNORD_Q); }
+inline Floats select(LaneMask lanes, Floats a, Floats b) { return _mm256_blendv_ps(b, a, lanes); }
+inline Floats fused_multiply_add(Floats a, Floats b, Floats c) { return _mm256_fmadd_ps(a, b, c); }
+inline Floats fused_negated_multiply_add(Floats a, Floats b, Floats c) {
+  return _mm256_fnmadd_ps(a, b, c);
+}
+inline Floats inverse_sqrt_estimate(LaneMask lanes, Floats s) {
+  return _mm256_and_ps(lanes, _mm256_rsqrt_ps(s));
+}
+template <int Shift>
+inline Floats shift_up(Floats value, Floats before) {
+  // Both rotated Shift lanes up; the lowest Shift lanes then come from `before`'s top.
+  const __m256i rotate =
+      _mm256_setr_epi32((8 - Shift) % 8, (9 - Shift) % 8, (10 - Shift) % 8, (11 - Shift) % 8,
+                        (12 - Shift) % 8, (13 - Shift) % 8, (14 - Shift) % 8, (15 - Shift) % 8);
+  return _mm256_blend_ps(_mm256_permutevar8x32_ps(value, rotate),
+                         _mm256_permutevar8x32_ps(before, rotate), (1 << Shift) - 1);
+}
+inline void add_widened(Floats value, Doubles (&sums)[2]) {
+  sums[0] = sums[0] + _mm256_cvtps_pd(_mm256_castps256_ps128(value));
+  sums[1] = sums[1] + _mm256_cvtps_pd(_mm256_extractf128_ps(value, 1));
+}
+inline Doubles zero_doubles() { return _mm256_setzero_pd(); }
+inline double lane_sum(const Doubles (&sums)[2]) {
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, sums[0] + sums[1]);
+  return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+}
+
+#endif
+
+// Loads and stores of a block of lanes: full width, or masked for the last columns of a row
+// (masked stores are slower, so only the tail pays for them).
+struct FullLanes {
+  static Floats load(const float* p) { return load_floats(p); }
+  static void store(float* p, Floats value) { store_floats(p, value); }
+};
+struct TailLanes {
+  LaneMask lanes;
+  Floats load(const float* p) const { return load_floats(lanes, p); }
+  void store(float* p, Floats value) const { store_floats(lanes, p, value); }
+};
+
+// Runs body(c, lanes) over [begin, end) in blocks of kLanes, the last one with TailLanes.
+template <class Body>
+inline void for_each_lane_block(std::size_t begin, std::size_t end, Body&& body) {
+  std::size_t c = begin;
+  for (; c + kLanes <= end; c += kLanes) body(c, FullLanes{});
+  if (c < end) body(c, TailLanes{lanes_from_to(0, end - c)});
+}
+
+// Lanes of the block at column c whose column lies in [begin, end).
+inline LaneMask columns_in(std::size_t c, std::size_t begin, std::size_t end) {
+  const std::size_t low = begin > c ? (begin - c < kLanes ? begin - c : kLanes) : 0;
+  const std::size_t high = end > c ? (end - c < kLanes ? end - c : kLanes) : 0;
+  return lanes_from_to(low, high);  // empty where high <= low
+}
+
+}  // namespace clothlab::detail
+
+#endif
