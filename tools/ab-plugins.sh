@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# A/B of two plugin folders on the same microbenchmarks: runs clothlab_microbench with
-# CLOTHLAB_PLUGIN_PATH=A, then =B, ROUNDS times in turn, and prints per benchmark the median
-# real time of each side and the median of the per-round ratios B/A. Alternating rounds
-# cancel most of a shared machine's drift, which two runs minutes apart do not.
+# A/B of two plugin folders, or of two whole builds, on the same microbenchmarks: runs
+# clothlab_microbench with CLOTHLAB_PLUGIN_PATH=A, then =B, ROUNDS times in turn, and prints per
+# benchmark the median real time of each side and the median of the per-round ratios B/A.
+# Alternating rounds cancel most of a shared machine's drift, which two runs minutes apart do
+# not. A side that is a build folder (with bin/clothlab_microbench) runs that build's
+# microbenchmarks with its own plugins: two commits of the core compared in one run.
 # Usage: tools/ab-plugins.sh ROUNDS FOLDER_A FOLDER_B FILTER [MIN_TIME]
 #   e.g. tools/ab-plugins.sh 6 /tmp/before build/lib/clothlab/plugins 'xpbd_substep/300/'
-# Environment: MICROBENCH (build/bin/clothlab_microbench).
+#        tools/ab-plugins.sh 5 /tmp/old/build build 'fast_step/verlet/300/'
+# Environment: MICROBENCH (build/bin/clothlab_microbench), for plugin folders.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ $# -lt 4 || $# -gt 5 ]]; then
@@ -26,10 +29,15 @@ for round in $(seq 1 "$rounds"); do
   for side in A B; do
     folder=$folder_a
     [[ $side == B ]] && folder=$folder_b
-    echo "ab-plugins: round $round/$rounds, $side ($folder)" >&2
-    if ! CLOTHLAB_PLUGIN_PATH=$folder "$microbench" --benchmark_filter="$filter" \
+    bench=$microbench
+    if [[ -x $folder/bin/clothlab_microbench ]]; then
+      bench=$folder/bin/clothlab_microbench
+      folder=$folder/lib/clothlab/plugins
+    fi
+    echo "ab-plugins: round $round/$rounds, $side ($bench, $folder)" >&2
+    if ! CLOTHLAB_PLUGIN_PATH=$folder "$bench" --benchmark_filter="$filter" \
       --benchmark_min_time="$min_time" --benchmark_format=json >"$run" 2>"$run.err"; then
-      echo "ab-plugins: $microbench failed with $folder:" >&2
+      echo "ab-plugins: $bench failed with $folder:" >&2
       cat "$run.err" >&2
       exit 1
     fi
