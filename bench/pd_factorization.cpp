@@ -76,7 +76,8 @@ const builtin::ProjectiveDynamicsMatrix::Matrix& flag_matrix(int side) {
 }
 
 // The multigrid solve of the plugin's defaults (multigrid_coarsest, multigrid_sweeps), to a
-// 1e-6 relative residual, on the flag's matrix in particle order.
+// 1e-6 relative residual, on the flag's matrix in particle order; one thread, as the
+// simplicial factorisation's solves.
 class Multigrid {
  public:
   explicit Multigrid(int side)
@@ -84,7 +85,7 @@ class Multigrid {
         solve_(builtin::plan_levels(static_cast<uint32_t>(side), static_cast<uint32_t>(side),
                                     builtin::kDefaultCoarsestNodes),
                flag_.fixed, flag_.node_of, builtin::kDefaultMultigridSweeps, 1e-6,
-               builtin::kDefaultGlobalSolveMaxCycles),
+               builtin::kDefaultGlobalSolveMaxCycles, 1),
         guess_(3 * flag_.node_of.size(), 0.0),
         origin_(guess_.size(), 0.0) {}
   const builtin::ProjectiveDynamicsMatrix::Matrix& matrix() const { return flag_.matrix; }

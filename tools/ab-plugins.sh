@@ -21,7 +21,15 @@ microbench=${MICROBENCH:-build/bin/clothlab_microbench}
 for folder in "$folder_a" "$folder_b"; do
   [[ -d $folder ]] || { echo "ab-plugins: no plugin folder $folder" >&2; exit 1; }
 done
-[[ -x $microbench ]] || { echo "ab-plugins: no $microbench (build first: bash tools/build.sh)" >&2; exit 1; }
+for folder in "$folder_a" "$folder_b"; do
+  if [[ -x $folder/bin/clothlab_microbench ]]; then
+    [[ -d $folder/lib/clothlab/plugins ]] ||
+      { echo "ab-plugins: build folder $folder has no lib/clothlab/plugins" >&2; exit 1; }
+  else
+    [[ -x $microbench ]] ||
+      { echo "ab-plugins: no $microbench (build first: bash tools/build.sh)" >&2; exit 1; }
+  fi
+done
 results=$(mktemp)
 run=$(mktemp)
 trap 'rm -f "$results" "$run" "$run.err"' EXIT

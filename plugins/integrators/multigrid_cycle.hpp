@@ -1,6 +1,7 @@
 // The multigrid V-cycle as a preconditioner: z = B b from z = 0 on the fine level, with
 // `sweeps` forward coloured Gauss-Seidel sweeps before the coarse correction and as many
-// backward ones after it, and the direct solve on the coarsest level. Pre- and post-smoothing
+// backward ones after it, and the direct solve on the coarsest level; the smoothing and the
+// residual of each level large enough run on `threads`. Pre- and post-smoothing
 // are each other's adjoints and the coarse correction is exact at the bottom and Galerkin
 // above, so B is symmetric and positive definite for a positive definite fine matrix: a valid
 // preconditioner for conjugate gradients. Vectors hold 3 doubles per node; all are sized here.
@@ -20,7 +21,8 @@ constexpr long kDefaultMultigridSweeps = 2;
 
 class VCycle {
  public:
-  VCycle(MultigridHierarchy& hierarchy, long sweeps) : hierarchy_(hierarchy), sweeps_(sweeps) {
+  VCycle(MultigridHierarchy& hierarchy, long sweeps, int threads = 1)
+      : hierarchy_(hierarchy), sweeps_(sweeps), threads_(threads) {
     for (std::size_t l = 0; l < hierarchy.level_count(); ++l) {
       const std::size_t size = 3 * hierarchy.level(l).node_count();
       solution_.emplace_back(size, 0.0);
@@ -56,18 +58,19 @@ class VCycle {
     }
     const BlockGaussSeidel& smoother = hierarchy_.smoother(l);
     std::fill(solution_[l].begin(), solution_[l].end(), 0.0);
-    for (long s = 0; s < sweeps_; ++s) smoother.forward(level, b, x);
-    level.residual(b, x, residual_[l].data());
+    for (long s = 0; s < sweeps_; ++s) smoother.forward(level, b, x, threads_);
+    level.residual(b, x, residual_[l].data(), threads_);
     const GridTransfer& transfer = hierarchy_.transfer(l);
     const GridLevel& coarse = hierarchy_.level(l + 1);
     transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data());
     cycle(l + 1);
     transfer.prolong_add(level, coarse, solution_[l + 1].data(), x);
-    for (long s = 0; s < sweeps_; ++s) smoother.backward(level, b, x);
+    for (long s = 0; s < sweeps_; ++s) smoother.backward(level, b, x, threads_);
   }
 
   MultigridHierarchy& hierarchy_;
   long sweeps_;
+  int threads_;
   std::vector<std::vector<double>> solution_, rhs_, residual_;  // per level
 };
 

@@ -37,11 +37,11 @@ inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coar
     sizes.push_back({coarse_axis_size(sizes.back().rows), coarse_axis_size(sizes.back().cols)});
   const GridSize coarsest = sizes.back();
   if (nodes(coarsest) > kMaxCoarsestNodes)
-    throw std::invalid_argument(
-        "the " + std::to_string(rows) + " x " + std::to_string(cols) +
-        " grid coarsens to no fewer than " + std::to_string(coarsest.rows) + " x " +
-        std::to_string(coarsest.cols) + " particles (a side needs 3 to coarsen); the direct " +
-        "solve there takes at most " + std::to_string(kMaxCoarsestNodes));
+    throw std::invalid_argument("the " + std::to_string(rows) + " x " + std::to_string(cols) +
+                                " grid coarsens to no fewer than " + std::to_string(coarsest.rows) +
+                                " x " + std::to_string(coarsest.cols) +
+                                " particles (a side needs 3 to coarsen); the direct " +
+                                "solve there takes at most " + std::to_string(kMaxCoarsestNodes));
   return sizes;
 }
 

@@ -60,15 +60,34 @@ class GridLevel {
   const double* row_blocks(int r, int c) const { return &blocks_[9 * offsets_[node(r, c)]]; }
   void clear() { std::fill(blocks_.begin(), blocks_.end(), 0.0); }
 
-  // out = b - A x on free nodes, 0 on fixed ones; vectors hold 3 doubles per node.
-  void residual(const double* b, const double* x, double* out) const {
-    for (int r = 0; r < rows_; ++r)
+  // Whether a pass over this level's rows is worth splitting among `threads`: a team's start
+  // costs more than the rows of a small (coarse) level.
+  bool splits(int threads) const { return threads > 1 && node_count() >= kNodesWorthATeam; }
+
+  // body(k) for k in [0, count), split among `threads` where the level splits, else on the
+  // calling thread outside OpenMP: a region of another team size (an `if` clause makes one of
+  // 1) would allocate its team anew each time the size changes.
+  template <class Body>
+  void for_each_index(int count, int threads, Body&& body) const {
+    if (splits(threads)) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+      for (int k = 0; k < count; ++k) body(k);
+    } else {
+      for (int k = 0; k < count; ++k) body(k);
+    }
+  }
+
+  // out = b - A x on free nodes, 0 on fixed ones; vectors hold 3 doubles per node. Rows are
+  // split among `threads`, each row's sum the same on any count.
+  void residual(const double* b, const double* x, double* out, int threads = 1) const {
+    for_each_index(rows_, threads, [&](int r) {
       for (int c = 0; c < cols_; ++c) {
         const std::size_t i = node(r, c);
         double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
         if (!fixed(i)) subtract_row_product(r, c, x, sum, false);
         for (int k = 0; k < 3; ++k) out[3 * i + k] = fixed(i) ? 0.0 : sum[k];
       }
+    });
   }
 
   // Bytes of the level's storage: its blocks, row starts and fixed flags.
@@ -119,6 +138,7 @@ class GridLevel {
   }
 
   static constexpr int kWindow = 2 * reach + 1;
+  static constexpr std::size_t kNodesWorthATeam = 4096;
   struct Offset {
     int rows, cols;
   };

@@ -3,9 +3,10 @@
 // the colour (r mod 3, c mod 3) leaves no two coupled nodes in one colour: nine colours (red/
 // black or four colours would need nearest-neighbour coupling only, which the flexion springs
 // break). Nodes of one colour are independent, so the result is the same whatever order or
-// thread updates them. `forward` sweeps the colours 0..8, `backward` 8..0: the backward sweep
-// is the forward one's adjoint in the A inner product, which makes a V-cycle with forward pre-
-// and backward post-smoothing a symmetric preconditioner.
+// thread updates them: a colour's rows are split among `threads` (the same bits on any count).
+// `forward` sweeps the colours 0..8, `backward` 8..0: the backward sweep is the forward one's
+// adjoint in the A inner product, which makes a V-cycle with forward pre- and backward
+// post-smoothing a symmetric preconditioner.
 #pragma once
 
 #include <array>
@@ -38,25 +39,29 @@ class BlockGaussSeidel {
 
   std::size_t storage_bytes() const { return inverse_diagonal_.size() * sizeof(double); }
 
-  void forward(const GridLevel& level, const double* b, double* x) const {
-    for (int color = 0; color < kPeriod * kPeriod; ++color) sweep(level, color, b, x);
+  void forward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
+    for (int color = 0; color < kPeriod * kPeriod; ++color) sweep(level, color, b, x, threads);
   }
-  void backward(const GridLevel& level, const double* b, double* x) const {
-    for (int color = kPeriod * kPeriod - 1; color >= 0; --color) sweep(level, color, b, x);
+  void backward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
+    for (int color = kPeriod * kPeriod - 1; color >= 0; --color) sweep(level, color, b, x, threads);
   }
 
  private:
-  void sweep(const GridLevel& level, int color, const double* b, double* x) const {
-    for (int r = color / kPeriod; r < level.rows(); r += kPeriod)
+  void sweep(const GridLevel& level, int color, const double* b, double* x, int threads) const {
+    const int first_row = color / kPeriod;
+    const int row_count = (level.rows() - first_row + kPeriod - 1) / kPeriod;
+    level.for_each_index(row_count, threads, [&](int k) {
+      const int r = first_row + k * kPeriod;
       for (int c = color % kPeriod; c < level.cols(); c += kPeriod) {
         const std::size_t i = level.node(r, c);
         if (level.fixed(i)) continue;
         double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
         level.subtract_row_product(r, c, x, sum, true);
         const double* d = &inverse_diagonal_[9 * i];
-        for (int k = 0; k < 3; ++k)
-          x[3 * i + k] = d[3 * k] * sum[0] + d[3 * k + 1] * sum[1] + d[3 * k + 2] * sum[2];
+        for (int j = 0; j < 3; ++j)
+          x[3 * i + j] = d[3 * j] * sum[0] + d[3 * j + 1] * sum[1] + d[3 * j + 2] * sum[2];
       }
+    });
   }
 
   // out = a^-1 for a symmetric 3x3 block (row-major); false unless a is positive definite.

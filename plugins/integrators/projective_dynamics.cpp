@@ -45,6 +45,7 @@
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/threads.hpp>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -216,7 +217,8 @@ struct ProjectiveDynamics {
     const std::vector<GridSize> levels =
         multigrid ? plan_grid_levels(system, multigrid_coarsest_, "factorization = 2")
                   : std::vector<GridSize>{};
-    if (multigrid) check_spring_reach(system, static_cast<long>(levels[0].cols), "factorization = 2");
+    if (multigrid)
+      check_spring_reach(system, static_cast<long>(levels[0].cols), "factorization = 2");
     matrix_.build(system, topology,
                   multigrid ? ProjectiveDynamicsMatrix::Order::kParticles
                             : ProjectiveDynamicsMatrix::Order::kFillReducing);
@@ -236,8 +238,10 @@ struct ProjectiveDynamics {
     if (solve_ == GlobalSolve::kCholmod) cholmod_.analyze(system_matrix_);
     if (solve_ == GlobalSolve::kLdlt) ldlt_.analyze(system_matrix_);
     if (multigrid) {
+      const int threads = sdk::plugin_threads(system, 0, true);
       multigrid_.emplace(levels, fixed_particles(system), matrix_.node_of(), multigrid_sweeps_,
-                         multigrid_tolerance_, multigrid_max_cycles_);
+                         multigrid_tolerance_, multigrid_max_cycles_, threads);
+      sdk::start_thread_team(threads);  // so that the V-cycle's first team does not allocate
     }
 
     pinned_position_.assign(3 * unknown_of.size(), 0.0);

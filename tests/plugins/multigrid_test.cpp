@@ -267,6 +267,21 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
   EXPECT_GT(std::abs(xBy - yBx) / std::abs(xBy), 1e-6);
 }
 
+// The smoothing and the residual split a level's rows among the threads; a colour's nodes do
+// not couple, so the V-cycle has the same bits on any count (70 x 70: the finest level is
+// large enough to split).
+TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
+  ClothMatrix cloth(70, 70);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes);
+  ASSERT_TRUE(hierarchy.level(0).splits(2));
+  const Eigen::VectorXd b = cloth.rhs(4);
+  VCycle one(hierarchy, 2, 1), two(hierarchy, 2, 2);
+  const Eigen::VectorXd alone = apply_cycle(one, b), team = apply_cycle(two, b);
+  ASSERT_EQ(alone.size(), team.size());
+  for (Eigen::Index i = 0; i < alone.size(); ++i) ASSERT_EQ(alone[i], team[i]) << "entry " << i;
+  EXPECT_GT(alone.norm(), 0.0);
+}
+
 // The two-grid method (exact coarse solve) as a stationary iteration e <- (I - B A) e: its
 // convergence factor is well below 1 and nearly the same at every size, the property the
 // V-cycle's resolution independence rests on.
@@ -357,10 +372,9 @@ TEST(Multigrid, CoarsensAsFarAsAsked) {
     (void)builtin::plan_levels(2, 2000, 256);
     ADD_FAILURE() << "a 2 x 2000 coarsest level accepted";
   } catch (const std::invalid_argument& error) {
-    EXPECT_STREQ(
-        error.what(),
-        "the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
-        "needs 3 to coarsen); the direct solve there takes at most 1024");
+    EXPECT_STREQ(error.what(),
+                 "the 2 x 2000 grid coarsens to no fewer than 2 x 2000 particles (a side "
+                 "needs 3 to coarsen); the direct solve there takes at most 1024");
   }
 }
 

@@ -60,7 +60,7 @@ struct FlagSystem {
   MultigridGlobalSolve solver(double tolerance, long max_cycles = 200) const {
     return MultigridGlobalSolve(builtin::plan_levels(rows, cols, builtin::kDefaultCoarsestNodes),
                                 fixed, node_of, builtin::kDefaultMultigridSweeps, tolerance,
-                                max_cycles);
+                                max_cycles, 1);
   }
 
   // A right-hand side of uniform entries in [-1, 1], n x 3 row-major.
@@ -293,9 +293,10 @@ TEST(ProjectiveDynamicsMultigrid, BadSettingsAreOneLineErrors) {
   EXPECT_EQ(refusal(flag, {{"factorization", 3.0}}),
             "parameter factorization = 3 is outside [0, 2]");
   GridFlag strip(2, 600);
-  EXPECT_EQ(refusal(strip, {}),
-            "factorization = 2: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
-            "needs 3 to coarsen); the direct solve there takes at most 1024");
+  EXPECT_EQ(
+      refusal(strip, {}),
+      "factorization = 2: the 2 x 600 grid coarsens to no fewer than 2 x 600 particles (a side "
+      "needs 3 to coarsen); the direct solve there takes at most 1024");
   GridFlag loose(6, 6, false);
   EXPECT_EQ(refusal(loose, {}),
             "factorization = 2 needs a cloth laid out as a grid (clothlab.grid/1); this scene is "
