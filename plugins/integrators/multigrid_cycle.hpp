@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <vector>
 
@@ -21,6 +22,7 @@ constexpr long kDefaultMultigridSweeps = 2;
 
 class VCycle {
  public:
+  // Builds the OpenMP team of `threads` here, so that the first cycle does not allocate.
   VCycle(MultigridHierarchy& hierarchy, long sweeps, int threads = 1)
       : hierarchy_(hierarchy), sweeps_(sweeps), threads_(threads) {
     for (std::size_t l = 0; l < hierarchy.level_count(); ++l) {
@@ -29,7 +31,11 @@ class VCycle {
       rhs_.emplace_back(size, 0.0);
       residual_.emplace_back(size, 0.0);
     }
+    sdk::start_thread_team(threads_);
   }
+
+  // The threads the smoothing and residuals of large levels run on.
+  int threads() const { return threads_; }
 
   // Bytes of the per-level vectors.
   std::size_t storage_bytes() const {

@@ -49,9 +49,8 @@ class MultigridGlobalSolve {
   MultigridGlobalSolve(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
                        std::vector<uint32_t> node_of, long sweeps, double tolerance,
                        long max_cycles, int threads)
-      : hierarchy_(sizes, std::move(fixed)),
+      : hierarchy_(sizes, std::move(fixed), FineLevel::exact),
         cycle_(hierarchy_, sweeps, threads),
-        threads_(threads),
         node_of_(std::move(node_of)),
         tolerance_(tolerance),
         max_cycles_(max_cycles),
@@ -95,7 +94,7 @@ class MultigridGlobalSolve {
         rhs_[3 * node_of_[u] + k] = b[3 * u + k];
         solution_[3 * node_of_[u] + k] = origin[3 * u + k];
       }
-    fine.residual(rhs_.data(), solution_.data(), shifted_rhs_.data(), threads_);
+    fine.residual(rhs_.data(), solution_.data(), shifted_rhs_.data(), cycle_.threads());
     for (std::size_t u = 0; u < node_of_.size(); ++u)
       for (std::size_t k = 0; k < 3; ++k)
         solution_[3 * node_of_[u] + k] = x[3 * u + k] - origin[3 * u + k];
@@ -105,7 +104,7 @@ class MultigridGlobalSolve {
       std::fill(solution_.begin(), solution_.end(), 0.0);
     } else {
       for (;; ++outcome.cycles) {
-        fine.residual(shifted_rhs_.data(), solution_.data(), residual_.data(), threads_);
+        fine.residual(shifted_rhs_.data(), solution_.data(), residual_.data(), cycle_.threads());
         outcome.residual = norm(residual_) / rhs_norm;
         outcome.converged = outcome.residual <= tolerance_;
         if (outcome.converged || outcome.cycles == max_cycles_ || !std::isfinite(outcome.residual))
@@ -139,8 +138,7 @@ class MultigridGlobalSolve {
   }
 
   MultigridHierarchy hierarchy_;
-  VCycle cycle_;
-  int threads_;  // of the V-cycle and the residuals
+  VCycle cycle_;  // its threads run the residuals too
   std::vector<uint32_t> node_of_;
   double tolerance_;
   long max_cycles_;

@@ -41,9 +41,8 @@ class MultigridPreconditioner {
                           long rebuild_interval = 1)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
-                   fixed_particles(system)),
-        threads_(sdk::plugin_threads(system, 0, true)),
-        cycle_(hierarchy_, sweeps, threads_),
+                   fixed_particles(system), FineLevel::single),
+        cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
         probe_product_(system.alloc_vector()) {
@@ -52,7 +51,6 @@ class MultigridPreconditioner {
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) mass_[i] = 1.0 / inverse_mass[i];
     std::fill_n(static_cast<Real*>(probe_), 3 * std::size_t{system.stride()}, Real{0});
-    sdk::start_thread_team(threads_);  // so that the V-cycle's first team does not allocate
   }
   MultigridPreconditioner(const MultigridPreconditioner&) = delete;
   MultigridPreconditioner& operator=(const MultigridPreconditioner&) = delete;
@@ -173,7 +171,6 @@ class MultigridPreconditioner {
   long solves_since_rebuild_ = 0;
   uint64_t rebuild_count_ = 0;
   MultigridHierarchy hierarchy_;
-  int threads_;  // of the V-cycle
   VCycle cycle_;
   std::vector<double> mass_;  // per particle, 0 where pinned
   void* probe_;               // system vectors in its precision: the probe and J times it

@@ -40,28 +40,41 @@ class BlockGaussSeidel {
   std::size_t storage_bytes() const { return inverse_diagonal_.size() * sizeof(double); }
 
   void forward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
-    for (int color = 0; color < kPeriod * kPeriod; ++color) sweep(level, color, b, x, threads);
+    for (int row_class = 0; row_class < kPeriod; ++row_class)
+      sweep_rows(level, row_class, false, b, x, threads);
   }
   void backward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
-    for (int color = kPeriod * kPeriod - 1; color >= 0; --color) sweep(level, color, b, x, threads);
+    for (int row_class = kPeriod - 1; row_class >= 0; --row_class)
+      sweep_rows(level, row_class, true, b, x, threads);
   }
 
  private:
-  void sweep(const GridLevel& level, int color, const double* b, double* x, int threads) const {
-    const int first_row = color / kPeriod;
-    const int row_count = (level.rows() - first_row + kPeriod - 1) / kPeriod;
+  // The colours (row_class, 0..2), or 2..0 where backward, one row at a time. Rows of one class
+  // are 3 apart and do not couple, so this updates each node from the same values as sweeping
+  // each colour over the whole level in turn, while a row's blocks stay in the cache for its
+  // three colours.
+  void sweep_rows(const GridLevel& level, int row_class, bool backward, const double* b, double* x,
+                  int threads) const {
+    const int row_count = (level.rows() - row_class + kPeriod - 1) / kPeriod;
     level.for_each_index(row_count, threads, [&](int k) {
-      const int r = first_row + k * kPeriod;
-      for (int c = color % kPeriod; c < level.cols(); c += kPeriod) {
-        const std::size_t i = level.node(r, c);
-        if (level.fixed(i)) continue;
-        double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-        level.subtract_row_product(r, c, x, sum, true);
-        const double* d = &inverse_diagonal_[9 * i];
-        for (int j = 0; j < 3; ++j)
-          x[3 * i + j] = d[3 * j] * sum[0] + d[3 * j + 1] * sum[1] + d[3 * j + 2] * sum[2];
-      }
+      const int r = row_class + k * kPeriod;
+      for (int step = 0; step < kPeriod; ++step)
+        update_colour(level, r, backward ? kPeriod - 1 - step : step, b, x);
     });
+  }
+
+  // x_i for the nodes of row r in columns col_class, col_class + 3, ...
+  void update_colour(const GridLevel& level, int r, int col_class, const double* b,
+                     double* x) const {
+    for (int c = col_class; c < level.cols(); c += kPeriod) {
+      const std::size_t i = level.node(r, c);
+      if (level.fixed(i)) continue;
+      double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+      level.subtract_row_product(r, c, x, sum, true);
+      const double* d = &inverse_diagonal_[9 * i];
+      for (int j = 0; j < 3; ++j)
+        x[3 * i + j] = d[3 * j] * sum[0] + d[3 * j + 1] * sum[1] + d[3 * j + 2] * sum[2];
+    }
   }
 
   // out = a^-1 for a symmetric 3x3 block (row-major); false unless a is positive definite.

@@ -238,10 +238,9 @@ struct ProjectiveDynamics {
     if (solve_ == GlobalSolve::kCholmod) cholmod_.analyze(system_matrix_);
     if (solve_ == GlobalSolve::kLdlt) ldlt_.analyze(system_matrix_);
     if (multigrid) {
-      const int threads = sdk::plugin_threads(system, 0, true);
       multigrid_.emplace(levels, fixed_particles(system), matrix_.node_of(), multigrid_sweeps_,
-                         multigrid_tolerance_, multigrid_max_cycles_, threads);
-      sdk::start_thread_team(threads);  // so that the V-cycle's first team does not allocate
+                         multigrid_tolerance_, multigrid_max_cycles_,
+                         sdk::plugin_threads(system, 0, true));
     }
 
     pinned_position_.assign(3 * unknown_of.size(), 0.0);
