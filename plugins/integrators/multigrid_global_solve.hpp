@@ -49,7 +49,7 @@ class MultigridGlobalSolve {
   MultigridGlobalSolve(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
                        std::vector<uint32_t> node_of, long sweeps, double tolerance,
                        long max_cycles, int threads)
-      : hierarchy_(sizes, std::move(fixed), FineLevel::exact),
+      : hierarchy_(sizes, std::move(fixed), GridLevel::Blocks::exact),
         cycle_(hierarchy_, sweeps, threads),
         node_of_(std::move(node_of)),
         tolerance_(tolerance),

@@ -45,24 +45,21 @@ inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coar
   return sizes;
 }
 
-// Whether the fine level's blocks are rounded to single precision (GridLevel::pack): where the
-// V-cycle only preconditions (implicit_euler's CG), or stay exact, where the fine level's
-// residual is the system solved (projective_dynamics). Coarse levels only ever serve the
-// V-cycle and are always rounded.
-enum class FineLevel { single, exact };
-
 class MultigridHierarchy {
  public:
-  // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c.
+  // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c. fine_blocks: single
+  // where the V-cycle only preconditions (implicit_euler's CG), exact where the fine level's
+  // residual is the system solved (projective_dynamics). Coarse levels only serve the V-cycle
+  // and are always single.
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
-                     FineLevel fine_level)
-      : fine_level_(fine_level) {
+                     GridLevel::Blocks fine_blocks) {
     levels_.reserve(sizes.size());
-    levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed));
+    levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed), fine_blocks);
     for (std::size_t l = 1; l < sizes.size(); ++l) {
       transfers_.emplace_back(levels_.back());
       std::vector<uint8_t> coarse_fixed = transfers_.back().coarse_fixed(levels_.back());
-      levels_.emplace_back(sizes[l].rows, sizes[l].cols, std::move(coarse_fixed));
+      levels_.emplace_back(sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
+                           GridLevel::Blocks::single);
     }
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l]);
     coarsest_solve_.emplace(levels_.back());
@@ -88,7 +85,7 @@ class MultigridHierarchy {
   // is not positive definite (then the V-cycle is no preconditioner for CG).
   bool rebuild() {
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
-      levels_[l].pack(l > 0 || fine_level_ == FineLevel::single);
+      levels_[l].pack();
       transfers_[l].galerkin(levels_[l], levels_[l + 1]);
       if (!smoothers_[l].factor(levels_[l])) return false;
     }
@@ -96,7 +93,6 @@ class MultigridHierarchy {
   }
 
  private:
-  FineLevel fine_level_;
   std::vector<GridLevel> levels_;
   std::vector<GridTransfer> transfers_;
   std::vector<BlockGaussSeidel> smoothers_;

@@ -20,8 +20,15 @@ class GridLevel {
  public:
   static constexpr int reach = 2;  // grid spacings a row's couplings span along each axis
 
-  GridLevel(uint32_t rows, uint32_t cols, std::vector<uint8_t> fixed)
-      : rows_(static_cast<int>(rows)), cols_(static_cast<int>(cols)), fixed_(std::move(fixed)) {
+  // How `pack` keeps the blocks: exact (double), or rounded to single precision with the
+  // interior rows packed for the V-cycle's products.
+  enum class Blocks { exact, single };
+
+  GridLevel(uint32_t rows, uint32_t cols, std::vector<uint8_t> fixed, Blocks blocks = Blocks::exact)
+      : rows_(static_cast<int>(rows)),
+        cols_(static_cast<int>(cols)),
+        single_(blocks == Blocks::single),
+        fixed_(std::move(fixed)) {
     offsets_.resize(node_count() + 1, 0);
     for (int r = 0; r < rows_; ++r)
       for (int c = 0; c < cols_; ++c) {
@@ -34,7 +41,7 @@ class GridLevel {
     coupling_steps_.reserve(kWindow * kWindow);
     for (int k = 0; k < kWindow * kWindow; ++k)
       couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
-    packed_.resize(9 * kWindow * kWindow * interior_count());
+    if (single_) packed_.resize(9 * kWindow * kWindow * interior_count());
   }
 
   int rows() const { return rows_; }
@@ -123,13 +130,12 @@ class GridLevel {
   }
 
   // Records which window offsets hold a nonzero block in some row (the fine Provot level
-  // couples 13 of the 25), so products skip the others; call after the blocks change. Where
-  // `to_single` it also rounds every block to single precision and packs the interior rows'
-  // blocks of those offsets contiguously: a product then streams 36 bytes per block, not 72,
-  // and every path (packed, windowed, the smoother's inverted diagonal, the Galerkin product
-  // from this level) sees the one rounded matrix. A level whose residual is the system being
-  // solved (projective_dynamics' fine level) stays exact.
-  void pack(bool to_single) {
+  // couples 13 of the 25), so products skip the others; call after the blocks change. A
+  // Blocks::single level also rounds every block to single precision and packs the interior
+  // rows' blocks of those offsets contiguously: a product then streams 36 bytes per block, not
+  // 72, and every path (packed, windowed, the smoother's inverted diagonal, the Galerkin product
+  // from this level) sees the one rounded matrix.
+  void pack() {
     std::array<bool, kWindow * kWindow> used{};
     for (int r = 0; r < rows_; ++r)
       for (int c = 0; c < cols_; ++c) {
@@ -151,7 +157,7 @@ class GridLevel {
                                   (static_cast<std::ptrdiff_t>(offset.rows) * cols_ + offset.cols));
       }
     packed_valid_ = false;
-    if (!to_single) return;
+    if (!single_) return;
     for (double& value : blocks_) value = static_cast<double>(static_cast<PackedReal>(value));
     PackedReal* out = packed_.data();
     for (int r = reach; r < rows_ - reach; ++r)
@@ -209,6 +215,7 @@ class GridLevel {
   };
 
   int rows_, cols_;
+  bool single_;  // Blocks::single
   std::vector<uint8_t> fixed_;
   std::vector<Offset> couplings_;               // window offsets with a nonzero block somewhere
   std::vector<std::ptrdiff_t> coupling_steps_;  // per coupling: its x index less the row's

@@ -41,7 +41,7 @@ class MultigridPreconditioner {
                           long rebuild_interval = 1)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
-                   fixed_particles(system), FineLevel::single),
+                   fixed_particles(system), GridLevel::Blocks::single),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),

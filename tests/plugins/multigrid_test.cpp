@@ -116,7 +116,7 @@ struct ClothMatrix {
 MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest) {
   MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
                                                     static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, builtin::FineLevel::single);
+                               cloth.fixed, GridLevel::Blocks::single);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
