@@ -301,24 +301,27 @@ def plot_cost(args):
         if not runs:
             raise InputProblem(f"--dt {chosen_dt:g}: no rows at that step; steps present: "
                                + ", ".join(f"{d:g}" for d in dts))
+    # A sweep that does not vary the scenario has no scenario column: one figure, "cost".
+    def scene(row):
+        return str(row.get("scenario") or "")
+
     written = []
-    for scenario in sorted({str(r.get("scenario")) for r in runs}):
+    for scenario in sorted({scene(r) for r in runs}):
         figure, axis = plt.subplots(figsize=(6, 4.5))
         for integrator in sorted({str(r.get("integrator")) for r in runs}):
             points = sorted(((mesh_particles(r["mesh"]), r[args.metric]) for r in runs
-                             if str(r.get("scenario")) == scenario
-                             and str(r.get("integrator")) == integrator))
+                             if scene(r) == scenario and str(r.get("integrator")) == integrator))
             if points:
                 axis.loglog(*zip(*points), "o-", color=COLOURS.get(integrator), label=integrator)
         axis.set_xlabel("particles")
         axis.set_ylabel(args.metric)
-        title = f"{scenario}: {args.metric} vs mesh size"
+        title = f"{scenario + ': ' if scenario else ''}{args.metric} vs mesh size"
         title += f" (dt = {chosen_dt:g} s)" if chosen_dt is not None else ""
-        mine = [r for r in runs if str(r.get("scenario")) == scenario]
+        mine = [r for r in runs if scene(r) == scenario]
         axis.set_title(title + "\n" + caption(mine, args.cloth, args.machine), fontsize=8)
         axis.grid(True, which="both", alpha=0.3)
         axis.legend(loc="best")
-        written += save(figure, args.out, f"cost-{scenario}")
+        written += save(figure, args.out, f"cost-{scenario}" if scenario else "cost")
     return written
 
 

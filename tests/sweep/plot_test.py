@@ -122,6 +122,15 @@ class PlotTest(unittest.TestCase):
         result = run_plot("cost", self.path("runs.csv"), "--out", self.out)
         self.assert_written(result, ["cost-sheet"])
 
+    def test_cost_of_a_sweep_that_does_not_vary_the_scenario(self):
+        # Its rows have no scenario column (configs/multigrid-scaling.yaml): one figure, no "None".
+        rows = [{"key": f"{n}", "integrator": "implicit_euler", "mesh": f"{n}x{n}",
+                 "ms_per_step": 1e-3 * n * n} for n in (50, 100, 200)]
+        with open(self.path("runs.json"), "w") as stream:
+            json.dump({"sweep": {}, "rows": rows}, stream)
+        self.assert_written(run_plot("cost", self.path("runs.json"), "--out", self.out), ["cost"])
+        self.assertNotIn("None", self.svg("cost"))
+
     def test_cost_picks_a_step_among_json_string_dts(self):
         # A run-mode sweep's JSON stores its matrix coordinates as strings.
         rows = [{"key": f"{n}{dt}", "integrator": "euler", "scenario": "sheet",
