@@ -49,8 +49,8 @@ class MultigridHierarchy {
  public:
   // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c. fine_blocks: single
   // where the V-cycle only preconditions (implicit_euler's CG), exact where the fine level's
-  // residual is the system solved (projective_dynamics). Coarse levels only serve the V-cycle
-  // and are always single.
+  // residual is the system solved (projective_dynamics). The coarse levels that smooth only
+  // serve the V-cycle and are single; the coarsest, solved directly, stays exact.
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
                      GridLevel::Blocks fine_blocks) {
     levels_.reserve(sizes.size());
@@ -58,8 +58,9 @@ class MultigridHierarchy {
     for (std::size_t l = 1; l < sizes.size(); ++l) {
       transfers_.emplace_back(levels_.back());
       std::vector<uint8_t> coarse_fixed = transfers_.back().coarse_fixed(levels_.back());
-      levels_.emplace_back(sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
-                           GridLevel::Blocks::single);
+      levels_.emplace_back(
+          sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
+          l + 1 < sizes.size() ? GridLevel::Blocks::single : GridLevel::Blocks::exact);
     }
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l]);
     coarsest_solve_.emplace(levels_.back());

@@ -41,7 +41,7 @@ class GridLevel {
     coupling_steps_.reserve(kWindow * kWindow);
     for (int k = 0; k < kWindow * kWindow; ++k)
       couplings_.push_back({k / kWindow - reach, k % kWindow - reach});
-    if (single_) packed_.resize(9 * kWindow * kWindow * interior_count());
+    if (single_) packed_.resize(9 * (kWindow * kWindow - 1) * interior_count());
   }
 
   int rows() const { return rows_; }
@@ -68,6 +68,9 @@ class GridLevel {
   // Row (r, c)'s blocks in window order.
   double* row_blocks(int r, int c) { return &blocks_[9 * offsets_[node(r, c)]]; }
   const double* row_blocks(int r, int c) const { return &blocks_[9 * offsets_[node(r, c)]]; }
+  // Whether products read the interior rows from their packed blocks (a single level, packed
+  // since its blocks last changed).
+  bool packed() const { return packed_valid_; }
   void clear() {
     std::fill(blocks_.begin(), blocks_.end(), 0.0);
     packed_valid_ = false;
@@ -131,10 +134,11 @@ class GridLevel {
 
   // Records which window offsets hold a nonzero block in some row (the fine Provot level
   // couples 13 of the 25), so products skip the others; call after the blocks change. A
-  // Blocks::single level also rounds every block to single precision and packs the interior
-  // rows' blocks of those offsets contiguously: a product then streams 36 bytes per block, not
-  // 72, and every path (packed, windowed, the smoother's inverted diagonal, the Galerkin product
-  // from this level) sees the one rounded matrix.
+  // Blocks::single level also rounds its off-diagonal blocks to single precision and packs the
+  // interior rows' off-diagonal blocks of those offsets contiguously: a product then streams 36
+  // bytes per block, not 72, and every path (packed, windowed, the Galerkin product from this
+  // level) sees the one rounded matrix. The diagonal blocks stay exact: on a fine cloth the
+  // mass term is below single precision's resolution of the diagonal.
   void pack() {
     std::array<bool, kWindow * kWindow> used{};
     for (int r = 0; r < rows_; ++r)
@@ -148,6 +152,7 @@ class GridLevel {
       }
     couplings_.clear();
     coupling_steps_.clear();
+    diagonal_coupling_ = kNoDiagonal;
     for (int k = 0; k < kWindow * kWindow; ++k)
       if (used[static_cast<std::size_t>(k)]) {
         const Offset offset{k / kWindow - reach, k % kWindow - reach};
@@ -158,12 +163,21 @@ class GridLevel {
       }
     packed_valid_ = false;
     if (!single_) return;
-    for (double& value : blocks_) value = static_cast<double>(static_cast<PackedReal>(value));
+    for (int r = 0; r < rows_; ++r)
+      for (int c = 0; c < cols_; ++c) {
+        const Window w = window(r, c);
+        double* a = row_blocks(r, c);
+        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9)
+            if (r2 != r || c2 != c)
+              for (int k = 0; k < 9; ++k) a[k] = static_cast<double>(static_cast<PackedReal>(a[k]));
+      }
     PackedReal* out = packed_.data();
     for (int r = reach; r < rows_ - reach; ++r)
       for (int c = reach; c < cols_ - reach; ++c) {
         const double* row = row_blocks(r, c);
         for (const Offset& offset : couplings_) {
+          if (offset.rows == 0 && offset.cols == 0) continue;
           const double* a = row + 9 * ((offset.rows + reach) * kWindow + offset.cols + reach);
           for (int k = 0; k < 9; ++k) *out++ = static_cast<PackedReal>(a[k]);
         }
@@ -183,22 +197,32 @@ class GridLevel {
                : 0;
   }
 
-  // subtract_row_product for an interior row: the same sums in the same order, from the packed
-  // blocks at fixed steps from the row's own node.
+  // subtract_row_product for an interior row: the same sums in the same order, the off-
+  // diagonal blocks from the packed ones at fixed steps from the row's own node, the diagonal
+  // from the row's exact block.
   void subtract_packed_row_product(int r, int c, const double* x, double* sum,
                                    bool skip_diagonal) const {
     const std::size_t count = couplings_.size();
+    const std::size_t packed_count = count - (diagonal_coupling_ == kNoDiagonal ? 0 : 1);
     const std::size_t index =
         static_cast<std::size_t>(r - reach) * (cols_ - 2 * reach) + (c - reach);
-    const PackedReal* a = &packed_[9 * count * index];
+    const PackedReal* packed = &packed_[9 * packed_count * index];
+    const double* diagonal = row_blocks(r, c) + 9 * (reach * kWindow + reach);
     const double* x_row = &x[3 * node(r, c)];
-    for (std::size_t j = 0; j < count; ++j, a += 9) {
-      if (skip_diagonal && j == diagonal_coupling_) continue;
+    for (std::size_t j = 0; j < count; ++j) {
       const double* xj = x_row + coupling_steps_[j];
+      if (j == diagonal_coupling_) {
+        if (!skip_diagonal)
+          for (int k = 0; k < 3; ++k)
+            sum[k] -=
+                diagonal[3 * k] * xj[0] + diagonal[3 * k + 1] * xj[1] + diagonal[3 * k + 2] * xj[2];
+        continue;
+      }
       for (int k = 0; k < 3; ++k)
-        sum[k] -= static_cast<double>(a[3 * k]) * xj[0] +
-                  static_cast<double>(a[3 * k + 1]) * xj[1] +
-                  static_cast<double>(a[3 * k + 2]) * xj[2];
+        sum[k] -= static_cast<double>(packed[3 * k]) * xj[0] +
+                  static_cast<double>(packed[3 * k + 1]) * xj[1] +
+                  static_cast<double>(packed[3 * k + 2]) * xj[2];
+      packed += 9;
     }
   }
 
@@ -209,6 +233,7 @@ class GridLevel {
   }
 
   static constexpr int kWindow = 2 * reach + 1;
+  static constexpr std::size_t kNoDiagonal = ~std::size_t{0};
   static constexpr std::size_t kNodesWorthATeam = 4096;
   struct Offset {
     int rows, cols;
@@ -217,13 +242,13 @@ class GridLevel {
   int rows_, cols_;
   bool single_;  // Blocks::single
   std::vector<uint8_t> fixed_;
-  std::vector<Offset> couplings_;               // window offsets with a nonzero block somewhere
-  std::vector<std::ptrdiff_t> coupling_steps_;  // per coupling: its x index less the row's
-  std::size_t diagonal_coupling_ = 0;           // the diagonal's place among the couplings
-  bool packed_valid_ = false;                   // packed_ holds the current blocks
-  std::vector<PackedReal> packed_;              // interior rows' coupled blocks, 9 * couplings each
-  std::vector<std::size_t> offsets_;            // node_count + 1: where each row's blocks begin
-  std::vector<double> blocks_;                  // 9 per window entry
+  std::vector<Offset> couplings_;                // window offsets with a nonzero block somewhere
+  std::vector<std::ptrdiff_t> coupling_steps_;   // per coupling: its x index less the row's
+  std::size_t diagonal_coupling_ = kNoDiagonal;  // the diagonal's place among the couplings
+  bool packed_valid_ = false;                    // packed_ holds the current blocks
+  std::vector<PackedReal> packed_;    // interior rows' coupled off-diagonal blocks, 9 floats each
+  std::vector<std::size_t> offsets_;  // node_count + 1: where each row's blocks begin
+  std::vector<double> blocks_;        // 9 per window entry
 };
 
 }  // namespace clothlab::builtin

@@ -3,7 +3,9 @@
 // the colour (r mod 3, c mod 3) leaves no two coupled nodes in one colour: nine colours (red/
 // black or four colours would need nearest-neighbour coupling only, which the flexion springs
 // break). Nodes of one colour are independent, so the result is the same whatever order or
-// thread updates them: a colour's rows are split among `threads` (the same bits on any count).
+// thread updates them. The rows of one class r mod 3 do not couple either, so a sweep takes
+// one class at a time, split among `threads` (the same bits on any count), each row through
+// its three colours.
 // `forward` sweeps the colours 0..8, `backward` 8..0: the backward sweep is the forward one's
 // adjoint in the A inner product, which makes a V-cycle with forward pre- and backward
 // post-smoothing a symmetric preconditioner.
