@@ -88,7 +88,11 @@ inline double lane_sum(const Doubles (&sums)[2]) {
 #else  // AVX2 and FMA
 
 using Floats = __m256;
-using LaneMask = __m256;  // all bits set in a lane that is in
+// All bits set in a lane that is in. A type of its own, so that a mask and a value passed in
+// each other's place do not compile (on AVX-512 the mask is an integer already).
+struct LaneMask {
+  __m256 bits;
+};
 using Doubles = __m256d;
 inline constexpr std::size_t kLanes = 8;
 
@@ -97,31 +101,33 @@ inline Floats zero_floats() { return _mm256_setzero_ps(); }
 inline Floats load_floats(const float* p) { return _mm256_loadu_ps(p); }
 inline void store_floats(float* p, Floats value) { _mm256_storeu_ps(p, value); }
 inline Floats load_floats(LaneMask lanes, const float* p) {
-  return _mm256_maskload_ps(p, _mm256_castps_si256(lanes));
+  return _mm256_maskload_ps(p, _mm256_castps_si256(lanes.bits));
 }
 inline void store_floats(LaneMask lanes, float* p, Floats value) {
-  _mm256_maskstore_ps(p, _mm256_castps_si256(lanes), value);
+  _mm256_maskstore_ps(p, _mm256_castps_si256(lanes.bits), value);
 }
-inline Floats keep(LaneMask lanes, Floats value) { return _mm256_and_ps(lanes, value); }
-inline LaneMask all_lanes() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
-inline LaneMask both(LaneMask a, LaneMask b) { return _mm256_and_ps(a, b); }
-inline bool no_lane(LaneMask lanes) { return _mm256_movemask_ps(lanes) == 0; }
+inline Floats keep(LaneMask lanes, Floats value) { return _mm256_and_ps(lanes.bits, value); }
+inline LaneMask all_lanes() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
+inline LaneMask both(LaneMask a, LaneMask b) { return {_mm256_and_ps(a.bits, b.bits)}; }
+inline bool no_lane(LaneMask lanes) { return _mm256_movemask_ps(lanes.bits) == 0; }
 inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i below_high = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(high)), lane);
   const __m256i below_low = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(low)), lane);
-  return _mm256_castsi256_ps(_mm256_andnot_si256(below_low, below_high));
+  return {_mm256_castsi256_ps(_mm256_andnot_si256(below_low, below_high))};
 }
-inline LaneMask greater(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-inline LaneMask not_less(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_NLT_UQ); }
-inline LaneMask unordered(Floats a, Floats b) { return _mm256_cmp_ps(a, b, _CMP_UNORD_Q); }
-inline Floats select(LaneMask lanes, Floats a, Floats b) { return _mm256_blendv_ps(b, a, lanes); }
+inline LaneMask greater(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_GT_OQ)}; }
+inline LaneMask not_less(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_NLT_UQ)}; }
+inline LaneMask unordered(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_UNORD_Q)}; }
+inline Floats select(LaneMask lanes, Floats a, Floats b) {
+  return _mm256_blendv_ps(b, a, lanes.bits);
+}
 inline Floats fused_multiply_add(Floats a, Floats b, Floats c) { return _mm256_fmadd_ps(a, b, c); }
 inline Floats fused_negated_multiply_add(Floats a, Floats b, Floats c) {
   return _mm256_fnmadd_ps(a, b, c);
 }
 inline Floats inverse_sqrt_estimate(LaneMask lanes, Floats s) {
-  return _mm256_and_ps(lanes, _mm256_rsqrt_ps(s));
+  return _mm256_and_ps(lanes.bits, _mm256_rsqrt_ps(s));
 }
 template <int Shift>
 inline Floats shift_up(Floats value, Floats before) {
