@@ -144,11 +144,14 @@ class GridLevel {
     for (int r = 0; r < rows_; ++r)
       for (int c = 0; c < cols_; ++c) {
         const Window w = window(r, c);
-        const double* a = row_blocks(r, c);
+        double* a = row_blocks(r, c);
         for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9)
+          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9) {
             if (std::any_of(a, a + 9, [](double value) { return value != 0.0; }))
               used[static_cast<std::size_t>((r2 - r + reach) * kWindow + (c2 - c + reach))] = true;
+            if (single_ && (r2 != r || c2 != c))
+              for (int k = 0; k < 9; ++k) a[k] = static_cast<double>(static_cast<PackedReal>(a[k]));
+          }
       }
     couplings_.clear();
     coupling_steps_.clear();
@@ -163,15 +166,6 @@ class GridLevel {
       }
     packed_valid_ = false;
     if (!single_) return;
-    for (int r = 0; r < rows_; ++r)
-      for (int c = 0; c < cols_; ++c) {
-        const Window w = window(r, c);
-        double* a = row_blocks(r, c);
-        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9)
-            if (r2 != r || c2 != c)
-              for (int k = 0; k < 9; ++k) a[k] = static_cast<double>(static_cast<PackedReal>(a[k]));
-      }
     PackedReal* out = packed_.data();
     for (int r = reach; r < rows_ - reach; ++r)
       for (int c = reach; c < cols_ - reach; ++c) {
