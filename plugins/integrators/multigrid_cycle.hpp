@@ -64,14 +64,13 @@ class VCycle {
     }
     const BlockGaussSeidel& smoother = hierarchy_.smoother(l);
     std::fill(solution_[l].begin(), solution_[l].end(), 0.0);
-    for (long s = 0; s < sweeps_; ++s) smoother.forward(level, b, x, threads_);
-    level.residual(b, x, residual_[l].data(), threads_);
+    smoother.forward(level, b, x, sweeps_, residual_[l].data(), threads_);
     const GridTransfer& transfer = hierarchy_.transfer(l);
     const GridLevel& coarse = hierarchy_.level(l + 1);
     transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data());
     cycle(l + 1);
     transfer.prolong_add(level, coarse, solution_[l + 1].data(), x);
-    for (long s = 0; s < sweeps_; ++s) smoother.backward(level, b, x, threads_);
+    smoother.backward(level, b, x, sweeps_, threads_);
   }
 
   MultigridHierarchy& hierarchy_;

@@ -96,14 +96,16 @@ class GridLevel {
   // out = b - A x on free nodes, 0 on fixed ones; vectors hold 3 doubles per node. Rows are
   // split among `threads`, each row's sum the same on any count.
   void residual(const double* b, const double* x, double* out, int threads = 1) const {
-    for_each_index(rows_, threads, [&](int r) {
-      for (int c = 0; c < cols_; ++c) {
-        const std::size_t i = node(r, c);
-        double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-        if (!fixed(i)) subtract_row_product(r, c, x, sum, false);
-        for (int k = 0; k < 3; ++k) out[3 * i + k] = fixed(i) ? 0.0 : sum[k];
-      }
-    });
+    for_each_index(rows_, threads, [&](int r) { residual_row(r, b, x, out); });
+  }
+  // The residual's row r of nodes.
+  void residual_row(int r, const double* b, const double* x, double* out) const {
+    for (int c = 0; c < cols_; ++c) {
+      const std::size_t i = node(r, c);
+      double sum[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+      if (!fixed(i)) subtract_row_product(r, c, x, sum, false);
+      for (int k = 0; k < 3; ++k) out[3 * i + k] = fixed(i) ? 0.0 : sum[k];
+    }
   }
 
   // Bytes of the level's storage: its blocks, packed blocks, row starts and fixed flags.

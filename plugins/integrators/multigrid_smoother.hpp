@@ -3,14 +3,15 @@
 // the colour (r mod 3, c mod 3) leaves no two coupled nodes in one colour: nine colours (red/
 // black or four colours would need nearest-neighbour coupling only, which the flexion springs
 // break). Nodes of one colour are independent, so the result is the same whatever order or
-// thread updates them. The rows of one class r mod 3 do not couple either, so a sweep takes
-// one class at a time, split among `threads` (the same bits on any count), each row through
-// its three colours.
+// thread updates them. The rows of one class r mod 3 do not couple either, so each row goes
+// through its three colours in turn, and the sweeps of a pass run as a wave over the rows
+// (`run`), split among `threads` (the same bits on any count).
 // `forward` sweeps the colours 0..8, `backward` 8..0: the backward sweep is the forward one's
 // adjoint in the A inner product, which makes a V-cycle with forward pre- and backward
 // post-smoothing a symmetric preconditioner.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -25,7 +26,9 @@ class BlockGaussSeidel {
  public:
   static constexpr int kPeriod = GridLevel::reach + 1;
 
-  explicit BlockGaussSeidel(const GridLevel& level) : inverse_diagonal_(9 * level.node_count()) {}
+  explicit BlockGaussSeidel(const GridLevel& level) : inverse_diagonal_(9 * level.node_count()) {
+    set_steps_per_chunk(level, 0);
+  }
 
   // Inverts the level's diagonal blocks; false where one of a free node is not positive definite.
   bool factor(const GridLevel& level) {
@@ -41,28 +44,88 @@ class BlockGaussSeidel {
 
   std::size_t storage_bytes() const { return inverse_diagonal_.size() * sizeof(double); }
 
-  void forward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
-    for (int row_class = 0; row_class < kPeriod; ++row_class)
-      sweep_rows(level, row_class, false, b, x, threads);
+  // `sweeps` forward sweeps from x, then out = b - A x where out is not null.
+  void forward(const GridLevel& level, const double* b, double* x, long sweeps, double* out,
+               int threads = 1) const {
+    run(level, Pass{false, sweeps, out != nullptr}, b, x, out, threads);
   }
-  void backward(const GridLevel& level, const double* b, double* x, int threads = 1) const {
-    for (int row_class = kPeriod - 1; row_class >= 0; --row_class)
-      sweep_rows(level, row_class, true, b, x, threads);
+  // `sweeps` backward sweeps from x.
+  void backward(const GridLevel& level, const double* b, double* x, long sweeps,
+                int threads = 1) const {
+    run(level, Pass{true, sweeps, false}, b, x, nullptr, threads);
+  }
+
+  // Steps of the wave per chunk (see `run`): the steps whose rows fill about kChunkNodes
+  // nodes, at least one; 0 passes the chunk size back to that default.
+  void set_steps_per_chunk(const GridLevel& level, int steps) {
+    steps_per_chunk_ =
+        steps > 0
+            ? steps
+            : std::max(1, static_cast<int>(kChunkNodes / (kPeriod * std::max(level.cols(), 1))));
   }
 
  private:
-  // The colours (row_class, 0..2), or 2..0 where backward, one row at a time. Rows of one class
-  // are 3 apart and do not couple, so this updates each node from the same values as sweeping
-  // each colour over the whole level in turn, while a row's blocks stay in the cache for its
-  // three colours.
-  void sweep_rows(const GridLevel& level, int row_class, bool backward, const double* b, double* x,
-                  int threads) const {
-    const int row_count = (level.rows() - row_class + kPeriod - 1) / kPeriod;
-    level.for_each_index(row_count, threads, [&](int k) {
-      const int r = row_class + k * kPeriod;
-      for (int step = 0; step < kPeriod; ++step)
-        update_colour(level, r, backward ? kPeriod - 1 - step : step, b, x);
-    });
+  // A pass's sweeps and residual run as a wave down the rows, so that a row's blocks are read
+  // from memory once per pass and not once per sweep: at step t, sweep s updates the row of
+  // class k that is 3 (t - lag) + k, lag = 2 s + k forward and s backward, and the residual
+  // the three rows from 3 (t - 2 sweeps). These lags are the least for which every row sees
+  // exactly the values of the colour order: forward, sweep s + 1 updates a row of class 0 from
+  // sweep s's value of the class 2 row two rows below it, which sweep s updates two steps
+  // after the class 0 row. Each (sweep, class) and the residual is a phase; the steps go in
+  // chunks, each chunk runs its phases in order, and a phase's rows (of one class, 3 apart, or
+  // residual rows) split among the threads. An update depends only on updates of an earlier
+  // phase of its own step or of an earlier step, so every chunk size gives the same bits.
+  struct Pass {
+    bool backward;
+    long sweeps;
+    bool residual;
+    long phases() const { return kPeriod * sweeps + (residual ? 1 : 0); }
+  };
+
+  void run(const GridLevel& level, const Pass& pass, const double* b, double* x, double* out,
+           int threads) const {
+    const int rows = level.rows();
+    const int steps = (rows + kPeriod - 1) / kPeriod + static_cast<int>(2 * pass.sweeps);
+    const auto phase = [&](int t0, int t1, long p, auto&& for_each) {
+      if (p == kPeriod * pass.sweeps) {  // the residual, rows [3 (t0 - lag), 3 (t1 - lag))
+        const int lag = static_cast<int>(2 * pass.sweeps);
+        const int begin = std::max(kPeriod * (t0 - lag), 0),
+                  end = std::min(kPeriod * (t1 - lag), rows);
+        for_each(std::max(end - begin, 0),
+                 [&](int k) { level.residual_row(begin + k, b, x, out); });
+        return;
+      }
+      const int sweep = static_cast<int>(p / kPeriod), position = static_cast<int>(p % kPeriod);
+      const int row_class = pass.backward ? kPeriod - 1 - position : position;
+      const int lag = pass.backward ? sweep : 2 * sweep + position;
+      // t in [t0, t1) with 0 <= 3 (t - lag) + row_class < rows
+      const int first = std::max(t0, lag),
+                last = std::min(t1, lag + (rows - row_class + kPeriod - 1) / kPeriod);
+      for_each(std::max(last - first, 0), [&](int k) {
+        const int r = kPeriod * (first + k - lag) + row_class;
+        for (int step = 0; step < kPeriod; ++step)
+          update_colour(level, r, pass.backward ? kPeriod - 1 - step : step, b, x);
+      });
+    };
+    const long phases = pass.phases();
+    if (level.splits(threads)) {
+      // A multiple of the thread count, so that a whole phase's rows split evenly.
+      const int chunk = std::max(threads, steps_per_chunk_ - steps_per_chunk_ % threads);
+#pragma omp parallel num_threads(threads)
+      for (int t0 = 0; t0 < steps; t0 += chunk)
+        for (long p = 0; p < phases; ++p)
+          phase(t0, t0 + chunk, p, [](int count, auto&& body) {
+            if (count == 0) return;  // every thread skips it alike: no barrier
+#pragma omp for schedule(static)
+            for (int k = 0; k < count; ++k) body(k);
+          });
+    } else {
+      for (int t0 = 0; t0 < steps; t0 += steps_per_chunk_)
+        for (long p = 0; p < phases; ++p)
+          phase(t0, t0 + steps_per_chunk_, p, [](int count, auto&& body) {
+            for (int k = 0; k < count; ++k) body(k);
+          });
+    }
   }
 
   // x_i for the nodes of row r in columns col_class, col_class + 3, ...
@@ -92,7 +155,12 @@ class BlockGaussSeidel {
     return true;
   }
 
+  // Nodes whose rows a chunk updates: their blocks and vectors, a few MB, stay in the cache
+  // between the chunk's phases while the level's would not.
+  static constexpr int kChunkNodes = 16384;
+
   std::vector<double> inverse_diagonal_;  // 9 per node
+  int steps_per_chunk_ = 1;
 };
 
 }  // namespace clothlab::builtin

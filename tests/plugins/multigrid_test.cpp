@@ -263,6 +263,63 @@ TEST(Multigrid, TheResidualIsBMinusAxOnEveryRow) {
     }
 }
 
+// Coloured block Gauss-Seidel written out from its definition on the dense matrix: colours
+// (r mod 3, c mod 3) in the order 0..8 (8..0 backward), x_i = A_ii^-1 (b_i - sum_{j != i} A_ij
+// x_j) on each free node of a colour, the pins left at 0.
+void reference_sweeps(const Eigen::MatrixXd& a, const GridLevel& level, bool backward, long sweeps,
+                      const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  for (long s = 0; s < sweeps; ++s)
+    for (int step = 0; step < 9; ++step) {
+      const int colour = backward ? 8 - step : step;
+      for (int r = colour / 3; r < level.rows(); r += 3)
+        for (int c = colour % 3; c < level.cols(); c += 3) {
+          const std::size_t node = level.node(r, c);
+          if (level.fixed(node)) continue;
+          const auto i = static_cast<Eigen::Index>(3 * node);
+          const Eigen::Vector3d off_diagonal =
+              a.middleRows(i, 3) * x - a.block(i, i, 3, 3) * x.segment<3>(i);
+          x.segment<3>(i) = a.block(i, i, 3, 3).ldlt().solve(b.segment<3>(i) - off_diagonal);
+        }
+    }
+}
+
+// The smoother's passes run as a wave over the rows in chunks of steps (multigrid_smoother.hpp);
+// whatever the chunk, forward and backward passes of 1 to 3 sweeps, and the residual after a
+// forward pass, are those of the colour order. A wave whose sweeps lag one step less than
+// they must reads a row before the previous sweep has updated it, and the check sees it.
+TEST(Multigrid, TheSmootherSweepsTheColoursInOrderInEveryChunkOfTheWave) {
+  ClothMatrix cloth(29, 16);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);
+  const GridLevel& level = hierarchy.level(0);
+  const Eigen::MatrixXd a = dense_of(level);
+  builtin::BlockGaussSeidel smoother(level);
+  ASSERT_TRUE(smoother.factor(level));
+  const Eigen::VectorXd b = cloth.rhs(5), start = cloth.rhs(6);
+  for (const bool backward : {false, true})
+    for (long sweeps : {1L, 2L, 3L}) {
+      Eigen::VectorXd expected = start;
+      reference_sweeps(a, level, backward, sweeps, b, expected);
+      const double scale = expected.norm();
+      for (int steps_per_chunk : {1, 2, 5, 1000}) {
+        smoother.set_steps_per_chunk(level, steps_per_chunk);
+        Eigen::VectorXd x = start, residual(x.size());
+        if (backward) {
+          smoother.backward(level, b.data(), x.data(), sweeps);
+        } else {
+          smoother.forward(level, b.data(), x.data(), sweeps, residual.data());
+          Eigen::VectorXd expected_residual = b - a * x;
+          for (std::size_t i = 0; i < level.node_count(); ++i)
+            if (level.fixed(i)) expected_residual.segment<3>(3 * i).setZero();
+          EXPECT_LT((residual - expected_residual).norm(), 1e-10 * b.norm())
+              << sweeps << " sweeps, " << steps_per_chunk << " steps per chunk";
+        }
+        EXPECT_LT((x - expected).norm(), 1e-10 * scale)
+            << (backward ? "backward, " : "forward, ") << sweeps << " sweeps, " << steps_per_chunk
+            << " steps per chunk";
+      }
+    }
+}
+
 double asymmetry(VCycle& cycle, const ClothMatrix& cloth) {
   const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
   const double xBy = x.dot(apply_cycle(cycle, y)), yBx = y.dot(apply_cycle(cycle, x));
@@ -285,12 +342,11 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
   const auto forward_twice = [&](const Eigen::VectorXd& b) {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r(b.size());
     std::vector<double> coarse_b(3 * two_grid.level(1).node_count()), coarse_x(coarse_b.size());
-    two_grid.smoother(0).forward(fine, b.data(), x.data());
-    fine.residual(b.data(), x.data(), r.data());
+    two_grid.smoother(0).forward(fine, b.data(), x.data(), 1, r.data());
     two_grid.transfer(0).restrict_to(fine, r.data(), two_grid.level(1), coarse_b.data());
     two_grid.coarsest_solve().solve(two_grid.level(1), coarse_b.data(), coarse_x.data());
     two_grid.transfer(0).prolong_add(fine, two_grid.level(1), coarse_x.data(), x.data());
-    two_grid.smoother(0).forward(fine, b.data(), x.data());
+    two_grid.smoother(0).forward(fine, b.data(), x.data(), 1, nullptr);
     return x;
   };
   const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
@@ -299,8 +355,8 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
 }
 
 // The smoothing and the residual split a level's rows among the threads; a colour's nodes do
-// not couple, so the V-cycle has the same bits on any count (70 x 70: the finest level is
-// large enough to split).
+// not couple, so the V-cycle has the same bits on any count and in chunks of any size (70 x 70:
+// the finest level is large enough to split).
 TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
   ClothMatrix cloth(70, 70);
   MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes);
@@ -311,6 +367,23 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
   ASSERT_EQ(alone.size(), team.size());
   for (Eigen::Index i = 0; i < alone.size(); ++i) ASSERT_EQ(alone[i], team[i]) << "entry " << i;
   EXPECT_GT(alone.norm(), 0.0);
+  // The fine level's smoothing in chunks of 3 steps (a team rounds them to 2), not the default.
+  const GridLevel& fine = hierarchy.level(0);
+  builtin::BlockGaussSeidel chunked(fine), whole(fine);
+  ASSERT_TRUE(chunked.factor(fine) && whole.factor(fine));
+  chunked.set_steps_per_chunk(fine, 3);
+  whole.set_steps_per_chunk(fine, 1000);
+  for (int threads : {1, 2}) {
+    Eigen::VectorXd x = cloth.rhs(7), y = x, rx(x.size()), ry(x.size());
+    chunked.forward(fine, b.data(), x.data(), 2, rx.data(), threads);
+    whole.forward(fine, b.data(), y.data(), 2, ry.data(), threads);
+    chunked.backward(fine, b.data(), x.data(), 2, threads);
+    whole.backward(fine, b.data(), y.data(), 2, threads);
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      ASSERT_EQ(x[i], y[i]) << threads << " threads, entry " << i;
+      ASSERT_EQ(rx[i], ry[i]) << threads << " threads, residual entry " << i;
+    }
+  }
 }
 
 // The two-grid method (exact coarse solve) as a stationary iteration e <- (I - B A) e: its
