@@ -108,24 +108,25 @@ class BlockGaussSeidel {
           update_colour(level, r, pass.backward ? kPeriod - 1 - step : step, b, x);
       });
     };
-    const long phases = pass.phases();
+    // The chunks' phases in order, each phase's rows through for_each(count, body).
+    const auto run_chunks = [&](int chunk, auto&& for_each) {
+      for (int t0 = 0; t0 < steps; t0 += chunk)
+        for (long p = 0; p < pass.phases(); ++p)
+          phase(t0, std::min(t0 + chunk, steps), p, for_each);
+    };
     if (level.splits(threads)) {
       // A multiple of the thread count, so that a whole phase's rows split evenly.
       const int chunk = std::max(threads, steps_per_chunk_ - steps_per_chunk_ % threads);
 #pragma omp parallel num_threads(threads)
-      for (int t0 = 0; t0 < steps; t0 += chunk)
-        for (long p = 0; p < phases; ++p)
-          phase(t0, std::min(t0 + chunk, steps), p, [](int count, auto&& body) {
-            if (count == 0) return;  // every thread skips it alike: no barrier
+      run_chunks(chunk, [](int count, auto&& body) {
+        if (count == 0) return;  // every thread skips it alike: no barrier
 #pragma omp for schedule(static)
-            for (int k = 0; k < count; ++k) body(k);
-          });
+        for (int k = 0; k < count; ++k) body(k);
+      });
     } else {
-      for (int t0 = 0; t0 < steps; t0 += steps_per_chunk_)
-        for (long p = 0; p < phases; ++p)
-          phase(t0, std::min(t0 + steps_per_chunk_, steps), p, [](int count, auto&& body) {
-            for (int k = 0; k < count; ++k) body(k);
-          });
+      run_chunks(steps_per_chunk_, [](int count, auto&& body) {
+        for (int k = 0; k < count; ++k) body(k);
+      });
     }
   }
 
