@@ -42,7 +42,7 @@ struct RunConfig {
   double duration = 0;  // s; when the length was given as steps: steps * dt
   bool float64 = false;
   int threads = 0;               // 0: all cores
-  bool adaptive_threads = true;   // thread_team: PipelineOptions::adaptive_threads
+  bool adaptive_threads = true;  // thread_team: PipelineOptions::adaptive_threads
   // s: a run in a child process (a sweep case, a --find-max-dt probe, a single run) that
   // takes longer is killed and reported as timed out.
   double timeout_s = 0;
@@ -62,6 +62,9 @@ struct RunConfig {
   // maximum over the run can only grow, so --choose learns "stretch above its limit" without
   // the rest of the run. 0: run to the end.
   double stretch_stop = 0;
+  // stability.unconverged: whether a solve that missed its tolerance fails the run (fail) or
+  // is only counted, its iteration limit taken as a fixed budget (count).
+  bool unconverged_fails = true;
   FramesConfig frames;
 };
 

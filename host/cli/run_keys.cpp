@@ -208,6 +208,12 @@ const KeyInfo keys[] = {
                                 "1e6]");
        c.run.stretch_stop = v.number;
      }},
+    {"stability.unconverged", T::Choice, 0, 0, "", "fail, count", "fail",
+     "fail: a run in which a solve missed its tolerance fails (check unconverged); count: the "
+     "iteration limit is a fixed budget, the run is judged by its other checks and the misses "
+     "are counted in its verdict and JSON",
+     nullptr,
+     [](Configuration& c, const KeyValue& v) { c.run.unconverged_fails = v.text == "fail"; }},
     {"stability.energy_margin", T::PositiveReal, 0, 1e12, "", nullptr, "1",
      "energy gain allowed, in units of the cloth's energy scale", nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.monitor.energy_margin = v.number; }},

@@ -139,16 +139,17 @@ void check_plugin_param_ids(const RunConfig& config, const LoadedPlugins& plugin
 
 // A solve that missed its tolerance makes the step something other than the method's: a run
 // with one fails like a stability check (docs/running.md), counted, but only once it is over,
-// since the state itself may be fine. A run that already failed or was interrupted keeps its
-// verdict, with the count added.
-void judge_solver(RunRecord& record) {
+// since the state itself may be fine. A run that already failed or was interrupted, or whose
+// iteration limit is a fixed budget (stability.unconverged = count), keeps its verdict, with
+// the count added.
+void judge_solver(RunRecord& record, bool unconverged_fails) {
   if (!record.solver || record.solver->non_converged_steps == 0) return;
   const SolverTotals& solver = *record.solver;
   const std::string missed = "the solver missed its tolerance in " +
                              std::to_string(solver.non_converged_steps) + " of " +
                              std::to_string(solver.steps) + " steps (first at step " +
                              std::to_string(*solver.first_non_converged_step) + ")";
-  if (!record.stable || record.interrupted) {
+  if (!record.stable || record.interrupted || !unconverged_fails) {
     record.verdict += "; " + missed;
     return;
   }
@@ -403,7 +404,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
                      std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
-  judge_solver(record);
+  judge_solver(record, config_.unconverged_fails);
   record.counters = cloth_->counters();
   return record;
 }

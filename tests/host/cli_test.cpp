@@ -243,6 +243,31 @@ TEST_F(Clothlab, ASolveThatMissesItsToleranceFailsTheRunCountedWithItsStep) {
   EXPECT_EQ(met_json["verdict"].get<std::string>().rfind("stable: 20 steps", 0), 0u);
 }
 
+// stability.unconverged = count takes the iteration limit as a fixed budget: the same run of
+// one-iteration solves passes on its other checks, with every miss still counted in the
+// verdict and the JSON. A value other than fail or count is one line of bad input.
+TEST_F(Clothlab, AFixedIterationBudgetCountsTheMissedTolerancesWithoutFailingTheRun) {
+  const std::string budget = std::string("--integrator=implicit_euler ") + small_sheet +
+                             "--dt 0.01 --steps 20 --quiet --json s.json "
+                             "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14 ";
+  const Outcome counted = run(budget + "--set stability.unconverged=count");
+  ASSERT_EQ(counted.exit_code, 0) << counted.err;
+  const auto json = nlohmann::json::parse(read_text(file("s.json")));
+  EXPECT_TRUE(json["stable"]);
+  EXPECT_TRUE(json["failed_check"].is_null());
+  EXPECT_EQ(json["solver"]["non_converged_steps"], 20);
+  EXPECT_EQ(json["solver"]["first_non_converged_step"], 1);
+  EXPECT_EQ(json["verdict"],
+            "stable: 20 steps, 2 checks passed (finite, stretch, energy); the solver missed its "
+            "tolerance in 20 of 20 steps (first at step 1)");
+
+  const Outcome bad = run(budget + "--set stability.unconverged=maybe");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_NE(bad.err.find("stability.unconverged"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("allowed: fail or count"), std::string::npos) << bad.err;
+}
+
 TEST_F(Clothlab, SolverParameterOutOfRangeIsOneLineOfBadInput) {
   for (const char* setting :
        {"integrator.max_iterations=0", "integrator.tolerance=2", "integrator.newton_steps=51"}) {
