@@ -191,7 +191,8 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         {"stretch_limit", choice.stretch_limit},
         {"reference_stretch_factor", choice.reference_stretch_factor},
         {"error_tolerance", choice.error_tolerance},
-        {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh}};
+        {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
+        {"unconverged", whole.run.unconverged_fails ? "fail" : "count"}};
     for (const sweep::Row& row : store.rows())
       if (row["kind"] == "reference") ranked["reference"] = row;
     const std::vector<sweep::Row> rows = sweep::choice_rows(choices, choice);

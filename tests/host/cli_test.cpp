@@ -739,6 +739,22 @@ TEST_F(Clothlab, ChooseRankedFileNamesTheSceneMesh) {
             "6x3");
 }
 
+// The ranked file says how a probe whose solver missed its tolerance was judged
+// (stability.unconverged), since a fixed CG budget's pass reads the same in the ranking.
+TEST_F(Clothlab, ChooseRankedFileNamesHowMissedTolerancesAreJudged) {
+  const std::string common =
+      "--choose --frame-rate 60 --set choose.output=choose/choose --set choose.duration=0.05 "
+      "--set choose.integrators=[euler] --set mesh=4x4 ";
+  ASSERT_EQ(run(common).exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(
+                read_text(file("choose/choose-ranked.json")))["settings"]["unconverged"],
+            "fail");
+  ASSERT_EQ(run(common + "--set stability.unconverged=count").exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(
+                read_text(file("choose/choose-ranked.json")))["settings"]["unconverged"],
+            "count");
+}
+
 // A local solver (xpbd declares CLOTHLAB_TRAIT_LOCAL_SOLVES) gets the substeps the m / h^2
 // bound predicts in its verdict and row; an explicit method does not.
 TEST_F(Clothlab, ChoosePredictsALocalSolversSubsteps) {
