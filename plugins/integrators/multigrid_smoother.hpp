@@ -109,10 +109,10 @@ class BlockGaussSeidel {
       });
     };
     // The chunks' phases in order, each phase's rows through for_each(count, body).
+    const long phases = pass.phases();
     const auto run_chunks = [&](int chunk, auto&& for_each) {
       for (int t0 = 0; t0 < steps; t0 += chunk)
-        for (long p = 0; p < pass.phases(); ++p)
-          phase(t0, std::min(t0 + chunk, steps), p, for_each);
+        for (long p = 0; p < phases; ++p) phase(t0, std::min(t0 + chunk, steps), p, for_each);
     };
     if (level.splits(threads)) {
       // A multiple of the thread count, so that a whole phase's rows split evenly.

@@ -210,13 +210,18 @@ TEST_F(Clothlab, SolverStatisticsOfAnImplicitIntegratorReachTheJson) {
   }
 }
 
+// 20 implicit_euler steps of the small sheet (JSON in s.json), and the settings that make
+// every solve of that run miss its tolerance.
+const std::string implicit_euler_run_of_20 = std::string("--integrator=implicit_euler ") +
+                                             small_sheet +
+                                             "--dt 0.01 --steps 20 --quiet --json s.json ";
+const char* one_iteration_solves =
+    "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14 ";
+
 // A missed tolerance is a failed check (exit 3, verdict "unconverged"), counted over the whole
 // run rather than stopping it; the same run with a tolerance CG meets is stable (exit 0).
 TEST_F(Clothlab, ASolveThatMissesItsToleranceFailsTheRunCountedWithItsStep) {
-  const std::string run_of_20 = std::string("--integrator=implicit_euler ") + small_sheet +
-                                "--dt 0.01 --steps 20 --quiet --json s.json ";
-  const Outcome outcome =
-      run(run_of_20 + "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14");
+  const Outcome outcome = run(implicit_euler_run_of_20 + one_iteration_solves);
   ASSERT_EQ(outcome.exit_code, 3) << outcome.err;
   EXPECT_EQ(outcome.err.rfind("clothlab: error: run unconverged: the solver missed "
                               "its tolerance in 20 of 20 steps (first at step 1); stable: 20 steps",
@@ -234,7 +239,7 @@ TEST_F(Clothlab, ASolveThatMissesItsToleranceFailsTheRunCountedWithItsStep) {
   EXPECT_GT(json["solver"]["max_residual"].get<double>(), 1e-14);
   EXPECT_EQ(json["verdict"].get<std::string>().rfind("unconverged: ", 0), 0u) << json["verdict"];
 
-  const Outcome met = run(run_of_20 + "--set integrator.max_iterations=1000");
+  const Outcome met = run(implicit_euler_run_of_20 + "--set integrator.max_iterations=1000");
   ASSERT_EQ(met.exit_code, 0) << met.err;
   const auto met_json = nlohmann::json::parse(read_text(file("s.json")));
   EXPECT_TRUE(met_json["stable"]);
@@ -247,9 +252,7 @@ TEST_F(Clothlab, ASolveThatMissesItsToleranceFailsTheRunCountedWithItsStep) {
 // one-iteration solves passes on its other checks, with every miss still counted in the
 // verdict and the JSON. A value other than fail or count is one line of bad input.
 TEST_F(Clothlab, AFixedIterationBudgetCountsTheMissedTolerancesWithoutFailingTheRun) {
-  const std::string budget = std::string("--integrator=implicit_euler ") + small_sheet +
-                             "--dt 0.01 --steps 20 --quiet --json s.json "
-                             "--set integrator.max_iterations=1 --set integrator.tolerance=1e-14 ";
+  const std::string budget = implicit_euler_run_of_20 + one_iteration_solves;
   const Outcome counted = run(budget + "--set stability.unconverged=count");
   ASSERT_EQ(counted.exit_code, 0) << counted.err;
   const auto json = nlohmann::json::parse(read_text(file("s.json")));
