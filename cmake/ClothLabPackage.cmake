@@ -6,7 +6,7 @@ include(CMakePackageConfigHelpers)
 set(CLOTHLAB_CMAKE_INSTALL_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/ClothLab")
 
 # The ABI major a plugin built against this SDK carries, for find_package users.
-file(STRINGS "${PROJECT_SOURCE_DIR}/core/include/clothlab/plugin.h" _clothlab_abi_line
+file(STRINGS "${PROJECT_SOURCE_DIR}/core/include/clothlab/abi/version.h" _clothlab_abi_line
      REGEX "^#define CLOTHLAB_ABI_VERSION_MAJOR ")
 string(REGEX MATCH "[0-9]+" CLOTHLAB_ABI_VERSION_MAJOR "${_clothlab_abi_line}")
 
