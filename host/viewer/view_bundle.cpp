@@ -15,7 +15,8 @@ namespace clothlab::viewer {
 
 namespace {
 
-constexpr const char* asset_files[] = {"index.html", "viewer.js", "viewer.css", "three.min.js"};
+constexpr const char* asset_files[] = {"index.html", "viewer.js", "framing.js", "viewer.css",
+                                       "three.min.js"};
 
 nlohmann::json read_run_json(const fs::path& dir) {
   std::ifstream stream(dir / "run.json");

@@ -134,15 +134,20 @@ for (const [i, run] of runs.entries()) {
   run.shown = -1;
 }
 
-// Orbit camera: drag to rotate about the cloth's centre, wheel to zoom.
+// Orbit camera: drag to rotate about the scene's centre, wheel to zoom. It starts looking along
+// the normal of the cloth's mean plane over every frame of every run (framing.js), at the
+// distance that fits the bounds into the pane, whatever its aspect.
 const camera = new THREE.PerspectiveCamera(40, 1, radius / 100, radius * 100);
-const orbit = { azimuth: 0.6, elevation: 0.3, distance: radius * 3.2 };
+const orbit = { ...ClothLabFraming.orbitAlong(ClothLabFraming.meanPlaneNormal(runs.flatMap((run) => run.positions))), zoom: 1 };
 function placeCamera() {
-  const { azimuth, elevation, distance } = orbit;
-  camera.position.set(centre.x + distance * Math.cos(elevation) * Math.sin(azimuth),
-                      centre.y + distance * Math.sin(elevation),
-                      centre.z + distance * Math.cos(elevation) * Math.cos(azimuth));
+  const { azimuth, elevation, zoom } = orbit;
+  const fitted = ClothLabFraming.fitDistance(bounds.min.toArray(), bounds.max.toArray(), orbit,
+                                             THREE.MathUtils.degToRad(camera.fov), camera.aspect);
+  const direction = ClothLabFraming.orbitDirection(azimuth, elevation);
+  camera.position.copy(centre).addScaledVector(new THREE.Vector3(...direction), Math.max(radius / 50, fitted) * zoom);
   camera.lookAt(centre);
+  // Read by the browser tests (chromium --dump-dom), which need the camera's right axis.
+  document.documentElement.dataset.orbit = JSON.stringify({ azimuth, elevation });
 }
 let drag = null;
 view.addEventListener("pointerdown", (e) => { drag = { x: e.clientX, y: e.clientY }; view.setPointerCapture(e.pointerId); });
@@ -154,7 +159,7 @@ view.addEventListener("pointermove", (e) => {
   drag = { x: e.clientX, y: e.clientY };
   render();
 });
-view.addEventListener("wheel", (e) => { e.preventDefault(); orbit.distance *= Math.exp(e.deltaY * 0.001); render(); }, { passive: false });
+view.addEventListener("wheel", (e) => { e.preventDefault(); orbit.zoom *= Math.exp(e.deltaY * 0.001); render(); }, { passive: false });
 
 const ui = Object.fromEntries(["play", "scrub", "clock", "speed", "colour", "layout", "legend", "energy", "runs"]
   .map((id) => [id, document.getElementById(id)]));
@@ -174,22 +179,31 @@ ui.speed.onchange = () => { state.speed = Number(ui.speed.value); };
 ui.colour.onchange = () => { for (const run of runs) run.shown = -1; render(); };
 ui.layout.onchange = () => { for (const run of runs) run.shown = -1; render(); };
 ui.legend.style.background = "linear-gradient(to right, hsl(238,85%,50%), hsl(120,85%,50%), hsl(60,85%,50%), hsl(0,85%,50%))";
-ui.legend.innerHTML = `<span>stretch 1.00</span><span>${maxStretch.toFixed(2)}</span>`;
+ui.legend.append(element("span", "", "stretch 1.00"), element("span", "", maxStretch.toFixed(2)));
 
+// The run panels. Every string from a run (its folder name, plugin ids, verdict, parameters)
+// goes in as text, never as markup: a folder may be named anything.
+function element(tag, className, text) {
+  const node = document.createElement(tag);
+  if (className) node.className = className;
+  if (text !== undefined) node.textContent = text;
+  return node;
+}
 function describeRuns() {
   for (const [i, run] of runs.entries()) {
     const info = run.run, summary = info.summary || {};
-    const div = document.createElement("div");
-    div.className = "run";
     const stable = summary.stable && !summary.interrupted;
     const verdict = summary.verdict || `no verdict (run.json status: ${info.status})`;
-    div.innerHTML = `<h3><span class="swatch" style="background:#${run.swatch.toString(16).padStart(6, "0")}"></span>` +
-      `${i + 1}: ${info.integrator} on ${info.scenario}</h3>` +
-      `<div>${run.name}</div>` +
-      `<div>${info.rows}×${info.cols}, ${info.precision}, dt ${info.dt} s, ${run.times.length} frames` +
-      (summary.ms_per_step ? `, ${summary.ms_per_step.median.toFixed(3)} ms/step` : "") + `</div>` +
-      `<div class="verdict ${stable ? "good" : "bad"}">${verdict}</div>` +
-      `<pre>integrator ${JSON.stringify(info.integrator_params)}\nscenario ${JSON.stringify(info.scenario_params)}</pre>`;
+    const swatch = element("span", "swatch");
+    swatch.style.background = "#" + run.swatch.toString(16).padStart(6, "0");
+    const heading = element("h3");
+    heading.append(swatch, `${i + 1}: ${info.integrator} on ${info.scenario}`);
+    const div = element("div", "run");
+    div.append(heading, element("div", "", run.name),
+      element("div", "", `${info.rows}×${info.cols}, ${info.precision}, dt ${info.dt} s, ${run.times.length} frames` +
+        (summary.ms_per_step ? `, ${summary.ms_per_step.median.toFixed(3)} ms/step` : "")),
+      element("div", `verdict ${stable ? "good" : "bad"}`, verdict),
+      element("pre", "", `integrator ${JSON.stringify(info.integrator_params)}\nscenario ${JSON.stringify(info.scenario_params)}`));
     ui.runs.appendChild(div);
   }
 }

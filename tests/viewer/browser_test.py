@@ -27,8 +27,14 @@
                                  of the frozen character); the character is still found
         mutant-draws-no-cape     the page with the cloth never added to the scene: the cape
                                  check must fail, the character and motion checks pass
+        folder-name-is-text      a run whose frames folder is named as markup with a script
+                                 (INJECTED): the page shows the name as text and the script
+                                 does not run
+        mutant-name-as-markup    the page inserting the folder name as markup: the injection
+                                 check must find the script ran (the check can fail)
 The screenshots stay in WORK_DIR (printed) as test artefacts.
 """
+import html
 import json
 import math
 import os
@@ -64,17 +70,27 @@ def frames(out, integrator):
     return folder
 
 
+def chromium(page, query, profile, *options):
+    """Headless Chromium (software WebGL) on the page; its result with the output options'."""
+    shutil.rmtree(profile, ignore_errors=True)
+    result = run("chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                 "--no-first-run", "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", f"--user-data-dir={profile}", "--use-angle=swiftshader",
+                 "--enable-unsafe-swiftshader", f"--window-size={WIDTH},{HEIGHT}",
+                 "--virtual-time-budget=5000", *options, f"file://{page}?{query}")
+    shutil.rmtree(profile, ignore_errors=True)
+    return result
+
+
 def screenshot(page, query, path):
-    profile = path + ".profile"
-    shutil.rmtree(profile, ignore_errors=True)
-    run("chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-        "--no-first-run", "--disable-background-networking", "--disable-component-update",
-        "--disable-sync", f"--user-data-dir={profile}", "--use-angle=swiftshader",
-        "--enable-unsafe-swiftshader", f"--window-size={WIDTH},{HEIGHT}",
-        "--virtual-time-budget=5000", f"--screenshot={path}", f"file://{page}?{query}")
-    shutil.rmtree(profile, ignore_errors=True)
+    chromium(page, query, path + ".profile", f"--screenshot={path}")
     print("screenshot:", path)
     return Image.open(path).convert("RGB")
+
+
+def page_dom(page, query, work):
+    """The page's document after its scripts ran (chromium --dump-dom)."""
+    return chromium(page, query, os.path.join(work, "dom.profile"), "--dump-dom").stdout
 
 
 def differing(first, second):
@@ -183,13 +199,13 @@ def mutant_draws_no_collider():
 # (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight).
 CAPE_LATE = 1.0
 def camera_azimuth(view):
-    """The page's starting orbit.azimuth, read from its viewer.js: the camera's right axis is
-    (cos, 0, -sin) of it."""
-    with open(os.path.join(view, "viewer.js")) as stream:
-        match = re.search(r"const orbit = \{ azimuth: ([-0-9.e]+),", stream.read())
+    """The page's starting orbit azimuth, which it publishes on its root element (data-orbit):
+    the camera's right axis is (cos, 0, -sin) of it."""
+    dom = page_dom(os.path.join(view, "index.html"), "paused=1", view)
+    match = re.search(r'<html[^>]*data-orbit="([^"]*)"', dom)
     if match is None:
-        raise AssertionError(f"{view}/viewer.js: no `const orbit = {{ azimuth: ... }}` to read")
-    return float(match.group(1))
+        fail(f"{view}/index.html: no data-orbit on the page's root element to read")
+    return float(json.loads(html.unescape(match.group(1)))["azimuth"])
 
 
 def cape_view(out):
@@ -360,6 +376,51 @@ def mutant_draws_nothing():
     print(f"ok: the page without its render call shows {count} of {area} non-background pixels")
 
 
+# A frames folder whose name is markup that runs a script when parsed as HTML: the script
+# would mark the page's body.
+INJECTED = 'run<img src=x onerror="document.body.setAttribute(\'data-injected\',\'yes\')">'
+
+
+def injection_problems(view):
+    """Whether the page ran the folder name's script, and whether the name reached the page at
+    all (shown as text), from the page's document after its scripts ran."""
+    dom = page_dom(os.path.join(view, "index.html"), "t=0&paused=1", view)
+    ran = re.search(r"<body[^>]*data-injected", dom) is not None
+    shown = html.escape(INJECTED, quote=False) in dom
+    return ran, shown
+
+
+def injected_view(out):
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    folder = os.path.join(out, INJECTED)
+    run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "rk4", "--scenario", "flag",
+        "--set", "scenario.rows=8", "--set", "scenario.cols=8", "--duration", "0.1",
+        "--set", "frames.rate=30", "--frames", folder, "--quiet")
+    view = os.path.join(out, "view")
+    run(CLOTHLAB, "view", folder, "--out", view)
+    return view
+
+
+def folder_name_is_text():
+    ran, shown = injection_problems(injected_view(os.path.join(WORK, "injected")))
+    if ran:
+        fail("the frames folder's name ran as a script in the page")
+    if not shown:
+        fail("the frames folder's name is not shown in the page as text")
+    print("ok: the folder name is shown as text and its script did not run")
+
+
+def mutant_name_as_markup():
+    view = injected_view(os.path.join(WORK, "injected-mutant"))
+    mutate_page(view, 'element("div", "", run.name)',
+                'Object.assign(element("div"), { innerHTML: run.name })')
+    ran, _ = injection_problems(view)
+    if not ran:
+        fail("a page that inserts the folder name as markup passes the injection check")
+    print("ok: the page that inserts the folder name as markup runs its script and is caught")
+
+
 def no_frames():
     empty = os.path.join(WORK, "empty")
     os.makedirs(empty, exist_ok=True)
@@ -376,4 +437,5 @@ def no_frames():
  "collider-drawn": collider_drawn, "mutant-draws-no-collider": mutant_draws_no_collider,
  "cape-and-character": cape_and_character,
  "mutant-character-frozen": mutant_character_frozen,
- "mutant-draws-no-cape": mutant_draws_no_cape}[CASE]()
+ "mutant-draws-no-cape": mutant_draws_no_cape, "folder-name-is-text": folder_name_is_text,
+ "mutant-name-as-markup": mutant_name_as_markup}[CASE]()
