@@ -92,6 +92,14 @@ void reject_flag_and_set_conflicts(const std::vector<Setting>& settings) {
   }
 }
 
+// Options for the project's own tools, left out of --help.
+po::options_description describe_hidden_options() {
+  po::options_description options;
+  options.add_options()("keys-markdown",
+                        "print the key table as Markdown (tools/reference.py settings)");
+  return options;
+}
+
 po::options_description describe_merge_options() {
   po::options_description options("clothlab merge options");
   options.add_options()("help,h", "show this help and exit");
@@ -105,8 +113,10 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   // Declared empty so a stray word is an error instead of being ignored.
   const po::positional_options_description no_positional_arguments;
   try {
+    po::options_description options = describe_options();
+    options.add(describe_hidden_options());
     po::store(po::command_line_parser(argc, argv)
-                  .options(describe_options())
+                  .options(options)
                   .positional(no_positional_arguments)
                   .run(),
               values);
@@ -130,6 +140,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.shard = string_option(values, "shard");
   command_line.slurm = values.count("slurm") > 0;
   command_line.no_wait = values.count("no-wait") > 0;
+  command_line.keys_markdown = values.count("keys-markdown") > 0;
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const KeyInfo& info : run_keys())

@@ -26,6 +26,7 @@ struct CommandLine {
   std::optional<std::string> shard;  // sweep: "K/N", run only shard K of N
   bool slurm = false;                // sweep: submit as a Slurm job array
   bool no_wait = false;              // --slurm: return once submitted
+  bool keys_markdown = false;        // print the key table as Markdown (docs/reference)
   // --integrator, --dt, ... and --set key=value, in command-line order.
   std::vector<Setting> settings;
 };

@@ -61,6 +61,10 @@ int run(int argc, const char* const argv[]) {
     std::cout << usage_text();
     return exit_ok;
   }
+  if (command_line.keys_markdown) {
+    std::cout << keys_markdown_table();
+    return exit_ok;
+  }
   const auto search_path = clothlab::host::PluginSearchPath::standard(command_line.plugin_paths);
   if (command_line.list_plugins)
     return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;

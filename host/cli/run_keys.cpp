@@ -560,4 +560,29 @@ std::string keys_help_text() {
   return text;
 }
 
+namespace {
+
+// A table cell: a '|' would end the cell and a line break the row.
+std::string markdown_cell(const std::string& text) {
+  std::string cell;
+  for (const char c : text) {
+    if (c == '|') cell += '\\';
+    cell += c == '\n' ? ' ' : c;
+  }
+  return cell;
+}
+
+}  // namespace
+
+std::string keys_markdown_table() {
+  std::string table = "| key | allowed | default | flag | what it does |\n|---|---|---|---|---|\n";
+  for (const KeyInfo& info : keys) {
+    table += "| `" + std::string(info.key) + "` | " + markdown_cell(describe_allowed(info)) +
+             " | " + (info.default_value ? "`" + markdown_cell(info.default_value) + "`" : "") +
+             " | " + (info.flag ? "`--" + std::string(info.flag) + "`" : "") + " | " +
+             markdown_cell(info.help) + " |\n";
+  }
+  return table;
+}
+
 }  // namespace clothlab::cli

@@ -63,4 +63,8 @@ std::string unknown_key_message(const Setting& setting);
 // The "Keys" section of --help: each key with what it allows, its default and what it does.
 std::string keys_help_text();
 
+// The same keys as a Markdown table (key, allowed, default, flag, what it does): the body of
+// docs/reference/settings.md, printed by the hidden option --keys-markdown.
+std::string keys_markdown_table();
+
 }  // namespace clothlab::cli

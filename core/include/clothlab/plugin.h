@@ -18,13 +18,14 @@
  *    string id ("clothlab.jacobian/1") through `get_extension` on both sides, NULL when
  *    absent. A new capability is a new id, a change of one is a new revision ("/2"); a
  *    published extension struct is never edited. One header per extension, in clothlab/ext/:
- *    host side (tools/reference.py keeps this list in step with clothlab/ext/):
- *      attachment-targets, cg-step, contacts, definite-jacobian, external-forces, grid,
- *      jacobian, reductions, threads, topology;
+ *    host side (tools/reference.py checks these lists against clothlab/ext/):
+ *      clothlab.attachment-targets/1, clothlab.cg-step/1, clothlab.contacts/1,
+ *      clothlab.definite-jacobian/1, clothlab.external-forces/1, clothlab.grid/1,
+ *      clothlab.jacobian/1, clothlab.reductions/1, clothlab.threads/1, clothlab.topology/1;
  *    integrator side:
- *      explicit-scheme, integrator-traits, solver-statistics;
+ *      clothlab.explicit-scheme/1, clothlab.integrator-traits/1, clothlab.solver-statistics/1;
  *    scenario side:
- *      air, attachments, colliders, mesh.
+ *      clothlab.air/1, clothlab.attachments/1, clothlab.colliders/1, clothlab.mesh/1.
  *  - Errors are status codes plus a message written into a caller-owned buffer.
  *    No exception, longjmp or C++ type ever crosses the boundary.
  *  - Ownership: the host owns the cloth state and every vector of a clothlab_system;

@@ -2,7 +2,7 @@
  * Host extension "clothlab.attachment-targets/1" (ABI 1.3): moves the scene's attached particles
  * (clothlab.attachments/1) to their targets. Attached particles are pinned (inverse mass 0): the
  * system's vector operations leave them alone, so an integrator moves them itself, once per
- * step or substep, at the time it chooses (docs/plugins.md says when each built-in does). An
+ * step or substep, at the time it chooses (docs/reference/abi.md says when each built-in does). An
  * integrator that does so declares CLOTHLAB_TRAIT_MOVES_ATTACHMENTS
  * (clothlab.integrator-traits/1): the host refuses a scene with attachments for any other.
  * The host offers the extension on every cloth, also one without attachments (count is 0 and
