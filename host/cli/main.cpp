@@ -21,6 +21,7 @@
 #include "output_file.hpp"
 #include "plugin_listing.hpp"
 #include "run_config.hpp"
+#include "run_keys.hpp"
 #include "run_report.hpp"
 #include "simulation.hpp"
 #include "sweep_file.hpp"

@@ -577,10 +577,12 @@ std::string markdown_cell(const std::string& text) {
 std::string keys_markdown_table() {
   std::string table = "| key | allowed | default | flag | what it does |\n|---|---|---|---|---|\n";
   for (const KeyInfo& info : keys) {
-    table += "| `" + std::string(info.key) + "` | " + markdown_cell(describe_allowed(info)) +
-             " | " + (info.default_value ? "`" + markdown_cell(info.default_value) + "`" : "") +
-             " | " + (info.flag ? "`--" + std::string(info.flag) + "`" : "") + " | " +
-             markdown_cell(info.help) + " |\n";
+    table.append("| `").append(info.key).append("` | ");
+    table.append(markdown_cell(describe_allowed(info))).append(" | ");
+    if (info.default_value) table.append("`").append(markdown_cell(info.default_value)).append("`");
+    table.append(" | ");
+    if (info.flag) table.append("`--").append(info.flag).append("`");
+    table.append(" | ").append(markdown_cell(info.help)).append(" |\n");
   }
   return table;
 }
