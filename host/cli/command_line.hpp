@@ -26,6 +26,7 @@ struct CommandLine {
   std::optional<std::string> shard;  // sweep: "K/N", run only shard K of N
   bool slurm = false;                // sweep: submit as a Slurm job array
   bool no_wait = false;              // --slurm: return once submitted
+  bool dry_run = false;  // check everything a run checks before its first step, then stop
   // --integrator, --dt, ... and --set key=value, in command-line order.
   std::vector<Setting> settings;
 };
