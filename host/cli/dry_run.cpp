@@ -25,8 +25,7 @@ std::string check_single_run(const RunConfig& config, const host::PluginSearchPa
   return described["integrator"].get<std::string>() + " on " +
          described["scenario"].get<std::string>() + ", " +
          std::to_string(described["rows"].get<uint32_t>()) + "x" +
-         std::to_string(described["cols"].get<uint32_t>()) + " particles, " +
-         std::to_string(config.steps) + " steps";
+         std::to_string(described["cols"].get<uint32_t>()) + " particles";
 }
 
 void check_creatable_folder(const std::filesystem::path& folder, const std::string& source) {

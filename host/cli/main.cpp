@@ -118,8 +118,8 @@ int run(int argc, const char* const argv[]) {
       throw clothlab::host::InputError(
           "--state-out and --frames are for single runs, not --find-max-dt");
     if (command_line.dry_run) {
-      std::cout << "dry run: --find-max-dt for " << check_single_run(config, search_path)
-                << " at the largest dt; nothing stepped\n";
+      const std::string described = check_single_run(config, search_path);
+      std::cout << "dry run: --find-max-dt for " << described << "; nothing stepped\n";
       return exit_ok;
     }
     const nlohmann::json result = find_max_dt(whole, search_path);
@@ -132,7 +132,8 @@ int run(int argc, const char* const argv[]) {
 
   if (command_line.dry_run) {
     if (!config.frames.dir.empty()) check_creatable_folder(config.frames.dir, "--frames");
-    std::cout << "dry run: " << check_single_run(config, search_path) << "; nothing stepped\n";
+    const std::string described = check_single_run(config, search_path);
+    std::cout << "dry run: " << described << ", " << config.steps << " steps; nothing stepped\n";
     return exit_ok;
   }
   // The run itself is plugin code: in a child, so a crash or hang is reported as one. Ctrl-C
