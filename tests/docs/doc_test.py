@@ -42,8 +42,8 @@ def pages(root, folders):
     return found
 
 
-def prose_lines(text):
-    """(line number, line) outside code blocks, inline code removed."""
+def prose_lines(text, keep_code=False):
+    """(line number, line) outside code blocks; inline code removed unless keep_code."""
     fence = None
     for number, line in enumerate(text.splitlines(), 1):
         match = FENCE.match(line.strip())
@@ -54,7 +54,7 @@ def prose_lines(text):
                 fence = None
             continue
         if fence is None:
-            yield number, re.sub(r"`[^`]*`", "", line)
+            yield number, line if keep_code else re.sub(r"`[^`]*`", "", line)
 
 
 def slug(heading):
@@ -68,7 +68,7 @@ def slug(heading):
 def anchors(page):
     seen = {}
     result = set()
-    for _, line in prose_lines(page.read_text(encoding="utf-8")):
+    for _, line in prose_lines(page.read_text(encoding="utf-8"), keep_code=True):
         match = re.match(r"^#{1,6}\s+(.*?)\s*#*\s*$", line)
         if not match:
             continue
