@@ -3,7 +3,8 @@
 
   doc_test.py links ROOT
       Every relative link in README.md and docs/**/*.md resolves: the file or folder exists
-      and a #anchor names a heading of the target page (GitHub's slugs).
+      and a #anchor names a heading of the target page (GitHub's slugs); none leads into lab/,
+      the notebook, which is not documentation.
   doc_test.py commands ROOT CLOTHLAB
       Every `clothlab ...` line in a sh/bash code block of README.md and docs/guide/*.md is
       accepted by CLOTHLAB (the built program): run to its end, in a scratch folder that sees
@@ -16,8 +17,8 @@
         <!-- doc-test: skip: REASON -->   not run here; REASON says what tests it instead
       A command that runs past TIMEOUT_S fails and asks for the dry-run marker.
   doc_test.py selftest CLOTHLAB
-      Proves the two checks can fail: a fixture page with a broken link, a broken anchor and a
-      rejected command must give exactly those three findings.
+      Proves the two checks can fail: a fixture with a broken link, a broken anchor, a link into
+      lab/ and a rejected command must give exactly those four findings.
 """
 import os
 import re
@@ -27,7 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-TIMEOUT_S = 60
+TIMEOUT_S = 120
 MARKER = re.compile(r"^<!--\s*doc-test:\s*(dry-run|exit=(\d+)|skip:\s*\S.*?)\s*-->$")
 FENCE = re.compile(r"^(```+|~~~+)\s*([\w+-]*)")
 LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
@@ -80,6 +81,7 @@ def anchors(page):
 
 
 def check_links(root, folders=("docs",)):
+    root = root.resolve()
     findings = []
     anchor_cache = {}
     for page in pages(root, folders):
@@ -92,6 +94,9 @@ def check_links(root, folders=("docs",)):
                 resolved = (page.parent / path_part).resolve() if path_part else page
                 if not resolved.exists():
                     findings.append(f"{where}: no such file {resolved}")
+                    continue
+                if (root / "lab") in resolved.parents or resolved == root / "lab":
+                    findings.append(f"{where}: cites the lab notebook; cite docs/ instead")
                     continue
                 if anchor and resolved.suffix == ".md":
                     if resolved not in anchor_cache:
@@ -180,13 +185,15 @@ def check_commands(root, clothlab, folders=("docs/guide",)):
 def selftest(clothlab):
     with tempfile.TemporaryDirectory(prefix="doc-test-fixture-") as folder:
         root = Path(folder)
-        for name in ("configs", "examples"):
+        for name in ("configs", "examples", "lab"):
             (root / name).mkdir()
+        (root / "lab" / "notes.md").write_text("# Notes\n", encoding="utf-8")
         (root / "docs" / "guide").mkdir(parents=True)
         (root / "README.md").write_text(
             "# Fixture\n\n## A heading, with `code`\n\n"
             "[good](docs/guide/page.md#the-page) [anchor](#a-heading-with-code)\n"
             "[missing](docs/nowhere.md) [bad anchor](docs/guide/page.md#no-such-heading)\n"
+            "[notebook](lab/notes.md)\n"
             "`[inline code](not/a/link.md)`\n", encoding="utf-8")
         (root / "docs" / "guide" / "page.md").write_text(
             "# The page\n\n```sh\nbuild/bin/clothlab --help\n"
@@ -195,13 +202,13 @@ def selftest(clothlab):
             encoding="utf-8")
         links = check_links(root)
         commands = check_commands(root, clothlab)
-    expected_links = ["docs/nowhere.md", "#no-such-heading"]
-    ok = (len(links) == 2 and all(any(e in f for f in links) for e in expected_links)
+    expected_links = ["docs/nowhere.md", "#no-such-heading", "lab/notes.md"]
+    ok = (len(links) == 3 and all(any(e in f for f in links) for e in expected_links)
           and len(commands) == 1 and "no-such-integrator" in commands[0])
     for finding in links + commands:
         print("fixture finding:", finding)
     if not ok:
-        print("FAIL: the checks did not find exactly the fixture's three faults")
+        print("FAIL: the checks did not find exactly the fixture's four faults")
     return 0 if ok else 1
 
 
