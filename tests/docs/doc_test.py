@@ -4,7 +4,10 @@
   doc_test.py links ROOT
       Every relative link in README.md and docs/**/*.md resolves: the file or folder exists
       and a #anchor names a heading of the target page (GitHub's slugs); none leads into lab/,
-      the notebook, which is not documentation.
+      the notebook, which is not documentation. A code block marked
+        <!-- doc-test: excerpt of PATH -->
+      is quoted from PATH (relative to ROOT): its lines, stripped, appear there in the same order
+      (a line "..." stands for lines left out), so a quoted example cannot drift from its source.
   doc_test.py commands ROOT CLOTHLAB
       Every `clothlab ...` line in a sh/bash code block of README.md and docs/guide/*.md is
       accepted by CLOTHLAB (the built program): run to its end, in a scratch folder that sees
@@ -17,8 +20,8 @@
         <!-- doc-test: skip: REASON -->   not run here; REASON says what tests it instead
       A command that runs past TIMEOUT_S fails and asks for the dry-run marker.
   doc_test.py selftest CLOTHLAB
-      Proves the two checks can fail: a fixture with a broken link, a broken anchor, a link into
-      lab/ and a rejected command must give exactly those four findings.
+      Proves the checks can fail: a fixture with a broken link, a broken anchor, a link into lab/,
+      an excerpt out of order and a rejected command must give exactly those five findings.
 """
 import os
 import re
@@ -30,6 +33,7 @@ from pathlib import Path
 
 TIMEOUT_S = 120
 MARKER = re.compile(r"^<!--\s*doc-test:\s*(dry-run|exit=(\d+)|skip:\s*\S.*?)\s*-->$")
+EXCERPT = re.compile(r"^<!--\s*doc-test:\s*excerpt of\s+(\S+)\s*-->$")
 FENCE = re.compile(r"^(```+|~~~+)\s*([\w+-]*)")
 LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
 HTML_LINK = re.compile(r"""<(?:img|a)\b[^>]*?\b(?:src|href)=["']([^"']+)["']""")
@@ -85,6 +89,7 @@ def check_links(root, folders=("docs",)):
     findings = []
     anchor_cache = {}
     for page in pages(root, folders):
+        findings += check_excerpts(root, page)
         for number, line in prose_lines(page.read_text(encoding="utf-8")):
             for target in LINK.findall(line) + HTML_LINK.findall(line):
                 if re.match(r"^[a-z][a-z0-9+.-]*:", target):  # http:, mailto:, file:
@@ -103,6 +108,33 @@ def check_links(root, folders=("docs",)):
                         anchor_cache[resolved] = anchors(resolved)
                     if anchor not in anchor_cache[resolved]:
                         findings.append(f"{where}: no heading #{anchor} in {resolved.name}")
+    return findings
+
+
+def check_excerpts(root, page):
+    """Findings for the blocks of page marked as excerpts whose lines are not in their source."""
+    findings = []
+    lines = page.read_text(encoding="utf-8").splitlines()
+    for index, line in enumerate(lines):
+        marker = EXCERPT.match(line.strip())
+        if not marker or index + 1 >= len(lines) or not FENCE.match(lines[index + 1].strip()):
+            continue
+        where = f"{page.relative_to(root)}:{index + 2}: excerpt of {marker.group(1)}"
+        source = root / marker.group(1)
+        if not source.is_file():
+            findings.append(f"{where}: no such file")
+            continue
+        wanted = []
+        for body_line in lines[index + 2:]:
+            if body_line.strip().startswith("```"):
+                break
+            if body_line.strip() and body_line.strip() != "...":
+                wanted.append(body_line.strip())
+        available = iter(l.strip() for l in source.read_text(encoding="utf-8").splitlines())
+        for wanted_line in wanted:
+            if not any(wanted_line == have for have in available):
+                findings.append(f"{where}: line not in the source (in this order): {wanted_line}")
+                break
     return findings
 
 
@@ -188,12 +220,17 @@ def selftest(clothlab):
         for name in ("configs", "examples", "lab"):
             (root / name).mkdir()
         (root / "lab" / "notes.md").write_text("# Notes\n", encoding="utf-8")
+        (root / "examples" / "step.cpp").write_text("void step() {\n  a();\n  b();\n}\n",
+                                                    encoding="utf-8")
         (root / "docs" / "guide").mkdir(parents=True)
         (root / "README.md").write_text(
             "# Fixture\n\n## A heading, with `code`\n\n"
             "[good](docs/guide/page.md#the-page) [anchor](#a-heading-with-code)\n"
             "[missing](docs/nowhere.md) [bad anchor](docs/guide/page.md#no-such-heading)\n"
-            "[notebook](lab/notes.md)\n"
+            "[notebook](lab/notes.md)\n\n"
+            "<!-- doc-test: excerpt of examples/step.cpp -->\n```cpp\nvoid step() {\n  a();\n"
+            "  ...\n}\n```\n\n"
+            "<!-- doc-test: excerpt of examples/step.cpp -->\n```cpp\n  b();\n  a();\n```\n"
             "`[inline code](not/a/link.md)`\n", encoding="utf-8")
         (root / "docs" / "guide" / "page.md").write_text(
             "# The page\n\n```sh\nbuild/bin/clothlab --help\n"
@@ -202,13 +239,13 @@ def selftest(clothlab):
             encoding="utf-8")
         links = check_links(root)
         commands = check_commands(root, clothlab)
-    expected_links = ["docs/nowhere.md", "#no-such-heading", "lab/notes.md"]
-    ok = (len(links) == 3 and all(any(e in f for f in links) for e in expected_links)
+    expected_links = ["docs/nowhere.md", "#no-such-heading", "lab/notes.md", "line not in the source"]
+    ok = (len(links) == 4 and all(any(e in f for f in links) for e in expected_links)
           and len(commands) == 1 and "no-such-integrator" in commands[0])
     for finding in links + commands:
         print("fixture finding:", finding)
     if not ok:
-        print("FAIL: the checks did not find exactly the fixture's four faults")
+        print("FAIL: the checks did not find exactly the fixture's five faults")
     return 0 if ok else 1
 
 
