@@ -4,7 +4,7 @@
 // collider scene adds to a method's step. On the drape's defaults (50 x 50 cotton-like square,
 // float32) settled for 2 s by xpbd over its sphere and over its table, and the same cloth over a
 // horizontal capsule (an arm); the states are where contacts are busiest: resting on the body.
-// Run by hand: build/bin/clothlab_contacts_bench (docs/performance.md, "Contacts").
+// Run by hand: build/bin/clothlab_contacts_bench (lab/performance.md, "Contacts").
 #include <benchmark/benchmark.h>
 #include <clothlab/ext/contacts.h>
 

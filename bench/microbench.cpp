@@ -340,7 +340,7 @@ void xpbd_substep_in_step(benchmark::State& state) {
 // One XPBD substep of 32 sweeps of the flag on one thread: state.range(1) 0 plain (the grid
 // path), 1 Chebyshev-accelerated with rho 0.95 (the general path), 2 the same with a delay past
 // the last sweep (the general path and its saved iterates, every weight 1). A sweep's cost with
-// and without the acceleration (docs/real-cloth.md, "Chebyshev acceleration of xpbd").
+// and without the acceleration (lab/real-cloth.md, "Chebyshev acceleration of xpbd").
 void xpbd_chebyshev_substep(benchmark::State& state) {
   const int variant = static_cast<int>(state.range(1));
   Cloth cloth(bench_scene("flag", static_cast<int>(state.range(0)), true), Precision::Float32,

@@ -1,7 +1,7 @@
 // CG iterations of implicit_euler's linear solve with the multigrid and the block-Jacobi
 // preconditioner (preconditioned_cg.hpp, the plugin's own code) on the cotton flag's backward-
 // Euler system, at several mesh sizes and time steps: the resolution-independence table of
-// docs/real-cloth.md ("Multigrid"). The system is the first step's: the flag at rest in its
+// lab/real-cloth.md ("Multigrid"). The system is the first step's: the flag at rest in its
 // initial layout, the definite Jacobian (the plugin's default), right-hand side h a0, solved
 // from 0 to a relative residual (mass norm) of 1e-6 in float64, the multigrid with the
 // plugin's default coarsest level and sweeps.

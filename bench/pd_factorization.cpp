@@ -9,7 +9,7 @@
 // prepare's), one solve of the three coordinates (what each local/global iteration pays; the
 // multigrid's from zero to a 1e-6 relative residual, the most a warm-started solve can take)
 // and the bytes kept between solves; CHOLMOD's own peak allocation beside them. Run by hand from
-// the repository root (docs/performance.md):
+// the repository root (lab/performance.md):
 //   build/bin/clothlab_pd_factorization --benchmark_repetitions=5
 //       --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>

@@ -1,6 +1,6 @@
 // Iterations of projective_dynamics (local/global) or xpbd (Gauss-Seidel sweeps of one
 // substep) with and without Chebyshev acceleration (parameter chebyshev_rho; Wang 2015) to the
-// same error, on the first step of the cotton flag (docs/real-cloth.md, "Chebyshev
+// same error, on the first step of the cotton flag (lab/real-cloth.md, "Chebyshev
 // acceleration"): the plugin itself, stepped once (xpbd: one substep) from the flag's initial
 // state with N iterations, against the converged step. The plain iteration's asymptotic
 // spectral radius is the ratio of its last two changes at the most iterations (of the ladder)

@@ -4,7 +4,7 @@
 //   BM_SweepPerCase/N     a whole sweep of N trivial cases: each case sent to the sweep's
 //                         worker child (process::Worker), its answer parsed and its row
 //                         stored; the ms_per_case counter is the sweep's own overhead per case.
-// Run: build/bin/clothlab_sweep_bench (figures in docs/sweeps.md).
+// Run: build/bin/clothlab_sweep_bench (figures in lab/sweeps.md).
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 

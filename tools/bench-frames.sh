@@ -16,7 +16,7 @@
 #              ENERGY_MESH (50), PLOTS (1: draw the plots; needs python3-matplotlib).
 # Results: $RESULTS_DIR/choose-<scenario>-<mesh>-<rate>Hz{,-ranked}.{csv,json}, the printed
 #          table (.txt), plots/, energy-*.csv, and summary.md (machine, date, load, wall times
-#          and every table, for docs/real-cloth.md).
+#          and every table, for lab/real-cloth.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${BUILD_DIR:-build}
@@ -26,7 +26,7 @@ bin="$build_dir/bin/clothlab"
 # OMP_WAIT_POLICY is passed through as set: on a machine shared with other jobs set it to
 # passive (threads spinning at their barriers lose their core for whole time slices); on an idle
 # machine leave it unset, since sleeping at every barrier slows each step there
-# (docs/real-cloth.md, "OpenMP on a shared machine").
+# (lab/real-cloth.md, "OpenMP on a shared machine").
 mkdir -p "$results"
 summary="$results/summary.md"
 {

@@ -3,7 +3,7 @@
 one co-running busy process that this script starts before the run and stops after it. Scenes
 (--scene): rk4-300, the 300 x 300 rk4 flag (configs/bench-300-soft.yaml), a long step;
 verlet-200, the 200 x 200 cotton flag with verlet at 832 substeps per frame
-(configs/choose-cotton-flag-200.yaml), a step about a tenth as long (docs/performance.md).
+(configs/choose-cotton-flag-200.yaml), a step about a tenth as long (lab/performance.md).
 Float32, 2 threads, 400 steps.
 
 Each repetition runs every variant as a pair back to back, quiet then contended, so a drift of

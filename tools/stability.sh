@@ -6,7 +6,7 @@
 #     (skip it with SKIP_MATRIX=1);
 # and plots both. Results and pictures go to results/stability/ (or the folder given).
 # Kept short by 0.3 s probes and a 10 % tolerance for the searches, 2 s per matrix case (see
-# the configs' comments; run times: docs/performance.md, "Tool run times").
+# the configs' comments; run times: lab/performance.md, "Tool run times").
 # Extra arguments after the folder go to clothlab, e.g. --resume. BUILD_DIR=<folder> uses an
 # existing Release build there instead of building ./build.
 set -euo pipefail

@@ -18,7 +18,7 @@ namespace {
 // The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings,
 // kernels whose SIMD lanes fill only from 16 columns on). A grid narrower than that and taller
 // than wide is handed over turned a quarter, as `cols` long rows instead of `rows` short ones
-// (docs/performance.md, "Narrow tall grids"); the pipeline then reads each of
+// (lab/performance.md, "Narrow tall grids"); the pipeline then reads each of
 // its rows as a column of the state, particles `cols` apart (for one column: contiguous).
 constexpr uint32_t kNarrowGrid = 16;
 

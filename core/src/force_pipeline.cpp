@@ -91,7 +91,7 @@ void ForcePipeline<Real>::reserve_stages(uint32_t stages) {
   const std::size_t rows = thread_rows(reserved_stages_, StateCombination<Real>::kMaxTerms);
   // Each thread's scratch starts 64 KiB after the end of the previous one's: closer, the
   // second thread ran slower (likely prefetch or cache-set sharing between the cores' hot
-  // rows; docs/performance.md, "What made it fast").
+  // rows; lab/performance.md, "What made it fast").
   const std::size_t gap = kGapBytes / sizeof(Real);
   thread_stride_ = (rows * row_span_ + gap - 1) / gap * gap + gap;
   scratch_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * thread_stride_);

@@ -14,7 +14,7 @@
 // multi-stage method each row is formed there as a combination, so a stage state is
 // never stored. In every scratch row the three components lie one row span apart, which
 // keeps the kernels to a few base pointers. (Reading the state in place instead was slower:
-// the kernels then stream 18 rows from outside L1; docs/performance.md.)
+// the kernels then stream 18 rows from outside L1; lab/performance.md.)
 //
 // A pipeline row is a row of the state (col_pitch 1) or, for a grid the engine hands over
 // turned a quarter (narrow and tall: few long rows instead of many short ones), a column of

@@ -42,7 +42,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
   }
 #if defined(CLOTHLAB_FLOAT_LANES)
   // Only with 16 lanes: on 8 (AVX2) the fused sweep's live vectors outgrow the 16 registers
-  // and spill, and the separate products measured faster (docs/performance.md).
+  // and spill, and the separate products measured faster (lab/performance.md).
   definite_kernel_ =
       kLanes == 16 && std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
   if (definite_kernel_) {

@@ -14,6 +14,7 @@
 #include <iostream>
 
 #include "case_execution.hpp"
+#include "dry_run.hpp"
 #include "output_file.hpp"
 #include "run_config.hpp"
 #include "sweep_mode.hpp"
@@ -117,7 +118,7 @@ bool is_frame_or_choice_key(const std::string& key) {
 }  // namespace
 
 void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPath& search_path,
-                std::ostream& out) {
+                std::ostream& out, bool dry_run) {
   const Configuration whole = resolve_configuration(settings);
   const ChooseConfig& choose = whole.choose;
   if (std::none_of(settings.begin(), settings.end(),
@@ -151,6 +152,14 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
   spec.fixed.push_back({"duration", host::format_number(choice.duration), "choose.duration"});
   spec.work_precision.reference_integrator = choice.reference_integrator;
   const sweep::CaseSpec base = sweep::expand_cases(spec).at(0);
+  if (dry_run) {
+    check_creatable_folder(spec.output.parent_path(), "choose.output");
+    out << "dry run: choose on " << whole.run.scenario << " at "
+        << host::format_number(choice.frame_rate) << " Hz, " << candidates.size()
+        << " candidate(s); results would go to " << spec.output.string()
+        << "-ranked.csv; nothing run\n";
+    return;
+  }
 
   try {
     if (spec.output.has_parent_path())

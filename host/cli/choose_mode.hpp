@@ -13,8 +13,9 @@
 
 namespace clothlab::cli {
 
-// Throws InputError for bad settings, no frame_rate, or an unknown integrator.
+// Throws InputError for bad settings, no frame_rate, or an unknown integrator. With dry_run it
+// checks the scene, the candidates and the output folder, and runs nothing.
 void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPath& search_path,
-                std::ostream& out);
+                std::ostream& out, bool dry_run = false);
 
 }  // namespace clothlab::cli

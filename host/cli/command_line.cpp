@@ -56,7 +56,11 @@ po::options_description describe_options() {
       "slurm",
       "sweep: submit as one Slurm job array, one task per shard (keys slurm.tasks, "
       "slurm.partition, slurm.time, slurm.cpus_per_task, slurm.sbatch), wait and merge")(
-      "no-wait", "--slurm: return once the job array is submitted")("quiet", "print no summary");
+      "no-wait", "--slurm: return once the job array is submitted")("quiet", "print no summary")(
+      "dry-run",
+      "check everything and step nothing: settings, plugins loaded with their parameters, the "
+      "scene and the integrator created (a sweep: every case; --choose: the scene and its "
+      "candidates), output paths writable; prints what would run and exits 0");
   return options;
 }
 
@@ -141,6 +145,7 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   command_line.slurm = values.count("slurm") > 0;
   command_line.no_wait = values.count("no-wait") > 0;
   command_line.keys_markdown = values.count("keys-markdown") > 0;
+  command_line.dry_run = values.count("dry-run") > 0;
   if (values.count("plugin-path"))
     command_line.plugin_paths = values["plugin-path"].as<std::vector<std::string>>();
   for (const KeyInfo& info : run_keys())

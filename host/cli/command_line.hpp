@@ -27,6 +27,7 @@ struct CommandLine {
   bool slurm = false;                // sweep: submit as a Slurm job array
   bool no_wait = false;              // --slurm: return once submitted
   bool keys_markdown = false;        // print the key table as Markdown (docs/reference)
+  bool dry_run = false;  // check everything a run checks before its first step, then stop
   // --integrator, --dt, ... and --set key=value, in command-line order.
   std::vector<Setting> settings;
 };

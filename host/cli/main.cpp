@@ -14,6 +14,7 @@
 #include "choose_mode.hpp"
 #include "command_line.hpp"
 #include "config_file.hpp"
+#include "dry_run.hpp"
 #include "frames_output.hpp"
 #include "interrupt.hpp"
 #include "isolation.hpp"
@@ -86,6 +87,7 @@ int run(int argc, const char* const argv[]) {
     request.slurm = command_line.slurm;
     request.wait = !command_line.no_wait;
     request.plugin_paths = command_line.plugin_paths;
+    request.dry_run = command_line.dry_run;
     run_sweep_file(request, search_path, std::cout);
     return exit_ok;
   }
@@ -113,13 +115,18 @@ int run(int argc, const char* const argv[]) {
     if (command_line.find_max_dt || command_line.json_file || command_line.state_file)
       throw clothlab::host::InputError(
           "--choose writes its own results (choose.output): no --find-max-dt, --json, --state-out");
-    run_choose(settings, search_path, std::cout);
+    run_choose(settings, search_path, std::cout, command_line.dry_run);
     return exit_ok;
   }
   if (command_line.find_max_dt) {
     if (command_line.state_file || !config.frames.dir.empty())
       throw clothlab::host::InputError(
           "--state-out and --frames are for single runs, not --find-max-dt");
+    if (command_line.dry_run) {
+      const std::string described = check_single_run(config, search_path);
+      std::cout << "dry run: --find-max-dt for " << described << "; nothing stepped\n";
+      return exit_ok;
+    }
     const nlohmann::json result = find_max_dt(whole, search_path);
     if (command_line.json_file)
       write_file_atomically(*command_line.json_file,
@@ -128,6 +135,12 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
 
+  if (command_line.dry_run) {
+    if (!config.frames.dir.empty()) check_creatable_folder(config.frames.dir, "--frames");
+    const std::string described = check_single_run(config, search_path);
+    std::cout << "dry run: " << described << ", " << config.steps << " steps; nothing stepped\n";
+    return exit_ok;
+  }
   // The run itself is plugin code: in a child, so a crash or hang is reported as one. Ctrl-C
   // reaches the child (forwarded), which stops stepping and still writes every output.
   install_interrupt_handler();

@@ -106,7 +106,7 @@ const KeyInfo keys[] = {
      "threads", [](Configuration& c, const KeyValue& v) { c.run.threads = whole<int>(v); }},
     {"thread_team", T::Choice, 0, 0, "", "fixed, adaptive", "adaptive",
      "fixed: every step on `threads`; adaptive: steps run on one thread while a step on one "
-     "thread, probed now and then, beats the team's (docs/performance.md)",
+     "thread, probed now and then, beats the team's (docs/architecture.md, threads)",
      nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.adaptive_threads = v.text == "adaptive"; }},
     {"timeout", T::PositiveReal, 0, max_timeout_s, "s", nullptr, "600",

@@ -138,7 +138,7 @@ void check_plugin_param_ids(const RunConfig& config, const LoadedPlugins& plugin
 }
 
 // A solve that missed its tolerance makes the step something other than the method's: a run
-// with one fails like a stability check (docs/running.md), counted, but only once it is over,
+// with one fails like a stability check (lab/running.md), counted, but only once it is over,
 // since the state itself may be fine. A run that already failed or was interrupted, or whose
 // iteration limit is a fixed budget (stability.unconverged = count), keeps its verdict, with
 // the count added.

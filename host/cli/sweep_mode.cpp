@@ -16,6 +16,7 @@
 
 #include "case_execution.hpp"
 #include "case_worker.hpp"
+#include "dry_run.hpp"
 #include "isolation.hpp"
 #include "resident_plugins.hpp"
 #include "run_config.hpp"
@@ -159,6 +160,14 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     check_every_case(all_cases, search_path);
     const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
         spec, [&](const std::string& id) { return plugin_identity(search_path, id); });
+    if (request.shard) (void)sweep::parse_shard(*request.shard, "--shard");
+    if (request.dry_run) {
+      check_creatable_folder(spec.output.parent_path(), "sweep.output");
+      out << "dry run: sweep " << spec.name << " (" << sweep::to_string(spec.mode)
+          << "): " << all_cases.size() << " cases checked"
+          << (request.slurm ? ", nothing submitted to Slurm" : ", none run") << "\n";
+      return;
+    }
     if (request.slurm) {
       run_sweep_on_slurm(request, spec, all_cases.size(), fingerprint, out);
       return;

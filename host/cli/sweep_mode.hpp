@@ -23,7 +23,8 @@ struct SweepRequest {
   bool resume = false;
   std::optional<std::string> shard;  // "K/N" as given
   bool slurm = false;
-  bool wait = true;                       // --slurm without --no-wait
+  bool wait = true;      // --slurm without --no-wait
+  bool dry_run = false;  // check every case and the outputs, run none, submit nothing
   std::vector<std::string> plugin_paths;  // --plugin-path entries, passed on to Slurm tasks
 };
 
@@ -35,8 +36,9 @@ sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& wor
 // content hash.
 std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id);
 
-// Runs the sweep, prints a summary to out. Throws InputError for a bad sweep file or results
-// that cannot be resumed or written. Unstable and failed cases are results, not errors.
+// Runs the sweep (with dry_run: checks it), prints a summary to out. Throws InputError for a bad
+// sweep file or results that cannot be resumed or written. Unstable and failed cases are results,
+// not errors.
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out);
 

@@ -15,7 +15,7 @@
 // with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
 // its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
 // with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
-// and a V-cycle per iteration (docs/real-cloth.md, "Multigrid"); `multigrid_rebuild` = N reuses
+// and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"); `multigrid_rebuild` = N reuses
 // that set-up for N solves, and the step statistics count the builds as factorisations. A solve
 // that stops at `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
 // clothlab.solver-statistics/1, never passed off as converged.

@@ -17,7 +17,7 @@
 namespace clothlab::builtin {
 
 // implicit_euler's default `multigrid_sweeps`: on the cotton flag 2 sweeps take 33 CG
-// iterations where 1 takes 52, for about the same time per solve (docs/real-cloth.md).
+// iterations where 1 takes 52, for about the same time per solve (lab/real-cloth.md).
 constexpr long kDefaultMultigridSweeps = 2;
 
 class VCycle {

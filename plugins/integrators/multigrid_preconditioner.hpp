@@ -16,7 +16,7 @@
 // still use the current matrix, so the answer is converged as before; a V-cycle of an older
 // symmetric positive definite matrix is still a symmetric positive definite preconditioner, and
 // only the iteration count changes (on cotton it grows by more than the set-up saves:
-// docs/real-cloth.md, "Reusing the hierarchy over steps").
+// lab/real-cloth.md, "Reusing the hierarchy over steps").
 #pragma once
 
 #include <algorithm>

@@ -10,7 +10,7 @@
 // each iteration lowers the energy, so few iterations give a damped but stable step.
 // On stiff cloth the iteration contracts slowly (a spectral radius near 1); `chebyshev_rho`
 // > 0 accelerates it (Wang 2015, chebyshev_weights.hpp): after `chebyshev_delay` plain
-// iterations each new iterate is extrapolated from the two before it. docs/real-cloth.md
+// iterations each new iterate is extrapolated from the two before it. lab/real-cloth.md
 // ("Chebyshev acceleration") has the counts and how to estimate rho.
 //
 // Damping: eval_acceleration damps each spring along its direction n only,
@@ -29,7 +29,7 @@
 // (cholmod_factorization.hpp), 2, no factorisation but geometric multigrid on the cloth's grid
 // (clothlab.grid/1; multigrid_global_solve.hpp): V-cycles from the previous iterate to
 // `multigrid_tolerance` relative to the residual of the step's start positions, with storage and
-// setup linear in the particles (unknowns then in the particles' order); docs/performance.md
+// setup linear in the particles (unknowns then in the particles' order); lab/performance.md
 // compares the three. A multigrid solve that stops at `multigrid_max_cycles` first is reported
 // through clothlab.solver-statistics/1 (converged 0). The matrix is factored (or the hierarchy
 // built) on the first step and again only when h changes (stiffness and pins are fixed while a

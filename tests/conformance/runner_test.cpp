@@ -234,7 +234,7 @@ INSTANTIATE_TEST_SUITE_P(
                                                          : info.param.plugin);
     });
 
-// The plugin author's recipe of docs/sanitizers.md: the installed (Release) runner with the
+// The plugin author's recipe of lab/sanitizers.md: the installed (Release) runner with the
 // AddressSanitizer runtime preloaded, so that an ASan-built plugin loads.
 std::string asan_runtime_preloaded() {
   EXPECT_TRUE(std::ifstream(ASAN_RUNTIME).good())

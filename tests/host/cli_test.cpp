@@ -669,6 +669,58 @@ TEST_F(Clothlab, UnknownOptionExitsOne) {
   EXPECT_EQ(outcome.err.rfind("clothlab: error: command line: ", 0), 0u) << outcome.err;
 }
 
+// --dry-run: everything a run checks before its first step, then no step and no output.
+TEST_F(Clothlab, DryRunChecksASingleRunAndWritesNothing) {
+  const Outcome outcome =
+      run("--integrator=rk4 --scenario=flag --set scenario.rows=8 --set scenario.cols=8 "
+          "--json out.json --state-out state.csv --frames frames --dry-run");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("dry run: rk4 on flag, 8x8 particles"), std::string::npos)
+      << outcome.out;
+  EXPECT_TRUE(outputs().empty());
+}
+
+// What only creating the scene and the integrator finds is found: the drape's collider needs an
+// integrator that resolves contacts, which verlet does not.
+TEST_F(Clothlab, DryRunRefusesWhatTheRunWouldRefuse) {
+  const Outcome unknown =
+      run("--integrator=rk4 --scenario=flag --set integrator.bogus=1 --dry-run");
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.err;
+  const Outcome contacts = run("--integrator=verlet --scenario=drape --dry-run");
+  EXPECT_EQ(contacts.exit_code, 1) << contacts.err;
+  EXPECT_NE(contacts.err.find("does not resolve contacts"), std::string::npos) << contacts.err;
+  const Outcome frames = run("--integrator=rk4 --scenario=flag --frames stdout.txt/f --dry-run");
+  EXPECT_EQ(frames.exit_code, 1) << frames.err;
+  EXPECT_NE(frames.err.find("--frames stdout.txt/f"), std::string::npos) << frames.err;
+}
+
+TEST_F(Clothlab, DryRunOfASweepChecksEveryCaseAndRunsNone) {
+  std::ofstream(file("sweep.yaml")) << "steps: 5\n"
+                                       "scenario: {plugin: sheet, rows: 4, cols: 4}\n"
+                                       "sweep:\n"
+                                       "  name: dry\n"
+                                       "  output: out/dry\n"
+                                       "  matrix: {integrator: [euler, rk4], dt: [0.001, 0.002]}\n";
+  const Outcome outcome = run("--config sweep.yaml --dry-run");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("dry run: sweep dry (run): 4 cases checked"), std::string::npos)
+      << outcome.out;
+  EXPECT_EQ(outputs(), std::vector<std::string>{"sweep.yaml"});
+  const Outcome bad = run("--config sweep.yaml --set integrator.bogus=1 --dry-run");
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+}
+
+TEST_F(Clothlab, DryRunOfChooseChecksTheSceneAndRunsNoProbe) {
+  const std::string scene =
+      "--choose --scenario=flag --set scenario.rows=6 --set scenario.cols=6 "
+      "--set 'choose.integrators=[euler,verlet]' --set choose.output=out/c ";
+  const Outcome outcome = run(scene + "--frame-rate 60 --dry-run");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_NE(outcome.out.find("2 candidate(s)"), std::string::npos) << outcome.out;
+  EXPECT_TRUE(outputs().empty());
+  EXPECT_EQ(run(scene + "--dry-run").exit_code, 1);  // --choose needs a frame rate
+}
+
 // The duration was found not to be whole ladder steps only after the results store was opened,
 // which left <out>.lock and <out>.sqlite behind (and replaced a store that was there).
 TEST_F(Clothlab, WorkPrecisionDurationIsCheckedBeforeTheResultsStoreIsOpened) {

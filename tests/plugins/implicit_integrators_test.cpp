@@ -265,7 +265,7 @@ TEST(ImplicitEuler, WarmStartSavesIterationsAndKeepsTheSolution) {
       final_positions[warm].push_back(host.system().position(i));
   }
   // A modest saving on this small net; on cloth driven by gravity and wind it is larger
-  // (docs/performance.md).
+  // (lab/performance.md).
   EXPECT_LT(iterations[1], iterations[0]) << "warm " << iterations[1] << " cold " << iterations[0];
   EXPECT_LT(distance(final_positions[0], final_positions[1]), 1e-5);
 }

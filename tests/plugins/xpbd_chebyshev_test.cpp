@@ -162,7 +162,7 @@ TEST(XpbdChebyshev, WeightsOfOneLeaveTheBitsUnchanged) {
 
 // The chain: both converge to backward Euler, checked by the momentum balance, and the
 // accelerated sweeps get there in fewer iterations (34 against 46 to 1e-8: Gauss-Seidel's
-// radius gains less from the extrapolation than a Jacobi-like iteration's, docs/real-cloth.md).
+// radius gains less from the extrapolation than a Jacobi-like iteration's, lab/real-cloth.md).
 TEST(XpbdChebyshev, ReachesBackwardEulerOnAChainInFewerSweeps) {
   const Net chain = vertical_chain();
   const NetStep converged = one_substep(chain, 100, 0.0);

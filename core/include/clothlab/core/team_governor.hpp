@@ -12,7 +12,7 @@
 // while the tries lose and halves when one wins. The probe interval doubles while the team clearly
 // wins and falls back to its least when the two are close, so a noisy machine is probed often where
 // the choice is close. Results do not depend on it: every pass gives the same bits on any thread
-// count. docs/performance.md, "The engine on a shared machine", has the measurements behind the
+// count. lab/performance.md, "The engine on a shared machine", has the measurements behind the
 // numbers.
 #pragma once
 
