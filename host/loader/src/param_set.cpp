@@ -21,6 +21,14 @@ std::filesystem::path base_folder(std::string_view source) {
   return std::filesystem::current_path();
 }
 
+// The text as an error message shows it: on one line, at most 80 bytes of it.
+std::string shown(std::string_view text) {
+  std::string out;
+  for (const char c : text.substr(0, 80))
+    out += c == '\n' ? "\\n" : c == '\r' ? "\\r" : c == '\0' ? "\\0" : std::string(1, c);
+  return text.size() > 80 ? out + "..." : out;
+}
+
 }  // namespace
 
 ParamSet::ParamSet(std::span<const clothlab_param_spec> specs, std::string prefix,
@@ -78,7 +86,7 @@ void ParamSet::set_text(size_t index, std::string_view text, std::string_view so
   const bool has_break = text.find_first_of(std::string_view("\r\n\0", 3)) != text.npos;
   if (text.size() > spec.max_length || has_break)
     throw InputError(std::string(source) + ": " + prefix_ + "." + spec.name + " = " +
-                     std::string(text.substr(0, 80)) + (text.size() > 80 ? "..." : "") + ": " +
+                     shown(text) + ": " +
                      (has_break ? "a line break or NUL" : std::to_string(text.size()) + " bytes") +
                      "; allowed: text of at most " + std::to_string(spec.max_length) +
                      " bytes on one line");

@@ -55,12 +55,12 @@ constexpr std::array mesh_params{
                     "the air's speed along wind.direction (drag and lift model)"),
     sdk::real_param("air.drag", 1.2, 0.0, 10.0, "", "drag coefficient of a triangle"),
     sdk::real_param("air.lift", 1.0, 0.0, 10.0, "", "lift coefficient of a triangle"),
-    sdk::bool_param("pin.box", false, "pin the vertices inside the box pin.box.min .. pin.box.max"),
+    sdk::bool_param("pin.by_box", false, "pin the vertices inside the box pin.box.min .. pin.box.max"),
     sdk::vec3_param("pin.box.min", {-1e6, -1e6, -1e6}, -1e6, 1e6, "m",
                     "the pin box's lowest corner (placed coordinates)"),
     sdk::vec3_param("pin.box.max", {1e6, 1e6, 1e6}, -1e6, 1e6, "m",
                     "the pin box's highest corner (placed coordinates)"),
-    sdk::bool_param("pin.plane", false,
+    sdk::bool_param("pin.by_plane", false,
                     "pin the vertices within pin.plane.distance of the plane through "
                     "pin.plane.point normal to pin.plane.normal"),
     sdk::vec3_param("pin.plane.point", {0.0, 0.0, 0.0}, -1e6, 1e6, "m",
@@ -68,7 +68,7 @@ constexpr std::array mesh_params{
     sdk::vec3_param("pin.plane.normal", {0.0, 1.0, 0.0}, -1e3, 1e3, "", "the pin plane's normal"),
     sdk::real_param("pin.plane.distance", 1e-3, 0.0, 1e6, "m",
                     "largest distance from the pin plane of a pinned vertex"),
-    sdk::bool_param("pin.color", false,
+    sdk::bool_param("pin.by_color", false,
                     "pin the vertices whose vertex colour is within pin.color.tolerance of "
                     "pin.color.value"),
     sdk::vec3_param("pin.color.value", {1.0, 0.0, 0.0}, 0.0, 1.0, "",
@@ -164,13 +164,13 @@ struct MeshScenario {
  private:
   static PinRules pin_rules(const sdk::Params& values, const sdk::TextParams& texts) {
     PinRules rules;
-    if (values.flag("pin.box"))
+    if (values.flag("pin.by_box"))
       rules.box = BoxRule{values.vec3("pin.box.min"), values.vec3("pin.box.max")};
-    if (values.flag("pin.plane"))
+    if (values.flag("pin.by_plane"))
       rules.plane = PlaneRule{values.vec3("pin.plane.point"), values.vec3("pin.plane.normal"),
                               values.real("pin.plane.distance")};
     rules.indices = texts.text("pin.indices");
-    if (values.flag("pin.color"))
+    if (values.flag("pin.by_color"))
       rules.colour = ColourRule{values.vec3("pin.color.value"), values.real("pin.color.tolerance")};
     return rules;
   }
