@@ -36,9 +36,8 @@ class MeshScenario : public ::testing::Test {
  protected:
   void SetUp() override {
     folder_ = fs::temp_directory_path() /
-              ("clothlab-mesh-" + std::string(::testing::UnitTest::GetInstance()
-                                                  ->current_test_info()
-                                                  ->name()));
+              ("clothlab-mesh-" +
+               std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(folder_);
     fs::create_directories(folder_);
   }
@@ -109,8 +108,9 @@ TEST_F(MeshScenario, ReadsQuadsAsTrianglesWithOneVertexPerPosition) {
   const Read mesh = read(write("quads.obj", two_quads));
   ASSERT_EQ(mesh.positions.size(), 6u);
   EXPECT_EQ(mesh.triangles.size(), 4u);
-  EXPECT_EQ(position_set(mesh.positions),
-            (std::multiset<Vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}}));
+  EXPECT_EQ(
+      position_set(mesh.positions),
+      (std::multiset<Vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}}));
   EXPECT_TRUE(mesh.pinned.empty());
   // The grid fields hold a valid one-row layout of the vertices for a host that checks them.
   EXPECT_EQ(mesh.scene.rows * mesh.scene.cols, 6u);
@@ -131,9 +131,9 @@ TEST_F(MeshScenario, JoinsCornersAcrossGroupsAndTextureSeams) {
 }
 
 TEST_F(MeshScenario, PlacesByScaleThenRotationThenTranslation) {
-  const Read mesh = read(write("quads.obj", two_quads), {{"scale", "2"},
-                                                          {"rotation", "[0, 90, 0]"},
-                                                          {"translation", "[1, 2, 3]"}});
+  const Read mesh =
+      read(write("quads.obj", two_quads),
+           {{"scale", "2"}, {"rotation", "[0, 90, 0]"}, {"translation", "[1, 2, 3]"}});
   // (2, 0, 0) scaled to (4, 0, 0), turned about y to (0, 0, -4), moved to (1, 2, -1).
   const auto found = std::find_if(mesh.positions.begin(), mesh.positions.end(), [](const Vec3& p) {
     return std::abs(p[0] - 1) < 1e-12 && std::abs(p[1] - 2) < 1e-12 && std::abs(p[2] + 1) < 1e-12;
@@ -148,9 +148,9 @@ TEST_F(MeshScenario, PinsByBoxPlaneIndicesAndTheirUnion) {
     for (uint32_t i : mesh.pinned) out.insert(mesh.positions[i]);
     return out;
   };
-  const Read box = read(file, {{"pin.by_box", "true"},
-                               {"pin.box.min", "[-1, 0.5, -1]"},
-                               {"pin.box.max", "[1.5, 2, 1]"}});
+  const Read box = read(
+      file,
+      {{"pin.by_box", "true"}, {"pin.box.min", "[-1, 0.5, -1]"}, {"pin.box.max", "[1.5, 2, 1]"}});
   EXPECT_EQ(pinned_positions(box), (std::multiset<Vec3>{{0, 1, 0}, {1, 1, 0}}));
   const Read plane = read(file, {{"pin.by_plane", "true"},
                                  {"pin.plane.point", "[2, 0, 0]"},
@@ -177,6 +177,35 @@ TEST_F(MeshScenario, PinsByVertexColour) {
   std::multiset<Vec3> pinned;
   for (uint32_t i : mesh.pinned) pinned.insert(mesh.positions[i]);
   EXPECT_EQ(pinned, (std::multiset<Vec3>{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}}));
+}
+
+// A glTF triangle with COLOR_0 (red, blue, red) and a fourth vertex, at (5, 5, 5), that no
+// triangle uses (written by a script from its float32 buffers).
+const std::string coloured_gltf =
+    "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"COLOR_0\":1},\"indices\":2}]}],"
+    "\"buffers\":[{\"byteLength\":104,\"uri\":\"data:application/"
+    "octet-stream;base64,"
+    "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACgQAAAoEAAAKBAAACAPwAAAAAAAAAAAAAAAAAAAAAAAI"
+    "A/AACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/"
+    "AAABAAIAAAA=\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},{"
+    "\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},{\"buffer\":0,\"byteOffset\":96,"
+    "\"byteLength\":6}],\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,"
+    "\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[5,5,5]},{\"bufferView\":1,\"componentType\":5126,"
+    "\"count\":4,\"type\":\"VEC3\"},{\"bufferView\":2,\"componentType\":5123,\"count\":3,\"type\":"
+    "\"SCALAR\"}]}";
+
+TEST_F(MeshScenario, PinsByGltfVertexColourAndCountsUnusedVertices) {
+  const std::string file = write("triangle.gltf", coloured_gltf);
+  ::testing::internal::CaptureStderr();
+  const Read mesh = read(file, {{"pin.by_color", "true"}});
+  const std::string warnings = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(warnings,
+            "clothlab: warning: " + file + ": 1 vertices no triangle uses were dropped\n");
+  ASSERT_EQ(mesh.positions.size(), 3u);
+  std::multiset<Vec3> pinned;
+  for (uint32_t i : mesh.pinned) pinned.insert(mesh.positions[i]);
+  EXPECT_EQ(pinned, (std::multiset<Vec3>{{0, 0, 0}, {0, 1, 0}}));
 }
 
 TEST_F(MeshScenario, PinRulesThatSelectNothingOrAreMalformedAreErrors) {
@@ -217,12 +246,12 @@ TEST_F(MeshScenario, BadInputGivesOneLineErrorsNamingTheFile) {
       {"winding.obj", triangle + "v 1 1 0\nf 1 2 3\nf 2 4 3\nf 1 2 4\n",
        "wind their shared edge the same way"},
       {"infinite.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "is not finite"},
+      {"nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "is not finite"},
       {"out-of-range.obj", triangle + "f 1 2 9\n", ""},
       {"unknown.xyz", "this is no mesh\n", ""},
   };
   for (const auto& [name, text, expected] : cases) {
-    const std::string path =
-        name == "missing.obj" ? (folder_ / name).string() : write(name, text);
+    const std::string path = name == "missing.obj" ? (folder_ / name).string() : write(name, text);
     const std::string message = error(path);
     EXPECT_NE(message.find(path), std::string::npos) << name << ": " << message;
     EXPECT_NE(message.find(expected), std::string::npos) << name << ": " << message;
@@ -257,10 +286,10 @@ TEST_F(MeshScenario, AHostWithoutTextParametersGetsAnErrorNotADefaultMesh) {
 
 TEST_F(MeshScenario, ShipsMeshesThatPassTheChecks) {
   const std::map<std::string, std::pair<size_t, size_t>> counts = {
-      {"curtain.obj", {975, 1824}}, {"disc.obj", {817, 1536}},  {"cape.obj", {640, 1178}},
-      {"tshirt.obj", {1200, 2320}}, {"flag-30-quads.obj", {900, 1682}},
-      {"flag-30-triangles.obj", {900, 1682}}, {"sheet-30-quads.obj", {900, 1682}},
-      {"sheet-30-triangles.obj", {900, 1682}}};
+      {"curtain.obj", {975, 1824}},        {"disc.obj", {817, 1536}},
+      {"cape.obj", {640, 1178}},           {"tshirt.obj", {1200, 2320}},
+      {"flag-30-quads.obj", {900, 1682}},  {"flag-30-triangles.obj", {900, 1682}},
+      {"sheet-30-quads.obj", {900, 1682}}, {"sheet-30-triangles.obj", {900, 1682}}};
   for (const auto& [name, expected] : counts) {
     const Read mesh = read((assets / name).string());
     EXPECT_EQ(mesh.positions.size(), expected.first) << name;

@@ -85,11 +85,10 @@ void ParamSet::set_text(size_t index, std::string_view text, std::string_view so
   const clothlab_text_param_spec& spec = text_specs_[index];
   const bool has_break = text.find_first_of(std::string_view("\r\n\0", 3)) != text.npos;
   if (text.size() > spec.max_length || has_break)
-    throw InputError(std::string(source) + ": " + prefix_ + "." + spec.name + " = " +
-                     shown(text) + ": " +
-                     (has_break ? "a line break or NUL" : std::to_string(text.size()) + " bytes") +
-                     "; allowed: text of at most " + std::to_string(spec.max_length) +
-                     " bytes on one line");
+    throw InputError(
+        std::string(source) + ": " + prefix_ + "." + spec.name + " = " + shown(text) + ": " +
+        (has_break ? "a line break or NUL" : std::to_string(text.size()) + " bytes") +
+        "; allowed: text of at most " + std::to_string(spec.max_length) + " bytes on one line");
   std::string value(text);
   if ((spec.flags & CLOTHLAB_TEXT_PATH) != 0 && !value.empty() &&
       std::filesystem::path(value).is_relative())

@@ -75,8 +75,10 @@ MeshFile read_mesh_file(const std::string& path, const MeshFileLimits& limits) {
   check_file(path, limits.max_megabytes);
 
   Assimp::Importer importer;
-  // Only the shape matters: dropping normals, texture coordinates and materials lets corners
-  // that differ in them alone (a UV seam) join into one vertex instead of cutting the cloth.
+  // Only the shape matters: dropping normals, texture coordinates and materials keeps Assimp
+  // from splitting the meshes by them. Corners are joined below by position alone (a UV seam
+  // does not cut the cloth), not by aiProcess_JoinIdenticalVertices, which compares every
+  // attribute, folds non-finite coordinates together and drops unused vertices uncounted.
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
                               aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                   aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS |
@@ -84,10 +86,9 @@ MeshFile read_mesh_file(const std::string& path, const MeshFileLimits& limits) {
                                   aiComponent_LIGHTS | aiComponent_CAMERAS | aiComponent_MATERIALS);
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene =
-      importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
-                                  aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                                  aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   if (scene == nullptr) fail(path, one_line(importer.GetErrorString()));
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || !scene->HasMeshes())
     fail(path, "no triangles; allowed: a mesh of triangles or polygons");

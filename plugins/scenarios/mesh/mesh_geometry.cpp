@@ -39,7 +39,7 @@ std::pair<double, double> doubled_area_and_longest(const TriangleMesh& mesh, siz
 }  // namespace
 
 void check_mesh_geometry(const TriangleMesh& mesh, const std::string& source) {
-  if (mesh.positions.size() < 3 || mesh.triangles.empty())
+  if (mesh.triangles.empty())
     fail(source, "empty mesh (" + std::to_string(mesh.positions.size()) + " vertices, " +
                      std::to_string(mesh.triangles.size()) +
                      " triangles); allowed: at least 1 "

@@ -78,7 +78,8 @@ std::vector<uint32_t> select_pins(const TriangleMesh& mesh, const PinRules& rule
         along += (mesh.positions[i][k] - plane.point[k]) * plane.normal[k] / length;
       return std::abs(along) <= plane.distance;
     });
-    require_some(selected, source, "scenario.pin.by_plane (within pin.plane.distance of the plane)");
+    require_some(selected, source,
+                 "scenario.pin.by_plane (within pin.plane.distance of the plane)");
     add(selected);
   }
   if (!rules.indices.empty()) {
@@ -89,7 +90,8 @@ std::vector<uint32_t> select_pins(const TriangleMesh& mesh, const PinRules& rule
   if (rules.colour) {
     if (mesh.colours.empty())
       fail(source,
-           "pin rule scenario.pin.by_color needs vertex colours and the file has none (glTF COLOR_0, "
+           "pin rule scenario.pin.by_color needs vertex colours and the file has none (glTF "
+           "COLOR_0, "
            "PLY red/green/blue, OBJ v x y z r g b)");
     const ColourRule& rule = *rules.colour;
     const std::vector<uint32_t> selected = vertices_where(mesh, [&](uint32_t i) {
@@ -97,7 +99,8 @@ std::vector<uint32_t> select_pins(const TriangleMesh& mesh, const PinRules& rule
         if (!(std::abs(mesh.colours[i][k] - rule.colour[k]) <= rule.tolerance)) return false;
       return true;
     });
-    require_some(selected, source, "scenario.pin.by_color (within pin.color.tolerance of pin.color.value)");
+    require_some(selected, source,
+                 "scenario.pin.by_color (within pin.color.tolerance of pin.color.value)");
     add(selected);
   }
   std::sort(pinned.begin(), pinned.end());
