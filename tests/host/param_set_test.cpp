@@ -4,6 +4,7 @@
 #include <clothlab/host/param_set.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/text_params.hpp>
 #include <filesystem>
 
 namespace clothlab::host {

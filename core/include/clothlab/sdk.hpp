@@ -32,10 +32,7 @@
 // velocities) const` (3 per attached particle, particle-major); and extensions the SDK has no
 // glue for by a static member
 // `const void* extension(std::string_view id) noexcept` returning the table for `id`, or
-// nullptr; its tables' functions receive the instance as a `void*`. A scenario with text
-// parameters (clothlab.text-parameters/1, sdk/text_params.hpp) declares
-// `static constexpr std::array<clothlab_text_param_spec, N> text_params` and a constructor
-// `Impl(const Params&, const TextParams&)`; a host without the extension gets the defaults.
+// nullptr; its tables' functions receive the instance as a `void*`.
 //
 //   CLOTHLAB_PLUGIN_ENTRY("my-plugin", "1.0.0",
 //                         clothlab::sdk::integrators<MyIntegrator>,
@@ -55,7 +52,6 @@
 #include <array>
 #include <clothlab/sdk/error.hpp>
 #include <clothlab/sdk/extensions.hpp>
-#include <clothlab/sdk/text_params.hpp>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -551,37 +547,12 @@ const void* scenario_extension(const char* id) noexcept {
         }};
     if (std::strcmp(id, CLOTHLAB_EXT_AIR) == 0) return &air;
   }
-  if constexpr (requires { Impl::text_params; }) {
-    static const clothlab_text_parameters_extension texts{
-        sizeof(clothlab_text_parameters_extension), static_cast<uint32_t>(Impl::text_params.size()),
-        Impl::text_params.data(),
-        [](const clothlab_param_value* values, uint32_t count, const char* const* texts,
-           uint32_t text_count, void** out, clothlab_message* error) -> clothlab_status {
-          return guarded(error, [&] {
-            if (out == nullptr)
-              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "out_instance is null");
-            *out = new Impl(Params(Impl::params, values, count),
-                            TextParams(Impl::text_params, texts, text_count));
-          });
-        }};
-    if (std::strcmp(id, CLOTHLAB_EXT_TEXT_PARAMETERS) == 0) return &texts;
-  }
   if constexpr (requires(std::string_view name) {
                   { Impl::extension(name) }
                   noexcept->std::same_as<const void*>;
                 })
     return Impl::extension(id);
   return nullptr;
-}
-
-// A new scenario instance from a descriptor-level create: with its text parameters' defaults
-// when it declares any.
-template <class Impl>
-Impl* new_scenario(const Params& values) {
-  if constexpr (requires { Impl::text_params; })
-    return new Impl(values, TextParams(Impl::text_params));
-  else
-    return new Impl(values);
 }
 
 template <class Impl>
@@ -600,7 +571,7 @@ const clothlab_scenario* scenario_descriptor() {
          clothlab_message* error) -> clothlab_status {
         return guarded(error, [&] {
           if (out == nullptr) throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "out_instance is null");
-          *out = new_scenario<Impl>(Params(Impl::params, values, count));
+          *out = new Impl(Params(Impl::params, values, count));
         });
       },
       [](void* instance, clothlab_scene* scene, clothlab_message* error) -> clothlab_status {

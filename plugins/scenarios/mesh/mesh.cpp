@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/text_params.hpp>
 #include <cmath>
 #include <cstdio>
 #include <string_view>
@@ -99,6 +100,10 @@ struct MeshScenario {
                       "vertices to pin by index, e.g. \"0,5,9\" (the scenario's vertex order)"),
   };
 
+  // A host without clothlab.text-parameters/1: every text its default, so no file.
+  explicit MeshScenario(const sdk::Params& values)
+      : MeshScenario(values, sdk::TextParams(text_params)) {}
+
   MeshScenario(const sdk::Params& values, const sdk::TextParams& texts)
       : structural_{values.real("structural.ks"), values.real("structural.kd")},
         shear_{values.real("shear.ks"), values.real("shear.kd")},
@@ -159,6 +164,8 @@ struct MeshScenario {
             static_cast<const MeshScenario*>(instance)->describe_mesh(*out);
           });
         }};
+    if (extension_id == CLOTHLAB_EXT_TEXT_PARAMETERS)
+      return sdk::text_parameters_table<MeshScenario>();
     return extension_id == CLOTHLAB_EXT_MESH ? &table : nullptr;
   }
 

@@ -1,15 +1,19 @@
 // Text parameters (clothlab.text-parameters/1) on the plugin side: the specs a component
-// declares and the validated values its constructor reads.
+// declares, the validated values its constructor reads, and the extension table.
 //
 //   static constexpr std::array text_params{
 //       sdk::text_param("file", "", 4096, CLOTHLAB_TEXT_PATH, "the mesh file to read")};
 //   Impl(const sdk::Params& values, const sdk::TextParams& texts);   // texts.text("file")
+//   explicit Impl(const sdk::Params& values) : Impl(values, sdk::TextParams(text_params)) {}
+//   static const void* extension(std::string_view id) noexcept {
+//     return id == CLOTHLAB_EXT_TEXT_PARAMETERS ? sdk::text_parameters_table<Impl>() : nullptr;
+//   }
+// The one-argument constructor serves a host without the extension: every text its default.
 #pragma once
 
 #include <clothlab/ext/text_parameters.h>
 
-#include <clothlab/sdk/error.hpp>
-#include <cstring>
+#include <clothlab/sdk.hpp>
 #include <span>
 #include <string>
 #include <string_view>
@@ -25,7 +29,7 @@ constexpr clothlab_text_param_spec text_param(const char* name, const char* fall
 
 class TextParams {
  public:
-  // The specs' defaults: what a host that does not know the extension gets.
+  // The specs' defaults.
   explicit TextParams(std::span<const clothlab_text_param_spec> specs) : specs_(specs) {
     for (const clothlab_text_param_spec& spec : specs) texts_.emplace_back(spec.default_text);
   }
@@ -63,5 +67,23 @@ class TextParams {
   std::span<const clothlab_text_param_spec> specs_;
   std::vector<std::string> texts_;
 };
+
+// The extension table of a component class with `params`, `text_params` and a constructor
+// Impl(const Params&, const TextParams&).
+template <class Impl>
+const clothlab_text_parameters_extension* text_parameters_table() {
+  static const clothlab_text_parameters_extension table{
+      sizeof(clothlab_text_parameters_extension), static_cast<uint32_t>(Impl::text_params.size()),
+      Impl::text_params.data(),
+      [](const clothlab_param_value* values, uint32_t count, const char* const* texts,
+         uint32_t text_count, void** out, clothlab_message* error) -> clothlab_status {
+        return guarded(error, [&] {
+          if (out == nullptr) throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, "out_instance is null");
+          *out = new Impl(Params(Impl::params, values, count),
+                          TextParams(Impl::text_params, texts, text_count));
+        });
+      }};
+  return &table;
+}
 
 }  // namespace clothlab::sdk
