@@ -159,6 +159,7 @@ TEST_F(MeshScenario, PinsByBoxPlaneIndicesAndTheirUnion) {
   EXPECT_EQ(pinned_positions(plane), (std::multiset<Vec3>{{2, 0, 0}, {2, 1, 0}}));
   const Read indices = read(file, {{"pin.indices", "0, 3"}});
   EXPECT_EQ(indices.pinned, (std::vector<uint32_t>{0, 3}));
+  EXPECT_EQ(read(file, {{"pin.indices", "[0, 3]"}}).pinned, (std::vector<uint32_t>{0, 3}));
   // Vertex 0 is the first the faces use, (0, 0, 0); the plane adds the two at x = 2.
   const Read both = read(file, {{"pin.indices", "0"},
                                 {"pin.by_plane", "true"},
@@ -225,6 +226,9 @@ TEST_F(MeshScenario, PinRulesThatSelectNothingOrAreMalformedAreErrors) {
   EXPECT_NE(error(file, {{"pin.indices", "6"}}).find("vertex 6 is past the mesh's 6 vertices"),
             std::string::npos);
   EXPECT_NE(error(file, {{"pin.by_color", "true"}}).find("the file has none"), std::string::npos);
+  EXPECT_NE(error(file, {{"pin.indices", "[]"}})
+                .find("pin rule scenario.pin.indices = \"[]\" selects no vertex"),
+            std::string::npos);
   EXPECT_NE(error(write("coloured.obj", "v 0 0 0 0 0 1\nv 1 0 0 0 0 1\nv 0 1 0 0 0 1\nf 1 2 3\n"),
                   {{"pin.by_color", "true"}})
                 .find("scenario.pin.by_color (within pin.color.tolerance of pin.color.value) "

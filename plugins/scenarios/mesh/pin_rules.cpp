@@ -26,6 +26,11 @@ std::vector<uint32_t> parse_indices(const std::string& text, uint32_t count,
                                     const std::string& source) {
   std::vector<uint32_t> selected;
   std::string_view rest = text;
+  // A YAML list, pin.indices: [1, 5, 9], arrives as its text "[1, 5, 9]".
+  while (!rest.empty() && rest.front() == ' ') rest.remove_prefix(1);
+  while (!rest.empty() && rest.back() == ' ') rest.remove_suffix(1);
+  if (rest.size() >= 2 && rest.front() == '[' && rest.back() == ']')
+    rest = rest.substr(1, rest.size() - 2);
   while (!rest.empty()) {
     const size_t comma = rest.find(',');
     std::string_view item = rest.substr(0, comma);
@@ -85,6 +90,7 @@ std::vector<uint32_t> select_pins(const TriangleMesh& mesh, const PinRules& rule
   if (!rules.indices.empty()) {
     const std::vector<uint32_t> selected =
         parse_indices(rules.indices, static_cast<uint32_t>(mesh.positions.size()), source);
+    require_some(selected, source, "scenario.pin.indices = \"" + rules.indices + "\"");
     add(selected);
   }
   if (rules.colour) {
