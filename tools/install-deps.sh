@@ -11,6 +11,7 @@ packages=(
   cmake g++ make pkg-config
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libsuitesparse-dev
+  libassimp-dev
 )
 case "$profile" in
   run) ;;

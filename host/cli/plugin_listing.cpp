@@ -7,8 +7,9 @@ namespace clothlab::cli {
 
 namespace {
 
-void print_params(const host::ComponentInfo& info, std::ostream& out) {
-  if (info.params.empty()) {
+void print_params(const host::ComponentInfo& info, const host::ParamSet& defaults,
+                  std::ostream& out) {
+  if (info.params.empty() && defaults.text_specs().empty()) {
     out << "    parameters: none\n";
     return;
   }
@@ -19,6 +20,13 @@ void print_params(const host::ComponentInfo& info, std::ostream& out) {
     out << "      " << info.kind << "." << spec.name << " = "
         << host::format_param_value(spec, fallback) << "  (" << host::describe_allowed(spec)
         << ")  " << spec.help << "\n";
+  }
+  for (size_t i = 0; i < defaults.text_specs().size(); ++i) {
+    const clothlab_text_param_spec& spec = defaults.text_specs()[i];
+    out << "      " << info.kind << "." << spec.name << " = \"" << defaults.texts()[i]
+        << "\"  (text of at most " << spec.max_length << " bytes"
+        << ((spec.flags & CLOTHLAB_TEXT_PATH) != 0 ? ", a file path" : "") << ")  " << spec.help
+        << "\n";
   }
 }
 
@@ -63,12 +71,12 @@ int list_plugins(const host::PluginSearchPath& search_path, std::ostream& out,
       out << "    order " << integrator.order() << ", " << integrator.evals_per_step()
           << " force evaluations per step, flags: " << flag_names(integrator)
           << ", precisions: " << precision_names(integrator) << "\n";
-      print_params(info, out);
+      print_params(info, integrator.default_params(), out);
     }
     for (const host::ScenarioPlugin& scenario : library.scenarios()) {
       const host::ComponentInfo info = scenario.info();
       print_header(info, out);
-      print_params(info, out);
+      print_params(info, scenario.default_params(), out);
     }
   }
   for (const std::string& error : scan.errors) errors << "clothlab: error: " << error << "\n";

@@ -49,6 +49,8 @@ nlohmann::json params_to_json(const host::ParamSet& params) {
         object[spec.name] = v[0];
     }
   }
+  for (size_t i = 0; i < params.text_specs().size(); ++i)
+    object[params.text_specs()[i].name] = params.texts()[i];
   return object;
 }
 

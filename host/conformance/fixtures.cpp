@@ -3,6 +3,7 @@
 #include <clothlab/ext/air.h>
 #include <clothlab/ext/attachments.h>
 #include <clothlab/ext/colliders.h>
+#include <clothlab/ext/text_parameters.h>
 
 #include <cstring>
 #include <iterator>
@@ -13,7 +14,28 @@ namespace clothlab::conformance {
 
 namespace {
 std::vector<ParameterOverride> overrides;
+std::vector<TextOverride> text_overrides;
 }  // namespace
+
+void set_text_overrides(std::vector<TextOverride> values) { text_overrides = std::move(values); }
+
+clothlab_status create_scenario(const clothlab_scenario& scenario,
+                                const std::vector<clothlab_param_value>& values, void** instance,
+                                clothlab_message& message) {
+  const auto* table = static_cast<const clothlab_text_parameters_extension*>(
+      clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_TEXT_PARAMETERS));
+  const uint32_t count = static_cast<uint32_t>(values.size());
+  if (table == nullptr || table->struct_size < CLOTHLAB_TEXT_PARAMETERS_SIZE_1)
+    return scenario.create(values.data(), count, instance, &message);
+  std::vector<const char*> texts;
+  for (uint32_t i = 0; i < table->count; ++i) {
+    texts.push_back(table->specs[i].default_text);
+    for (const TextOverride& override : text_overrides)
+      if (override.component == scenario.id && override.name == table->specs[i].name)
+        texts.back() = override.text.c_str();
+  }
+  return table->create(values.data(), count, texts.data(), table->count, instance, &message);
+}
 
 void set_parameter_overrides(std::vector<ParameterOverride> values) {
   overrides = std::move(values);
@@ -83,8 +105,7 @@ ScenarioInstance::ScenarioInstance(const clothlab_scenario& scenario,
                                    const std::vector<clothlab_param_value>& values)
     : scenario_(scenario) {
   clothlab_message message{};
-  const clothlab_status status =
-      scenario.create(values.data(), static_cast<uint32_t>(values.size()), &instance_, &message);
+  const clothlab_status status = create_scenario(scenario, values, &instance_, message);
   require(status == CLOTHLAB_OK, "create failed: " + describe_status(status, message));
   require(instance_ != nullptr, "create returned OK but no instance");
 }

@@ -23,6 +23,21 @@ struct ParameterOverride {
 void set_parameter_overrides(std::vector<ParameterOverride> overrides);
 const std::vector<ParameterOverride>& parameter_overrides();
 
+// A text that replaces a text parameter's default for one component (--text ID.NAME=TEXT), for
+// a plugin that offers clothlab.text-parameters/1.
+struct TextOverride {
+  std::string component;
+  std::string name;
+  std::string text;
+};
+void set_text_overrides(std::vector<TextOverride> overrides);
+
+// The scenario's create with `values`, through its clothlab.text-parameters/1 table when it
+// offers one (each text its default or its --text override).
+clothlab_status create_scenario(const clothlab_scenario& scenario,
+                                const std::vector<clothlab_param_value>& values, void** instance,
+                                clothlab_message& message);
+
 // Defaults from the schema, with the overrides for `component` applied.
 std::vector<clothlab_param_value> default_values(const std::string& component,
                                                  const clothlab_param_spec* specs, uint32_t count);

@@ -25,6 +25,7 @@ struct CommandLine {
   std::vector<std::string> plugins;
   std::string json_path, junit_path;
   std::vector<std::string> params;
+  std::vector<std::string> texts;
   std::string filter_text;
 };
 
@@ -48,7 +49,10 @@ po::options_description option_list(CommandLine& line, double& timeout, std::str
       "junit", po::value(&line.junit_path), "also write the results as JUnit XML to FILE")(
       "param", po::value(&line.params)->composing(),
       "ID.NAME=VALUE[,Y,Z]: start every check of component ID from this value instead of "
-      "the default (repeatable)");
+      "the default (repeatable)")(
+      "text", po::value(&line.texts)->composing(),
+      "ID.NAME=TEXT: the same for a text parameter (clothlab.text-parameters/1), e.g. "
+      "mesh.file=assets/meshes/disc.obj (repeatable)");
   return described;
 }
 
@@ -124,6 +128,15 @@ CommandLine parse(int argc, char** argv) {
   std::vector<ParameterOverride> overrides;
   for (const std::string& text : line.params) overrides.push_back(parse_override(text));
   set_parameter_overrides(std::move(overrides));
+  std::vector<TextOverride> text_overrides;
+  for (const std::string& text : line.texts) {
+    const size_t dot = text.find('.'), equals = text.find('=');
+    if (dot == std::string::npos || equals == std::string::npos || dot == 0 || equals < dot + 2)
+      usage_error("--text \"" + text + "\": expected ID.NAME=TEXT");
+    text_overrides.push_back(
+        {text.substr(0, dot), text.substr(dot + 1, equals - dot - 1), text.substr(equals + 1)});
+  }
+  set_text_overrides(std::move(text_overrides));
   if (line.plugins.empty()) usage_error("no plugin given (see --help)");
   for (std::string& plugin : line.plugins) {
     if (!std::filesystem::is_regular_file(plugin))

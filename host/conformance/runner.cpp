@@ -45,8 +45,7 @@ ParameterSubject subject_of(const clothlab_scenario& scenario) {
       c->id, c->params, c->param_count,
       [c](const Values& values, clothlab_message& message) {
         void* instance = nullptr;
-        const clothlab_status status =
-            c->create(values.data(), static_cast<uint32_t>(values.size()), &instance, &message);
+        const clothlab_status status = create_scenario(*c, values, &instance, message);
         if (status == CLOTHLAB_OK) c->destroy(instance);
         return status;
       },

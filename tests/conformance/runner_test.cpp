@@ -411,6 +411,28 @@ INSTANTIATE_TEST_SUITE_P(Conformance, SoundPlugin, ::testing::ValuesIn(sound_plu
                            return name;
                          });
 
+// The mesh scenario reads its file through a text parameter (--text): with one it passes the
+// loading, descriptor, parameter and scene checks; without, its default (no file) is refused and
+// params.defaults says so. scenario.params is left out: it wants every parameter to change the
+// grid scene, and the mesh's limits (max_vertices, max_file_mb) and the settings of a pin rule
+// not in use change nothing by design, while placement changes the mesh, which it does not read.
+TEST(ConformanceRun, TheMeshScenarioPassesWithAFileFromTextParameters) {
+  const std::string mesh = BUILTIN_PLUGIN_DIR + std::string("/mesh.so");
+  const RunnerOutput run = run_conformance(
+      "--timeout 90 --filter 'loading|descriptor|params[.]|scenario[.](valid|deterministic|"
+      "colliders)' --text mesh.file=" +
+      std::string(MESH_ASSETS) + "/disc.obj " + mesh);
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  EXPECT_EQ(run.report["failed"], 0) << run.output;
+  EXPECT_GT(run.report["passed"].get<int>(), 5) << run.output;
+  const RunnerOutput without = run_conformance("--timeout 90 --filter params.defaults " + mesh);
+  const nlohmann::json* defaults = find_check(without, "mesh", "params.defaults");
+  ASSERT_NE(defaults, nullptr) << without.output;
+  EXPECT_FALSE((*defaults)["passed"].get<bool>()) << without.output;
+  EXPECT_NE(without.output.find("scenario.file: empty"), std::string::npos) << without.output;
+}
+
 // The multigrid settings need clothlab.grid/1: robustness.no-alloc's plugin-only system must
 // pass it on (without it prepare failed, "needs a cloth laid out as a grid"), and the solves
 // must not allocate or depend on the thread count, also when the hierarchy is reused.

@@ -188,6 +188,39 @@ TEST_F(Clothlab, ValuesThePluginRejectsAreBadInput) {
   EXPECT_NE(outcome.err.find("wind.direction"), std::string::npos) << outcome.err;
 }
 
+// The mesh scenario's file is a text parameter: a bad one is one line of bad input naming the
+// file (resolved against the working directory on the command line).
+TEST_F(Clothlab, AMeshFileThatIsNotThereIsOneLineOfBadInput) {
+  const Outcome outcome =
+      run("--integrator=verlet --scenario=mesh --set scenario.file=missing.obj --steps 2");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_NE(outcome.err.find((file("missing.obj").string() + ": no such file")), std::string::npos)
+      << outcome.err;
+  EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+}
+
+// In a config file the path is relative to the file's folder; the report records it resolved.
+TEST_F(Clothlab, AMeshPathInAConfigIsRelativeToItsFolder) {
+  fs::create_directories(file("configs"));
+  fs::copy_file(source_dir / "assets/meshes/cape.obj", file("configs/cape.obj"));
+  std::ofstream(file("configs/run.yaml"))
+      << "integrator: verlet\nscenario:\n  plugin: mesh\n  file: cape.obj\n"
+         "  pin: {by_box: true, box: {min: [-1, 1.419, -1], max: [1, 1.421, 1]}}\n";
+  const Outcome outcome = run("--config configs/run.yaml --steps 2 --json out.json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json json = nlohmann::json::parse(read_text(file("out.json")));
+  EXPECT_EQ(json["scenario_params"]["file"], file("configs/cape.obj").string());
+  const Outcome typo = run("--config configs/run.yaml --set scenario.fil=x.obj --steps 2");
+  EXPECT_NE(typo.err.find("did you mean scenario.file?"), std::string::npos) << typo.err;
+}
+
+TEST_F(Clothlab, ListsTextParameters) {
+  const Outcome outcome = run("--list-plugins");
+  EXPECT_NE(outcome.out.find("scenario.file = \"\"  (text of at most 4096 bytes, a file path)"),
+            std::string::npos)
+      << outcome.out;
+}
+
 TEST_F(Clothlab, SolverStatisticsOfAnImplicitIntegratorReachTheJson) {
   for (const std::string integrator : {"implicit_euler", "projective_dynamics", "vbd", "rk4"}) {
     const Outcome outcome = run("--integrator=" + integrator + " " + small_sheet +

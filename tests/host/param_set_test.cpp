@@ -4,6 +4,8 @@
 #include <clothlab/host/param_set.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/text_params.hpp>
+#include <filesystem>
 
 namespace clothlab::host {
 namespace {
@@ -102,3 +104,57 @@ TEST(ParamText, AnIntReadsEverySpellingOfAWholeNumber) {
   for (const char* text : {"1.5", "1e-1", "0x10", "ten", "1e400"})
     EXPECT_EQ(clothlab::host::parse_param_text(spec, text).problem, "not a whole number") << text;
 }
+
+namespace clothlab::host {
+namespace {
+
+constexpr std::array text_specs{
+    sdk::text_param("file", "", 64, CLOTHLAB_TEXT_PATH, "a file"),
+    sdk::text_param("label", "none", 8, 0, "a name"),
+};
+
+TEST(ParamSetText, StartsFromTheDefaultsAndStoresText) {
+  ParamSet params(specs, "scenario", text_specs);
+  EXPECT_EQ(params.texts(), (std::vector<std::string>{"", "none"}));
+  params.set("label", "cape 2", "--set");
+  EXPECT_EQ(params.text("label"), "cape 2");
+  EXPECT_EQ(params.values().size(), 4u);  // the numbers are unchanged
+}
+
+// A relative path is taken from the configuration file's folder when the key came from one,
+// else from the working directory; an absolute path stays as it is.
+TEST(ParamSetText, ResolvesRelativePathsAgainstTheConfigFolderOrTheWorkingDirectory) {
+  ParamSet params(specs, "scenario", text_specs);
+  params.set("file", "meshes/cape.obj", "/home/u/configs/run.yaml:4:9");
+  EXPECT_EQ(params.text("file"), "/home/u/configs/meshes/cape.obj");
+  params.set("file", "../assets/cape.obj", "/home/u/configs/run.yaml:4:9");
+  EXPECT_EQ(params.text("file"), "/home/u/assets/cape.obj");
+  params.set("file", "cape.obj", "--set");
+  EXPECT_EQ(params.text("file"), (std::filesystem::current_path() / "cape.obj").string());
+  params.set("file", "/data/cape.obj", "/home/u/configs/run.yaml:4:9");
+  EXPECT_EQ(params.text("file"), "/data/cape.obj");
+  params.set("label", "a/b", "/home/u/configs/run.yaml:5:9");
+  EXPECT_EQ(params.text("label"), "a/b");  // no path: as written
+}
+
+TEST(ParamSetText, RefusesTooLongTextAndLineBreaksNamingTheSourceAndKey) {
+  ParamSet params(specs, "scenario", text_specs);
+  EXPECT_EQ(set_error(params, "label", "123456789"),
+            "cfg.yaml:3:7: scenario.label = 123456789: 9 bytes; allowed: text of at most 8 bytes "
+            "on one line");
+  EXPECT_EQ(set_error(params, "label", "a\nb"),
+            "cfg.yaml:3:7: scenario.label = a\\nb: a line break or NUL; allowed: text of at most 8 "
+            "bytes on one line");
+  EXPECT_EQ(params.text("label"), "none");
+}
+
+TEST(ParamSetText, AnUnknownKeyListsTheTextKeysToo) {
+  ParamSet params(specs, "scenario", text_specs);
+  const std::string message = set_error(params, "fil", "x");
+  EXPECT_NE(message.find("did you mean scenario.file?"), std::string::npos) << message;
+  EXPECT_NE(message.find("scenario.gravity, scenario.file, scenario.label"), std::string::npos)
+      << message;
+}
+
+}  // namespace
+}  // namespace clothlab::host

@@ -1,6 +1,7 @@
 #include "clothlab/host/components.hpp"
 
 #include <utility>
+#include <vector>
 
 #include "clothlab/host/errors.hpp"
 
@@ -19,18 +20,41 @@ void check(clothlab_status status, clothlab_message& message, const std::string&
 
 std::string label_of(std::string_view kind, const char* id) { return std::string(kind) + " " + id; }
 
-// Calls a component's `create` with validated values; the object keeps the library loaded.
+// The component's clothlab.text-parameters/1 table, or nullptr when it offers none (or one
+// too small to read).
+const clothlab_text_parameters_extension* text_parameters(const void* table) {
+  const auto* texts = static_cast<const clothlab_text_parameters_extension*>(table);
+  return texts != nullptr && texts->struct_size >= CLOTHLAB_TEXT_PARAMETERS_SIZE_1 ? texts
+                                                                                   : nullptr;
+}
+
+std::span<const clothlab_text_param_spec> text_specs(const void* table) {
+  const clothlab_text_parameters_extension* texts = text_parameters(table);
+  if (texts == nullptr) return {};
+  return {texts->specs, texts->count};
+}
+
+// Calls a component's `create` with validated values, through its text-parameters table when
+// it has one; the object keeps the library loaded.
 template <class Descriptor>
 PluginObject create_object(const std::shared_ptr<const LibraryHandle>& library,
-                           const Descriptor& descriptor, const ParamSet& params,
-                           const std::string& label, PluginCallSite site) {
+                           const Descriptor& descriptor, const void* text_table,
+                           const ParamSet& params, const std::string& label, PluginCallSite site) {
   clothlab_message message{};
   void* object = nullptr;
   clothlab_status status;
+  const clothlab_text_parameters_extension* texts = text_parameters(text_table);
   {
     const PluginCallMark mark(site, "create");
-    status = descriptor.create(params.values().data(),
-                               static_cast<uint32_t>(params.values().size()), &object, &message);
+    const uint32_t value_count = static_cast<uint32_t>(params.values().size());
+    if (texts != nullptr) {
+      std::vector<const char*> text_values;
+      for (const std::string& text : params.texts()) text_values.push_back(text.c_str());
+      status = texts->create(params.values().data(), value_count, text_values.data(),
+                             static_cast<uint32_t>(text_values.size()), &object, &message);
+    } else {
+      status = descriptor.create(params.values().data(), value_count, &object, &message);
+    }
   }
   check(status, message, label, "create");
   if (object == nullptr)
@@ -146,13 +170,16 @@ bool IntegratorPlugin::supports_precision(uint32_t precision) const {
   return precision < 32 && (descriptor_->precisions & (1u << precision)) != 0;
 }
 
-ParamSet IntegratorPlugin::default_params() const { return ParamSet(info().params, "integrator"); }
+ParamSet IntegratorPlugin::default_params() const {
+  return ParamSet(info().params, "integrator", text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS)));
+}
 
 IntegratorInstance IntegratorPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("integrator", descriptor_->id);
   return IntegratorInstance(
       *descriptor_, label,
-      create_object(library_, *descriptor_, params, label, {path_, descriptor_->id}));
+      create_object(library_, *descriptor_, extension(CLOTHLAB_EXT_TEXT_PARAMETERS), params, label,
+                    {path_, descriptor_->id}));
 }
 
 // -------------------------------------------------------------------- scenario
@@ -192,13 +219,16 @@ const void* ScenarioPlugin::extension(const char* id) const {
   return clothlab_scenario_extension(descriptor_, id);
 }
 
-ParamSet ScenarioPlugin::default_params() const { return ParamSet(info().params, "scenario"); }
+ParamSet ScenarioPlugin::default_params() const {
+  return ParamSet(info().params, "scenario", text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS)));
+}
 
 ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {
   const std::string label = label_of("scenario", descriptor_->id);
   return ScenarioInstance(
       *descriptor_, label,
-      create_object(library_, *descriptor_, params, label, {path_, descriptor_->id}));
+      create_object(library_, *descriptor_, extension(CLOTHLAB_EXT_TEXT_PARAMETERS), params, label,
+                    {path_, descriptor_->id}));
 }
 
 }  // namespace clothlab::host
