@@ -265,10 +265,13 @@ TEST_F(MeshScenario, BadInputGivesOneLineErrorsNamingTheFile) {
 TEST_F(MeshScenario, RefusesAFolderAnOversizedFileAndTooManyVertices) {
   EXPECT_NE(error(folder_.string()).find("is a folder"), std::string::npos);
   const std::string file = write("quads.obj", two_quads);
-  // 0.00005 MB = 50 bytes, below the file's size: refused before it is read.
-  EXPECT_NE(error(file, {{"max_file_mb", "0.00005"}})
-                .find("MB is over the limit scenario.max_file_mb = 5e-05"),
-            std::string::npos);
+  // 0.001 MB = 1000 bytes, below the padded file's 2000 and more: refused before it is read.
+  const std::string padded = write("padded.obj", "#" + std::string(1999, ' ') + "\n" + two_quads);
+  EXPECT_NE(error(padded, {{"max_file_mb", "0.001"}})
+                .find(padded + ": 0.00207 MB is over the limit scenario.max_file_mb = 0.001"),
+            std::string::npos)
+      << error(padded, {{"max_file_mb", "0.001"}});
+  EXPECT_EQ(error(padded, {{"max_file_mb", "0.003"}}), "");
   EXPECT_NE(error(file, {{"max_vertices", "5"}})
                 .find("more than 5 vertices, the limit scenario.max_vertices"),
             std::string::npos);

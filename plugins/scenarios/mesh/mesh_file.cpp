@@ -33,7 +33,7 @@ void check_file(const std::string& path, double max_megabytes) {
   if (megabytes > max_megabytes) {
     char text[160];
     std::snprintf(text, sizeof text,
-                  "%.1f MB is over the limit scenario.max_file_mb = %g (raise it to read the file)",
+                  "%.3g MB is over the limit scenario.max_file_mb = %g (raise it to read the file)",
                   megabytes, max_megabytes);
     fail(path, text);
   }
