@@ -74,8 +74,7 @@ def extension_headers():
 def extensions():
     headers = extension_headers()
     problems = []
-    # plugin.h: "host side ...:" then the short names (clothlab.X/1 without the prefix and the
-    # revision would hide a /2, so the full ids are listed).
+    # plugin.h: "host side ...:" then that side's full ids (a revision, /2, is a new id).
     comment = read(PLUGIN_H).split("*/", 1)[0]
     for side in ("host", "integrator", "scenario"):
         match = re.search(side + r" side[^:]*:\s*((?:\*?\s*clothlab\.[a-z-]+/\d+[,;.]?\s*)+)", comment)
