@@ -444,6 +444,14 @@ TEST_F(Clothlab, AnIntegratorThatNeedsTheGridsJacobianRefusesAMeshInOneLine) {
             "lacks clothlab.jacobian/1\n");
 }
 
+TEST_F(Clothlab, FramesOfAMeshAreRefusedInOneLine) {
+  const Outcome outcome = run("--integrator=euler " + mesh_scene + "--steps 10 --frames frames");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: frames: scenario test-mesh is a triangle mesh (clothlab.mesh/1), and "
+            "frames are written for grid cloths only so far\n");
+}
+
 TEST_F(Clothlab, ABadMeshIsOneLineBeforeTheRun) {
   const std::pair<std::string, std::string> cases[] = {
       {"--set scenario.fault=1",
