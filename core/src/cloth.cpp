@@ -1,24 +1,48 @@
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
 
 #include "engine.hpp"
 
 namespace clothlab {
 
+namespace {
+
+SpringCounts count_families(const ClothModel& model) {
+  SpringCounts counts;
+  for (uint8_t family : model.family) {
+    if (family == CLOTHLAB_SPRING_STRUCTURAL) ++counts.structural;
+    if (family == CLOTHLAB_SPRING_SHEAR) ++counts.shear;
+    if (family == CLOTHLAB_SPRING_FLEXION) ++counts.flexion;
+  }
+  return counts;
+}
+
+}  // namespace
+
 struct Cloth::Impl {
   Scene scene;
   Precision precision;
   SpringCounts springs;
+  std::shared_ptr<const ClothModel> model;
   std::unique_ptr<detail::Engine> engine;
 };
 
 Cloth::Cloth(const Scene& scene, Precision precision, PipelineOptions options)
-    : impl_(std::make_unique<Impl>(Impl{scene, precision, count_springs(scene.rows, scene.cols),
-                                        detail::make_engine(scene, precision, options)})) {}
+    : Cloth(scene, build_grid_model(scene), precision, options) {}
+
+Cloth::Cloth(const Scene& scene, std::shared_ptr<const ClothModel> model, Precision precision,
+             PipelineOptions options)
+    : impl_(std::make_unique<Impl>(
+          Impl{scene, precision,
+               model->grid ? count_springs(model->grid->rows, model->grid->cols)
+                           : count_families(*model),
+               model, detail::make_engine(scene, model, precision, options)})) {}
 
 Cloth::~Cloth() = default;
 
 const clothlab_system& Cloth::system() const { return impl_->engine->system(); }
 const Scene& Cloth::scene() const { return impl_->scene; }
+const std::shared_ptr<const ClothModel>& Cloth::model() const { return impl_->model; }
 Precision Cloth::precision() const { return impl_->precision; }
 uint32_t Cloth::particle_count() const { return impl_->engine->system().particle_count; }
 const SpringCounts& Cloth::springs() const { return impl_->springs; }

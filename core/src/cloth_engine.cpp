@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "grid_colors.hpp"
 #include "vector_kernels.hpp"
 
 namespace clothlab::detail {
@@ -61,22 +62,17 @@ bool convert(const clothlab_combination& from, StateCombination<Real>& to) {
 }  // namespace
 
 template <class Real>
-ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
-    : scene_(scene), n_(std::size_t{scene.rows} * scene.cols), stride_(round_up_16(n_)) {
+ClothEngine<Real>::ClothEngine(const Scene& scene, std::shared_ptr<const ClothModel> model,
+                               PipelineOptions options)
+    : scene_(scene),
+      model_(std::move(model)),
+      n_(model_->particle_count),
+      stride_(round_up_16(n_)) {
   if (options.threads < 0) {
     throw std::invalid_argument("threads = " + std::to_string(options.threads) +
                                 ": allowed 0 (all hardware threads) or >= 1");
   }
-  if (scene.rows < 1 || scene.cols < 1) {
-    throw std::invalid_argument("scene " + std::to_string(scene.rows) + "x" +
-                                std::to_string(scene.cols) + ": allowed rows, cols >= 1");
-  }
-  for (uint32_t pinned : scene.pinned) {
-    if (pinned >= n_) {
-      throw std::invalid_argument("scene.pinned = " + std::to_string(pinned) +
-                                  ": allowed indices < rows*cols = " + std::to_string(n_));
-    }
-  }
+  if (n_ < 1) throw std::invalid_argument("cloth: no particles (allowed: at least 1)");
   threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
   parallel_capable_ = threads_ > 1 && n_ >= parallel_from_particles;
   parallel_ = parallel_capable_;
@@ -90,22 +86,34 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
   x_ = AlignedBuffer<Real>(3 * stride_);
   v_ = AlignedBuffer<Real>(3 * stride_);
   inverse_mass_ = AlignedBuffer<Real>(stride_);
-  for (uint32_t r = 0; r < scene.rows; ++r) {
-    for (uint32_t c = 0; c < scene.cols; ++c) {
-      const Vec3 p = initial_position(scene, r, c);
-      const std::size_t i = std::size_t{r} * scene.cols + c;
-      for (int k = 0; k < 3; ++k) x_[k * stride_ + i] = static_cast<Real>(p[k]);
-    }
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k)
+      x_[k * stride_ + i] = static_cast<Real>(model_->rest_positions[3 * i + k]);
+    inverse_mass_[i] = static_cast<Real>(model_->inverse_masses[i]);
   }
-  const Real inverse_mass = static_cast<Real>(static_cast<double>(n_) / scene.total_mass);
-  for (std::size_t i = 0; i < n_; ++i) inverse_mass_[i] = inverse_mass;
-  for (uint32_t pinned : scene.pinned) inverse_mass_[pinned] = 0;
   near_pin_.assign(n_, 0);
-  for (uint32_t pinned : scene.pinned) {
-    const uint32_t row = pinned / scene.cols, col = pinned % scene.cols;
-    for (uint32_t r = row > 2 ? row - 2 : 0; r <= std::min(row + 2, scene.rows - 1); ++r)
-      for (uint32_t c = col > 2 ? col - 2 : 0; c <= std::min(col + 2, scene.cols - 1); ++c)
-        near_pin_[std::size_t{r} * scene.cols + c] = 1;
+  if (model_->grid) {
+    const GridShape grid = *model_->grid;
+    for (uint32_t pinned : model_->pinned) {
+      const uint32_t row = pinned / grid.cols, col = pinned % grid.cols;
+      for (uint32_t r = row > 2 ? row - 2 : 0; r <= std::min(row + 2, grid.rows - 1); ++r)
+        for (uint32_t c = col > 2 ? col - 2 : 0; c <= std::min(col + 2, grid.cols - 1); ++c)
+          near_pin_[std::size_t{r} * grid.cols + c] = 1;
+    }
+  } else {
+    // Two springs from a pin: on a grid's springs, about its two rows and columns.
+    for (uint32_t pinned : model_->pinned) near_pin_[pinned] = 1;
+    for (int hop = 0; hop < 2; ++hop) {
+      std::vector<uint8_t> reached = near_pin_;
+      for (std::size_t i = 0; i < n_; ++i) {
+        if (near_pin_[i] == 0) continue;
+        for (uint32_t e = model_->adjacency_offsets[i]; e < model_->adjacency_offsets[i + 1]; ++e) {
+          const uint32_t s = model_->adjacent_springs[e];
+          reached[model_->first[s] == i ? model_->second[s] : model_->first[s]] = 1;
+        }
+      }
+      near_pin_ = std::move(reached);
+    }
   }
 
   // Active ranges: maximal runs between pinned indices (scene.pinned is sorted, unique).
@@ -123,9 +131,16 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, PipelineOptions options)
     active_particles_ += range.end - range.begin;
   }
 
-  forces_ = std::make_unique<ForcePipeline<Real>>(
-      pipeline_scene(scene), stride_, inverse_mass_.data(), options.velocity_forces, threads_,
-      parallel_, turned_for_pipeline(scene) ? scene.cols : 1);
+  if (model_->grid && !options.force_general_path) {
+    forces_ = std::make_unique<ForcePipeline<Real>>(
+        pipeline_scene(scene), stride_, inverse_mass_.data(), options.velocity_forces, threads_,
+        parallel_, turned_for_pipeline(scene) ? scene.cols : 1);
+    grid_colors_ = grid_stencil_colors(model_->grid->rows, model_->grid->cols);
+  } else {
+    general_ =
+        std::make_unique<SpringListForces<Real>>(*model_, scene, stride_, inverse_mass_.data(),
+                                                 options.velocity_forces, threads_, parallel_);
+  }
   velocity_forces_ = options.velocity_forces;
   chunk_sums_.assign(active_chunks_.size(), 0.0);
   chunk_sums_z_.assign(active_chunks_.size(), 0.0);
@@ -162,7 +177,8 @@ void ClothEngine<Real>::begin_step() {
   if (!parallel_capable_) return;
   parallel_ = governor_.team_step();
   counters_.steps_on_one_thread += parallel_ ? 0 : 1;
-  forces_->set_parallel(parallel_);
+  if (forces_) forces_->set_parallel(parallel_);
+  if (general_) general_->set_parallel(parallel_);
   if (jacobian_) jacobian_->set_parallel(parallel_);
   step_start_ = std::chrono::steady_clock::now();
 }
@@ -182,7 +198,9 @@ clothlab_status ClothEngine<Real>::evaluate(const StateCombination<Real>& x,
   // (clothlab/ext/air.h); no spring is damped by them, as the pipeline was built undamped.
   const StateCombination<Real> current = in_place<Real>(v_.data());
   if (v == nullptr && scene_.has_air()) v = &current;
-  return forces_->evaluate(x, v, a, counters_) ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
+  const bool finite =
+      forces_ ? forces_->evaluate(x, v, a, counters_) : general_->evaluate(x, v, a, counters_);
+  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
 template <class Real>
@@ -248,7 +266,9 @@ template <class Real>
 clothlab_status ClothEngine<Real>::reserve_rkn_callback(void* context, uint32_t stages) {
   if (stages == 0 || stages > CLOTHLAB_RKN_MAX_STAGES) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   try {
-    static_cast<ClothEngine*>(context)->forces_->reserve_stages(stages);
+    auto* self = static_cast<ClothEngine*>(context);
+    if (self->forces_) self->forces_->reserve_stages(stages);
+    if (self->general_) self->general_->reserve_stages(stages);
     return CLOTHLAB_OK;
   } catch (const std::bad_alloc&) {
     return CLOTHLAB_ERROR_OUT_OF_MEMORY;
@@ -260,7 +280,9 @@ clothlab_status ClothEngine<Real>::step_rkn_callback(void* context, double, doub
                                                      const clothlab_rkn_scheme* scheme) {
   auto* self = static_cast<ClothEngine*>(context);
   if (scheme == nullptr || scheme->stages == 0 ||
-      scheme->stages > self->forces_->reserved_stages() || !std::isfinite(h)) {
+      scheme->stages >
+          (self->forces_ ? self->forces_->reserved_stages() : self->general_->reserved_stages()) ||
+      !std::isfinite(h)) {
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   }
   const uint32_t stages = scheme->stages;
@@ -277,7 +299,9 @@ clothlab_status ClothEngine<Real>::step_rkn_callback(void* context, double, doub
     step.v_weights[i] = static_cast<Real>(h * scheme->v_weights[i]);
   }
   const bool finite =
-      self->forces_->step_rkn(self->x_.data(), self->v_.data(), step, self->counters_);
+      self->forces_
+          ? self->forces_->step_rkn(self->x_.data(), self->v_.data(), step, self->counters_)
+          : self->general_->step_rkn(self->x_.data(), self->v_.data(), step, self->counters_);
   self->counters_.particles_integrated += self->active_particles_;
   return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
@@ -318,10 +342,11 @@ void* ClothEngine<Real>::alloc_callback(void* context) {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,
-                                    PipelineOptions options) {
-  if (precision == Precision::Float32) return std::make_unique<ClothEngine<float>>(scene, options);
-  return std::make_unique<ClothEngine<double>>(scene, options);
+std::unique_ptr<Engine> make_engine(const Scene& scene, std::shared_ptr<const ClothModel> model,
+                                    Precision precision, PipelineOptions options) {
+  if (precision == Precision::Float32)
+    return std::make_unique<ClothEngine<float>>(scene, std::move(model), options);
+  return std::make_unique<ClothEngine<double>>(scene, std::move(model), options);
 }
 
 }  // namespace clothlab::detail

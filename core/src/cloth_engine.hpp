@@ -2,6 +2,8 @@
 // force pipeline and the system callbacks integrators drive it through.
 #pragma once
 
+#include <clothlab/ext/grid.h>
+
 #include <chrono>
 #include <clothlab/core/team_governor.hpp>
 #include <cstddef>
@@ -14,15 +16,17 @@
 #include "engine.hpp"
 #include "force_pipeline.hpp"
 #include "grid.hpp"
-#include "grid_topology.hpp"
 #include "spring_jacobian.hpp"
+#include "spring_list_forces.hpp"
 
 namespace clothlab::detail {
 
 template <class Real>
 class ClothEngine final : public Engine {
  public:
-  ClothEngine(const Scene& scene, PipelineOptions options);
+  // `model` is the scene's cloth (build_grid_model or build_mesh_model); the grid's row pipeline
+  // runs when it is a grid and options.force_general_path is off, the spring-list path else.
+  ClothEngine(const Scene& scene, std::shared_ptr<const ClothModel> model, PipelineOptions options);
 
   const clothlab_system& system() const override { return system_; }
   // Threads the force and vector passes actually use: small clothes run on one.
@@ -77,10 +81,11 @@ class ClothEngine final : public Engine {
   static void* alloc_callback(void* context);
 
   // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, definite jacobian,
-  // cg-step, reductions and external forces. The topology and the Jacobian's pattern are built on
-  // first use.
+  // cg-step, reductions and external forces. The Jacobian's pattern is built on first use. The
+  // grid, the jacobians and cg-step are offered only on the grid path.
   static const void* get_extension_callback(void* context, const char* id);
-  const GridTopology& topology();
+  const ClothModel& topology() const { return *model_; }
+  bool on_grid_path() const { return forces_ != nullptr; }
   const SpringJacobian<Real>& jacobian();
   // Sum over the active chunks of term(k * stride + i), each chunk summed on its own and
   // the chunks' sums added in chunk order: the same bits for any thread count.
@@ -126,6 +131,8 @@ class ClothEngine final : public Engine {
   static clothlab_status attachments_move_callback(void* context, double t, void* x, void* v);
 
   Scene scene_;
+  std::shared_ptr<const ClothModel> model_;
+  std::vector<clothlab_grid_color> grid_colors_;  // the grid path's spring colours as stencils
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
   int threads_ = 1;
@@ -135,17 +142,17 @@ class ClothEngine final : public Engine {
   std::chrono::steady_clock::time_point step_start_{};
 
   AlignedBuffer<Real> x_, v_, inverse_mass_;
-  // 1 where a pinned particle lies within two rows and two columns: the springs that
-  // Stretch::max_away_from_pins leaves out.
+  // 1 where a pinned particle lies within two rows and two columns (on a mesh: two springs):
+  // the springs that Stretch::max_away_from_pins leaves out.
   std::vector<uint8_t> near_pin_;
   mutable std::vector<double> stretch_ratios_;  // stretch_percentile's selection
   std::vector<clothlab_range> active_;
   std::vector<Span> active_chunks_;  // active ranges cut into pieces for threads
   uint64_t active_particles_ = 0;
 
-  std::unique_ptr<ForcePipeline<Real>> forces_;
+  std::unique_ptr<ForcePipeline<Real>> forces_;      // the grid path, or
+  std::unique_ptr<SpringListForces<Real>> general_;  // the spring-list path
   bool velocity_forces_ = true;
-  std::unique_ptr<GridTopology> topology_;
   std::unique_ptr<SpringJacobian<Real>> jacobian_;
   std::vector<double> chunk_sums_;    // one per active chunk: the reductions' partial results
   std::vector<double> chunk_sums_z_;  // cg-step's update: the chunks' shares of <r, z>
@@ -158,6 +165,11 @@ class ClothEngine final : public Engine {
   std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
   AttachmentSource* attachment_source_ = nullptr;
   double contact_work_ = 0;  // energy the contact resolution has added (J)
+  // Diagnostics over the spring list (the general path; cloth_engine_state.cpp).
+  double list_spring_energy() const;
+  // visit(length / rest length, first, second) for each spring (structural ones alone).
+  template <class Visit>
+  void for_each_ratio(Cloth::Springs which, Visit&& visit) const;
   // The energy of particle i's springs with x_i at `position` and its partners in px.
   double spring_energy_at(const Real* px, std::size_t i, const Vec3& position) const;
   std::vector<AlignedBuffer<Real>> vectors_;  // handed out by alloc_vector

@@ -27,13 +27,12 @@ void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
   target_x_.assign(3 * attached_.size(), 0.0);
   target_v_.assign(3 * attached_.size(), 0.0);
   attachment_source_ = attached_.empty() ? nullptr : &source;
-  if (!attached_.empty()) (void)topology();  // built here: attachment_power reads its springs
 }
 
 template <class Real>
 double ClothEngine<Real>::attachment_power() const {
   if (attached_.empty()) return 0.0;
-  const GridTopology& springs = *topology_;
+  const ClothModel& springs = *model_;
   const std::size_t s = stride_;
   double power = 0.0;
   for (const uint32_t i : attached_) {

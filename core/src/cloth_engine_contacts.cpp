@@ -16,7 +16,6 @@ template <class Real>
 void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders) {
   colliders_.assign(colliders.begin(), colliders.end());
   if (colliders_.empty()) return;
-  (void)topology();  // built here: the resolution's energy reads it
   if (path_start_.size() != x_.size()) path_start_ = AlignedBuffer<Real>(x_.size());
   std::copy_n(x_.data(), x_.size(), path_start_.data());
 }
@@ -24,7 +23,7 @@ void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders) {
 template <class Real>
 double ClothEngine<Real>::spring_energy_at(const Real* px, std::size_t i,
                                            const Vec3& position) const {
-  const GridTopology& springs = *topology_;
+  const ClothModel& springs = *model_;
   const std::size_t s = stride_;
   double energy = 0.0;
   for (uint32_t k = springs.adjacency_offsets[i]; k < springs.adjacency_offsets[i + 1]; ++k) {

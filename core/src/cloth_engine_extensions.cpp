@@ -31,13 +31,31 @@ clothlab_status status_of(Body&& body) noexcept {
   }
 }
 
-}  // namespace
-
-template <class Real>
-const GridTopology& ClothEngine<Real>::topology() {
-  if (!topology_) topology_ = std::make_unique<GridTopology>(scene_);
-  return *topology_;
+clothlab_topology topology_view(const ClothModel& model) {
+  clothlab_topology out{};
+  out.struct_size = sizeof out;
+  out.particle_count = model.particle_count;
+  out.spring_count = static_cast<uint32_t>(model.spring_count());
+  out.triangle_count = static_cast<uint32_t>(model.triangle_count());
+  out.first = model.first.data();
+  out.second = model.second.data();
+  out.rest_length = model.rest_length.data();
+  out.ks = model.ks.data();
+  out.kd = model.kd.data();
+  out.family = model.family.data();
+  out.triangles = model.triangles.data();
+  out.adjacency_offsets = model.adjacency_offsets.data();
+  out.adjacent_springs = model.adjacent_springs.data();
+  out.spring_color_count = model.spring_colors.count();
+  out.spring_color_offsets = model.spring_colors.offsets.data();
+  out.spring_color_members = model.spring_colors.members.data();
+  out.particle_color_count = model.particle_colors.count();
+  out.particle_color_offsets = model.particle_colors.offsets.data();
+  out.particle_color_members = model.particle_colors.members.data();
+  return out;
 }
+
+}  // namespace
 
 template <class Real>
 const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
@@ -49,7 +67,7 @@ const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
 }
 
 template <class Real>
-const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
+const void* ClothEngine<Real>::get_extension_callback(void* context, const char* id) {
   static constexpr clothlab_topology_extension topology_table{&topology_callback};
   static constexpr clothlab_grid_extension grid_table{&grid_callback};
   static constexpr clothlab_jacobian_extension jacobian_table{
@@ -69,6 +87,13 @@ const void* ClothEngine<Real>::get_extension_callback(void*, const char* id) {
       &attachments_count_callback, &attachments_move_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
+  // The spring-list path has no grid, and the jacobians and cg-step sweep the grid's stencils:
+  // an integrator that needs them refuses a mesh when it finds them missing.
+  if (!static_cast<const ClothEngine*>(context)->on_grid_path()) {
+    for (const char* grid_only : {CLOTHLAB_EXT_GRID, CLOTHLAB_EXT_JACOBIAN,
+                                  CLOTHLAB_EXT_DEFINITE_JACOBIAN, CLOTHLAB_EXT_CG_STEP})
+      if (std::strcmp(id, grid_only) == 0) return nullptr;
+  }
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
@@ -94,14 +119,26 @@ template <class Real>
 clothlab_status ClothEngine<Real>::topology_callback(void* context, clothlab_topology* out) {
   if (out == nullptr || out->struct_size < sizeof(clothlab_topology))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  return status_of([&] { *out = static_cast<ClothEngine*>(context)->topology().view(); });
+  *out = topology_view(static_cast<ClothEngine*>(context)->topology());
+  return CLOTHLAB_OK;
 }
 
 template <class Real>
 clothlab_status ClothEngine<Real>::grid_callback(void* context, clothlab_grid* out) {
   if (out == nullptr || out->struct_size < sizeof(clothlab_grid))
     return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  return status_of([&] { *out = static_cast<ClothEngine*>(context)->topology().grid_view(); });
+  const auto* self = static_cast<const ClothEngine*>(context);
+  if (!self->on_grid_path()) return CLOTHLAB_ERROR_UNSUPPORTED;
+  clothlab_grid grid{};
+  grid.struct_size = sizeof grid;
+  grid.rows = self->model_->grid->rows;
+  grid.cols = self->model_->grid->cols;
+  grid.spring_color_count = static_cast<uint32_t>(self->grid_colors_.size());
+  grid.column_spacing = self->scene_.column_spacing();
+  grid.row_spacing = self->scene_.row_spacing();
+  grid.spring_colors = self->grid_colors_.data();
+  *out = grid;
+  return CLOTHLAB_OK;
 }
 
 // ------------------------------------------------------------------- jacobian
@@ -364,14 +401,19 @@ clothlab_status ClothEngine<Real>::external_callback(void* context, double, cons
   if (x == nullptr || a == nullptr || x == a) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   // The air (clothlab/ext/air.h) at the system's current velocities: the extension takes none.
   auto* self = static_cast<ClothEngine*>(context);
-  const bool finite = self->forces_->evaluate_external(static_cast<const Real*>(x), self->v_.data(),
-                                                       static_cast<Real*>(a));
+  const bool finite =
+      self->general_ ? self->general_->evaluate_external(static_cast<const Real*>(x),
+                                                         self->v_.data(), static_cast<Real*>(a))
+                     : self->forces_->evaluate_external(static_cast<const Real*>(x),
+                                                        self->v_.data(), static_cast<Real*>(a));
   return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
 }
 
 template <class Real>
 int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
-  return static_cast<ClothEngine*>(context)->forces_->has_cell_forces() ? 1 : 0;
+  const auto* self = static_cast<const ClothEngine*>(context);
+  return (self->forces_ ? self->forces_->has_cell_forces() : self->general_->has_cell_forces()) ? 1
+                                                                                                : 0;
 }
 
 template class ClothEngine<float>;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -98,18 +99,19 @@ bool ClothEngine<Real>::state_is_finite() const {
 template <class Real>
 Cloth::Energy ClothEngine<Real>::energy() const {
   Cloth::Energy energy;
-  const double mass = scene_.total_mass / static_cast<double>(n_);
-  for (uint32_t r = 0; r < scene_.rows; ++r) {
-    for (uint32_t c = 0; c < scene_.cols; ++c) {
-      const std::size_t i = std::size_t{r} * scene_.cols + c;
-      if (inverse_mass_[i] == 0) continue;  // pinned: does not move, no finite mass
-      const Vec3 start = initial_position(scene_, r, c);
-      for (std::size_t k = 0; k < 3; ++k) {
-        const double velocity = v_[k * stride_ + i];
-        energy.kinetic += 0.5 * mass * velocity * velocity;
-        energy.gravity -= mass * scene_.gravity[k] * (x_[k * stride_ + i] - start[k]);
-      }
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (inverse_mass_[i] == 0) continue;  // pinned: does not move, no finite mass
+    const double mass = model_->masses[i];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double velocity = v_[k * stride_ + i];
+      energy.kinetic += 0.5 * mass * velocity * velocity;
+      energy.gravity -=
+          mass * scene_.gravity[k] * (x_[k * stride_ + i] - model_->rest_positions[3 * i + k]);
     }
+  }
+  if (!on_grid_path()) {
+    energy.spring = list_spring_energy();
+    return energy;
   }
   const Real* x = x_.data();
   const std::size_t cols = scene_.cols;
@@ -136,7 +138,44 @@ Cloth::Energy ClothEngine<Real>::energy() const {
 }
 
 template <class Real>
+double ClothEngine<Real>::list_spring_energy() const {
+  const ClothModel& m = *model_;
+  double spring = 0.0;
+  for (std::size_t s = 0; s < m.spring_count(); ++s) {
+    const double stretch =
+        spring_length(x_.data(), stride_, m.first[s], m.second[s] - m.first[s]) - m.rest_length[s];
+    spring += 0.5 * m.ks[s] * stretch * stretch;
+  }
+  return spring;
+}
+
+template <class Real>
+template <class Visit>
+void ClothEngine<Real>::for_each_ratio(Cloth::Springs which, Visit&& visit) const {
+  const ClothModel& m = *model_;
+  for (std::size_t s = 0; s < m.spring_count(); ++s) {
+    if (which == Cloth::Springs::Structural && m.family[s] != CLOTHLAB_SPRING_STRUCTURAL) continue;
+    const uint32_t i = m.first[s], j = m.second[s];
+    visit(spring_length(x_.data(), stride_, i, j - i) / m.rest_length[s], i, j);
+  }
+}
+
+template <class Real>
 Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
+  if (!on_grid_path()) {
+    double worst = 0.0, worst_away = 0.0, sum = 0.0;
+    std::size_t springs = 0, away = 0;
+    for_each_ratio(which, [&](double ratio, uint32_t i, uint32_t j) {
+      worst = std::max(worst, ratio);
+      sum += ratio;
+      ++springs;
+      if ((near_pin_[i] | near_pin_[j]) != 0) return;
+      worst_away = std::max(worst_away, ratio);
+      ++away;
+    });
+    if (springs == 0) return {};
+    return {worst, sum / static_cast<double>(springs), away > 0 ? worst_away : 1.0};
+  }
   const Real* x = x_.data();
   const uint8_t* near_pin = near_pin_.data();
   const std::size_t cols = scene_.cols;
@@ -178,7 +217,11 @@ double ClothEngine<Real>::stretch_percentile(Cloth::Springs which, double fracti
   const Real* x = x_.data();
   const std::size_t cols = scene_.cols;
   stretch_ratios_.clear();
-  for (const Stencil& stencil : kProvotStencils) {
+  if (!on_grid_path())
+    for_each_ratio(which,
+                   [&](double ratio, uint32_t, uint32_t) { stretch_ratios_.push_back(ratio); });
+  for (const Stencil& stencil :
+       on_grid_path() ? std::span(kProvotStencils) : std::span<const Stencil>()) {
     if (which == Cloth::Springs::Structural && stencil.family != &Scene::structural) continue;
     const StencilExtent extent = stencil_extent(stencil, scene_.rows, scene_.cols);
     const double inverse_rest = 1.0 / stencil_rest_length(scene_, stencil);
@@ -200,6 +243,14 @@ template <class Real>
 Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) const {
   Cloth::LongestSpring longest;
   double worst = -1.0;  // below any length ratio: the first spring is taken
+  if (!on_grid_path()) {
+    for_each_ratio(which, [&](double ratio, uint32_t i, uint32_t j) {
+      if (ratio <= worst) return;
+      worst = ratio;
+      longest = {ratio, i, j};
+    });
+    return longest;
+  }
   const Real* x = x_.data();
   const std::size_t cols = scene_.cols;
   for (const Stencil& stencil : kProvotStencils) {
@@ -212,7 +263,10 @@ Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) con
         const double ratio = spring_length(x, stride_, r * cols + c, offset) * inverse_rest;
         if (ratio <= worst) continue;
         worst = ratio;
-        longest = {ratio, r, c, stencil.row_step, stencil.col_step};
+        const auto first = static_cast<uint32_t>(r * cols + c);
+        longest = {
+            ratio,           first, static_cast<uint32_t>(first + offset), r, c, stencil.row_step,
+            stencil.col_step};
       }
     }
   }

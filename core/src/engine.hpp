@@ -2,6 +2,7 @@
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <memory>
 #include <span>
 #include <vector>
@@ -39,7 +40,7 @@ class Engine {
   virtual double contact_work() const = 0;
 };
 
-std::unique_ptr<Engine> make_engine(const Scene& scene, Precision precision,
-                                    PipelineOptions options);
+std::unique_ptr<Engine> make_engine(const Scene& scene, std::shared_ptr<const ClothModel> model,
+                                    Precision precision, PipelineOptions options);
 
 }  // namespace clothlab::detail

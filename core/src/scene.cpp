@@ -3,6 +3,7 @@
 // value and the allowed range. The one scene validation: the conformance runner uses it too.
 #include <algorithm>
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/triangle_mesh.hpp>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -69,18 +70,51 @@ SpringFamily require_family(const std::string& name, const clothlab_spring_famil
           require_non_negative((name + ".kd").c_str(), family.kd)};
 }
 
-}  // namespace
-
-Scene scene_from_abi(const clothlab_scene& abi) {
+// Fields beyond struct_size were not written by the scenario: they read as zero.
+clothlab_scene copy_of(const clothlab_scene& abi) {
   if (abi.struct_size < offsetof(clothlab_scene, total_mass)) {
     reject("struct_size", std::to_string(abi.struct_size),
            ">= " + std::to_string(offsetof(clothlab_scene, total_mass)));
   }
-  // Fields beyond struct_size were not written by the scenario: they read as zero.
   clothlab_scene in;
   std::memset(&in, 0, sizeof in);
   std::memcpy(&in, &abi, std::min<std::size_t>(abi.struct_size, sizeof in));
+  return in;
+}
 
+// Everything but the grid's layout: mass, springs, forces and the pins (below `particles`,
+// which `limit` names).
+void copy_cloth_fields(const clothlab_scene& in, uint64_t particles, const std::string& limit,
+                       Scene& scene) {
+  scene.total_mass = require_positive("total_mass", in.total_mass);
+  scene.structural = require_family("structural", in.structural);
+  scene.shear = require_family("shear", in.shear);
+  scene.flexion = require_family("flexion", in.flexion);
+  scene.gravity = require_finite("gravity", in.gravity);
+  scene.wind_strength = require_non_negative("wind_strength", in.wind_strength);
+  scene.wind_direction = {1.0, 0.0, 0.0};
+  if (scene.wind_strength > 0.0) {
+    scene.wind_direction = require_unit("wind_direction", in.wind_direction);
+  }
+  if (in.pinned_count > 0 && in.pinned == nullptr) {
+    reject("pinned", "NULL with pinned_count " + std::to_string(in.pinned_count),
+           "an array of pinned_count indices");
+  }
+  scene.pinned.assign(in.pinned, in.pinned + in.pinned_count);
+  for (uint32_t index : scene.pinned) {
+    if (index >= particles) {
+      reject("pinned", std::to_string(index),
+             "indices < " + limit + " = " + std::to_string(particles));
+    }
+  }
+  std::sort(scene.pinned.begin(), scene.pinned.end());
+  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+}
+
+}  // namespace
+
+Scene scene_from_abi(const clothlab_scene& abi) {
+  const clothlab_scene in = copy_of(abi);
   Scene scene;
   if (in.rows < 1) reject("rows", std::to_string(in.rows), "integer >= 1");
   if (in.cols < 1) reject("cols", std::to_string(in.cols), "integer >= 1");
@@ -96,33 +130,20 @@ Scene scene_from_abi(const clothlab_scene& abi) {
                           scene.col_axis[2] * scene.row_axis[2];
   if (!(std::abs(std::abs(axes_dot) - 1.0) > unit_tolerance))
     reject("row_axis", format(in.row_axis), "not parallel to col_axis " + format(in.col_axis));
-  scene.total_mass = require_positive("total_mass", in.total_mass);
-  scene.structural = require_family("structural", in.structural);
-  scene.shear = require_family("shear", in.shear);
-  scene.flexion = require_family("flexion", in.flexion);
-  scene.gravity = require_finite("gravity", in.gravity);
-  scene.wind_strength = require_non_negative("wind_strength", in.wind_strength);
-  scene.wind_direction = {1.0, 0.0, 0.0};
-  if (scene.wind_strength > 0.0) {
-    scene.wind_direction = require_unit("wind_direction", in.wind_direction);
-  }
-
   const uint64_t particles = uint64_t{in.rows} * in.cols;
   if (particles > uint64_t{UINT32_MAX} / 4) {
     reject("rows*cols", std::to_string(particles), "<= " + std::to_string(UINT32_MAX / 4));
   }
-  if (in.pinned_count > 0 && in.pinned == nullptr) {
-    reject("pinned", "NULL with pinned_count " + std::to_string(in.pinned_count),
-           "an array of pinned_count indices");
-  }
-  scene.pinned.assign(in.pinned, in.pinned + in.pinned_count);
-  for (uint32_t index : scene.pinned) {
-    if (index >= particles) {
-      reject("pinned", std::to_string(index), "indices < rows*cols = " + std::to_string(particles));
-    }
-  }
-  std::sort(scene.pinned.begin(), scene.pinned.end());
-  scene.pinned.erase(std::unique(scene.pinned.begin(), scene.pinned.end()), scene.pinned.end());
+  copy_cloth_fields(in, particles, "rows*cols", scene);
+  return scene;
+}
+
+Scene mesh_scene_from_abi(const clothlab_scene& abi, uint32_t vertex_count) {
+  const clothlab_scene in = copy_of(abi);
+  Scene scene;
+  scene.rows = 0;  // not a grid: the layout fields are not read
+  scene.cols = 0;
+  copy_cloth_fields(in, vertex_count, "the mesh's vertex count", scene);
   return scene;
 }
 

@@ -14,7 +14,7 @@ constexpr std::size_t kMargin = 16;   // zeros left of a scratch row's column 0
 }  // namespace
 
 template <class Real>
-SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& topology,
+SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topology,
                                      const Real* inverse_mass, std::size_t stride, bool damping,
                                      int threads, bool parallel)
     : topology_(topology),
@@ -32,7 +32,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const GridTopology& top
       row_dots_(scene.rows, 0.0) {
   for (std::size_t i = 0; i < n_; ++i)
     mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
-  for (const Stencil& stencil : kProvotStencils) {  // as GridTopology lists the springs
+  for (const Stencil& stencil : kProvotStencils) {  // as build_grid_model lists the springs
     const SpringFamily& law = scene.*stencil.family;
     const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
     if ((law.ks == 0.0 && law.kd == 0.0) || extent.count() == 0) continue;

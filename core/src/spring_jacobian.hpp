@@ -19,6 +19,7 @@
 
 #include <clothlab/ext/jacobian.h>
 
+#include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -26,7 +27,6 @@
 #include "aligned_buffer.hpp"
 #include "definite_row_kernel.hpp"
 #include "grid.hpp"
-#include "grid_topology.hpp"
 #include "jacobian_row_kernel.hpp"
 
 namespace clothlab::detail {
@@ -35,7 +35,7 @@ template <class Real>
 class SpringJacobian {
  public:
   // damping: whether eval_acceleration applies spring damping when given velocities.
-  SpringJacobian(const Scene& scene, const GridTopology& topology, const Real* inverse_mass,
+  SpringJacobian(const Scene& scene, const ClothModel& topology, const Real* inverse_mass,
                  std::size_t stride, bool damping, int threads, bool parallel);
 
   // Whether the passes run on the thread team (false: on the calling thread alone); the engine
@@ -117,7 +117,7 @@ class SpringJacobian {
   template <class Body>
   void for_chunks(std::size_t count, Body&& body) const;
 
-  const GridTopology& topology_;
+  const ClothModel& topology_;
   const Real* inverse_mass_;
   std::size_t stride_;
   std::size_t n_;

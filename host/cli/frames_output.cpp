@@ -1,5 +1,7 @@
 #include "frames_output.hpp"
 
+#include <clothlab/host/errors.hpp>
+
 #include "run_report.hpp"
 
 namespace clothlab::cli {
@@ -25,10 +27,21 @@ io::FrameWriterOptions writer_options(const RunConfig& config, const Simulation&
   return options;
 }
 
+// The frame writer lays its vertices out as the grid (io::GridMesh): a cloth that is not one is
+// refused rather than written wrongly.
+const Scene& grid_scene(const Simulation& simulation) {
+  const Scene& scene = simulation.cloth().scene();
+  if (scene.rows == 0)
+    throw host::InputError("frames: scenario " + simulation.scenario_id() +
+                           " is a triangle mesh (clothlab.mesh/1), and frames are written for "
+                           "grid cloths only so far");
+  return scene;
+}
+
 }  // namespace
 
 FramesOutput::FramesOutput(const RunConfig& config, const Simulation& simulation)
-    : writer_(simulation.cloth().scene(), simulation.cloth().precision(),
+    : writer_(grid_scene(simulation), simulation.cloth().precision(),
               writer_options(config, simulation)) {}
 
 void FramesOutput::observe(const Cloth& cloth, uint64_t step, double t) {

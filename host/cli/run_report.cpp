@@ -120,12 +120,17 @@ nlohmann::json summary_json(const RunRecord& record) {
                          {"over_run", record.max_stretch_over_run}};
   if (record.max_stretch_over_run_time) {
     const Cloth::LongestSpring& spring = record.max_stretch_over_run_spring;
-    json["max_stretch"]["over_run_at"] = {
-        {"t", *record.max_stretch_over_run_time},
-        {"row", spring.row},
-        {"col", spring.col},
-        {"to_row", spring.row + spring.row_step},
-        {"to_col", static_cast<int64_t>(spring.col) + spring.col_step}};
+    if (record.rows == 0)  // not a grid: particles by index
+      json["max_stretch"]["over_run_at"] = {{"t", *record.max_stretch_over_run_time},
+                                            {"particle", spring.first},
+                                            {"to_particle", spring.second}};
+    else
+      json["max_stretch"]["over_run_at"] = {
+          {"t", *record.max_stretch_over_run_time},
+          {"row", spring.row},
+          {"col", spring.col},
+          {"to_row", spring.row + spring.row_step},
+          {"to_col", static_cast<int64_t>(spring.col) + spring.col_step}};
   }
   json["max_stretch_away_from_pins"] = {{"final", record.final_stretch.max_away_from_pins},
                                         {"over_run", record.max_stretch_away_from_pins_over_run}};
@@ -181,10 +186,13 @@ std::string human_summary(const RunRecord& record) {
   std::string where;
   if (record.max_stretch_over_run_time) {
     const Cloth::LongestSpring& spring = record.max_stretch_over_run_spring;
-    where =
-        printf_text(" at t = %.4g s, spring (%u, %u)-(%u, %lld)", *record.max_stretch_over_run_time,
-                    spring.row, spring.col, spring.row + spring.row_step,
-                    static_cast<long long>(spring.col) + spring.col_step);
+    where = record.rows == 0
+                ? printf_text(" at t = %.4g s, spring %u-%u", *record.max_stretch_over_run_time,
+                              spring.first, spring.second)
+                : printf_text(" at t = %.4g s, spring (%u, %u)-(%u, %lld)",
+                              *record.max_stretch_over_run_time, spring.row, spring.col,
+                              spring.row + spring.row_step,
+                              static_cast<long long>(spring.col) + spring.col_step);
   }
   text += printf_text("  stretch: max %.4g (final), %.4g (over the run%s), mean %.4g%s%s\n",
                       record.final_stretch.max, record.max_stretch_over_run, where.c_str(),
@@ -231,12 +239,15 @@ void write_state_csv(const Cloth& cloth, std::ostream& out) {
   std::vector<double> x, v;
   cloth.positions(x);
   cloth.velocities(v);
-  const uint32_t cols = cloth.scene().cols;
-  out << "row,col,x,y,z,vx,vy,vz\n";
+  const uint32_t cols = cloth.scene().cols;  // 0: not a grid, particles by index
+  out << (cols == 0 ? "particle,x,y,z,vx,vy,vz\n" : "row,col,x,y,z,vx,vy,vz\n");
   for (uint32_t i = 0; i < cloth.particle_count(); ++i) {
     const size_t k = 3 * static_cast<size_t>(i);
-    out << printf_text("%u,%u,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i / cols, i % cols, x[k],
-                       x[k + 1], x[k + 2], v[k], v[k + 1], v[k + 2]);
+    const std::string where =
+        cols == 0 ? printf_text("%u", i) : printf_text("%u,%u", i / cols, i % cols);
+    out << where
+        << printf_text(",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", x[k], x[k + 1], x[k + 2], v[k],
+                       v[k + 1], v[k + 2]);
   }
 }
 

@@ -6,12 +6,15 @@
 #include <chrono>
 #include <clothlab/analysis/projected_area.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 
 #include "scene_air.hpp"
+#include "scene_mesh.hpp"
 
 namespace clothlab::cli {
 
@@ -166,8 +169,23 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
   if (scene.gravity == Vec3{0, 0, 0}) return std::nullopt;
   std::vector<double> positions;
   cloth.positions(positions);
-  const std::vector<uint32_t> triangles = grid_triangles(scene.rows, scene.cols);
-  return analysis::projected_area(positions, triangles, scene.gravity) /
+  const ClothModel& model = *cloth.model();
+  if (!model.grid) {
+    // The mesh's own area at rest: the sum of its triangles'.
+    double rest_area = 0;
+    for (std::size_t t = 0; t < model.triangles.size(); t += 3) {
+      double e[2][3];
+      for (int side = 0; side < 2; ++side)
+        for (int k = 0; k < 3; ++k)
+          e[side][k] = model.rest_positions[3 * model.triangles[t + side + 1] + k] -
+                       model.rest_positions[3 * model.triangles[t] + k];
+      rest_area += 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1],
+                                    e[0][2] * e[1][0] - e[0][0] * e[1][2],
+                                    e[0][0] * e[1][1] - e[0][1] * e[1][0]);
+    }
+    return analysis::projected_area(positions, model.triangles, scene.gravity) / rest_area;
+  }
+  return analysis::projected_area(positions, model.triangles, scene.gravity) /
          (scene.width * scene.height);
 }
 
@@ -222,16 +240,10 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
   {
     scenario_instance_.emplace(
         create_with_user_params([&] { return scenario_->create(scenario_params); }));
-    Scene scene;
-    try {
-      scene = scene_from_abi(scenario_instance_->describe());
-    } catch (const std::invalid_argument& error) {
-      throw host::PluginError(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                              "scenario " + std::string(scenario_->info().id) +
-                                  " described an invalid scene: " + error.what());
-    }
+    SceneCloth described = scene_cloth(*scenario_, *scenario_instance_);
+    Scene& scene = described.scene;
     attachments_ = std::make_unique<SceneAttachments>(
-        *scenario_, *scenario_instance_, scene.rows * scene.cols, config.dt, config.steps);
+        *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps);
     if (!attachments_->empty() && !declares_trait(*integrator_, CLOTHLAB_TRAIT_MOVES_ATTACHMENTS))
       throw host::InputError("integrator " + std::string(integrator_->info().id) +
                              " does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS in "
@@ -249,8 +261,9 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     options.velocity_forces = integrator_->uses_velocity_forces();
     options.threads = config.threads;
     options.adaptive_threads = config.adaptive_threads;
-    cloth_ = std::make_unique<Cloth>(
-        scene, config.float64 ? Precision::Float64 : Precision::Float32, options);
+    cloth_ =
+        std::make_unique<Cloth>(scene, cloth_model(described),
+                                config.float64 ? Precision::Float64 : Precision::Float32, options);
     if (!attachments_->empty()) {
       cloth_->set_attachments(attachments_->particles(), *attachments_);
       (void)cloth_->move_attachments(0.0);  // checked finite when read above

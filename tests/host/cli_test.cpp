@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "../support/read_text.hpp"
 
@@ -432,6 +433,75 @@ TEST_F(Clothlab, AnIntegratorThatDoesNotResolveContactsIsRefusedOnAColliderScene
             "CLOTHLAB_TRAIT_RESOLVES_CONTACTS in clothlab.integrator-traits/1), which scenario "
             "test-collider's 1 collider(s) need\n");
   EXPECT_TRUE(outputs().empty());
+}
+
+// The test scenario's disc, offered as a triangle mesh (clothlab.mesh/1), hanging from rim
+// vertices 19 and 28: the host builds the core's model from the mesh.
+const std::string mesh_scene =
+    "--scenario=" + (test_plugins / "mesh" / "clothlab_test_mesh.so").string() + " ";
+
+TEST_F(Clothlab, EveryBuiltInWithoutGridExtensionsRunsAMeshAndKeepsItsPins) {
+  for (const char* integrator :
+       {"euler", "midpoint", "rk4", "verlet", "projective_dynamics", "xpbd", "vbd"}) {
+    const Outcome outcome = run(std::string("--integrator=") + integrator + " " + mesh_scene +
+                                "--dt 0.001 --duration 0.2 --state-out state.csv --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    std::ifstream csv(file("state.csv"));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "particle,x,y,z,vx,vy,vz") << integrator;  // not a grid: by index
+    int particles = 0;
+    double lowest = 0;
+    while (std::getline(csv, line)) {
+      std::stringstream fields(line);
+      std::string field;
+      std::vector<double> values;
+      while (std::getline(fields, field, ',')) values.push_back(std::stod(field));
+      ASSERT_EQ(values.size(), 7u) << integrator << ": " << line;
+      if (particles == 19) {
+        EXPECT_NEAR(values[1], 0.3, 1e-7) << integrator;  // a pin, where it started (float32)
+      }
+      if (particles == 28) {
+        EXPECT_NEAR(values[1], -0.3, 1e-7) << integrator;
+      }
+      lowest = std::min(lowest, values[2]);
+      ++particles;
+    }
+    EXPECT_EQ(particles, 37) << integrator;
+    EXPECT_LT(lowest, -0.01) << integrator << ": the disc did not sag";
+  }
+}
+
+TEST_F(Clothlab, AnIntegratorThatNeedsTheGridsJacobianRefusesAMeshInOneLine) {
+  const Outcome outcome = run("--integrator=implicit_euler " + mesh_scene + "--steps 10");
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: integrator implicit_euler prepare failed (unsupported): the host "
+            "lacks clothlab.jacobian/1\n");
+}
+
+TEST_F(Clothlab, FramesOfAMeshAreRefusedInOneLine) {
+  const Outcome outcome = run("--integrator=euler " + mesh_scene + "--steps 10 --frames frames");
+  EXPECT_EQ(outcome.exit_code, 1);
+  EXPECT_EQ(outcome.err,
+            "clothlab: error: frames: scenario test-mesh is a triangle mesh (clothlab.mesh/1), and "
+            "frames are written for grid cloths only so far\n");
+}
+
+TEST_F(Clothlab, ABadMeshIsOneLineBeforeTheRun) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"--set scenario.fault=1",
+       "scenario test-mesh described an invalid scene: mesh: triangle 1: vertex index 37 out of "
+       "range (37 vertices)"},
+      {"--set scenario.fault=2",
+       "scenario test-mesh described an invalid scene: scene.pinned = 37: allowed indices < the "
+       "mesh's vertex count = 37"},
+  };
+  for (const auto& [settings, message] : cases) {
+    const Outcome outcome = run("--integrator=euler " + mesh_scene + settings + " --steps 10");
+    EXPECT_EQ(outcome.exit_code, 2) << settings;
+    EXPECT_EQ(outcome.err, "clothlab: error: " + message + "\n") << settings;
+  }
 }
 
 TEST_F(Clothlab, MalformedCollidersAndPosesAreOneLineOfBadInputBeforeTheRun) {

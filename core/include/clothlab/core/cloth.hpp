@@ -93,6 +93,10 @@ struct PipelineOptions {
   // Steps bracketed by Cloth::begin_step / end_step run on the calling thread alone while a
   // step alone is faster than the team's, as when another process took a core (team_governor.hpp).
   bool adaptive_threads = true;
+  // Runs a grid on the spring-list path meshes take instead of its row pipeline (as Box2D's
+  // B2_FORCE_OVERFLOW): what tests hold the two paths equal with. The grid, jacobian,
+  // definite-jacobian and cg-step extensions are then not offered.
+  bool force_general_path = false;
 };
 
 // Cumulative counters since construction (or reset_counters), for the run summary.
@@ -118,9 +122,16 @@ class AttachmentSource {
                        std::span<double> velocities) noexcept = 0;
 };
 
+struct ClothModel;
+
 class Cloth {
  public:
+  // The scene's rows x cols grid (build_grid_model).
   Cloth(const Scene& scene, Precision precision, PipelineOptions options);
+  // Any cloth: `model` (cloth_model.hpp) gives the particles, springs and triangles; `scene` the
+  // gravity, wind and air (its rows, cols and layout are not read).
+  Cloth(const Scene& scene, std::shared_ptr<const ClothModel> model, Precision precision,
+        PipelineOptions options);
   ~Cloth();
   Cloth(const Cloth&) = delete;
   Cloth& operator=(const Cloth&) = delete;
@@ -129,6 +140,8 @@ class Cloth {
   const clothlab_system& system() const;
 
   const Scene& scene() const;
+  // The cloth as data: shared, immutable.
+  const std::shared_ptr<const ClothModel>& model() const;
   Precision precision() const;
   uint32_t particle_count() const;
   const SpringCounts& springs() const;
@@ -184,11 +197,13 @@ class Cloth {
   // that at least `fraction` (in (0, 1]) of them do not exceed; 1 without springs. A selection
   // over a copy of the ratios: for checks and reports, not the step loop.
   double stretch_percentile(Springs springs, double fraction) const;
-  // The spring with the largest length / rest length: from particle (row, col) to
-  // (row + row_step, col + col_step). Where the maximum of stretch() sits (a corner, a fold, a
-  // free edge); one scalar pass, for reports rather than the step loop.
+  // The spring with the largest length / rest length: from particle `first` to `second`, on a
+  // grid from (row, col) to (row + row_step, col + col_step) (all 0 on a mesh). Where the
+  // maximum of stretch() sits (a corner, a fold, a free edge); one scalar pass, for reports
+  // rather than the step loop.
   struct LongestSpring {
     double ratio = 1;
+    uint32_t first = 0, second = 0;
     uint32_t row = 0, col = 0;
     uint32_t row_step = 0;
     int32_t col_step = 0;

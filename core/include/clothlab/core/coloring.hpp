@@ -1,0 +1,40 @@
+// Colourings: items (springs or particles) grouped into independent sets, so that the members of
+// one colour can be updated in parallel (xpbd's constraint sweeps, vbd's vertex steps, the
+// smoothers). Greedy in index order: deterministic, and on cloth meshes within a few colours of
+// the degree bound.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace clothlab {
+
+// Colour c holds members[offsets[c] .. offsets[c + 1]), ascending (CSR).
+struct Coloring {
+  std::vector<uint32_t> offsets{0};
+  std::vector<uint32_t> members;
+
+  uint32_t count() const { return static_cast<uint32_t>(offsets.size() - 1); }
+  std::span<const uint32_t> color(uint32_t c) const {
+    return {members.data() + offsets[c], members.data() + offsets[c + 1]};
+  }
+};
+
+// Items grouped by color_of[item] (each < colors), ascending within a colour.
+Coloring group_by_color(std::span<const uint32_t> color_of, uint32_t colors);
+
+// Springs (first[k], second[k]) such that no two of a colour share a particle: each spring, in
+// index order, takes the smallest colour none of its particles' earlier springs has.
+// adjacency_offsets / adjacent_springs: the particle -> spring lists (ClothModel's).
+Coloring color_springs(std::span<const uint32_t> first, std::span<const uint32_t> second,
+                       std::span<const uint32_t> adjacency_offsets,
+                       std::span<const uint32_t> adjacent_springs);
+
+// Particles such that no spring joins two of a colour: each particle, in index order, takes the
+// smallest colour none of its earlier spring partners has.
+Coloring color_particles(std::span<const uint32_t> first, std::span<const uint32_t> second,
+                         std::span<const uint32_t> adjacency_offsets,
+                         std::span<const uint32_t> adjacent_springs);
+
+}  // namespace clothlab

@@ -1,0 +1,56 @@
+// A cloth given as any triangle mesh: its validation (the one every reader calls) and the
+// builder that derives the springs from the triangles (docs/reference/cloth-model.md):
+//   - every edge is a structural spring, except where two triangles form a planar rectangle
+//     split along its diagonal (the grid written as triangles): that diagonal and the other
+//     one are shear springs;
+//   - flexion springs join the ends of two structural edges that continue each other in a
+//     straight line (the grid's (0,2) and (2,0));
+//   - elsewhere, a shared structural edge that no such line crosses gets a flexion spring
+//     between the two vertices opposite it (Jolt's default distance bend).
+#pragma once
+
+#include <clothlab/ext/mesh.h>
+
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace clothlab {
+
+// The most particles a mesh may have (as the largest grid, 4096 x 4096).
+inline constexpr uint32_t kMaxMeshParticles = 4096u * 4096u;
+
+struct TriangleMesh {
+  std::vector<double> positions;    // 3 per vertex (m)
+  std::vector<uint32_t> triangles;  // 3 vertex indices per triangle
+  std::vector<double> masses;       // one per vertex (kg), or empty: total mass spread by area
+};
+
+// Why the mesh cannot be a cloth, in one line ("triangle 12: vertex index 40 out of range
+// (40 vertices)"), or "" when it can: empty mesh, more than max_particles vertices, a positions
+// or triangles array whose size is not a multiple of 3, a non-finite coordinate, an index out of
+// range, a triangle with a repeated corner or (nearly) zero area, an edge of more than two
+// triangles, a vertex in no triangle, masses of the wrong count or not finite and positive.
+std::string validate_triangle_mesh(std::span<const double> positions,
+                                   std::span<const uint32_t> triangles,
+                                   std::span<const double> masses = {},
+                                   uint32_t max_particles = kMaxMeshParticles);
+
+// The model of `mesh` with the springs derived as above, ks and kd from scene's families,
+// scene.total_mass spread by area (unless mesh.masses), scene.pinned. Throws
+// std::invalid_argument with validate_triangle_mesh's reason, or for a pin out of range.
+std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, const Scene& scene);
+
+// A scenario's clothlab.mesh/1 (copied) as a mesh: throws std::invalid_argument naming
+// "mesh.FIELD" for a short struct or a NULL array.
+TriangleMesh mesh_from_abi(const clothlab_mesh& mesh);
+// The scene of a scenario that offers clothlab.mesh/1: scene_from_abi's checks less the grid's
+// layout (rows, cols, width, height, origin and axes are not read; rows and cols are 0), the
+// pins checked against the mesh's vertex count.
+Scene mesh_scene_from_abi(const clothlab_scene& scene, uint32_t vertex_count);
+
+}  // namespace clothlab

@@ -1,0 +1,262 @@
+#include "spring_list_forces.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "air_kernel.hpp"
+#include "spring_kernel.hpp"
+#include "wind_kernel.hpp"
+
+namespace clothlab::detail {
+namespace {
+
+constexpr std::size_t kChunk = 1024;  // items per thread work item
+
+std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk; }
+
+}  // namespace
+
+template <class Real>
+SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& scene,
+                                         std::size_t stride, const Real* inverse_mass,
+                                         bool velocity_forces, int threads, bool parallel)
+    : n_(model.particle_count),
+      stride_(stride),
+      inverse_mass_(inverse_mass),
+      threads_(threads),
+      parallel_(parallel),
+      velocity_forces_(velocity_forces),
+      model_(model),
+      triangles_(model.triangles) {
+  const std::size_t springs = model.spring_count();
+  first_ = model.first;
+  second_ = model.second;
+  rest_ = AlignedBuffer<Real>(springs);
+  ks_ = AlignedBuffer<Real>(springs);
+  kd_ = AlignedBuffer<Real>(springs);
+  damped_.assign(springs, 0);
+  for (std::size_t s = 0; s < springs; ++s) {
+    rest_[s] = static_cast<Real>(model.rest_length[s]);
+    ks_[s] = static_cast<Real>(model.ks[s]);
+    kd_[s] = static_cast<Real>(model.kd[s]);
+    damped_[s] = velocity_forces && model.kd[s] > 0.0;
+    damped_count_ += damped_[s];
+  }
+  spring_force_ = AlignedBuffer<Real>(3 * springs);
+
+  for (int k = 0; k < 3; ++k) {
+    gravity_[k] = static_cast<Real>(scene.gravity[k]);
+    wind_direction_[k] = static_cast<Real>(scene.wind_direction[k]);
+    air_wind_[k] = static_cast<Real>(scene.air.wind_velocity[k]);
+  }
+  const std::size_t triangles = model.triangle_count();
+  wind_ = scene.has_wind() && triangles > 0;
+  air_ = scene.has_air() && triangles > 0;
+  wind_strength_sixth_ = static_cast<Real>(scene.wind_strength) / Real(6);
+  air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
+  air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
+  if (wind_ || air_) {
+    triangle_share_ = AlignedBuffer<Real>(3 * triangles);
+    triangle_offsets_.assign(n_ + 1, 0);
+    for (uint32_t corner : triangles_) ++triangle_offsets_[corner + 1];
+    for (std::size_t i = 0; i < n_; ++i) triangle_offsets_[i + 1] += triangle_offsets_[i];
+    adjacent_triangles_.resize(triangle_offsets_[n_]);
+    std::vector<uint32_t> next(triangle_offsets_.begin(), triangle_offsets_.end() - 1);
+    for (std::size_t t = 0; t < triangles; ++t)
+      for (int corner = 0; corner < 3; ++corner)
+        adjacent_triangles_[next[triangles_[3 * t + corner]]++] = static_cast<uint32_t>(t);
+  }
+  formed_x_ = AlignedBuffer<Real>(3 * stride_);
+  formed_v_ = AlignedBuffer<Real>(3 * stride_);
+}
+
+template <class Real>
+const Real* SpringListForces<Real>::form(const StateCombination<Real>& state, Real* out) {
+  if (state.count == 0) return state.base;
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(n_));
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t count = std::min(kChunk, n_ - begin);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride_ + begin;
+      const Real* vectors[StateCombination<Real>::kMaxTerms];
+      for (uint32_t t = 0; t < state.count; ++t) vectors[t] = state.vectors[t] + at;
+      combine_row(out + at, state.base + at, state.count, state.coefficients, vectors,
+                  inverse_mass_ + begin, count);
+    }
+  }
+  return out;
+}
+
+template <class Real>
+void SpringListForces<Real>::spring_pass(const Real* x, const Real* v) {
+  const std::size_t springs = first_.size();
+  const std::size_t s1 = stride_, s2 = 2 * stride_;
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(springs));
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(springs, begin + kChunk);
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::size_t i = first_[s], j = second_[s];
+      const Real dx = x[j] - x[i], dy = x[j + s1] - x[i + s1], dz = x[j + s2] - x[i + s2];
+      Real scale;
+      if (v != nullptr && damped_[s]) {
+        scale = spring_force_scale<true, Real>(dx, dy, dz, v[j] - v[i], v[j + s1] - v[i + s1],
+                                               v[j + s2] - v[i + s2], rest_[s], ks_[s], kd_[s]);
+      } else {
+        scale = spring_force_scale<false, Real>(dx, dy, dz, 0, 0, 0, rest_[s], ks_[s], 0);
+      }
+      spring_force_[3 * s] = scale * dx;
+      spring_force_[3 * s + 1] = scale * dy;
+      spring_force_[3 * s + 2] = scale * dz;
+    }
+  }
+}
+
+template <class Real>
+void SpringListForces<Real>::triangle_pass(const Real* x, const Real* v) {
+  const std::size_t triangles = triangles_.size() / 3;
+  const std::size_t s1 = stride_, s2 = 2 * stride_;
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(triangles));
+  const Real third = Real(1) / Real(3);
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(triangles, begin + kChunk);
+    for (std::size_t t = begin; t < end; ++t) {
+      const std::size_t a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+      const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
+      const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};
+      Real share[3] = {0, 0, 0};
+      if (wind_) triangle_wind_share(e1, e2, wind_direction_, wind_strength_sixth_, share);
+      if (air_) {
+        Real velocity[3] = {0, 0, 0};
+        if (v != nullptr)
+          for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t at = k * stride_;
+            velocity[k] = (v[a + at] + v[b + at] + v[c + at]) * third;
+          }
+        Real air[3];
+        triangle_air_share(e1, e2, velocity, air_wind_, air_drag_twelfth_, air_lift_twelfth_, air);
+        for (int k = 0; k < 3; ++k) share[k] += air[k];
+      }
+      for (int k = 0; k < 3; ++k) triangle_share_[3 * t + k] = share[k];
+    }
+  }
+}
+
+template <class Real>
+Real SpringListForces<Real>::gather(Real* a, bool springs, bool triangles) {
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(n_));
+  const std::vector<uint32_t>& spring_offsets = model_.adjacency_offsets;
+  const std::vector<uint32_t>& adjacent_springs = model_.adjacent_springs;
+  Real check = 0;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_) reduction(+ : check)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(n_, begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i) {
+      const Real inverse_mass = inverse_mass_[i];
+      Real force[3] = {0, 0, 0};
+      if (inverse_mass > Real(0)) {
+        if (springs)
+          for (uint32_t e = spring_offsets[i]; e < spring_offsets[i + 1]; ++e) {
+            const uint32_t s = adjacent_springs[e];
+            const Real sign = first_[s] == i ? Real(1) : Real(-1);
+            for (int k = 0; k < 3; ++k) force[k] += sign * spring_force_[3 * s + k];
+          }
+        if (triangles)
+          for (uint32_t e = triangle_offsets_[i]; e < triangle_offsets_[i + 1]; ++e)
+            for (int k = 0; k < 3; ++k) force[k] += triangle_share_[3 * adjacent_triangles_[e] + k];
+      }
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Real value = inverse_mass > Real(0) ? force[k] * inverse_mass + gravity_[k] : Real(0);
+        a[k * stride_ + i] = value;
+        check += Real(0) * value;
+      }
+    }
+  }
+  return check;
+}
+
+template <class Real>
+bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
+                                      const StateCombination<Real>* v, Real* a,
+                                      StageCounters& counters) {
+  const Real* positions = form(x, formed_x_.data());
+  const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
+  spring_pass(positions, velocities);
+  const bool cells = wind_ || air_;
+  if (cells) triangle_pass(positions, velocities);
+  const Real check = gather(a, true, cells);
+  ++counters.force_evals;
+  counters.springs_evaluated += first_.size();
+  counters.springs_damped += velocities != nullptr ? damped_count_ : 0;
+  counters.normals_computed += cells ? triangles_.size() / 3 : 0;
+  return check == Real(0);
+}
+
+template <class Real>
+bool SpringListForces<Real>::evaluate_external(const Real* x, const Real* v, Real* a) {
+  const bool cells = wind_ || air_;
+  if (cells) triangle_pass(x, v);
+  return gather(a, false, cells) == Real(0);
+}
+
+template <class Real>
+void SpringListForces<Real>::reserve_stages(uint32_t stages) {
+  while (stage_a_.size() < stages) stage_a_.emplace_back(3 * stride_);
+  reserved_stages_ = std::max(reserved_stages_, stages);
+}
+
+template <class Real>
+bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
+                                      StageCounters& counters) {
+  bool finite = true;
+  for (uint32_t s = 0; s < step.stages; ++s) {
+    // X_s = x + x_velocity[s] v + sum_k x_stage[s][k] A_k, V_s = v + sum_k v_stage[s][k] A_k.
+    StateCombination<Real> stage_x, stage_v;
+    stage_x.base = x;
+    stage_x.vectors[0] = v;
+    stage_x.coefficients[0] = step.x_velocity[s];
+    stage_x.count = 1 + s;
+    stage_v.base = v;
+    stage_v.count = s;
+    for (uint32_t k = 0; k < s; ++k) {
+      stage_x.vectors[1 + k] = stage_a_[k].data();
+      stage_x.coefficients[1 + k] = step.x_stage[s][k];
+      stage_v.vectors[k] = stage_a_[k].data();
+      stage_v.coefficients[k] = step.v_stage[s][k];
+    }
+    finite = evaluate(stage_x, &stage_v, stage_a_[s].data(), counters) && finite;
+  }
+  // x += h v + sum_k x_weights[k] A_k, v += sum_k v_weights[k] A_k on the active particles.
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(n_));
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(n_, begin + kChunk);
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t i = begin; i < end; ++i) {
+        if (inverse_mass_[i] == Real(0)) continue;
+        const std::size_t at = k * stride_ + i;
+        Real dx = step.h * v[at], dv = 0;
+        for (uint32_t s = 0; s < step.stages; ++s) {
+          dx += step.x_weights[s] * stage_a_[s][at];
+          dv += step.v_weights[s] * stage_a_[s][at];
+        }
+        x[at] += dx;
+        v[at] += dv;
+      }
+  }
+  return finite;
+}
+
+template class SpringListForces<float>;
+template class SpringListForces<double>;
+
+}  // namespace clothlab::detail

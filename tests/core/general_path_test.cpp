@@ -1,0 +1,301 @@
+// The spring-list path (any mesh) against the grid's row pipeline: the switch
+// PipelineOptions::force_general_path runs a grid on it, so the two must agree to rounding, in
+// forces, energy and stretch, and in whole runs of every explicit built-in; the same bits on any
+// thread count; the extensions it cannot offer are missing (integrators refuse then).
+#include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/external_forces.h>
+#include <clothlab/ext/grid.h>
+#include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/topology.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
+#include <clothlab/core/triangle_mesh.hpp>
+#include <clothlab/host/plugin_library.hpp>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth_test_support.hpp"
+#include "mesh_test_support.hpp"
+
+namespace clothlab {
+namespace {
+
+PipelineOptions general_options(int threads = 1) {
+  PipelineOptions options;
+  options.threads = threads;
+  options.adaptive_threads = false;
+  options.force_general_path = true;
+  return options;
+}
+
+PipelineOptions grid_options(int threads = 1) {
+  PipelineOptions options = general_options(threads);
+  options.force_general_path = false;
+  return options;
+}
+
+// A state off rest: springs stretched and sheared, everything moving.
+void perturb(Cloth& cloth) {
+  std::vector<double> x, v;
+  cloth.positions(x);
+  cloth.velocities(v);
+  for (std::size_t c = 0; c < x.size(); ++c) {
+    x[c] += 0.01 * std::sin(1.7 * static_cast<double>(c) + 0.3);
+    v[c] = 0.2 * std::cos(0.9 * static_cast<double>(c));
+  }
+  cloth.set_state(x, v);
+}
+
+// eval_acceleration at the cloth's state, particle-major.
+std::vector<double> accelerations(Cloth& cloth, bool with_velocities = true) {
+  const clothlab_system& system = cloth.system();
+  void* a = system.alloc_vector(system.context);
+  EXPECT_EQ(system.eval_acceleration(system.context, 0.0, system.x,
+                                     with_velocities ? system.v : nullptr, a),
+            CLOTHLAB_OK);
+  std::vector<double> out(3 * std::size_t{system.particle_count});
+  for (std::size_t i = 0; i < system.particle_count; ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * system.stride + i;
+      out[3 * i + k] = system.precision == CLOTHLAB_FLOAT64 ? static_cast<const double*>(a)[at]
+                                                            : static_cast<const float*>(a)[at];
+    }
+  return out;
+}
+
+double max_abs(const std::vector<double>& values) {
+  double largest = 0;
+  for (double value : values) largest = std::max(largest, std::abs(value));
+  return largest;
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double largest = 0;
+  for (std::size_t c = 0; c < a.size(); ++c) largest = std::max(largest, std::abs(a[c] - b[c]));
+  return largest;
+}
+
+Scene airy_scene(uint32_t rows, uint32_t cols) {
+  Scene scene = testing::busy_scene(rows, cols);
+  scene.air = {{2.0, 0.5, 3.0}, 1.225, 1.2, 0.8};
+  return scene;
+}
+
+TEST(GeneralPath, ForcesAgreeWithTheGridPipeline) {
+  for (const Scene& scene : {testing::busy_scene(9, 11), airy_scene(7, 20), airy_scene(30, 6)}) {
+    for (Precision precision : {Precision::Float64, Precision::Float32}) {
+      SCOPED_TRACE(std::to_string(scene.rows) + "x" + std::to_string(scene.cols) + " " +
+                   to_string(precision));
+      Cloth grid(scene, precision, grid_options());
+      Cloth general(scene, precision, general_options());
+      perturb(grid);
+      perturb(general);
+      for (bool damped : {true, false}) {
+        const std::vector<double> expected = accelerations(grid, damped);
+        const double tolerance =
+            (precision == Precision::Float64 ? 1e-12 : 2e-5) * max_abs(expected);
+        EXPECT_LE(max_difference(accelerations(general, damped), expected), tolerance);
+      }
+    }
+  }
+}
+
+TEST(GeneralPath, ExternalForcesAgreeWithTheGridPipeline) {
+  const Scene scene = airy_scene(8, 9);
+  Cloth grid(scene, Precision::Float64, grid_options());
+  Cloth general(scene, Precision::Float64, general_options());
+  perturb(grid);
+  perturb(general);
+  std::vector<double> results[2];
+  for (Cloth* cloth : {&grid, &general}) {
+    const clothlab_system& system = cloth->system();
+    const auto* external = static_cast<const clothlab_external_forces_extension*>(
+        system.get_extension(system.context, CLOTHLAB_EXT_EXTERNAL_FORCES));
+    ASSERT_NE(external, nullptr);
+    EXPECT_EQ(external->depends_on_position(system.context), 1);
+    auto* a = static_cast<double*>(system.alloc_vector(system.context));
+    ASSERT_EQ(external->acceleration(system.context, 0.0, system.x, a), CLOTHLAB_OK);
+    results[cloth == &general].assign(a, a + 3 * system.stride);
+  }
+  EXPECT_LE(max_difference(results[0], results[1]), 1e-12 * max_abs(results[0]));
+}
+
+TEST(GeneralPath, MeshOfTheGridWithItsMassesMovesLikeTheGrid) {
+  // The grid's own triangles (cells split as grid_triangles does) and its equal masses: the
+  // mesh builder's model then exerts the grid's forces.
+  const Scene scene = airy_scene(10, 12);
+  TriangleMesh mesh = testing::grid_mesh(scene, testing::Diagonals::Rising);
+  mesh.masses.assign(scene.rows * scene.cols, scene.total_mass / (scene.rows * scene.cols));
+  Cloth grid(scene, Precision::Float64, grid_options());
+  Cloth general(scene, build_mesh_model(mesh, scene), Precision::Float64, general_options());
+  perturb(grid);
+  perturb(general);
+  const std::vector<double> expected = accelerations(grid);
+  EXPECT_LE(max_difference(accelerations(general), expected), 1e-12 * max_abs(expected));
+}
+
+TEST(GeneralPath, EnergyAndStretchAgreeWithTheGridPath) {
+  Scene scene = testing::busy_scene(12, 9);
+  Cloth grid(scene, Precision::Float64, grid_options());
+  Cloth general(scene, Precision::Float64, general_options());
+  perturb(grid);
+  perturb(general);
+  const Cloth::Energy e_grid = grid.energy(), e_general = general.energy();
+  EXPECT_NEAR(e_general.kinetic, e_grid.kinetic, 1e-12 * e_grid.kinetic);
+  EXPECT_NEAR(e_general.spring, e_grid.spring, 1e-12 * e_grid.spring);
+  EXPECT_NEAR(e_general.gravity, e_grid.gravity, 1e-12 * std::abs(e_grid.gravity));
+  for (Cloth::Springs which : {Cloth::Springs::All, Cloth::Springs::Structural}) {
+    const Cloth::Stretch s_grid = grid.stretch(which), s_general = general.stretch(which);
+    EXPECT_DOUBLE_EQ(s_general.max, s_grid.max);
+    EXPECT_NEAR(s_general.mean, s_grid.mean, 1e-12);
+    EXPECT_DOUBLE_EQ(s_general.max_away_from_pins, s_grid.max_away_from_pins);
+    EXPECT_DOUBLE_EQ(general.stretch_percentile(which, 0.9), grid.stretch_percentile(which, 0.9));
+    const Cloth::LongestSpring l_grid = grid.longest_spring(which);
+    const Cloth::LongestSpring l_general = general.longest_spring(which);
+    EXPECT_DOUBLE_EQ(l_general.ratio, l_grid.ratio);
+    EXPECT_EQ(l_general.first, l_grid.first);
+    EXPECT_EQ(l_general.second, l_grid.second);
+  }
+}
+
+// Runge-Kutta-Nystrom steps of the classic RK4 on `cloth` (steps of 10 us: stable on the stiff
+// test scenes); its positions after.
+std::vector<double> rk4_steps(Cloth& cloth, int steps) {
+  static constexpr double c[4] = {0, 0.5, 0.5, 1}, alpha[4] = {0, 0.5, 0.5, 1};
+  static constexpr double x_coupling[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0.25, 0, 0, 0, 0, 0.5, 0};
+  static constexpr double v_coupling[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
+  static constexpr double x_weights[4] = {1.0 / 6, 1.0 / 6, 1.0 / 6, 0};
+  static constexpr double v_weights[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
+  const clothlab_rkn_scheme scheme{sizeof scheme, 4,          c,         alpha,
+                                   x_coupling,    v_coupling, x_weights, v_weights};
+  const clothlab_system& system = cloth.system();
+  EXPECT_EQ(system.reserve_rkn(system.context, 4), CLOTHLAB_OK);
+  for (int s = 0; s < steps; ++s)
+    EXPECT_EQ(system.step_rkn(system.context, s * 1e-5, 1e-5, &scheme), CLOTHLAB_OK);
+  std::vector<double> x;
+  cloth.positions(x);
+  return x;
+}
+
+TEST(GeneralPath, SameBitsOnAnyThreadCount) {
+  const Scene scene = airy_scene(72, 70);  // past parallel_from_particles: the team runs
+  const auto mesh = build_mesh_model(testing::irregular_mesh(70, 72), scene);
+  for (Precision precision : {Precision::Float32, Precision::Float64}) {
+    Cloth one(scene, precision, general_options(1)), two(scene, precision, general_options(2));
+    Cloth mesh_one(scene, mesh, precision, general_options(1));
+    Cloth mesh_three(scene, mesh, precision, general_options(3));
+    ASSERT_EQ(two.threads(), 2);
+    ASSERT_EQ(mesh_three.threads(), 3);
+    EXPECT_EQ(rk4_steps(one, 5), rk4_steps(two, 5));
+    EXPECT_EQ(rk4_steps(mesh_one, 5), rk4_steps(mesh_three, 5));
+  }
+}
+
+TEST(GeneralPath, OffersTheTopologyButNotTheGridOnlyExtensions) {
+  const Scene scene = testing::busy_scene(6, 5);
+  Cloth grid(scene, Precision::Float64, grid_options());
+  Cloth general(scene, Precision::Float64, general_options());
+  for (const char* id : {CLOTHLAB_EXT_GRID, CLOTHLAB_EXT_JACOBIAN, CLOTHLAB_EXT_CG_STEP}) {
+    EXPECT_NE(grid.system().get_extension(grid.system().context, id), nullptr) << id;
+    EXPECT_EQ(general.system().get_extension(general.system().context, id), nullptr) << id;
+  }
+  const auto* topology = static_cast<const clothlab_topology_extension*>(
+      general.system().get_extension(general.system().context, CLOTHLAB_EXT_TOPOLOGY));
+  ASSERT_NE(topology, nullptr);
+  clothlab_topology t{};
+  t.struct_size = sizeof t;
+  ASSERT_EQ(topology->get(general.system().context, &t), CLOTHLAB_OK);
+  EXPECT_EQ(t.spring_count, general.model()->spring_count());
+  EXPECT_EQ(t.spring_color_count, 12u);
+  EXPECT_EQ(t.first, general.model()->first.data());
+}
+
+// ---------------------------------------------------------------- the explicit built-ins
+
+std::string plugin_path(const std::string& id) {
+  if (id == "euler") return CLOTHLAB_TEST_EULER_PLUGIN;
+  if (id == "midpoint") return CLOTHLAB_TEST_MIDPOINT_PLUGIN;
+  if (id == "rk4") return CLOTHLAB_TEST_RK4_PLUGIN;
+  return CLOTHLAB_TEST_VERLET_PLUGIN;
+}
+
+// The positions after `seconds` of `id` at its defaults on `scene`, particle-major.
+std::vector<double> run(const std::string& id, const Scene& scene, bool general, double seconds,
+                        double dt) {
+  const host::PluginLibrary library = host::PluginLibrary::load(plugin_path(id));
+  const clothlab_integrator& integrator = library.integrator().descriptor();
+  std::vector<clothlab_param_value> values(integrator.param_count);
+  for (uint32_t p = 0; p < integrator.param_count; ++p)
+    for (int k = 0; k < 3; ++k) values[p].v[k] = integrator.params[p].default_value[k];
+  PipelineOptions options = general ? general_options() : grid_options();
+  options.velocity_forces = (integrator.flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
+  Cloth cloth(scene, Precision::Float64, options);
+  clothlab_message message{};
+  void* instance = nullptr;
+  EXPECT_EQ(integrator.create(values.data(), integrator.param_count, &instance, &message),
+            CLOTHLAB_OK)
+      << message.text;
+  EXPECT_EQ(integrator.prepare(instance, &cloth.system(), &message), CLOTHLAB_OK) << message.text;
+  const int steps = static_cast<int>(std::lround(seconds / dt));
+  for (int s = 0; s < steps; ++s)
+    EXPECT_EQ(integrator.step(instance, &cloth.system(), s * dt, dt, &message), CLOTHLAB_OK)
+        << message.text;
+  integrator.destroy(instance);
+  std::vector<double> x;
+  cloth.positions(x);
+  return x;
+}
+
+// The built-in sheet and flag (plugins/scenarios) at a test's size.
+Scene sheet_scene() {
+  Scene scene = testing::bare_scene(15, 15);
+  scene.width = scene.height = 1.0;
+  scene.origin = {-0.5, 1.0, 0.0};
+  scene.total_mass = 0.3;
+  scene.structural = {20.0, 0.014};
+  scene.shear = {10.0, 0.007};
+  scene.flexion = {1.0, 0.0007};
+  scene.gravity = {0, -9.81, 0};
+  scene.pinned = {0, 14};
+  return scene;
+}
+
+Scene flag_scene() {
+  Scene scene = sheet_scene();
+  scene.origin = {0.0, 1.0, 0.0};
+  scene.pinned.clear();
+  for (uint32_t r = 0; r < scene.rows; ++r) scene.pinned.push_back(r * scene.cols);
+  const double length = std::hypot(1.0, 0.5);
+  scene.wind_direction = {1.0 / length, 0.0, 0.5 / length};
+  scene.wind_strength = 5.0;
+  return scene;
+}
+
+class ExplicitBuiltIn : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ExplicitBuiltIn, GeneralPathMovesLikeTheGridPath) {
+  const double size = 1.0;  // the cloth's width and height
+  const double dt = 1e-3;
+  const Scene sheet = sheet_scene(), flag = flag_scene();
+  EXPECT_LE(
+      max_difference(run(GetParam(), sheet, true, 1.0, dt), run(GetParam(), sheet, false, 1.0, dt)),
+      1e-6 * size)
+      << "sheet after 1 s";
+  EXPECT_LE(
+      max_difference(run(GetParam(), flag, true, 0.1, dt), run(GetParam(), flag, false, 0.1, dt)),
+      1e-6 * size)
+      << "flag after 0.1 s";
+}
+
+INSTANTIATE_TEST_SUITE_P(Integrators, ExplicitBuiltIn,
+                         ::testing::Values("euler", "midpoint", "rk4", "verlet"),
+                         [](const auto& info) { return std::string(info.param); });
+
+}  // namespace
+}  // namespace clothlab

@@ -1,0 +1,110 @@
+// Triangle meshes built in code for the mesh tests: a scene's grid written as triangles, a disc
+// and an irregular (jittered, randomly split) sheet.
+#pragma once
+
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/core/triangle_mesh.hpp>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+namespace clothlab::testing {
+
+// How each grid cell is split: along the diagonal from (r, c) to (r+1, c+1) ("\"), along the
+// other one ("/"), or alternating like a chequerboard.
+enum class Diagonals { Falling, Rising, Alternating };
+
+// The grid of `scene` as triangles over the same positions (the engine's layout), each cell two
+// counter-clockwise triangles as `diagonals` says.
+inline TriangleMesh grid_mesh(const Scene& scene, Diagonals diagonals) {
+  TriangleMesh mesh;
+  const uint32_t rows = scene.rows, cols = scene.cols;
+  for (uint32_t r = 0; r < rows; ++r)
+    for (uint32_t c = 0; c < cols; ++c)
+      for (int k = 0; k < 3; ++k)
+        mesh.positions.push_back(scene.origin[k] + c * scene.column_spacing() * scene.col_axis[k] +
+                                 r * scene.row_spacing() * scene.row_axis[k]);
+  for (uint32_t r = 0; r + 1 < rows; ++r)
+    for (uint32_t c = 0; c + 1 < cols; ++c) {
+      const uint32_t a = r * cols + c, b = a + 1, below = a + cols, d = below + 1;
+      const bool falling = diagonals == Diagonals::Falling ||
+                           (diagonals == Diagonals::Alternating && (r + c) % 2 == 0);
+      if (falling)
+        mesh.triangles.insert(mesh.triangles.end(), {a, b, d, a, d, below});
+      else
+        mesh.triangles.insert(mesh.triangles.end(), {a, below, b, b, below, d});
+    }
+  return mesh;
+}
+
+// A disc of `rings` rings around a centre, ring k of 6k vertices at radius k * spacing, in the
+// xy plane: every inner vertex has about six neighbours, as in a remeshed garment.
+inline TriangleMesh disc_mesh(uint32_t rings, double spacing) {
+  TriangleMesh mesh;
+  mesh.positions = {0.0, 0.0, 0.0};
+  uint32_t inner_first = 0, inner_count = 1;
+  for (uint32_t k = 1; k <= rings; ++k) {
+    const uint32_t outer_first = static_cast<uint32_t>(mesh.positions.size() / 3);
+    const uint32_t outer_count = 6 * k;
+    for (uint32_t j = 0; j < outer_count; ++j) {
+      const double angle = 2 * std::numbers::pi * j / outer_count;
+      mesh.positions.insert(mesh.positions.end(),
+                            {k * spacing * std::cos(angle), k * spacing * std::sin(angle), 0.0});
+    }
+    // Zip the two rings by angle: each triangle advances one of them by a vertex.
+    const uint32_t triangles = (inner_count > 1 ? inner_count : 0) + outer_count;
+    for (uint32_t t = 0, i = 0, j = 0; t < triangles; ++t) {
+      const uint32_t inner = inner_first + i % inner_count;
+      const uint32_t outer = outer_first + j % outer_count;
+      const bool advance_inner =
+          inner_count > 1 && i < inner_count &&
+          (j == outer_count || uint64_t{i + 1} * outer_count < uint64_t{j + 1} * inner_count);
+      if (advance_inner) {
+        mesh.triangles.insert(mesh.triangles.end(),
+                              {inner, outer, inner_first + (i + 1) % inner_count});
+        ++i;
+      } else {
+        mesh.triangles.insert(mesh.triangles.end(),
+                              {inner, outer, outer_first + (j + 1) % outer_count});
+        ++j;
+      }
+    }
+    inner_first = outer_first;
+    inner_count = outer_count;
+  }
+  return mesh;
+}
+
+// A rows x cols sheet of unit spacing in the xy plane, each vertex moved by up to a quarter of
+// the spacing (and a little out of plane) and each cell split along a diagonal chosen by a
+// hash: no rectangles, no straight lines of edges.
+inline TriangleMesh irregular_mesh(uint32_t rows, uint32_t cols) {
+  TriangleMesh mesh;
+  auto hash = [](uint32_t value) {
+    value ^= value >> 16;
+    value *= 0x7feb352dU;
+    value ^= value >> 15;
+    value *= 0x846ca68bU;
+    return value ^ (value >> 16);
+  };
+  auto jitter = [&](uint32_t i, uint32_t k) {
+    return (static_cast<double>(hash(3 * i + k) % 1000) / 1000.0 - 0.5) * 0.5;
+  };
+  for (uint32_t r = 0; r < rows; ++r)
+    for (uint32_t c = 0; c < cols; ++c) {
+      const uint32_t i = r * cols + c;
+      mesh.positions.insert(mesh.positions.end(),
+                            {c + jitter(i, 0), -(r + jitter(i, 1)), 0.2 * jitter(i, 2)});
+    }
+  for (uint32_t r = 0; r + 1 < rows; ++r)
+    for (uint32_t c = 0; c + 1 < cols; ++c) {
+      const uint32_t a = r * cols + c, b = a + 1, below = a + cols, d = below + 1;
+      if (hash(a + 7919) % 2 == 0)
+        mesh.triangles.insert(mesh.triangles.end(), {a, b, d, a, d, below});
+      else
+        mesh.triangles.insert(mesh.triangles.end(), {a, below, b, b, below, d});
+    }
+  return mesh;
+}
+
+}  // namespace clothlab::testing
