@@ -4,7 +4,8 @@
 #                          and npm's three.js for `clothlab view`
 #   install-deps.sh test   that, plus what the tests need (tools/test.sh, CI): GoogleTest and
 #                          Benchmark, Python with matplotlib and VTK, Chromium for the viewer's
-#                          browser test, Slurm for the --slurm test
+#                          browser test, Slurm for the --slurm test, Bullet for the peer
+#                          benchmark (bench/peer_bullet.cpp)
 set -euo pipefail
 profile="${1:-test}"
 packages=(
@@ -17,7 +18,7 @@ case "$profile" in
   run) ;;
   test)
     packages+=(
-      libgtest-dev libgmock-dev libbenchmark-dev binutils
+      libgtest-dev libgmock-dev libbenchmark-dev binutils libbullet-dev
       python3 python3-matplotlib python3-vtk9 python3-numpy python3-pil chromium
       slurmctld slurmd slurm-client munge
     )

@@ -85,6 +85,48 @@ inline double lane_sum(const Doubles (&sums)[2]) {
          ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
 }
 
+// 1/s to within about 14 (AVX-512) or 12 (AVX2) bits.
+inline Floats reciprocal_estimate(Floats s) {
+  return _mm512_maskz_rcp14_ps(__mmask16(0xffff), s);  // maskz: see add_widened
+}
+inline LaneMask not_equal(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ); }
+// c + a b in the lanes of the mask, c in the others.
+inline Floats masked_fused_multiply_add(LaneMask lanes, Floats a, Floats b, Floats c) {
+  return _mm512_mask3_fmadd_ps(a, b, c, lanes);
+}
+// c - a b in the lanes of the mask, c in the others.
+inline Floats masked_fused_negated_multiply_add(LaneMask lanes, Floats a, Floats b, Floats c) {
+  return _mm512_mask3_fnmadd_ps(a, b, c, lanes);
+}
+// a + b in the lanes of the mask, a in the others.
+inline Floats masked_add(LaneMask lanes, Floats a, Floats b) {
+  return _mm512_mask_add_ps(a, lanes, a, b);
+}
+// The two ends of the pairs in a run of 2 kLanes floats, a then b, whose first ends are the
+// first Step of every 2 Step floats and whose second ends lie Step further. Shuffles within
+// each 128-bit quarter only: the pairs come out in a fixed order of the run's quarters
+// (xpbd_row_kernel.hpp keeps track), not in the run's order; interleave puts them back.
+template <int Step>
+inline void deinterleave(Floats a, Floats b, Floats& first, Floats& second) {
+  static_assert(Step == 1 || Step == 2);
+  // maskz forms: see add_widened.
+  first = _mm512_maskz_shuffle_ps(0xffff, a, b,
+                                  Step == 1 ? _MM_SHUFFLE(2, 0, 2, 0) : _MM_SHUFFLE(1, 0, 1, 0));
+  second = _mm512_maskz_shuffle_ps(0xffff, a, b,
+                                   Step == 1 ? _MM_SHUFFLE(3, 1, 3, 1) : _MM_SHUFFLE(3, 2, 3, 2));
+}
+template <int Step>
+inline void interleave(Floats first, Floats second, Floats& a, Floats& b) {
+  static_assert(Step == 1 || Step == 2);
+  if constexpr (Step == 1) {
+    a = _mm512_maskz_unpacklo_ps(0xffff, first, second);
+    b = _mm512_maskz_unpackhi_ps(0xffff, first, second);
+  } else {
+    a = _mm512_maskz_shuffle_ps(0xffff, first, second, _MM_SHUFFLE(1, 0, 1, 0));
+    b = _mm512_maskz_shuffle_ps(0xffff, first, second, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+}
+
 #else  // AVX2 and FMA
 
 using Floats = __m256;
@@ -149,16 +191,46 @@ inline double lane_sum(const Doubles (&sums)[2]) {
   return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
 }
 
+inline Floats reciprocal_estimate(Floats s) { return _mm256_rcp_ps(s); }
+inline LaneMask not_equal(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_NEQ_UQ)}; }
+inline Floats masked_fused_multiply_add(LaneMask lanes, Floats a, Floats b, Floats c) {
+  return _mm256_blendv_ps(c, _mm256_fmadd_ps(a, b, c), lanes.bits);
+}
+inline Floats masked_fused_negated_multiply_add(LaneMask lanes, Floats a, Floats b, Floats c) {
+  return _mm256_blendv_ps(c, _mm256_fnmadd_ps(a, b, c), lanes.bits);
+}
+inline Floats masked_add(LaneMask lanes, Floats a, Floats b) {
+  return _mm256_blendv_ps(a, a + b, lanes.bits);
+}
+template <int Step>
+inline void deinterleave(Floats a, Floats b, Floats& first, Floats& second) {
+  static_assert(Step == 1 || Step == 2);
+  first = _mm256_shuffle_ps(a, b, Step == 1 ? _MM_SHUFFLE(2, 0, 2, 0) : _MM_SHUFFLE(1, 0, 1, 0));
+  second = _mm256_shuffle_ps(a, b, Step == 1 ? _MM_SHUFFLE(3, 1, 3, 1) : _MM_SHUFFLE(3, 2, 3, 2));
+}
+template <int Step>
+inline void interleave(Floats first, Floats second, Floats& a, Floats& b) {
+  static_assert(Step == 1 || Step == 2);
+  if constexpr (Step == 1) {
+    a = _mm256_unpacklo_ps(first, second), b = _mm256_unpackhi_ps(first, second);
+  } else {
+    a = _mm256_shuffle_ps(first, second, _MM_SHUFFLE(1, 0, 1, 0));
+    b = _mm256_shuffle_ps(first, second, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+}
+
 #endif
 
 // Loads and stores of a block of lanes: full width, or masked for the last columns of a row
 // (masked stores are slower, so only the tail pays for them).
 struct FullLanes {
+  static LaneMask mask() { return all_lanes(); }
   static Floats load(const float* p) { return load_floats(p); }
   static void store(float* p, Floats value) { store_floats(p, value); }
 };
 struct TailLanes {
   LaneMask lanes;
+  LaneMask mask() const { return lanes; }
   Floats load(const float* p) const { return load_floats(lanes, p); }
   void store(float* p, Floats value) const { store_floats(lanes, p, value); }
 };

@@ -15,9 +15,8 @@
 #include <cstdint>
 #include <type_traits>
 
-#if defined(__AVX512F__) && defined(__BMI2__)
-#include <immintrin.h>
-#endif
+#include "float_lanes.hpp"
+#include "inverse_sqrt.hpp"
 
 namespace clothlab::builtin {
 
@@ -47,7 +46,7 @@ struct ColorRow {
   // Every particle of the grid but those behind positions [varied_begin, varied_end) (from
   // `first`; a spring's start there, or its partner) has the inverse mass uniform_weight,
   // which is not 0: a run of springs outside needs neither the weights nor their
-  // denominator (the AVX-512 kernels use this). uniform_weight 0: no such value.
+  // denominator (the lane kernels use this). uniform_weight 0: no such value.
   Real uniform_weight;
   std::size_t varied_begin, varied_end;
 };
@@ -106,39 +105,44 @@ inline void project_row_portable(const ColorRow<Real>& row) {
                     : project_row_portable<Real, false, false>(row);
 }
 
-#if defined(__AVX512F__) && defined(__BMI2__)  // _pext_u32 for the in-row tail
-// 16 lanes per iteration, without loading what the lanes just stored (a masked store
-// blocks store forwarding). 1 / length from the 14-bit estimate and one Newton step, and
-// the denominator (>= 1) from its reciprocal estimate and one Newton step: about 2 ulp
-// each, where sqrt and divide would bound the kernel. Lengths below the smallest normal
-// float count as coincident ends.
+#if defined(CLOTHLAB_FLOAT_LANES)
+// A block of kLanes springs per step (float_lanes.hpp: 16 on AVX-512, 8 on AVX2), without
+// loading what the lanes just stored (a masked store blocks store forwarding). 1 / length
+// from the hardware estimate and one Newton step (inverse_sqrt.hpp), and the denominator
+// (>= 1) from its reciprocal estimate and one Newton step: a few ulp each, where sqrt and
+// divide would bound the kernel. Lengths below the smallest normal float count as
+// coincident ends.
+namespace row_lanes {
+
+using namespace detail;
+
 struct SpringLanes {
-  __m512 d[3], moved[3];
-  __m512 inverse_length, delta;
-  __mmask16 pushed;
+  Floats d[3], moved[3];
+  Floats inverse_length, delta;
+  LaneMask pushed;
 };
 
 // 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
-inline __m512 inverse_denominator(__m512 compliance_scale, __m512 wi, __m512 wj) {
-  const __m512 denominator = compliance_scale * (wi + wj) + _mm512_set1_ps(1.0f);
-  const __m512 reciprocal = _mm512_maskz_rcp14_ps(__mmask16(0xFFFF), denominator);
-  return reciprocal * _mm512_fnmadd_ps(denominator, reciprocal, _mm512_set1_ps(2.0f));
+inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj) {
+  const Floats denominator = compliance_scale * (wi + wj) + broadcast(1.0f);
+  const Floats reciprocal = reciprocal_estimate(denominator);
+  return reciprocal * fused_negated_multiply_add(denominator, reciprocal, broadcast(2.0f));
 }
 
 // The colour's spring law in registers, read once per row: the kernels' stores go through
 // float pointers, which could alias the row's float fields. The uniform weight's
 // denominator comes from the same instructions as a lane's, so it has the same bits.
 struct LawLanes {
-  __m512 rest, stiffness, damping, compliance_scale;
-  __m512 uniform_weight, uniform_inverse_denominator;
+  Floats rest, stiffness, damping, compliance_scale;
+  Floats uniform_weight, uniform_inverse_denominator;
 };
 
 inline LawLanes law_lanes(const ColorRow<float>& row) {
-  const __m512 compliance_scale = _mm512_set1_ps(row.stiffness + row.damping);
-  const __m512 uniform_weight = _mm512_set1_ps(row.uniform_weight);
-  return {_mm512_set1_ps(row.rest),
-          _mm512_set1_ps(row.stiffness),
-          _mm512_set1_ps(row.damping),
+  const Floats compliance_scale = broadcast(row.stiffness + row.damping);
+  const Floats uniform_weight = broadcast(row.uniform_weight);
+  return {broadcast(row.rest),
+          broadcast(row.stiffness),
+          broadcast(row.damping),
           compliance_scale,
           uniform_weight,
           inverse_denominator(compliance_scale, uniform_weight, uniform_weight)};
@@ -157,54 +161,47 @@ struct UniformRuns {
   }
 };
 
-// The update of the springs in `lanes` from both ends' positions and displacements. Always
-// inlined: called out of line, its vectors and masks go through the stack.
+// The update of the springs in `lanes` from the ends' position differences and both ends'
+// displacements. Always inlined: called out of line, its vectors and masks go through the
+// stack.
 __attribute__((always_inline)) inline SpringLanes spring_update(
-    const LawLanes& law, __mmask16 lanes, const __m512 (&xi)[3], const __m512 (&xj)[3],
-    const __m512 (&dxi)[3], const __m512 (&dxj)[3], __m512 inverse_denominator,
-    __m512 accumulated) {
+    const LawLanes& law, LaneMask lanes, const Floats (&x_difference)[3], const Floats (&dxi)[3],
+    const Floats (&dxj)[3], Floats inverse_denominator, Floats accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
     out.moved[k] = dxi[k] - dxj[k];
-    out.d[k] = (xi[k] - xj[k]) + out.moved[k];
+    out.d[k] = x_difference[k] + out.moved[k];
   }
-  const __m512 squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
-  out.pushed = _mm512_mask_cmp_ps_mask(lanes, squared, _mm512_set1_ps(FLT_MIN), _CMP_NLT_UQ);
-  const __m512 estimate = _mm512_maskz_rsqrt14_ps(out.pushed, squared);
-  out.inverse_length = estimate * _mm512_fnmadd_ps(_mm512_set1_ps(0.5f) * squared * estimate,
-                                                   estimate, _mm512_set1_ps(1.5f));
-  const __m512 length = squared * out.inverse_length;
-  const __m512 closing =
+  const Floats squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
+  out.pushed = both(lanes, not_less(squared, broadcast(FLT_MIN)));
+  out.inverse_length = inverse_sqrt_or_zero(squared);
+  const Floats length = squared * out.inverse_length;
+  const Floats closing =
       (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2]) *
       out.inverse_length;
-  const __m512 numerator = _mm512_setzero_ps() - law.stiffness * (length - law.rest) - accumulated -
-                           law.damping * closing;
+  const Floats numerator =
+      zero_floats() - law.stiffness * (length - law.rest) - accumulated - law.damping * closing;
   out.delta = numerator * inverse_denominator;
   return out;
-}
-
-inline void store_lambda(float* lambda, __mmask16 lanes, const SpringLanes& u, __m512 accumulated) {
-  _mm512_mask_storeu_ps(lambda, lanes,
-                        _mm512_mask_add_ps(accumulated, u.pushed, accumulated, u.delta));
 }
 
 // Pushes of the springs' two ends; on uniform-weight lanes one product serves both and a
 // pushed spring moves both ends.
 struct PushLanes {
-  __m512 first, second;
-  __mmask16 moves_first, moves_second;
+  Floats first, second;
+  LaneMask moves_first, moves_second;
 };
 
 template <bool Uniform>
-inline PushLanes pushes(const SpringLanes& u, __m512 wi, __m512 wj) {
-  const __m512 scale = u.delta * u.inverse_length;
+inline PushLanes pushes(const SpringLanes& u, Floats wi, Floats wj) {
+  const Floats scale = u.delta * u.inverse_length;
   if constexpr (Uniform) {
-    const __m512 push = wi * scale;
+    const Floats push = wi * scale;
     return {push, push, u.pushed, u.pushed};
   } else {
-    const __m512 zero = _mm512_setzero_ps();
-    return {wi * scale, wj * scale, _mm512_mask_cmp_ps_mask(u.pushed, wi, zero, _CMP_NEQ_UQ),
-            _mm512_mask_cmp_ps_mask(u.pushed, wj, zero, _CMP_NEQ_UQ)};
+    const Floats zero = zero_floats();
+    return {wi * scale, wj * scale, both(u.pushed, not_equal(wi, zero)),
+            both(u.pushed, not_equal(wj, zero))};
   }
 }
 
@@ -218,196 +215,194 @@ struct RowArrays {
   float* lambda;
   std::size_t offset, stride;
 
-  explicit RowArrays(const ColorRow<float>& row)
-      : x(row.x + row.first),
-        dx(row.displacement + row.first),
-        w(row.inverse_mass + row.first),
+  RowArrays(const ColorRow<float>& row, std::size_t skip)
+      : x(row.x + row.first + skip),
+        dx(row.displacement + row.first + skip),
+        w(row.inverse_mass + row.first + skip),
         lambda(row.lambda == nullptr ? nullptr : row.lambda + row.first),
         offset(row.offset),
         stride(row.stride) {}
 };
 
-// Stencils reaching the next rows: every lane a spring, both ends contiguous runs.
-template <bool Uniform, bool Fresh, bool KeepLambda>
-inline void project_rows_run(const RowArrays& row, const LawLanes& law, std::size_t c,
-                             __mmask16 lanes) {
-  const float* x = row.x;
-  float* dx = row.dx;
-  const float* w = row.w;
-  float* const lambda = row.lambda;
+// Stencils reaching the next rows: every lane a spring, both ends contiguous runs. `block`
+// is FullLanes or TailLanes (float_lanes.hpp).
+template <bool Uniform, bool Fresh, bool KeepLambda, class Block>
+inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::size_t c,
+                               Block block) {
   const std::size_t o = row.offset, s = row.stride;
-  __m512 xi[3], xj[3], dxi[3], dxj[3];
+  Floats x_difference[3], dxi[3], dxj[3];
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
-    xi[k] = _mm512_maskz_loadu_ps(lanes, x + i);
-    xj[k] = _mm512_maskz_loadu_ps(lanes, x + i + o);
-    dxi[k] = _mm512_maskz_loadu_ps(lanes, dx + i);
-    dxj[k] = _mm512_maskz_loadu_ps(lanes, dx + i + o);
+    x_difference[k] = block.load(row.x + i) - block.load(row.x + i + o);
+    dxi[k] = block.load(row.dx + i);
+    dxj[k] = block.load(row.dx + i + o);
   }
-  __m512 wi = law.uniform_weight, wj = law.uniform_weight;
-  __m512 inverse = law.uniform_inverse_denominator;
+  Floats wi = law.uniform_weight, wj = law.uniform_weight;
+  Floats inverse = law.uniform_inverse_denominator;
   if constexpr (!Uniform) {
-    wi = _mm512_maskz_loadu_ps(lanes, w + c), wj = _mm512_maskz_loadu_ps(lanes, w + c + o);
+    wi = block.load(row.w + c), wj = block.load(row.w + c + o);
     inverse = inverse_denominator(law.compliance_scale, wi, wj);
   }
-  const __m512 accumulated = Fresh ? _mm512_setzero_ps() : _mm512_maskz_loadu_ps(lanes, lambda + c);
-  const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
-  if constexpr (KeepLambda) store_lambda(lambda + c, lanes, u, accumulated);
+  Floats accumulated = zero_floats();
+  if constexpr (!Fresh) accumulated = block.load(row.lambda + c);
+  const SpringLanes u =
+      spring_update(law, block.mask(), x_difference, dxi, dxj, inverse, accumulated);
+  if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
   const PushLanes push = pushes<Uniform>(u, wi, wj);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
-    _mm512_mask_storeu_ps(dx + i, lanes,
-                          _mm512_mask3_fmadd_ps(push.first, u.d[k], dxi[k], push.moves_first));
-    _mm512_mask_storeu_ps(dx + i + o, lanes,
-                          _mm512_mask3_fnmadd_ps(push.second, u.d[k], dxj[k], push.moves_second));
+    block.store(row.dx + i,
+                masked_fused_multiply_add(push.moves_first, push.first, u.d[k], dxi[k]));
+    block.store(row.dx + i + o,
+                masked_fused_negated_multiply_add(push.moves_second, push.second, u.d[k], dxj[k]));
   }
 }
 
 template <bool Fresh, bool KeepLambda>
-inline void project_rows_avx512(const ColorRow<float>& row) {
+inline void project_rows(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
-  const RowArrays arrays(row);
-  const std::size_t count = row.count;
-  for (std::size_t c = 0; c < count; c += 16) {
-    const std::size_t left = count - c;
-    const __mmask16 lanes = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1u);
-    if (uniform.covers(c, c + 16))
-      project_rows_run<true, Fresh, KeepLambda>(arrays, law, c, lanes);
+  const RowArrays arrays(row, 0);
+  for_each_lane_block(0, row.count, [&](std::size_t c, auto block) {
+    if (uniform.covers(c, c + kLanes))
+      project_rows_block<true, Fresh, KeepLambda>(arrays, law, c, block);
     else
-      project_rows_run<false, Fresh, KeepLambda>(arrays, law, c, lanes);
-  }
+      project_rows_block<false, Fresh, KeepLambda>(arrays, law, c, block);
+  });
 }
 
-// In-row stencils (step 1 or 2 columns): a run of 32 particles from a start holds 16
-// springs of the colour with both ends inside it (the starts are the first `step` of
-// every 2 step particles), so two loads and two permutations give the 16 starts and the
-// 16 partners, and two permutations merge the moved ends' displacements back for two
-// stores.
-struct InRowLanes {
-  __m512i starts, partners;  // positions (0..31) of the springs' ends
-  __m512i low, high;         // positions 0..15 and 16..31 from (starts, partners)
-  uint32_t start_bits;
+// In-row stencils (step 1 or 2 columns): a run of 2 kLanes particles from a start holds
+// kLanes springs of the colour with both ends inside it (the starts are the first Step of
+// every 2 Step particles), so two loads and a deinterleave give the starts and the partners,
+// and an interleave merges the moved ends' displacements back for two stores. The lanes
+// hold the run's springs in deinterleave's order; positions says where each lane's start,
+// and each particle's spring start, lies in the run, for the masks of a run cut short.
+struct InRowPositions {
+  Floats starts;                 // by lane
+  Floats owner_low, owner_high;  // by particle: the start of the spring it is an end of
+
+  template <int Step>
+  static InRowPositions of() {
+    static constexpr float run[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
+                                      11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+                                      22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
+    static_assert(2 * kLanes <= 32);
+    InRowPositions positions;
+    Floats partners;
+    deinterleave<Step>(load_floats(run), load_floats(run + kLanes), positions.starts, partners);
+    interleave<Step>(positions.starts, positions.starts, positions.owner_low, positions.owner_high);
+    return positions;
+  }
 };
 
-inline InRowLanes in_row_lanes(uint32_t step) {
-  InRowLanes lanes;
-  lanes.start_bits = step == 1 ? 0x55555555u : 0x33333333u;
-  alignas(64) int32_t starts[16], partners[16], merged[32];
-  int spring = 0;
-  for (int p = 0; p < 32; ++p) {
-    if ((lanes.start_bits >> p) & 1u) {
-      starts[spring] = p;
-      partners[spring] = p + static_cast<int>(step);
-      merged[p] = spring;                                  // from the moved starts
-      merged[p + static_cast<int>(step)] = 16 + spring++;  // from the moved partners
-    }
-  }
-  lanes.starts = _mm512_load_si512(starts);
-  lanes.partners = _mm512_load_si512(partners);
-  lanes.low = _mm512_load_si512(merged);
-  lanes.high = _mm512_load_si512(merged + 16);
-  return lanes;
-}
-
-template <bool Fresh, bool KeepLambda>
-inline void project_in_row_avx512(const ColorRow<float>& row) {
-  const uint32_t step = 1u << row.alternation_shift;
-  // The colour's first start is column parity * step.
-  const std::size_t skip = std::size_t{row.parity} * step;
+template <int Step, bool Fresh, bool KeepLambda>
+inline void project_in_row(const ColorRow<float>& row) {
+  // The colour's first start is column parity * Step.
+  const std::size_t skip = std::size_t{row.parity} * Step;
   if (row.count <= skip) return;
   const std::size_t count = row.count - skip;
-  const float* x = row.x + row.first + skip;
-  float* dx = row.displacement + row.first + skip;
-  const float* w = row.inverse_mass + row.first + skip;
-  float* const lambda_row = row.lambda == nullptr ? nullptr : row.lambda + row.first;
-  const std::size_t s = row.stride;
+  const RowArrays arrays(row, skip);
+  const float* x = arrays.x;
+  float* dx = arrays.dx;
+  const float* w = arrays.w;
+  float* const lambda_row = arrays.lambda;
+  const std::size_t s = arrays.stride;
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
-  static const InRowLanes lanes_of_step[2] = {in_row_lanes(1), in_row_lanes(2)};
-  // Copies in registers: __m512i may alias the floats stored below.
-  const InRowLanes& lanes_of_row = lanes_of_step[row.alternation_shift];
-  const __m512i to_starts = lanes_of_row.starts, to_partners = lanes_of_row.partners,
-                to_low = lanes_of_row.low, to_high = lanes_of_row.high;
-  const uint32_t start_bits = lanes_of_row.start_bits;
-  const __m512 zero = _mm512_setzero_ps();
-  const auto run = [&](std::size_t c, auto uniform) {
-    const std::size_t left = count - c;
-    const uint32_t springs = left >= 32 ? start_bits : start_bits & ((uint32_t{1} << left) - 1u);
-    const uint32_t touched = springs | springs << step;
-    const auto low = static_cast<__mmask16>(touched), high = static_cast<__mmask16>(touched >> 16);
-    const auto lanes = static_cast<__mmask16>(_pext_u32(springs, start_bits));
-    __m512 xi[3], xj[3], dxi[3], dxj[3];
-    const auto split = [&](const float* p, __m512& first, __m512& partner) {
-      const __m512 a = _mm512_maskz_loadu_ps(low, p), b = _mm512_maskz_loadu_ps(high, p + 16);
-      first = _mm512_permutex2var_ps(a, to_starts, b);
-      partner = _mm512_permutex2var_ps(a, to_partners, b);
+  const InRowPositions positions = InRowPositions::of<Step>();
+  const auto run = [&](std::size_t c, auto uniform_run, auto whole_run) {
+    constexpr bool kUniform = decltype(uniform_run)::value, kWhole = decltype(whole_run)::value;
+    // A run cut short: the springs whose start lies in it, and the particles they reach.
+    LaneMask lanes = all_lanes(), low = all_lanes(), high = all_lanes();
+    if constexpr (!kWhole) {
+      const Floats left = broadcast(static_cast<float>(count - c));
+      lanes = greater(left, positions.starts);
+      low = greater(left, positions.owner_low), high = greater(left, positions.owner_high);
+    }
+    const auto load = [&](const float* p, LaneMask mask) {
+      if constexpr (kWhole)
+        return load_floats(p);
+      else
+        return load_floats(mask, p);
     };
+    const auto store = [&](float* p, LaneMask mask, Floats value) {
+      if constexpr (kWhole)
+        store_floats(p, value);
+      else
+        store_floats(mask, p, value);
+    };
+    const auto split = [&](const float* p, Floats& first, Floats& partner) {
+      deinterleave<Step>(load(p, low), load(p + kLanes, high), first, partner);
+    };
+    Floats x_difference[3], dxi[3], dxj[3];
     for (std::size_t k = 0; k < 3; ++k) {
-      split(x + c + k * s, xi[k], xj[k]);
+      Floats xi, xj;
+      split(x + c + k * s, xi, xj);
+      x_difference[k] = xi - xj;
       split(dx + c + k * s, dxi[k], dxj[k]);
     }
-    __m512 wi = law.uniform_weight, wj = law.uniform_weight;
-    __m512 inverse = law.uniform_inverse_denominator;
-    if constexpr (!decltype(uniform)::value) {
+    Floats wi = law.uniform_weight, wj = law.uniform_weight;
+    Floats inverse = law.uniform_inverse_denominator;
+    if constexpr (!kUniform) {
       split(w + c, wi, wj);
       inverse = inverse_denominator(law.compliance_scale, wi, wj);
     }
-    // Multipliers by spring, 16 per run: unique within the colour's row.
+    // Multipliers by spring, kLanes per run: unique within the colour's row.
     float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
-    const __m512 accumulated = Fresh ? zero : _mm512_maskz_loadu_ps(lanes, lambda);
-    const SpringLanes u = spring_update(law, lanes, xi, xj, dxi, dxj, inverse, accumulated);
-    if constexpr (KeepLambda) store_lambda(lambda, lanes, u, accumulated);
-    const PushLanes push = pushes<decltype(uniform)::value>(u, wi, wj);
-    const auto merge = [&](float* p, __m512 first, __m512 partner, __m512 d) {
-      const __m512 moved_first = _mm512_mask3_fmadd_ps(push.first, d, first, push.moves_first);
-      const __m512 moved_partner =
-          _mm512_mask3_fnmadd_ps(push.second, d, partner, push.moves_second);
-      const __m512 a = _mm512_permutex2var_ps(moved_first, to_low, moved_partner);
-      const __m512 b = _mm512_permutex2var_ps(moved_first, to_high, moved_partner);
-      if (left >= 32) {
-        _mm512_storeu_ps(p, a);
-        _mm512_storeu_ps(p + 16, b);
-      } else {
-        _mm512_mask_storeu_ps(p, low, a);
-        _mm512_mask_storeu_ps(p + 16, high, b);
-      }
-    };
+    Floats accumulated = zero_floats();
+    if constexpr (!Fresh) accumulated = load(lambda, lanes);
+    const SpringLanes u = spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
+    if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
+    const PushLanes push = pushes<kUniform>(u, wi, wj);
     for (std::size_t k = 0; k < 3; ++k) {
-      merge(dx + c + k * s, dxi[k], dxj[k], u.d[k]);
+      Floats a, b;
+      interleave<Step>(
+          masked_fused_multiply_add(push.moves_first, push.first, u.d[k], dxi[k]),
+          masked_fused_negated_multiply_add(push.moves_second, push.second, u.d[k], dxj[k]), a, b);
+      store(dx + c + k * s, low, a);
+      store(dx + c + k * s + kLanes, high, b);
     }
   };
-  for (std::size_t c = 0; c < count; c += 32) {
-    if (uniform.covers(skip + c, skip + c + 32))
-      run(c, std::true_type{});
+  const auto run_of = [&](std::size_t c, auto whole_run) {
+    if (uniform.covers(skip + c, skip + c + 2 * kLanes))
+      run(c, std::true_type{}, whole_run);
     else
-      run(c, std::false_type{});
-  }
+      run(c, std::false_type{}, whole_run);
+  };
+  std::size_t c = 0;
+  for (; c + 2 * kLanes <= count; c += 2 * kLanes) run_of(c, std::true_type{});
+  if (c < count) run_of(c, std::false_type{});
 }
 
 template <bool Fresh, bool KeepLambda>
-inline void project_row_avx512(const ColorRow<float>& row) {
-  if (row.alternates)
-    project_in_row_avx512<Fresh, KeepLambda>(row);
+inline void project_row(const ColorRow<float>& row) {
+  if (!row.alternates)
+    project_rows<Fresh, KeepLambda>(row);
+  else if (row.alternation_shift == 0)
+    project_in_row<1, Fresh, KeepLambda>(row);
   else
-    project_rows_avx512<Fresh, KeepLambda>(row);
+    project_in_row<2, Fresh, KeepLambda>(row);
 }
+
+}  // namespace row_lanes
 
 // Fresh (lambda 0) and KeepLambda at compile time: a substep of one iteration neither reads
 // nor stores a multiplier, and "- lambda" folds away (x - 0 is x, signed zeros included).
-inline void project_row_avx512(const ColorRow<float>& row) {
+inline void project_row_lanes(const ColorRow<float>& row) {
   if (row.fresh)
-    row.keep_lambda ? project_row_avx512<true, true>(row) : project_row_avx512<true, false>(row);
+    row.keep_lambda ? row_lanes::project_row<true, true>(row)
+                    : row_lanes::project_row<true, false>(row);
   else
-    row.keep_lambda ? project_row_avx512<false, true>(row) : project_row_avx512<false, false>(row);
+    row.keep_lambda ? row_lanes::project_row<false, true>(row)
+                    : row_lanes::project_row<false, false>(row);
 }
 #endif
 
 template <class Real>
 inline void project_row(const ColorRow<Real>& row) {
-#if defined(__AVX512F__) && defined(__BMI2__)
+#if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
-    project_row_avx512(row);
+    project_row_lanes(row);
     return;
   }
 #endif

@@ -70,7 +70,7 @@ struct ProvotGrid {
 // `parities_swapped`, the host's topology lists each stencil's two parities the other way
 // round than its grid stencils: the general path sweeps in the topology's order, the grid path
 // in the stencils', so the two end apart on every build (in one order, a build without the
-// AVX-512 kernel gives both paths the same bits).
+// lane kernel (float_lanes.hpp) gives both paths the same bits).
 struct ChebyshevSetting {
   double rho;
   long delay;
@@ -124,7 +124,8 @@ constexpr uint32_t rows = 23, cols = 37;
 // The top corners, as the host's sheet pins them.
 const std::vector<uint32_t> corner_pins = {0, cols - 1};
 // Pins inside rows too (the grid path's runs of uniform inverse mass end around them), in
-// the middle of in-row runs of 32 and rows of 16 and at a tail, and a whole column.
+// the middle of in-row runs (32 particles at 16 lanes, 16 at 8) and of row blocks (16 and 8
+// springs) and at a tail, and a whole column.
 std::vector<uint32_t> scattered_pins() {
   std::vector<uint32_t> pins = {0, 5 * cols + 17, 9 * cols + 3, 14 * cols + 33, 14 * cols + 34};
   for (uint32_t r = 0; r < rows; ++r) pins.push_back(r * cols + 29);
@@ -132,7 +133,7 @@ std::vector<uint32_t> scattered_pins() {
 }
 
 // Grid path against general path, and against a reordered sweep as the scale of a real
-// difference. 37 columns: in-row runs of 32 plus a tail, rows of 16 plus a tail.
+// difference. 37 columns: whole in-row runs and row blocks plus a tail at 16 lanes and at 8.
 template <class Real>
 void expect_grid_path_is_the_general_sweep(int iterations, double tolerance,
                                            const std::vector<uint32_t>& pins = corner_pins) {
@@ -153,7 +154,7 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepFloat64) {
 }
 
 TEST(XpbdGrid, FastPathIsTheGeneralSweepFloat32) {
-  // The AVX-512 kernel's 1 / length and 1 / denominator are within ~2 ulp, not exact.
+  // The lane kernel's 1 / length and 1 / denominator are within a few ulp, not exact.
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6);
   expect_grid_path_is_the_general_sweep<float>(3, 1e-6);
 }
