@@ -23,7 +23,7 @@ pinned_columns = np.flatnonzero(pushed.inverse_masses == 0) % pushed.cols
 free_column = pushed.cols - 1 if pinned_columns.mean() < pushed.cols / 2 else 0
 free_edge = np.arange(free_column, pushed.particle_count, pushed.cols)
 pushed.velocities[2, free_edge] += 0.5
-pushed.state_written()  # the integrator drops its history (Verlet's last step) and reads v
+pushed.state_written()  # the integrator drops its history (Verlet's last step), reads v
 print(f"t = {pushed.time:.2f} s: pushed {free_edge.size} particles of the free edge by 0.5 m/s")
 while not pushed.finished and pushed.time < 1.0 - 1e-9:
     for sim in (pushed, control):

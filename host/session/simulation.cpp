@@ -338,14 +338,17 @@ uint64_t Simulation::step(uint64_t count, const RunHooks& hooks) {
 }
 
 uint64_t Simulation::advance(double seconds, const RunHooks& hooks) {
+  return step(steps_to_advance(seconds), hooks);
+}
+
+uint64_t Simulation::steps_to_advance(double seconds) const {
   if (!(seconds >= 0) || !std::isfinite(seconds))
     throw host::InputError("advance(" + host::format_number(seconds) +
                            " s): allowed: a finite time >= 0 s");
   // Whole steps that reach the time, without counting a rounding error in seconds / dt as a
   // step of its own.
   const double steps = std::ceil(seconds / config_.dt * (1 - 1e-12));
-  const double left = static_cast<double>(steps_left());
-  return step(static_cast<uint64_t>(std::min(steps, left)), hooks);
+  return static_cast<uint64_t>(std::min(steps, static_cast<double>(steps_left())));
 }
 
 void Simulation::step_once(const RunHooks& hooks) {

@@ -174,6 +174,8 @@ class Simulation {
   // Steps until the time has grown by `seconds`, rounded up to whole steps, or the run ends.
   // Throws InputError for a negative or non-finite time.
   uint64_t advance(double seconds, const RunHooks& hooks = {});
+  // The steps advance(seconds) takes from here.
+  uint64_t steps_to_advance(double seconds) const;
   // Simulated time: steps taken times dt.
   double time() const { return static_cast<double>(record_.steps_taken) * config_.dt; }
   uint64_t steps_taken() const { return record_.steps_taken; }

@@ -3,6 +3,7 @@ views are the engine's memory, and every error is the CLI's one-line message."""
 
 import gc
 import json
+import signal
 import threading
 
 import numpy as np
@@ -222,3 +223,29 @@ def test_plugins_lists_what_list_plugins_shows(run_cli):
             assert f"{component['kind']} {component['id']}: {component['name']}" in stdout
             for parameter in component["parameters"]:
                 assert f"{parameter['key']} = {parameter['default']}" in stdout
+
+
+def test_progress_is_reported_and_may_look_at_the_simulation(write_config):
+    text = FLAG_10.replace("{precision}", "float32").replace("rows: 10", "rows: 60")
+    sim = clothlab.Simulation(write_config(text.replace("cols: 10", "cols: 60").replace(
+        "steps: 120", "steps: 4000").replace("dt: 0.0005", "dt: 0.00002")))
+    reports = []
+    sim.step(4000, progress=lambda taken, asked: reports.append((taken, asked, sim.time)))
+    assert len(reports) >= 2
+    assert [asked for _, asked, _ in reports] == [4000] * len(reports)
+    taken = [taken for taken, _, _ in reports]
+    assert taken == sorted(taken) and taken[-1] == 4000
+    assert reports[-1][2] == pytest.approx(4000 * sim.dt)
+
+
+def test_ctrl_c_stops_a_long_step_between_steps(write_config):
+    text = FLAG_10.replace("{precision}", "float32").replace("rows: 10", "rows: 60")
+    sim = clothlab.Simulation(write_config(text.replace("cols: 10", "cols: 60").replace(
+        "steps: 120", "steps: 10000000").replace("dt: 0.0005", "dt: 0.00002")))
+    timer = threading.Timer(0.3, signal.raise_signal, (signal.SIGINT,))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sim.step(sim.steps_left)
+    timer.join()
+    assert 0 < sim.steps_taken < 10000000
+    sim.step(1)  # the run goes on from where it stopped
