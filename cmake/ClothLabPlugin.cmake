@@ -29,5 +29,7 @@ function(clothlab_add_plugin name)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${PLUGIN_OUTPUT_DIRECTORY}")
   elseif(DEFINED CLOTHLAB_PLUGIN_OUTPUT_DIR)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${CLOTHLAB_PLUGIN_OUTPUT_DIR}")
+    # The built-in plugins, which the Python package ships (python/CMakeLists.txt).
+    set_property(GLOBAL APPEND PROPERTY CLOTHLAB_BUILTIN_PLUGINS ${name})
   endif()
 endfunction()

@@ -17,13 +17,25 @@ faulty=(lies_about_order produces_nan moves_pinned segfaults_in_step hangs_in_st
         throws_through_boundary allocates_every_step misdeclares_scheme
         claims_unconditional_stability flips_the_stiffness_sign allocates_in_worker_thread
         reserves_in_step claims_to_resolve_contacts jumps_its_collider)
-cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance \
+cmake --build "$build" -j "$(nproc)" --target clothlab clothlab-conformance clothlab_python_package \
   euler midpoint rk4 verlet xpbd vbd sheet flag c_euler "${faulty[@]/#/faulty_}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prefix="$work/prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
+
+echo "== the installed Python module, with the installed plugins"
+package=$(echo "$prefix"/lib*/python3/dist-packages)
+env -u CLOTHLAB_PLUGIN_PATH PYTHONPATH="$package" /usr/bin/python3 - "$prefix" <<'PY'
+import pathlib, sys
+import clothlab
+prefix = pathlib.Path(sys.argv[1])
+assert pathlib.Path(clothlab.__file__).is_relative_to(prefix), clothlab.__file__
+assert clothlab.plugins()["search_path"].startswith(str(prefix)), clothlab.plugins()["search_path"]
+sim = clothlab.Simulation({"integrator": "rk4", "scenario": "sheet", "steps": 5})
+assert sim.step(5) == 5 and sim.verdict.startswith("stable"), sim.verdict
+PY
 
 echo "== out-of-tree example against $prefix"
 cmake -S examples/third_party_integrator -B "$work/example" -DCMAKE_PREFIX_PATH="$prefix" \

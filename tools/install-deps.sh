@@ -3,9 +3,10 @@
 #   install-deps.sh run    what building and running needs (tools/run.sh): compiler, libraries,
 #                          and npm's three.js for `clothlab view`
 #   install-deps.sh test   that, plus what the tests need (tools/test.sh, CI): GoogleTest and
-#                          Benchmark, Python with matplotlib and VTK, Chromium for the viewer's
-#                          browser test, Slurm for the --slurm test, Bullet for the peer
-#                          benchmark (bench/peer_bullet.cpp)
+#                          Benchmark, Python with matplotlib and VTK, the Python module's
+#                          pybind11, pytest and venv, Chromium for the viewer's browser test,
+#                          Slurm for the --slurm test, Bullet for the peer benchmark
+#                          (bench/peer_bullet.cpp)
 set -euo pipefail
 profile="${1:-test}"
 packages=(
@@ -20,6 +21,7 @@ case "$profile" in
     packages+=(
       libgtest-dev libgmock-dev libbenchmark-dev binutils libbullet-dev
       python3 python3-matplotlib python3-vtk9 python3-numpy python3-pil chromium
+      python3-dev pybind11-dev python3-pytest python3-venv python3-setuptools python3-wheel
       slurmctld slurmd slurm-client munge
     )
     ;;

@@ -100,11 +100,7 @@ int run(int argc, const char* const argv[]) {
   if (command_line.config_file) settings = read_config_file(*command_line.config_file);
   // Command-line values come after the file's, so they win.
   settings.insert(settings.end(), command_line.settings.begin(), command_line.settings.end());
-  for (const Setting& setting : settings)
-    if (setting.key.starts_with("sweep.") || setting.key.starts_with("slurm."))
-      throw clothlab::host::InputError(setting.source + ": " + setting.key +
-                                       " is a sweep's setting; allowed: in a sweep file (one "
-                                       "with a sweep: section) or on its command line");
+  refuse_sweep_settings(settings);
   const Configuration whole = resolve_configuration(settings);
   const RunConfig& config = whole.run;
   for (const auto& output :

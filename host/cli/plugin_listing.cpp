@@ -83,4 +83,53 @@ int list_plugins(const host::PluginSearchPath& search_path, std::ostream& out,
   return static_cast<int>(scan.errors.size());
 }
 
+namespace {
+
+nlohmann::json component_json(const host::ComponentInfo& info) {
+  nlohmann::json parameters = nlohmann::json::array();
+  for (const clothlab_param_spec& spec : info.params) {
+    clothlab_param_value fallback{};
+    for (int k = 0; k < 3; ++k) fallback.v[k] = spec.default_value[k];
+    parameters.push_back({{"key", std::string(info.kind) + "." + spec.name},
+                          {"default", host::format_param_value(spec, fallback)},
+                          {"allowed", host::describe_allowed(spec)},
+                          {"help", spec.help}});
+  }
+  return {{"kind", std::string(info.kind)},
+          {"id", std::string(info.id)},
+          {"name", std::string(info.name)},
+          {"version", std::string(info.version)},
+          {"description", std::string(info.description)},
+          {"parameters", parameters}};
+}
+
+}  // namespace
+
+nlohmann::json plugin_listing_json(const host::PluginSearchPath& search_path) {
+  const host::LibraryScan scan = host::scan_libraries(search_path);
+  nlohmann::json libraries = nlohmann::json::array();
+  for (const host::PluginLibrary& library : scan.libraries) {
+    const clothlab_abi_version abi = library.abi_version();
+    nlohmann::json components = nlohmann::json::array();
+    for (const host::IntegratorPlugin& integrator : library.integrators()) {
+      nlohmann::json component = component_json(integrator.info());
+      component["order"] = integrator.order();
+      component["evals_per_step"] = integrator.evals_per_step();
+      component["flags"] = flag_names(integrator);
+      component["precisions"] = precision_names(integrator);
+      components.push_back(std::move(component));
+    }
+    for (const host::ScenarioPlugin& scenario : library.scenarios())
+      components.push_back(component_json(scenario.info()));
+    libraries.push_back({{"path", library.path().string()},
+                         {"name", std::string(library.name())},
+                         {"version", std::string(library.version())},
+                         {"abi", std::to_string(abi.major) + "." + std::to_string(abi.minor)},
+                         {"components", std::move(components)}});
+  }
+  return {{"search_path", search_path.describe()},
+          {"libraries", std::move(libraries)},
+          {"errors", scan.errors}};
+}
+
 }  // namespace clothlab::cli

@@ -1,4 +1,4 @@
-// Every key of every mode is a row of the one key table (host/cli/run_keys.cpp): a setting read
+// Every key of every mode is a row of the one key table (host/session/run_keys.cpp): a setting read
 // anywhere else drifts from it (sweep.monitor.wind_work_safety was parsed, fingerprinted and
 // never applied). These tests read the host's sources, so a second reader fails them.
 #include <gtest/gtest.h>
@@ -38,7 +38,7 @@ TEST(OneKeyTable, EveryDottedKeyInTheHostsSourcesIsARowOfTheTable) {
   ASSERT_GT(files.size(), 50u) << host_sources;
   size_t keys_seen = 0;
   for (const auto& [name, text] : files) {
-    if (name == "cli/run_keys.cpp") continue;
+    if (name == "session/run_keys.cpp") continue;
     for (auto match = std::sregex_iterator(text.begin(), text.end(), dotted_key);
          match != std::sregex_iterator(); ++match) {
       const std::string key = (*match)[1];
@@ -62,7 +62,7 @@ TEST(OneKeyTable, OnlyTheTableTurnsASettingsTextIntoANumber) {
       "parse_param_text\\(");
   // Files that parse numbers that are not settings, each with the reason.
   const std::map<std::string, std::string> not_settings = {
-      {"cli/run_keys.cpp", "the table itself"},
+      {"session/run_keys.cpp", "the table itself"},
       {"sweep/src/shard.cpp", "the --shard K/N flag"},
       {"cli/slurm_sweep.cpp", "sacct's answer"},
       // Labels and the drivers' arithmetic on cases the table has already checked, through the
@@ -70,8 +70,8 @@ TEST(OneKeyTable, OnlyTheTableTurnsASettingsTextIntoANumber) {
       {"sweep/src/case_expansion.cpp", "views of checked cases"},
   };
   for (const auto& [name, text] : host_files()) {
-    const bool reads_settings =
-        name.starts_with("cli/") || name.starts_with("sweep/") || name.starts_with("config/");
+    const bool reads_settings = name.starts_with("cli/") || name.starts_with("session/") ||
+                                name.starts_with("sweep/") || name.starts_with("config/");
     if (!reads_settings || not_settings.contains(name)) continue;
     EXPECT_FALSE(std::regex_search(text, number_parser))
         << name << " parses a number: settings are read by the key table (run_keys.cpp)";

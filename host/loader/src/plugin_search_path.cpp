@@ -49,12 +49,17 @@ std::vector<fs::path> PluginSearchPath::beside_executable() {
 }
 
 PluginSearchPath PluginSearchPath::standard(const std::vector<std::string>& command_line_entries) {
+  return standard(command_line_entries, beside_executable());
+}
+
+PluginSearchPath PluginSearchPath::standard(const std::vector<std::string>& command_line_entries,
+                                            std::vector<fs::path> installed_folders) {
   std::vector<fs::path> directories;
   for (const std::string& entry : command_line_entries)
     for (const std::string& folder : split_path_list(entry)) directories.emplace_back(folder);
   if (const char* environment = std::getenv("CLOTHLAB_PLUGIN_PATH"))
     for (const std::string& folder : split_path_list(environment)) directories.emplace_back(folder);
-  for (fs::path& folder : beside_executable()) directories.push_back(std::move(folder));
+  for (fs::path& folder : installed_folders) directories.push_back(std::move(folder));
   return PluginSearchPath(std::move(directories));
 }
 

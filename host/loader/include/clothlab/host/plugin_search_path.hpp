@@ -15,6 +15,10 @@ class PluginSearchPath {
   // --plugin-path entries (each may hold ':'-separated folders), then the folders in
   // CLOTHLAB_PLUGIN_PATH, then the plugin folder beside the running executable.
   static PluginSearchPath standard(const std::vector<std::string>& command_line_entries);
+  // The same with other installed plugin folders last (the Python module's, found from the
+  // module's own location rather than the interpreter's).
+  static PluginSearchPath standard(const std::vector<std::string>& command_line_entries,
+                                   std::vector<std::filesystem::path> installed_folders);
 
   // The plugin folder relative to the running executable (bin/../lib/clothlab/plugins).
   static std::vector<std::filesystem::path> beside_executable();

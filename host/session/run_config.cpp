@@ -115,4 +115,12 @@ RunConfig resolve_run_config(const std::vector<Setting>& settings) {
   return resolve_configuration(settings).run;
 }
 
+void refuse_sweep_settings(const std::vector<Setting>& settings) {
+  for (const Setting& setting : settings)
+    if (setting.key.starts_with("sweep.") || setting.key.starts_with("slurm."))
+      throw host::InputError(setting.source + ": " + setting.key +
+                             " is a sweep's setting; allowed: in a sweep file (one "
+                             "with a sweep: section) or on its command line");
+}
+
 }  // namespace clothlab::cli

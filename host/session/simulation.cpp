@@ -283,7 +283,12 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
 }
 
 RunRecord Simulation::run(const RunHooks& hooks) {
-  RunRecord record;
+  step(config_.steps, hooks);
+  return record();
+}
+
+void Simulation::start(const RunHooks& hooks) {
+  RunRecord& record = record_;
   record.integrator = integrator_->info().id;
   record.scenario = scenario_->info().id;
   record.integrator_library = integrator_library_.path().string();
@@ -300,8 +305,7 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   record.springs = cloth_->springs();
   record.integrator_params = integrator_params_;
   record.scenario_params = scenario_params_;
-  const auto timing_series = {&record.step_s, &record.internal_forces_s, &record.external_forces_s};
-  for (auto* series : timing_series)
+  for (auto* series : {&record.step_s, &record.internal_forces_s, &record.external_forces_s})
     series->reserve(std::min<uint64_t>(config_.steps, max_timing_samples));
 
   if (!colliders_.empty()) {
@@ -314,100 +318,142 @@ RunRecord Simulation::run(const RunHooks& hooks) {
   }
   if (!attachments_->empty())
     record.attachments.emplace().particles = attachments_->particles().size();
-  analysis::StabilityMonitor monitor(*cloth_, 0.0, config_.monitor);
+  // Taken at the first step, not at construction: a state the caller set before it is the
+  // run's initial state.
+  monitor_.emplace(*cloth_, 0.0, config_.monitor);
+  trace_energy_ = hooks.trace_energy;
+  if (trace_energy_) record.energy_trace.push_back({0.0, cloth_->energy()});
+  cloth_->reset_counters();
+  const auto observe_start = std::chrono::steady_clock::now();
+  if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
+  record.loop_total_s += seconds_since(observe_start);
+}
+
+void Simulation::state_written() { integrator_instance_->prepare(cloth_->system()); }
+
+bool Simulation::finished() const {
+  return record_.steps_taken >= config_.steps || !record_.stable || record_.interrupted ||
+         record_.stretch_stopped;
+}
+
+uint64_t Simulation::step(uint64_t count, const RunHooks& hooks) {
+  if (!monitor_) start(hooks);
+  const auto loop_start = std::chrono::steady_clock::now();
+  uint64_t taken = 0;
+  for (; taken < count && !finished(); ++taken) {
+    if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
+      record_.interrupted = true;
+      break;
+    }
+    step_once(hooks);
+  }
+  record_.loop_total_s += seconds_since(loop_start);
+  return taken;
+}
+
+uint64_t Simulation::advance(double seconds, const RunHooks& hooks) {
+  return step(steps_to_advance(seconds), hooks);
+}
+
+uint64_t Simulation::steps_to_advance(double seconds) const {
+  if (!(seconds >= 0) || !std::isfinite(seconds))
+    throw host::InputError("advance(" + host::format_number(seconds) +
+                           " s): allowed: a finite time >= 0 s");
+  // Whole steps that reach the time, without counting a rounding error in seconds / dt as a
+  // step of its own.
+  const double steps = std::ceil(seconds / config_.dt * (1 - 1e-12));
+  return static_cast<uint64_t>(std::min(steps, static_cast<double>(steps_left())));
+}
+
+void Simulation::step_once(const RunHooks& hooks) {
+  RunRecord& record = record_;
+  analysis::StabilityMonitor& monitor = *monitor_;
   auto fail = [&](uint64_t step, std::string check, std::string verdict) {
     record.stable = false;
     record.failed_step = step;
     record.failed_check = std::move(check);
     record.verdict = std::move(verdict);
   };
-
-  if (hooks.trace_energy) record.energy_trace.push_back({0.0, cloth_->energy()});
-  cloth_->reset_counters();
   const clothlab_system& system = cloth_->system();
-  const auto loop_start = std::chrono::steady_clock::now();
-  if (hooks.observer) hooks.observer->observe(*cloth_, 0, 0.0);
-  for (uint64_t step = 1; step <= config_.steps && record.stable; ++step) {
-    if (hooks.stop_requested && hooks.stop_requested->load(std::memory_order_relaxed)) {
-      record.interrupted = true;
-      break;
-    }
-    // t from the step count, not by summing dt, so long runs do not drift.
-    const double t = static_cast<double>(step - 1) * config_.dt;
-    const StageCounters before = cloth_->counters();
-    // The colliders keep their pose at the step's start over the step.
-    if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
-    const auto start = std::chrono::steady_clock::now();
-    cloth_->begin_step();
-    try {
-      integrator_instance_->step(system, t, config_.dt);
-    } catch (const host::PluginError& error) {
-      if (error.status() != CLOTHLAB_ERROR_NUMERICAL) throw;
-      fail(step, "non-finite",
-           "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")");
-    }
-    cloth_->end_step();
-    const double step_s = seconds_since(start);
-    record.step_total_s += step_s;
-    if ((step - 1) % record.timing_stride == 0) {
-      const StageCounters& after = cloth_->counters();
-      record.step_s.push_back(step_s);
-      record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
-      record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
-      if (record.step_s.size() == max_timing_samples) {
-        // Full: keep every second sample, and from now on every second step at the new stride.
-        for (auto* series : timing_series) {
-          for (size_t i = 0; 2 * i < series->size(); ++i) (*series)[i] = (*series)[2 * i];
-          series->resize(series->size() / 2);
-        }
-        record.timing_stride *= 2;
-      }
-    }
-    record.steps_taken = step;
-    if (!record.stable) break;
-    if (record.contacts) {
-      const Cloth::Contacts now = cloth_->contacts();
-      record.contacts->max_penetration_over_run =
-          std::max(record.contacts->max_penetration_over_run, now.max_penetration);
-      record.contacts->max_depth_past_thickness_over_run = std::max(
-          record.contacts->max_depth_past_thickness_over_run, now.max_depth_past_thickness);
-    }
-    if (const auto statistics = integrator_instance_->last_step_statistics()) {
-      if (!record.solver) record.solver.emplace();
-      record.solver->add(step, *statistics);
-    }
-    const double t_end = static_cast<double>(step) * config_.dt;
-    const analysis::Verdict& verdict = step == config_.steps
-                                           ? monitor.check(*cloth_, step, t_end)
-                                           : monitor.observe(*cloth_, step, t_end);
-    if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
-    // Sampled where the monitor looks, so the maximum over the run costs no extra passes
-    // beyond one per check.
-    if (hooks.trace_energy && (step % config_.monitor.check_interval == 0 || step == config_.steps))
-      record.energy_trace.push_back({t_end, cloth_->energy()});
-    if (step % config_.monitor.check_interval == 0 || step == config_.steps)
-      note_stretch(record, *cloth_, cloth_->stretch(Cloth::Springs::Structural), t_end);
-    // A run the monitor failed keeps that verdict. The stop judges the robust figure, the one
-    // --choose judges.
-    if (record.stable && config_.stretch_stop > 0 &&
-        record.max_stretch_away_from_pins_over_run > config_.stretch_stop) {
-      record.stretch_stopped = true;
-      break;
-    }
-    if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
+  const uint64_t step = record.steps_taken + 1;
+  // t from the step count, not by summing dt, so long runs do not drift.
+  const double t = static_cast<double>(step - 1) * config_.dt;
+  const StageCounters before = cloth_->counters();
+  // The colliders keep their pose at the step's start over the step.
+  if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
+  const auto start = std::chrono::steady_clock::now();
+  cloth_->begin_step();
+  try {
+    integrator_instance_->step(system, t, config_.dt);
+  } catch (const host::PluginError& error) {
+    if (error.status() != CLOTHLAB_ERROR_NUMERICAL) throw;
+    fail(step, "non-finite",
+         "non-finite state at step " + std::to_string(step) + " (" + error.what() + ")");
   }
-  record.loop_total_s = seconds_since(loop_start);
+  cloth_->end_step();
+  const double step_s = seconds_since(start);
+  record.step_total_s += step_s;
+  if ((step - 1) % record.timing_stride == 0) {
+    const StageCounters& after = cloth_->counters();
+    record.step_s.push_back(step_s);
+    record.internal_forces_s.push_back(after.internal_forces_s - before.internal_forces_s);
+    record.external_forces_s.push_back(after.external_forces_s - before.external_forces_s);
+    if (record.step_s.size() == max_timing_samples) {
+      // Full: keep every second sample, and from now on every second step at the new stride.
+      for (auto* series : {&record.step_s, &record.internal_forces_s, &record.external_forces_s}) {
+        for (size_t i = 0; 2 * i < series->size(); ++i) (*series)[i] = (*series)[2 * i];
+        series->resize(series->size() / 2);
+      }
+      record.timing_stride *= 2;
+    }
+  }
+  record.steps_taken = step;
+  if (!record.stable) return;
+  if (record.contacts) {
+    const Cloth::Contacts now = cloth_->contacts();
+    record.contacts->max_penetration_over_run =
+        std::max(record.contacts->max_penetration_over_run, now.max_penetration);
+    record.contacts->max_depth_past_thickness_over_run =
+        std::max(record.contacts->max_depth_past_thickness_over_run, now.max_depth_past_thickness);
+  }
+  if (const auto statistics = integrator_instance_->last_step_statistics()) {
+    if (!record.solver) record.solver.emplace();
+    record.solver->add(step, *statistics);
+  }
+  const double t_end = static_cast<double>(step) * config_.dt;
+  const analysis::Verdict& verdict = step == config_.steps ? monitor.check(*cloth_, step, t_end)
+                                                           : monitor.observe(*cloth_, step, t_end);
+  if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);
+  // Sampled where the monitor looks, so the maximum over the run costs no extra passes
+  // beyond one per check.
+  if (trace_energy_ && (step % config_.monitor.check_interval == 0 || step == config_.steps))
+    record.energy_trace.push_back({t_end, cloth_->energy()});
+  if (step % config_.monitor.check_interval == 0 || step == config_.steps)
+    note_stretch(record, *cloth_, cloth_->stretch(Cloth::Springs::Structural), t_end);
+  // A run the monitor failed keeps that verdict. The stop judges the robust figure, the one
+  // --choose judges.
+  if (record.stable && config_.stretch_stop > 0 &&
+      record.max_stretch_away_from_pins_over_run > config_.stretch_stop) {
+    record.stretch_stopped = true;
+    return;
+  }
+  if (record.stable && hooks.observer) hooks.observer->observe(*cloth_, step, t_end);
+}
+
+RunRecord Simulation::record() const {
+  RunRecord record = record_;
+  if (!monitor_) return record;
   const Cloth::Stretch final_stretch = cloth_->stretch(Cloth::Springs::Structural);
   record.final_stretch = final_stretch;
   record.final_p99_stretch = note_stretch(record, *cloth_, final_stretch,
                                           static_cast<double>(record.steps_taken) * config_.dt);
-  record.stability_checks = monitor.checks();
+  record.stability_checks = monitor_->checks();
   if (record.contacts) {
     record.contacts->particles_inside_at_end = cloth_->contacts().particles_inside;
     record.contacts->drape_coefficient = drape_coefficient(*cloth_);
     record.contacts->work = cloth_->contact_work();
   }
-  if (record.attachments) record.attachments->work = monitor.attachment_work();
+  if (record.attachments) record.attachments->work = monitor_->attachment_work();
   if (record.interrupted)
     record.verdict = "interrupted after " + std::to_string(record.steps_taken) + " steps";
   else if (record.stretch_stopped)
@@ -418,7 +464,8 @@ RunRecord Simulation::run(const RunHooks& hooks) {
                      " above stability.stretch_stop " + host::format_number(config_.stretch_stop);
   else if (record.stable)
     record.verdict = "stable: " + std::to_string(record.steps_taken) + " steps, " +
-                     std::to_string(monitor.checks()) + " checks passed (finite, stretch, energy)";
+                     std::to_string(monitor_->checks()) +
+                     " checks passed (finite, stretch, energy)";
   judge_solver(record, config_.unconverged_fails);
   record.counters = cloth_->counters();
   return record;

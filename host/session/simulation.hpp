@@ -1,7 +1,9 @@
-// One run: scenario plugin -> scene -> Cloth -> integrator plugin -> timed step loop.
+// One run: scenario plugin -> scene -> Cloth -> integrator plugin -> timed steps, taken all
+// at once (run) or a few at a time by a caller that looks at and changes the state between them.
 #pragma once
 
 #include <atomic>
+#include <clothlab/analysis/stability_monitor.hpp>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/host/param_set.hpp>
 #include <clothlab/host/plugin_library.hpp>
@@ -161,8 +163,39 @@ class Simulation {
   // Steps until done or until a stability check fails (the run stops there: past a failed
   // check the numbers mean nothing). A numerical failure is a verdict, any other plugin error
   // is thrown. The monitor (config.stability.*) checks every few steps and after the last.
+  // The same as step(config.steps) then record().
   RunRecord run(const RunHooks& hooks = {});
 
+  // Takes up to `count` more steps of the run, fewer where it ends: at its last step (the
+  // config's steps or duration), a failed check, a stop request or stability.stretch_stop.
+  // Returns the steps taken. The first call starts the run: the monitor takes the state then
+  // as the initial one, and `hooks.trace_energy` is read.
+  uint64_t step(uint64_t count, const RunHooks& hooks = {});
+  // Steps until the time has grown by `seconds`, rounded up to whole steps, or the run ends.
+  // Throws InputError for a negative or non-finite time.
+  uint64_t advance(double seconds, const RunHooks& hooks = {});
+  // The steps advance(seconds) takes from here.
+  uint64_t steps_to_advance(double seconds) const;
+  // Simulated time: steps taken times dt.
+  double time() const { return static_cast<double>(record_.steps_taken) * config_.dt; }
+  uint64_t steps_taken() const { return record_.steps_taken; }
+  uint64_t steps_left() const { return finished() ? 0 : config_.steps - record_.steps_taken; }
+  // No check failed so far.
+  bool stable() const { return record_.stable; }
+  // At its last step, or stopped early by a failed check, a stop request or the stretch stop.
+  bool finished() const;
+  // The run so far, with the figures of its end (final stretch, verdict, the solver's judgement)
+  // taken from the state now: after the last step, what run() returns.
+  RunRecord record() const;
+
+  // Writable between steps (an experiment's perturbation): the next step starts from it once
+  // state_written() has told the integrator.
+  Cloth& cloth() { return *cloth_; }
+  // The state was written from outside: the integrator drops its history (Verlet's last
+  // displacement, a multistep method's past steps) and starts again from the state as it is,
+  // as after its first prepare. Each call may allocate the integrator's scratch again.
+  void state_written();
+  const RunConfig& config() const { return config_; }
   const Cloth& cloth() const { return *cloth_; }
   std::string integrator_id() const { return std::string(integrator_->info().id); }
   const host::IntegratorPlugin& integrator() const { return *integrator_; }
@@ -186,6 +219,13 @@ class Simulation {
   // Declared after the cloth so it is destroyed first: it may hold the system's vectors.
   std::unique_ptr<Cloth> cloth_;
   std::optional<host::IntegratorInstance> integrator_instance_;
+  // The run so far; the monitor exists from the first step on.
+  RunRecord record_;
+  std::optional<analysis::StabilityMonitor> monitor_;
+  bool trace_energy_ = false;
+
+  void start(const RunHooks& hooks);
+  void step_once(const RunHooks& hooks);
 };
 
 }  // namespace clothlab::cli

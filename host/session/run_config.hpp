@@ -103,5 +103,7 @@ struct Configuration {
 Configuration resolve_configuration(const std::vector<Setting>& settings);
 // The plain run's part of it.
 RunConfig resolve_run_config(const std::vector<Setting>& settings);
+// Throws InputError for a sweep.* or slurm.* setting: those belong in a sweep file.
+void refuse_sweep_settings(const std::vector<Setting>& settings);
 
 }  // namespace clothlab::cli

@@ -1,0 +1,28 @@
+"""ClothLab from Python: load the plugins, build a simulation from a configuration (the keys of
+`clothlab --set`), step it, and read and change its state as numpy views of the engine's memory.
+
+    import clothlab
+    sim = clothlab.Simulation("configs/flag.yaml", overrides={"integrator.substeps": 8})
+    sim.step(100)
+    sim.positions        # (3, n) view: rows x, y, z; .T is (n, 3)
+
+docs/guide/python.md has the whole API.
+"""
+
+from ._clothlab import (
+    DivergedError,
+    InputError,
+    PluginError,
+    PluginLoadError,
+    Simulation,
+    plugins,
+)
+
+__all__ = [
+    "DivergedError",
+    "InputError",
+    "PluginError",
+    "PluginLoadError",
+    "Simulation",
+    "plugins",
+]

@@ -1,0 +1,25 @@
+// The Python module clothlab's entry: its exceptions, plugins() and Simulation.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "plugin_listing.hpp"
+#include "python_errors.hpp"
+#include "simulation_binding.hpp"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_clothlab, module) {
+  module.doc() = "ClothLab's session stepped from Python (docs/guide/python.md)";
+  clothlab::python::register_errors(module);
+  module.def(
+      "plugins",
+      [](const std::vector<std::string>& plugin_path) {
+        const nlohmann::json listing =
+            clothlab::cli::plugin_listing_json(clothlab::python::module_search_path(plugin_path));
+        return py::module_::import("json").attr("loads")(listing.dump());
+      },
+      py::arg("plugin_path") = std::vector<std::string>{},
+      "What `clothlab --list-plugins` shows, as a dict: the search path, each library with its "
+      "components and their parameters, and the libraries that failed to load (errors).");
+  clothlab::python::bind_simulation(module);
+}
