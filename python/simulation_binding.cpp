@@ -9,6 +9,7 @@
 #include <chrono>
 #include <clothlab/config/yaml_settings.hpp>
 #include <clothlab/host/errors.hpp>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -119,6 +120,18 @@ class PythonSimulation {
         simulation_(std::make_unique<cli::Simulation>(config_, module_search_path(plugin_path))) {
     if (!config_.frames.dir.empty()) frames_.emplace(config_, *simulation_);
   }
+
+  // A run left before its end still gets its summary so far in the frames' run.json.
+  ~PythonSimulation() {
+    if (!frames_ || frames_finished_) return;
+    try {
+      frames_->finish(simulation_->record());
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "clothlab: error: %s\n", host::one_line(error.what()).c_str());
+    }
+  }
+  PythonSimulation(const PythonSimulation&) = delete;
+  PythonSimulation& operator=(const PythonSimulation&) = delete;
 
   uint64_t step(int64_t count, const py::object& progress) {
     Exclusive exclusive(busy_, "step");

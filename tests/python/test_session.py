@@ -269,3 +269,16 @@ def test_frames_are_written_as_the_cli_writes_them(write_config, run_cli, tmp_pa
     run = json.loads((tmp_path / "python" / "run.json").read_text())
     cli_run = json.loads((tmp_path / "cli" / "run.json").read_text())
     assert run.keys() == cli_run.keys()
+    assert run["status"] == "finished" and run["summary"]["verdict"] == sim.verdict
+
+
+def test_a_run_left_early_gets_its_summary_so_far_in_run_json(write_config, tmp_path):
+    config = write_config(FLAG_10.replace("{precision}", "float32"))
+    sim = clothlab.Simulation(config, overrides={"frames.dir": str(tmp_path / "frames")})
+    sim.step(30)
+    run_json = tmp_path / "frames" / "run.json"
+    assert json.loads(run_json.read_text())["status"] == "running"
+    del sim
+    gc.collect()
+    run = json.loads(run_json.read_text())
+    assert run["status"] == "finished" and run["summary"]["steps"] == 30
