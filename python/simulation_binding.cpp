@@ -9,11 +9,14 @@
 #include <chrono>
 #include <clothlab/config/yaml_settings.hpp>
 #include <clothlab/host/errors.hpp>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 
+#include "frames_output.hpp"
 #include "python_errors.hpp"
 #include "run_config.hpp"
 #include "run_report.hpp"
@@ -113,9 +116,22 @@ class PythonSimulation {
  public:
   PythonSimulation(const py::object& config, const py::dict& overrides,
                    const std::vector<std::string>& plugin_path)
-      : simulation_(std::make_unique<cli::Simulation>(
-            cli::resolve_run_config(settings_of(config, overrides)),
-            module_search_path(plugin_path))) {}
+      : config_(cli::resolve_run_config(settings_of(config, overrides))),
+        simulation_(std::make_unique<cli::Simulation>(config_, module_search_path(plugin_path))) {
+    if (!config_.frames.dir.empty()) frames_.emplace(config_, *simulation_);
+  }
+
+  // A run left before its end still gets its summary so far in the frames' run.json.
+  ~PythonSimulation() {
+    if (!frames_ || frames_finished_) return;
+    try {
+      frames_->finish(simulation_->record());
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "clothlab: error: %s\n", host::one_line(error.what()).c_str());
+    }
+  }
+  PythonSimulation(const PythonSimulation&) = delete;
+  PythonSimulation& operator=(const PythonSimulation&) = delete;
 
   uint64_t step(int64_t count, const py::object& progress) {
     Exclusive exclusive(busy_, "step");
@@ -251,7 +267,11 @@ class PythonSimulation {
   std::string precision() const { return to_string(simulation_->cloth().precision()); }
 
  private:
+  cli::RunConfig config_;
   std::unique_ptr<cli::Simulation> simulation_;
+  // frames.*: written as the program writes them, from the stepping thread.
+  std::optional<cli::FramesOutput> frames_;
+  bool frames_finished_ = false;
   // Recursive: a progress callback may look at the simulation it reports on.
   std::recursive_mutex busy_;
 
@@ -304,7 +324,12 @@ class PythonSimulation {
       uint64_t done = 0;
       {
         py::gil_scoped_release release;
-        done = simulation_->step(asked);
+        done = simulation_->step(asked, {frames_ ? &*frames_ : nullptr});
+        // The frames folder's run.json gets the summary once the run is over.
+        if (frames_ && simulation_->finished() && !frames_finished_) {
+          frames_->finish(simulation_->record());
+          frames_finished_ = true;
+        }
       }
       taken += done;
       raise_if_failed();

@@ -23,8 +23,9 @@ arguments = parser.parse_args()
 
 figure, (stretch_axes, energy_axes) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
 for integrator, settings in RUNS.items():
-    sim = clothlab.Simulation(CONFIG, overrides={"integrator": integrator,
-                                                 **settings})
+    # Frames for `clothlab view results/python-flag-verlet results/python-flag-implicit_euler`.
+    sim = clothlab.Simulation(CONFIG, overrides={"integrator": integrator, **settings,
+                                                 "frames.dir": f"results/python-flag-{integrator}"})
     times, stretch, energy = [0.0], [sim.stretch()["max_away_from_pins"]], [sim.energies()["total"]]
     while not sim.finished:
         sim.step(settings["substeps"])  # one frame

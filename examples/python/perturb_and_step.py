@@ -13,7 +13,9 @@ import numpy as np
 import clothlab
 
 CONFIG = pathlib.Path(__file__).resolve().parents[2] / "configs" / "default.yaml"
-pushed, control = clothlab.Simulation(CONFIG), clothlab.Simulation(CONFIG)
+# Frames for `clothlab view results/python-pushed results/python-control`, side by side.
+pushed = clothlab.Simulation(CONFIG, overrides={"frames.dir": "results/python-pushed"})
+control = clothlab.Simulation(CONFIG, overrides={"frames.dir": "results/python-control"})
 for sim in (pushed, control):
     sim.advance(0.5)  # settle
 assert np.array_equal(pushed.positions, control.positions)

@@ -249,3 +249,36 @@ def test_ctrl_c_stops_a_long_step_between_steps(write_config):
     timer.join()
     assert 0 < sim.steps_taken < 10000000
     sim.step(1)  # the run goes on from where it stopped
+
+
+def test_frames_are_written_as_the_cli_writes_them(write_config, run_cli, tmp_path):
+    text = FLAG_10.replace("{precision}", "float32") + "frames: {every: 20, format: [vtp, obj]}\n"
+    config = write_config(text)
+    code, _, stderr = run_cli("--config", config, "--set", f"frames.dir={tmp_path / 'cli'}",
+                              "--quiet")
+    assert code == 0, stderr
+    sim = clothlab.Simulation(config, overrides={"frames.dir": str(tmp_path / "python")})
+    sim.step(50)
+    sim.step(sim.steps_left)
+    written = sorted(path.name for path in (tmp_path / "python").iterdir())
+    assert written == sorted(path.name for path in (tmp_path / "cli").iterdir())
+    assert len([name for name in written if name.endswith(".vtp")]) == 7  # steps 0, 20, ... 120
+    for name in written:
+        if name.endswith(".obj"):
+            assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    run = json.loads((tmp_path / "python" / "run.json").read_text())
+    cli_run = json.loads((tmp_path / "cli" / "run.json").read_text())
+    assert run.keys() == cli_run.keys()
+    assert run["status"] == "finished" and run["summary"]["verdict"] == sim.verdict
+
+
+def test_a_run_left_early_gets_its_summary_so_far_in_run_json(write_config, tmp_path):
+    config = write_config(FLAG_10.replace("{precision}", "float32"))
+    sim = clothlab.Simulation(config, overrides={"frames.dir": str(tmp_path / "frames")})
+    sim.step(30)
+    run_json = tmp_path / "frames" / "run.json"
+    assert json.loads(run_json.read_text())["status"] == "running"
+    del sim
+    gc.collect()
+    run = json.loads(run_json.read_text())
+    assert run["status"] == "finished" and run["summary"]["steps"] == 30
