@@ -131,7 +131,8 @@ Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting,
       [&](const Positions& xyz) {
         // The shared measure must be the engine's own: else the comparison measures two things.
         const double own = cloth.stretch_percentile(Cloth::Springs::Structural, 0.99);
-        if (std::abs(own - p99_of(scene, xyz)) > 1e-6)
+        // Relative: a broken run's ratios reach 1e12, where the two sums round apart.
+        if (std::abs(own - p99_of(scene, xyz)) > 1e-9 * std::max(1.0, std::abs(own)))
           throw std::runtime_error("grid_stretch.hpp's p99 " + std::to_string(p99_of(scene, xyz)) +
                                    " differs from Cloth::stretch_percentile's " +
                                    std::to_string(own));
