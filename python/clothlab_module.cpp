@@ -14,12 +14,13 @@ PYBIND11_MODULE(_clothlab, module) {
   module.def(
       "plugins",
       [](const std::vector<std::string>& plugin_path) {
-        const nlohmann::json listing =
-            clothlab::cli::plugin_listing_json(clothlab::python::module_search_path(plugin_path));
+        const nlohmann::json listing = clothlab::cli::listing_json(
+            clothlab::cli::plugin_listing(clothlab::python::module_search_path(plugin_path)));
         return py::module_::import("json").attr("loads")(listing.dump());
       },
       py::arg("plugin_path") = std::vector<std::string>{},
-      "What `clothlab --list-plugins` shows, as a dict: the search path, each library with its "
-      "components and their parameters, and the libraries that failed to load (errors).");
+      "What `clothlab --list-plugins --json -` prints, as a dict "
+      "(docs/reference/plugin-listing.md): "
+      "each library with its integrators and scenarios, their parameters, traits and extensions.");
   clothlab::python::bind_simulation(module);
 }

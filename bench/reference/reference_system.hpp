@@ -4,8 +4,11 @@
 // (preallocated) and the vector helpers are plain single-threaded loops.
 #pragma once
 
+#include <clothlab/ext/attachment_targets.h>
+#include <clothlab/ext/contacts.h>
 #include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
+#include <clothlab/ext/threads.h>
 #include <clothlab/ext/topology.h>
 
 #include <clothlab/core/cloth.hpp>
@@ -27,6 +30,10 @@ class ReferenceSystem {
   ReferenceSystem& operator=(const ReferenceSystem&) = delete;
 
   const clothlab_system& system() const { return system_; }
+  // The host extensions it does not offer (clothlab/core/extension_registry.hpp): its loops
+  // are serial, and its scenes have neither colliders nor attachments.
+  static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_THREADS, CLOTHLAB_EXT_CONTACTS,
+                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS};
   uint64_t force_evals() const { return force_evals_; }
   double force_seconds() const { return force_seconds_; }  // wall time in eval_acceleration
   // Positions, particle-major: out[3 * i + k].

@@ -2,6 +2,8 @@
 // named is exactly the value refused.
 #pragma once
 
+#include <array>
+#include <charconv>
 #include <sstream>
 #include <string>
 
@@ -12,6 +14,13 @@ inline std::string value_text(double value) {
   out.precision(17);
   out << value;
   return out.str();
+}
+
+// The shortest text that reads back as `value` (times and distances in messages about a path).
+inline std::string shortest_text(double value) {
+  std::array<char, 32> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return std::string(buffer.data(), result.ptr);
 }
 
 }  // namespace clothlab::detail

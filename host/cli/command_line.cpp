@@ -37,7 +37,9 @@ po::options_description describe_options() {
       "energy-out", po::value<std::string>(),
       "write the energy at t = 0 and at every stability check as CSV to FILE "
       "(integrator,t,kinetic,spring,gravity,total; tools/plot.py energy draws it)")(
-      "list-plugins", "list the plugins on the search path with their parameters")(
+      "list-plugins",
+      "list the plugins on the search path with their parameters, traits and extensions; with "
+      "--json FILE (or - for stdout) as JSON (docs/reference/plugin-listing.md)")(
       "find-max-dt",
       "bisect dt to the largest stable step for the configured duration (keys "
       "find_max_dt.tolerance, .dt_min, .dt_max) and print the predicted dt_max beside it")(

@@ -68,8 +68,17 @@ int run(int argc, const char* const argv[]) {
     return exit_ok;
   }
   const auto search_path = clothlab::host::PluginSearchPath::standard(command_line.plugin_paths);
-  if (command_line.list_plugins)
-    return list_plugins(search_path, std::cout, std::cerr) == 0 ? exit_ok : exit_plugin_error;
+  if (command_line.list_plugins) {
+    // --json FILE writes the listing as JSON there instead of text to stdout; "-" is stdout.
+    int errors = 0;
+    if (command_line.json_file && *command_line.json_file != "-")
+      write_file_atomically(*command_line.json_file, [&](std::ostream& out) {
+        errors = list_plugins(search_path, true, out, std::cerr);
+      });
+    else
+      errors = list_plugins(search_path, command_line.json_file.has_value(), std::cout, std::cerr);
+    return errors == 0 ? exit_ok : exit_plugin_error;
+  }
 
   if (command_line.config_file && is_sweep_file(*command_line.config_file)) {
     const bool frames = std::any_of(command_line.settings.begin(), command_line.settings.end(),

@@ -1,10 +1,11 @@
 // descriptor.*: the metadata a host relies on before calling anything is well formed (fields,
 // ids-unique, params: every finding of the loader's own validator, host::descriptor_findings),
 // the declared order and cost are plausible, and the integrator extensions a plugin declares
-// (ABI 1.2) are sound.
+// (ABI 1.2) are sound; integrators and scenarios answer NULL for every id they do not offer.
 #include <clothlab/ext/explicit_scheme.h>
 #include <clothlab/ext/integrator_traits.h>
 
+#include <clothlab/core/extension_registry.hpp>
 #include <clothlab/host/descriptor_findings.hpp>
 #include <clothlab/host/identifiers.hpp>
 #include <cmath>
@@ -124,16 +125,21 @@ void require_scheme(const clothlab_integrator& integrator, const clothlab_explic
               std::to_string(integrator.evals_per_step));
 }
 
+// get_extension answers NULL for an id nobody publishes: an unknown name, a published name at
+// another revision (a scenario answering "clothlab.colliders/2" with its /1 table), no id.
+void require_null_for_unpublished(const void* (*get_extension)(const char*), ExtensionSide side) {
+  for (const std::string& id : unpublished_ids(side))
+    require(get_extension(id.c_str()) == nullptr,
+            "get_extension(" + quoted(id.c_str()) + ") is not NULL");
+  require(get_extension(nullptr) == nullptr, "get_extension(NULL) is not NULL");
+}
+
 // get_extension answers NULL for what it does not offer, and what it offers is sound.
 Verdict integrator_extensions(const clothlab_integrator& integrator) {
   if (!CLOTHLAB_HAS_FIELD(&integrator, clothlab_integrator, get_extension) ||
       integrator.get_extension == nullptr)
     return {true, "none (a struct before ABI 1.2 or no get_extension)"};
-  for (const char* id : {"clothlab.no-such-extension/1", "", "clothlab.integrator-traits/2",
-                         "clothlab.explicit-scheme/0", "clothlab.explicit-scheme"})
-    require(integrator.get_extension(id) == nullptr,
-            std::string("get_extension(") + quoted(id) + ") is not NULL");
-  require(integrator.get_extension(nullptr) == nullptr, "get_extension(NULL) is not NULL");
+  require_null_for_unpublished(integrator.get_extension, ExtensionSide::Integrator);
   std::string offered;
   if (const void* traits = integrator.get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS)) {
     require_traits(integrator, *static_cast<const clothlab_integrator_traits*>(traits));
@@ -143,6 +149,19 @@ Verdict integrator_extensions(const clothlab_integrator& integrator) {
     require_scheme(integrator, *static_cast<const clothlab_explicit_scheme*>(scheme));
     offered += std::string(offered.empty() ? "" : ", ") + CLOTHLAB_EXT_EXPLICIT_SCHEME;
   }
+  return {true, offered.empty() ? "none offered" : offered};
+}
+
+// As for integrators; what a scenario offers is checked by the scenario.* checks.
+Verdict scenario_extensions(const clothlab_scenario& scenario) {
+  if (!CLOTHLAB_HAS_FIELD(&scenario, clothlab_scenario, get_extension) ||
+      scenario.get_extension == nullptr)
+    return {true, "none (a struct before ABI 1.3 or no get_extension)"};
+  require_null_for_unpublished(scenario.get_extension, ExtensionSide::Scenario);
+  std::string offered;
+  for (const char* id : published_ids(ExtensionSide::Scenario))
+    if (scenario.get_extension(id) != nullptr)
+      offered += std::string(offered.empty() ? "" : ", ") + id;
   return {true, offered.empty() ? "none offered" : offered};
 }
 
@@ -175,6 +194,7 @@ std::vector<Check> descriptor_checks(const clothlab_plugin_descriptor& library) 
     const clothlab_scenario* c = library.scenarios[i];
     if (c == nullptr || c->id == nullptr) continue;
     checks.push_back({c->id, "descriptor.fields", fields(c->id)});
+    checks.push_back({c->id, "descriptor.extensions", [c] { return scenario_extensions(*c); }});
     checks.push_back({c->id, "descriptor.params", params(c->id, c->param_count)});
   }
   return checks;

@@ -1,7 +1,10 @@
 // scenario.*: the scene a scenario describes (its cloth, its colliders, its air) is simulable,
 // repeatable and follows its parameters.
+#include <clothlab/ext/attachments.h>
 #include <clothlab/ext/colliders.h>
+#include <clothlab/ext/mesh.h>
 
+#include <clothlab/core/attachment_path.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <cstring>
@@ -154,6 +157,57 @@ Verdict colliders_valid(const clothlab_scenario& scenario) {
   return {true, std::to_string(count) + " colliders, valid shapes and continuous poses over 2 s"};
 }
 
+// The cloth's particle count: the mesh's vertices when the scenario offers one.
+uint32_t particle_count(const clothlab_scenario& scenario, const ScenarioInstance& instance) {
+  const auto* mesh = static_cast<const clothlab_mesh_extension*>(
+      clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_MESH));
+  if (mesh == nullptr) {
+    const clothlab_scene scene = instance.describe();
+    return scene.rows * scene.cols;
+  }
+  clothlab_mesh out{};
+  out.struct_size = sizeof out;
+  clothlab_message message{};
+  const clothlab_status status = mesh->describe(instance.handle(), &out, &message);
+  require(status == CLOTHLAB_OK, "mesh describe failed: " + describe_status(status, message));
+  return out.vertex_count;
+}
+
+// The attached particles and their targets over two seconds pass the core's one attachment
+// validation, as the host checks them before a run, and at substep times too: eight samples per
+// step of 1 ms, so a target that jumps inside a step and is back by the next is caught.
+Verdict attachments_valid(const clothlab_scenario& scenario) {
+  const auto* table = static_cast<const clothlab_attachments_extension*>(
+      clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_ATTACHMENTS));
+  if (table == nullptr) return {true, "no attachments"};
+  constexpr double dt = 1e-3;
+  constexpr uint64_t steps = 2000;
+  constexpr uint32_t samples_per_step = 8;
+  const ScenarioInstance instance(scenario, defaults_of(scenario));
+  std::vector<uint32_t> particles(table->count(instance.handle()));
+  clothlab_message message{};
+  if (!particles.empty()) {
+    const clothlab_status status = table->particles(instance.handle(), particles.data(), &message);
+    require(status == CLOTHLAB_OK,
+            "attachments: particles failed: " + describe_status(status, message));
+  }
+  const auto read = [&](double t, std::vector<double>& positions, std::vector<double>& velocities) {
+    const clothlab_status status =
+        table->targets(instance.handle(), t, positions.data(), velocities.data(), &message);
+    require(status == CLOTHLAB_OK, "attachments: targets at t = " + host::format_number(t) +
+                                       " s failed: " + describe_status(status, message));
+  };
+  try {
+    check_attached_particles(particles, particle_count(scenario, instance));
+    check_attachment_path(particles, read, dt, steps, samples_per_step);
+  } catch (const std::invalid_argument& error) {
+    throw CheckFailure(error.what());
+  }
+  return {true, std::to_string(particles.size()) +
+                    " attached particles, in range, their targets finite and continuous over 2 s "
+                    "at 8 samples per 1 ms step"};
+}
+
 }  // namespace
 
 std::vector<Check> scenario_checks(const clothlab_scenario& scenario) {
@@ -163,6 +217,7 @@ std::vector<Check> scenario_checks(const clothlab_scenario& scenario) {
       {c->id, "scenario.deterministic", [c] { return describe_repeatable(*c); }},
       {c->id, "scenario.params", [c] { return parameters_respected(*c); }},
       {c->id, "scenario.colliders", [c] { return colliders_valid(*c); }},
+      {c->id, "scenario.attachments", [c] { return attachments_valid(*c); }},
   };
 }
 

@@ -160,8 +160,12 @@ std::vector<double> ScenarioInstance::motion() const {
     require(status == CLOTHLAB_OK, "attachments failed: " + describe_status(status, message));
     fields.assign(particles.begin(), particles.end());
   }
-  for (int sample = 0; sample <= 200; ++sample) {
-    const double t = 0.1 * sample;
+  // Every 1 ms over the first 2 s (a step a game or a run commonly takes), so a parameter whose
+  // effect lasts a few milliseconds (a flick, a fast flutter) shows, then every 0.1 s to 20 s.
+  std::vector<double> times;
+  for (int k = 0; k <= 2000; ++k) times.push_back(1e-3 * k);
+  for (int k = 21; k <= 200; ++k) times.push_back(0.1 * k);
+  for (const double t : times) {
     if (attached > 0) {
       const clothlab_status status =
           attachments->targets(instance_, t, positions.data(), velocities.data(), &message);

@@ -85,8 +85,9 @@ class ScenarioInstance {
   std::vector<double> air() const;
   // The plugin's instance, the first argument of its extensions' functions.
   void* handle() const { return instance_; }
-  // What moves over the first 20 s, sampled every 0.1 s: the attached particles
-  // (clothlab.attachments/1) and their targets, and the colliders' poses; empty when nothing does.
+  // What moves over the first 20 s, sampled every 1 ms to 2 s, then every 0.1 s: the attached
+  // particles (clothlab.attachments/1) and their targets, and the colliders' poses; empty when
+  // nothing does.
   std::vector<double> motion() const;
 
  private:

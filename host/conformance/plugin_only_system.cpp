@@ -1,5 +1,7 @@
 #include "plugin_only_system.hpp"
 
+#include <cstring>
+
 namespace clothlab::conformance {
 
 template <>
@@ -33,6 +35,15 @@ const void* PluginOnlySystem::host_table<clothlab_threads_extension>() const {
 template <>
 const void* PluginOnlySystem::host_table<clothlab_grid_extension>() const {
   return host_grid_;
+}
+
+template <>
+const void* PluginOnlySystem::host_table<clothlab_contacts_extension>() const {
+  return host_contacts_;
+}
+template <>
+const void* PluginOnlySystem::host_table<clothlab_attachment_targets_extension>() const {
+  return host_attachment_targets_;
 }
 
 template <>
@@ -129,6 +140,8 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
     host_threads_ = clothlab_system_extension(&host, CLOTHLAB_EXT_THREADS);
     host_grid_ = clothlab_system_extension(&host, CLOTHLAB_EXT_GRID);
+    host_contacts_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CONTACTS);
+    host_attachment_targets_ = clothlab_system_extension(&host, CLOTHLAB_EXT_ATTACHMENT_TARGETS);
     system_.get_extension = &get_extension;
   }
 }
@@ -142,6 +155,8 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using E = clothlab_external_forces_extension;
   using H = clothlab_threads_extension;
   using G = clothlab_grid_extension;
+  using K = clothlab_contacts_extension;
+  using A = clothlab_attachment_targets_extension;
   static constexpr T topology{&Forward<T, &T::get>::call};
   static constexpr J jacobian{&reserve_jacobian, &AfterReserve<J, &J::apply>::call,
                               &AfterReserve<J, &J::diagonal_blocks>::call,
@@ -158,6 +173,8 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                                      &Forward<E, &E::depends_on_position>::call};
   static constexpr H threads{&Forward<H, &H::count>::call};
   static constexpr G grid{&Forward<G, &G::get>::call};
+  static constexpr K contacts{&Forward<K, &K::resolve>::call};
+  static constexpr A attachment_targets{&Forward<A, &A::count>::call, &Forward<A, &A::move>::call};
   const auto& wrapper = *static_cast<const PluginOnlySystem*>(self);
   if (id == nullptr) return nullptr;
   const allocations::Pause pause;
@@ -170,6 +187,8 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads;
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid;
+  if (std::strcmp(id, CLOTHLAB_EXT_CONTACTS) == 0) return &contacts;
+  if (std::strcmp(id, CLOTHLAB_EXT_ATTACHMENT_TARGETS) == 0) return &attachment_targets;
   return nullptr;
 }
 

@@ -15,7 +15,9 @@
 // (never a table that would be called with the wrong context).
 #pragma once
 
+#include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/grid.h>
@@ -25,7 +27,7 @@
 #include <clothlab/ext/topology.h>
 #include <clothlab/plugin.h>
 
-#include <cstring>
+#include <span>
 #include <string>
 
 #include "allocation_counter.hpp"
@@ -39,6 +41,10 @@ class PluginOnlySystem {
   PluginOnlySystem& operator=(const PluginOnlySystem&) = delete;
 
   const clothlab_system& system() const { return system_; }
+
+  // The host extensions it does not pass on (clothlab/core/extension_registry.hpp): none, so
+  // the no-allocation check measures every path of the plugin's.
+  static constexpr std::span<const char* const> kDeclinedExtensions{};
 
   // Prepare is over: from now on the prepare-only calls are refused.
   void close_prepare() { prepare_closed_ = true; }
@@ -93,6 +99,8 @@ class PluginOnlySystem {
   const void* host_external_forces_ = nullptr;
   const void* host_threads_ = nullptr;
   const void* host_grid_ = nullptr;
+  const void* host_contacts_ = nullptr;
+  const void* host_attachment_targets_ = nullptr;
   bool prepare_closed_ = false;
   bool jacobian_reserved_in_prepare_ = false;
   mutable std::string misuse_;

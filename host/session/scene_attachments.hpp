@@ -18,10 +18,10 @@ class SceneAttachments final : public AttachmentSource {
   // None: a scenario without the extension.
   SceneAttachments() = default;
   // Reads the attached particles and their targets at each step start t = k dt, k = 0 .. steps,
-  // before the run: a particle out of range (`particles` on the cloth), a non-finite target, or
-  // one that moves between two step starts farther than twice its faster velocity there allows
-  // (a jump), is an InputError naming the scenario, the attachment, the value and what is
-  // allowed; a failing call is the plugin's PluginError. `instance` must outlive this object.
+  // before the run (clothlab/core/attachment_path.hpp): a particle out of range (`particles` on
+  // the cloth), a non-finite target, or a jump is an InputError naming the scenario, the
+  // attachment, the value and what is allowed; a failing call is the plugin's PluginError.
+  // `instance` must outlive this object.
   SceneAttachments(const host::ScenarioPlugin& scenario, const host::ScenarioInstance& instance,
                    uint32_t particles, double dt, uint64_t steps);
 
@@ -31,9 +31,6 @@ class SceneAttachments final : public AttachmentSource {
                std::span<double> velocities) noexcept override;
 
  private:
-  void read(double t, std::vector<double>& positions, std::vector<double>& velocities) const;
-  std::string owner(std::size_t index) const;
-
   const clothlab_attachments_extension* table_ = nullptr;
   void* instance_ = nullptr;
   std::string scenario_id_;

@@ -116,6 +116,12 @@ INSTANTIATE_TEST_SUITE_P(
         FaultyCase{"faulty_claims_to_resolve_contacts", "claims-to-resolve-contacts",
                    "contacts.no-tunnelling", "it went into or through a capsule of radius 0.012 m",
                    "--filter contacts"},
+        FaultyCase{"faulty_answers_any_collider_revision", "answers-any-collider-revision",
+                   "descriptor.extensions", "get_extension(\"clothlab.colliders/2\") is not NULL",
+                   "--filter descriptor"},
+        FaultyCase{"faulty_holds_its_target_between_keys", "holds-its-target-between-keys",
+                   "scenario.attachments", "attachment 0 (particle 0): target jumps",
+                   "--filter scenario.attachments"},
         FaultyCase{"faulty_jumps_its_collider", "jumps-its-collider", "scenario.colliders",
                    "collider 0: pose at t = 1 s: position moved 2", "--filter scenario.colliders"},
         FaultyCase{"faulty_gives_a_negative_radius", "gives-a-negative-radius",
@@ -290,6 +296,18 @@ TEST(ConformanceRun, AsanReportOfAPluginReachesTheFailReason) {
 // The fault only a run at the defaults shows: an implicit Euler with its stiffness term's sign
 // flipped, declaring no unconditional stability, passes every other check and fails the two
 // default-scene runs, by the stability monitor's verdict.
+// A flick over in 20 to 80 ms is between the 0.1 s samples scenario.params once took: its
+// parameter changes what moves, and the path passes scenario.attachments at substep times.
+TEST(ConformanceRun, AParameterThatActsForMillisecondsChangesTheMotion) {
+  const RunnerOutput run = run_conformance("--filter scenario " + plugin("flicks_a_corner"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  for (const char* check : {"scenario.params", "scenario.attachments"}) {
+    const nlohmann::json* result = find_check(run, "flicks-a-corner", check);
+    ASSERT_NE(result, nullptr) << check << " did not run:\n" << run.output;
+    EXPECT_EQ((*result)["passed"], true) << check << ": " << (*result)["reason"];
+  }
+}
+
 TEST(ConformanceRun, OnlyTheDefaultSceneRunsCatchAFlippedStiffnessSign) {
   // As for a sound plugin below: the other checks must not fail on the clock of shared cores.
   const RunnerOutput run =

@@ -761,6 +761,49 @@ TEST_F(Clothlab, ListPluginsShowsComponentsAndParameters) {
     EXPECT_NE(outcome.out.find(text), std::string::npos) << text;
 }
 
+TEST_F(Clothlab, ListPluginsShowsTraitsAndExtensions) {
+  const Outcome outcome = run("--list-plugins");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const std::size_t implicit = outcome.out.find("integrator implicit_euler");
+  ASSERT_NE(implicit, std::string::npos) << outcome.out;
+  const std::string block =
+      outcome.out.substr(implicit, outcome.out.find("parameters", implicit) - implicit);
+  for (const char* text : {"traits: ", "resolves-contacts", "moves-attachments",
+                           "extensions: clothlab.integrator-traits/1"})
+    EXPECT_NE(block.find(text), std::string::npos) << text << " in\n" << block;
+}
+
+// The JSON form is the same listing (plugin_listing builds it once), schema in
+// docs/reference/plugin-listing.md.
+TEST_F(Clothlab, ListPluginsAsJsonForTools) {
+  const Outcome outcome = run("--list-plugins --json -");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json listing = nlohmann::json::parse(outcome.out);
+  EXPECT_EQ(listing["schema_version"], 1);
+  EXPECT_TRUE(listing["errors"].empty());
+  const nlohmann::json* implicit = nullptr;
+  const nlohmann::json* flag = nullptr;
+  for (const nlohmann::json& library : listing["libraries"]) {
+    for (const nlohmann::json& integrator : library["integrators"])
+      if (integrator["id"] == "implicit_euler") implicit = &integrator;
+    for (const nlohmann::json& scenario : library["scenarios"])
+      if (scenario["id"] == "flag") flag = &scenario;
+  }
+  ASSERT_NE(implicit, nullptr) << outcome.out;
+  ASSERT_NE(flag, nullptr) << outcome.out;
+  const auto& traits = (*implicit)["traits"];
+  EXPECT_NE(std::find(traits.begin(), traits.end(), "resolves-contacts"), traits.end()) << traits;
+  EXPECT_EQ((*implicit)["order"], 1);
+  bool wind = false;
+  for (const nlohmann::json& parameter : (*flag)["parameters"])
+    wind = wind || parameter["key"] == "scenario.wind.strength";
+  EXPECT_TRUE(wind) << (*flag)["parameters"];
+
+  const Outcome to_file = run("--list-plugins --json listing.json");
+  ASSERT_EQ(to_file.exit_code, 0) << to_file.err;
+  EXPECT_EQ(nlohmann::json::parse(read_text(file("listing.json"))), listing);
+}
+
 TEST_F(Clothlab, ListPluginsReportsIdsInTwoLibraries) {
   const Outcome outcome = run("--list-plugins --plugin-path " + (test_plugins / "good").string() +
                               ":" + (test_plugins / "copy").string());

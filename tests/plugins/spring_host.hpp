@@ -5,6 +5,9 @@
 // the plugins can be tested against analytic solutions without the core.
 #pragma once
 
+#include <clothlab/ext/attachment_targets.h>
+#include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/grid.h>
@@ -85,6 +88,11 @@ class SpringHost {
   SpringHost& operator=(const SpringHost&) = delete;
 
   MockSystem<Real>& system() { return system_; }
+  // The host extensions it never offers (clothlab/core/extension_registry.hpp): the tests it
+  // serves need no fused CG sweeps, colliders or attachments. The grid and the thread count
+  // are offered once set_grid and set_threads have been called.
+  static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_CG_STEP, CLOTHLAB_EXT_CONTACTS,
+                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS};
   int jacobian_products = 0;  // of either form
 
   // Replaces the trivial spring colouring (one spring per colour) with `colors`, spring

@@ -213,16 +213,19 @@ def test_two_threads_at_once_raise_not_crash(write_config):
 
 def test_plugins_lists_what_list_plugins_shows(run_cli):
     listing = clothlab.plugins()
-    ids = {c["id"] for library in listing["libraries"] for c in library["components"]}
+    assert listing["schema_version"] == 1
+    ids = {c["id"] for library in listing["libraries"]
+           for c in library["integrators"] + library["scenarios"]}
     assert {"verlet", "rk4", "flag", "sheet"} <= ids
     code, stdout, _ = run_cli("--list-plugins")
     assert code == 0
     for library in listing["libraries"]:
         assert library["path"] in stdout
-        for component in library["components"]:
-            assert f"{component['kind']} {component['id']}: {component['name']}" in stdout
-            for parameter in component["parameters"]:
-                assert f"{parameter['key']} = {parameter['default']}" in stdout
+        for kind in ("integrator", "scenario"):
+            for component in library[kind + "s"]:
+                assert f"{kind} {component['id']}: {component['name']}" in stdout
+                for parameter in component["parameters"]:
+                    assert f"{parameter['key']} = {parameter['default']}" in stdout
 
 
 def test_progress_is_reported_and_may_look_at_the_simulation(write_config):

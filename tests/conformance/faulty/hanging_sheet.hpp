@@ -16,10 +16,10 @@ struct HangingSheetBase {
       sdk::real_param("wind", 0.0, 0.0, 5.0, "N/m^2", "wind strength along +z")};
 
   explicit HangingSheetBase(const sdk::Params& values)
-      : rows_(static_cast<uint32_t>(values.integer("rows"))),
-        cols_(static_cast<uint32_t>(values.integer("cols"))),
-        wind_(values.real("wind")),
-        pinned_{0, cols_ - 1} {}
+      : HangingSheetBase(static_cast<uint32_t>(values.integer("rows")),
+                         static_cast<uint32_t>(values.integer("cols")), values.real("wind")) {}
+  HangingSheetBase(uint32_t rows, uint32_t cols, double wind = 0.0)
+      : rows_(rows), cols_(cols), wind_(wind), pinned_{0, cols_ - 1} {}
 
   void describe(clothlab_scene& scene) const {
     scene.rows = rows_;
