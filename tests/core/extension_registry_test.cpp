@@ -29,6 +29,17 @@ TEST(ExtensionRegistry, IdsAreUniqueNamesWithARevision) {
   }
 }
 
+TEST(ExtensionRegistry, APluginIdBelongsToBothPluginSidesAndNotTheHost) {
+  const auto has = [](ExtensionSide side, std::string_view id) {
+    const std::vector<const char*> ids = published_ids(side);
+    return std::any_of(ids.begin(), ids.end(), [id](const char* p) { return id == p; });
+  };
+  EXPECT_TRUE(has(ExtensionSide::Integrator, CLOTHLAB_EXT_TEXT_PARAMETERS));
+  EXPECT_TRUE(has(ExtensionSide::Scenario, CLOTHLAB_EXT_TEXT_PARAMETERS));
+  EXPECT_FALSE(has(ExtensionSide::Host, CLOTHLAB_EXT_TEXT_PARAMETERS));
+  EXPECT_FALSE(has(ExtensionSide::Integrator, CLOTHLAB_EXT_MESH));
+}
+
 TEST(ExtensionRegistry, UnpublishedIdsAreNotPublished) {
   for (ExtensionSide side :
        {ExtensionSide::Host, ExtensionSide::Integrator, ExtensionSide::Scenario}) {

@@ -20,6 +20,7 @@
 #include <clothlab/ext/mesh.h>
 #include <clothlab/ext/reductions.h>
 #include <clothlab/ext/solver_statistics.h>
+#include <clothlab/ext/text_parameters.h>
 #include <clothlab/ext/threads.h>
 #include <clothlab/ext/topology.h>
 
@@ -33,8 +34,9 @@
 namespace clothlab {
 
 // Who offers an extension: the host to an integrator (clothlab_system), an integrator to the
-// host (clothlab_integrator), a scenario to the host (clothlab_scenario).
-enum class ExtensionSide { Host, Integrator, Scenario };
+// host (clothlab_integrator), a scenario to the host (clothlab_scenario), or any plugin, an
+// integrator or a scenario, to the host (Plugin: an id of both plugin sides).
+enum class ExtensionSide { Host, Integrator, Scenario, Plugin };
 
 std::string_view to_string(ExtensionSide side);
 
@@ -61,6 +63,7 @@ inline constexpr PublishedExtension kPublishedExtensions[] = {
     {CLOTHLAB_EXT_ATTACHMENTS, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_AIR, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_MESH, ExtensionSide::Scenario},
+    {CLOTHLAB_EXT_TEXT_PARAMETERS, ExtensionSide::Plugin},
 };
 
 inline std::string_view to_string(ExtensionSide side) {
@@ -71,14 +74,21 @@ inline std::string_view to_string(ExtensionSide side) {
       return "integrator";
     case ExtensionSide::Scenario:
       return "scenario";
+    case ExtensionSide::Plugin:
+      return "plugin";
   }
   return "?";
 }
 
+// The ids a table of `side` may answer: a Plugin id belongs to the integrator and the scenario
+// sides alike.
 inline std::vector<const char*> published_ids(ExtensionSide side) {
+  const auto belongs = [side](ExtensionSide of) {
+    return of == side || (of == ExtensionSide::Plugin && side != ExtensionSide::Host);
+  };
   std::vector<const char*> ids;
   for (const PublishedExtension& extension : kPublishedExtensions)
-    if (extension.side == side) ids.push_back(extension.id);
+    if (belongs(extension.side)) ids.push_back(extension.id);
   return ids;
 }
 
