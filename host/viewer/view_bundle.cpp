@@ -54,6 +54,9 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
   }
   if (entries.empty()) throw host::InputError(index_path.string() + ": lists no frames");
   const nlohmann::json run = read_run_json(dir);
+  // run.json's vertex count; folders written before it had one are grids of rows x cols.
+  const uint64_t vertices =
+      run.value("vertices", run.value("rows", uint64_t{0}) * run.value("cols", uint64_t{0}));
   const size_t stride = (entries.size() + max_frames - 1) / max_frames;
 
   nlohmann::json times = nlohmann::json::array(), energy = nlohmann::json::array();
@@ -69,9 +72,10 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
     } catch (const std::exception& error) {
       throw host::InputError(error.what());
     }
-    if (frame.positions.size() != 3 * run.value("rows", 0ull) * run.value("cols", 0ull))
-      throw host::InputError((dir / entries[i].file).string() +
-                             ": point count does not match the mesh in run.json");
+    if (frame.positions.size() != 3 * vertices)
+      throw host::InputError((dir / entries[i].file).string() + ": " +
+                             std::to_string(frame.positions.size() / 3) +
+                             " points, run.json's mesh " + std::to_string(vertices));
     if (i == 0) {
       for (const Collider& collider : frame.colliders)
         colliders.push_back({{"shape", std::string(to_string(collider.shape))},
@@ -103,6 +107,7 @@ void write_run(std::ostream& out, const fs::path& dir, size_t max_frames) {
                                {"run", run},
                                {"rows", run.value("rows", 0)},
                                {"cols", run.value("cols", 0)},
+                               {"vertices", vertices},
                                {"triangles", base64_of(triangles)},
                                {"times", times},
                                {"energy", energy},

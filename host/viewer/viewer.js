@@ -200,7 +200,7 @@ function describeRuns() {
     heading.append(swatch, `${i + 1}: ${info.integrator} on ${info.scenario}`);
     const div = element("div", "run");
     div.append(heading, element("div", "", run.name),
-      element("div", "", `${info.rows}×${info.cols}, ${info.precision}, dt ${info.dt} s, ${run.times.length} frames` +
+      element("div", "", `${info.rows ? `${info.rows}×${info.cols}` : `${run.vertices} vertices`}, ${info.precision}, dt ${info.dt} s, ${run.times.length} frames` +
         (summary.ms_per_step ? `, ${summary.ms_per_step.median.toFixed(3)} ms/step` : "")),
       element("div", `verdict ${stable ? "good" : "bad"}`, verdict),
       element("pre", "", `integrator ${JSON.stringify(info.integrator_params)}\nscenario ${JSON.stringify(info.scenario_params)}`));

@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <array>
+#include <clothlab/io/frame_formats.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -480,12 +482,81 @@ TEST_F(Clothlab, AnIntegratorThatNeedsTheGridsJacobianRefusesAMeshInOneLine) {
             "lacks clothlab.jacobian/1\n");
 }
 
-TEST_F(Clothlab, FramesOfAMeshAreRefusedInOneLine) {
-  const Outcome outcome = run("--integrator=euler " + mesh_scene + "--steps 10 --frames frames");
-  EXPECT_EQ(outcome.exit_code, 1);
-  EXPECT_EQ(outcome.err,
-            "clothlab: error: frames: scenario test-mesh is a triangle mesh (clothlab.mesh/1), and "
-            "frames are written for grid cloths only so far\n");
+// A mesh's frames hold its 37 vertices and 54 triangles in every format, and `clothlab view`
+// bundles them.
+TEST_F(Clothlab, FramesOfAMeshHoldItsVerticesAndTriangles) {
+  const Outcome outcome = run("--integrator=euler " + mesh_scene +
+                              "--dt 0.001 --steps 10 --frames frames --set frames.every=5 "
+                              "--set 'frames.format=[vtp, obj, pc2]' --quiet");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  const nlohmann::json run_json = nlohmann::json::parse(read_text(file("frames/run.json")));
+  EXPECT_EQ(run_json["vertices"], 37);
+  EXPECT_FALSE(run_json.contains("rows"));
+
+  std::vector<uint32_t> triangles;
+  const clothlab::io::Frame last =
+      clothlab::io::read_vtp(file("frames/frame_000002.vtp"), &triangles);
+  EXPECT_EQ(last.positions.size(), 3u * 37);
+  EXPECT_EQ(last.stretch.size(), 37u);
+  EXPECT_GT(*std::max_element(last.stretch.begin(), last.stretch.end()), 0.0f);
+  ASSERT_EQ(triangles.size(), 3u * 54);
+
+  // The OBJ's faces are the same triangles, 1-based; its vertices the .vtp's points.
+  std::ifstream obj(file("frames/frame_000002.obj"));
+  std::vector<uint32_t> faces;
+  int vertices = 0;
+  for (std::string line; std::getline(obj, line);) {
+    std::istringstream words(line);
+    std::string kind;
+    words >> kind;
+    if (kind == "v") ++vertices;
+    for (uint32_t index = 0; kind == "f" && words >> index;) faces.push_back(index - 1);
+  }
+  EXPECT_EQ(vertices, 37);
+  const auto sorted_triangles = [](std::vector<uint32_t> list) {
+    std::vector<std::array<uint32_t, 3>> sorted;
+    for (std::size_t t = 0; t + 2 < list.size(); t += 3) {
+      std::array<uint32_t, 3> triangle{list[t], list[t + 1], list[t + 2]};
+      std::rotate(triangle.begin(), std::min_element(triangle.begin(), triangle.end()),
+                  triangle.end());
+      sorted.push_back(triangle);
+    }
+    std::sort(sorted.begin(), sorted.end());
+    return sorted;
+  };
+  EXPECT_EQ(sorted_triangles(faces), sorted_triangles(triangles));
+
+  // PC2: 37 points, 3 samples (steps 0, 5, 10), the last one the last frame's positions.
+  std::ifstream pc2(file("frames/frames.pc2"), std::ios::binary);
+  std::array<char, 32> header{};
+  pc2.read(header.data(), header.size());
+  int32_t points = 0, samples = 0;
+  std::memcpy(&points, header.data() + 16, 4);
+  std::memcpy(&samples, header.data() + 28, 4);
+  EXPECT_EQ(points, 37);
+  EXPECT_EQ(samples, 3);
+  std::vector<float> last_sample(3 * 37);
+  pc2.seekg(32 + 2 * 3 * 37 * sizeof(float));
+  pc2.read(reinterpret_cast<char*>(last_sample.data()),
+           static_cast<std::streamsize>(last_sample.size() * sizeof(float)));
+  EXPECT_EQ(last_sample, last.positions);
+
+  const Outcome view = run("view frames --out bundle");
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  EXPECT_NE(read_text(file("bundle/runs.js")).find("\"vertices\":37"), std::string::npos);
+}
+
+// The viewer checks the frames against run.json's vertex count.
+TEST_F(Clothlab, ViewRefusesFramesThatDoNotMatchRunJsonsVertexCount) {
+  ASSERT_EQ(run("--integrator=euler " + mesh_scene + "--steps 2 --frames frames --quiet").exit_code,
+            0);
+  nlohmann::json run_json = nlohmann::json::parse(read_text(file("frames/run.json")));
+  run_json["vertices"] = 36;
+  std::ofstream(file("frames/run.json")) << run_json.dump();
+  const Outcome view = run("view frames --out bundle");
+  EXPECT_EQ(view.exit_code, 1);
+  EXPECT_NE(view.err.find("frame_000000.vtp: 37 points, run.json's mesh 36"), std::string::npos)
+      << view.err;
 }
 
 TEST_F(Clothlab, ABadMeshIsOneLineBeforeTheRun) {

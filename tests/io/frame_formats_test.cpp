@@ -15,6 +15,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The frame mesh of a rows x cols grid with its rows and columns 1 m apart.
+FrameMesh grid_frame_mesh(uint32_t rows, uint32_t cols) {
+  Scene scene;
+  scene.rows = rows;
+  scene.cols = cols;
+  scene.width = cols - 1.0;
+  scene.height = rows - 1.0;
+  scene.structural.ks = 1;
+  return FrameMesh(*build_grid_model(scene));
+}
+
 TEST(Base64, MatchesRfc4648Vectors) {
   const std::pair<const char*, const char*> vectors[] = {
       {"", ""}, {"f", "Zg=="}, {"fo", "Zm8="}, {"foo", "Zm9v"}, {"foobar", "Zm9vYmFy"}};
@@ -30,8 +41,8 @@ TEST(Base64, MatchesRfc4648Vectors) {
 
 // The core's triangles (clothlab::grid_triangles), which the wind acts on: counter-clockwise
 // about col_axis x row_axis. The writers used to turn them the other way.
-TEST(GridMesh, TwoTrianglesPerCellFacingAsTheWindsNormals) {
-  const GridMesh mesh{3, 4};
+TEST(FrameMesh, TwoTrianglesPerCellFacingAsTheWindsNormals) {
+  const FrameMesh mesh = grid_frame_mesh(3, 4);
   const std::vector<uint32_t>& triangles = mesh.triangles;
   ASSERT_EQ(triangles.size(), 3 * mesh.triangle_count());
   EXPECT_EQ(mesh.triangle_count(), 12u);
@@ -45,17 +56,17 @@ TEST(GridMesh, TwoTrianglesPerCellFacingAsTheWindsNormals) {
   }
 }
 
-TEST(GridMesh, StretchIsTheLongestAdjacentStructuralSpring) {
-  const GridMesh mesh{2, 3};
+TEST(FrameMesh, StretchIsTheLongestAdjacentStructuralSpring) {
+  const FrameMesh mesh = grid_frame_mesh(2, 3);
   // Rest spacing 1 in both directions; the right column is pulled to x = 4 (spring 2x rest).
   std::vector<float> positions = {0, 0, 0, 1, 0, 0, 3, 0, 0, 0, -1, 0, 1, -1, 0, 3, -1, 0};
   std::vector<float> stretch;
-  compute_stretch(mesh, 1.0, 1.0, positions, stretch);
+  compute_stretch(mesh, positions, stretch);
   EXPECT_EQ(stretch, (std::vector<float>{1, 2, 2, 1, 2, 2}));
 }
 
 TEST(VtkPolyData, ReadsBackWhatItWrote) {
-  const GridMesh mesh{2, 2};
+  const FrameMesh mesh = grid_frame_mesh(2, 2);
   Frame frame;
   frame.index = 3;
   frame.step = 120;
@@ -86,7 +97,7 @@ TEST(VtkPolyData, ReadsBackWhatItWrote) {
 // colliders, as every file before them, reads as none; a malformed one is one line naming the
 // file, the collider and the field.
 TEST(VtkPolyData, CollidersRoundTripWithTheirPoses) {
-  const GridMesh mesh{2, 2};
+  const FrameMesh mesh = grid_frame_mesh(2, 2);
   Frame frame;
   frame.positions = {0, 0, 0, 1, 0, 0, 0, -1, 0, 1, -1, 0};
   frame.velocities.assign(12, 0.0f);
@@ -161,7 +172,7 @@ TEST(VtkPolyData, CollidersRoundTripWithTheirPoses) {
 // largest float) come back bit for bit, and the file says it is raw appended binary with
 // UInt64 headers, which is what ParaView's reader needs to be told.
 TEST(VtkPolyData, Float32ArraysRoundTripBitForBit) {
-  const GridMesh mesh{3, 4};
+  const FrameMesh mesh = grid_frame_mesh(3, 4);
   Frame frame;
   const float awkward[] = {std::numeric_limits<float>::denorm_min(),
                            -0.0f,
@@ -171,11 +182,11 @@ TEST(VtkPolyData, Float32ArraysRoundTripBitForBit) {
                            -std::numeric_limits<float>::min(),
                            0.1f,
                            1e-30f};
-  for (uint64_t i = 0; i < 3 * mesh.vertex_count(); ++i) {
+  for (uint64_t i = 0; i < 3 * mesh.vertex_count; ++i) {
     frame.positions.push_back(awkward[i % 8] * static_cast<float>(i + 1));
     frame.velocities.push_back(awkward[(i + 3) % 8]);
   }
-  for (uint64_t i = 0; i < mesh.vertex_count(); ++i) frame.stretch.push_back(awkward[i % 8]);
+  for (uint64_t i = 0; i < mesh.vertex_count; ++i) frame.stretch.push_back(awkward[i % 8]);
   const fs::path path = fs::path(testing::TempDir()) / "frame_formats_bits.vtp";
   {
     std::ofstream out(path, std::ios::binary);
@@ -215,7 +226,7 @@ std::vector<uint32_t> least_first(const std::vector<uint32_t>& triangles) {
 // One strip per column of cells: the connectivity VTK decomposes into the mesh's triangles,
 // and read_vtp decomposes it the same way.
 TEST(VtkPolyData, StripsHoldTheGridsTriangles) {
-  const GridMesh mesh{3, 3};
+  const FrameMesh mesh = grid_frame_mesh(3, 3);
   const VtpTopology topology = vtp_topology(mesh);
   ASSERT_EQ(topology.strips, 2u);
   std::vector<int32_t> connectivity((topology.connectivity_bytes - 8) / 4);
@@ -236,9 +247,9 @@ TEST(VtkPolyData, StripsHoldTheGridsTriangles) {
   EXPECT_EQ(least_first(decomposed), least_first(mesh.triangles));
 
   Frame frame;
-  frame.positions.assign(3 * mesh.vertex_count(), 0.0f);
+  frame.positions.assign(3 * mesh.vertex_count, 0.0f);
   frame.velocities = frame.positions;
-  frame.stretch.assign(mesh.vertex_count(), 1.0f);
+  frame.stretch.assign(mesh.vertex_count, 1.0f);
   const fs::path path = fs::path(testing::TempDir()) / "frame_formats_strips.vtp";
   {
     std::ofstream out(path, std::ios::binary);

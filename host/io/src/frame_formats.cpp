@@ -227,14 +227,14 @@ std::vector<Collider> read_colliders(const std::string& text, const std::filesys
 
 }  // namespace
 
-VtpTopology vtp_topology(const GridMesh& mesh) {
+VtpTopology vtp_topology(const FrameMesh& mesh) {
   // A triangle continues the strip before it when it is that strip's next triangle, else it
   // starts a strip: VTK reads points p, q, r of a strip as (p, q, r) at an even position and
   // (q, p, r) at an odd one, so that all face the same way. The core lists a column of cells
   // as one such strip: 2 * rows indices and one offset per column instead of 6 * (rows - 1)
   // and one per triangle.
   std::vector<int32_t> connectivity, offsets;
-  connectivity.reserve(2 * mesh.vertex_count());
+  connectivity.reserve(2 * mesh.vertex_count);
   std::size_t strip_begin = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); t += 3) {
     const auto* triangle = mesh.triangles.data() + t;
@@ -413,7 +413,7 @@ std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path) {
   return entries;
 }
 
-void write_obj(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
+void write_obj(std::ostream& out, const FrameMesh& mesh, const Frame& frame) {
   out << "# ClothLab frame " << frame.index << ", step " << frame.step
       << ", t = " << host::format_number(frame.time) << " s\no cloth\n";
   std::string line;
@@ -423,7 +423,7 @@ void write_obj(std::ostream& out, const GridMesh& mesh, const Frame& frame) {
     line += ' ';
     line.append(buffer, result.ptr);
   };
-  for (uint64_t i = 0; i < mesh.vertex_count(); ++i) {
+  for (uint64_t i = 0; i < mesh.vertex_count; ++i) {
     line.assign(1, 'v');
     for (int k = 0; k < 3; ++k) append(frame.positions[3 * i + k]);
     line += '\n';

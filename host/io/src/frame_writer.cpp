@@ -81,9 +81,8 @@ void remove_earlier_frames(const fs::path& dir) {
 
 struct FrameWriter::Impl {
   FrameWriterOptions options;
-  GridMesh mesh;
+  FrameMesh mesh;
   VtpTopology topology;
-  double column_rest = 0, row_rest = 0;
   // A one-thread copy of the cloth: the energy of a frame from the same code as the run's.
   Cloth energy_cloth;
   bool vtp = false, obj = false, pc2 = false;
@@ -110,13 +109,12 @@ struct FrameWriter::Impl {
   VtpFile vtp_file;
   std::thread thread;
 
-  Impl(const Scene& scene, Precision precision, FrameWriterOptions options_in)
+  Impl(const Scene& scene, const std::shared_ptr<const ClothModel>& model, Precision precision,
+       FrameWriterOptions options_in)
       : options(std::move(options_in)),
-        mesh{scene.rows, scene.cols},
+        mesh(*model),
         topology(vtp_topology(mesh)),
-        column_rest(scene.column_spacing()),
-        row_rest(scene.row_spacing()),
-        energy_cloth(scene, precision, PipelineOptions{true, 1}),
+        energy_cloth(scene, model, precision, PipelineOptions{true, 1}),
         vtp(has(options.formats, "vtp")),
         obj(has(options.formats, "obj")),
         pc2(has(options.formats, "pc2")) {}
@@ -133,7 +131,7 @@ struct FrameWriter::Impl {
     energy_cloth.set_raw_state(snapshot.state);
     energy_cloth.positions(frame.positions);
     energy_cloth.velocities(frame.velocities);
-    compute_stretch(mesh, column_rest, row_rest, frame.positions, frame.stretch);
+    compute_stretch(mesh, frame.positions, frame.stretch);
     const Cloth::Energy energy = energy_cloth.energy();
     frame.energy = {energy.kinetic, energy.spring, energy.gravity};
     frame.colliders = snapshot.colliders;
@@ -210,7 +208,7 @@ struct FrameWriter::Impl {
     pc2_staging.close();
     const fs::path staging = options.dir / pc2_staging_name;
     io::write_file_atomically(options.dir / "frames.pc2", [&](std::ostream& out) {
-      write_pc2_header(out, mesh.vertex_count(), frames);
+      write_pc2_header(out, mesh.vertex_count, frames);
       std::ifstream in(staging, std::ios::binary);
       out << in.rdbuf();
     });
@@ -218,13 +216,14 @@ struct FrameWriter::Impl {
   }
 };
 
-FrameWriter::FrameWriter(const Scene& scene, Precision precision, FrameWriterOptions options) {
+FrameWriter::FrameWriter(const Scene& scene, const std::shared_ptr<const ClothModel>& model,
+                         Precision precision, FrameWriterOptions options) {
   std::error_code error;
   fs::create_directories(options.dir, error);
   if (error || !fs::is_directory(options.dir))
     throw host::InputError("frames folder " + options.dir.string() + ": cannot create it: " +
                            (error ? error.message() : std::string("not a folder")));
-  impl_ = std::make_unique<Impl>(scene, precision, std::move(options));
+  impl_ = std::make_unique<Impl>(scene, model, precision, std::move(options));
   Impl& impl = *impl_;
   remove_earlier_frames(impl.options.dir);
   io::remove_stale_temporaries_in(impl.options.dir);

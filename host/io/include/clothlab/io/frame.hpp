@@ -1,7 +1,8 @@
-// One frame of a cloth run as the frame files hold it: float32 per-vertex data of a
-// rows x cols grid (particle r * cols + c), triangulated as the core triangulates it.
+// One frame of a cloth run as the frame files hold it: float32 per-vertex data of the cloth's
+// particles, drawn as the cloth model's triangles.
 #pragma once
 
+#include <clothlab/core/cloth_model.hpp>
 #include <clothlab/core/collider.hpp>
 #include <cstdint>
 #include <vector>
@@ -27,17 +28,20 @@ struct Frame {
   std::vector<Collider> colliders;
 };
 
-// The grid's vertices and the core's triangles of it (clothlab::grid_triangles).
-struct GridMesh {
-  GridMesh(uint32_t rows, uint32_t cols);
-  uint32_t rows = 0, cols = 0;
+// What the frames draw of a cloth model: its particles, its triangles, and its structural
+// springs with their rest lengths (what the per-vertex stretch measures).
+struct FrameMesh {
+  explicit FrameMesh(const ClothModel& model);
+  uint64_t vertex_count = 0;
   std::vector<uint32_t> triangles;  // vertex indices, 3 per triangle
-  uint64_t vertex_count() const { return uint64_t{rows} * cols; }
+  std::vector<uint32_t> spring_first, spring_second;
+  std::vector<double> spring_rest_length;
   uint64_t triangle_count() const { return triangles.size() / 3; }
 };
 
-// stretch[i] for every vertex from its positions and the rest lengths of its springs.
-void compute_stretch(const GridMesh& mesh, double column_rest, double row_rest,
-                     const std::vector<float>& positions, std::vector<float>& stretch);
+// stretch[i] for every vertex: the largest length / rest length of its structural springs
+// (0 for a vertex without one).
+void compute_stretch(const FrameMesh& mesh, const std::vector<float>& positions,
+                     std::vector<float>& stretch);
 
 }  // namespace clothlab::io

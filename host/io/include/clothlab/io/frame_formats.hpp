@@ -1,6 +1,6 @@
 // The frame file formats, all written without a library:
-//   .vtp  VTK XML PolyData (ParaView): points, the triangles as one triangle strip per column
-//         of cells, point data velocity and stretch,
+//   .vtp  VTK XML PolyData (ParaView): points, the triangles as triangle strips (a grid's one
+//         per column of cells, a mesh's mostly one per triangle), point data velocity and stretch,
 //         field data TimeValue, step and the energies, and for a scene with colliders
 //         collider_shapes (per collider: shape code of clothlab/ext/colliders.h, radius,
 //         end_radius, half_length, half_extents x y z, thickness) and collider_poses (position
@@ -22,15 +22,16 @@
 
 namespace clothlab::io {
 
-// The mesh's triangles as triangle strips (one per column of cells: a quarter of the bytes of
-// separate triangles), VTK's connectivity and offsets arrays, the same in every frame: their
-// appended bytes (each array's UInt64 byte count, then the Int32 values).
+// The mesh's triangles as triangle strips, each triangle continuing the strip before it where it
+// can (a grid: one strip per column of cells, a quarter of the bytes of separate triangles), VTK's
+// connectivity and offsets arrays, the same in every frame: their appended bytes (each array's
+// UInt64 byte count, then the Int32 values).
 struct VtpTopology {
   uint64_t strips = 0;
   uint64_t connectivity_bytes = 0;  // the connectivity's count and values: where offsets starts
   std::string appended;
 };
-VtpTopology vtp_topology(const GridMesh& mesh);
+VtpTopology vtp_topology(const FrameMesh& mesh);
 
 // A frame's .vtp as the pieces of memory it is made of, for io::write_file_atomically: the
 // XML and the arrays' byte counts (in `text`), the frame's arrays and the topology's bytes.
@@ -55,7 +56,7 @@ void write_pvd(std::ostream& out, const std::vector<CollectionEntry>& entries);
 // The entries of a .pvd (any writer's: DataSet elements with timestep and file).
 std::vector<CollectionEntry> read_pvd(const std::filesystem::path& path);
 
-void write_obj(std::ostream& out, const GridMesh& mesh, const Frame& frame);
+void write_obj(std::ostream& out, const FrameMesh& mesh, const Frame& frame);
 
 // The PC2 header for sample_count frames of vertex_count points, one sample per frame.
 void write_pc2_header(std::ostream& out, uint64_t vertex_count, uint64_t sample_count);

@@ -6,7 +6,8 @@
 // frame files atomically and rewrites the .pvd index after every frame, so a run that stops
 // at any point leaves a complete sequence and an index of exactly the frames written. Memory
 // is the four slots, whatever the number of frames. The folder holds:
-//   run.json          the run: integrator, scenario, parameters, mesh, dt, frame times; its
+//   run.json          the run: integrator, scenario, parameters, mesh (vertices; rows and cols
+//                     for a grid), dt, frame times; its
 //                     verdict and summary once finished ("status": running | finished)
 //   frames.pvd        index of frame_NNNNNN.vtp with their times        (format vtp); each
 //                     .vtp holds the scene's colliders at the frame's poses
@@ -15,6 +16,7 @@
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -35,8 +37,10 @@ class FrameWriter {
  public:
   // Creates the folder, removes the frame files of an earlier run there and writes
   // run.json: throws host::InputError (one line naming the folder) if that fails, so an
-  // unwritable folder is reported before the run starts. Starts the writer thread.
-  FrameWriter(const Scene& scene, Precision precision, FrameWriterOptions options);
+  // unwritable folder is reported before the run starts. Starts the writer thread. The frames
+  // draw `model` (the run's Cloth::model()), their energy is that of a cloth built from it.
+  FrameWriter(const Scene& scene, const std::shared_ptr<const ClothModel>& model,
+              Precision precision, FrameWriterOptions options);
   ~FrameWriter();
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
