@@ -62,10 +62,10 @@ def extension_headers():
     came with 1.2, when get_extension was added to the system and the integrator."""
     found = {}
     for path in sorted(glob.glob(os.path.join(EXT, "*.h"))):
-        match = re.search(r'^ \* (Host|Integrator|Scenario) extension "([^"]+)"(?: \(ABI (1\.\d+)\))?:',
+        match = re.search(r'^ \* (Host|Integrator|Scenario|Plugin) extension "([^"]+)"(?: \(ABI (1\.\d+)\))?:',
                           read(path), re.MULTILINE)
         if match is None:
-            sys.exit(f"FAIL: {path}: no ' * Host|Integrator|Scenario extension \"ID\"' line")
+            sys.exit(f"FAIL: {path}: no ' * Host|Integrator|Scenario|Plugin extension \"ID\"' line")
         side, id_, minor = match.groups()
         found[id_] = (side.lower(), minor or "1.2", os.path.basename(path))
     return found
@@ -76,8 +76,8 @@ def extensions():
     problems = []
     # plugin.h: "host side ...:" then that side's full ids (a revision, /2, is a new id).
     comment = read(PLUGIN_H).split("*/", 1)[0]
-    for side in ("host", "integrator", "scenario"):
-        match = re.search(side + r" side[^:]*:\s*((?:\*?\s*clothlab\.[a-z-]+/\d+[,;.]?\s*)+)", comment)
+    for side in ("host", "integrator", "scenario", "plugin"):
+        match = re.search(r"\b" + side + r" side[^:]*:\s*((?:\*?\s*clothlab\.[a-z-]+/\d+[,;.]?\s*)+)", comment)
         listed = set(re.findall(r"clothlab\.[a-z-]+/\d+", match.group(1))) if match else set()
         wanted = {id_ for id_, (s, _, _) in headers.items() if s == side}
         for id_ in sorted(wanted - listed):

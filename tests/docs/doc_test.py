@@ -11,8 +11,8 @@
   doc_test.py commands ROOT CLOTHLAB
       Every `clothlab ...` line in a sh/bash code block of README.md and docs/guide/*.md is
       accepted by CLOTHLAB (the built program): run to its end, in a scratch folder that sees
-      the repository's configs/ and the build (build/bin/clothlab is CLOTHLAB), each block's
-      commands in order so that later ones see earlier outputs.
+      the repository's configs/, examples/ and assets/ and the build (build/bin/clothlab is
+      CLOTHLAB), each block's commands in order so that later ones see earlier outputs.
       An HTML comment on the line before a block changes how its commands run:
         <!-- doc-test: dry-run -->        each gets --dry-run: checked, not stepped (minutes
                                           long runs, --choose, Slurm)
@@ -181,7 +181,7 @@ def check_commands(root, clothlab, folders=("docs/guide",)):
     build = Path(clothlab).resolve().parent.parent
     for page in pages(root, folders):
         with tempfile.TemporaryDirectory(prefix="doc-test-") as scratch:
-            for name in ("configs", "examples"):
+            for name in ("configs", "examples", "assets"):
                 os.symlink(root / name, Path(scratch) / name)
             os.symlink(build, Path(scratch) / "build")
             for start, marker, commands in command_blocks(page):
