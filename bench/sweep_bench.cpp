@@ -49,7 +49,9 @@ void BM_SweepPerCase(benchmark::State& state) {
   const auto count = static_cast<std::size_t>(state.range(0));
   const auto cases = trivial_cases(count);
   clothlab::process::Worker worker(
-      [](const std::string&) { return nlohmann::json{{"stable", true}, {"steps", 1}}.dump(); },
+      [](const std::string&) {
+        return nlohmann::json{{"stable", true}, {"steps", 1}}.dump();
+      },
       {});
   const auto trivial_case = [&](const sweep::CaseSpec& c) {
     const auto outcome = worker.ask(c.key);
