@@ -15,11 +15,10 @@
 
 #include <array>
 #include <clothlab/sdk.hpp>
-#include <cmath>
-#include <cstdio>
 #include <vector>
 
 #include "grid_cloth.hpp"
+#include "wind_and_air.hpp"
 
 namespace clothlab::builtin {
 
@@ -29,41 +28,9 @@ struct FlagInWind {
   static constexpr const char* version = "1.0.0";
   static constexpr const char* description =
       "Flag with its left column pinned to a pole, gravity and wind";
-  static constexpr auto params =
-      concat(grid_cloth_params(),
-             std::array{
-                 sdk::vec3_param("wind.direction", {1.0, 0.0, 0.5}, -1e3, 1e3, "",
-                                 "direction the wind blows towards (normalised; only its component "
-                                 "along the cloth normal pushes)"),
-                 sdk::real_param("wind.strength", 5.0, 0.0, 1e4, "N/m^2",
-                                 "the seed's wind pressure along the cloth normal; 0 = none"),
-                 sdk::real_param("air.density", 0.0, 0.0, 100.0, "kg/m^3",
-                                 "air for the drag and lift model (1.225 at sea level); 0 = none"),
-                 sdk::real_param("air.speed", 3.0, 0.0, 1e3, "m/s",
-                                 "the air's speed along wind.direction (drag and lift model)"),
-                 sdk::real_param("air.drag", 1.2, 0.0, 10.0, "", "drag coefficient of a triangle"),
-                 sdk::real_param("air.lift", 1.0, 0.0, 10.0, "", "lift coefficient of a triangle"),
-             });
+  static constexpr auto params = concat(grid_cloth_params(), wind_and_air_params(5.0));
 
-  explicit FlagInWind(const sdk::Params& values)
-      : cloth_(values), wind_strength_(values.real("wind.strength")) {
-    air_.struct_size = sizeof air_;
-    air_.density = values.real("air.density");
-    air_.drag_coefficient = values.real("air.drag");
-    air_.lift_coefficient = values.real("air.lift");
-    const std::array<double, 3> direction = values.vec3("wind.direction");
-    const double length = std::hypot(direction[0], direction[1], direction[2]);
-    if ((wind_strength_ > 0.0 || air_.density > 0.0) && !(length > 0.0)) {
-      char text[200];
-      std::snprintf(text, sizeof text,
-                    "parameter wind.direction = (%g, %g, %g) must be non-zero when "
-                    "wind.strength > 0 or air.density > 0",
-                    direction[0], direction[1], direction[2]);
-      throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, text);
-    }
-    for (int k = 0; k < 3; ++k) wind_direction_[k] = length > 0.0 ? direction[k] / length : 0.0;
-    for (int k = 0; k < 3; ++k)
-      air_.wind_velocity[k] = wind_direction_[k] * values.real("air.speed");
+  explicit FlagInWind(const sdk::Params& values) : cloth_(values), wind_(values) {
     if (cloth_.anchored)
       for (uint32_t row = 0; row < cloth_.rows; ++row) pinned_.push_back(row * cloth_.cols);
   }
@@ -76,19 +43,17 @@ struct FlagInWind {
     set_vec3(scene.row_axis, 0.0, -1.0, 0.0);
     scene.pinned_count = static_cast<uint32_t>(pinned_.size());
     scene.pinned = pinned_.data();
-    if (wind_strength_ > 0.0) {
-      scene.wind_strength = wind_strength_;
-      for (int k = 0; k < 3; ++k) scene.wind_direction[k] = wind_direction_[k];
+    if (wind_.strength > 0.0) {
+      scene.wind_strength = wind_.strength;
+      for (int k = 0; k < 3; ++k) scene.wind_direction[k] = wind_.direction[k];
     }
   }
 
-  clothlab_air air() const { return air_; }
+  clothlab_air air() const { return wind_.air; }
 
  private:
   GridCloth cloth_;
-  double wind_strength_;
-  clothlab_air air_{};
-  std::array<double, 3> wind_direction_{};
+  WindAndAir wind_;
   std::vector<uint32_t> pinned_;
 };
 

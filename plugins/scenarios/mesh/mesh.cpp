@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../grid_cloth.hpp"
+#include "../wind_and_air.hpp"
 #include "mesh_file.hpp"
 #include "mesh_geometry.hpp"
 #include "pin_rules.hpp"
@@ -31,7 +32,7 @@ namespace {
 // The particle limit's range: a 4096 x 4096 grid, the grid scenarios' largest, has as many.
 constexpr double most_vertices = 4096.0 * 4096.0;
 
-constexpr std::array mesh_params{
+constexpr std::array mesh_placement_and_cloth_params{
     sdk::real_param("scale", 1.0, 1e-6, 1e6, "", "factor the file's coordinates are multiplied by"),
     sdk::vec3_param("rotation", {0.0, 0.0, 0.0}, -360.0, 360.0, "deg",
                     "rotation about the x, then y, then z axis, after scaling"),
@@ -45,17 +46,9 @@ constexpr std::array mesh_params{
     sdk::real_param("flexion.ks", 1.0, 0.0, 1e9, "N/m", "stiffness of flexion (bend) springs"),
     sdk::real_param("flexion.kd", 0.0007, 0.0, 1e6, "N s/m", "damping of flexion springs"),
     sdk::vec3_param("gravity", {0.0, -9.81, 0.0}, -1e3, 1e3, "m/s^2", "gravitational acceleration"),
-    sdk::vec3_param("wind.direction", {1.0, 0.0, 0.5}, -1e3, 1e3, "",
-                    "direction the wind blows towards (normalised; only its component along a "
-                    "triangle's normal pushes)"),
-    sdk::real_param("wind.strength", 0.0, 0.0, 1e4, "N/m^2",
-                    "wind pressure along each triangle's normal; 0 = none"),
-    sdk::real_param("air.density", 0.0, 0.0, 100.0, "kg/m^3",
-                    "air for the drag and lift model (1.225 at sea level); 0 = none"),
-    sdk::real_param("air.speed", 3.0, 0.0, 1e3, "m/s",
-                    "the air's speed along wind.direction (drag and lift model)"),
-    sdk::real_param("air.drag", 1.2, 0.0, 10.0, "", "drag coefficient of a triangle"),
-    sdk::real_param("air.lift", 1.0, 0.0, 10.0, "", "lift coefficient of a triangle"),
+};
+
+constexpr std::array mesh_pin_params{
     sdk::bool_param("pin.by_box", false,
                     "pin the vertices inside the box pin.box.min .. pin.box.max"),
     sdk::vec3_param("pin.box.min", {-1e6, -1e6, -1e6}, -1e6, 1e6, "m",
@@ -82,6 +75,11 @@ constexpr std::array mesh_params{
     sdk::real_param("max_file_mb", 256.0, 1e-3, 1e6, "MB",
                     "a larger file is refused before it is read"),
 };
+
+// Placement and cloth, then the flag's wind and air (none by default), then the pin rules and
+// limits: the order --list-plugins shows.
+constexpr auto mesh_params =
+    concat(concat(mesh_placement_and_cloth_params, wind_and_air_params(0.0)), mesh_pin_params);
 
 }  // namespace
 
@@ -110,7 +108,7 @@ struct MeshScenario {
         flexion_{values.real("flexion.ks"), values.real("flexion.kd")},
         mass_(values.real("mass")),
         gravity_(values.vec3("gravity")),
-        wind_strength_(values.real("wind.strength")) {
+        wind_(values) {
     const std::string& path = texts.text("file");
     MeshFile file = read_mesh_file(
         path, {values.real("max_file_mb"), static_cast<uint32_t>(values.integer("max_vertices"))});
@@ -122,7 +120,6 @@ struct MeshScenario {
     place(mesh_, {values.real("scale"), values.vec3("rotation"), values.vec3("translation")});
     check_mesh_geometry(mesh_, path + " (placed)");
     pinned_ = select_pins(mesh_, pin_rules(values, texts), path);
-    read_wind(values);
     for (const auto& p : mesh_.positions) positions_.insert(positions_.end(), p.begin(), p.end());
     for (const auto& t : mesh_.triangles) triangles_.insert(triangles_.end(), t.begin(), t.end());
   }
@@ -148,12 +145,12 @@ struct MeshScenario {
     for (int k = 0; k < 3; ++k) scene.gravity[k] = gravity_[k];
     scene.pinned_count = static_cast<uint32_t>(pinned_.size());
     scene.pinned = pinned_.data();
-    scene.wind_strength = wind_strength_;
+    scene.wind_strength = wind_.strength;
     for (int k = 0; k < 3; ++k)
-      scene.wind_direction[k] = wind_strength_ > 0.0 ? wind_direction_[k] : 0.0;
+      scene.wind_direction[k] = wind_.strength > 0.0 ? wind_.direction[k] : 0.0;
   }
 
-  clothlab_air air() const { return air_; }
+  clothlab_air air() const { return wind_.air; }
 
   static const void* extension(std::string_view extension_id) noexcept {
     static const clothlab_mesh_extension table{
@@ -183,26 +180,6 @@ struct MeshScenario {
     return rules;
   }
 
-  void read_wind(const sdk::Params& values) {
-    air_.struct_size = sizeof air_;
-    air_.density = values.real("air.density");
-    air_.drag_coefficient = values.real("air.drag");
-    air_.lift_coefficient = values.real("air.lift");
-    const std::array<double, 3> direction = values.vec3("wind.direction");
-    const double length = std::hypot(direction[0], direction[1], direction[2]);
-    if ((wind_strength_ > 0.0 || air_.density > 0.0) && !(length > 0.0)) {
-      char text[200];
-      std::snprintf(text, sizeof text,
-                    "parameter wind.direction = (%g, %g, %g) must be non-zero when "
-                    "wind.strength > 0 or air.density > 0",
-                    direction[0], direction[1], direction[2]);
-      throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, text);
-    }
-    for (int k = 0; k < 3; ++k) wind_direction_[k] = length > 0.0 ? direction[k] / length : 0.0;
-    for (int k = 0; k < 3; ++k)
-      air_.wind_velocity[k] = wind_direction_[k] * values.real("air.speed");
-  }
-
   void describe_mesh(clothlab_mesh& out) const {
     out.vertex_count = static_cast<uint32_t>(mesh_.positions.size());
     out.triangle_count = static_cast<uint32_t>(mesh_.triangles.size());
@@ -219,9 +196,7 @@ struct MeshScenario {
   clothlab_spring_family structural_, shear_, flexion_;
   double mass_;
   std::array<double, 3> gravity_;
-  double wind_strength_;
-  std::array<double, 3> wind_direction_{};
-  clothlab_air air_{};
+  WindAndAir wind_;
 };
 
 }  // namespace clothlab::builtin
