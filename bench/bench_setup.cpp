@@ -2,6 +2,8 @@
 
 #include <clothlab/ext/colliders.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace clothlab::bench {
@@ -88,5 +90,14 @@ BoundIntegrator::BoundIntegrator(const std::string& id, const Cloth& cloth,
 }
 
 void BoundIntegrator::step(double t, double dt) { instance_.step(*system_, t, dt); }
+
+// An option's value as a number, or an error naming the option and the text.
+double number_of(const std::string& option, const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value))
+    throw std::runtime_error(option + " '" + text + "' is not a number");
+  return value;
+}
 
 }  // namespace clothlab::bench

@@ -28,6 +28,10 @@ std::vector<Collider> make_colliders(const std::string& id, const ParamTexts& pa
 // the same per-particle dynamics and the 300 x 300 one is exactly that file's.
 ParamTexts bench_cloth_params(int side);
 
+// A command-line option's value as a number; throws std::runtime_error naming the option and
+// the text when it is not a finite number.
+double number_of(const std::string& option, const char* text);
+
 // An integrator plugin instance with default parameters (but for `params`), bound to a cloth.
 class BoundIntegrator {
  public:

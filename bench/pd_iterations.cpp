@@ -68,15 +68,6 @@ std::string number(double value) {
   return text;
 }
 
-// An option's value as a number, or an error naming the option and the text.
-double number_of(const std::string& option, const char* text) {
-  char* end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value))
-    throw std::runtime_error(option + " '" + text + "' is not a number");
-  return value;
-}
-
 int run(int argc, char** argv) {
   std::string config_path = "configs/choose-cotton-flag-200.yaml";
   std::string integrator_id = "projective_dynamics";

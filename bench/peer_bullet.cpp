@@ -268,14 +268,6 @@ std::string percent(double p99) {
   return text;
 }
 
-double number_of(const std::string& option, const char* text) {
-  char* end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value))
-    throw std::runtime_error(option + " '" + text + "' is not a number");
-  return value;
-}
-
 int run(int argc, char** argv) {
   std::string config_path = "configs/bench-300.yaml";
   std::vector<std::string> scenarios;
