@@ -20,16 +20,43 @@ namespace clothlab::cli {
 
 namespace {
 
+bool declares_param(const host::ParamSet& params, std::string_view name) {
+  return std::any_of(params.specs().begin(), params.specs().end(),
+                     [&](const clothlab_param_spec& spec) { return name == spec.name; });
+}
+
+// xpbd's own "substeps" (40 by default) multiplied the frame substeps; it became
+// inner_substeps (default 1), so the frame substeps are the one knob. A config written for the
+// old meaning would otherwise run 40 times less work without a word.
+void refuse_old_substeps(const host::ParamSet& params, std::string_view id, const Setting& setting,
+                         std::string_view key, const std::string& written) {
+  if (params.prefix() != "integrator" || key != "substeps" || declares_param(params, "substeps") ||
+      !declares_param(params, "inner_substeps"))
+    return;
+  throw host::InputError(setting.source + ": " + written + " = " + setting.value + ": " +
+                         std::string(id) +
+                         " has no substeps parameter any more; use the frame substeps (substeps: "
+                         "N or --substeps N, with frame_rate), which multiply its cost as "
+                         "integrator.substeps did, or integrator.inner_substeps for substeps "
+                         "inside each step");
+}
+
 // Applies the plugin_params.<id>.* settings addressed to this component, then its
 // integrator.* / scenario.* settings.
 host::ParamSet apply(host::ParamSet params, std::string_view id,
                      const std::vector<Setting>& for_plugin_ids,
                      const std::vector<Setting>& settings) {
   const std::string prefix = std::string(id) + ".";
-  for (const Setting& setting : for_plugin_ids)
-    if (setting.key.starts_with(prefix))
-      params.set(setting.key.substr(prefix.size()), setting.value, setting.source);
-  for (const Setting& setting : settings) params.set(setting.key, setting.value, setting.source);
+  for (const Setting& setting : for_plugin_ids) {
+    if (!setting.key.starts_with(prefix)) continue;
+    const std::string key = setting.key.substr(prefix.size());
+    refuse_old_substeps(params, id, setting, key, "plugin_params." + setting.key);
+    params.set(key, setting.value, setting.source);
+  }
+  for (const Setting& setting : settings) {
+    refuse_old_substeps(params, id, setting, setting.key, params.prefix() + "." + setting.key);
+    params.set(setting.key, setting.value, setting.source);
+  }
   return params;
 }
 

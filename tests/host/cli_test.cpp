@@ -144,17 +144,41 @@ TEST_F(Clothlab, PrintsAHumanSummary) {
   EXPECT_NE(outcome.out.find("ms/step"), std::string::npos) << outcome.out;
 }
 
-// The position-based integrator runs from the command line on the windy scene, at the
-// default dt and at 50 ms (its 40 substeps of one Gauss-Seidel sweep keep it stable there).
-TEST_F(Clothlab, XpbdRunsTheFlagAtTheDefaultStepAndAt50Ms) {
-  for (const char* dt : {"0.001", "0.05"}) {
-    const Outcome outcome = run(std::string("--integrator=xpbd --scenario=flag --dt ") + dt +
-                                " --duration 0.5 --json xpbd.json --quiet");
-    ASSERT_EQ(outcome.exit_code, 0) << "dt " << dt << ": " << outcome.err;
+// The position-based integrator runs from the command line on the windy scene, in frames of
+// 1 ms and of 50 ms (40 frame substeps of one Gauss-Seidel sweep keep it stable there); its
+// own inner substeps stay at 1, so the frame substeps are the one knob.
+TEST_F(Clothlab, XpbdRunsTheFlagInFramesOf1MsAnd50Ms) {
+  for (const char* frame_rate : {"1000", "20"}) {
+    const Outcome outcome =
+        run(std::string("--integrator=xpbd --scenario=flag --frame-rate ") + frame_rate +
+            " --substeps 40 --duration 0.5 --json xpbd.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << frame_rate << " Hz: " << outcome.err;
     const auto json = nlohmann::json::parse(read_text(file("xpbd.json")));
-    EXPECT_EQ(json["stable"], true) << dt;
-    EXPECT_EQ(json["integrator_params"]["substeps"], 40);
+    EXPECT_EQ(json["stable"], true) << frame_rate;
+    EXPECT_EQ(json["integrator_params"]["inner_substeps"], 1);
   }
+}
+
+// xpbd's substeps parameter is gone (they multiplied the frame substeps): a config that sets it
+// is refused with the replacement, wherever it sets it.
+TEST_F(Clothlab, XpbdsOldSubstepsKeyIsRefusedWithWhatToUseInstead) {
+  std::ofstream(file("old.yaml")) << "integrator:\n  plugin: xpbd\n  substeps: 8\n";
+  const Outcome from_file = run("--config old.yaml --steps 1");
+  EXPECT_EQ(from_file.exit_code, 1);
+  EXPECT_EQ(from_file.err.rfind("clothlab: error: old.yaml:3:13: integrator.substeps = 8: xpbd has "
+                                "no substeps parameter any more; use the frame substeps",
+                                0),
+            0u)
+      << from_file.err;
+  EXPECT_NE(from_file.err.find("integrator.inner_substeps"), std::string::npos) << from_file.err;
+  const Outcome by_id = run("--integrator=xpbd --set plugin_params.xpbd.substeps=8 --steps 1");
+  EXPECT_EQ(by_id.exit_code, 1);
+  EXPECT_EQ(by_id.err.rfind("clothlab: error: --set: plugin_params.xpbd.substeps = 8: xpbd has "
+                            "no substeps parameter any more",
+                            0),
+            0u)
+      << by_id.err;
+  EXPECT_EQ(std::count(by_id.err.begin(), by_id.err.end(), '\n'), 1) << by_id.err;
 }
 
 TEST_F(Clothlab, DivergingRunExitsThreeAndStillWritesItsJson) {
