@@ -122,10 +122,12 @@ void SolverTotals::add(uint64_t step, const clothlab_solver_step_statistics& sta
 
 namespace {
 
-host::PluginLibrary find_plugin(const std::string& name, const std::string& source,
-                                const char* kind, const host::PluginSearchPath& search_path) {
+// A plugin that cannot be loaded, or holds no plugin of the kind asked for, is reported at the
+// key that named it.
+template <class Load>
+auto at_key(const std::string& name, const std::string& source, const char* kind, Load&& load) {
   try {
-    return host::PluginLibrary::find(name, search_path);
+    return load();
   } catch (const host::PluginLoadError& error) {
     throw host::PluginLoadError(source + ": " + kind + " = " + name + ": " + error.what());
   }
@@ -220,11 +222,16 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
 
 LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
   host::PluginLibrary integrator_library =
-      find_plugin(config.integrator, config.integrator_source, "integrator", search_path);
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return host::PluginLibrary::find(config.integrator, search_path); });
   host::PluginLibrary scenario_library =
-      find_plugin(config.scenario, config.scenario_source, "scenario", search_path);
-  const host::IntegratorPlugin* integrator = &integrator_library.integrator();
-  const host::ScenarioPlugin* scenario = &scenario_library.scenario();
+      at_key(config.scenario, config.scenario_source, "scenario",
+             [&] { return host::PluginLibrary::find(config.scenario, search_path); });
+  const host::IntegratorPlugin* integrator =
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return &integrator_library.integrator(); });
+  const host::ScenarioPlugin* scenario = at_key(config.scenario, config.scenario_source, "scenario",
+                                                [&] { return &scenario_library.scenario(); });
   host::ParamSet integrator_params = apply(integrator->default_params(), integrator->info().id,
                                            config.plugin_params, config.integrator_params);
   host::ParamSet scenario_params = apply(scenario->default_params(), scenario->info().id,

@@ -794,6 +794,53 @@ TEST_F(Clothlab, ConfigErrorExitsOneWithItsPosition) {
             "in [1, 4096]\n");
 }
 
+// Errors found after parsing (loading a plugin, a name the file system cannot hold) are reported
+// at the file:line:col of the key that caused them, in one line.
+TEST_F(Clothlab, ErrorsFoundAfterParsingNameTheKeyThatCausedThem) {
+  const std::string long_name(300, 'x');
+  const struct {
+    const char* name;
+    std::string yaml, arguments;
+    int exit_code;
+    std::string starts;
+  } cases[] = {
+      {"missing plugin", "integrator: nosuch\n", "--steps 1", 2,
+       "bad.yaml:1:13: integrator = nosuch: plugin nosuch: no nosuch.so in the plugin search path"},
+      {"no scenario in it", "integrator: euler\nscenario: euler\n", "--steps 1", 2,
+       "bad.yaml:2:11: scenario = euler: plugin "},
+      {"a device", "integrator: /dev/null\n", "--steps 1", 2,
+       "bad.yaml:1:13: integrator = /dev/null: plugin file /dev/null is a device or special file, "
+       "not a shared library"},
+      {"a folder", "scenario: /tmp\n", "--steps 1", 2,
+       "bad.yaml:1:11: scenario = /tmp: plugin file /tmp is a folder, not a shared library"},
+      {"a long frames name", "frames:\n  dir: out/" + long_name + "\n", "--steps 1", 1,
+       "bad.yaml:2:8: frames.dir: the name xxxxxxxxxxxxxxxxxxxxxxxx... is 300 bytes long; "
+       "allowed: names of at most 255 bytes"},
+      {"a long choose output", "choose:\n  output: results/" + long_name.substr(0, 250) + "\n",
+       "--choose --frame-rate 60", 1,
+       "bad.yaml:2:11: choose.output: the name xxxxxxxxxxxxxxxxxxxxxxxx... is 250 bytes long; "
+       "allowed: names of at most 255 bytes, the last at most 239"},
+      {"choose's reference is a scenario", "choose:\n  reference_integrator: sheet\n",
+       "--choose --frame-rate 60 --set choose.integrators=[euler]", 2,
+       "bad.yaml:2:25: choose.reference_integrator: integrator = sheet: plugin "},
+      {"choose names no integrator", "choose:\n  integrators: [euler, sheet]\n",
+       "--choose --frame-rate 60", 1,
+       "bad.yaml:2:16: choose.integrators: sheet is not an integrator on the plugin path"},
+      {"work-precision's reference is a scenario",
+       "duration: 0.1\nwork_precision:\n  reference_integrator: sheet\nsweep:\n  name: wp\n"
+       "  mode: work-precision\n  matrix:\n    integrator: [euler]\n",
+       "", 2, "bad.yaml:3:25: work_precision.reference_integrator: integrator = sheet: plugin "},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(file("bad.yaml")) << c.yaml;
+    const Outcome outcome = run("--config bad.yaml " + c.arguments);
+    EXPECT_EQ(outcome.exit_code, c.exit_code) << c.name << ": " << outcome.err;
+    EXPECT_EQ(outcome.err.rfind("clothlab: error: " + c.starts, 0), 0u)
+        << c.name << ": " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << c.name;
+  }
+}
+
 TEST_F(Clothlab, ShippedConfigsAreAccepted) {
   // Real cloth needs small steps: the frame-rate configs get 200 substeps, the bare material
   // files 0.1 ms steps (6 x 6 cotton's explicit limit is ~1 ms).
