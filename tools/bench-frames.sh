@@ -70,8 +70,6 @@ for rate in ${FRAME_RATES:-60 30}; do
       while IFS=, read -r integrator substeps iterations parameter; do
         extra=()
         [[ -n $iterations ]] && extra+=(--set integrator."$parameter"="$iterations")
-        # --choose holds xpbd's own substeps parameter at 1 (the frame's substeps are its only).
-        [[ $integrator == xpbd* ]] && extra+=(--set integrator.substeps=1)
         trace="$results/energy-$name-$integrator.csv"
         "$bin" --config configs/bench-300.yaml --scenario "$scenario" --integrator "$integrator" \
           --set scenario.rows="$mesh" --set scenario.cols="$mesh" --frame-rate "$rate" \

@@ -155,9 +155,11 @@ RUNS = {
     "flag": ["--integrator", "rk4", "--scenario", "flag", "--duration", "0.05"],
     "implicit": ["--integrator", "implicit_euler", "--scenario", "flag", "--duration", "0.05"],
     "drape": ["--integrator", "xpbd", "--scenario", "drape", "--set", "scenario.rows=10",
-              "--set", "scenario.cols=10", "--duration", "0.05"],
+              "--set", "scenario.cols=10", "--frame-rate", "1000", "--substeps", "40",
+              "--duration", "0.05"],
     "cape": ["--integrator", "xpbd", "--scenario", "cape", "--set", "scenario.rows=8",
-             "--set", "scenario.cols=6", "--duration", "0.05"],
+             "--set", "scenario.cols=6", "--frame-rate", "1000", "--substeps", "40",
+             "--duration", "0.05"],
 }
 
 

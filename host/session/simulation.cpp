@@ -20,16 +20,43 @@ namespace clothlab::cli {
 
 namespace {
 
+bool declares_param(const host::ParamSet& params, std::string_view name) {
+  return std::any_of(params.specs().begin(), params.specs().end(),
+                     [&](const clothlab_param_spec& spec) { return name == spec.name; });
+}
+
+// xpbd's own "substeps" (40 by default) multiplied the frame substeps; it became
+// inner_substeps (default 1), so the frame substeps are the one knob. A config written for the
+// old meaning would otherwise run 40 times less work without a word.
+void refuse_old_substeps(const host::ParamSet& params, std::string_view id, const Setting& setting,
+                         std::string_view key, const std::string& written) {
+  if (params.prefix() != "integrator" || key != "substeps" || declares_param(params, "substeps") ||
+      !declares_param(params, "inner_substeps"))
+    return;
+  throw host::InputError(setting.source + ": " + written + " = " + setting.value + ": " +
+                         std::string(id) +
+                         " has no substeps parameter any more; use the frame substeps (substeps: "
+                         "N or --substeps N, with frame_rate), which multiply its cost as "
+                         "integrator.substeps did, or integrator.inner_substeps for substeps "
+                         "inside each step");
+}
+
 // Applies the plugin_params.<id>.* settings addressed to this component, then its
 // integrator.* / scenario.* settings.
 host::ParamSet apply(host::ParamSet params, std::string_view id,
                      const std::vector<Setting>& for_plugin_ids,
                      const std::vector<Setting>& settings) {
   const std::string prefix = std::string(id) + ".";
-  for (const Setting& setting : for_plugin_ids)
-    if (setting.key.starts_with(prefix))
-      params.set(setting.key.substr(prefix.size()), setting.value, setting.source);
-  for (const Setting& setting : settings) params.set(setting.key, setting.value, setting.source);
+  for (const Setting& setting : for_plugin_ids) {
+    if (!setting.key.starts_with(prefix)) continue;
+    const std::string key = setting.key.substr(prefix.size());
+    refuse_old_substeps(params, id, setting, key, "plugin_params." + setting.key);
+    params.set(key, setting.value, setting.source);
+  }
+  for (const Setting& setting : settings) {
+    refuse_old_substeps(params, id, setting, setting.key, params.prefix() + "." + setting.key);
+    params.set(setting.key, setting.value, setting.source);
+  }
   return params;
 }
 
@@ -95,10 +122,12 @@ void SolverTotals::add(uint64_t step, const clothlab_solver_step_statistics& sta
 
 namespace {
 
-host::PluginLibrary find_plugin(const std::string& name, const std::string& source,
-                                const char* kind, const host::PluginSearchPath& search_path) {
+// A plugin that cannot be loaded, or holds no plugin of the kind asked for, is reported at the
+// key that named it.
+template <class Load>
+auto at_key(const std::string& name, const std::string& source, const char* kind, Load&& load) {
   try {
-    return host::PluginLibrary::find(name, search_path);
+    return load();
   } catch (const host::PluginLoadError& error) {
     throw host::PluginLoadError(source + ": " + kind + " = " + name + ": " + error.what());
   }
@@ -193,11 +222,16 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
 
 LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
   host::PluginLibrary integrator_library =
-      find_plugin(config.integrator, config.integrator_source, "integrator", search_path);
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return host::PluginLibrary::find(config.integrator, search_path); });
   host::PluginLibrary scenario_library =
-      find_plugin(config.scenario, config.scenario_source, "scenario", search_path);
-  const host::IntegratorPlugin* integrator = &integrator_library.integrator();
-  const host::ScenarioPlugin* scenario = &scenario_library.scenario();
+      at_key(config.scenario, config.scenario_source, "scenario",
+             [&] { return host::PluginLibrary::find(config.scenario, search_path); });
+  const host::IntegratorPlugin* integrator =
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return &integrator_library.integrator(); });
+  const host::ScenarioPlugin* scenario = at_key(config.scenario, config.scenario_source, "scenario",
+                                                [&] { return &scenario_library.scenario(); });
   host::ParamSet integrator_params = apply(integrator->default_params(), integrator->info().id,
                                            config.plugin_params, config.integrator_params);
   host::ParamSet scenario_params = apply(scenario->default_params(), scenario->info().id,

@@ -144,17 +144,41 @@ TEST_F(Clothlab, PrintsAHumanSummary) {
   EXPECT_NE(outcome.out.find("ms/step"), std::string::npos) << outcome.out;
 }
 
-// The position-based integrator runs from the command line on the windy scene, at the
-// default dt and at 50 ms (its 40 substeps of one Gauss-Seidel sweep keep it stable there).
-TEST_F(Clothlab, XpbdRunsTheFlagAtTheDefaultStepAndAt50Ms) {
-  for (const char* dt : {"0.001", "0.05"}) {
-    const Outcome outcome = run(std::string("--integrator=xpbd --scenario=flag --dt ") + dt +
-                                " --duration 0.5 --json xpbd.json --quiet");
-    ASSERT_EQ(outcome.exit_code, 0) << "dt " << dt << ": " << outcome.err;
+// The position-based integrator runs from the command line on the windy scene, in frames of
+// 1 ms and of 50 ms (40 frame substeps of one Gauss-Seidel sweep keep it stable there); its
+// own inner substeps stay at 1, so the frame substeps are the one knob.
+TEST_F(Clothlab, XpbdRunsTheFlagInFramesOf1MsAnd50Ms) {
+  for (const char* frame_rate : {"1000", "20"}) {
+    const Outcome outcome =
+        run(std::string("--integrator=xpbd --scenario=flag --frame-rate ") + frame_rate +
+            " --substeps 40 --duration 0.5 --json xpbd.json --quiet");
+    ASSERT_EQ(outcome.exit_code, 0) << frame_rate << " Hz: " << outcome.err;
     const auto json = nlohmann::json::parse(read_text(file("xpbd.json")));
-    EXPECT_EQ(json["stable"], true) << dt;
-    EXPECT_EQ(json["integrator_params"]["substeps"], 40);
+    EXPECT_EQ(json["stable"], true) << frame_rate;
+    EXPECT_EQ(json["integrator_params"]["inner_substeps"], 1);
   }
+}
+
+// xpbd's substeps parameter is gone (they multiplied the frame substeps): a config that sets it
+// is refused with the replacement, wherever it sets it.
+TEST_F(Clothlab, XpbdsOldSubstepsKeyIsRefusedWithWhatToUseInstead) {
+  std::ofstream(file("old.yaml")) << "integrator:\n  plugin: xpbd\n  substeps: 8\n";
+  const Outcome from_file = run("--config old.yaml --steps 1");
+  EXPECT_EQ(from_file.exit_code, 1);
+  EXPECT_EQ(from_file.err.rfind("clothlab: error: old.yaml:3:13: integrator.substeps = 8: xpbd has "
+                                "no substeps parameter any more; use the frame substeps",
+                                0),
+            0u)
+      << from_file.err;
+  EXPECT_NE(from_file.err.find("integrator.inner_substeps"), std::string::npos) << from_file.err;
+  const Outcome by_id = run("--integrator=xpbd --set plugin_params.xpbd.substeps=8 --steps 1");
+  EXPECT_EQ(by_id.exit_code, 1);
+  EXPECT_EQ(by_id.err.rfind("clothlab: error: --set: plugin_params.xpbd.substeps = 8: xpbd has "
+                            "no substeps parameter any more",
+                            0),
+            0u)
+      << by_id.err;
+  EXPECT_EQ(std::count(by_id.err.begin(), by_id.err.end(), '\n'), 1) << by_id.err;
 }
 
 TEST_F(Clothlab, DivergingRunExitsThreeAndStillWritesItsJson) {
@@ -768,6 +792,53 @@ TEST_F(Clothlab, ConfigErrorExitsOneWithItsPosition) {
   EXPECT_EQ(outcome.err,
             "clothlab: error: bad.yaml:4:9: scenario.rows = many: not a whole number; allowed: int "
             "in [1, 4096]\n");
+}
+
+// Errors found after parsing (loading a plugin, a name the file system cannot hold) are reported
+// at the file:line:col of the key that caused them, in one line.
+TEST_F(Clothlab, ErrorsFoundAfterParsingNameTheKeyThatCausedThem) {
+  const std::string long_name(300, 'x');
+  const struct {
+    const char* name;
+    std::string yaml, arguments;
+    int exit_code;
+    std::string starts;
+  } cases[] = {
+      {"missing plugin", "integrator: nosuch\n", "--steps 1", 2,
+       "bad.yaml:1:13: integrator = nosuch: plugin nosuch: no nosuch.so in the plugin search path"},
+      {"no scenario in it", "integrator: euler\nscenario: euler\n", "--steps 1", 2,
+       "bad.yaml:2:11: scenario = euler: plugin "},
+      {"a device", "integrator: /dev/null\n", "--steps 1", 2,
+       "bad.yaml:1:13: integrator = /dev/null: plugin file /dev/null is a device or special file, "
+       "not a shared library"},
+      {"a folder", "scenario: /tmp\n", "--steps 1", 2,
+       "bad.yaml:1:11: scenario = /tmp: plugin file /tmp is a folder, not a shared library"},
+      {"a long frames name", "frames:\n  dir: out/" + long_name + "\n", "--steps 1", 1,
+       "bad.yaml:2:8: frames.dir: the name xxxxxxxxxxxxxxxxxxxxxxxx... is 300 bytes long; "
+       "allowed: names of at most 255 bytes"},
+      {"a long choose output", "choose:\n  output: results/" + long_name.substr(0, 250) + "\n",
+       "--choose --frame-rate 60", 1,
+       "bad.yaml:2:11: choose.output: the name xxxxxxxxxxxxxxxxxxxxxxxx... is 250 bytes long; "
+       "allowed: names of at most 255 bytes, the last at most 239"},
+      {"choose's reference is a scenario", "choose:\n  reference_integrator: sheet\n",
+       "--choose --frame-rate 60 --set choose.integrators=[euler]", 2,
+       "bad.yaml:2:25: choose.reference_integrator: integrator = sheet: plugin "},
+      {"choose names no integrator", "choose:\n  integrators: [euler, sheet]\n",
+       "--choose --frame-rate 60", 1,
+       "bad.yaml:2:16: choose.integrators: sheet is not an integrator on the plugin path"},
+      {"work-precision's reference is a scenario",
+       "duration: 0.1\nwork_precision:\n  reference_integrator: sheet\nsweep:\n  name: wp\n"
+       "  mode: work-precision\n  matrix:\n    integrator: [euler]\n",
+       "", 2, "bad.yaml:3:25: work_precision.reference_integrator: integrator = sheet: plugin "},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(file("bad.yaml")) << c.yaml;
+    const Outcome outcome = run("--config bad.yaml " + c.arguments);
+    EXPECT_EQ(outcome.exit_code, c.exit_code) << c.name << ": " << outcome.err;
+    EXPECT_EQ(outcome.err.rfind("clothlab: error: " + c.starts, 0), 0u)
+        << c.name << ": " << outcome.err;
+    EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << c.name;
+  }
 }
 
 TEST_F(Clothlab, ShippedConfigsAreAccepted) {
