@@ -1,8 +1,9 @@
 // The cost of a spring on the grid's fast paths against the general (spring-list) paths a mesh
 // takes (issue 34): the bench-300 flag on its grid, the same grid read as a triangle mesh, and
 // an irregular mesh of the same size (tests/core/mesh_test_support.hpp). Springs per second of
-// one damped force evaluation (springs, damping, gravity, the flag's wind), of one rk4 step (its
-// four evaluations), of xpbd's sweeps and of vbd's iterations. Run by hand, short:
+// one damped force evaluation (springs, damping, gravity, the flag's wind; and without the
+// wind), of one rk4 step (its four evaluations), of xpbd's sweeps and of vbd's iterations. Run by
+// hand, short:
 // --benchmark_min_time=0.2.
 #include <benchmark/benchmark.h>
 
@@ -20,8 +21,10 @@ namespace {
 
 enum class Path { Grid, GridAsMesh, IrregularMesh };
 
-std::unique_ptr<Cloth> make_cloth(Path path, int side, int threads, bool velocity_forces) {
-  const Scene scene = make_scene("flag", bench_cloth_params(side));  // bench-300's material
+std::unique_ptr<Cloth> make_cloth(Path path, int side, int threads, bool velocity_forces,
+                                  bool wind = true) {
+  Scene scene = make_scene("flag", bench_cloth_params(side));  // bench-300's material
+  if (!wind) scene.wind_strength = 0;
   PipelineOptions options{velocity_forces, threads};
   options.adaptive_threads = false;
   if (path == Path::Grid) return std::make_unique<Cloth>(scene, Precision::Float32, options);
@@ -40,9 +43,9 @@ void count_springs(benchmark::State& state, const Cloth& cloth, double passes) {
                          benchmark::Counter::kIsIterationInvariantRate);
 }
 
-void forces(benchmark::State& state, Path path) {
-  const auto cloth =
-      make_cloth(path, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), true);
+void evaluations(benchmark::State& state, Path path, bool wind) {
+  const auto cloth = make_cloth(path, static_cast<int>(state.range(0)),
+                                static_cast<int>(state.range(1)), true, wind);
   const clothlab_system& system = cloth->system();
   void* a = system.alloc_vector(system.context);
   for (auto _ : state) {
@@ -51,6 +54,11 @@ void forces(benchmark::State& state, Path path) {
   }
   count_springs(state, *cloth, 1);
 }
+
+void forces(benchmark::State& state, Path path) { evaluations(state, path, true); }
+
+// The same evaluation without the wind: the springs, their damping and gravity.
+void spring_forces(benchmark::State& state, Path path) { evaluations(state, path, false); }
 
 void rk4_step(benchmark::State& state, Path path) {
   const auto cloth =
@@ -122,6 +130,7 @@ void sizes(benchmark::internal::Benchmark* b) {
   BENCHMARK_CAPTURE(function, irregular_mesh, Path::IrregularMesh)->Apply(sizes)
 
 CLOTHLAB_MESH_PATH_BENCH(forces);
+CLOTHLAB_MESH_PATH_BENCH(spring_forces);
 CLOTHLAB_MESH_PATH_BENCH(rk4_step);
 CLOTHLAB_MESH_PATH_BENCH(xpbd_sweeps);
 CLOTHLAB_MESH_PATH_BENCH(vbd_iterations);

@@ -47,10 +47,18 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
     kd_[s] = has_damping ? static_cast<Real>(model.kd[spring]) : Real(0);
     damped_count_ += has_damping;
   }
-  block_in_order_.resize(slots / kSpringBlock);
-  for (std::size_t b = 0; b < block_in_order_.size(); ++b)
-    block_in_order_[b] =
-        consecutive(&first_[b * kSpringBlock]) && consecutive(&second_[b * kSpringBlock]);
+  for (std::size_t b = 0; b < slots / kSpringBlock; ++b) {
+    const std::size_t s = b * kSpringBlock;
+    bool one_law = true;
+    for (std::size_t l = 1; l < kSpringBlock; ++l)
+      one_law = one_law && rest_[s + l] == rest_[s] && ks_[s + l] == ks_[s] && kd_[s + l] == kd_[s];
+    const bool in_order = consecutive(&first_[s]) && consecutive(&second_[s]);
+    block_kind_.push_back(
+        static_cast<uint8_t>((in_order ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0)));
+    block_first_.push_back(first_[s]);
+    block_second_.push_back(second_[s]);
+    block_law_.push_back({rest_[s], ks_[s], kd_[s]});
+  }
 
   // Each particle's entries, ascending by slot.
   const std::size_t particles = model.particle_count;
@@ -74,6 +82,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
   }
   entries_ = AlignedBuffer<uint32_t>(std::size_t{row_begin_[blocks]} * kSpringBlock);
   row_in_order_.resize(row_begin_[blocks]);
+  row_first_.resize(row_begin_[blocks]);
   for (std::size_t b = 0; b < blocks; ++b)
     for (uint32_t r = row_begin_[b]; r < row_begin_[b + 1]; ++r) {
       uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
@@ -83,6 +92,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
         row[l] = i < particles && k < incident[i].size() ? incident[i][k] : zero_slot;
       }
       row_in_order_[r] = consecutive(row);
+      row_first_[r] = row[0];
     }
 }
 
@@ -106,32 +116,65 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
 }
 
 #if defined(CLOTHLAB_FLOAT_LANES)
-template <bool Damped>
-void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t block,
-                        bool in_order, const uint32_t* first, const uint32_t* second,
-                        const float* rest, const float* ks, const float* kd, std::size_t slots,
-                        float* force) {
-  const std::size_t s = block * kSpringBlock;
+// The arrays a block reads where its ends are not in order or its lanes' laws differ.
+struct SpringArrays {
+  const uint32_t* first;
+  const uint32_t* second;
+  const float* rest;
+  const float* ks;
+  const float* kd;
+};
+
+// The block of springs from slot s: ends in order (runs from particles first and second) or
+// gathered by the lanes' indices; one law (rest, ks, kd) broadcast or a law per lane.
+template <bool Damped, bool InOrder, bool OneLaw>
+void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
+                        uint32_t first, uint32_t second, const float (&law)[3],
+                        const SpringArrays& arrays, float* force, std::size_t slots) {
   Floats d[3], dv[3] = {};
-  if (in_order) {
-    const std::size_t i = first[s], j = second[s];
+  if constexpr (InOrder) {
     for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = load_floats(x + k * stride + j) - load_floats(x + k * stride + i);
+      d[k] = load_floats(x + k * stride + second) - load_floats(x + k * stride + first);
       if constexpr (Damped)
-        dv[k] = load_floats(v + k * stride + j) - load_floats(v + k * stride + i);
+        dv[k] = load_floats(v + k * stride + second) - load_floats(v + k * stride + first);
     }
   } else {
-    const Indices i = load_indices(first + s), j = load_indices(second + s);
+    const Indices i = load_indices(arrays.first + s), j = load_indices(arrays.second + s);
     for (std::size_t k = 0; k < 3; ++k) {
       d[k] = gather_floats(x + k * stride, j) - gather_floats(x + k * stride, i);
       if constexpr (Damped)
         dv[k] = gather_floats(v + k * stride, j) - gather_floats(v + k * stride, i);
     }
   }
+  Floats rest, ks, kd;
+  if constexpr (OneLaw) {
+    rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
+  } else {
+    rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
+    kd = load_floats(arrays.kd + s);
+  }
   const Floats scale =
-      spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], load_floats(rest + s),
-                                 load_floats(ks + s), load_floats(kd + s));
+      spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
+}
+
+template <bool Damped>
+void spring_block_lanes(bool in_order, bool one_law, const float* x, const float* v,
+                        std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
+                        const float (&law)[3], const SpringArrays& arrays, float* force,
+                        std::size_t slots) {
+  if (in_order && one_law)
+    spring_block_lanes<Damped, true, true>(x, v, stride, s, first, second, law, arrays, force,
+                                           slots);
+  else if (in_order)
+    spring_block_lanes<Damped, true, false>(x, v, stride, s, first, second, law, arrays, force,
+                                            slots);
+  else if (one_law)
+    spring_block_lanes<Damped, false, true>(x, v, stride, s, first, second, law, arrays, force,
+                                            slots);
+  else
+    spring_block_lanes<Damped, false, false>(x, v, stride, s, first, second, law, arrays, force,
+                                             slots);
 }
 #endif
 
@@ -144,13 +187,18 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
   for (std::size_t b = begin; b < end; ++b) {
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
+      const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
+                                kd_.data()};
+      const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
+      const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
+      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
+      const std::size_t s = b * kSpringBlock;
       if (damped)
-        spring_block_lanes<true>(x, v, stride, b, block_in_order_[b], first_.data(), second_.data(),
-                                 rest_.data(), ks_.data(), kd_.data(), slots(), force);
+        spring_block_lanes<true>(in_order, one_law, x, v, stride, s, block_first_[b],
+                                 block_second_[b], law, arrays, force, slots());
       else
-        spring_block_lanes<false>(x, v, stride, b, block_in_order_[b], first_.data(),
-                                  second_.data(), rest_.data(), ks_.data(), kd_.data(), slots(),
-                                  force);
+        spring_block_lanes<false>(in_order, one_law, x, v, stride, s, block_first_[b],
+                                  block_second_[b], law, arrays, force, slots());
       continue;
     }
 #endif
@@ -176,16 +224,16 @@ void SpringLanes<Real>::sum_incident(const Real* per_slot, std::size_t block,
   if constexpr (std::is_same_v<Real, float>) {
     Floats total[3] = {zero_floats(), zero_floats(), zero_floats()};
     for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-      const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
       if (row_in_order_[r]) {
-        const std::size_t slot = row[0] & ~kSecondEnd;
-        const bool subtract = (row[0] & kSecondEnd) != 0;
+        const std::size_t slot = row_first_[r] & ~kSecondEnd;
+        const bool subtract = (row_first_[r] & kSecondEnd) != 0;
         for (std::size_t k = 0; k < 3; ++k) {
           const Floats value = load_floats(per_slot + k * stride + slot);
           total[k] = subtract ? total[k] - value : total[k] + value;
         }
       } else {
-        const Indices entry = load_indices(row), slot = without_top_bit(entry);
+        const Indices entry = load_indices(&entries_[std::size_t{r} * kSpringBlock]);
+        const Indices slot = without_top_bit(entry);
         for (std::size_t k = 0; k < 3; ++k)
           total[k] =
               total[k] + negated_where_top_bit(gather_floats(per_slot + k * stride, slot), entry);

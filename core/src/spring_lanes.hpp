@@ -54,11 +54,20 @@ class SpringLanes {
  private:
   static constexpr uint32_t kSecondEnd = 0x80000000u;  // entry flag: subtract this slot
 
+  // What a spring block reads: its lane 0's ends (the others follow in order) or every lane's
+  // by index; one law for all lanes, or a law per lane. Only what a block needs is read.
+  enum BlockKind : uint8_t { kEndsInOrder = 1, kOneLaw = 2 };
+  struct BlockLaw {
+    Real rest, ks, kd;
+  };
+
   std::size_t springs_ = 0;
   AlignedBuffer<uint32_t> first_, second_;
-  AlignedBuffer<Real> rest_, ks_, kd_;   // kd 0 where the spring is not damped
-  std::vector<uint8_t> block_in_order_;  // per spring block: ends are runs of consecutive particles
-  std::vector<uint32_t> slot_of_;        // model spring -> slot
+  AlignedBuffer<Real> rest_, ks_, kd_;  // kd 0 where the spring is not damped
+  std::vector<uint8_t> block_kind_;
+  std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
+  std::vector<BlockLaw> block_law_;                   // per block: lane 0's law
+  std::vector<uint32_t> slot_of_;                     // model spring -> slot
   uint64_t damped_count_ = 0;
   bool damped_ = false;
 
@@ -68,6 +77,7 @@ class SpringLanes {
   std::vector<uint32_t> row_begin_;
   AlignedBuffer<uint32_t> entries_;
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
+  std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
 };
 
 }  // namespace clothlab::detail
