@@ -144,10 +144,6 @@ inline Floats negated_where_top_bit(Floats value, Indices indices) {
   const __m512i sign = _mm512_and_si512(indices, _mm512_set1_epi32(int32_t(0x80000000u)));
   return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(value), sign));
 }
-// base[indices[l]] = value[l] in the lanes of the mask; no two of those may share an index.
-inline void scatter_floats(float* base, LaneMask lanes, Indices indices, Floats value) {
-  _mm512_mask_i32scatter_ps(base, lanes, indices, value, 4);
-}
 
 #else  // AVX2 and FMA
 
@@ -254,16 +250,6 @@ inline Indices without_top_bit(Indices indices) {
 inline Floats negated_where_top_bit(Floats value, Indices indices) {
   const __m256i sign = _mm256_and_si256(indices, _mm256_set1_epi32(int32_t(0x80000000u)));
   return _mm256_castsi256_ps(_mm256_xor_si256(_mm256_castps_si256(value), sign));
-}
-// AVX2 has no scatter: lane by lane.
-inline void scatter_floats(float* base, LaneMask lanes, Indices indices, Floats value) {
-  alignas(32) float values[kLanes];
-  alignas(32) uint32_t at[kLanes];
-  _mm256_store_ps(values, value);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(at), indices);
-  const int kept = _mm256_movemask_ps(lanes.bits);
-  for (std::size_t l = 0; l < kLanes; ++l)
-    if ((kept >> l) & 1) base[at[l]] = values[l];
 }
 
 #endif
