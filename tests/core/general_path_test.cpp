@@ -167,13 +167,7 @@ TEST(GeneralPath, EnergyAndStretchAgreeWithTheGridPath) {
 // Runge-Kutta-Nystrom steps of the classic RK4 on `cloth` (steps of 10 us: stable on the stiff
 // test scenes); its positions after.
 std::vector<double> rk4_steps(Cloth& cloth, int steps) {
-  static constexpr double c[4] = {0, 0.5, 0.5, 1}, alpha[4] = {0, 0.5, 0.5, 1};
-  static constexpr double x_coupling[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0.25, 0, 0, 0, 0, 0.5, 0};
-  static constexpr double v_coupling[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
-  static constexpr double x_weights[4] = {1.0 / 6, 1.0 / 6, 1.0 / 6, 0};
-  static constexpr double v_weights[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
-  const clothlab_rkn_scheme scheme{sizeof scheme, 4,          c,         alpha,
-                                   x_coupling,    v_coupling, x_weights, v_weights};
+  const clothlab_rkn_scheme& scheme = testing::rk4_scheme();
   const clothlab_system& system = cloth.system();
   EXPECT_EQ(system.reserve_rkn(system.context, 4), CLOTHLAB_OK);
   for (int s = 0; s < steps; ++s)
