@@ -43,10 +43,9 @@ void read_finite(std::span<const uint32_t> particles, const AttachmentTargetRead
 void check_attached_particles(std::span<const uint32_t> particles, uint32_t particle_count) {
   for (std::size_t k = 0; k < particles.size(); ++k)
     if (particles[k] >= particle_count)
-      throw std::invalid_argument("attachment " + std::to_string(k) +
-                                  ": particle = " + std::to_string(particles[k]) +
-                                  ", allowed 0 .. " + std::to_string(particle_count - 1) +
-                                  " (the cloth's rows x cols particles)");
+      throw std::invalid_argument(
+          "attachment " + std::to_string(k) + ": particle = " + std::to_string(particles[k]) +
+          ", allowed 0 .. " + std::to_string(particle_count - 1) + " (the cloth's particles)");
 }
 
 void check_attachment_path(std::span<const uint32_t> particles, const AttachmentTargetReader& read,

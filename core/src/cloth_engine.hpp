@@ -82,7 +82,7 @@ class ClothEngine final : public Engine {
 
   // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, definite jacobian,
   // cg-step, reductions and external forces. The Jacobian's pattern is built on first use. The
-  // grid, the jacobians and cg-step are offered only on the grid path.
+  // grid is offered only on the grid path.
   static const void* get_extension_callback(void* context, const char* id);
   const ClothModel& topology() const { return *model_; }
   bool on_grid_path() const { return forces_ != nullptr; }

@@ -46,7 +46,7 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
   Real* const px = static_cast<Real*>(x);
   Real* const pv = static_cast<Real*>(v);
   const std::size_t s = self.stride_;
-  const double mass = self.scene_.total_mass / static_cast<double>(self.n_);
+  const std::vector<double>& masses = self.model_->masses;  // a mesh's differ per particle
   // Serial: a handful of colliders against the particles costs a fraction of a force pass.
   for (const clothlab_range& range : self.active_)
     for (std::size_t i = range.begin; i < range.end; ++i) {
@@ -62,9 +62,9 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
         // What the move did to the particle's energy (StabilityMonitor counts it as work).
         double work = self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
         for (int k = 0; k < 3; ++k)
-          work +=
-              mass * (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
-                      self.scene_.gravity[k] * (position[k] - before[k]));
+          work += masses[i] *
+                  (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
+                   self.scene_.gravity[k] * (position[k] - before[k]));
         self.contact_work_ += std::max(work, 0.0);
         for (int k = 0; k < 3; ++k) {
           px[k * s + i] = static_cast<Real>(position[k]);
