@@ -28,10 +28,9 @@ std::unique_ptr<Cloth> make_cloth(Path path, int side, int threads, bool velocit
   PipelineOptions options{velocity_forces, threads};
   options.adaptive_threads = false;
   if (path == Path::Grid) return std::make_unique<Cloth>(scene, Precision::Float32, options);
-  TriangleMesh mesh =
-      path == Path::GridAsMesh
-          ? testing::grid_mesh(scene, testing::Diagonals::Rising)
-          : testing::irregular_mesh(scene.rows, scene.cols, scene.width / (scene.cols - 1));
+  TriangleMesh mesh = path == Path::GridAsMesh
+                          ? testing::grid_mesh(scene, testing::Diagonals::Rising)
+                          : irregular_grid_mesh(scene);
   mesh.masses.assign(std::size_t{scene.rows} * scene.cols,
                      scene.total_mass / (scene.rows * scene.cols));
   return std::make_unique<Cloth>(scene, build_mesh_model(mesh, scene), Precision::Float32, options);

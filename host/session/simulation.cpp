@@ -6,6 +6,7 @@
 #include <chrono>
 #include <clothlab/analysis/projected_area.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
+#include <clothlab/core/cloth_material.hpp>
 #include <clothlab/core/cloth_model.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
@@ -199,21 +200,9 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
   std::vector<double> positions;
   cloth.positions(positions);
   const ClothModel& model = *cloth.model();
-  if (!model.grid) {
-    // The mesh's own area at rest: the sum of its triangles'.
-    double rest_area = 0;
-    for (std::size_t t = 0; t < model.triangles.size(); t += 3) {
-      double e[2][3];
-      for (int side = 0; side < 2; ++side)
-        for (int k = 0; k < 3; ++k)
-          e[side][k] = model.rest_positions[3 * model.triangles[t + side + 1] + k] -
-                       model.rest_positions[3 * model.triangles[t] + k];
-      rest_area += 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1],
-                                    e[0][2] * e[1][0] - e[0][0] * e[1][2],
-                                    e[0][0] * e[1][1] - e[0][1] * e[1][0]);
-    }
-    return analysis::projected_area(positions, model.triangles, scene.gravity) / rest_area;
-  }
+  if (!model.grid)
+    return analysis::projected_area(positions, model.triangles, scene.gravity) /
+           surface_area(model.rest_positions, model.triangles);
   return analysis::projected_area(positions, model.triangles, scene.gravity) /
          (scene.width * scene.height);
 }
@@ -243,7 +232,7 @@ LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath
     for (const Setting& setting : config.plugin_params)
       if (setting.key.starts_with(prefix))
         user_settings.push_back({setting.key.substr(prefix.size()), setting.value, setting.source});
-    apply_material(*config.material, user_settings, scenario_params);
+    check_no_material_conflict(*config.material, user_settings);
   }
   const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
   if (!integrator->supports_precision(precision))
@@ -275,6 +264,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     scenario_instance_.emplace(
         create_with_user_params([&] { return scenario_->create(scenario_params); }));
     SceneCloth described = scene_cloth(*scenario_, *scenario_instance_);
+    if (config.material) put_material(described, *config.material);
     Scene& scene = described.scene;
     attachments_ = std::make_unique<SceneAttachments>(
         *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps);
