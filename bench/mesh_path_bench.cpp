@@ -1,6 +1,6 @@
 // The cost of a spring on the grid's fast paths against the general (spring-list) paths a mesh
 // takes (issue 34): the bench-300 flag on its grid, the same grid read as a triangle mesh, and
-// an irregular mesh of the same size (tests/core/mesh_test_support.hpp). Springs per second of
+// an irregular mesh of the same size (irregular_grid_mesh). Springs per second of
 // one damped force evaluation (springs, damping, gravity, the flag's wind; and without the
 // wind), of one rk4 step (its four evaluations), of xpbd's sweeps and of vbd's iterations. Run by
 // hand, short:
