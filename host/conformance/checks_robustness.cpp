@@ -80,7 +80,7 @@ Verdict step_does_not_allocate(const clothlab_integrator& integrator, SheetShape
   // An integrator that resolves contacts meets a collider, so its contact path is measured.
   const bool contacts = has_trait(integrator, CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
   const Collider sphere = sphere_through_the_middle(cloth);
-  if (contacts) cloth.set_colliders({&sphere, 1});
+  if (contacts) cloth.set_colliders({&sphere, 1}, 0.0);
   PluginOnlySystem measured(cloth.system());
   IntegratorInstance instance(integrator, default_values(integrator));
   clothlab_message message{};

@@ -104,6 +104,18 @@ bool declares_trait(const host::IntegratorPlugin& integrator, uint32_t trait) {
          (traits->flags & trait) != 0;
 }
 
+// How often a step asks for the attachments' targets: once per substep (the count the traits'
+// substeps_param names), once per step for an integrator without substeps.
+uint32_t target_samples_per_step(const host::IntegratorPlugin& integrator,
+                                 const host::ParamSet& params) {
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  if (traits == nullptr || traits->struct_size < sizeof(clothlab_integrator_traits) ||
+      traits->substeps_param == nullptr)
+    return 1;
+  return static_cast<uint32_t>(std::max(1.0, params.value(traits->substeps_param).v[0]));
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -267,7 +279,8 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     if (config.material) put_material(described, *config.material);
     Scene& scene = described.scene;
     attachments_ = std::make_unique<SceneAttachments>(
-        *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps);
+        *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps,
+        target_samples_per_step(*integrator_, integrator_params));
     if (!attachments_->empty() && !declares_trait(*integrator_, CLOTHLAB_TRAIT_MOVES_ATTACHMENTS))
       throw host::InputError("integrator " + std::string(integrator_->info().id) +
                              " does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS in "
@@ -289,6 +302,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
         std::make_unique<Cloth>(scene, cloth_model(described),
                                 config.float64 ? Precision::Float64 : Precision::Float32, options);
     if (!attachments_->empty()) {
+      attachments_->check_start(*cloth_);
       cloth_->set_attachments(attachments_->particles(), *attachments_);
       (void)cloth_->move_attachments(0.0);  // checked finite when read above
     }
@@ -300,7 +314,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
                            "clothlab.integrator-traits/1), which scenario " +
                            std::string(scenario_->info().id) + "'s " +
                            std::to_string(colliders_.size()) + " collider(s) need");
-  cloth_->set_colliders(colliders_.at(0.0));
+  cloth_->set_colliders(colliders_.at(0.0), 0.0);
   integrator_instance_.emplace(
       create_with_user_params([&] { return integrator_->create(integrator_params); }));
   integrator_instance_->prepare(cloth_->system());
@@ -403,8 +417,6 @@ void Simulation::step_once(const RunHooks& hooks) {
   // t from the step count, not by summing dt, so long runs do not drift.
   const double t = static_cast<double>(step - 1) * config_.dt;
   const StageCounters before = cloth_->counters();
-  // The colliders keep their pose at the step's start over the step.
-  if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
   const auto start = std::chrono::steady_clock::now();
   cloth_->begin_step();
   try {
@@ -416,6 +428,10 @@ void Simulation::step_once(const RunHooks& hooks) {
   }
   cloth_->end_step();
   const double step_s = seconds_since(start);
+  // The colliders at the next step's start, moving at their velocity over it; the step's paths
+  // are judged against them for crossings.
+  const double t_end = static_cast<double>(step) * config_.dt;
+  if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t_end), t_end);
   record.step_total_s += step_s;
   if ((step - 1) % record.timing_stride == 0) {
     const StageCounters& after = cloth_->counters();
@@ -439,12 +455,12 @@ void Simulation::step_once(const RunHooks& hooks) {
         std::max(record.contacts->max_penetration_over_run, now.max_penetration);
     record.contacts->max_depth_past_thickness_over_run =
         std::max(record.contacts->max_depth_past_thickness_over_run, now.max_depth_past_thickness);
+    record.contacts->crossings_over_run += now.particles_crossed;
   }
   if (const auto statistics = integrator_instance_->last_step_statistics()) {
     if (!record.solver) record.solver.emplace();
     record.solver->add(step, *statistics);
   }
-  const double t_end = static_cast<double>(step) * config_.dt;
   const analysis::Verdict& verdict = step == config_.steps ? monitor.check(*cloth_, step, t_end)
                                                            : monitor.observe(*cloth_, step, t_end);
   if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);

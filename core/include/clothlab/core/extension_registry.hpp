@@ -60,6 +60,7 @@ inline constexpr PublishedExtension kPublishedExtensions[] = {
     {CLOTHLAB_EXT_EXPLICIT_SCHEME, ExtensionSide::Integrator},
     {CLOTHLAB_EXT_SOLVER_STATISTICS, ExtensionSide::Integrator},
     {CLOTHLAB_EXT_COLLIDERS, ExtensionSide::Scenario},
+    {CLOTHLAB_EXT_COLLIDERS_2, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_ATTACHMENTS, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_AIR, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_MESH, ExtensionSide::Scenario},
