@@ -49,7 +49,7 @@ struct ImplicitEuler {
     if (h == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
-    const Real* dv = solver_.solve(system, t, t + h, h, x, v);
+    const Real* dv = solver_.solve(system, t, t + h, h, x, v, FirstNewtonStep::kAtStart);
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
     // The solve saw the attachments' motion through their velocities in h^2 (da/dx) v0.

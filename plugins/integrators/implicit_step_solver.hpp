@@ -2,12 +2,18 @@
 // a step to the same equation for the velocity change dv from a state (x0, v0):
 //   v1 = v0 + dv,   x1 = x0 + h v1,   dv = h a(t1, x1, v1),
 // with h the step itself (backward Euler) or a multiple of it (BDF2, whose x0 and v0 are
-// combinations of the last two states). Linearised about (x0, v0), a(x1, v1) ~ a(x0, v0) +
-// (da/dx) h v1 + (da/dv) dv gives Baraff and Witkin's system
-//   (I - h da/dv - h^2 da/dx) dv = h (a0 + h (da/dx) v0),
-// which is the first Newton step from dv = 0; `newton_steps` > 1 continues with Newton on the
-// equation itself, linearised at each iterate (x1, v1):
+// combinations of the last two states). Newton on that equation, linearised at each iterate
+// (x1, v1), is
 //   (I - h da/dv - h^2 da/dx) delta = h a(t1, x1, v1) - dv,   dv += delta.
+// Its first step starts either at the prediction dv = 0 (x1 = x0 + h v0, v1 = v0), or, as
+// Baraff and Witkin, linearised about (x0, v0) itself: a(x1, v1) ~ a(x0, v0) + (da/dx) h v1 +
+// (da/dv) dv gives
+//   (I - h da/dv - h^2 da/dx) dv = h (a0 + h (da/dx) v0).
+// The two differ where the matrix is not the exact Jacobian (the definite one, below): Baraff
+// and Witkin's right-hand side carries it in h^2 (da/dx) v0, an O(h^2) change of dv a step that
+// only a first-order method can afford; from the prediction the matrix multiplies only the
+// correction delta = O(h), so the change is O(h^3) and a second-order method keeps its order.
+// `newton_steps` > 1 continues with the Newton steps above.
 //
 // Each linear system is solved matrix-free by block-Jacobi preconditioned conjugate gradients in
 // the mass inner product (preconditioned_cg.hpp): one Jacobian product per iteration; where the
@@ -86,6 +92,9 @@ constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(
   };
 }
 
+// Where the first Newton step of a solve is linearised (see the top).
+enum class FirstNewtonStep { kAtStart, kAtPrediction };
+
 class ImplicitStepSolver {
  public:
   explicit ImplicitStepSolver(const sdk::Params& values)
@@ -118,12 +127,12 @@ class ImplicitStepSolver {
   // Starts a step's statistics: a step without a solve (h = 0) reports a converged one.
   void begin_step() { last_ = {sizeof(clothlab_solver_step_statistics), 1, 0, 0, 0.0}; }
 
-  // dv of the step from (x0, v0) of size h (see the top): the linearisation's acceleration and
-  // Jacobian at time t0, the later Newton steps' at t1. Returns the solver's own vector, valid
-  // until the next solve.
+  // dv of the step from (x0, v0) of size h (see the top): the acceleration and Jacobian of a
+  // first step at the start at time t0, every other one's at t1. Returns the solver's own
+  // vector, valid until the next solve.
   template <class Real>
   const Real* solve(sdk::System<Real>& system, double t0, double t1, double h, const Real* x0,
-                    const Real* v0) {
+                    const Real* v0, FirstNewtonStep first) {
     const auto vectors = scratch_.bind(system);
     Real *const acceleration = vectors[0], *const dv = vectors[1], *const rhs = vectors[2],
                 *const delta = vectors[3], *const x1 = vectors[4], *const v1 = vectors[5],
@@ -135,25 +144,33 @@ class ImplicitStepSolver {
         multigrid_preconditioner_ ? &*multigrid_preconditioner_ : nullptr);
     const uint64_t rebuilds_before = rebuild_count();
 
-    // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
-    system.acceleration(t0, x0, v0, acceleration);
-    if (definite_) {
-      system.definite_jacobian().apply(t0, x0, v0, h * h, 0.0, v0, rhs);
-    } else {
-      system.jacobian().apply(t0, x0, v0, h * h, 0.0, v0, rhs);
-    }
-    system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
     // Cleared until the solve completes: a solve that throws leaves no dv to start from.
     const double previous_h = std::exchange(previous_h_, 0.0);
     const bool warm = warm_start_ && previous_h > 0.0;
-    if (warm) {
-      system.template lincomb<1>(dv, zero, {h / previous_h}, {dv});
+    long newton = 0;
+    if (first == FirstNewtonStep::kAtStart) {
+      // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
+      system.acceleration(t0, x0, v0, acceleration);
+      if (definite_) {
+        system.definite_jacobian().apply(t0, x0, v0, h * h, 0.0, v0, rhs);
+      } else {
+        system.jacobian().apply(t0, x0, v0, h * h, 0.0, v0, rhs);
+      }
+      system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
+      if (warm) {
+        system.template lincomb<1>(dv, zero, {h / previous_h}, {dv});
+      } else {
+        system.copy(dv, zero);
+      }
+      solve_linear(solver, t0, h, x0, v0, rhs, dv, warm);
+      newton = 1;
     } else {
+      // The first correction starts from the last step's dv; the iterate itself from dv = 0.
+      if (warm) system.template lincomb<1>(delta, zero, {h / previous_h}, {dv});
       system.copy(dv, zero);
     }
-    solve_linear(solver, t0, h, x0, v0, rhs, dv, warm);
 
-    for (long newton = 1; newton < newton_steps_; ++newton) {
+    for (; newton < newton_steps_; ++newton) {
       // Whole copies first: the pinned particles' entries of the iterate are theirs.
       system.copy(v1, v0);
       system.axpy(v1, 1.0, dv);
@@ -161,8 +178,9 @@ class ImplicitStepSolver {
       system.axpy(x1, h, v1);
       system.acceleration(t1, x1, v1, acceleration);
       system.template lincomb<2>(rhs, zero, {h, -1.0}, {acceleration, dv});
-      system.copy(delta, zero);
-      solve_linear(solver, t1, h, x1, v1, rhs, delta, false);
+      const bool guess = newton == 0 && warm;
+      if (!guess) system.copy(delta, zero);
+      solve_linear(solver, t1, h, x1, v1, rhs, delta, guess);
       system.axpy(dv, 1.0, delta);
     }
     // Each multigrid build ends in a factorisation of its coarsest level.
