@@ -180,7 +180,8 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                                                    ? spec.output.parent_path() / "choose-references"
                                                    : std::filesystem::path(choose.reference_cache);
     sweep::TrajectoryCache cache(
-        cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
+        cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); },
+        host_identity());
     CaseWorker worker(search_path);
     predict_local_solvers(candidates, base, choice.frame_rate, worker);
     const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {

@@ -171,6 +171,12 @@ std::string plugin_identity(const host::PluginSearchPath& search_path, const std
          sweep::file_hash(path.string());
 }
 
+std::string host_identity() {
+  const std::filesystem::path executable = "/proc/self/exe";
+  return "clothlab size " + std::to_string(std::filesystem::file_size(executable)) + " fnv1a " +
+         sweep::file_hash(executable.string());
+}
+
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
                     std::ostream& out) {
   try {

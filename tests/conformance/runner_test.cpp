@@ -194,6 +194,11 @@ INSTANTIATE_TEST_SUITE_P(
         FaultyCase{"faulty_duplicates_an_id", "library", "descriptor.ids-unique",
                    "id = \"duplicated-euler\", allowed an id no other component",
                    "--filter descriptor.ids-unique"},
+        FaultyCase{"faulty_misweighs_bdf2", "misweighs-bdf2", "numerics.order-spring",
+                   "measured order 1.1", "--filter numerics.order-spring"},
+        FaultyCase{"faulty_misweighs_bdf2", "misweighs-bdf2", "numerics.order-damped-spring",
+                   "measured order 0.9", "--filter numerics.order-damped-spring",
+                   "faulty_misweighs_bdf2_damped_spring"},
         FaultyCase{"faulty_declares_order_zero", "declares-order-zero", "descriptor.order",
                    "declared order 0 < 1", "--filter descriptor.order"},
         FaultyCase{"faulty_default_outside_range", "default-outside-range", "descriptor.params",
@@ -478,6 +483,26 @@ TEST(ConformanceRun, TheMultigridSettingsPassNoAllocAndThreads) {
     ASSERT_FALSE(run.report.is_null()) << run.output;
     EXPECT_EQ(run.report["failed"], 0) << run.output;
     EXPECT_EQ(run.report["passed"], 3) << run.output;
+  }
+}
+
+// The order checks measure the implicit methods' orders, not only a pass: backward Euler's 1 and
+// BDF2's 2 on the same solver (the faulty misweighs_bdf2, bdf2's code with first-order weights,
+// is caught above).
+TEST(ConformanceRun, MeasuresFirstOrderForImplicitEulerAndSecondForBdf2) {
+  for (const auto& [id, order] : {std::pair{"implicit_euler", 1.0}, std::pair{"bdf2", 2.0}}) {
+    const RunnerOutput run =
+        run_conformance("--timeout 90 --filter 'numerics.order-(spring|damped-spring)' " +
+                        std::string(BUILTIN_PLUGIN_DIR) + "/" + id + ".so");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    for (const char* check : {"numerics.order-spring", "numerics.order-damped-spring"}) {
+      const nlohmann::json* result = find_check(run, id, check);
+      ASSERT_NE(result, nullptr) << id << " " << check << ":\n" << run.output;
+      const std::string reason = (*result)["reason"];
+      const std::string prefix = "measured order ";
+      ASSERT_TRUE(reason.starts_with(prefix)) << reason;
+      EXPECT_NEAR(std::stod(reason.substr(prefix.size())), order, 0.1) << id << " " << reason;
+    }
   }
 }
 

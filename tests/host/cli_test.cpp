@@ -432,7 +432,7 @@ const std::string collider_scene =
 
 TEST_F(Clothlab, EveryContactResolvingBuiltInRestsTheClothOnThePlaneAtItsThickness) {
   for (const char* integrator :
-       {"euler", "midpoint", "rk4", "implicit_euler", "projective_dynamics", "xpbd"}) {
+       {"euler", "midpoint", "rk4", "implicit_euler", "bdf2", "projective_dynamics", "xpbd"}) {
     const Outcome outcome = run(std::string("--integrator=") + integrator + " " + collider_scene +
                                 "--dt 0.001 --duration 1.5 --state-out state.csv --quiet");
     ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
@@ -658,7 +658,7 @@ const std::string attachment_scene =
 
 TEST_F(Clothlab, EveryBuiltInLeavesAnAttachedParticleOnItsPathAfterEachStep) {
   const double dt = 0.004;
-  for (const char* integrator : {"euler", "midpoint", "rk4", "verlet", "implicit_euler",
+  for (const char* integrator : {"euler", "midpoint", "rk4", "verlet", "implicit_euler", "bdf2",
                                  "projective_dynamics", "xpbd", "vbd"}) {
     for (const int steps : {1, 2, 3, 10, 25}) {
       const Outcome outcome = run(std::string("--integrator=") + integrator + " " +
