@@ -24,6 +24,7 @@
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "multigrid_cycle.hpp"
@@ -41,7 +42,8 @@ class MultigridPreconditioner {
                           long rebuild_interval = 1)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
-                   fixed_particles(system), GridLevel::Blocks::single),
+                   fixed_particles(system), GridLevel::Blocks::single,
+                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
