@@ -35,10 +35,10 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
   rest_ = AlignedBuffer<Real>(slots);
   ks_ = AlignedBuffer<Real>(slots);
   kd_ = AlignedBuffer<Real>(slots);
-  slot_of_.resize(springs_);
+  std::vector<uint32_t> slot_of(springs_);  // model spring -> slot
   for (std::size_t s = 0; s < springs_; ++s) {
     const uint32_t spring = order[s];
-    slot_of_[spring] = static_cast<uint32_t>(s);
+    slot_of[spring] = static_cast<uint32_t>(s);
     first_[s] = model.first[spring];
     second_[s] = model.second[spring];
     rest_[s] = static_cast<Real>(model.rest_length[spring]);
@@ -67,7 +67,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
   for (std::size_t i = 0; i < particles; ++i) {
     for (uint32_t e = model.adjacency_offsets[i]; e < model.adjacency_offsets[i + 1]; ++e) {
       const uint32_t spring = model.adjacent_springs[e];
-      incident[i].push_back(slot_of_[spring]);
+      incident[i].push_back(slot_of[spring]);
     }
     std::sort(incident[i].begin(), incident[i].end());
     for (uint32_t& slot : incident[i])

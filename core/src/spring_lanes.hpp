@@ -38,7 +38,6 @@ class SpringLanes {
   std::size_t spring_blocks() const { return slots() / kSpringBlock; }
   std::size_t particle_blocks() const { return row_begin_.size() - 1; }
   uint64_t damped_count() const { return damped_count_; }
-  uint32_t slot_of(std::size_t spring) const { return slot_of_[spring]; }
 
   // The force on each spring's first particle (Hooke, plus damping along the spring when v is
   // given), component k of slot s at force[k * slots() + s], for the spring blocks [begin, end).
@@ -67,7 +66,6 @@ class SpringLanes {
   std::vector<uint8_t> block_kind_;
   std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
   std::vector<BlockLaw> block_law_;                   // per block: lane 0's law
-  std::vector<uint32_t> slot_of_;                     // model spring -> slot
   uint64_t damped_count_ = 0;
   bool damped_ = false;
 
