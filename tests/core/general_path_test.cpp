@@ -17,11 +17,14 @@
 #include <algorithm>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/core/cloth_model.hpp>
+#include <clothlab/core/collider.hpp>
 #include <clothlab/core/coloring.hpp>
 #include <clothlab/core/triangle_mesh.hpp>
 #include <clothlab/host/plugin_library.hpp>
 #include <cmath>
 #include <memory>
+#include <numbers>
+#include <span>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -270,9 +273,46 @@ std::shared_ptr<const ClothModel> grid_as_mesh(const Scene& scene, bool grid_col
 }
 
 // The positions after `seconds` of `id` at its defaults on `scene`, particle-major.
-// `substeps`: xpbd's, 0 for its default.
+// The two pinned corners of the sheet's first row carried round a circle (the host's
+// attachments, clothlab.attachment-targets/1).
+class CirclingCorners final : public AttachmentSource {
+ public:
+  explicit CirclingCorners(const Scene& scene) {
+    for (uint32_t pin : scene.pinned)
+      for (int k = 0; k < 3; ++k)
+        start_.push_back(scene.origin[k] +
+                         (pin % scene.cols) * scene.column_spacing() * scene.col_axis[k]);
+  }
+  bool targets(double t, std::span<double> positions,
+               std::span<double> velocities) noexcept override {
+    const double turn = 2 * std::numbers::pi * t, radius = 0.05;
+    for (std::size_t at = 0; at < start_.size(); at += 3) {
+      const double offset[3] = {radius * std::sin(turn), 0, radius * (1 - std::cos(turn))};
+      const double rate[3] = {radius * 2 * std::numbers::pi * std::cos(turn), 0,
+                              radius * 2 * std::numbers::pi * std::sin(turn)};
+      for (std::size_t k = 0; k < 3; ++k) {
+        positions[at + k] = start_[at + k] + offset[k];
+        velocities[at + k] = rate[k];
+      }
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> start_;  // 3 per pin
+};
+
+// What a run meets besides its forces: a collider (for integrators that resolve contacts) and
+// the pins moved as attachments.
+struct Surroundings {
+  bool sphere = false;
+  bool attachments = false;
+};
+
+// `substeps`: xpbd's, 0 for its default. With surroundings: also the contact work it reports.
 std::vector<double> run(const std::string& id, const Scene& scene, Path path, double seconds,
-                        double dt, bool grid_colours = true, int substeps = 0) {
+                        double dt, bool grid_colours = true, int substeps = 0,
+                        Surroundings surroundings = {}, double* contact_work = nullptr) {
   const host::PluginLibrary library = host::PluginLibrary::load(plugin_path(id));
   const clothlab_integrator& integrator = library.integrator().descriptor();
   std::vector<clothlab_param_value> values(integrator.param_count);
@@ -286,6 +326,17 @@ std::vector<double> run(const std::string& id, const Scene& scene, Path path, do
   Cloth cloth = path == Path::Mesh
                     ? Cloth(scene, grid_as_mesh(scene, grid_colours), Precision::Float64, options)
                     : Cloth(scene, Precision::Float64, options);
+  CirclingCorners corners(scene);
+  if (surroundings.attachments) {
+    cloth.set_attachments(scene.pinned, corners);
+    EXPECT_TRUE(cloth.move_attachments(0.0));
+  }
+  Collider sphere;
+  sphere.radius = 0.15;
+  sphere.friction = 0.3;
+  sphere.thickness = 0.005;
+  sphere.pose.position = {0.0, 0.8, 0.5};
+  if (surroundings.sphere) cloth.set_colliders({&sphere, 1});
   clothlab_message message{};
   void* instance = nullptr;
   EXPECT_EQ(integrator.create(values.data(), integrator.param_count, &instance, &message),
@@ -297,6 +348,7 @@ std::vector<double> run(const std::string& id, const Scene& scene, Path path, do
     EXPECT_EQ(integrator.step(instance, &cloth.system(), s * dt, dt, &message), CLOTHLAB_OK)
         << message.text;
   integrator.destroy(instance);
+  if (contact_work != nullptr) *contact_work = cloth.contact_work();
   std::vector<double> x;
   cloth.positions(x);
   return x;
@@ -371,6 +423,35 @@ TEST(GeneralPath, XpbdOnTheMeshsOwnColouringConvergesToTheGridsMotion) {
     }
     previous = distance;
   }
+}
+
+// The sheet laid flat (its first row pinned at the corners), falling onto a sphere while its
+// corners circle: contacts and attachments on the three paths, for every built-in that resolves
+// contacts (attachments alone for the others).
+TEST_P(BuiltIn, CollidersAndAttachmentsActAlikeOnEveryPath) {
+  Scene scene = sheet_scene();
+  scene.row_axis = {0, 0, 1};
+  const std::string id = GetParam();
+  const bool resolves_contacts = id != "verlet" && id != "vbd";
+  const Surroundings surroundings{resolves_contacts, true};
+  const double seconds = 0.3, dt = 1e-3;
+  double work[3] = {0, 0, 0};
+  const std::vector<double> grid =
+      run(id, scene, Path::Grid, seconds, dt, true, 0, surroundings, &work[0]);
+  const std::vector<double> general =
+      run(id, scene, Path::ForcedGeneral, seconds, dt, true, 0, surroundings, &work[1]);
+  const std::vector<double> mesh = run(id, scene, Path::Mesh, seconds, dt,
+                                       order_depends_on_colours(id), 0, surroundings, &work[2]);
+  EXPECT_LE(max_difference(general, grid), 1e-6) << "the grid forced onto the general path";
+  EXPECT_LE(max_difference(mesh, grid), 1e-6) << "the grid written as triangles";
+  if (resolves_contacts) {
+    EXPECT_GT(work[0], 0.0) << "the sheet did not reach the sphere";
+    EXPECT_NEAR(work[1], work[0], 1e-6 * work[0]);
+    EXPECT_NEAR(work[2], work[0], 1e-6 * work[0]);
+  }
+  for (uint32_t pin : scene.pinned)  // the corners where the targets put them at the end
+    for (const std::vector<double>* x : {&grid, &general, &mesh})
+      EXPECT_NEAR((*x)[3 * pin + 2], 0.05 * (1 - std::cos(2 * std::numbers::pi * seconds)), 1e-9);
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, BuiltIn,
