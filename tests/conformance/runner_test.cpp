@@ -126,7 +126,7 @@ INSTANTIATE_TEST_SUITE_P(
                    "keeps-its-velocity-through-contacts", "contacts.carried-by-a-moving-body",
                    "the strip's mean velocity along the box's motion is ", "--filter contacts"},
         FaultyCase{"faulty_answers_any_collider_revision", "answers-any-collider-revision",
-                   "descriptor.extensions", "get_extension(\"clothlab.colliders/2\") is not NULL",
+                   "descriptor.extensions", "get_extension(\"clothlab.colliders/0\") is not NULL",
                    "--filter descriptor"},
         FaultyCase{"faulty_holds_its_target_between_keys", "holds-its-target-between-keys",
                    "scenario.attachments", "attachment 0 (particle 0): target jumps",

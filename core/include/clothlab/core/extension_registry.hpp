@@ -109,7 +109,8 @@ inline std::vector<std::string> unpublished_ids(ExtensionSide side) {
     const int revision = std::stoi(std::string(id.substr(slash + 1)));
     for (const std::string& other : {name + "/" + std::to_string(revision + 1),
                                      name + "/" + std::to_string(revision - 1), name})
-      if (!is_published(other)) ids.push_back(other);
+      if (!is_published(other) && std::find(ids.begin(), ids.end(), other) == ids.end())
+        ids.push_back(other);
   }
   return ids;
 }
