@@ -158,8 +158,11 @@ Verdict rest_stays_at_rest(const clothlab_integrator& integrator, SheetShape sha
 
 Verdict repeatable(const clothlab_integrator& integrator, SheetShape shape) {
   const Scene scene = sheet_scene(64, 48, true);
-  const State first = simulate(integrator, scene, Precision::Float64, 1, 20, 1e-3, shape);
-  const State second = simulate(integrator, scene, Precision::Float64, 1, 20, 1e-3, shape);
+  // Half the step on the mesh: masses by area leave a corner a sixth of an inner particle's
+  // mass and the jitter shortens some edges, so rk4 diverges there at 1 ms.
+  const double dt = shape == SheetShape::Grid ? 1e-3 : 5e-4;
+  const State first = simulate(integrator, scene, Precision::Float64, 1, 20, dt, shape);
+  const State second = simulate(integrator, scene, Precision::Float64, 1, 20, dt, shape);
   require(first == second, "two identical runs give different bits");
   return {true, ""};
 }
