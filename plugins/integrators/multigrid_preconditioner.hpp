@@ -8,7 +8,8 @@
 // two grid spacings apart (checked, multigrid_grid.hpp), so particles whose rows and columns are
 // equal mod 5 share no neighbour: one product with e_d on all particles of such a class gives
 // column d of every block coupling to them, 75 products in all. A single-precision system's blocks
-// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric.
+// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric;
+// its V-cycle also smooths in single precision (multigrid_lanes.hpp), all its CG resolves.
 // Pinned particles are the fine level's Dirichlet nodes.
 //
 // Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
