@@ -252,7 +252,8 @@ TEST_F(Clothlab, ListsTextParameters) {
 }
 
 TEST_F(Clothlab, SolverStatisticsOfAnImplicitIntegratorReachTheJson) {
-  for (const std::string integrator : {"implicit_euler", "projective_dynamics", "vbd", "rk4"}) {
+  for (const std::string integrator :
+       {"implicit_euler", "bdf2", "projective_dynamics", "vbd", "rk4"}) {
     const Outcome outcome = run("--integrator=" + integrator + " " + small_sheet +
                                 "--dt 0.01 --steps 20 --quiet --json s.json");
     ASSERT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
@@ -922,8 +923,8 @@ TEST_F(Clothlab, PluginParamsApplyOnlyToTheirPlugin) {
 TEST_F(Clothlab, ListPluginsShowsComponentsAndParameters) {
   const Outcome outcome = run("--list-plugins");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
-  for (const char* text : {"integrator rk4", "order 4", "scenario flag", "scenario.structural.ks",
-                           "scenario.wind.strength"})
+  for (const char* text : {"integrator rk4", "order 4", "integrator bdf2", "order 2",
+                           "scenario flag", "scenario.structural.ks", "scenario.wind.strength"})
     EXPECT_NE(outcome.out.find(text), std::string::npos) << text;
 }
 
