@@ -330,7 +330,7 @@ std::vector<double> run(const std::string& id, const Scene& scene, Path path, do
   sphere.friction = 0.3;
   sphere.thickness = 0.005;
   sphere.pose.position = {0.0, 0.8, 0.5};
-  if (surroundings.sphere) cloth.set_colliders({&sphere, 1});
+  if (surroundings.sphere) cloth.set_colliders({&sphere, 1}, 0.0);
   clothlab_message message{};
   void* instance = nullptr;
   EXPECT_EQ(integrator.create(values.data(), integrator.param_count, &instance, &message),
