@@ -159,14 +159,14 @@ class ClothEngine final : public Engine {
   std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
   AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
-  std::vector<Collider> step_colliders_;  // as the host set them at the step's start
-  double step_start_time_ = 0;            // when
-  std::vector<Collider> colliders_;       // at the last resolution (or the step's start)
+  std::vector<Collider> step_colliders_;   // as the host set them at the step's start
+  double step_start_time_ = 0;             // when
+  std::vector<Collider> colliders_;        // at the last resolution (or the step's start)
   std::vector<Collider> moved_colliders_;  // the resolution's scratch: at its time
   AlignedBuffer<Real> path_start_;  // where each particle was at the last resolution or step start
-  AlignedBuffer<Real> step_start_x_;  // where each particle was at the step's start
-  uint32_t particles_crossed_ = 0;    // in the step before the last set_colliders
-  std::vector<uint32_t> attached_;   // particles moved to the source's targets
+  AlignedBuffer<Real> step_start_x_;         // where each particle was at the step's start
+  uint32_t particles_crossed_ = 0;           // in the step before the last set_colliders
+  std::vector<uint32_t> attached_;           // particles moved to the source's targets
   std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
   AttachmentSource* attachment_source_ = nullptr;
   double contact_work_ = 0;  // energy the contact resolution has added (J)

@@ -62,11 +62,7 @@ struct MultistepImplicit {
   static constexpr std::array<clothlab_param_spec, 9> params = implicit_step_solver_params(
       "Newton steps per time step: 1 = linearised about the extrapolated state, more converge "
       "to BDF2 on the nonlinear springs");
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
-      nullptr, "max_iterations"};
+  static constexpr clothlab_integrator_traits traits = implicit_step_solver_traits;
 
   explicit MultistepImplicit(const sdk::Params& values) : solver_(values) {}
 

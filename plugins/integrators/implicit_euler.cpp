@@ -30,11 +30,7 @@ struct ImplicitEuler {
   static constexpr std::array<clothlab_param_spec, 9> params = implicit_step_solver_params(
       "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward Euler on the "
       "nonlinear springs");
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
-      nullptr, "max_iterations"};
+  static constexpr clothlab_integrator_traits traits = implicit_step_solver_traits;
 
   explicit ImplicitEuler(const sdk::Params& values) : solver_(values) {}
 

@@ -59,6 +59,14 @@
 
 namespace clothlab::builtin {
 
+// What every method on this solver declares: stable at any step, iterative (CG), contacts and
+// attachments after each step.
+inline constexpr clothlab_integrator_traits implicit_step_solver_traits{
+    sizeof(clothlab_integrator_traits),
+    CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
+        CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
+    nullptr, "max_iterations"};
+
 // The solver's settings, in the schema order of both plugins; `newton_steps_help` says what
 // more Newton steps converge to.
 constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(

@@ -303,7 +303,8 @@ struct Surroundings {
   bool attachments = false;
 };
 
-// `substeps`: xpbd's, 0 for its default. With surroundings: also the contact work it reports.
+// `substeps`: xpbd's inner substeps, 0 for its default. With surroundings: also the contact work it
+// reports.
 std::vector<double> run(const std::string& id, const Scene& scene, Path path, double seconds,
                         double dt, bool grid_colours = true, int substeps = 0,
                         Surroundings surroundings = {}, double* contact_work = nullptr) {
@@ -312,7 +313,7 @@ std::vector<double> run(const std::string& id, const Scene& scene, Path path, do
   std::vector<clothlab_param_value> values(integrator.param_count);
   for (uint32_t p = 0; p < integrator.param_count; ++p) {
     for (int k = 0; k < 3; ++k) values[p].v[k] = integrator.params[p].default_value[k];
-    if (substeps > 0 && std::string(integrator.params[p].name) == "substeps")
+    if (substeps > 0 && std::string(integrator.params[p].name) == "inner_substeps")
       values[p].v[0] = substeps;
   }
   PipelineOptions options = path == Path::Grid ? grid_options() : general_options();

@@ -505,7 +505,7 @@ TEST_F(Clothlab, ImplicitEulersMultigridRefusesAMeshInOneLine) {
       run("--integrator=implicit_euler --set integrator.multigrid=1 " + mesh_scene + "--steps 10");
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_EQ(outcome.err,
-            "clothlab: error: integrator implicit_euler prepare failed (invalid argument): "
+            "clothlab: error: integrator implicit_euler prepare failed (unsupported): "
             "multigrid = 1 needs a cloth laid out as a grid (clothlab.grid/1); this scene is not "
             "one\n");
 }
@@ -712,8 +712,8 @@ TEST_F(Clothlab, EveryBuiltInLeavesAnAttachedParticleOnItsPathAfterEachStep) {
 TEST_F(Clothlab, AnAttachmentOutOfRangeNonFiniteOrJumpingIsOneLineOfBadInputBeforeTheRun) {
   const std::pair<std::string, std::string> cases[] = {
       {"--set scenario.particle=9",
-       "scenario test-attachment: attachment 0: particle = 9, allowed 0 .. 8 (the cloth's rows x "
-       "cols particles)"},
+       "scenario test-attachment: attachment 0: particle = 9, allowed 0 .. 8 (the cloth's "
+       "particles)"},
       {"--set scenario.broken_after=0.5",
        "scenario test-attachment: attachment 0 (particle 0): target at t = 0.5 s: position.y = "
        "nan, allowed finite"},
