@@ -223,10 +223,11 @@ TEST(Bdf2, DampsLessThanBackwardEulerAtTheSameStep) {
   EXPECT_LT(backward_euler, 0.5 * bdf2);
 }
 
-TEST(Bdf2, DeclaresItsTraits) {
-  const Integrator integrator("bdf2");
-  EXPECT_STREQ(integrator.descriptor().id, "bdf2");
-  EXPECT_EQ(integrator.descriptor().order, 2u);
+// The id, the order and the traits every method on the implicit step solver declares.
+void expect_implicit_solver_descriptor(const Integrator& integrator, const char* id,
+                                       uint32_t order) {
+  EXPECT_STREQ(integrator.descriptor().id, id);
+  EXPECT_EQ(integrator.descriptor().order, order);
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
       integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   ASSERT_NE(traits, nullptr);
@@ -234,6 +235,8 @@ TEST(Bdf2, DeclaresItsTraits) {
                                CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS);
   EXPECT_STREQ(traits->iterations_param, "max_iterations");
 }
+
+TEST(Bdf2, DeclaresItsTraits) { expect_implicit_solver_descriptor(Integrator("bdf2"), "bdf2", 2); }
 
 // |v1 - v0 - h a(x1, v1)| after one step: how far the step is from backward Euler proper.
 double backward_euler_residual(int newton_steps, double h) {
@@ -268,14 +271,7 @@ TEST(ImplicitEuler, NewtonStepsConvergeToBackwardEuler) {
 
 TEST(ImplicitEuler, DeclaresItsTraits) {
   const Integrator integrator("implicit_euler");
-  EXPECT_STREQ(integrator.descriptor().id, "implicit_euler");
-  EXPECT_EQ(integrator.descriptor().order, 1u);
-  const auto* traits = static_cast<const clothlab_integrator_traits*>(
-      integrator.descriptor().get_extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
-  ASSERT_NE(traits, nullptr);
-  EXPECT_EQ(traits->flags, CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-                               CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS);
-  EXPECT_STREQ(traits->iterations_param, "max_iterations");
+  expect_implicit_solver_descriptor(integrator, "implicit_euler", 1);
   EXPECT_EQ(integrator.descriptor().get_extension("clothlab.solver-statistics/2"), nullptr);
 }
 
