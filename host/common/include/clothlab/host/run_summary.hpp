@@ -242,8 +242,8 @@ struct RunSummary {
   bool operator==(const RunSummary&) const = default;
 };
 
-// The run JSON: every field of the table, null where an optional figure is empty or a number
-// is not finite.
+// The run JSON: every field of the table, null where an optional figure is empty; a number
+// that is not finite stays NaN in the object and is written as null by dump().
 nlohmann::json to_json(const RunSummary& summary);
 
 // Reads what to_json wrote; a null number reads as NaN. Throws InputError, one line naming the
