@@ -89,7 +89,7 @@ class StabilityMonitor {
   double last_time_ = 0.0;
   double last_power_ = 0.0;
   double attachment_work_ = 0.0;
-  double attachment_power_ = 0.0;  // at attachment_time_
+  Cloth::PinLoads pins_before_, pins_now_;  // pins_before_ at attachment_time_
   double attachment_time_ = 0.0;
   uint64_t checks_ = 0;
   std::vector<double> velocities_;  // reused between checks
