@@ -734,6 +734,18 @@ TEST_F(Clothlab, AnOrbitingAttachmentDoesTheSameWorkWithEveryKindOfMethod) {
   EXPECT_EQ(tethers["stable"], true) << tethers["verdict"];
 }
 
+// Verlet's drag towards world rest takes momentum no pin gave: it declares
+// CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST, and the monitor samples the pull from the springs instead
+// of taking the drag's impulse for the attachment's (which called this run diverged).
+TEST_F(Clothlab, VerletsDragTowardsRestIsNotTakenForAnAttachmentsPull) {
+  const Outcome outcome =
+      run("--integrator=verlet --set integrator.damping=100 " + attachment_scene +
+          "--set scenario.omega=50 --dt 0.001 --duration 2 --json drag.json --quiet");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("drag.json")));
+  EXPECT_EQ(json["stable"], true) << json["verdict"];
+}
+
 // The pump scales the free particles' velocity relative to the attached one: the momentum it
 // makes looks like the attachment's pull, the energy it adds is more than that pull's work.
 TEST_F(Clothlab, AnIntegratorPumpingEnergyAtAnAttachmentIsCalledDiverged) {

@@ -75,7 +75,8 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
     // free particles' momentum measures it whatever the method did inside the step (springs,
     // constraints, tethers); otherwise it is sampled from the pins' springs.
     const Scene& scene = cloth.scene();
-    const bool measured = !scene.has_wind() && !scene.has_air() && cloth.colliders().empty();
+    const bool measured = options_.momentum_measures_pins && !scene.has_wind() &&
+                          !scene.has_air() && cloth.colliders().empty();
     Vec3 impulse{0, 0, 0};
     for (std::size_t k = 0; k < values; ++k)
       impulse[k % 3] -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) * dt;

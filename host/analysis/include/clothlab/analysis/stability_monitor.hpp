@@ -18,7 +18,8 @@
 //       W_attachments is the work the moving attachments have done on the cloth, summed over
 //         every observed step as the impulse the pins (attached or held still) gave the free
 //         cloth times their displacement over the step, over dt. Where gravity is the only
-//         other force on the cloth (no wind, air or colliders), the impulse is the free
+//         other force on the cloth (no wind, air or colliders, and an integrator whose own
+//         forces come in pairs: MonitorOptions::momentum_measures_pins), the impulse is the free
 //         particles' change of momentum less gravity's: measured, so whatever pulled inside the
 //         step (springs, constraints, an integrator's tethers) is counted, at every step size.
 //         It moves with the pins' mean displacement; where pins move differently, each pin's
@@ -51,6 +52,9 @@ struct MonitorOptions {
   double stretch_limit = 5.0;
   double energy_margin = 1.0;  // times the energy scale (see above)
   double wind_work_safety = 2.0;
+  // Whether the attachments' pull may be measured from the free particles' momentum: false
+  // for an integrator that declares CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST.
+  bool momentum_measures_pins = true;
 };
 
 enum class StabilityCheck { None, NonFinite, Stretch, Energy };
