@@ -78,12 +78,13 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
     const bool measured = options_.momentum_measures_pins && !scene.has_wind() &&
                           !scene.has_air() && cloth.colliders().empty();
     Vec3 impulse{0, 0, 0};
-    for (std::size_t k = 0; k < values; ++k)
-      impulse[k % 3] -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) * dt;
     if (measured)
       for (std::size_t axis = 0; axis < 3; ++axis)
         impulse[axis] = now.free_momentum[axis] - before.free_momentum[axis] -
                         now.free_mass * scene.gravity[axis] * dt;
+    else
+      for (std::size_t k = 0; k < values; ++k)
+        impulse[k % 3] -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) * dt;
     // Work = sum over pins of impulse . displacement / dt: the whole impulse moves with the mean
     // displacement (exact where measured), each pin's sampled share with its own difference.
     double work = 0.0;
