@@ -142,7 +142,7 @@ void integrator_steps(benchmark::State& state, Path path, const std::string& id,
 }
 
 void xpbd_sweeps(benchmark::State& state, Path path) {
-  integrator_steps(state, path, "xpbd", {{"substeps", "2"}, {"iterations", "5"}}, 10);
+  integrator_steps(state, path, "xpbd", {{"inner_substeps", "2"}, {"iterations", "5"}}, 10);
 }
 
 void vbd_iterations(benchmark::State& state, Path path) {
