@@ -1,7 +1,8 @@
 """What stepping from Python costs over the engine: (1) step(1) on a 10 x 10 flag, the time per
 call beyond the session's own time per step; (2) a 300 x 300 flag
 stepped one step per call from Python against the clothlab program's step loop on the same
-config (loop_time_s per step). Medians over repeats; a benchmark, not a test.
+config (loop_time_s per step), in separate processes; (3) the same in one process, against the
+session's own loop, in alternated pairs. Medians over repeats; a benchmark, not a test.
 
     PYTHONPATH=build/python python3 bench/python_overhead.py --clothlab build/bin/clothlab
 """
@@ -58,7 +59,8 @@ def cli_cpu_seconds(executable, config):
 def large_ratio(folder, executable, steps, repeats):
     """Per step, wall (the CLI's loop_time_s against Python's loop) and CPU time (the CLI's run
     of 1 + steps less its run of 1 step, against Python's loop): CPU time does not count the
-    waits of a loaded machine, wall time does."""
+    waits of a loaded machine, wall time does. Separate processes: the spread between runs is
+    as large as the difference."""
     config, one_step = folder / "large.yaml", folder / "large-1.yaml"
     config.write_text(config_text(300, steps, 2e-6))  # stable on cotton at 300
     one_step.write_text(config_text(300, 1, 2e-6))
@@ -82,12 +84,41 @@ def large_ratio(folder, executable, steps, repeats):
     return median(python_s), median(cli_s), median(python_cpu), median(cli_cpu)
 
 
+def paired_ratios(folder, steps, pairs):
+    """In one process, the same 300 x 300 run stepped one step per call from Python and in one
+    step(steps) call, the session's own loop, which is what the CLI runs (Simulation::run is
+    step(steps) then record()). The two runs of a pair follow each other, in alternating order,
+    so both see the same load; the ratio of CPU times of each pair, its median and spread."""
+    config = folder / "paired.yaml"
+    config.write_text(config_text(300, steps, 2e-6))
+
+    def per_call(sim):
+        while not sim.finished:
+            sim.step(1)
+
+    def whole(sim):
+        sim.step(steps)
+
+    ratios = []
+    for pair in range(pairs):
+        cpu = {}
+        for name, stepping in sorted([("per_call", per_call), ("whole", whole)],
+                                     reverse=pair % 2 == 1):
+            sim = clothlab.Simulation(config)
+            start = time.process_time()
+            stepping(sim)
+            cpu[name] = time.process_time() - start
+        ratios.append(cpu["per_call"] / cpu["whole"])
+    return statistics.median(ratios), min(ratios), max(ratios)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--clothlab", required=True, help="the clothlab program of the build")
     parser.add_argument("--calls", type=int, default=20000)
     parser.add_argument("--large-steps", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--pairs", type=int, default=21)
     arguments = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
@@ -103,6 +134,11 @@ def main():
               f"{cli_cpu * 1e3:.3f} ms per step: {100 * (python_cpu / cli_cpu - 1):+.2f} % "
               f"(medians of {arguments.repeats} runs of {arguments.large_steps} steps; target "
               "within 2 %)")
+        median, low, high = paired_ratios(folder, arguments.large_steps, arguments.pairs)
+        print(f"300x300 in one process: step(1) loop against one step(n) call, CPU time "
+              f"{100 * (median - 1):+.2f} % (median of {arguments.pairs} alternated pairs of "
+              f"{arguments.large_steps} steps; pairs from {100 * (low - 1):+.2f} % to "
+              f"{100 * (high - 1):+.2f} %)")
 
 
 if __name__ == "__main__":

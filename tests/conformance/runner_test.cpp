@@ -429,13 +429,7 @@ std::vector<std::string> sound_plugins() {
                                         plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
-    // Every built-in passes with its default parameters, but xpbd's claim of unconditional
-    // stability is checked in 50 ms steps: one sweep per step overstretches the cloth there, 40
-    // inner substeps (h = 1.25 ms, what its steps took before the frame substeps became the
-    // one knob) hold it.
-    const std::string substeps =
-        name.starts_with("xpbd") ? "--param " + name + ".inner_substeps=40 " : "";
-    arguments.push_back(substeps + BUILTIN_PLUGIN_DIR + std::string("/") + name + ".so");
+    arguments.push_back(BUILTIN_PLUGIN_DIR + std::string("/") + name + ".so");
   }
   return arguments;
 }
