@@ -103,6 +103,8 @@ class StabilityMonitor {
   double last_power_ = 0.0;
   double attachment_work_ = 0.0;
   Cloth::PinLoads pins_before_, pins_now_;  // pins_before_ at attachment_time_
+  bool measures_momentum_ = false;          // the pins' impulse from the free cloth's momentum
+  Cloth::Momentum momentum_before_;         // at attachment_time_, where measured
   double attachment_time_ = 0.0;
   uint64_t checks_ = 0;
   std::vector<double> velocities_;  // reused between checks
