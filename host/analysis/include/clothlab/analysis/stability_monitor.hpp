@@ -72,8 +72,9 @@ struct Verdict {
 
 class StabilityMonitor {
  public:
-  // Takes the initial energy from the cloth's current state (time t0). Throws
-  // std::invalid_argument for options out of range.
+  // Takes the initial energy from the cloth's current state (time t0), and from its colliders,
+  // wind and air then how the attachments' pull is counted for the whole run (set the colliders
+  // first). Throws std::invalid_argument for options out of range.
   StabilityMonitor(const Cloth& cloth, double t0, const MonitorOptions& options = {});
 
   // Checks when step is a multiple of check_interval; otherwise returns the current verdict.
