@@ -336,6 +336,25 @@ TEST(ConformanceRun, OnlyTheDefaultSceneRunsCatchAFlippedStiffnessSign) {
   EXPECT_GT(run.report["passed"].get<int>(), 40) << run.output;
 }
 
+// An undeclared drag that vanishes with the step keeps the order, rest and dt = 0: only the
+// momentum check sees it.
+TEST(ConformanceRun, OnlyTheMomentumCheckCatchesAnUndeclaredDrag) {
+  const RunnerOutput run =
+      run_conformance("--timeout 90 " + plugin("faulty_drags_without_declaring"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  std::vector<std::string> failed;
+  for (const nlohmann::json& result : run.report["checks"])
+    if (result["passed"] == false) failed.push_back(result["check"].get<std::string>());
+  EXPECT_EQ(failed, (std::vector<std::string>{"numerics.momentum"})) << run.output;
+  const nlohmann::json* momentum = find_check(run, "drags-without-declaring", "numerics.momentum");
+  ASSERT_NE(momentum, nullptr) << run.output;
+  EXPECT_NE((*momentum)["reason"].get<std::string>().find("momentum not given by gravity"),
+            std::string::npos)
+      << run.output;
+  EXPECT_GT(run.report["passed"].get<int>(), 40) << run.output;
+}
+
 TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
   const RunnerOutput run =
       run_conformance("--filter lifecycle.grid-3x3-f64 " + plugin("faulty_segfaults_in_step") +
