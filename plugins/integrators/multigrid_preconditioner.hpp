@@ -21,6 +21,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <clothlab/sdk.hpp>
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
@@ -48,7 +49,7 @@ class MultigridPreconditioner {
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),
-        probe_product_(system.alloc_vector()) {
+        probe_products_{system.alloc_vector(), system.alloc_vector(), system.alloc_vector()} {
     check_spring_reach(system, hierarchy_.level(0).cols(), "multigrid = 1");
     const Real* inverse_mass = system.inverse_mass();
     for (const clothlab_range& range : system.active())
@@ -77,30 +78,36 @@ class MultigridPreconditioner {
   }
 
   // Assembles S = M (I + J), J applied by product(u, out): out = J u, and rebuilds the levels.
+  // A class's three products (one per component) come first, so that each block is written
+  // whole, once: the fine level's blocks far exceed the caches.
   template <class Real, class Product>
   void linearise(const sdk::System<Real>& system, Product&& product) {
     GridLevel& fine = hierarchy_.level(0);
     fine.clear();
     Real* probe = static_cast<Real*>(probe_);
-    const Real* out = static_cast<const Real*>(probe_product_);
     const std::size_t stride = system.stride();
-    for (int color = 0; color < kProbePeriod * kProbePeriod; ++color)
+    std::array<const Real*, 3> out{};
+    for (int color = 0; color < kProbePeriod * kProbePeriod; ++color) {
       for (int d = 0; d < 3; ++d) {
         set_probe(fine, color, probe + d * stride, Real{1});
-        product(probe, static_cast<Real*>(probe_product_));
+        product(probe, static_cast<Real*>(probe_products_[d]));
         set_probe(fine, color, probe + d * stride, Real{0});
-        for (int r = 0; r < fine.rows(); ++r)
-          for (int c = 0; c < fine.cols(); ++c) {
-            const std::size_t i = fine.node(r, c);
-            const int r2 = r + offset_to(color / kProbePeriod, r),
-                      c2 = c + offset_to(color % kProbePeriod, c);
-            if (fine.fixed(i) || r2 < 0 || r2 >= fine.rows() || c2 < 0 || c2 >= fine.cols() ||
-                fine.fixed(fine.node(r2, c2)))
-              continue;
-            double* block = fine.block(r, c, r2, c2);
-            for (int k = 0; k < 3; ++k) block[3 * k + d] = mass_[i] * out[k * stride + i];
-          }
+        out[d] = static_cast<const Real*>(probe_products_[d]);
       }
+      for (int r = 0; r < fine.rows(); ++r) {
+        const int r2 = r + offset_to(color / kProbePeriod, r);
+        if (r2 < 0 || r2 >= fine.rows()) continue;
+        for (int c = 0; c < fine.cols(); ++c) {
+          const std::size_t i = fine.node(r, c);
+          const int c2 = c + offset_to(color % kProbePeriod, c);
+          if (fine.fixed(i) || c2 < 0 || c2 >= fine.cols() || fine.fixed(fine.node(r2, c2)))
+            continue;
+          double* block = fine.block(r, c, r2, c2);
+          for (int k = 0; k < 3; ++k)
+            for (int d = 0; d < 3; ++d) block[3 * k + d] = mass_[i] * out[d][k * stride + i];
+        }
+      }
+    }
     for (int r = 0; r < fine.rows(); ++r)
       for (int c = 0; c < fine.cols(); ++c) {
         if (fine.fixed(fine.node(r, c))) continue;
@@ -176,8 +183,9 @@ class MultigridPreconditioner {
   MultigridHierarchy hierarchy_;
   VCycle cycle_;
   std::vector<double> mass_;  // per particle, 0 where pinned
-  void* probe_;               // system vectors in its precision: the probe and J times it
-  void* probe_product_;
+  // System vectors in its precision: the probe, and J times it for each of its components.
+  void* probe_;
+  std::array<void*, 3> probe_products_;
 };
 
 }  // namespace clothlab::builtin
