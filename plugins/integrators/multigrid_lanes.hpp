@@ -5,16 +5,11 @@
 // Vectors: each row holds, per component, its three column classes one after the other, the
 // node (r, c) at place (c + reach) / 3 of class (c + reach) mod 3, with `reach` zero rows above
 // and below and zero nodes beyond both sides: a neighbour (r + dr, c + dc) of any node of a
-// class sits at one fixed step from it, and no kernel tests for an edge.
-// Blocks: the level is symmetric (A_ji = A_ij^T), so only the coupled window offsets o "after"
-// the node (o.rows > 0, or o.rows = 0 and o.cols > 0) are stored: half of the bytes a product
-// streams. A node i reads A_i,i+o from its own row and A_i,i-o = A_i-o,i^T from node i - o's,
-// in one of the two rows above or its own. Per row, class and stored offset, each of the 9
-// entries has its own line of places, a zero place each side, so that the nodes i - o of a run
-// of consecutive nodes are consecutive too, whatever the shift of class; zero where the offset
-// leaves the grid, the node is fixed or it is a margin node, and `reach` zero rows above. The
-// diagonal blocks and the smoother's inverses of them (run by run of kLanes nodes) are zero
-// on fixed and margin nodes, so their x stays 0.
+// class sits at one fixed step from it, and no kernel tests for an edge. Blocks: per row, class
+// and coupled window offset (GridLevel::couplings, the diagonal apart), the 9 entries of every
+// node of the class in turn (run by run of kLanes nodes), zero where the offset leaves the grid,
+// the node is fixed or it is a margin node. The diagonal blocks and the smoother's inverses of them
+// are zero on fixed and margin nodes, so their x stays 0.
 //
 // Real: the precision of x, b, the residual and the diagonal blocks between `gather` and
 // `scatter`, and of the sums: float for a float32 system's preconditioner (its CG cannot resolve
@@ -44,12 +39,9 @@ class LaneLevel {
         cols_(level.cols()),
         lanes_(round_up((cols_ + 2 * GridLevel::reach + kPeriod - 1) / kPeriod, kLanes)),
         span_(lanes_ + 2),
-        line_(static_cast<std::size_t>(lanes_) + 2),
         component_(static_cast<std::ptrdiff_t>(kPeriod) * span_),
         class_nodes_(static_cast<std::size_t>(rows_) * kPeriod * lanes_),
-        blocks_(static_cast<std::size_t>(rows_ + GridLevel::reach) * kPeriod * kMaxCouplings * 9 *
-                    line_,
-                0.0f),
+        blocks_(9 * kMaxCouplings * class_nodes_, 0.0f),
         diagonal_(9 * class_nodes_, Real{0}),
         inverse_diagonal_(9 * class_nodes_, Real{0}),
         x_(vector_size(), Real{0}),
@@ -58,8 +50,7 @@ class LaneLevel {
 
   // Bytes of the blocks in use, the diagonal blocks, their inverses and the three vectors.
   std::size_t storage_bytes() const {
-    return static_cast<std::size_t>(rows_ + GridLevel::reach) * kPeriod * couplings_ * 9 * line_ *
-               sizeof(float) +
+    return 9 * couplings_ * class_nodes_ * sizeof(float) +
            (diagonal_.size() + inverse_diagonal_.size() + 3 * x_.size()) * sizeof(Real);
   }
 
@@ -68,17 +59,16 @@ class LaneLevel {
   void load(const GridLevel& level, const std::vector<double>& inverse_diagonal) {
     couplings_ = 0;
     for (const GridLevel::Offset& offset : level.couplings())
-      if (offset.rows > 0 || (offset.rows == 0 && offset.cols > 0)) {
+      if (offset.rows != 0 || offset.cols != 0) {
         for (int k = 0; k < kPeriod; ++k) {
-          steps_[k][couplings_] = step(k, offset.rows, offset.cols);
-          transposed_steps_[k][couplings_] = step(k, -offset.rows, -offset.cols);
-          const int shifted = k - offset.cols;
-          transposed_classes_[k][couplings_] = (shifted % kPeriod + kPeriod) % kPeriod;
-          transposed_shifts_[k][couplings_] = floor_div(shifted, kPeriod);
+          const int dc = k + offset.cols;
+          const int shifted_class = (dc % kPeriod + kPeriod) % kPeriod;
+          steps_[k][couplings_] =
+              offset.rows * 3 * component_ + (shifted_class - k) * span_ + floor_div(dc, kPeriod);
         }
         offsets_[couplings_++] = offset;
       }
-    std::fill(blocks_.begin(), blocks_.end(), 0.0f);
+    std::fill_n(blocks_.begin(), 9 * couplings_ * class_nodes_, 0.0f);
     std::fill(diagonal_.begin(), diagonal_.end(), Real{0});
     std::fill(inverse_diagonal_.begin(), inverse_diagonal_.end(), Real{0});
     for (int r = 0; r < rows_; ++r)
@@ -91,8 +81,8 @@ class LaneLevel {
           const int r2 = r + offsets_[j].rows, c2 = c + offsets_[j].cols;
           if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
           const double* a = level.block(r, c, r2, c2);
-          float* out = &blocks_[block_line_start(r, k, j) + static_cast<std::size_t>(q)];
-          for (std::size_t e = 0; e < 9; ++e) out[e * line_] = static_cast<float>(a[e]);
+          float* out = &blocks_[block_start(r, k, q, j)];
+          for (std::size_t e = 0; e < 9; ++e) out[e * kLanes] = static_cast<float>(a[e]);
         }
         const double* d = level.block(r, c, r, c);
         for (std::size_t e = 0; e < 9; ++e) {
@@ -160,9 +150,9 @@ class LaneLevel {
   }
 
  private:
-  // Window offsets after a node's own (the stored half of those it may couple to).
+  // Window offsets a row may couple to besides its own node.
   static constexpr std::size_t kMaxCouplings =
-      ((2 * GridLevel::reach + 1) * (2 * GridLevel::reach + 1) - 1) / 2;
+      (2 * GridLevel::reach + 1) * (2 * GridLevel::reach + 1) - 1;
 
   static int round_up(int n, int multiple) { return (n + multiple - 1) / multiple * multiple; }
   static int floor_div(int n, int d) { return n >= 0 ? n / d : -((-n + d - 1) / d); }
@@ -180,23 +170,12 @@ class LaneLevel {
   std::size_t lane_start(int r, int k) const {
     return static_cast<std::size_t>((r + GridLevel::reach) * 3 * component_ + k * span_ + 1);
   }
-  // The x step from a node of class k to its neighbour (r + dr, c + dc).
-  std::ptrdiff_t step(int k, int dr, int dc) const {
-    const int shifted = k + dc;
-    const int shifted_class = (shifted % kPeriod + kPeriod) % kPeriod;
-    return dr * 3 * component_ + (shifted_class - k) * span_ + floor_div(shifted, kPeriod);
+  // Blocks and diagonal blocks go run by run of kLanes nodes, so that a kernel streams them.
+  std::size_t block_start(int r, int k, int q, std::size_t j) const {
+    return ((static_cast<std::size_t>(r) * kPeriod + k) * lanes_ + q - q % kLanes) * 9 *
+               couplings_ +
+           j * 9 * kLanes + q % kLanes;
   }
-  // Place 0 of entry 0's line of row r (from -reach), class k and stored offset j; the entries'
-  // lines follow one another, line_ floats apart, after a zero place.
-  std::size_t block_line_start(int r, int k, std::size_t j) const {
-    return ((static_cast<std::size_t>(r + GridLevel::reach) * kPeriod +
-             static_cast<std::size_t>(k)) *
-                couplings_ +
-            j) *
-               9 * line_ +
-           1;
-  }
-  // Diagonal blocks go run by run of kLanes nodes, so that a kernel streams them.
   std::size_t diagonal_start(int r, int k, int q) const {
     return ((static_cast<std::size_t>(r) * kPeriod + k) * lanes_ + q - q % kLanes) * 9 + q % kLanes;
   }
@@ -213,28 +192,15 @@ class LaneLevel {
       for (int d = 0; d < 3; ++d)
         for (int l = 0; l < kLanes; ++l) sum[d][l] = b[d * component_ + l];
       for (std::size_t j = 0; j < couplings_; ++j) {
-        // A_i,i+o from the node's own line, then A_i,i-o = A_i-o,i^T from node i - o's.
         const Real* xj = x + steps_[k][j];
-        const float* a = &blocks_[block_line_start(r, k, j) + static_cast<std::size_t>(q)];
+        const float* a = &blocks_[block_start(r, k, q, j)];
         for (int d = 0; d < 3; ++d) {
-          const float* row = a + 3 * d * line_;
+          const float* row = a + 3 * d * kLanes;
 #pragma omp simd
           for (int l = 0; l < kLanes; ++l)
             sum[d][l] -= static_cast<Real>(row[l]) * xj[l] +
-                         static_cast<Real>(row[line_ + l]) * xj[component_ + l] +
-                         static_cast<Real>(row[2 * line_ + l]) * xj[2 * component_ + l];
-        }
-        const Real* xt = x + transposed_steps_[k][j];
-        const float* t =
-            &blocks_[block_line_start(r - offsets_[j].rows, transposed_classes_[k][j], j) +
-                     static_cast<std::size_t>(q + transposed_shifts_[k][j])];
-        for (int d = 0; d < 3; ++d) {
-          const float* column = t + d * line_;
-#pragma omp simd
-          for (int l = 0; l < kLanes; ++l)
-            sum[d][l] -= static_cast<Real>(column[l]) * xt[l] +
-                         static_cast<Real>(column[3 * line_ + l]) * xt[component_ + l] +
-                         static_cast<Real>(column[6 * line_ + l]) * xt[2 * component_ + l];
+                         static_cast<Real>(row[kLanes + l]) * xj[component_ + l] +
+                         static_cast<Real>(row[2 * kLanes + l]) * xj[2 * component_ + l];
         }
       }
       body(x, q, sum);
@@ -244,18 +210,12 @@ class LaneLevel {
   int rows_, cols_;
   int lanes_;                  // places per class row, a multiple of kLanes
   std::ptrdiff_t span_;        // a class row in a vector: lanes_ and a zero place each side
-  std::size_t line_;           // an entry's line of blocks: lanes_ and a zero place each side
   std::ptrdiff_t component_;   // a component's three class rows
   std::size_t class_nodes_;    // rows x classes x lanes
-  std::size_t couplings_ = 0;  // stored off-diagonal offsets in use
+  std::size_t couplings_ = 0;  // off-diagonal offsets in use
   GridLevel::Offset offsets_[kMaxCouplings]{};
-  // Per class and stored offset o: the x steps to i + o and i - o, and where node i - o's
-  // line sits: its class and its place less i's.
-  std::ptrdiff_t steps_[kPeriod][kMaxCouplings]{};
-  std::ptrdiff_t transposed_steps_[kPeriod][kMaxCouplings]{};
-  int transposed_classes_[kPeriod][kMaxCouplings]{};
-  int transposed_shifts_[kPeriod][kMaxCouplings]{};
-  std::vector<float> blocks_;  // 9 lines per row, class and stored offset, sized for the most
+  std::ptrdiff_t steps_[kPeriod][kMaxCouplings]{};  // per class and coupling: the x step
+  std::vector<float> blocks_;  // 9 per class node and coupling, sized for the most couplings
   std::vector<Real> diagonal_, inverse_diagonal_;  // 9 per class node
   std::vector<Real> x_, b_, residual_;             // 3 per vector place
 };

@@ -300,9 +300,7 @@ Eigen::VectorXd level_vector(const GridLevel& level, unsigned seed) {
 // forward pass, are those of the colour order. A wave whose sweeps lag one step less than
 // they must reads a row before the previous sweep has updated it, and the check sees it.
 // The lanes in single precision (a float32 system's V-cycle) give the same sweeps to single
-// precision's rounding. The lanes keep half of each symmetric level's blocks and read the
-// other half transposed: the fine level (12 couplings) and the first Galerkin level (all 24)
-// both.
+// precision's rounding. Both the fine level (12 couplings) and the first Galerkin level (24).
 TEST(Multigrid, TheSmootherSweepsTheColoursInOrderInEveryChunkOfTheWave) {
   using builtin::LanePrecision;
   for (const LanePrecision precision : {LanePrecision::float64, LanePrecision::float32})
