@@ -15,8 +15,8 @@
 // The fine level smooths matrix-free: Chebyshev iteration on block-Jacobi (D^-1 A, D the
 // diagonal blocks of A), `sweeps` host products before the coarse correction and as many
 // after, in the system's precision and layout. Its polynomial targets D^-1 A's eigenvalues in
-// [lambda_max / kChebyshevRatio, lambda_max] (lambda_max from power iteration at the set-up,
-// with a margin): the coarse levels take the rest. A product costs about an explicit step,
+// [lambda_max / kChebyshevRatio, lambda_max] (lambda_max a block Gershgorin bound from the
+// fine blocks): the coarse levels take the rest. A product costs about an explicit step,
 // where a Gauss-Seidel sweep over the stored fine blocks costs several; pre- and post-smoothing
 // apply the same polynomial, so the V-cycle stays symmetric. On the cotton flag 2 + 2 such
 // steps take as many CG iterations as 2 + 2 Gauss-Seidel sweeps. Coarser levels keep their
@@ -75,6 +75,9 @@ class MultigridPreconditioner {
   MultigridPreconditioner& operator=(const MultigridPreconditioner&) = delete;
 
   const MultigridHierarchy& hierarchy() const { return hierarchy_; }
+  // The fine smoother's upper bound on D^-1 A's eigenvalues, from the last build (0 before, and
+  // where the fine level is the coarsest).
+  double lambda_max() const { return lambda_max_; }
 
   // Hierarchies built so far (each ends in a factorisation of the coarsest level).
   uint64_t rebuild_count() const { return rebuild_count_; }
@@ -135,7 +138,7 @@ class MultigridPreconditioner {
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
                        "multigrid: the linearised matrix is not positive definite (definite = 0 "
                        "with compressed springs?)");
-    if (hierarchy_.level_count() > 1) prepare_chebyshev(system, product);
+    if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
   }
 
   // z = B M r on the active particles, J applied by product(u, out): out = J u.
@@ -168,11 +171,8 @@ class MultigridPreconditioner {
  private:
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
   // The Chebyshev polynomial's target: D^-1 A's eigenvalues down to lambda_max / this ratio
-  // (the smooth rest is the coarse levels'); the power iteration's steps and the margin on its
-  // estimate, which approaches lambda_max from below.
+  // (the smooth rest is the coarse levels').
   static constexpr double kChebyshevRatio = 30.0;
-  static constexpr int kPowerSteps = 15;
-  static constexpr double kLambdaMargin = 1.1;
 
   // The fine level alone (it is the coarsest): z = S^-1 M r by the direct solve.
   template <class Real>
@@ -214,45 +214,41 @@ class MultigridPreconditioner {
         for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
   }
 
-  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and lambda_max of D^-1 A
-  // by power iteration from a fixed start.
-  template <class Real, class Product>
-  void prepare_chebyshev(const sdk::System<Real>& system, Product& product) {
+  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and an upper bound on
+  // D^-1 A's eigenvalues (those of D_S^-1 S): block Gershgorin, the largest row sum of
+  // |D_S,i^-1 S_ij| over a row's blocks. An estimate from below (power iteration) would let
+  // the polynomial amplify the stiffest modes.
+  template <class Real>
+  void prepare_chebyshev(const sdk::System<Real>& system) {
+    const GridLevel& fine = hierarchy_.level(0);
     const std::vector<double>& inverse = hierarchy_.smoother(0).inverse_diagonal();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
         for (std::size_t k = 0; k < 9; ++k)
           jacobi_[9 * std::size_t{i} + k] = mass_[i] * inverse[9 * std::size_t{i} + k];
-    const std::size_t stride = system.stride();
-    Real* v = static_cast<Real*>(probe_products_[0]);
-    Real* av = static_cast<Real*>(probe_products_[1]);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          v[k * stride + i] = static_cast<Real>(((i * 7 + k * 3) % 5) - 2.0);
-    double lambda = 0.0;
-    for (int step = 0; step < kPowerSteps; ++step) {
-      apply_a(system, product, v, av);
-      apply_jacobi(system, av, av);
-      double vv = 0.0, ww = 0.0;
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k) {
-            vv += double{v[k * stride + i]} * double{v[k * stride + i]};
-            ww += double{av[k * stride + i]} * double{av[k * stride + i]};
-          }
-      if (!(vv > 0.0 && ww > 0.0 && std::isfinite(ww))) break;
-      lambda = std::sqrt(ww / vv);
-      const double scale = 1.0 / std::sqrt(ww);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k)
-            v[k * stride + i] = static_cast<Real>(scale * av[k * stride + i]);
-    }
-    if (!(lambda > 0.0))
+    double bound = 0.0;
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c) {
+        const std::size_t i = fine.node(r, c);
+        if (fine.fixed(i)) continue;
+        const double* d = &inverse[9 * i];
+        const GridLevel::Window w = fine.window(r, c);
+        std::array<double, 3> row_sums{};
+        for (const GridLevel::Offset& offset : fine.couplings()) {
+          const int r2 = r + offset.rows, c2 = c + offset.cols;
+          if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
+          const double* a = fine.block(r, c, r2, c2);
+          for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+              row_sums[static_cast<std::size_t>(k)] +=
+                  std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
+        }
+        bound = std::max({bound, row_sums[0], row_sums[1], row_sums[2]});
+      }
+    if (!(bound > 0.0 && std::isfinite(bound)))
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
                        "multigrid: no spectral bound of the fine level's Jacobi-scaled matrix");
-    lambda_max_ = kLambdaMargin * lambda;
+    lambda_max_ = bound;
   }
 
   // `sweeps_` Chebyshev steps on A z = r from z, leaving the residual r - A z in

@@ -575,6 +575,71 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   EXPECT_LT(worst, 1e-6 * scale);
 }
 
+// The fine level's matrix-free Chebyshev smoother: its bound on D^-1 A's eigenvalues (D the
+// diagonal blocks) lies above the largest one and within 1.5 times it (lambda D - S positive
+// definite or not, for the probed S = M A and its diagonal blocks D_S); a bound below would let
+// the polynomial amplify the stiffest modes. The whole cycle z = B M r is symmetric and positive in
+// the mass inner product (r1^T M z2 = r2^T M z1, r^T M z > 0).
+TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetric) {
+  GridNet net(14, 17);
+  MockSystem<double>& mock = net.host.system();
+  const sdk::System<double> system(mock.raw());
+  mock.allocation_allowed = true;
+  builtin::MultigridPreconditioner preconditioner(system, 0, 2);
+  double* r1 = system.alloc_vector();
+  double* r2 = system.alloc_vector();
+  double* z1 = system.alloc_vector();
+  double* z2 = system.alloc_vector();
+  mock.allocation_allowed = false;
+  const double h = 1.0 / 60.0;
+  const auto product = [&](const double* in, double* out) {
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+  };
+  preconditioner.linearise(system, product);
+  ASSERT_GT(preconditioner.hierarchy().level_count(), 1u);
+
+  const GridLevel& fine = preconditioner.hierarchy().level(0);
+  std::vector<Eigen::Index> free_unknowns;
+  for (std::size_t i = 0; i < fine.node_count(); ++i)
+    if (!fine.fixed(i))
+      for (Eigen::Index d = 0; d < 3; ++d)
+        free_unknowns.push_back(3 * static_cast<Eigen::Index>(i) + d);
+  const Eigen::MatrixXd all = dense_of(fine);
+  const auto n = static_cast<Eigen::Index>(free_unknowns.size());
+  Eigen::MatrixXd s(n, n), diagonal = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index a = 0; a < n; ++a)
+    for (Eigen::Index b = 0; b < n; ++b) {
+      s(a, b) = all(free_unknowns[a], free_unknowns[b]);
+      if (free_unknowns[a] / 3 == free_unknowns[b] / 3) diagonal(a, b) = s(a, b);
+    }
+  // lambda D - S is positive definite for lambda above D^-1 S's largest eigenvalue only.
+  const auto above_the_spectrum = [&](double lambda) {
+    return Eigen::LLT<Eigen::MatrixXd>(lambda * diagonal - s).info() == Eigen::Success;
+  };
+  const double bound = preconditioner.lambda_max();
+  EXPECT_TRUE(above_the_spectrum(bound * (1.0 + 1e-9))) << bound;
+  EXPECT_FALSE(above_the_spectrum(bound / 1.5)) << bound;
+
+  const std::size_t stride = system.stride();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < 3 * stride; ++k) r1[k] = uniform(random), r2[k] = uniform(random);
+  preconditioner.apply(system, r1, z1, product);
+  preconditioner.apply(system, r2, z2, product);
+  const auto mass_dot = [&](const double* a, const double* b) {
+    double sum = 0.0;
+    for (const clothlab_range& range : system.active())
+      for (uint32_t i = range.begin; i < range.end; ++i)
+        for (std::size_t d = 0; d < 3; ++d)
+          sum += a[d * stride + i] * b[d * stride + i] / system.inverse_mass()[i];
+    return sum;
+  };
+  const double r1z2 = mass_dot(r1, z2), r2z1 = mass_dot(r2, z1);
+  EXPECT_LT(std::abs(r1z2 - r2z1), 1e-10 * std::abs(r1z2));
+  EXPECT_GT(mass_dot(r1, z1), 0.0);
+  EXPECT_GT(mass_dot(r2, z2), 0.0);
+}
+
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
 // tightly) in fewer iterations.
 TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
