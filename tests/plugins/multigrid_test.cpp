@@ -714,6 +714,20 @@ TEST(Multigrid, ImplicitEulerRefusesARebuildIntervalOutOfRange) {
   }
 }
 
+// The V-cycle's smoothing budget (Chebyshev products on the fine level, sweeps below): 0 or more
+// than 8 is refused in one line naming the setting and its range.
+TEST(Multigrid, ImplicitEulerRefusesASmoothingBudgetOutOfRange) {
+  for (const double sweeps : {0.0, 9.0}) {
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid_sweeps", sweeps);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
+    const std::string message = integrator.message();
+    EXPECT_NE(message.find("multigrid_sweeps"), std::string::npos) << message;
+    EXPECT_NE(message.find("[1, 8]"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
   {
     GridNet net(6, 6, false);
