@@ -2,7 +2,8 @@
 call beyond the session's own time per step; (2) a 300 x 300 flag
 stepped one step per call from Python against the clothlab program's step loop on the same
 config (loop_time_s per step), in separate processes; (3) the same in one process, against the
-session's own loop, in alternated pairs. Medians over repeats; a benchmark, not a test.
+session's own loop, two simulations stepped in turns that swap ways. Medians over repeats; a
+benchmark, not a test.
 
     PYTHONPATH=build/python python3 bench/python_overhead.py --clothlab build/bin/clothlab
 """
@@ -85,33 +86,37 @@ def large_ratio(folder, executable, steps, repeats):
 
 
 def paired_ratios(folder, steps, chunk):
-    """In one process, two simulations of the same 300 x 300 run, stepped in alternation, chunk
-    steps at a time: one by step(1) calls from Python, the other by one step(chunk) call, the
-    session's own loop, which is what the CLI runs (Simulation::run is step(steps) then
-    record()). Adjacent chunks see the same load and the same cloth, so the ratio of their CPU
-    times is what Python adds; the median ratio over the chunks, its quartiles, and the ratio of
-    the totals."""
+    """In one process, two simulations a and b of the same 300 x 300 run, stepped in turns,
+    chunk steps at a time, each chunk either by step(1) calls from Python or by one step(chunk)
+    call, the session's own loop, which is what the CLI runs (Simulation::run is step(steps)
+    then record()). The two swap ways every chunk: a by calls and b by its loop, then a by its
+    loop and b by calls. Two simulations differ by a per cent or so however they are stepped
+    (where their arrays lie in memory), and the one stepped first sees other caches, so each
+    ratio takes both simulations both ways, each first once: (a by calls + b by calls) over
+    (a by its loop + b by its loop) for each two chunks. The median ratio, its quartiles and the
+    ratio of the totals."""
     config = folder / "paired.yaml"
     config.write_text(config_text(300, steps, 2e-6))
-    by_call, by_loop = clothlab.Simulation(config), clothlab.Simulation(config)
+    a, b = clothlab.Simulation(config), clothlab.Simulation(config)
 
-    def one_per_call():
-        for _ in range(chunk):
-            by_call.step(1)
+    def timed(sim, by_calls):
+        start = time.process_time()
+        if by_calls:
+            for _ in range(chunk):
+                sim.step(1)
+        else:
+            sim.step(chunk)
+        return time.process_time() - start
 
-    def one_loop():
-        by_loop.step(chunk)
-
-    call_s, loop_s = [], []
-    for index in range(steps // chunk):
-        for stepping, times in sorted([(one_per_call, call_s), (one_loop, loop_s)],
-                                      key=lambda pair: pair[1] is call_s, reverse=index % 2 == 1):
-            start = time.process_time()
-            stepping()
-            times.append(time.process_time() - start)
-    ratios = sorted(a / b for a, b in zip(call_s, loop_s))
+    calls_s, loop_s = [], []
+    for _ in range(steps // (2 * chunk)):
+        a_calls, b_loop = timed(a, True), timed(b, False)
+        a_loop, b_calls = timed(a, False), timed(b, True)
+        calls_s.append(a_calls + b_calls)
+        loop_s.append(a_loop + b_loop)
+    ratios = sorted(c / l for c, l in zip(calls_s, loop_s))
     quartiles = statistics.quantiles(ratios, n=4)
-    return statistics.median(ratios), quartiles[0], quartiles[2], sum(call_s) / sum(loop_s)
+    return statistics.median(ratios), quartiles[0], quartiles[2], sum(calls_s) / sum(loop_s)
 
 
 def main():
@@ -138,9 +143,9 @@ def main():
               f"(medians of {arguments.repeats} runs of {arguments.large_steps} steps; target "
               "within 2 %)")
         median, low, high, total = paired_ratios(folder, arguments.paired_steps, arguments.chunk)
-        print(f"300x300 in one process, alternated chunks of {arguments.chunk} steps: step(1) "
+        print(f"300x300 in one process, chunks of {arguments.chunk} steps: step(1) "
               f"calls against one step({arguments.chunk}) call, CPU time {100 * (median - 1):+.2f} % "
-              f"(median over {arguments.paired_steps // arguments.chunk} chunk pairs, quartiles "
+              f"(median over {arguments.paired_steps // (2 * arguments.chunk)} ratios, quartiles "
               f"{100 * (low - 1):+.2f} % and {100 * (high - 1):+.2f} %; totals "
               f"{100 * (total - 1):+.2f} %; target within 2 %)")
 
