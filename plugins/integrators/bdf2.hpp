@@ -16,8 +16,9 @@
 // (omega h)^2 (docs/physics.md).
 //
 // The pinned particles take the same combination (the host's vector operations act on the
-// active ones only): an attachment moving at a steady speed is then exactly where it will be at
-// t + h in x^ + k v^, which the solve's coupling terms read.
+// active ones only), and the attached ones are then set to their targets at t + h: the solve
+// holds every pinned particle where x^ has it (the Jacobian products ignore pinned entries), so
+// that is where the springs to a moving attachment must see it.
 #pragma once
 
 #include <clothlab/ext/integrator_traits.h>
@@ -88,13 +89,16 @@ struct MultistepImplicit {
     combine(system, v_start, w, v, v_before);
     system.copy(x_before, x);
     system.copy(v_before, v);
+    // The solve holds the attached particles at x^ (the products ignore pinned entries): put
+    // them where they are at the step's end.
+    system.move_attachments(t + h, x_start, v_start);
 
     const double k = w.derivative * h;
     const Real* dv =
         solver_.solve(system, t + h, t + h, k, x_start, v_start, FirstNewtonStep::kAtPrediction);
     system.template lincomb<1>(v, v_start, {1.0}, {dv});
     system.template lincomb<1>(x, x_start, {k}, {v});
-    // The solve saw the attachments' motion through x^ and v^ (see the top).
+    // x = x^ + k v moved only the free particles.
     system.move_attachments(t + h);
     // After the solve: the next step goes on from the state the contacts leave.
     system.resolve_contacts(t + h);

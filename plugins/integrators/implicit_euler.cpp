@@ -45,11 +45,13 @@ struct ImplicitEuler {
     if (h == 0.0) return;
     Real* x = system.x();
     Real* v = system.v();
+    // Backward Euler holds the attached particles where they are at the step's end: the solve
+    // linearises about that state (the products ignore pinned entries, so a pin's motion reaches
+    // its neighbours only through the positions the forces are evaluated at).
+    system.move_attachments(t + h);
     const Real* dv = solver_.solve(system, t, t + h, h, x, v, FirstNewtonStep::kAtStart);
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
-    // The solve saw the attachments' motion through their velocities in h^2 (da/dx) v0.
-    system.move_attachments(t + h);
     // After the solve: contacts change v, and the warm start's dv stays the solver's.
     system.resolve_contacts(t + h);
   }

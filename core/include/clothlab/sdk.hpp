@@ -327,11 +327,13 @@ class System {
   }
   // Sets the attached particles of x and v to their targets at time t; a no-op on a host
   // without clothlab.attachment-targets/1 or on a scene without attachments.
-  void move_attachments(double t) const {
+  void move_attachments(double t) const { move_attachments(t, x(), v()); }
+  // The same on any two vectors of the system (a state a method combines before its solve).
+  void move_attachments(double t, Real* positions, Real* velocities) const {
     const auto* table =
         extension<clothlab_attachment_targets_extension>(CLOTHLAB_EXT_ATTACHMENT_TARGETS);
     if (table != nullptr && table->count(raw_->context) != 0)
-      check(table->move(raw_->context, t, raw_->x, raw_->v), "moving the attachments failed");
+      check(table->move(raw_->context, t, positions, velocities), "moving the attachments failed");
   }
   Real* alloc_vector() const {
     void* p = raw_->alloc_vector(raw_->context);
