@@ -83,13 +83,14 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       const Vec3 from{start[i], start[s + i], start[2 * s + i]};
       const Vec3 before = position, velocity_before = velocity;
       if (resolve_swept_contact(met_before, met_now, from, position, velocity)) {
-        // What the move did to the particle's energy (StabilityMonitor counts it as work).
+        // What the move did to the cloth's energy, signed (StabilityMonitor balances it): the
+        // springs are read on the positions already moved, so the sum over particles is exact.
         double work = self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
         for (int k = 0; k < 3; ++k)
           work += masses[i] *
                   (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
                    self.scene_.gravity[k] * (position[k] - before[k]));
-        self.contact_work_ += std::max(work, 0.0);
+        self.contact_work_ += work;
         for (int k = 0; k < 3; ++k) {
           px[k * s + i] = static_cast<Real>(position[k]);
           pv[k * s + i] = static_cast<Real>(velocity[k]);

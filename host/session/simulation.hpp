@@ -110,8 +110,9 @@ struct RunRecord {
     // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
     // Cusick drape coefficient's projected area share); null without gravity.
     std::optional<double> drape_coefficient;
-    // The energy the contact resolution added over the run (J, Cloth::contact_work), which the
-    // stability monitor's energy bound allows for.
+    // The energy the contact resolution added over the run (J, Cloth::contact_work; negative
+    // where its stops and friction took more than moving colliders gave), which the stability
+    // monitor's energy bound balances.
     double work = 0;
   };
   std::optional<ContactFigures> contacts;

@@ -236,9 +236,9 @@ class Cloth {
   Contacts contacts() const;
   // The energy clothlab.contacts/1 has added to the cloth since construction (J): over each
   // particle it moved, its kinetic and gravitational energy and its springs' energy after the
-  // move less before, where that is positive (a moving collider pushing the cloth; a move that
-  // took energy away, such as removing the velocity into a body, counts 0: a bound, not a
-  // balance).
+  // move less before, signed. A moving collider pushing the cloth adds; a contact removing the
+  // velocity into a body, or friction, takes away. Summed particle by particle on the moved
+  // positions, it is the exact change the resolution made to the cloth's energy.
   double contact_work() const;
 
   // The particles clothlab.attachment-targets/1 moves to the targets `source` gives (each

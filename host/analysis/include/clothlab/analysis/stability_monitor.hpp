@@ -28,8 +28,9 @@
 //         cape gains the energy its shoulders give it, and loses it again when they stop. An
 //         unstable method's internal forces still come in pairs: the energy it adds carries no
 //         momentum, so none of it is credited as work;
-//       W_contacts is the energy the contact resolution has added (Cloth::contact_work: a
-//         moving collider pushing the cloth);
+//       W_contacts is the energy the contact resolution has added, signed (Cloth::contact_work:
+//         a moving collider pushing the cloth adds, a stop or friction takes away), so a method
+//         that gains energy while its contacts dissipate is not hidden by them;
 //       margin = energy_margin * scale, scale = M |g| diagonal + |E0 parts|: the energy the
 //         whole cloth would gain by falling its own diagonal, a size that damped dynamics never
 //         approach in error but divergent ones overshoot within a few steps.
