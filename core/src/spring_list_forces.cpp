@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 #include "air_kernel.hpp"
 #include "spring_kernel.hpp"
@@ -80,15 +82,22 @@ const Real* SpringListForces<Real>::form(const StateCombination<Real>& state, Re
 }
 
 template <class Real>
-void SpringListForces<Real>::spring_pass(const Real* x, const Real* v) {
-  const std::size_t blocks = springs_.spring_blocks();
-  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(blocks * kSpringBlock));
-#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * (kChunk / kSpringBlock);
-    const std::size_t end = std::min(blocks, begin + kChunk / kSpringBlock);
-    springs_.forces(x, v, stride_, begin, end, spring_force_.data());
-  }
+Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a, bool triangles) {
+  Real check = 0;
+  const std::size_t tile = kChunk / kSpringBlock;
+  springs_.sweep(
+      tile, threads_, parallel_,
+      [&](std::size_t begin, std::size_t end) {
+        springs_.forces(x, v, stride_, begin, end, spring_force_.data());
+      },
+      [&](std::size_t, std::size_t begin, std::size_t end) {
+        Real tile_check = 0;
+        for (std::size_t block = begin; block < end; ++block)
+          tile_check += gather_block(block, a, true, triangles);
+#pragma omp atomic
+        check += tile_check;
+      });
+  return check;
 }
 
 template <class Real>
@@ -124,7 +133,47 @@ void SpringListForces<Real>::triangle_pass(const Real* x, const Real* v) {
 }
 
 template <class Real>
-Real SpringListForces<Real>::gather(Real* a, bool springs, bool triangles) {
+Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, bool springs,
+                                          bool triangles) const {
+  alignas(kAlignment) Real force[3][kSpringBlock] = {};
+  if (springs) springs_.sum_incident(spring_force_.data(), block, force);
+  const std::size_t first = block * kSpringBlock;
+  const std::size_t count = std::min(kSpringBlock, n_ - first);
+  if (triangles)
+    for (std::size_t l = 0; l < count; ++l)
+      for (uint32_t e = triangle_offsets_[first + l]; e < triangle_offsets_[first + l + 1]; ++e)
+        for (std::size_t k = 0; k < 3; ++k)
+          force[k][l] += triangle_share_[3 * adjacent_triangles_[e] + k];
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) {
+    if (count == kSpringBlock) {
+      const Floats inverse_mass = load_floats(inverse_mass_ + first);
+      const LaneMask active = greater(inverse_mass, zero_floats());
+      Floats check = zero_floats();
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Floats value = keep(active, fused_multiply_add(load_floats(force[k]), inverse_mass,
+                                                             broadcast(gravity_[k])));
+        store_floats(a + k * stride_ + first, value);
+        check = check + zero_floats() * value;
+      }
+      return no_lane(unordered(check, check)) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+#endif
+  Real check = 0;
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t l = 0; l < count; ++l) {
+      const Real inverse_mass = inverse_mass_[first + l];
+      const Real value =
+          inverse_mass > Real(0) ? force[k][l] * inverse_mass + gravity_[k] : Real(0);
+      a[k * stride_ + first + l] = value;
+      check += Real(0) * value;
+    }
+  return check;
+}
+
+template <class Real>
+Real SpringListForces<Real>::gather_external(Real* a, bool triangles) {
   const std::size_t blocks = springs_.particle_blocks();
   const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(blocks * kSpringBlock));
   Real check = 0;
@@ -132,25 +181,8 @@ Real SpringListForces<Real>::gather(Real* a, bool springs, bool triangles) {
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * (kChunk / kSpringBlock);
     const std::size_t end = std::min(blocks, begin + kChunk / kSpringBlock);
-    for (std::size_t block = begin; block < end; ++block) {
-      alignas(kAlignment) Real force[3][kSpringBlock] = {};
-      if (springs) springs_.sum_incident(spring_force_.data(), block, force);
-      const std::size_t first = block * kSpringBlock;
-      const std::size_t count = std::min(kSpringBlock, n_ - first);
-      if (triangles)
-        for (std::size_t l = 0; l < count; ++l)
-          for (uint32_t e = triangle_offsets_[first + l]; e < triangle_offsets_[first + l + 1]; ++e)
-            for (std::size_t k = 0; k < 3; ++k)
-              force[k][l] += triangle_share_[3 * adjacent_triangles_[e] + k];
-      for (std::size_t k = 0; k < 3; ++k)
-        for (std::size_t l = 0; l < count; ++l) {
-          const Real inverse_mass = inverse_mass_[first + l];
-          const Real value =
-              inverse_mass > Real(0) ? force[k][l] * inverse_mass + gravity_[k] : Real(0);
-          a[k * stride_ + first + l] = value;
-          check += Real(0) * value;
-        }
-    }
+    for (std::size_t block = begin; block < end; ++block)
+      check += gather_block(block, a, false, triangles);
   }
   return check;
 }
@@ -163,14 +195,13 @@ bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
   const auto start = Clock::now();
   const Real* positions = form(x, formed_x_.data());
   const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
-  spring_pass(positions, velocities);
-  const auto springs_done = Clock::now();
+  const auto formed = Clock::now();
   const bool cells = wind_ || air_;
   if (cells) triangle_pass(positions, velocities);
   const auto triangles_done = Clock::now();
-  const Real check = gather(a, true, cells);
-  // The gather, which also adds the triangles' shares, counts with the springs.
-  const double external = std::chrono::duration<double>(triangles_done - springs_done).count();
+  // The sums, which also add the triangles' shares, count with the springs.
+  const Real check = spring_sweep(positions, velocities, a, cells);
+  const double external = std::chrono::duration<double>(triangles_done - formed).count();
   counters.external_forces_s += external;
   counters.internal_forces_s +=
       std::chrono::duration<double>(Clock::now() - start).count() - external;
@@ -185,7 +216,7 @@ template <class Real>
 bool SpringListForces<Real>::evaluate_external(const Real* x, const Real* v, Real* a) {
   const bool cells = wind_ || air_;
   if (cells) triangle_pass(x, v);
-  return gather(a, false, cells) == Real(0);
+  return gather_external(a, cells) == Real(0);
 }
 
 template <class Real>

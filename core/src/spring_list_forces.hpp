@@ -45,10 +45,14 @@ class SpringListForces {
   // Whole state vectors (3 x stride) formed as combinations, into `out`; the base itself when
   // there is no term.
   const Real* form(const StateCombination<Real>& state, Real* out);
-  void spring_pass(const Real* x, const Real* v);
   void triangle_pass(const Real* x, const Real* v);
-  // Sums the slots into accelerations; returns the sum of 0 * a (NaN when some a is not finite).
-  Real gather(Real* a, bool springs, bool triangles);
+  // The springs' forces and the particles' sums of them (and of the triangles' shares), tile by
+  // tile (SpringLanes::sweep); returns the sum of 0 * a (NaN when some a is not finite).
+  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles);
+  // The triangles' shares alone into accelerations; returns as spring_sweep.
+  Real gather_external(Real* a, bool triangles);
+  // Particle block b's sum into accelerations; returns its sum of 0 * a.
+  Real gather_block(std::size_t block, Real* a, bool springs, bool triangles) const;
 
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
