@@ -6,7 +6,7 @@
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
 // a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
-// SpringLanes (spring_lanes.hpp). Scratch is sized at construction (the Runge-Kutta-Nystrom
+// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
 // stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
