@@ -137,8 +137,8 @@ void SpringLanes<Real>::band_blocks(const Band& band, std::size_t begin, std::si
   begin = std::max<std::size_t>(begin, band.low / kSpringBlock);
   end = std::min<std::size_t>(end, band.high / kSpringBlock);
   if (begin >= end) return;
-  const std::size_t first_block = (band.base - band.low) / kSpringBlock;
-  compute(first_block + begin, first_block + end);
+  const std::size_t from = band.base / kSpringBlock + (begin - band.low / kSpringBlock);
+  compute(from, from + (end - begin));
 }
 
 template <class Real>
