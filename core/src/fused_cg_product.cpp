@@ -15,7 +15,7 @@ void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, doub
                                               double c_v) const {
   linearised_ = {x, v, c_x, c_v};
   if (spring_list_) {
-    list_linearise(x, v, c_x, c_v);
+    list_linearise(x);
     return;
   }
 #if defined(CLOTHLAB_FLOAT_LANES)

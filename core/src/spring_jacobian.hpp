@@ -121,15 +121,16 @@ class SpringJacobian {
   // particle chunk's share of <u, out> into row_dots_).
   template <JacobianForm Form, bool Shifted>
   void list_apply(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out) const;
-  // The definite M of every spring at the linearisation, 6 coefficients each (M is symmetric).
-  void list_linearise(const Real* x, const Real* v, double c_x, double c_v) const;
+  // Each slot's 1/l at the linearisation, from which the CG products build the definite M.
+  void list_linearise(const Real* x) const;
   // Pass 1: slot s = M_s (u_second - u_first), pinned ends' u taken as 0; block(spring, m)
   // gives the M of the slot's spring.
   template <class Block>
   void list_spring_products(const Real* u, Block&& block) const;
-  // Pass 2: out_i = inverse mass x the sum of particle i's slots (each signed by its end).
+  // Pass 2 on particle blocks [begin, end): out_i = inverse mass x the sum of particle i's slots
+  // (each signed by its end); Shifted: out = u + that, and returns the blocks' <u, out>_M.
   template <bool Shifted>
-  void list_gather(const Real* u, Real* out) const;
+  double list_gather_blocks(const Real* u, Real* out, std::size_t begin, std::size_t end) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -169,10 +170,10 @@ class SpringJacobian {
   // Per grid row (on the spring list: per particle chunk): its share of <u, out>.
   mutable std::vector<double> row_dots_;
   // Spring list: the slots (laid out as SpringLanes' forces) of pass 1's products, 3 per slot,
-  // and of list_linearise's coefficients, 6 per slot.
+  // and list_linearise's 1/l, 1 per slot.
   std::optional<SpringLanes<Real>> spring_lanes_;
   mutable AlignedBuffer<Real> spring_products_;
-  mutable AlignedBuffer<Real> spring_definite_;
+  mutable AlignedBuffer<Real> spring_inverse_length_;
 };
 
 }  // namespace clothlab::detail

@@ -4,6 +4,8 @@
 #include <numeric>
 #include <type_traits>
 
+#include "inverse_sqrt.hpp"
+#include "jacobian_row_kernel.hpp"
 #include "spring_kernel.hpp"
 
 namespace clothlab::detail {
@@ -35,12 +37,6 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
                                         : model.first[a] < model.first[b];
   });
 
-  // The bands: first particles [low, high) (whole blocks) from slot base.
-  struct Band {
-    uint32_t offset, low, high;
-    std::size_t base;
-  };
-  std::vector<Band> bands;
   std::vector<uint32_t> slot_of(springs_);  // model spring -> slot
   std::vector<uint32_t> gathered;           // the springs in no band, in order
   std::size_t next = kSpringBlock;          // after the leading dead block
@@ -57,12 +53,15 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
                       order.begin() + static_cast<std::ptrdiff_t>(end));
       continue;
     }
-    bands.push_back({offset, low, high, next});
+    bands_.push_back({offset, low, high, next});
+    dead_blocks_.push_back(static_cast<uint32_t>((next + high - low) / kSpringBlock));
     for (std::size_t k = begin; k < end; ++k)
       slot_of[order[k]] = static_cast<uint32_t>(next + model.first[order[k]] - low);
     next += high - low + kSpringBlock;  // and a dead block after it
   }
   const std::size_t gathered_base = next;
+  gathered_block_ = gathered_base / kSpringBlock;
+  dead_blocks_.push_back(0);
   for (std::size_t k = 0; k < gathered.size(); ++k)
     slot_of[gathered[k]] = static_cast<uint32_t>(gathered_base + k);
 
@@ -77,7 +76,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
   spring_in_.assign(slots, static_cast<uint32_t>(springs_));
   std::vector<uint8_t> live(slots, 0);
   // A band's dead slots join its own particles where they exist, so its blocks stay in order.
-  for (const Band& band : bands)
+  for (const Band& band : bands_)
     for (uint32_t i = band.low; i < band.high && std::size_t{i} + band.offset < particles; ++i) {
       first_[band.base + i - band.low] = i;
       second_[band.base + i - band.low] = i + band.offset;
@@ -133,7 +132,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
       for (std::size_t l = 0; l < kSpringBlock; ++l)
         rows.push_back(static_cast<uint32_t>(slot + l) | flag);
     };
-    for (const Band& band : bands) {
+    for (const Band& band : bands_) {
       const auto low = static_cast<std::ptrdiff_t>(band.low);
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
       if (start >= low && start - low < span)
@@ -235,17 +234,19 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
 }
 
-// symmetric_products' block from slot s, its ends in order or gathered.
-template <bool InOrder>
-void symmetric_block_lanes(const float* matrix, const float* u, const float* inverse_mass,
-                           std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
-                           bool dead_slots, const SpringArrays& arrays, float* product,
-                           std::size_t slots) {
-  Floats u_first[3], u_second[3], mass_first, mass_second;
+// definite_products' block from slot s, its ends in order or gathered, one law or a law per lane.
+template <bool InOrder, bool OneLaw>
+void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
+                          const float* u, const float* inverse_mass, std::size_t stride,
+                          std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
+                          bool dead_slots, const SpringArrays& arrays, float* product,
+                          std::size_t slots) {
+  Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
   if constexpr (InOrder) {
-    mass_first = load_floats(inverse_mass + first),
+    mass_first = load_floats(inverse_mass + first);
     mass_second = load_floats(inverse_mass + second);
     for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = load_floats(x + k * stride + second) - load_floats(x + k * stride + first);
       u_first[k] = load_floats(u + k * stride + first);
       u_second[k] = load_floats(u + k * stride + second);
     }
@@ -253,6 +254,7 @@ void symmetric_block_lanes(const float* matrix, const float* u, const float* inv
     const Indices i = load_indices(arrays.first + s), j = load_indices(arrays.second + s);
     mass_first = gather_floats(inverse_mass, i), mass_second = gather_floats(inverse_mass, j);
     for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = gather_floats(x + k * stride, j) - gather_floats(x + k * stride, i);
       u_first[k] = gather_floats(u + k * stride, i);
       u_second[k] = gather_floats(u + k * stride, j);
     }
@@ -262,14 +264,22 @@ void symmetric_block_lanes(const float* matrix, const float* u, const float* inv
   Floats du[3];
   for (std::size_t k = 0; k < 3; ++k)
     du[k] = keep(second_active, u_second[k]) - keep(first_active, u_first[k]);
-  Floats m[6];
-  for (std::size_t q = 0; q < 6; ++q) m[q] = load_floats(matrix + q * slots + s);
-  Floats out[3] = {m[0] * du[0] + m[1] * du[1] + m[2] * du[2],
-                   m[1] * du[0] + m[3] * du[1] + m[4] * du[2],
-                   m[2] * du[0] + m[4] * du[1] + m[5] * du[2]};
+  Floats rest, ks, kd;
+  if constexpr (OneLaw) {
+    rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
+  } else {
+    rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
+    kd = load_floats(arrays.kd + s);
+  }
+  const Floats scale_x = broadcast(c_x);
+  Floats across, along;
+  definite_coefficients(load_floats(inverse_length + s), ks, ks * rest,
+                        scale_x * ks + broadcast(c_v) * kd, scale_x, zero_floats(), across, along);
+  along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
+  Floats out[3];
+  for (std::size_t k = 0; k < 3; ++k) out[k] = across * du[k] + along * d[k];
   if (dead_slots) {
-    const LaneMask live =
-        not_equal(load_floats(arrays.ks + s) + load_floats(arrays.kd + s), zero_floats());
+    const LaneMask live = not_equal(ks + kd, zero_floats());
     for (Floats& value : out) value = keep(live, value);
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
@@ -338,10 +348,24 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
 }
 
 template <class Real>
-void SpringLanes<Real>::symmetric_products(const Real* matrix, const Real* u,
-                                           const Real* inverse_mass, std::size_t stride,
-                                           std::size_t begin, std::size_t end,
-                                           Real* product) const {
+void SpringLanes<Real>::inverse_lengths(const Real* x, std::size_t stride, std::size_t begin,
+                                        std::size_t end, Real* inverse_length) const {
+  for (std::size_t s = begin * kSpringBlock; s < end * kSpringBlock; ++s) {
+    Real squared = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Real d = x[k * stride + second_[s]] - x[k * stride + first_[s]];
+      squared += d * d;
+    }
+    const bool dead = ks_[s] + kd_[s] == Real(0);
+    inverse_length[s] = dead ? Real(0) : inverse_sqrt_or_zero(squared);
+  }
+}
+
+template <class Real>
+void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_length, Real c_x,
+                                          Real c_v, const Real* u, const Real* inverse_mass,
+                                          std::size_t stride, std::size_t begin, std::size_t end,
+                                          Real* product) const {
   for (std::size_t b = begin; b < end; ++b) {
     if ((block_kind_[b] & kNoSpring) != 0) {
       for (std::size_t k = 0; k < 3; ++k)
@@ -353,34 +377,34 @@ void SpringLanes<Real>::symmetric_products(const Real* matrix, const Real* u,
     if constexpr (std::is_same_v<Real, float>) {
       const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
                                 kd_.data()};
-      if ((block_kind_[b] & kEndsInOrder) != 0)
-        symmetric_block_lanes<true>(matrix, u, inverse_mass, stride, b * kSpringBlock,
-                                    block_first_[b], block_second_[b], dead_slots, arrays, product,
-                                    slots());
-      else
-        symmetric_block_lanes<false>(matrix, u, inverse_mass, stride, b * kSpringBlock,
-                                     block_first_[b], block_second_[b], dead_slots, arrays, product,
-                                     slots());
+      const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
+      const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
+      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
+      const auto block =
+          in_order
+              ? (one_law ? &definite_block_lanes<true, true> : &definite_block_lanes<true, false>)
+              : (one_law ? &definite_block_lanes<false, true>
+                         : &definite_block_lanes<false, false>);
+      block(x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
+            block_second_[b], law, dead_slots, arrays, product, slots());
       continue;
     }
 #endif
     for (std::size_t s = b * kSpringBlock; s < (b + 1) * kSpringBlock; ++s) {
       const std::size_t i = first_[s], j = second_[s];
-      Real du[3];
-      for (std::size_t k = 0; k < 3; ++k)
+      Real d[3], du[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        d[k] = x[k * stride + j] - x[k * stride + i];
         du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
                 (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
-      const Real m[6] = {matrix[s],
-                         matrix[slots() + s],
-                         matrix[2 * slots() + s],
-                         matrix[3 * slots() + s],
-                         matrix[4 * slots() + s],
-                         matrix[5 * slots() + s]};
-      const Real out[3] = {m[0] * du[0] + m[1] * du[1] + m[2] * du[2],
-                           m[1] * du[0] + m[3] * du[1] + m[4] * du[2],
-                           m[2] * du[0] + m[4] * du[1] + m[5] * du[2]};
+      }
+      Real across, along;
+      definite_coefficients(inverse_length[s], ks_[s], ks_[s] * rest_[s],
+                            c_x * ks_[s] + c_v * kd_[s], c_x, Real(0), across, along);
+      along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
       const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
-      for (std::size_t k = 0; k < 3; ++k) product[k * slots() + s] = dead ? Real(0) : out[k];
+      for (std::size_t k = 0; k < 3; ++k)
+        product[k * slots() + s] = dead ? Real(0) : across * du[k] + along * d[k];
     }
   }
 }

@@ -11,8 +11,14 @@
 // Each spring writes its own slot, and each particle sums the slots of its springs in one fixed
 // order (the bands', then its gathered slots ascending; minus where it is the second end), so
 // any split of the blocks among threads gives the same bits, with no atomics.
+//
+// sweep() runs the two passes tile by tile, so that a tile's sums read the slots computed just
+// before them from cache rather than from memory.
 #pragma once
 
+#include <omp.h>
+
+#include <algorithm>
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
@@ -51,17 +57,33 @@ class SpringLanes {
   void forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin, std::size_t end,
               Real* force) const;
 
-  // M_s (u_second - u_first) of each slot s, the ends with inverse mass 0 taken as u = 0, with
-  // M_s symmetric, its coefficients (xx, xy, xz, yy, yz, zz) q at matrix[q * slots() + s]; laid
-  // out as forces', for the spring blocks [begin, end).
-  void symmetric_products(const Real* matrix, const Real* u, const Real* inverse_mass,
-                          std::size_t stride, std::size_t begin, std::size_t end,
-                          Real* product) const;
+  // 1/l of each slot's spring at x (0 for a dead slot or a spring of zero length), what the
+  // definite products take, for the spring blocks [begin, end).
+  void inverse_lengths(const Real* x, std::size_t stride, std::size_t begin, std::size_t end,
+                       Real* inverse_length) const;
+
+  // The definite Jacobian's product on each slot s, M_s (u_second - u_first), the ends with
+  // inverse mass 0 taken as u = 0: M_s = c_x ks (t I + (1 - t) n n^T) + c_v kd n n^T at x, n the
+  // spring's direction, t = max(0, 1 - rest / l), from its 1/l (definite_coefficients, as the
+  // grid's kernel: one stored float per spring, not six coefficients, as the products stream
+  // memory); laid out as forces', for the spring blocks [begin, end).
+  void definite_products(const Real* x, const Real* inverse_length, Real c_x, Real c_v,
+                         const Real* u, const Real* inverse_mass, std::size_t stride,
+                         std::size_t begin, std::size_t end, Real* product) const;
 
   // For the particles of block b (particle b * kSpringBlock + l in lane l): the sum over each
   // particle's springs of per_slot (laid out as forces'), with a minus where it is the second
   // end, into sum[k][l].
   void sum_incident(const Real* per_slot, std::size_t block, Real (&sum)[3][kSpringBlock]) const;
+
+  // Calls compute(begin, end) on spring blocks, each once, and sum(tile, begin, end) on the
+  // particle blocks of each tile of `tile` blocks, after the spring blocks its sums read. Each
+  // thread takes whole tiles in order and computes a band's blocks tile by tile, just before the
+  // tile's sums; first, the blocks other threads read (the gathered and dead blocks, and the
+  // band blocks within an offset of its last tile), then a barrier.
+  template <class Compute, class Sum>
+  void sweep(std::size_t tile, int threads, bool parallel, const Compute& compute,
+             const Sum& sum) const;
 
  private:
   static constexpr uint32_t kSecondEnd = 0x80000000u;  // entry flag: subtract this slot
@@ -74,7 +96,21 @@ class SpringLanes {
     Real rest, ks, kd;
   };
 
+  // A band: the springs of one offset, first particles [low, high) (whole blocks) in the slots
+  // from base (a whole block).
+  struct Band {
+    uint32_t offset, low, high;
+    std::size_t base;
+  };
+  // The band's spring blocks whose first particles lie in particle blocks [begin, end).
+  template <class Compute>
+  static void band_blocks(const Band& band, std::size_t begin, std::size_t end,
+                          const Compute& compute);
+
   std::size_t springs_ = 0;
+  std::vector<Band> bands_;
+  std::vector<uint32_t> dead_blocks_;  // the leading block and the one after each band
+  std::size_t gathered_block_ = 0;     // the first gathered spring block
   AlignedBuffer<uint32_t> first_, second_;
   // kd 0 where the spring is not damped; a dead slot's law is 0 (ks + kd = 0 says it is dead).
   AlignedBuffer<Real> rest_, ks_, kd_;
@@ -93,5 +129,51 @@ class SpringLanes {
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
 };
+
+template <class Real>
+template <class Compute>
+void SpringLanes<Real>::band_blocks(const Band& band, std::size_t begin, std::size_t end,
+                                    const Compute& compute) {
+  begin = std::max<std::size_t>(begin, band.low / kSpringBlock);
+  end = std::min<std::size_t>(end, band.high / kSpringBlock);
+  if (begin >= end) return;
+  const std::size_t from = band.base / kSpringBlock + (begin - band.low / kSpringBlock);
+  compute(from, from + (end - begin));
+}
+
+template <class Real>
+template <class Compute, class Sum>
+void SpringLanes<Real>::sweep(std::size_t tile, int threads, bool parallel, const Compute& compute,
+                              const Sum& sum) const {
+  const std::size_t blocks = particle_blocks();
+  const std::size_t tiles = (blocks + tile - 1) / tile;
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    const auto count = static_cast<std::size_t>(omp_get_num_threads());
+    const auto thread = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t first_tile = tiles * thread / count;
+    const std::size_t last_tile = tiles * (thread + 1) / count;
+    const std::size_t begin = std::min(blocks, first_tile * tile);
+    const std::size_t end = std::min(blocks, last_tile * tile);
+    // A later thread's sums read the first ends of a band's slots up to its offset back.
+    const auto shared_from = [&](const Band& band) {
+      const std::size_t reach = (band.offset + kSpringBlock - 1) / kSpringBlock;
+      return end == blocks ? end : std::max(begin, end - std::min(end, reach));
+    };
+    for (std::size_t k = thread; k < dead_blocks_.size(); k += count)
+      compute(std::size_t{dead_blocks_[k]}, std::size_t{dead_blocks_[k]} + 1);
+    const std::size_t gathered = spring_blocks() - gathered_block_;
+    compute(gathered_block_ + gathered * thread / count,
+            gathered_block_ + gathered * (thread + 1) / count);
+    for (const Band& band : bands_) band_blocks(band, shared_from(band), end, compute);
+#pragma omp barrier
+    for (std::size_t t = first_tile; t < last_tile; ++t) {
+      const std::size_t tile_begin = t * tile, tile_end = std::min(blocks, tile_begin + tile);
+      for (const Band& band : bands_)
+        band_blocks(band, tile_begin, std::min(tile_end, shared_from(band)), compute);
+      sum(t, tile_begin, tile_end);
+    }
+  }
+}
 
 }  // namespace clothlab::detail

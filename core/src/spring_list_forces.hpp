@@ -6,7 +6,7 @@
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
 // a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
-// SpringLanes (spring_lanes.hpp). Scratch is sized at construction (the Runge-Kutta-Nystrom
+// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
 // stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
@@ -45,10 +45,24 @@ class SpringListForces {
   // Whole state vectors (3 x stride) formed as combinations, into `out`; the base itself when
   // there is no term.
   const Real* form(const StateCombination<Real>& state, Real* out);
-  void spring_pass(const Real* x, const Real* v);
+  // Orders the triangles by shape (each rotated, winding kept, to start at its smallest
+  // corner; by the offsets of the others from it) and then by first corner: on a mesh numbered
+  // along rows, runs whose corners follow in order, which the wind reads with plain loads.
+  void order_triangles();
   void triangle_pass(const Real* x, const Real* v);
-  // Sums the slots into accelerations; returns the sum of 0 * a (NaN when some a is not finite).
-  Real gather(Real* a, bool springs, bool triangles);
+  // The wind and air shares of triangles [begin, end).
+  void triangle_shares(const Real* x, const Real* v, std::size_t begin, std::size_t end);
+#if defined(CLOTHLAB_FLOAT_LANES)
+  // The wind's shares of the block of triangles from t, whose corners follow in order.
+  void wind_block_lanes(const Real* x, std::size_t t);
+#endif
+  // The springs' forces and the particles' sums of them (and of the triangles' shares), tile by
+  // tile (SpringLanes::sweep); returns the sum of 0 * a (NaN when some a is not finite).
+  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles);
+  // The triangles' shares alone into accelerations; returns as spring_sweep.
+  Real gather_external(Real* a, bool triangles);
+  // Particle block b's sum into accelerations; returns its sum of 0 * a.
+  Real gather_block(std::size_t block, Real* a, bool springs, bool triangles) const;
 
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
@@ -61,6 +75,7 @@ class SpringListForces {
   std::size_t spring_count_ = 0;
   std::vector<uint32_t> triangles_;
   std::vector<uint32_t> triangle_offsets_, adjacent_triangles_;  // particle -> triangle lists
+  std::size_t lane_triangles_ = 0;  // the leading triangles, in blocks that follow in order
 
   Real gravity_[3] = {0, 0, 0};
   Real wind_direction_[3] = {0, 0, 0};

@@ -2,9 +2,9 @@
 // of a grid forced onto the general path. Two passes, as the spring-list forces, on the slots of
 // SpringLanes (spring_lanes.hpp): each spring's M (u_j - u_i) once into its own slot, then per
 // particle the sum of its slots in one fixed order. No thread writes another's particles, so the
-// result is the same bits on any thread count. The definite form's M, fixed by linearise, keeps
-// 6 coefficients per slot for the CG products, which run on lanes; the other products build M
-// per spring as the block forms do (spring_block).
+// result is the same bits on any thread count. The CG products run on lanes, tile by tile
+// (SpringLanes::sweep), from each slot's 1/l, fixed by linearise (definite_products); the other
+// products build M per spring as the block forms do (spring_block).
 #include <omp.h>
 
 #include <algorithm>
@@ -59,55 +59,52 @@ void SpringJacobian<Real>::list_spring_products(const Real* u, Block&& block) co
 
 template <class Real>
 template <bool Shifted>
-void SpringJacobian<Real>::list_gather(const Real* u, Real* out) const {
+double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, std::size_t begin,
+                                                std::size_t end) const {
   const SpringLanes<Real>& lanes = *spring_lanes_;
-  const std::size_t blocks = lanes.particle_blocks();
-#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-  for (std::ptrdiff_t chunk = 0; chunk < chunks_of(n_); ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunkBlocks;
-    const std::size_t end = std::min(blocks, begin + kChunkBlocks);
-    double dot = 0.0;
-    for (std::size_t block = begin; block < end; ++block) {
-      alignas(kAlignment) Real sum[3][kSpringBlock];
-      lanes.sum_incident(spring_products_.data(), block, sum);
-      const std::size_t first = block * kSpringBlock;
-      const std::size_t count = std::min(kSpringBlock, n_ - first);
-      for (std::size_t l = 0; l < count; ++l) {
-        const std::size_t i = first + l;
-        const Real inverse_mass = inverse_mass_[i];
-        Real term = 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride_ + i;
-          if (inverse_mass == Real(0)) {
-            out[at] = Real(0);
-          } else if constexpr (Shifted) {
-            out[at] = u[at] + inverse_mass * sum[k][l];
-            term += u[at] * out[at];
-          } else {
-            out[at] = inverse_mass * sum[k][l];
-          }
+  double dot = 0.0;
+  for (std::size_t block = begin; block < end; ++block) {
+    alignas(kAlignment) Real sum[3][kSpringBlock];
+    lanes.sum_incident(spring_products_.data(), block, sum);
+    const std::size_t first = block * kSpringBlock;
+    const std::size_t count = std::min(kSpringBlock, n_ - first);
+    for (std::size_t l = 0; l < count; ++l) {
+      const std::size_t i = first + l;
+      const Real inverse_mass = inverse_mass_[i];
+      Real term = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride_ + i;
+        if (inverse_mass == Real(0)) {
+          out[at] = Real(0);
+        } else if constexpr (Shifted) {
+          out[at] = u[at] + inverse_mass * sum[k][l];
+          term += u[at] * out[at];
+        } else {
+          out[at] = inverse_mass * sum[k][l];
         }
-        if constexpr (Shifted) dot += double{mass_[i] * term};
       }
+      if constexpr (Shifted) dot += double{mass_[i] * term};
     }
-    if constexpr (Shifted) row_dots_[static_cast<std::size_t>(chunk)] = dot;
   }
+  return dot;
 }
 
 template <class Real>
 template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::list_apply(const Real* x, const Real* v, const Weights& w, const Real* u,
                                       Real* out) const {
-  if constexpr (Shifted) {  // the cg-step product, at the linearisation, on lanes
+  if constexpr (Shifted) {  // the cg-step product, at the linearisation, tile by tile
     const SpringLanes<Real>& lanes = *spring_lanes_;
-    const std::size_t blocks = lanes.spring_blocks();
-    const auto chunks = static_cast<std::ptrdiff_t>((blocks + kChunkBlocks - 1) / kChunkBlocks);
-#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-    for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-      const std::size_t begin = static_cast<std::size_t>(chunk) * kChunkBlocks;
-      lanes.symmetric_products(spring_definite_.data(), u, inverse_mass_, stride_, begin,
-                               std::min(blocks, begin + kChunkBlocks), spring_products_.data());
-    }
+    const auto c_x = static_cast<Real>(w.c_x), c_v = static_cast<Real>(w.damped ? w.c_v : 0.0);
+    lanes.sweep(
+        kChunkBlocks, threads_, parallel_,
+        [&](std::size_t begin, std::size_t end) {
+          lanes.definite_products(x, spring_inverse_length_.data(), c_x, c_v, u, inverse_mass_,
+                                  stride_, begin, end, spring_products_.data());
+        },
+        [&](std::size_t tile, std::size_t begin, std::size_t end) {
+          row_dots_[tile] = list_gather_blocks<true>(u, out, begin, end);
+        });
   } else {
     Weights form = w;
     form.definite = Form == JacobianForm::kDefinite;
@@ -116,30 +113,25 @@ void SpringJacobian<Real>::list_apply(const Real* x, const Real* v, const Weight
       spring_block(x, v, spring, form, block);
       for (std::size_t k = 0; k < 9; ++k) m[k] = static_cast<Real>(block[k]);
     });
+    const std::size_t blocks = spring_lanes_->particle_blocks();
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
+    for (std::ptrdiff_t chunk = 0; chunk < chunks_of(n_); ++chunk) {
+      const std::size_t begin = static_cast<std::size_t>(chunk) * kChunkBlocks;
+      list_gather_blocks<false>(u, out, begin, std::min(blocks, begin + kChunkBlocks));
+    }
   }
-  list_gather<Shifted>(u, out);
 }
 
 template <class Real>
-void SpringJacobian<Real>::list_linearise(const Real* x, const Real* v, double c_x,
-                                          double c_v) const {
-  const Weights w{c_x, c_v, damping_ && v != nullptr, true};
+void SpringJacobian<Real>::list_linearise(const Real* x) const {
   const SpringLanes<Real>& lanes = *spring_lanes_;
-  const std::size_t slots = lanes.slots();
-  const uint32_t dead = static_cast<uint32_t>(topology_.spring_count());
-  Real* coefficients = spring_definite_.data();
+  const std::size_t blocks = lanes.spring_blocks();
+  const auto chunks = static_cast<std::ptrdiff_t>((blocks + kChunkBlocks - 1) / kChunkBlocks);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-  for (std::ptrdiff_t chunk = 0; chunk < chunks_of(slots); ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(slots, begin + kChunk);
-    for (std::size_t s = begin; s < end; ++s) {
-      const uint32_t spring = lanes.spring_in(s);
-      if (spring == dead) continue;  // its coefficients stay 0
-      double m[9];
-      spring_block(x, v, spring, w, m);
-      const double upper[6] = {m[0], m[1], m[2], m[4], m[5], m[8]};
-      for (std::size_t q = 0; q < 6; ++q) coefficients[q * slots + s] = static_cast<Real>(upper[q]);
-    }
+  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunkBlocks;
+    lanes.inverse_lengths(x, stride_, begin, std::min(blocks, begin + kChunkBlocks),
+                          spring_inverse_length_.data());
   }
 }
 
@@ -155,9 +147,7 @@ template void SpringJacobian<double>::list_apply<JacobianForm::kDefinite, false>
     const double*, const double*, const Weights&, const double*, double*) const;
 template void SpringJacobian<double>::list_apply<JacobianForm::kDefinite, true>(
     const double*, const double*, const Weights&, const double*, double*) const;
-template void SpringJacobian<float>::list_linearise(const float*, const float*, double,
-                                                    double) const;
-template void SpringJacobian<double>::list_linearise(const double*, const double*, double,
-                                                     double) const;
+template void SpringJacobian<float>::list_linearise(const float*) const;
+template void SpringJacobian<double>::list_linearise(const double*) const;
 
 }  // namespace clothlab::detail
