@@ -14,13 +14,12 @@
 //
 // The fine level smooths matrix-free: Chebyshev iteration on block-Jacobi (D^-1 A, D the
 // diagonal blocks of A), `sweeps` host products before the coarse correction and as many
-// after, in the system's precision and layout. Its polynomial targets D^-1 A's eigenvalues in
-// [lambda_max / kChebyshevRatio, lambda_max] (lambda_max a block Gershgorin bound from the
-// fine blocks): the coarse levels take the rest. A product costs about an explicit step,
-// where a Gauss-Seidel sweep over the stored fine blocks costs several; pre- and post-smoothing
-// apply the same polynomial, so the V-cycle stays symmetric. On the cotton flag 2 + 2 such
-// steps take as many CG iterations as 2 + 2 Gauss-Seidel sweeps. Coarser levels keep their
-// Gauss-Seidel smoother (multigrid_smoother.hpp).
+// after, in the system's precision and layout, with the polynomial and the spectral bound of
+// multigrid_chebyshev.hpp. A product costs about an explicit step, where a Gauss-Seidel sweep
+// over the stored fine blocks costs several. The coarser levels smooth with the same
+// polynomial over their stored blocks in lanes (Smoothing::chebyshev), `sweeps` steps each
+// side. On the cotton flag 2 + 2 such steps take about as many CG iterations as 2 + 2
+// Gauss-Seidel sweeps.
 //
 // Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
 // `prepare_solve` can keep the last hierarchy for up to `rebuild_interval` solves. CG's products
@@ -34,7 +33,6 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <clothlab/sdk/threads.hpp>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -56,7 +54,8 @@ class MultigridPreconditioner {
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
                    fixed_particles(system), GridLevel::Blocks::single,
-                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64),
+                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
+                   Smoothing::chebyshev),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         sweeps_(sweeps),
@@ -170,9 +169,6 @@ class MultigridPreconditioner {
 
  private:
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
-  // The Chebyshev polynomial's target: D^-1 A's eigenvalues down to lambda_max / this ratio
-  // (the smooth rest is the coarse levels').
-  static constexpr double kChebyshevRatio = 30.0;
 
   // The fine level alone (it is the coarsest): z = S^-1 M r by the direct solve.
   template <class Real>
@@ -214,41 +210,17 @@ class MultigridPreconditioner {
         for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
   }
 
-  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and an upper bound on
-  // D^-1 A's eigenvalues (those of D_S^-1 S): block Gershgorin, the largest row sum of
-  // |D_S,i^-1 S_ij| over a row's blocks. An estimate from below (power iteration) would let
-  // the polynomial amplify the stiffest modes.
+  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and the fine smoother's
+  // bound on D^-1 A's eigenvalues (those of D_S^-1 S) from the hierarchy's.
   template <class Real>
   void prepare_chebyshev(const sdk::System<Real>& system) {
-    const GridLevel& fine = hierarchy_.level(0);
-    const std::vector<double>& inverse = hierarchy_.smoother(0).inverse_diagonal();
+    const BlockChebyshev& fine = hierarchy_.chebyshev(0);
+    const std::vector<double>& inverse = fine.inverse_diagonal();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
         for (std::size_t k = 0; k < 9; ++k)
           jacobi_[9 * std::size_t{i} + k] = mass_[i] * inverse[9 * std::size_t{i} + k];
-    double bound = 0.0;
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        const std::size_t i = fine.node(r, c);
-        if (fine.fixed(i)) continue;
-        const double* d = &inverse[9 * i];
-        const GridLevel::Window w = fine.window(r, c);
-        std::array<double, 3> row_sums{};
-        for (const GridLevel::Offset& offset : fine.couplings()) {
-          const int r2 = r + offset.rows, c2 = c + offset.cols;
-          if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
-          const double* a = fine.block(r, c, r2, c2);
-          for (int k = 0; k < 3; ++k)
-            for (int j = 0; j < 3; ++j)
-              row_sums[static_cast<std::size_t>(k)] +=
-                  std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
-        }
-        bound = std::max({bound, row_sums[0], row_sums[1], row_sums[2]});
-      }
-    if (!(bound > 0.0 && std::isfinite(bound)))
-      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
-                       "multigrid: no spectral bound of the fine level's Jacobi-scaled matrix");
-    lambda_max_ = bound;
+    lambda_max_ = fine.lambda_max();
   }
 
   // `sweeps_` Chebyshev steps on A z = r from z, leaving the residual r - A z in
@@ -266,15 +238,13 @@ class MultigridPreconditioner {
           for (std::size_t k = 0; k < 3; ++k)
             residual[k * stride + i] = r[k * stride + i] - image[k * stride + i];
     }
-    const double lambda_min = lambda_max_ / kChebyshevRatio;
-    const double theta = 0.5 * (lambda_max_ + lambda_min), delta = 0.5 * (lambda_max_ - lambda_min);
-    const double sigma = theta / delta;
-    double rho = 1.0 / sigma;
+    ChebyshevSteps steps(lambda_max_);
+    const double first_scale = steps.first_scale();
     apply_jacobi(system, residual, direction);
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
         for (std::size_t k = 0; k < 3; ++k)
-          direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] / theta);
+          direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] * first_scale);
     for (long step = 0; step < sweeps_; ++step) {
       for (const clothlab_range& range : system.active())
         for (uint32_t i = range.begin; i < range.end; ++i)
@@ -286,15 +256,13 @@ class MultigridPreconditioner {
         for (uint32_t i = range.begin; i < range.end; ++i)
           for (std::size_t k = 0; k < 3; ++k) residual[k * stride + i] -= image[k * stride + i];
       if (last) break;
-      const double rho_next = 1.0 / (2.0 * sigma - rho);
+      const ChebyshevSteps::Step next = steps.next();
       apply_jacobi(system, residual, image);
       for (const clothlab_range& range : system.active())
         for (uint32_t i = range.begin; i < range.end; ++i)
           for (std::size_t k = 0; k < 3; ++k)
-            direction[k * stride + i] =
-                static_cast<Real>(rho_next * rho * direction[k * stride + i] +
-                                  2.0 * rho_next / delta * image[k * stride + i]);
-      rho = rho_next;
+            direction[k * stride + i] = static_cast<Real>(next.keep * direction[k * stride + i] +
+                                                          next.scale * image[k * stride + i]);
     }
   }
 

@@ -115,10 +115,11 @@ struct ClothMatrix {
 // The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes,
 // its single levels smoothed in `lanes`' precision.
 MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest,
-                                 builtin::LanePrecision lanes = builtin::LanePrecision::float64) {
+                                 builtin::LanePrecision lanes = builtin::LanePrecision::float64,
+                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel) {
   MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
                                                     static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, GridLevel::Blocks::single, lanes);
+                               cloth.fixed, GridLevel::Blocks::single, lanes, smoothing);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
@@ -379,6 +380,59 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
   const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
   const double xBy = x.dot(forward_twice(y)), yBx = y.dot(forward_twice(x));
   EXPECT_GT(std::abs(xBy - yBx) / std::abs(xBy), 1e-6);
+}
+
+// The coarse levels' Chebyshev smoothing (implicit_euler's): level 1's cycle B_1 = (pre-smooth,
+// coarse solve, post-smooth) is symmetric where pre- and post-smoothing apply the same
+// polynomial, and so is the fine level's coarse correction P B_1 R. The mutants, one step fewer
+// or more after the coarse solve than before it (another polynomial), make B_1 unsymmetric, and
+// the check sees it.
+TEST(Multigrid, TheChebyshevLevelsKeepTheCycleSymmetric) {
+  ClothMatrix cloth(23, 18);
+  MultigridHierarchy hierarchy =
+      hierarchy_for(cloth, 100, builtin::LanePrecision::float64, builtin::Smoothing::chebyshev);
+  ASSERT_EQ(hierarchy.level_count(), 3u);  // 23 x 18, 12 x 10, 7 x 6
+  const GridLevel& fine = hierarchy.level(0);
+  const GridLevel& level = hierarchy.level(1);
+  const GridLevel& coarse = hierarchy.level(2);
+  EXPECT_GT(hierarchy.chebyshev(1).lambda_max(), 1.0);
+  for (long sweeps : {1L, 2L, 3L}) {
+    VCycle cycle(hierarchy, sweeps);
+    const auto correction = [&](const Eigen::VectorXd& r) {
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(r.size());
+      cycle.correct(r.data(), x.data());
+      return x;
+    };
+    const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
+    const double xBy = x.dot(correction(y)), yBx = y.dot(correction(x));
+    EXPECT_LT(std::abs(xBy - yBx), 1e-12 * std::abs(xBy)) << sweeps << " sweeps";
+    EXPECT_GT(x.dot(correction(x)), 0.0) << sweeps << " sweeps";
+  }
+  // B_1 by hand, on level 1's right-hand sides (the fine ones restricted).
+  const auto level_rhs = [&](unsigned seed) {
+    const Eigen::VectorXd fine_b = cloth.rhs(seed);
+    Eigen::VectorXd b(static_cast<Eigen::Index>(3 * level.node_count()));
+    hierarchy.transfer(0).restrict_to(fine, fine_b.data(), level, b.data());
+    return b;
+  };
+  const auto two_grid = [&](const Eigen::VectorXd& b, long pre, long post) {
+    Eigen::VectorXd x(b.size()), r(b.size());
+    std::vector<double> coarse_b(3 * coarse.node_count()), coarse_x(coarse_b.size());
+    hierarchy.pre_smooth(1, b.data(), x.data(), pre, r.data(), 1);
+    hierarchy.transfer(1).restrict_to(level, r.data(), coarse, coarse_b.data());
+    hierarchy.coarsest_solve().solve(coarse, coarse_b.data(), coarse_x.data());
+    hierarchy.transfer(1).prolong_add(level, coarse, coarse_x.data(), x.data());
+    hierarchy.post_smooth(1, b.data(), x.data(), post, 1);
+    return x;
+  };
+  const Eigen::VectorXd x = level_rhs(1), y = level_rhs(2);
+  const auto asymmetry_of = [&](long pre, long post) {
+    const double xBy = x.dot(two_grid(y, pre, post)), yBx = y.dot(two_grid(x, pre, post));
+    return std::abs(xBy - yBx) / std::abs(xBy);
+  };
+  EXPECT_LT(asymmetry_of(2, 2), 1e-12);
+  EXPECT_GT(asymmetry_of(2, 1), 1e-6);
+  EXPECT_GT(asymmetry_of(3, 2), 1e-6);
 }
 
 // The smoothing and the residual split a level's rows among the threads; a colour's nodes do
