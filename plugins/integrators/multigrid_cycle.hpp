@@ -58,9 +58,11 @@ class VCycle {
   // Needs a hierarchy of at least two levels.
   void correct(const double* residual, double* x) {
     const GridTransfer& transfer = hierarchy_.transfer(0);
-    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data());
+    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data(),
+                         threads_);
     cycle(1);
-    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x);
+    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x,
+                         threads_);
   }
 
  private:
@@ -75,9 +77,9 @@ class VCycle {
     hierarchy_.pre_smooth(l, b, x, sweeps_, residual_[l].data(), threads_);
     const GridTransfer& transfer = hierarchy_.transfer(l);
     const GridLevel& coarse = hierarchy_.level(l + 1);
-    transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data());
+    transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data(), threads_);
     cycle(l + 1);
-    transfer.prolong_add(level, coarse, solution_[l + 1].data(), x);
+    transfer.prolong_add(level, coarse, solution_[l + 1].data(), x, threads_);
     hierarchy_.post_smooth(l, b, x, sweeps_, threads_);
   }
 

@@ -146,29 +146,47 @@ class MultigridPreconditioner {
     if (hierarchy_.level_count() == 1) return solve_directly(system, r, z);
     const std::size_t stride = system.stride();
     Real* residual = static_cast<Real*>(probe_products_[0]);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k) {
-          residual[k * stride + i] = r[k * stride + i];
-          z[k * stride + i] = Real{0};
-        }
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        residual[k * stride + i] = r[k * stride + i];
+        z[k * stride + i] = Real{0};
+      }
+    });
     smooth(system, product, r, z, true);
     std::fill(fine_residual_.begin(), fine_residual_.end(), 0.0);
     std::fill(fine_correction_.begin(), fine_correction_.end(), 0.0);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          fine_residual_[3 * i + k] = mass_[i] * residual[k * stride + i];
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k)
+        fine_residual_[3 * i + k] = mass_[i] * residual[k * stride + i];
+    });
     cycle_.correct(fine_residual_.data(), fine_correction_.data());
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k)
+        z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
+    });
     smooth(system, product, r, z, false);
   }
 
  private:
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
+  // Particles of a range worth splitting among the V-cycle's threads.
+  static constexpr uint32_t kParticlesWorthATeam = 4096;
+
+  // body(i) for every active particle, a large range's particles split among the V-cycle's
+  // threads (each particle's work is its own: the same bits on any count).
+  template <class Real, class Body>
+  void for_each_active(const sdk::System<Real>& system, Body&& body) const {
+    const int threads = cycle_.threads();
+    for (const clothlab_range& range : system.active()) {
+      if (threads > 1 && range.end - range.begin >= kParticlesWorthATeam) {
+        const auto begin = static_cast<int64_t>(range.begin), end = static_cast<int64_t>(range.end);
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (int64_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+      } else {
+        for (uint32_t i = range.begin; i < range.end; ++i) body(i);
+      }
+    }
+  }
 
   // The fine level alone (it is the coarsest): z = S^-1 M r by the direct solve.
   template <class Real>
@@ -190,24 +208,23 @@ class MultigridPreconditioner {
   template <class Real>
   void apply_jacobi(const sdk::System<Real>& system, const Real* u, Real* out) const {
     const std::size_t stride = system.stride();
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i) {
-        const double* d = &jacobi_[9 * std::size_t{i}];
-        const double u0 = u[i], u1 = u[stride + i], u2 = u[2 * stride + i];
-        for (std::size_t k = 0; k < 3; ++k)
-          out[k * stride + i] =
-              static_cast<Real>(d[3 * k] * u0 + d[3 * k + 1] * u1 + d[3 * k + 2] * u2);
-      }
+    for_each_active(system, [&](uint32_t i) {
+      const double* d = &jacobi_[9 * std::size_t{i}];
+      const double u0 = u[i], u1 = u[stride + i], u2 = u[2 * stride + i];
+      for (std::size_t k = 0; k < 3; ++k)
+        out[k * stride + i] =
+            static_cast<Real>(d[3 * k] * u0 + d[3 * k + 1] * u1 + d[3 * k + 2] * u2);
+    });
   }
 
   // out = A u = u + J u.
   template <class Real, class Product>
-  static void apply_a(const sdk::System<Real>& system, Product& product, const Real* u, Real* out) {
+  void apply_a(const sdk::System<Real>& system, Product& product, const Real* u, Real* out) const {
     product(u, out);
     const std::size_t stride = system.stride();
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
+    });
   }
 
   // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and the fine smoother's
@@ -233,36 +250,36 @@ class MultigridPreconditioner {
     Real* image = static_cast<Real*>(probe_products_[2]);
     if (!pre) {
       apply_a(system, product, z, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k)
-            residual[k * stride + i] = r[k * stride + i] - image[k * stride + i];
+      for_each_active(system, [&](uint32_t i) {
+        for (std::size_t k = 0; k < 3; ++k)
+          residual[k * stride + i] = r[k * stride + i] - image[k * stride + i];
+      });
     }
     ChebyshevSteps steps(lambda_max_);
     const double first_scale = steps.first_scale();
     apply_jacobi(system, residual, direction);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] * first_scale);
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k)
+        direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] * first_scale);
+    });
     for (long step = 0; step < sweeps_; ++step) {
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k) z[k * stride + i] += direction[k * stride + i];
+      for_each_active(system, [&](uint32_t i) {
+        for (std::size_t k = 0; k < 3; ++k) z[k * stride + i] += direction[k * stride + i];
+      });
       const bool last = step + 1 == sweeps_;
       if (last && !pre) break;
       apply_a(system, product, direction, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k) residual[k * stride + i] -= image[k * stride + i];
+      for_each_active(system, [&](uint32_t i) {
+        for (std::size_t k = 0; k < 3; ++k) residual[k * stride + i] -= image[k * stride + i];
+      });
       if (last) break;
       const ChebyshevSteps::Step next = steps.next();
       apply_jacobi(system, residual, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k)
-            direction[k * stride + i] = static_cast<Real>(next.keep * direction[k * stride + i] +
-                                                          next.scale * image[k * stride + i]);
+      for_each_active(system, [&](uint32_t i) {
+        for (std::size_t k = 0; k < 3; ++k)
+          direction[k * stride + i] = static_cast<Real>(next.keep * direction[k * stride + i] +
+                                                        next.scale * image[k * stride + i]);
+      });
     }
   }
 

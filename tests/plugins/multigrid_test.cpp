@@ -9,6 +9,8 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -18,6 +20,7 @@
 #include "integrator_harness.hpp"
 #include "multigrid_cycle.hpp"
 #include "multigrid_preconditioner.hpp"
+#include "preconditioned_cg.hpp"
 #include "spring_host.hpp"
 
 namespace clothlab::test {
@@ -436,7 +439,8 @@ TEST(Multigrid, TheChebyshevLevelsKeepTheCycleSymmetric) {
 }
 
 // The smoothing and the residual split a level's rows among the threads; a colour's nodes do
-// not couple, so the V-cycle has the same bits on any count and in chunks of any size (70 x 70:
+// not couple (and Chebyshev's rows read only the last iterate), so the V-cycle has the same
+// bits on any count and in chunks of any size (70 x 70:
 // the finest level is large enough to split).
 TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
   using builtin::LanePrecision;
@@ -470,6 +474,22 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
         ASSERT_EQ(rx[i], ry[i]) << threads << " threads, residual entry " << i;
       }
     }
+    // Chebyshev smoothing on the fine level's lanes (implicit_euler's on its coarse levels):
+    // its rows are independent, so 1, 2 and 3 threads give the same bits.
+    builtin::BlockChebyshev chebyshev(fine, precision);
+    ASSERT_TRUE(chebyshev.factor(fine));
+    std::vector<Eigen::VectorXd> smoothed;
+    for (int threads : {1, 2, 3}) {
+      Eigen::VectorXd x(b.size()), r(b.size());
+      chebyshev.smooth_from_zero(fine, b.data(), x.data(), 2, r.data(), threads);
+      chebyshev.smooth(fine, b.data(), x.data(), 2, threads);
+      smoothed.push_back(x);
+      smoothed.push_back(r);
+    }
+    EXPECT_GT(smoothed[0].norm(), 0.0);
+    for (std::size_t k = 2; k < smoothed.size(); ++k)
+      for (Eigen::Index i = 0; i < b.size(); ++i)
+        ASSERT_EQ(smoothed[k][i], smoothed[k % 2][i]) << k / 2 + 1 << " threads, entry " << i;
   }
 }
 
@@ -692,6 +712,50 @@ TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetr
   EXPECT_LT(std::abs(r1z2 - r2z1), 1e-10 * std::abs(r1z2));
   EXPECT_GT(mass_dot(r1, z1), 0.0);
   EXPECT_GT(mass_dot(r2, z2), 0.0);
+}
+
+// The multigrid-preconditioned CG splits the V-cycle's passes (the fine level's vector
+// passes, the transfers, the coarse levels' Chebyshev steps) among the host's threads; every
+// entry is summed in one order on any count, so CG's iterates have the same bits on 1, 2 and 3
+// threads (65 x 65: the fine level is large enough to split; the coarse levels' Chebyshev on a
+// level that splits is TheVCycleHasTheSameBitsOnOneAndTwoThreads').
+TEST(Multigrid, CgIteratesHaveTheSameBitsOnOneTwoAndThreeThreads) {
+  constexpr uint32_t kSide = 65;
+  constexpr int kIterations = 4;
+  const double h = 1.0 / 60.0;
+  std::vector<std::vector<double>> iterates;
+  for (uint32_t threads : {1u, 2u, 3u}) {
+    GridNet net(kSide, kSide);
+    net.host.set_threads(threads);
+    MockSystem<double>& mock = net.host.system();
+    const sdk::System<double> system(mock.raw());
+    mock.allocation_allowed = true;
+    builtin::MultigridPreconditioner preconditioner(system, builtin::kDefaultCoarsestNodes, 2);
+    std::array<double*, builtin::PreconditionedCg<double>::vector_count> vectors{};
+    for (double*& vector : vectors) vector = system.alloc_vector();
+    double* rhs = system.alloc_vector();
+    double* solution = system.alloc_vector();
+    mock.allocation_allowed = false;
+    const std::size_t size = 3 * std::size_t{system.stride()};
+    std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
+    builtin::PreconditionedCg<double> cg(system, vectors, inverse_blocks, true, false,
+                                         &preconditioner);
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (std::size_t k = 0; k < size; ++k) rhs[k] = uniform(random);
+    std::fill_n(solution, size, 0.0);
+    cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, 1e-12);
+    ASSERT_TRUE(preconditioner.hierarchy().level(0).splits(static_cast<int>(threads)) ||
+                threads == 1);
+    for (int k = 0; k < kIterations; ++k)
+      ASSERT_EQ(cg.iterate(), builtin::PreconditionedCg<double>::Outcome::kRunning) << k;
+    cg.finish();
+    EXPECT_LT(cg.residual_norm(), 0.1 * cg.rhs_norm()) << threads << " threads";
+    iterates.emplace_back(solution, solution + size);
+  }
+  for (std::size_t t = 1; t < iterates.size(); ++t)
+    for (std::size_t k = 0; k < iterates[0].size(); ++k)
+      ASSERT_EQ(iterates[t][k], iterates[0][k]) << t + 1 << " threads, entry " << k;
 }
 
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
