@@ -140,31 +140,64 @@ class MultigridPreconditioner {
     if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
   }
 
-  // z = B M r on the active particles, J applied by product(u, out): out = J u.
+  // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
+  // Chebyshev steps (see `chebyshev_step`) run one pass over the particles after each product:
+  // the residual, the direction and z, with the residual for the coarse level written in the
+  // cycle's layout in the last pre-smoothing pass.
   template <class Real, class Product>
   void apply(const sdk::System<Real>& system, const Real* r, Real* z, Product&& product) {
     if (hierarchy_.level_count() == 1) return solve_directly(system, r, z);
     const std::size_t stride = system.stride();
     Real* residual = static_cast<Real*>(probe_products_[0]);
+    Real* direction = static_cast<Real*>(probe_products_[1]);
+    Real* image = static_cast<Real*>(probe_products_[2]);
+    // Pre-smoothing from z = 0, where the residual is r.
+    ChebyshevSteps pre(lambda_max_);
+    const double first_scale = pre.first_scale();
     for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        residual[k * stride + i] = r[k * stride + i];
-        z[k * stride + i] = Real{0};
-      }
+      chebyshev_step<Real>(i, stride, r, nullptr, nullptr, ChebyshevSteps::Step{0.0, first_scale},
+                           residual, direction, z, true);
     });
-    smooth(system, product, r, z, true);
+    const Real* last_residual = r;
+    for (long step = 1; step < sweeps_; ++step) {
+      product(direction, image);
+      const ChebyshevSteps::Step next = pre.next();
+      for_each_active(system, [&](uint32_t i) {
+        chebyshev_step(i, stride, last_residual, image, direction, next, residual, direction, z,
+                       false);
+      });
+      last_residual = residual;
+    }
+    // The coarse correction of the residual r - A z = last residual - A direction.
+    product(direction, image);
     std::fill(fine_residual_.begin(), fine_residual_.end(), 0.0);
     std::fill(fine_correction_.begin(), fine_correction_.end(), 0.0);
     for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k)
-        fine_residual_[3 * i + k] = mass_[i] * residual[k * stride + i];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride + i;
+        const Real value = last_residual[at] - (image[at] + direction[at]);
+        fine_residual_[3 * i + k] = mass_[i] * static_cast<double>(value);
+      }
     });
     cycle_.correct(fine_residual_.data(), fine_correction_.data());
     for_each_active(system, [&](uint32_t i) {
       for (std::size_t k = 0; k < 3; ++k)
         z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
     });
-    smooth(system, product, r, z, false);
+    // Post-smoothing from z: the same polynomial, its first residual r - A z.
+    ChebyshevSteps post(lambda_max_);
+    product(z, image);
+    for_each_active(system, [&](uint32_t i) {
+      chebyshev_step(i, stride, r, image, z, ChebyshevSteps::Step{0.0, first_scale}, residual,
+                     direction, z, false);
+    });
+    for (long step = 1; step < sweeps_; ++step) {
+      product(direction, image);
+      const ChebyshevSteps::Step next = post.next();
+      for_each_active(system, [&](uint32_t i) {
+        chebyshev_step(i, stride, residual, image, direction, next, residual, direction, z, false);
+      });
+    }
   }
 
  private:
@@ -204,27 +237,31 @@ class MultigridPreconditioner {
           z[k * stride + i] = static_cast<Real>(solution[3 * i + k]);
   }
 
-  // out = D^-1 u on the active particles (D: A's diagonal blocks).
+  // One fine Chebyshev step at particle i, each vector `stride` apart per component:
+  // residual = from - (image + u) (image = J u, so that is from - A u; from alone where image
+  // is null), direction = step.keep direction + step.scale D^-1 residual (the old direction
+  // unread where keep is 0), z += direction (z = direction where `start`). residual and from,
+  // direction and u, u and z may be the same vectors.
   template <class Real>
-  void apply_jacobi(const sdk::System<Real>& system, const Real* u, Real* out) const {
-    const std::size_t stride = system.stride();
-    for_each_active(system, [&](uint32_t i) {
-      const double* d = &jacobi_[9 * std::size_t{i}];
-      const double u0 = u[i], u1 = u[stride + i], u2 = u[2 * stride + i];
-      for (std::size_t k = 0; k < 3; ++k)
-        out[k * stride + i] =
-            static_cast<Real>(d[3 * k] * u0 + d[3 * k + 1] * u1 + d[3 * k + 2] * u2);
-    });
-  }
-
-  // out = A u = u + J u.
-  template <class Real, class Product>
-  void apply_a(const sdk::System<Real>& system, Product& product, const Real* u, Real* out) const {
-    product(u, out);
-    const std::size_t stride = system.stride();
-    for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
-    });
+  void chebyshev_step(uint32_t i, std::size_t stride, const Real* from, const Real* image,
+                      const Real* u, ChebyshevSteps::Step step, Real* residual, Real* direction,
+                      Real* z, bool start) const {
+    double res[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride + i;
+      const Real value = image == nullptr ? from[at] : from[at] - (image[at] + u[at]);
+      residual[at] = value;
+      res[k] = value;
+    }
+    const double* d = &jacobi_[9 * std::size_t{i}];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride + i;
+      const double jacobi = d[3 * k] * res[0] + d[3 * k + 1] * res[1] + d[3 * k + 2] * res[2];
+      const double kept = step.keep == 0.0 ? 0.0 : step.keep * direction[at];
+      const auto next = static_cast<Real>(kept + step.scale * jacobi);
+      direction[at] = next;
+      z[at] = start ? next : z[at] + next;
+    }
   }
 
   // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and the fine smoother's
@@ -238,49 +275,6 @@ class MultigridPreconditioner {
         for (std::size_t k = 0; k < 9; ++k)
           jacobi_[9 * std::size_t{i} + k] = mass_[i] * inverse[9 * std::size_t{i} + k];
     lambda_max_ = fine.lambda_max();
-  }
-
-  // `sweeps_` Chebyshev steps on A z = r from z, leaving the residual r - A z in
-  // probe_products_[0] where `pre` (which starts from z = 0, that residual r already there).
-  template <class Real, class Product>
-  void smooth(const sdk::System<Real>& system, Product& product, const Real* r, Real* z, bool pre) {
-    const std::size_t stride = system.stride();
-    Real* residual = static_cast<Real*>(probe_products_[0]);
-    Real* direction = static_cast<Real*>(probe_products_[1]);
-    Real* image = static_cast<Real*>(probe_products_[2]);
-    if (!pre) {
-      apply_a(system, product, z, image);
-      for_each_active(system, [&](uint32_t i) {
-        for (std::size_t k = 0; k < 3; ++k)
-          residual[k * stride + i] = r[k * stride + i] - image[k * stride + i];
-      });
-    }
-    ChebyshevSteps steps(lambda_max_);
-    const double first_scale = steps.first_scale();
-    apply_jacobi(system, residual, direction);
-    for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k)
-        direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] * first_scale);
-    });
-    for (long step = 0; step < sweeps_; ++step) {
-      for_each_active(system, [&](uint32_t i) {
-        for (std::size_t k = 0; k < 3; ++k) z[k * stride + i] += direction[k * stride + i];
-      });
-      const bool last = step + 1 == sweeps_;
-      if (last && !pre) break;
-      apply_a(system, product, direction, image);
-      for_each_active(system, [&](uint32_t i) {
-        for (std::size_t k = 0; k < 3; ++k) residual[k * stride + i] -= image[k * stride + i];
-      });
-      if (last) break;
-      const ChebyshevSteps::Step next = steps.next();
-      apply_jacobi(system, residual, image);
-      for_each_active(system, [&](uint32_t i) {
-        for (std::size_t k = 0; k < 3; ++k)
-          direction[k * stride + i] = static_cast<Real>(next.keep * direction[k * stride + i] +
-                                                        next.scale * image[k * stride + i]);
-      });
-    }
   }
 
   // The offset in [-reach, reach] from index n to the nearest index of class `target` mod 5.
