@@ -487,6 +487,32 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
       smoothed.push_back(r);
     }
     EXPECT_GT(smoothed[0].norm(), 0.0);
+    // The lanes' steps against the recurrence written out on the level's own residual: the
+    // same polynomial, to rounding in double lanes.
+    if (precision == LanePrecision::float64) {
+      const std::vector<double>& inverse = chebyshev.inverse_diagonal();
+      const auto jacobi = [&](const Eigen::VectorXd& r) {
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(r.size());
+        for (std::size_t i = 0; i < fine.node_count(); ++i)
+          for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+              out[static_cast<Eigen::Index>(3 * i) + k] +=
+                  inverse[9 * i + static_cast<std::size_t>(3 * k + j)] *
+                  r[static_cast<Eigen::Index>(3 * i) + j];
+        return out;
+      };
+      builtin::ChebyshevSteps steps(chebyshev.lambda_max());
+      Eigen::VectorXd direction = steps.first_scale() * jacobi(b), x = direction, r(b.size());
+      fine.residual(b.data(), x.data(), r.data());
+      const builtin::ChebyshevSteps::Step next = steps.next();
+      direction = next.keep * direction + next.scale * jacobi(r);
+      x += direction;
+      fine.residual(b.data(), x.data(), r.data());
+      Eigen::VectorXd wave_x(b.size()), wave_r(b.size());
+      chebyshev.smooth_from_zero(fine, b.data(), wave_x.data(), 2, wave_r.data(), 1);
+      EXPECT_LT((wave_x - x).norm(), 1e-10 * x.norm());
+      EXPECT_LT((wave_r - r).norm(), 1e-10 * r.norm());
+    }
     for (std::size_t k = 2; k < smoothed.size(); ++k)
       for (Eigen::Index i = 0; i < b.size(); ++i)
         ASSERT_EQ(smoothed[k][i], smoothed[k % 2][i]) << k / 2 + 1 << " threads, entry " << i;
