@@ -94,7 +94,7 @@ constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(
       sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
                      "multigrid: smoothing steps before and after each coarse correction "
                      "(Chebyshev steps of one Jacobian product each on the cloth's own grid, "
-                     "coloured block Gauss-Seidel sweeps on the coarser ones)"),
+                     "Chebyshev steps over the stored blocks on the coarser ones)"),
       sdk::int_param("multigrid_rebuild", 1, 1, 1024,
                      "multigrid: build the hierarchy for every Nth linear solve and reuse it in "
                      "between (CG still converges on the current matrix); always after prepare "

@@ -1,13 +1,13 @@
 // The multigrid V-cycle as a preconditioner: z = B b from z = 0 on the fine level, with
-// `sweeps` forward coloured Gauss-Seidel sweeps before the coarse correction and as many
-// backward ones after it, and the direct solve on the coarsest level; the smoothing and the
-// residual of each level large enough run on `threads`. Pre- and post-smoothing
-// are each other's adjoints and the coarse correction is exact at the bottom and Galerkin
-// above, so B is symmetric and positive definite for a positive definite fine matrix: a valid
-// preconditioner for conjugate gradients. Vectors hold 3 doubles per node; all are sized here.
+// `sweeps` smoothing sweeps before the coarse correction and as many after it (forward and
+// backward coloured Gauss-Seidel, or the same Chebyshev polynomial: the hierarchy's Smoothing),
+// and the direct solve on the coarsest level; the smoothing and the residual of each level
+// large enough run on `threads`. Pre- and post-smoothing are each other's adjoints and the coarse
+// correction is exact at the bottom and Galerkin above, so B is symmetric and positive definite for
+// a positive definite fine matrix: a valid preconditioner for conjugate gradients. Vectors hold 3
+// doubles per node; all are sized here.
 #pragma once
 
-#include <algorithm>
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <vector>
@@ -58,9 +58,11 @@ class VCycle {
   // Needs a hierarchy of at least two levels.
   void correct(const double* residual, double* x) {
     const GridTransfer& transfer = hierarchy_.transfer(0);
-    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data());
+    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data(),
+                         threads_);
     cycle(1);
-    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x);
+    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x,
+                         threads_);
   }
 
  private:
@@ -72,15 +74,13 @@ class VCycle {
       hierarchy_.coarsest_solve().solve(level, b, x);
       return;
     }
-    const BlockGaussSeidel& smoother = hierarchy_.smoother(l);
-    std::fill(solution_[l].begin(), solution_[l].end(), 0.0);
-    smoother.forward(level, b, x, sweeps_, residual_[l].data(), threads_);
+    hierarchy_.pre_smooth(l, b, x, sweeps_, residual_[l].data(), threads_);
     const GridTransfer& transfer = hierarchy_.transfer(l);
     const GridLevel& coarse = hierarchy_.level(l + 1);
-    transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data());
+    transfer.restrict_to(level, residual_[l].data(), coarse, rhs_[l + 1].data(), threads_);
     cycle(l + 1);
-    transfer.prolong_add(level, coarse, solution_[l + 1].data(), x);
-    smoother.backward(level, b, x, sweeps_, threads_);
+    transfer.prolong_add(level, coarse, solution_[l + 1].data(), x, threads_);
+    hierarchy_.post_smooth(l, b, x, sweeps_, threads_);
   }
 
   MultigridHierarchy& hierarchy_;

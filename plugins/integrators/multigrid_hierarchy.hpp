@@ -1,16 +1,19 @@
 // The multigrid hierarchy on a rows x cols grid: the fine level (its matrix filled by the
 // caller), coarser levels each with every other node along both axes (multigrid_transfer.hpp),
-// their Galerkin operators R A P, the smoothers' inverted diagonal blocks and the coarsest
-// level's Cholesky factor. All storage is sized when the hierarchy is built; `rebuild` after a
+// their Galerkin operators R A P, the smoothers (coloured Gauss-Seidel, multigrid_smoother.hpp,
+// or Chebyshev on block-Jacobi, multigrid_chebyshev.hpp) and the coarsest level's Cholesky
+// factor. All storage is sized when the hierarchy is built; `rebuild` after a
 // change of the fine matrix only computes.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "multigrid_chebyshev.hpp"
 #include "multigrid_coarse_solve.hpp"
 #include "multigrid_level.hpp"
 #include "multigrid_smoother.hpp"
@@ -45,6 +48,11 @@ inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coar
   return sizes;
 }
 
+// How the levels above the coarsest smooth: gauss_seidel, a convergent stationary iteration
+// (projective_dynamics' repeated V-cycles); chebyshev, cheaper per sweep where the V-cycle
+// only preconditions CG, its fine level left to the caller (implicit_euler's host product).
+enum class Smoothing { gauss_seidel, chebyshev };
+
 class MultigridHierarchy {
  public:
   // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c. fine_blocks: single
@@ -53,7 +61,8 @@ class MultigridHierarchy {
   // serve the V-cycle and are single; the coarsest, solved directly, stays exact. lanes: the
   // precision the single levels smooth in (multigrid_lanes.hpp).
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
-                     GridLevel::Blocks fine_blocks, LanePrecision lanes = LanePrecision::float64) {
+                     GridLevel::Blocks fine_blocks, LanePrecision lanes = LanePrecision::float64,
+                     Smoothing smoothing = Smoothing::gauss_seidel) {
     levels_.reserve(sizes.size());
     levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed), fine_blocks);
     for (std::size_t l = 1; l < sizes.size(); ++l) {
@@ -63,7 +72,11 @@ class MultigridHierarchy {
           sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
           l + 1 < sizes.size() ? GridLevel::Blocks::single : GridLevel::Blocks::exact);
     }
-    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l], lanes);
+    for (std::size_t l = 0; l + 1 < levels_.size(); ++l)
+      if (smoothing == Smoothing::gauss_seidel)
+        smoothers_.emplace_back(levels_[l], lanes);
+      else
+        chebyshev_.emplace_back(levels_[l], l == 0 ? std::nullopt : std::optional(lanes));
     coarsest_solve_.emplace(levels_.back());
   }
 
@@ -71,7 +84,23 @@ class MultigridHierarchy {
   GridLevel& level(std::size_t l) { return levels_[l]; }
   const GridLevel& level(std::size_t l) const { return levels_[l]; }
   const GridTransfer& transfer(std::size_t l) const { return transfers_[l]; }  // l to l + 1
+  // Level l's smoother, l below the coarsest level, of a gauss_seidel or a chebyshev hierarchy.
   const BlockGaussSeidel& smoother(std::size_t l) const { return smoothers_[l]; }
+  const BlockChebyshev& chebyshev(std::size_t l) const { return chebyshev_[l]; }
+
+  // Level l's smoothing before its coarse correction: `sweeps` from x = 0, then out = b - A x.
+  void pre_smooth(std::size_t l, const double* b, double* x, long sweeps, double* out,
+                  int threads) const {
+    if (!chebyshev_.empty())
+      return chebyshev_[l].smooth_from_zero(levels_[l], b, x, sweeps, out, threads);
+    std::fill_n(x, 3 * levels_[l].node_count(), 0.0);
+    smoothers_[l].forward(levels_[l], b, x, sweeps, out, threads);
+  }
+  // Level l's smoothing after its coarse correction: the adjoint of pre_smooth's.
+  void post_smooth(std::size_t l, const double* b, double* x, long sweeps, int threads) const {
+    if (!chebyshev_.empty()) return chebyshev_[l].smooth(levels_[l], b, x, sweeps, threads);
+    smoothers_[l].backward(levels_[l], b, x, sweeps, threads);
+  }
   CoarseCholesky& coarsest_solve() { return *coarsest_solve_; }
 
   // Bytes of every level's matrix, the smoothers' and the coarsest level's factors (the
@@ -80,6 +109,7 @@ class MultigridHierarchy {
     std::size_t bytes = coarsest_solve_->storage_bytes();
     for (const GridLevel& level : levels_) bytes += level.storage_bytes();
     for (const BlockGaussSeidel& smoother : smoothers_) bytes += smoother.storage_bytes();
+    for (const BlockChebyshev& smoother : chebyshev_) bytes += smoother.storage_bytes();
     return bytes;
   }
 
@@ -89,7 +119,9 @@ class MultigridHierarchy {
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
       levels_[l].pack();
       transfers_[l].galerkin(levels_[l], levels_[l + 1]);
-      if (!smoothers_[l].factor(levels_[l])) return false;
+      if (!(chebyshev_.empty() ? smoothers_[l].factor(levels_[l])
+                               : chebyshev_[l].factor(levels_[l])))
+        return false;
     }
     return coarsest_solve().factor(levels_.back());
   }
@@ -97,7 +129,8 @@ class MultigridHierarchy {
  private:
   std::vector<GridLevel> levels_;
   std::vector<GridTransfer> transfers_;
-  std::vector<BlockGaussSeidel> smoothers_;
+  std::vector<BlockGaussSeidel> smoothers_;  // gauss_seidel's, else empty
+  std::vector<BlockChebyshev> chebyshev_;    // chebyshev's, else empty
   std::optional<CoarseCholesky> coarsest_solve_;
 };
 

@@ -46,12 +46,14 @@ class LaneLevel {
         inverse_diagonal_(9 * class_nodes_, Real{0}),
         x_(vector_size(), Real{0}),
         b_(vector_size(), Real{0}),
-        residual_(vector_size(), Real{0}) {}
+        residual_(vector_size(), Real{0}),
+        next_x_(vector_size(), Real{0}),
+        direction_(vector_size(), Real{0}) {}
 
-  // Bytes of the blocks in use, the diagonal blocks, their inverses and the three vectors.
+  // Bytes of the blocks in use, the diagonal blocks, their inverses and the five vectors.
   std::size_t storage_bytes() const {
     return 9 * couplings_ * class_nodes_ * sizeof(float) +
-           (diagonal_.size() + inverse_diagonal_.size() + 3 * x_.size()) * sizeof(Real);
+           (diagonal_.size() + inverse_diagonal_.size() + 5 * x_.size()) * sizeof(Real);
   }
 
   // The level's blocks and the smoother's inverted diagonal blocks (9 per node, row-major, 0 on
@@ -93,14 +95,15 @@ class LaneLevel {
       }
   }
 
-  // b and x (3 doubles per node) into the lanes, rows split among `threads`.
+  // b, and x where it is not null (3 doubles per node), into the lanes, rows split among
+  // `threads`.
   void gather(const GridLevel& level, const double* b, const double* x, int threads) {
     level.for_each_index(rows_, threads, [&](int r) {
       for (int c = 0; c < cols_; ++c)
         for (int d = 0; d < 3; ++d) {
           const std::size_t at = place(r, c, d), i = 3 * level.node(r, c) + d;
           b_[at] = static_cast<Real>(b[i]);
-          x_[at] = static_cast<Real>(x[i]);
+          if (x != nullptr) x_[at] = static_cast<Real>(x[i]);
         }
     });
   }
@@ -131,6 +134,65 @@ class LaneLevel {
       }
     });
   }
+
+  // Chebyshev's first step from x = 0 on row r's nodes: direction = scale D^-1 b, x = direction.
+  void start_chebyshev_row(int r, Real scale) {
+    for (int k = 0; k < kPeriod; ++k) {
+      const std::size_t start = lane_start(r, k);
+      for (int q = 0; q < lanes_; q += kLanes) {
+        const std::size_t at = start + static_cast<std::size_t>(q);
+        const Real* inverse = &inverse_diagonal_[diagonal_start(r, k, q)];
+        for (int d = 0; d < 3; ++d) {
+          const Real* row = inverse + 3 * d * kLanes;
+          const Real* b = &b_[at];
+          Real* direction = &direction_[at + static_cast<std::size_t>(d * component_)];
+          Real* x = &x_[at + static_cast<std::size_t>(d * component_)];
+#pragma omp simd
+          for (int l = 0; l < kLanes; ++l) {
+            direction[l] = scale * (row[l] * b[l] + row[kLanes + l] * b[component_ + l] +
+                                    row[2 * kLanes + l] * b[2 * component_ + l]);
+            x[l] = direction[l];
+          }
+        }
+      }
+    }
+  }
+
+  // A Chebyshev step on row r's nodes, in one pass: direction = keep direction + scale D^-1
+  // (b - A x), and the next iterate x + direction into the other iterate (`swap_iterates` after
+  // the pass), so that every row reads the same x whatever order the rows go in.
+  void chebyshev_row(int r, Real keep, Real scale) {
+    for (int k = 0; k < kPeriod; ++k)
+      for_lanes(r, k, [&](Real* x, int q, const Real(&sum)[3][kLanes]) {
+        const Real* diagonal = &diagonal_[diagonal_start(r, k, q)];
+        const Real* inverse = &inverse_diagonal_[diagonal_start(r, k, q)];
+        const std::size_t at = static_cast<std::size_t>(x - x_.data());
+        Real residual[3][kLanes];
+        for (int d = 0; d < 3; ++d) {
+          const Real* row = diagonal + 3 * d * kLanes;
+#pragma omp simd
+          for (int l = 0; l < kLanes; ++l)
+            residual[d][l] = sum[d][l] - (row[l] * x[l] + row[kLanes + l] * x[component_ + l] +
+                                          row[2 * kLanes + l] * x[2 * component_ + l]);
+        }
+        for (int d = 0; d < 3; ++d) {
+          const Real* row = inverse + 3 * d * kLanes;
+          const std::size_t component = at + static_cast<std::size_t>(d * component_);
+          Real* direction = &direction_[component];
+          Real* next = &next_x_[component];
+          const Real* current = &x_[component];
+#pragma omp simd
+          for (int l = 0; l < kLanes; ++l) {
+            direction[l] = keep * direction[l] +
+                           scale * (row[l] * residual[0][l] + row[kLanes + l] * residual[1][l] +
+                                    row[2 * kLanes + l] * residual[2][l]);
+            next[l] = current[l] + direction[l];
+          }
+        }
+      });
+  }
+  // The iterate `chebyshev_row` wrote becomes x.
+  void swap_iterates() { x_.swap(next_x_); }
 
   // The residual b - A x of row r's nodes.
   void residual_row(int r) {
@@ -217,7 +279,8 @@ class LaneLevel {
   std::ptrdiff_t steps_[kPeriod][kMaxCouplings]{};  // per class and coupling: the x step
   std::vector<float> blocks_;  // 9 per class node and coupling, sized for the most couplings
   std::vector<Real> diagonal_, inverse_diagonal_;  // 9 per class node
-  std::vector<Real> x_, b_, residual_;             // 3 per vector place
+  // 3 per vector place; next_x_ and direction_ only for Chebyshev.
+  std::vector<Real> x_, b_, residual_, next_x_, direction_;
 };
 
 }  // namespace clothlab::builtin

@@ -253,4 +253,29 @@ class GridLevel {
   std::vector<double> blocks_;        // 9 per window entry
 };
 
+// out = a^-1 for a symmetric 3x3 block (row-major); false unless a is positive definite.
+inline bool invert_positive_definite(const double* a, double* out) {
+  const std::array<double, 9> cofactor{
+      a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+      a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+      a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
+  const double determinant = a[0] * cofactor[0] + a[1] * cofactor[3] + a[2] * cofactor[6];
+  // Sylvester: the leading minors of a positive definite block are positive.
+  if (!(a[0] > 0.0 && cofactor[8] > 0.0 && determinant > 0.0)) return false;
+  for (int k = 0; k < 9; ++k) out[k] = cofactor[k] / determinant;
+  return true;
+}
+
+// inverse (9 per node, row-major) = the level's diagonal blocks inverted on free nodes; false
+// where one is not positive definite.
+inline bool invert_diagonal_blocks(const GridLevel& level, std::vector<double>& inverse) {
+  for (int r = 0; r < level.rows(); ++r)
+    for (int c = 0; c < level.cols(); ++c) {
+      const std::size_t i = level.node(r, c);
+      if (level.fixed(i)) continue;
+      if (!invert_positive_definite(level.block(r, c, r, c), &inverse[9 * i])) return false;
+    }
+  return true;
+}
+
 }  // namespace clothlab::builtin

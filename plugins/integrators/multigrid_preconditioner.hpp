@@ -14,13 +14,12 @@
 //
 // The fine level smooths matrix-free: Chebyshev iteration on block-Jacobi (D^-1 A, D the
 // diagonal blocks of A), `sweeps` host products before the coarse correction and as many
-// after, in the system's precision and layout. Its polynomial targets D^-1 A's eigenvalues in
-// [lambda_max / kChebyshevRatio, lambda_max] (lambda_max a block Gershgorin bound from the
-// fine blocks): the coarse levels take the rest. A product costs about an explicit step,
-// where a Gauss-Seidel sweep over the stored fine blocks costs several; pre- and post-smoothing
-// apply the same polynomial, so the V-cycle stays symmetric. On the cotton flag 2 + 2 such
-// steps take as many CG iterations as 2 + 2 Gauss-Seidel sweeps. Coarser levels keep their
-// Gauss-Seidel smoother (multigrid_smoother.hpp).
+// after, in the system's precision and layout, with the polynomial and the spectral bound of
+// multigrid_chebyshev.hpp. A product costs about an explicit step, where a Gauss-Seidel sweep
+// over the stored fine blocks costs several. The coarser levels smooth with the same
+// polynomial over their stored blocks in lanes (Smoothing::chebyshev), `sweeps` steps each
+// side. On the cotton flag 2 + 2 such steps take about as many CG iterations as 2 + 2
+// Gauss-Seidel sweeps.
 //
 // Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
 // `prepare_solve` can keep the last hierarchy for up to `rebuild_interval` solves. CG's products
@@ -34,7 +33,6 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <clothlab/sdk/threads.hpp>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -56,7 +54,8 @@ class MultigridPreconditioner {
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
                    fixed_particles(system), GridLevel::Blocks::single,
-                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64),
+                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
+                   Smoothing::chebyshev),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         sweeps_(sweeps),
@@ -141,38 +140,86 @@ class MultigridPreconditioner {
     if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
   }
 
-  // z = B M r on the active particles, J applied by product(u, out): out = J u.
+  // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
+  // Chebyshev steps (see `chebyshev_step`) run one pass over the particles after each product:
+  // the residual, the direction and z, with the residual for the coarse level written in the
+  // cycle's layout in the last pre-smoothing pass.
   template <class Real, class Product>
   void apply(const sdk::System<Real>& system, const Real* r, Real* z, Product&& product) {
     if (hierarchy_.level_count() == 1) return solve_directly(system, r, z);
     const std::size_t stride = system.stride();
     Real* residual = static_cast<Real*>(probe_products_[0]);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k) {
-          residual[k * stride + i] = r[k * stride + i];
-          z[k * stride + i] = Real{0};
-        }
-    smooth(system, product, r, z, true);
+    Real* direction = static_cast<Real*>(probe_products_[1]);
+    Real* image = static_cast<Real*>(probe_products_[2]);
+    // Pre-smoothing from z = 0, where the residual is r.
+    ChebyshevSteps pre(lambda_max_);
+    const double first_scale = pre.first_scale();
+    for_each_active(system, [&](uint32_t i) {
+      chebyshev_step<Real>(i, stride, r, nullptr, nullptr, ChebyshevSteps::Step{0.0, first_scale},
+                           residual, direction, z, true);
+    });
+    const Real* last_residual = r;
+    for (long step = 1; step < sweeps_; ++step) {
+      product(direction, image);
+      const ChebyshevSteps::Step next = pre.next();
+      for_each_active(system, [&](uint32_t i) {
+        chebyshev_step(i, stride, last_residual, image, direction, next, residual, direction, z,
+                       false);
+      });
+      last_residual = residual;
+    }
+    // The coarse correction of the residual r - A z = last residual - A direction.
+    product(direction, image);
     std::fill(fine_residual_.begin(), fine_residual_.end(), 0.0);
     std::fill(fine_correction_.begin(), fine_correction_.end(), 0.0);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          fine_residual_[3 * i + k] = mass_[i] * residual[k * stride + i];
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride + i;
+        const Real value = last_residual[at] - (image[at] + direction[at]);
+        fine_residual_[3 * i + k] = mass_[i] * static_cast<double>(value);
+      }
+    });
     cycle_.correct(fine_residual_.data(), fine_correction_.data());
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
-    smooth(system, product, r, z, false);
+    for_each_active(system, [&](uint32_t i) {
+      for (std::size_t k = 0; k < 3; ++k)
+        z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
+    });
+    // Post-smoothing from z: the same polynomial, its first residual r - A z.
+    ChebyshevSteps post(lambda_max_);
+    product(z, image);
+    for_each_active(system, [&](uint32_t i) {
+      chebyshev_step(i, stride, r, image, z, ChebyshevSteps::Step{0.0, first_scale}, residual,
+                     direction, z, false);
+    });
+    for (long step = 1; step < sweeps_; ++step) {
+      product(direction, image);
+      const ChebyshevSteps::Step next = post.next();
+      for_each_active(system, [&](uint32_t i) {
+        chebyshev_step(i, stride, residual, image, direction, next, residual, direction, z, false);
+      });
+    }
   }
 
  private:
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
-  // The Chebyshev polynomial's target: D^-1 A's eigenvalues down to lambda_max / this ratio
-  // (the smooth rest is the coarse levels').
-  static constexpr double kChebyshevRatio = 30.0;
+  // Particles of a range worth splitting among the V-cycle's threads.
+  static constexpr uint32_t kParticlesWorthATeam = 4096;
+
+  // body(i) for every active particle, a large range's particles split among the V-cycle's
+  // threads (each particle's work is its own: the same bits on any count).
+  template <class Real, class Body>
+  void for_each_active(const sdk::System<Real>& system, Body&& body) const {
+    const int threads = cycle_.threads();
+    for (const clothlab_range& range : system.active()) {
+      if (threads > 1 && range.end - range.begin >= kParticlesWorthATeam) {
+        const auto begin = static_cast<int64_t>(range.begin), end = static_cast<int64_t>(range.end);
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (int64_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+      } else {
+        for (uint32_t i = range.begin; i < range.end; ++i) body(i);
+      }
+    }
+  }
 
   // The fine level alone (it is the coarsest): z = S^-1 M r by the direct solve.
   template <class Real>
@@ -190,112 +237,44 @@ class MultigridPreconditioner {
           z[k * stride + i] = static_cast<Real>(solution[3 * i + k]);
   }
 
-  // out = D^-1 u on the active particles (D: A's diagonal blocks).
+  // One fine Chebyshev step at particle i, each vector `stride` apart per component:
+  // residual = from - (image + u) (image = J u, so that is from - A u; from alone where image
+  // is null), direction = step.keep direction + step.scale D^-1 residual (the old direction
+  // unread where keep is 0), z += direction (z = direction where `start`). residual and from,
+  // direction and u, u and z may be the same vectors.
   template <class Real>
-  void apply_jacobi(const sdk::System<Real>& system, const Real* u, Real* out) const {
-    const std::size_t stride = system.stride();
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i) {
-        const double* d = &jacobi_[9 * std::size_t{i}];
-        const double u0 = u[i], u1 = u[stride + i], u2 = u[2 * stride + i];
-        for (std::size_t k = 0; k < 3; ++k)
-          out[k * stride + i] =
-              static_cast<Real>(d[3 * k] * u0 + d[3 * k + 1] * u1 + d[3 * k + 2] * u2);
-      }
+  void chebyshev_step(uint32_t i, std::size_t stride, const Real* from, const Real* image,
+                      const Real* u, ChebyshevSteps::Step step, Real* residual, Real* direction,
+                      Real* z, bool start) const {
+    double res[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride + i;
+      const Real value = image == nullptr ? from[at] : from[at] - (image[at] + u[at]);
+      residual[at] = value;
+      res[k] = value;
+    }
+    const double* d = &jacobi_[9 * std::size_t{i}];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride + i;
+      const double jacobi = d[3 * k] * res[0] + d[3 * k + 1] * res[1] + d[3 * k + 2] * res[2];
+      const double kept = step.keep == 0.0 ? 0.0 : step.keep * direction[at];
+      const auto next = static_cast<Real>(kept + step.scale * jacobi);
+      direction[at] = next;
+      z[at] = start ? next : z[at] + next;
+    }
   }
 
-  // out = A u = u + J u.
-  template <class Real, class Product>
-  static void apply_a(const sdk::System<Real>& system, Product& product, const Real* u, Real* out) {
-    product(u, out);
-    const std::size_t stride = system.stride();
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k) out[k * stride + i] += u[k * stride + i];
-  }
-
-  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and an upper bound on
-  // D^-1 A's eigenvalues (those of D_S^-1 S): block Gershgorin, the largest row sum of
-  // |D_S,i^-1 S_ij| over a row's blocks. An estimate from below (power iteration) would let
-  // the polynomial amplify the stiffest modes.
+  // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and the fine smoother's
+  // bound on D^-1 A's eigenvalues (those of D_S^-1 S) from the hierarchy's.
   template <class Real>
   void prepare_chebyshev(const sdk::System<Real>& system) {
-    const GridLevel& fine = hierarchy_.level(0);
-    const std::vector<double>& inverse = hierarchy_.smoother(0).inverse_diagonal();
+    const BlockChebyshev& fine = hierarchy_.chebyshev(0);
+    const std::vector<double>& inverse = fine.inverse_diagonal();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
         for (std::size_t k = 0; k < 9; ++k)
           jacobi_[9 * std::size_t{i} + k] = mass_[i] * inverse[9 * std::size_t{i} + k];
-    double bound = 0.0;
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        const std::size_t i = fine.node(r, c);
-        if (fine.fixed(i)) continue;
-        const double* d = &inverse[9 * i];
-        const GridLevel::Window w = fine.window(r, c);
-        std::array<double, 3> row_sums{};
-        for (const GridLevel::Offset& offset : fine.couplings()) {
-          const int r2 = r + offset.rows, c2 = c + offset.cols;
-          if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
-          const double* a = fine.block(r, c, r2, c2);
-          for (int k = 0; k < 3; ++k)
-            for (int j = 0; j < 3; ++j)
-              row_sums[static_cast<std::size_t>(k)] +=
-                  std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
-        }
-        bound = std::max({bound, row_sums[0], row_sums[1], row_sums[2]});
-      }
-    if (!(bound > 0.0 && std::isfinite(bound)))
-      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
-                       "multigrid: no spectral bound of the fine level's Jacobi-scaled matrix");
-    lambda_max_ = bound;
-  }
-
-  // `sweeps_` Chebyshev steps on A z = r from z, leaving the residual r - A z in
-  // probe_products_[0] where `pre` (which starts from z = 0, that residual r already there).
-  template <class Real, class Product>
-  void smooth(const sdk::System<Real>& system, Product& product, const Real* r, Real* z, bool pre) {
-    const std::size_t stride = system.stride();
-    Real* residual = static_cast<Real*>(probe_products_[0]);
-    Real* direction = static_cast<Real*>(probe_products_[1]);
-    Real* image = static_cast<Real*>(probe_products_[2]);
-    if (!pre) {
-      apply_a(system, product, z, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k)
-            residual[k * stride + i] = r[k * stride + i] - image[k * stride + i];
-    }
-    const double lambda_min = lambda_max_ / kChebyshevRatio;
-    const double theta = 0.5 * (lambda_max_ + lambda_min), delta = 0.5 * (lambda_max_ - lambda_min);
-    const double sigma = theta / delta;
-    double rho = 1.0 / sigma;
-    apply_jacobi(system, residual, direction);
-    for (const clothlab_range& range : system.active())
-      for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          direction[k * stride + i] = static_cast<Real>(direction[k * stride + i] / theta);
-    for (long step = 0; step < sweeps_; ++step) {
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k) z[k * stride + i] += direction[k * stride + i];
-      const bool last = step + 1 == sweeps_;
-      if (last && !pre) break;
-      apply_a(system, product, direction, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k) residual[k * stride + i] -= image[k * stride + i];
-      if (last) break;
-      const double rho_next = 1.0 / (2.0 * sigma - rho);
-      apply_jacobi(system, residual, image);
-      for (const clothlab_range& range : system.active())
-        for (uint32_t i = range.begin; i < range.end; ++i)
-          for (std::size_t k = 0; k < 3; ++k)
-            direction[k * stride + i] =
-                static_cast<Real>(rho_next * rho * direction[k * stride + i] +
-                                  2.0 * rho_next / delta * image[k * stride + i]);
-      rho = rho_next;
-    }
+    lambda_max_ = fine.lambda_max();
   }
 
   // The offset in [-reach, reach] from index n to the nearest index of class `target` mod 5.

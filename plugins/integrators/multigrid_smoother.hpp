@@ -13,11 +13,8 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
-#include <cmath>
 #include <cstddef>
 #include <optional>
-#include <stdexcept>
 #include <vector>
 
 #include "multigrid_lanes.hpp"
@@ -39,13 +36,7 @@ class BlockGaussSeidel {
 
   // Inverts the level's diagonal blocks; false where one of a free node is not positive definite.
   bool factor(const GridLevel& level) {
-    for (int r = 0; r < level.rows(); ++r)
-      for (int c = 0; c < level.cols(); ++c) {
-        const std::size_t i = level.node(r, c);
-        if (level.fixed(i)) continue;
-        if (!invert_positive_definite(level.block(r, c, r, c), &inverse_diagonal_[9 * i]))
-          return false;
-      }
+    if (!invert_diagonal_blocks(level, inverse_diagonal_)) return false;
     if (float_lanes_) float_lanes_->load(level, inverse_diagonal_);
     if (double_lanes_) double_lanes_->load(level, inverse_diagonal_);
     return true;
@@ -180,19 +171,6 @@ class BlockGaussSeidel {
       for (int j = 0; j < 3; ++j)
         x[3 * i + j] = d[3 * j] * sum[0] + d[3 * j + 1] * sum[1] + d[3 * j + 2] * sum[2];
     }
-  }
-
-  // out = a^-1 for a symmetric 3x3 block (row-major); false unless a is positive definite.
-  static bool invert_positive_definite(const double* a, double* out) {
-    const std::array<double, 9> cofactor{
-        a[4] * a[8] - a[5] * a[7], a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-        a[5] * a[6] - a[3] * a[8], a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-        a[3] * a[7] - a[4] * a[6], a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
-    const double determinant = a[0] * cofactor[0] + a[1] * cofactor[3] + a[2] * cofactor[6];
-    // Sylvester: the leading minors of a positive definite block are positive.
-    if (!(a[0] > 0.0 && cofactor[8] > 0.0 && determinant > 0.0)) return false;
-    for (int k = 0; k < 9; ++k) out[k] = cofactor[k] / determinant;
-    return true;
   }
 
   // Nodes in the rows of a chunk's steps. Its phases also touch the rows the lags span (at

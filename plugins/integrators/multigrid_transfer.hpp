@@ -12,7 +12,9 @@
 // spacing, so R A P couples coarse nodes at most 2 coarse spacings apart (GridLevel::reach).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -60,24 +62,34 @@ class GridTransfer {
     return fixed;
   }
 
-  // coarse_b = R fine_r.
+  // coarse_b = R fine_r, a coarse row at a time from the fine rows under it (each coarse node
+  // sums its fine nodes in their order, so any split of the rows among `threads` gives the
+  // same bits).
   void restrict_to(const GridLevel& fine, const double* fine_r, const GridLevel& coarse,
-                   double* coarse_b) const {
-    std::fill(coarse_b, coarse_b + 3 * coarse.node_count(), 0.0);
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        const std::size_t f = fine.node(r, c);
-        if (fine.fixed(f)) continue;
-        for_parents(coarse, r, c, [&](std::size_t parent, double w) {
-          for (int k = 0; k < 3; ++k) coarse_b[3 * parent + k] += w * fine_r[3 * f + k];
-        });
-      }
+                   double* coarse_b, int threads = 1) const {
+    fine.for_each_index(coarse.rows(), threads, [&](int pr) {
+      std::fill_n(coarse_b + 3 * coarse.node(pr, 0), 3 * coarse.cols(), 0.0);
+      for (int r = std::max(2 * pr - 1, 0); r <= std::min(2 * pr + 1, fine.rows() - 1); ++r)
+        for (int i = 0; i < row_parents_.count(r); ++i) {
+          if (row_parents_.parent(r, i) != pr) continue;
+          for (int c = 0; c < fine.cols(); ++c) {
+            const std::size_t f = fine.node(r, c);
+            if (fine.fixed(f)) continue;
+            for (int j = 0; j < col_parents_.count(c); ++j) {
+              const std::size_t parent = coarse.node(pr, col_parents_.parent(c, j));
+              if (coarse.fixed(parent)) continue;
+              const double w = row_parents_.weight(r) * col_parents_.weight(c);
+              for (int k = 0; k < 3; ++k) coarse_b[3 * parent + k] += w * fine_r[3 * f + k];
+            }
+          }
+        }
+    });
   }
 
-  // fine_x += P coarse_x.
+  // fine_x += P coarse_x, fine rows split among `threads`.
   void prolong_add(const GridLevel& fine, const GridLevel& coarse, const double* coarse_x,
-                   double* fine_x) const {
-    for (int r = 0; r < fine.rows(); ++r)
+                   double* fine_x, int threads = 1) const {
+    fine.for_each_index(fine.rows(), threads, [&](int r) {
       for (int c = 0; c < fine.cols(); ++c) {
         const std::size_t f = fine.node(r, c);
         if (fine.fixed(f)) continue;
@@ -85,6 +97,7 @@ class GridTransfer {
           for (int k = 0; k < 3; ++k) fine_x[3 * f + k] += w * coarse_x[3 * parent + k];
         });
       }
+    });
   }
 
   // coarse = R fine P, a row of A P at a time: (A P)_fJ = sum_g A_fg P_gJ, then

@@ -9,6 +9,8 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -18,6 +20,7 @@
 #include "integrator_harness.hpp"
 #include "multigrid_cycle.hpp"
 #include "multigrid_preconditioner.hpp"
+#include "preconditioned_cg.hpp"
 #include "spring_host.hpp"
 
 namespace clothlab::test {
@@ -115,10 +118,11 @@ struct ClothMatrix {
 // The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes,
 // its single levels smoothed in `lanes`' precision.
 MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest,
-                                 builtin::LanePrecision lanes = builtin::LanePrecision::float64) {
+                                 builtin::LanePrecision lanes = builtin::LanePrecision::float64,
+                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel) {
   MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
                                                     static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, GridLevel::Blocks::single, lanes);
+                               cloth.fixed, GridLevel::Blocks::single, lanes, smoothing);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
@@ -381,8 +385,62 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
   EXPECT_GT(std::abs(xBy - yBx) / std::abs(xBy), 1e-6);
 }
 
+// The coarse levels' Chebyshev smoothing (implicit_euler's): level 1's cycle B_1 = (pre-smooth,
+// coarse solve, post-smooth) is symmetric where pre- and post-smoothing apply the same
+// polynomial, and so is the fine level's coarse correction P B_1 R. The mutants, one step fewer
+// or more after the coarse solve than before it (another polynomial), make B_1 unsymmetric, and
+// the check sees it.
+TEST(Multigrid, TheChebyshevLevelsKeepTheCycleSymmetric) {
+  ClothMatrix cloth(23, 18);
+  MultigridHierarchy hierarchy =
+      hierarchy_for(cloth, 100, builtin::LanePrecision::float64, builtin::Smoothing::chebyshev);
+  ASSERT_EQ(hierarchy.level_count(), 3u);  // 23 x 18, 12 x 10, 7 x 6
+  const GridLevel& fine = hierarchy.level(0);
+  const GridLevel& level = hierarchy.level(1);
+  const GridLevel& coarse = hierarchy.level(2);
+  EXPECT_GT(hierarchy.chebyshev(1).lambda_max(), 1.0);
+  for (long sweeps : {1L, 2L, 3L}) {
+    VCycle cycle(hierarchy, sweeps);
+    const auto correction = [&](const Eigen::VectorXd& r) {
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(r.size());
+      cycle.correct(r.data(), x.data());
+      return x;
+    };
+    const Eigen::VectorXd x = cloth.rhs(1), y = cloth.rhs(2);
+    const double xBy = x.dot(correction(y)), yBx = y.dot(correction(x));
+    EXPECT_LT(std::abs(xBy - yBx), 1e-12 * std::abs(xBy)) << sweeps << " sweeps";
+    EXPECT_GT(x.dot(correction(x)), 0.0) << sweeps << " sweeps";
+  }
+  // B_1 by hand, on level 1's right-hand sides (the fine ones restricted).
+  const auto level_rhs = [&](unsigned seed) {
+    const Eigen::VectorXd fine_b = cloth.rhs(seed);
+    Eigen::VectorXd b(static_cast<Eigen::Index>(3 * level.node_count()));
+    hierarchy.transfer(0).restrict_to(fine, fine_b.data(), level, b.data());
+    return b;
+  };
+  const auto two_grid = [&](const Eigen::VectorXd& b, long pre, long post) {
+    Eigen::VectorXd x(b.size()), r(b.size());
+    std::vector<double> coarse_b(3 * coarse.node_count()), coarse_x(coarse_b.size());
+    hierarchy.pre_smooth(1, b.data(), x.data(), pre, r.data(), 1);
+    hierarchy.transfer(1).restrict_to(level, r.data(), coarse, coarse_b.data());
+    hierarchy.coarsest_solve().solve(coarse, coarse_b.data(), coarse_x.data());
+    hierarchy.transfer(1).prolong_add(level, coarse, coarse_x.data(), x.data());
+    hierarchy.post_smooth(1, b.data(), x.data(), post, 1);
+    return x;
+  };
+  const Eigen::VectorXd x = level_rhs(1), y = level_rhs(2);
+  const auto asymmetry_of = [&](long pre, long post) {
+    const double xBy = x.dot(two_grid(y, pre, post)), yBx = y.dot(two_grid(x, pre, post));
+    return std::abs(xBy - yBx) / std::abs(xBy);
+  };
+  EXPECT_LT(asymmetry_of(2, 2), 1e-12);
+  EXPECT_GT(asymmetry_of(2, 1), 1e-6);
+  EXPECT_GT(asymmetry_of(3, 2), 1e-6);
+}
+
 // The smoothing and the residual split a level's rows among the threads; a colour's nodes do
-// not couple, so the V-cycle has the same bits on any count and in chunks of any size (70 x 70:
+// not couple (and Chebyshev's rows read only the last iterate), so the V-cycle has the same
+// bits on any count and in chunks of any size (70 x 70:
 // the finest level is large enough to split).
 TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
   using builtin::LanePrecision;
@@ -416,6 +474,48 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
         ASSERT_EQ(rx[i], ry[i]) << threads << " threads, residual entry " << i;
       }
     }
+    // Chebyshev smoothing on the fine level's lanes (implicit_euler's on its coarse levels):
+    // its rows are independent, so 1, 2 and 3 threads give the same bits.
+    builtin::BlockChebyshev chebyshev(fine, precision);
+    ASSERT_TRUE(chebyshev.factor(fine));
+    std::vector<Eigen::VectorXd> smoothed;
+    for (int threads : {1, 2, 3}) {
+      Eigen::VectorXd x(b.size()), r(b.size());
+      chebyshev.smooth_from_zero(fine, b.data(), x.data(), 2, r.data(), threads);
+      chebyshev.smooth(fine, b.data(), x.data(), 2, threads);
+      smoothed.push_back(x);
+      smoothed.push_back(r);
+    }
+    EXPECT_GT(smoothed[0].norm(), 0.0);
+    // The lanes' steps against the recurrence written out on the level's own residual: the
+    // same polynomial, to rounding in double lanes.
+    if (precision == LanePrecision::float64) {
+      const std::vector<double>& inverse = chebyshev.inverse_diagonal();
+      const auto jacobi = [&](const Eigen::VectorXd& r) {
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(r.size());
+        for (std::size_t i = 0; i < fine.node_count(); ++i)
+          for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+              out[static_cast<Eigen::Index>(3 * i) + k] +=
+                  inverse[9 * i + static_cast<std::size_t>(3 * k + j)] *
+                  r[static_cast<Eigen::Index>(3 * i) + j];
+        return out;
+      };
+      builtin::ChebyshevSteps steps(chebyshev.lambda_max());
+      Eigen::VectorXd direction = steps.first_scale() * jacobi(b), x = direction, r(b.size());
+      fine.residual(b.data(), x.data(), r.data());
+      const builtin::ChebyshevSteps::Step next = steps.next();
+      direction = next.keep * direction + next.scale * jacobi(r);
+      x += direction;
+      fine.residual(b.data(), x.data(), r.data());
+      Eigen::VectorXd wave_x(b.size()), wave_r(b.size());
+      chebyshev.smooth_from_zero(fine, b.data(), wave_x.data(), 2, wave_r.data(), 1);
+      EXPECT_LT((wave_x - x).norm(), 1e-10 * x.norm());
+      EXPECT_LT((wave_r - r).norm(), 1e-10 * r.norm());
+    }
+    for (std::size_t k = 2; k < smoothed.size(); ++k)
+      for (Eigen::Index i = 0; i < b.size(); ++i)
+        ASSERT_EQ(smoothed[k][i], smoothed[k % 2][i]) << k / 2 + 1 << " threads, entry " << i;
   }
 }
 
@@ -638,6 +738,50 @@ TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetr
   EXPECT_LT(std::abs(r1z2 - r2z1), 1e-10 * std::abs(r1z2));
   EXPECT_GT(mass_dot(r1, z1), 0.0);
   EXPECT_GT(mass_dot(r2, z2), 0.0);
+}
+
+// The multigrid-preconditioned CG splits the V-cycle's passes (the fine level's vector
+// passes, the transfers, the coarse levels' Chebyshev steps) among the host's threads; every
+// entry is summed in one order on any count, so CG's iterates have the same bits on 1, 2 and 3
+// threads (65 x 65: the fine level is large enough to split; the coarse levels' Chebyshev on a
+// level that splits is TheVCycleHasTheSameBitsOnOneAndTwoThreads').
+TEST(Multigrid, CgIteratesHaveTheSameBitsOnOneTwoAndThreeThreads) {
+  constexpr uint32_t kSide = 65;
+  constexpr int kIterations = 4;
+  const double h = 1.0 / 60.0;
+  std::vector<std::vector<double>> iterates;
+  for (uint32_t threads : {1u, 2u, 3u}) {
+    GridNet net(kSide, kSide);
+    net.host.set_threads(threads);
+    MockSystem<double>& mock = net.host.system();
+    const sdk::System<double> system(mock.raw());
+    mock.allocation_allowed = true;
+    builtin::MultigridPreconditioner preconditioner(system, builtin::kDefaultCoarsestNodes, 2);
+    std::array<double*, builtin::PreconditionedCg<double>::vector_count> vectors{};
+    for (double*& vector : vectors) vector = system.alloc_vector();
+    double* rhs = system.alloc_vector();
+    double* solution = system.alloc_vector();
+    mock.allocation_allowed = false;
+    const std::size_t size = 3 * std::size_t{system.stride()};
+    std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
+    builtin::PreconditionedCg<double> cg(system, vectors, inverse_blocks, true, false,
+                                         &preconditioner);
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (std::size_t k = 0; k < size; ++k) rhs[k] = uniform(random);
+    std::fill_n(solution, size, 0.0);
+    cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, 1e-12);
+    ASSERT_TRUE(preconditioner.hierarchy().level(0).splits(static_cast<int>(threads)) ||
+                threads == 1);
+    for (int k = 0; k < kIterations; ++k)
+      ASSERT_EQ(cg.iterate(), builtin::PreconditionedCg<double>::Outcome::kRunning) << k;
+    cg.finish();
+    EXPECT_LT(cg.residual_norm(), 0.1 * cg.rhs_norm()) << threads << " threads";
+    iterates.emplace_back(solution, solution + size);
+  }
+  for (std::size_t t = 1; t < iterates.size(); ++t)
+    for (std::size_t k = 0; k < iterates[0].size(); ++k)
+      ASSERT_EQ(iterates[t][k], iterates[0][k]) << t + 1 << " threads, entry " << k;
 }
 
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
