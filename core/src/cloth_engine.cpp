@@ -11,9 +11,10 @@
 #include <utility>
 
 #include "grid_colors.hpp"
+#include "simd_namespace.hpp"
 #include "vector_kernels.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 // The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings,
@@ -342,8 +343,15 @@ void* ClothEngine<Real>::alloc_callback(void* context) {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-std::unique_ptr<Engine> make_engine(const Scene& scene, std::shared_ptr<const ClothModel> model,
-                                    Precision precision, PipelineOptions options) {
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
+
+namespace clothlab::detail {
+
+// make_engine_<target> (engine_targets.hpp): this copy's engine.
+std::unique_ptr<Engine> CLOTHLAB_SIMD_ENTRY(make_engine)(const Scene& scene,
+                                                         std::shared_ptr<const ClothModel> model,
+                                                         Precision precision,
+                                                         PipelineOptions options) {
   if (precision == Precision::Float32)
     return std::make_unique<ClothEngine<float>>(scene, std::move(model), options);
   return std::make_unique<ClothEngine<double>>(scene, std::move(model), options);

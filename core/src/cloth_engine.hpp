@@ -16,10 +16,11 @@
 #include "engine.hpp"
 #include "force_pipeline.hpp"
 #include "grid.hpp"
+#include "simd_namespace.hpp"
 #include "spring_jacobian.hpp"
 #include "spring_list_forces.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class ClothEngine final : public Engine {
@@ -177,4 +178,4 @@ class ClothEngine final : public Engine {
   StageCounters counters_;
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

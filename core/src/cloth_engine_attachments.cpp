@@ -8,8 +8,9 @@
 #include <string>
 
 #include "cloth_engine.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
@@ -91,4 +92,4 @@ clothlab_status ClothEngine<Real>::attachments_move_callback(void* context, doub
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -7,8 +7,9 @@
 #include <cmath>
 
 #include "cloth_engine.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // The host sets the colliders at each step's start: the positions then are where each particle's
 // path over the step begins.
@@ -96,4 +97,4 @@ Cloth::Contacts ClothEngine<Real>::contacts() const {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

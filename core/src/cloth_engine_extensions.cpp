@@ -15,8 +15,9 @@
 #include <new>
 
 #include "cloth_engine.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 // Running out of memory in a callback (the first topology or jacobian call builds its data) is a
@@ -419,4 +420,4 @@ int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

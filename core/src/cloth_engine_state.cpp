@@ -8,8 +8,9 @@
 #include <string>
 
 #include "cloth_engine.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 template <class Real, class Out>
@@ -276,4 +277,4 @@ Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) con
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 constexpr std::size_t kChunk = 2048;  // particles per thread work item, as the vector ops
@@ -377,4 +379,4 @@ clothlab_block_pattern SpringJacobian<Real>::pattern() const {
 template class SpringJacobian<float>;
 template class SpringJacobian<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

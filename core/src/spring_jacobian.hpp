@@ -28,8 +28,9 @@
 #include "definite_row_kernel.hpp"
 #include "grid.hpp"
 #include "jacobian_row_kernel.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class SpringJacobian {
@@ -148,4 +149,4 @@ class SpringJacobian {
   mutable std::vector<double> row_dots_;  // per grid row: its share of <u, out>
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

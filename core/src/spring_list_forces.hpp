@@ -17,9 +17,10 @@
 
 #include "aligned_buffer.hpp"
 #include "rkn_step.hpp"
+#include "simd_namespace.hpp"
 #include "state_combination.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class SpringListForces {
@@ -78,4 +79,4 @@ class SpringListForces {
   std::vector<AlignedBuffer<Real>> stage_a_;  // the stages' accelerations
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

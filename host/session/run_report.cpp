@@ -1,7 +1,9 @@
 #include "run_report.hpp"
 
 #include <algorithm>
+#include <clothlab/core/simd.hpp>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "statistics.hpp"
@@ -157,6 +159,7 @@ nlohmann::json summary_json(const RunRecord& record) {
                                              {"work", record.attachments->work}}
                             : nlohmann::json(nullptr);
   json["threads"] = record.threads;
+  json["simd"] = std::string(simd_target());
   json["counters"] = {{"springs_evaluated", counters.springs_evaluated},
                       {"springs_damped", counters.springs_damped},
                       {"normals_computed", counters.normals_computed},
@@ -170,9 +173,9 @@ nlohmann::json summary_json(const RunRecord& record) {
 std::string human_summary(const RunRecord& record) {
   const RunFigures figures = compute_figures(record);
   std::string text = printf_text(
-      "%s on %s, %ux%u, %s, %d threads: %llu steps of %g s = %g s simulated\n",
+      "%s on %s, %ux%u, %s, %d threads, SIMD %s: %llu steps of %g s = %g s simulated\n",
       record.integrator.c_str(), record.scenario.c_str(), record.rows, record.cols,
-      to_string(record.precision), record.threads,
+      to_string(record.precision), record.threads, std::string(simd_target()).c_str(),
       static_cast<unsigned long long>(record.steps_taken), record.dt, figures.sim_time_s);
   text += printf_text(
       "  %.4g ms/step (median; p10 %.4g, p90 %.4g), stepping wall time %.4g s, real-time "
