@@ -38,6 +38,9 @@ class CMakeBuild(build_ext):
         plugins.mkdir(exist_ok=True)
         for library in (build / "lib" / "clothlab" / "plugins").glob("*.so"):
             shutil.copy2(library, plugins)
+        # clothlab.view's page: the viewer's assets, as `clothlab view` finds them beside itself.
+        shutil.copytree(build / "share" / "clothlab" / "viewer", target.parent / "viewer",
+                        dirs_exist_ok=True)
 
 
 # setuptools' own folders inside the CMake build folder, not beside the sources.

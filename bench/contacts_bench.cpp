@@ -44,10 +44,10 @@ struct Settled {
     BoundIntegrator xpbd("xpbd", cloth, {{"threads", "1"}});
     constexpr double dt = 1.0 / 60.0;
     for (int step = 0; step < 120; ++step) {
-      cloth.set_colliders(colliders);
+      cloth.set_colliders(colliders, 0.0);
       xpbd.step(step * dt, dt);
     }
-    cloth.set_colliders(colliders);
+    cloth.set_colliders(colliders, 0.0);
     acceleration = static_cast<float*>(cloth.system().alloc_vector(cloth.system().context));
   }
   std::vector<Collider> colliders;
@@ -79,7 +79,7 @@ void contact_resolution(benchmark::State& state, Support support) {
   const auto* contacts = static_cast<const clothlab_contacts_extension*>(
       clothlab_system_extension(&system, CLOTHLAB_EXT_CONTACTS));
   for (auto _ : state) {
-    drape.cloth.set_colliders(drape.colliders);
+    drape.cloth.set_colliders(drape.colliders, 0.0);
     contacts->resolve(system.context, 0.0, system.x, system.v);
     benchmark::ClobberMemory();
   }

@@ -1,5 +1,5 @@
 // A config's scenario at side x side particles in the config's material: the cotton-flag
-// benches' scene (clothlab_cli_support resolves the material).
+// benches' scene (clothlab_cli_support resolves the material; the core applies it).
 #pragma once
 
 #include <string>
@@ -11,11 +11,12 @@
 namespace clothlab::bench {
 
 inline Scene make_material_scene(const cli::RunConfig& config, int side) {
-  return make_scene(config.scenario, [&](host::ParamSet& values) {
+  Scene scene = make_scene(config.scenario, [&](host::ParamSet& values) {
     values.set("rows", std::to_string(side), "bench");
     values.set("cols", std::to_string(side), "bench");
-    cli::apply_material(*config.material, {}, values);
   });
+  apply_material(scene, *config.material, nullptr);
+  return scene;
 }
 
 }  // namespace clothlab::bench

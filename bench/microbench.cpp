@@ -159,14 +159,15 @@ class ForceEvaluation {
   AlignedFloats acceleration_;
 };
 
-// One XPBD substep (substeps = 1, one iteration: predict, 12 colour sweeps, velocities) of
+// One XPBD substep (inner_substeps = 1, one iteration: predict, 12 colour sweeps, velocities) of
 // the flag, the plugin and the host on `threads` threads.
 class XpbdSubstep {
  public:
   XpbdSubstep(int side, int threads)
       : cloth_(bench_scene("flag", side, true), Precision::Float32, PipelineOptions{true, threads}),
-        xpbd_("xpbd", cloth_,
-              {{"substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}}) {}
+        xpbd_(
+            "xpbd", cloth_,
+            {{"inner_substeps", "1"}, {"iterations", "1"}, {"threads", std::to_string(threads)}}) {}
   void run() {
     xpbd_.step(t_, 1e-3);
     t_ += 1e-3;
@@ -315,7 +316,7 @@ void xpbd_substep(benchmark::State& state) {
   for (auto _ : state) xpbd.run();
 }
 
-// One substep as part of a step of xpbd's default 40 substeps (the per-step work, the tethers'
+// One substep as part of a step of 40 inner substeps (the per-step work, the tethers'
 // anchors and a constant external acceleration, shared out): beside xpbd_substep, what a
 // step's substeps cost more or less than one alone.
 void xpbd_substep_in_step(benchmark::State& state) {
@@ -324,7 +325,7 @@ void xpbd_substep_in_step(benchmark::State& state) {
   Cloth cloth(scene, Precision::Float32, PipelineOptions{true, threads});
   constexpr int substeps = 40;
   BoundIntegrator xpbd("xpbd", cloth,
-                       {{"substeps", std::to_string(substeps)},
+                       {{"inner_substeps", std::to_string(substeps)},
                         {"iterations", "1"},
                         {"threads", std::to_string(threads)}});
   double t = 0.0;
@@ -346,7 +347,7 @@ void xpbd_chebyshev_substep(benchmark::State& state) {
   Cloth cloth(bench_scene("flag", static_cast<int>(state.range(0)), true), Precision::Float32,
               PipelineOptions{true, 1});
   BoundIntegrator xpbd("xpbd", cloth,
-                       {{"substeps", "1"},
+                       {{"inner_substeps", "1"},
                         {"iterations", "32"},
                         {"threads", "1"},
                         {"chebyshev_rho", variant == 0 ? "0" : "0.95"},

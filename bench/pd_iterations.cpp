@@ -115,7 +115,7 @@ int run(int argc, char** argv) {
     ParamTexts params = {{"iterations", std::to_string(iterations)},
                          {"chebyshev_rho", number(rho)}};
     if (delay > 0) params.emplace_back("chebyshev_delay", std::to_string(delay));
-    if (integrator_id == "xpbd") params.emplace_back("substeps", "1");  // h is one substep
+    if (integrator_id == "xpbd") params.emplace_back("inner_substeps", "1");  // h is one substep
     return params;
   };
   // The ladder up to the plugin's most iterations.

@@ -103,12 +103,12 @@ Outcome run_frames(const Scene& scene, int frames, const std::function<void()>& 
   return outcome;
 }
 
-// ClothLab: integrator `id` (xpbd) on one thread, float32, one step of substeps per frame.
+// ClothLab: integrator `id` (xpbd) on one thread, float32, one step of inner substeps per frame.
 Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting, double frame,
                      int frames) {
   const Cloth cloth(scene, Precision::Float32, PipelineOptions{true, 1, false});
   BoundIntegrator integrator(id, cloth,
-                             {{"substeps", std::to_string(setting.substeps)},
+                             {{"inner_substeps", std::to_string(setting.substeps)},
                               {"iterations", std::to_string(setting.iterations)},
                               {"threads", "1"}});
   const sdk::System<float> system(cloth.system());

@@ -1,10 +1,12 @@
-// The Python module clothlab's entry: its exceptions, plugins() and Simulation.
+// The Python module clothlab's entry: its exceptions, plugins(), Simulation and the CLI's
+// modes (choose, sweep, conformance, view).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include "plugin_listing.hpp"
 #include "python_errors.hpp"
 #include "simulation_binding.hpp"
+#include "tools_binding.hpp"
 
 namespace py = pybind11;
 
@@ -23,4 +25,5 @@ PYBIND11_MODULE(_clothlab, module) {
       "(docs/reference/plugin-listing.md): "
       "each library with its integrators and scenarios, their parameters, traits and extensions.");
   clothlab::python::bind_simulation(module);
+  clothlab::python::bind_tools(module);
 }

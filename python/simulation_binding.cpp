@@ -46,8 +46,25 @@ std::string value_text(const py::handle& value, const std::string& key) {
                          py::type::of(value).attr("__name__").cast<std::string>());
 }
 
-// The settings of a config given as a dict (nested or dotted keys, as a config file's) or as a
-// YAML file's path, then the overrides (later wins, as --set after --config).
+}  // namespace
+
+fs::path module_folder() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&module_folder), &info) == 0 ||
+      info.dli_fname == nullptr)
+    return {};
+  return fs::absolute(info.dli_fname).parent_path();
+}
+
+std::vector<config::Setting> override_settings(const py::dict& overrides) {
+  std::vector<config::Setting> settings;
+  for (const auto& [key, value] : overrides) {
+    const std::string name = py::str(key).cast<std::string>();
+    settings.push_back({config::canonical_key(name), value_text(value, name), "overrides"});
+  }
+  return settings;
+}
+
 std::vector<config::Setting> settings_of(const py::object& config, const py::dict& overrides) {
   std::vector<config::Setting> settings;
   if (py::isinstance<py::dict>(config)) {
@@ -64,23 +81,11 @@ std::vector<config::Setting> settings_of(const py::object& config, const py::dic
     throw host::InputError("config: a dict of settings or a YAML file's path; got " +
                            py::type::of(config).attr("__name__").cast<std::string>());
   }
-  for (const auto& [key, value] : overrides) {
-    const std::string name = py::str(key).cast<std::string>();
-    settings.push_back({config::canonical_key(name), value_text(value, name), "overrides"});
-  }
+  const std::vector<config::Setting> added = override_settings(overrides);
+  settings.insert(settings.end(), added.begin(), added.end());
   cli::refuse_sweep_settings(settings);
   return settings;
 }
-
-fs::path module_folder() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<const void*>(&module_folder), &info) == 0 ||
-      info.dli_fname == nullptr)
-    return {};
-  return fs::absolute(info.dli_fname).parent_path();
-}
-
-}  // namespace
 
 host::PluginSearchPath module_search_path(const std::vector<std::string>& plugin_path) {
   std::vector<fs::path> installed;

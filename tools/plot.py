@@ -61,7 +61,7 @@ FORMATS = ("png", "svg")
 COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "rk4": "tab:green",
            "verlet": "tab:red", "forward-euler": "tab:purple", "implicit_euler": "tab:brown",
            "projective_dynamics": "tab:pink", "xpbd": "tab:olive", "xpbd_tethers": "tab:cyan",
-           "vbd": "tab:gray"}
+           "vbd": "tab:gray", "bdf2": "black"}
 
 
 class InputProblem(Exception):

@@ -58,8 +58,9 @@ def table_rows(text, first_column=r"`([^`]+)`"):
 
 def extension_headers():
     """{id: (side, minor, header file name)} from the first line of each ext/*.h comment, e.g.
-    ` * Scenario extension "clothlab.air/1" (ABI 1.3): ...`; an extension that names no minor
-    came with 1.2, when get_extension was added to the system and the integrator."""
+    ` * Scenario extension "clothlab.air/1" (ABI 1.3): ...`, and from a later revision's line in
+    the same header; an extension that names no minor came with 1.2, when get_extension was added
+    to the system and the integrator."""
     found = {}
     for path in sorted(glob.glob(os.path.join(EXT, "*.h"))):
         match = re.search(r'^ \* (Host|Integrator|Scenario|Plugin) extension "([^"]+)"(?: \(ABI (1\.\d+)\))?:',
@@ -68,6 +69,10 @@ def extension_headers():
             sys.exit(f"FAIL: {path}: no ' * Host|Integrator|Scenario|Plugin extension \"ID\"' line")
         side, id_, minor = match.groups()
         found[id_] = (side.lower(), minor or "1.2", os.path.basename(path))
+        # A revision kept in its first revision's header: ` * "clothlab.colliders/2" (ABI 1.3) is`.
+        for revision, revision_minor in re.findall(r'^ \* "(clothlab\.[a-z-]+/\d+)" \(ABI (1\.\d+)\) is ',
+                                                   read(path), re.MULTILINE):
+            found[revision] = (side.lower(), revision_minor, os.path.basename(path))
     return found
 
 
@@ -155,9 +160,11 @@ RUNS = {
     "flag": ["--integrator", "rk4", "--scenario", "flag", "--duration", "0.05"],
     "implicit": ["--integrator", "implicit_euler", "--scenario", "flag", "--duration", "0.05"],
     "drape": ["--integrator", "xpbd", "--scenario", "drape", "--set", "scenario.rows=10",
-              "--set", "scenario.cols=10", "--duration", "0.05"],
+              "--set", "scenario.cols=10", "--frame-rate", "1000", "--substeps", "40",
+              "--duration", "0.05"],
     "cape": ["--integrator", "xpbd", "--scenario", "cape", "--set", "scenario.rows=8",
-             "--set", "scenario.cols=6", "--duration", "0.05"],
+             "--set", "scenario.cols=6", "--frame-rate", "1000", "--substeps", "40",
+             "--duration", "0.05"],
 }
 
 

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <clothlab/core/attachment_path.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -43,10 +45,9 @@ void read_finite(std::span<const uint32_t> particles, const AttachmentTargetRead
 void check_attached_particles(std::span<const uint32_t> particles, uint32_t particle_count) {
   for (std::size_t k = 0; k < particles.size(); ++k)
     if (particles[k] >= particle_count)
-      throw std::invalid_argument("attachment " + std::to_string(k) +
-                                  ": particle = " + std::to_string(particles[k]) +
-                                  ", allowed 0 .. " + std::to_string(particle_count - 1) +
-                                  " (the cloth's rows x cols particles)");
+      throw std::invalid_argument(
+          "attachment " + std::to_string(k) + ": particle = " + std::to_string(particles[k]) +
+          ", allowed 0 .. " + std::to_string(particle_count - 1) + " (the cloth's particles)");
 }
 
 void check_attachment_path(std::span<const uint32_t> particles, const AttachmentTargetReader& read,
@@ -79,6 +80,28 @@ void check_attachment_path(std::span<const uint32_t> particles, const Attachment
       std::swap(x0, x1);
       std::swap(v0, v1);
     }
+}
+
+void check_attachment_start(std::span<const uint32_t> particles, std::span<const double> targets,
+                            std::span<const double> positions, const ClothModel& model) {
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    const uint32_t i = particles[k];
+    double shortest = std::numeric_limits<double>::infinity();
+    for (uint32_t a = model.adjacency_offsets[i]; a < model.adjacency_offsets[i + 1]; ++a)
+      shortest = std::min(shortest, model.rest_length[model.adjacent_springs[a]]);
+    if (!std::isfinite(shortest)) continue;  // no spring to stretch
+    const double offset =
+        std::hypot(targets[3 * k] - positions[3 * i], targets[3 * k + 1] - positions[3 * i + 1],
+                   targets[3 * k + 2] - positions[3 * i + 2]);
+    const double allowed = max_attachment_start_offset * shortest;
+    if (!(offset <= allowed))
+      throw std::invalid_argument(
+          owner(particles, k) + ": target at t = 0 s lies " + detail::shortest_text(offset) +
+          " m from the particle's start, allowed at most " + detail::shortest_text(allowed) +
+          " m (" + detail::shortest_text(max_attachment_start_offset) +
+          " of its shortest spring's rest length, " + detail::shortest_text(shortest) +
+          " m): start the cloth where its attachments hold it");
+  }
 }
 
 }  // namespace clothlab

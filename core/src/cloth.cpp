@@ -71,8 +71,8 @@ double Cloth::stretch_percentile(Springs springs, double fraction) const {
 Cloth::LongestSpring Cloth::longest_spring(Springs springs) const {
   return impl_->engine->longest_spring(springs);
 }
-void Cloth::set_colliders(std::span<const Collider> colliders) {
-  impl_->engine->set_colliders(colliders);
+void Cloth::set_colliders(std::span<const Collider> colliders, double t) {
+  impl_->engine->set_colliders(colliders, t);
 }
 Cloth::Contacts Cloth::contacts() const { return impl_->engine->contacts(); }
 std::span<const Collider> Cloth::colliders() const { return impl_->engine->colliders(); }

@@ -48,7 +48,7 @@ class ClothEngine final : public Engine {
   Cloth::Stretch stretch(Cloth::Springs springs) const override;
   double stretch_percentile(Cloth::Springs springs, double fraction) const override;
   Cloth::LongestSpring longest_spring(Cloth::Springs springs) const override;
-  void set_colliders(std::span<const Collider> colliders) override;
+  void set_colliders(std::span<const Collider> colliders, double t) override;
   Cloth::Contacts contacts() const override;
   std::span<const Collider> colliders() const override { return colliders_; }
   void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) override;
@@ -83,7 +83,7 @@ class ClothEngine final : public Engine {
 
   // Host extensions (cloth_engine_extensions.cpp): topology, jacobian, definite jacobian,
   // cg-step, reductions and external forces. The Jacobian's pattern is built on first use. The
-  // grid, the jacobians and cg-step are offered only on the grid path.
+  // grid is offered only on the grid path.
   static const void* get_extension_callback(void* context, const char* id);
   const ClothModel& topology() const { return *model_; }
   bool on_grid_path() const { return forces_ != nullptr; }
@@ -160,9 +160,14 @@ class ClothEngine final : public Engine {
   std::vector<double> mass_;          // 1 / inverse mass (0 where pinned), for mass_dot
   AlignedBuffer<Real> real_mass_;     // the same in the system's precision, for cg-step's update
 
-  std::vector<Collider> colliders_;  // at the poses the host last set
-  AlignedBuffer<Real> path_start_;   // where each particle was at the last resolution or step start
-  std::vector<uint32_t> attached_;   // particles moved to the source's targets
+  std::vector<Collider> step_colliders_;   // as the host set them at the step's start
+  double step_start_time_ = 0;             // when
+  std::vector<Collider> colliders_;        // at the last resolution (or the step's start)
+  std::vector<Collider> moved_colliders_;  // the resolution's scratch: at its time
+  AlignedBuffer<Real> path_start_;  // where each particle was at the last resolution or step start
+  AlignedBuffer<Real> step_start_x_;         // where each particle was at the step's start
+  uint32_t particles_crossed_ = 0;           // in the step before the last set_colliders
+  std::vector<uint32_t> attached_;           // particles moved to the source's targets
   std::vector<double> target_x_, target_v_;  // their targets, 3 per particle
   AttachmentSource* attachment_source_ = nullptr;
   double contact_work_ = 0;  // energy the contact resolution has added (J)

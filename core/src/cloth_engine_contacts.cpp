@@ -1,5 +1,6 @@
 // The host extension clothlab.contacts/1 of ClothEngine (clothlab/ext/contacts.h), and what the
-// host reads of the cloth's contacts: the deepest penetration, the particles inside.
+// host reads of the cloth's contacts: the deepest penetration, the particles inside, the
+// particles that crossed a collider.
 #include <clothlab/ext/contacts.h>
 
 #include <algorithm>
@@ -11,14 +12,32 @@
 
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
-// The host sets the colliders at each step's start: the positions then are where each particle's
-// path over the step begins.
+// The host sets the colliders at each step's start with their motion over the step: the
+// positions then are where each particle's path over the step begins. Against these poses,
+// from the scenario and not from any motion, the last step's paths are judged for crossings.
 template <class Real>
-void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders) {
+void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders, double t) {
+  particles_crossed_ = 0;
+  if (colliders.size() == step_colliders_.size() && step_start_x_.size() == x_.size()) {
+    const Real* const px = x_.data();
+    const Real* const start = step_start_x_.data();
+    const std::size_t s = stride_;
+    for (const clothlab_range& range : active_)
+      for (std::size_t i = range.begin; i < range.end; ++i)
+        if (crossed_a_collider(step_colliders_, colliders,
+                               {start[i], start[s + i], start[2 * s + i]},
+                               {px[i], px[s + i], px[2 * s + i]}))
+          ++particles_crossed_;
+  }
+  step_colliders_.assign(colliders.begin(), colliders.end());
   colliders_.assign(colliders.begin(), colliders.end());
+  moved_colliders_.assign(colliders.begin(), colliders.end());
+  step_start_time_ = t;
   if (colliders_.empty()) return;
-  if (path_start_.size() != x_.size()) path_start_ = AlignedBuffer<Real>(x_.size());
-  std::copy_n(x_.data(), x_.size(), path_start_.data());
+  for (AlignedBuffer<Real>* buffer : {&path_start_, &step_start_x_}) {
+    if (buffer->size() != x_.size()) *buffer = AlignedBuffer<Real>(x_.size());
+    std::copy_n(x_.data(), x_.size(), buffer->data());
+  }
 }
 
 template <class Real>
@@ -39,7 +58,7 @@ double ClothEngine<Real>::spring_energy_at(const Real* px, std::size_t i,
 }
 
 template <class Real>
-clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, double, void* x,
+clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, double t, void* x,
                                                              void* v) {
   ClothEngine& self = *static_cast<ClothEngine*>(context);
   if (self.colliders_.empty()) return CLOTHLAB_OK;
@@ -47,7 +66,12 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
   Real* const px = static_cast<Real*>(x);
   Real* const pv = static_cast<Real*>(v);
   const std::size_t s = self.stride_;
-  const double mass = self.scene_.total_mass / static_cast<double>(self.n_);
+  const std::vector<double>& masses = self.model_->masses;  // a mesh's differ per particle
+  // Each collider where its motion has carried it by t; the paths start where the last
+  // resolution (or the step's start) left the particles and the colliders.
+  for (std::size_t k = 0; k < self.colliders_.size(); ++k)
+    self.moved_colliders_[k] = self.step_colliders_[k].advanced(t - self.step_start_time_);
+  const std::span<const Collider> met_before = self.colliders_, met_now = self.moved_colliders_;
   // Serial: a handful of colliders against the particles costs a fraction of a force pass.
   for (const clothlab_range& range : self.active_)
     for (std::size_t i = range.begin; i < range.end; ++i) {
@@ -59,13 +83,13 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       Real* const start = self.path_start_.data();
       const Vec3 from{start[i], start[s + i], start[2 * s + i]};
       const Vec3 before = position, velocity_before = velocity;
-      if (resolve_swept_contact(self.colliders_, from, position, velocity)) {
+      if (resolve_swept_contact(met_before, met_now, from, position, velocity)) {
         // What the move did to the particle's energy (StabilityMonitor counts it as work).
         double work = self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
         for (int k = 0; k < 3; ++k)
-          work +=
-              mass * (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
-                      self.scene_.gravity[k] * (position[k] - before[k]));
+          work += masses[i] *
+                  (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
+                   self.scene_.gravity[k] * (position[k] - before[k]));
         self.contact_work_ += std::max(work, 0.0);
         for (int k = 0; k < 3; ++k) {
           px[k * s + i] = static_cast<Real>(position[k]);
@@ -75,6 +99,7 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       // The next substep's path starts where this one's ends.
       for (int k = 0; k < 3; ++k) start[k * s + i] = px[k * s + i];
     }
+  self.colliders_.swap(self.moved_colliders_);
   return CLOTHLAB_OK;
 }
 
@@ -82,6 +107,7 @@ template <class Real>
 Cloth::Contacts ClothEngine<Real>::contacts() const {
   Cloth::Contacts out;
   if (colliders_.empty()) return out;
+  out.particles_crossed = particles_crossed_;
   const Real* const px = x_.data();
   const std::size_t s = stride_;
   for (const clothlab_range& range : active_)

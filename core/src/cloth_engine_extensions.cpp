@@ -1,7 +1,7 @@
-// The host extensions of ClothEngine (clothlab/ext/): the grid topology and the grid it lies
-// on, the analytic
-// spring Jacobian and its definite form, the fused CG sweeps on it, deterministic reductions
-// and the external forces alone, and the thread count the plugin may use.
+// The host extensions of ClothEngine (clothlab/ext/): the topology and the grid it lies on (on
+// the grid path alone), the analytic spring Jacobian and its definite form, the fused CG sweeps
+// on it, deterministic reductions and the external forces alone, and the thread count the
+// plugin may use.
 #include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/cg_step.h>
 #include <clothlab/ext/contacts.h>
@@ -61,8 +61,9 @@ clothlab_topology topology_view(const ClothModel& model) {
 template <class Real>
 const SpringJacobian<Real>& ClothEngine<Real>::jacobian() {
   if (!jacobian_) {
-    jacobian_ = std::make_unique<SpringJacobian<Real>>(
-        scene_, topology(), inverse_mass_.data(), stride_, velocity_forces_, threads_, parallel_);
+    jacobian_ = std::make_unique<SpringJacobian<Real>>(scene_, topology(), inverse_mass_.data(),
+                                                       stride_, velocity_forces_, threads_,
+                                                       parallel_, !on_grid_path());
   }
   return *jacobian_;
 }
@@ -88,14 +89,10 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
       &attachments_count_callback, &attachments_move_callback};
   if (id == nullptr) return nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology_table;
-  // The spring-list path has no grid, and the jacobians and cg-step sweep the grid's stencils:
-  // an integrator that needs them refuses a mesh when it finds them missing.
-  if (!static_cast<const ClothEngine*>(context)->on_grid_path()) {
-    for (const char* grid_only : {CLOTHLAB_EXT_GRID, CLOTHLAB_EXT_JACOBIAN,
-                                  CLOTHLAB_EXT_DEFINITE_JACOBIAN, CLOTHLAB_EXT_CG_STEP})
-      if (std::strcmp(id, grid_only) == 0) return nullptr;
-  }
-  if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid_table;
+  // The spring-list path has no grid: an integrator that needs one refuses a mesh when it finds
+  // the grid missing.
+  if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0)
+    return static_cast<const ClothEngine*>(context)->on_grid_path() ? &grid_table : nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;

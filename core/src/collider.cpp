@@ -23,6 +23,19 @@ Vec3 rotate_by(const std::array<double, 4>& q, const Vec3& v, bool inverse) {
           v[2] + 2 * (w * uv[2] + uuv[2])};
 }
 
+using Quaternion = std::array<double, 4>;
+
+Quaternion multiply(const Quaternion& a, const Quaternion& b) {
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+          a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+          a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+}
+
+double length(const Vec3& v) { return std::hypot(v[0], v[1], v[2]); }
+
+Vec3 difference(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
 void require(bool ok, const std::string& field, double value, const char* allowed) {
   if (!ok)
     throw std::invalid_argument(field + " = " + detail::value_text(value) + ", allowed " + allowed);
@@ -58,6 +71,28 @@ Vec3 Pose::to_world(const Vec3& local) const {
 Vec3 Pose::to_local(const Vec3& world) const {
   return rotate_by(orientation,
                    {world[0] - position[0], world[1] - position[1], world[2] - position[2]}, true);
+}
+
+Vec3 Collider::velocity_at(const Vec3& point) const {
+  const Vec3& w = motion.angular_velocity;
+  const Vec3 r = difference(point, pose.position);
+  const Vec3& v = motion.velocity;
+  return {v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2],
+          v[2] + w[0] * r[1] - w[1] * r[0]};
+}
+
+Collider Collider::advanced(double seconds) const {
+  Collider out = *this;
+  for (int k = 0; k < 3; ++k) out.pose.position[k] += seconds * motion.velocity[k];
+  const double rate = length(motion.angular_velocity);
+  if (rate > 0) {
+    const double half = 0.5 * rate * seconds;
+    const double along = std::sin(half) / rate;
+    const Quaternion turn{std::cos(half), along * motion.angular_velocity[0],
+                          along * motion.angular_velocity[1], along * motion.angular_velocity[2]};
+    out.pose.orientation = multiply(turn, pose.orientation);
+  }
+  return out;
 }
 
 Collider collider_from_abi(const clothlab_collider& in) {
@@ -119,6 +154,50 @@ Pose pose_from_abi(const clothlab_pose& in) {
   require(std::abs(length - 1) <= 1e-6, "|orientation|", length, "1 (a unit quaternion, 1e-6)");
   for (int k = 0; k < 4; ++k) out.orientation[k] = in.orientation[k] / length;
   return out;
+}
+
+Motion motion_from_abi(const clothlab_collider_motion& in) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  Motion out;
+  for (int k = 0; k < 3; ++k) {
+    require(std::isfinite(in.velocity[k]), std::string("velocity.") + axes[k], in.velocity[k],
+            "finite");
+    require(std::isfinite(in.angular_velocity[k]), std::string("angular_velocity.") + axes[k],
+            in.angular_velocity[k], "finite");
+    out.velocity[k] = in.velocity[k];
+    out.angular_velocity[k] = in.angular_velocity[k];
+  }
+  return out;
+}
+
+Motion motion_between(const Pose& before, const Pose& after, double dt) {
+  Motion out;
+  for (int k = 0; k < 3; ++k) out.velocity[k] = (after.position[k] - before.position[k]) / dt;
+  const Quaternion& q = before.orientation;
+  Quaternion turn = multiply(after.orientation, {q[0], -q[1], -q[2], -q[3]});
+  if (turn[0] < 0)
+    for (double& part : turn) part = -part;  // the same rotation, the shorter way round
+  const double sine = std::hypot(turn[1], turn[2], turn[3]);
+  if (sine > 0) {
+    const double rate = 2 * std::atan2(sine, turn[0]) / dt;
+    for (int k = 0; k < 3; ++k) out.angular_velocity[k] = rate * turn[k + 1] / sine;
+  }
+  return out;
+}
+
+void check_motion_agrees(const Motion& given, const Motion& derived) {
+  const auto check = [](const char* name, const Vec3& a, const Vec3& b, const char* unit) {
+    const double apart = length(difference(a, b));
+    const double allowed = 1.0 + 0.5 * std::max(length(a), length(b));
+    if (!(apart <= allowed))
+      throw std::invalid_argument(std::string(name) + " " + detail::value_text(length(a)) + " " +
+                                  unit + ", its poses move at " + detail::value_text(length(b)) +
+                                  " " + unit + " (" + detail::value_text(apart) +
+                                  " apart): allowed within " + detail::value_text(allowed) + " " +
+                                  unit + " of them");
+  };
+  check("velocity", given.velocity, derived.velocity, "m/s");
+  check("angular_velocity", given.angular_velocity, derived.angular_velocity, "rad/s");
 }
 
 void check_pose_continuity(const Pose& before, const Pose& after, double dt) {

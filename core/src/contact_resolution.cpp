@@ -13,16 +13,20 @@ bool resolve_contact(std::span<const Collider> colliders, Vec3& x, Vec3& v) {
     const Vec3& n = surface.normal;
     const double push = collider.thickness - surface.distance;
     for (int k = 0; k < 3; ++k) x[k] += push * n[k];
-    const double normal_speed = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+    // The response acts on the velocity relative to the body's surface there.
+    const Vec3 body = collider.velocity_at(x);
+    Vec3 relative{};
+    for (int k = 0; k < 3; ++k) relative[k] = v[k] - body[k];
+    const double normal_speed = relative[0] * n[0] + relative[1] * n[1] + relative[2] * n[2];
     if (normal_speed >= 0) continue;  // already leaving: no impulse, no friction
     Vec3 tangential{};
-    for (int k = 0; k < 3; ++k) tangential[k] = v[k] - normal_speed * n[k];
+    for (int k = 0; k < 3; ++k) tangential[k] = relative[k] - normal_speed * n[k];
     const double tangential_speed =
         std::sqrt(tangential[0] * tangential[0] + tangential[1] * tangential[1] +
                   tangential[2] * tangential[2]);
     const double slowed = std::max(0.0, tangential_speed - collider.friction * -normal_speed);
     const double keep = tangential_speed > 0 ? slowed / tangential_speed : 0.0;
-    for (int k = 0; k < 3; ++k) v[k] = keep * tangential[k];
+    for (int k = 0; k < 3; ++k) v[k] = body[k] + keep * tangential[k];
   }
   return touched;
 }
@@ -49,26 +53,46 @@ double first_entry(const Collider& collider, const Vec3& from, const Vec3& to) {
   return -1;
 }
 
+// The particle's start where the body is now: the same point of the body's frame.
+Vec3 start_on_body(const Collider& before, const Collider& now, const Vec3& from) {
+  return now.pose.to_world(before.pose.to_local(from));
+}
+
+// Where on the path from `from` to `to` (both where the body is now) the particle entered the
+// collider's thickness, when the path passed through the collider or past its middle; -1 when
+// it did not.
+double crossing(const Collider& collider, const Vec3& from, const Vec3& to) {
+  const Vec3 path{to[0] - from[0], to[1] - from[1], to[2] - from[2]};
+  const double half = 0.5 * std::sqrt(dot(path, path));
+  const Vec3 middle{from[0] + 0.5 * path[0], from[1] + 0.5 * path[1], from[2] + 0.5 * path[2]};
+  // The path lies within `half` of its middle: farther than that plus the thickness from the
+  // surface, it cannot touch (the common case, one distance per particle).
+  if (surface_distance(collider, middle).distance > half + collider.thickness) return -1;
+  if (dot(surface_distance(collider, from).normal, surface_distance(collider, to).normal) >= 0)
+    return -1;  // the same side: the end's own resolution is right
+  return first_entry(collider, from, to);
+}
+
 }  // namespace
 
-bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from, Vec3& x,
-                           Vec3& v) {
+bool resolve_swept_contact(std::span<const Collider> before, std::span<const Collider> now,
+                           const Vec3& from, Vec3& x, Vec3& v) {
   bool rewound = false;
-  for (const Collider& collider : colliders) {
-    const Vec3 path{x[0] - from[0], x[1] - from[1], x[2] - from[2]};
-    const double half = 0.5 * std::sqrt(dot(path, path));
-    const Vec3 middle{from[0] + 0.5 * path[0], from[1] + 0.5 * path[1], from[2] + 0.5 * path[2]};
-    // The path lies within `half` of its middle: farther than that plus the thickness from the
-    // surface, it cannot touch (the common case, one distance per particle).
-    if (surface_distance(collider, middle).distance > half + collider.thickness) continue;
-    if (dot(surface_distance(collider, from).normal, surface_distance(collider, x).normal) >= 0)
-      continue;  // the same side: the end's own resolution is right
-    const double s = first_entry(collider, from, x);
+  for (std::size_t k = 0; k < now.size(); ++k) {
+    const Vec3 start = start_on_body(before[k], now[k], from);
+    const double s = crossing(now[k], start, x);
     if (s < 0) continue;
-    for (int k = 0; k < 3; ++k) x[k] = from[k] + s * path[k];
+    for (int axis = 0; axis < 3; ++axis) x[axis] = start[axis] + s * (x[axis] - start[axis]);
     rewound = true;
   }
-  return resolve_contact(colliders, x, v) || rewound;
+  return resolve_contact(now, x, v) || rewound;
+}
+
+bool crossed_a_collider(std::span<const Collider> before, std::span<const Collider> now,
+                        const Vec3& from, const Vec3& to) {
+  for (std::size_t k = 0; k < now.size(); ++k)
+    if (crossing(now[k], start_on_body(before[k], now[k], from), to) >= 0) return true;
+  return false;
 }
 
 ContactDepths contact_depths(std::span<const Collider> colliders, const Vec3& x) {

@@ -31,7 +31,7 @@ class Engine {
   virtual Cloth::Stretch stretch(Cloth::Springs springs) const = 0;
   virtual double stretch_percentile(Cloth::Springs springs, double fraction) const = 0;
   virtual Cloth::LongestSpring longest_spring(Cloth::Springs springs) const = 0;
-  virtual void set_colliders(std::span<const Collider> colliders) = 0;
+  virtual void set_colliders(std::span<const Collider> colliders, double t) = 0;
   virtual Cloth::Contacts contacts() const = 0;
   virtual std::span<const Collider> colliders() const = 0;
   virtual void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) = 0;

@@ -8,6 +8,7 @@
 
 #include <cfloat>
 #include <cstddef>
+#include <cstdint>
 
 #include "simd_namespace.hpp"
 
@@ -136,6 +137,23 @@ inline void interleave(Floats first, Floats second, Floats& a, Floats& b) {
   }
 }
 
+// kLanes 32-bit indices, for gathers from arrays a kernel cannot read in order.
+using Indices = __m512i;
+inline Indices load_indices(const uint32_t* p) { return _mm512_loadu_si512(p); }
+// base[indices[l]] in lane l (maskz form: see add_widened).
+inline Floats gather_floats(const float* base, Indices indices) {
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), __mmask16(0xffff), indices, base, 4);
+}
+// The indices with their top bit cleared, and value negated in the lanes whose index has it
+// set: one array of indices that also says which entries count with a minus sign.
+inline Indices without_top_bit(Indices indices) {
+  return _mm512_and_si512(indices, _mm512_set1_epi32(0x7fffffff));
+}
+inline Floats negated_where_top_bit(Floats value, Indices indices) {
+  const __m512i sign = _mm512_and_si512(indices, _mm512_set1_epi32(int32_t(0x80000000u)));
+  return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(value), sign));
+}
+
 #else  // AVX2 and FMA
 
 using Floats = __m256;
@@ -226,6 +244,21 @@ inline void interleave(Floats first, Floats second, Floats& a, Floats& b) {
     a = _mm256_shuffle_ps(first, second, _MM_SHUFFLE(1, 0, 1, 0));
     b = _mm256_shuffle_ps(first, second, _MM_SHUFFLE(3, 2, 3, 2));
   }
+}
+
+using Indices = __m256i;
+inline Indices load_indices(const uint32_t* p) {
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+}
+inline Floats gather_floats(const float* base, Indices indices) {
+  return _mm256_i32gather_ps(base, indices, 4);
+}
+inline Indices without_top_bit(Indices indices) {
+  return _mm256_and_si256(indices, _mm256_set1_epi32(0x7fffffff));
+}
+inline Floats negated_where_top_bit(Floats value, Indices indices) {
+  const __m256i sign = _mm256_and_si256(indices, _mm256_set1_epi32(int32_t(0x80000000u)));
+  return _mm256_castsi256_ps(_mm256_xor_si256(_mm256_castps_si256(value), sign));
 }
 
 #endif

@@ -15,6 +15,10 @@ template <class Real>
 void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, double c_x,
                                               double c_v) const {
   linearised_ = {x, v, c_x, c_v};
+  if (spring_list_) {
+    list_linearise(x, v, c_x, c_v);
+    return;
+  }
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     if (!definite_kernel_) return;

@@ -2,6 +2,7 @@
 // rules; docs/reference/cloth-model.md says why), masses by area, greedy colourings.
 #include <algorithm>
 #include <array>
+#include <clothlab/core/cloth_material.hpp>
 #include <clothlab/core/triangle_mesh.hpp>
 #include <cmath>
 #include <stdexcept>
@@ -55,14 +56,19 @@ bool is_rectangle(const Geometry& g, uint32_t a, uint32_t b, uint32_t p, uint32_
   return std::sqrt(apart) <= 2 * tolerance && std::abs(g.distance(p, q) - diagonal) <= tolerance;
 }
 
+// A spring to be, with the triangles its material law reads: a structural edge's one or two, a
+// shear diagonal's rectangle (none for flexion).
 struct Candidate {
   uint32_t i, j;
   uint8_t family;
+  uint32_t triangle_count = 0;
+  std::array<uint32_t, 2> triangles{};
 };
 
 }  // namespace
 
-std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, const Scene& scene) {
+std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, const Scene& scene,
+                                                   const ClothMaterial* material) {
   const std::string reason = validate_triangle_mesh(mesh.positions, mesh.triangles, mesh.masses);
   if (!reason.empty()) throw std::invalid_argument("mesh: " + reason);
   const Geometry g{mesh.positions};
@@ -80,15 +86,20 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
   };
   std::vector<SharedEdge> shared_structural;
   std::vector<std::vector<uint32_t>> structural_neighbours(n);
+  std::vector<bool> sheared_half(mesh.triangles.size() / 3, false);
   for (std::size_t e = 0; e < uses.size();) {
     const bool shared = e + 1 < uses.size() && uses[e + 1].key == uses[e].key;
     const uint32_t a = uses[e].a(), b = uses[e].b();
+    const uint32_t triangle_count = shared ? 2 : 1;
+    const std::array<uint32_t, 2> triangles{uses[e].triangle,
+                                            shared ? uses[e + 1].triangle : uses[e].triangle};
     if (shared && is_rectangle(g, a, b, uses[e].opposite, uses[e + 1].opposite)) {
       const uint32_t p = uses[e].opposite, q = uses[e + 1].opposite;
-      candidates.push_back({a, b, CLOTHLAB_SPRING_SHEAR});
-      candidates.push_back({std::min(p, q), std::max(p, q), CLOTHLAB_SPRING_SHEAR});
+      candidates.push_back({a, b, CLOTHLAB_SPRING_SHEAR, 2, triangles});
+      candidates.push_back({std::min(p, q), std::max(p, q), CLOTHLAB_SPRING_SHEAR, 2, triangles});
+      sheared_half[triangles[0]] = sheared_half[triangles[1]] = true;
     } else {
-      candidates.push_back({a, b, CLOTHLAB_SPRING_STRUCTURAL});
+      candidates.push_back({a, b, CLOTHLAB_SPRING_STRUCTURAL, triangle_count, triangles});
       structural_neighbours[a].push_back(b);
       structural_neighbours[b].push_back(a);
       if (shared) shared_structural.push_back({a, b, uses[e].opposite, uses[e + 1].opposite});
@@ -114,7 +125,7 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
     for (uint32_t u : around) {
       const uint32_t w = straightest(u);
       if (w == u || u > w || straightest(w) != u) continue;
-      candidates.push_back({u, w, CLOTHLAB_SPRING_FLEXION});
+      candidates.push_back({u, w, CLOTHLAB_SPRING_FLEXION, 0, {}});
       lines_through[v].push_back(g.direction(u, w));
     }
   }
@@ -128,7 +139,7 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
         crossed = crossed || std::abs(cosine(line, along)) < 1 - kStraightTolerance;
     if (!crossed)
       candidates.push_back(
-          {std::min(edge.p, edge.q), std::max(edge.p, edge.q), CLOTHLAB_SPRING_FLEXION});
+          {std::min(edge.p, edge.q), std::max(edge.p, edge.q), CLOTHLAB_SPRING_FLEXION, 0, {}});
   }
 
   // One spring per pair (structural before shear before flexion), ordered by pair.
@@ -137,14 +148,37 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
     return l.j != r.j ? l.j < r.j : l.family < r.family;
   });
   const SpringFamily* laws[3] = {&scene.structural, &scene.shear, &scene.flexion};
+  auto area = [&](uint32_t triangle) {
+    return detail::triangle_shape(mesh.positions, mesh.triangles.data() + 3 * std::size_t{triangle})
+               .double_area /
+           2;
+  };
+  // The spring's law: the scene's family, or the material's value for this spring's geometry.
+  auto law_of = [&](const Candidate& spring, double rest) {
+    if (material == nullptr) return *laws[spring.family];
+    double ks = 0;
+    if (spring.family == CLOTHLAB_SPRING_STRUCTURAL) {
+      std::array<double, 2> loans{};
+      for (uint32_t k = 0; k < spring.triangle_count; ++k)
+        loans[k] =
+            membrane_loan(*material, area(spring.triangles[k]), sheared_half[spring.triangles[k]]);
+      ks = structural_ks(std::span(loans).first(spring.triangle_count), rest);
+    } else if (spring.family == CLOTHLAB_SPRING_SHEAR) {
+      ks = shear_ks(*material, area(spring.triangles[0]) + area(spring.triangles[1]), rest);
+    } else {
+      ks = flexion_ks(*material, rest);
+    }
+    return SpringFamily{ks, material->damping_time * ks};
+  };
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const Candidate& spring = candidates[c];
     if (c > 0 && candidates[c - 1].i == spring.i && candidates[c - 1].j == spring.j) continue;
-    const SpringFamily& law = *laws[spring.family];
+    const double rest = g.distance(spring.i, spring.j);
+    const SpringFamily law = law_of(spring, rest);
     if (law.ks == 0.0 && law.kd == 0.0) continue;
     model->first.push_back(spring.i);
     model->second.push_back(spring.j);
-    model->rest_length.push_back(g.distance(spring.i, spring.j));
+    model->rest_length.push_back(rest);
     model->ks.push_back(law.ks);
     model->kd.push_back(law.kd);
     model->family.push_back(spring.family);
@@ -175,6 +209,25 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
   model->particle_colors = color_particles(model->first, model->second, model->adjacency_offsets,
                                            model->adjacent_springs);
   return model;
+}
+
+double surface_area(std::span<const double> positions, std::span<const uint32_t> triangles) {
+  double twice = 0;
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+    twice += detail::triangle_shape(positions, triangles.data() + t).double_area;
+  return twice / 2;
+}
+
+double rest_diagonal(const Scene& scene, const ClothModel& model) {
+  if (model.grid) return std::hypot(scene.width, scene.height);
+  const std::vector<double>& x = model.rest_positions;
+  Point low{x[0], x[1], x[2]}, high = low;
+  for (std::size_t i = 0; i < x.size(); i += 3)
+    for (std::size_t k = 0; k < 3; ++k) {
+      low[k] = std::min(low[k], x[i + k]);
+      high[k] = std::max(high[k], x[i + k]);
+    }
+  return std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
 }
 
 TriangleMesh mesh_from_abi(const clothlab_mesh& abi) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "simd_namespace.hpp"
 
@@ -18,23 +19,30 @@ constexpr std::size_t kMargin = 16;   // zeros left of a scratch row's column 0
 template <class Real>
 SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topology,
                                      const Real* inverse_mass, std::size_t stride, bool damping,
-                                     int threads, bool parallel)
+                                     int threads, bool parallel, bool spring_list)
     : topology_(topology),
+      spring_list_(spring_list),
       inverse_mass_(inverse_mass),
       stride_(stride),
       n_(topology.particle_count),
-      rows_(scene.rows),
-      cols_(scene.cols),
+      rows_(spring_list ? 0 : scene.rows),
+      cols_(spring_list ? 0 : scene.cols),
       damping_(damping),
       threads_(threads),
       parallel_(parallel),
       span_(kMargin + (cols_ + kMargin + 15) / 16 * 16),
       product_rows_(static_cast<std::size_t>(threads) * 3 * span_),
       mass_(topology.particle_count),
-      row_dots_(scene.rows, 0.0) {
+      row_dots_(spring_list ? (n_ + kChunk - 1) / kChunk : rows_, 0.0) {
   for (std::size_t i = 0; i < n_; ++i)
     mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
-  for (const Stencil& stencil : kProvotStencils) {  // as build_grid_model lists the springs
+  if (spring_list) {
+    spring_products_ = AlignedBuffer<Real>(3 * topology.spring_count());
+    spring_definite_ = AlignedBuffer<Real>(6 * topology.spring_count());
+  }
+  const std::span<const Stencil> grid_stencils =
+      spring_list ? std::span<const Stencil>() : std::span<const Stencil>(kProvotStencils);
+  for (const Stencil& stencil : grid_stencils) {  // as build_grid_model lists the springs
     const SpringFamily& law = scene.*stencil.family;
     const StencilExtent extent = stencil_extent(stencil, scene.rows, scene.cols);
     if ((law.ks == 0.0 && law.kd == 0.0) || extent.count() == 0) continue;
@@ -274,6 +282,10 @@ template <JacobianForm Form, bool Shifted>
 void SpringJacobian<Real>::apply_form(const Real* x, const Real* v, double c_x, double c_v,
                                       const Real* u, Real* out, const Direction* direction) const {
   const Weights w{c_x, c_v, damping_ && v != nullptr};
+  if (spring_list_) {
+    list_apply<Form, Shifted>(x, v, w, u, out);
+    return;
+  }
 #pragma omp parallel num_threads(threads_) if (parallel_)
   {
     const auto thread = static_cast<std::size_t>(omp_get_thread_num());

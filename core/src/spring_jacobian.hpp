@@ -14,6 +14,10 @@
 // rows of `out` and first runs the two rows above it for their springs into it: no scatter
 // between threads, no atomics, and every particle sums its springs in the same order for
 // any thread count. The block forms build M per adjacency entry.
+// On the spring list (any mesh, or a grid forced onto the general path) the products run by
+// gather instead (spring_list_jacobian.cpp): one pass puts each spring's M (u_j - u_i) in its
+// own slot, a second sums each particle's slots in its adjacency order; the same bits on any
+// thread count, no atomics.
 // Everything is allocated by the constructor; the calls never allocate.
 #pragma once
 
@@ -35,9 +39,10 @@ namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 template <class Real>
 class SpringJacobian {
  public:
-  // damping: whether eval_acceleration applies spring damping when given velocities.
+  // damping: whether eval_acceleration applies spring damping when given velocities;
+  // spring_list: the products gather over the model's springs instead of sweeping grid rows.
   SpringJacobian(const Scene& scene, const ClothModel& topology, const Real* inverse_mass,
-                 std::size_t stride, bool damping, int threads, bool parallel);
+                 std::size_t stride, bool damping, int threads, bool parallel, bool spring_list);
 
   // Whether the passes run on the thread team (false: on the calling thread alone); the engine
   // sets it per step (TeamGovernor). Results are the same bits either way.
@@ -111,6 +116,18 @@ class SpringJacobian {
   // Grid row `row` of the shifted product, its springs summed in out: out = u + inverse mass x
   // out, and the row's <u, out> into row_dots_; scratch: a row's worth of the thread's floats.
   void finish_shifted_row(const Real* u, Real* out, std::size_t row, Real* scratch) const;
+  // The spring-list products (spring_list_jacobian.cpp): out = J u (Shifted: u + J u, and each
+  // particle chunk's share of <u, out> into row_dots_).
+  template <JacobianForm Form, bool Shifted>
+  void list_apply(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out) const;
+  // The definite M of every spring at the linearisation, 6 coefficients each (M is symmetric).
+  void list_linearise(const Real* x, const Real* v, double c_x, double c_v) const;
+  // Pass 1: slot s = M_s (u_second - u_first), pinned ends' u taken as 0; block(s, m) gives M_s.
+  template <class Block>
+  void list_spring_products(const Real* u, Block&& block) const;
+  // Pass 2: out_i = inverse mass x the sum of particle i's slots (each signed by its end).
+  template <bool Shifted>
+  void list_gather(const Real* u, Real* out) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -119,6 +136,7 @@ class SpringJacobian {
   void for_chunks(std::size_t count, Body&& body) const;
 
   const ClothModel& topology_;
+  bool spring_list_;  // the gather products (no grid rows)
   const Real* inverse_mass_;
   std::size_t stride_;
   std::size_t n_;
@@ -144,9 +162,12 @@ class SpringJacobian {
     const Real *x = nullptr, *v = nullptr;
     double c_x = 0.0, c_v = 0.0;
   };
-  mutable Linearisation linearised_;      // x == nullptr: none yet
-  AlignedBuffer<Real> mass_;              // 1 / inverse mass, 0 where pinned
-  mutable std::vector<double> row_dots_;  // per grid row: its share of <u, out>
+  mutable Linearisation linearised_;  // x == nullptr: none yet
+  AlignedBuffer<Real> mass_;          // 1 / inverse mass, 0 where pinned
+  // Per grid row (on the spring list: per particle chunk): its share of <u, out>.
+  mutable std::vector<double> row_dots_;
+  mutable AlignedBuffer<Real> spring_products_;  // spring list: 3 per spring, pass 1's slots
+  mutable AlignedBuffer<Real> spring_definite_;  // spring list: 6 per spring, list_linearise's
 };
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

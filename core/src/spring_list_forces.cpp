@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "air_kernel.hpp"
@@ -29,23 +30,10 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
       threads_(threads),
       parallel_(parallel),
       velocity_forces_(velocity_forces),
-      model_(model),
+      springs_(model, velocity_forces),
+      spring_count_(model.spring_count()),
       triangles_(model.triangles) {
-  const std::size_t springs = model.spring_count();
-  first_ = model.first;
-  second_ = model.second;
-  rest_ = AlignedBuffer<Real>(springs);
-  ks_ = AlignedBuffer<Real>(springs);
-  kd_ = AlignedBuffer<Real>(springs);
-  damped_.assign(springs, 0);
-  for (std::size_t s = 0; s < springs; ++s) {
-    rest_[s] = static_cast<Real>(model.rest_length[s]);
-    ks_[s] = static_cast<Real>(model.ks[s]);
-    kd_[s] = static_cast<Real>(model.kd[s]);
-    damped_[s] = velocity_forces && model.kd[s] > 0.0;
-    damped_count_ += damped_[s];
-  }
-  spring_force_ = AlignedBuffer<Real>(3 * springs);
+  spring_force_ = AlignedBuffer<Real>(3 * springs_.slots());
 
   for (int k = 0; k < 3; ++k) {
     gravity_[k] = static_cast<Real>(scene.gravity[k]);
@@ -94,27 +82,13 @@ const Real* SpringListForces<Real>::form(const StateCombination<Real>& state, Re
 
 template <class Real>
 void SpringListForces<Real>::spring_pass(const Real* x, const Real* v) {
-  const std::size_t springs = first_.size();
-  const std::size_t s1 = stride_, s2 = 2 * stride_;
-  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(springs));
+  const std::size_t blocks = springs_.spring_blocks();
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(blocks * kSpringBlock));
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(springs, begin + kChunk);
-    for (std::size_t s = begin; s < end; ++s) {
-      const std::size_t i = first_[s], j = second_[s];
-      const Real dx = x[j] - x[i], dy = x[j + s1] - x[i + s1], dz = x[j + s2] - x[i + s2];
-      Real scale;
-      if (v != nullptr && damped_[s]) {
-        scale = spring_force_scale<true, Real>(dx, dy, dz, v[j] - v[i], v[j + s1] - v[i + s1],
-                                               v[j + s2] - v[i + s2], rest_[s], ks_[s], kd_[s]);
-      } else {
-        scale = spring_force_scale<false, Real>(dx, dy, dz, 0, 0, 0, rest_[s], ks_[s], 0);
-      }
-      spring_force_[3 * s] = scale * dx;
-      spring_force_[3 * s + 1] = scale * dy;
-      spring_force_[3 * s + 2] = scale * dz;
-    }
+    const std::size_t begin = static_cast<std::size_t>(chunk) * (kChunk / kSpringBlock);
+    const std::size_t end = std::min(blocks, begin + kChunk / kSpringBlock);
+    springs_.forces(x, v, stride_, begin, end, spring_force_.data());
   }
 }
 
@@ -152,33 +126,31 @@ void SpringListForces<Real>::triangle_pass(const Real* x, const Real* v) {
 
 template <class Real>
 Real SpringListForces<Real>::gather(Real* a, bool springs, bool triangles) {
-  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(n_));
-  const std::vector<uint32_t>& spring_offsets = model_.adjacency_offsets;
-  const std::vector<uint32_t>& adjacent_springs = model_.adjacent_springs;
+  const std::size_t blocks = springs_.particle_blocks();
+  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(blocks * kSpringBlock));
   Real check = 0;
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_) reduction(+ : check)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(n_, begin + kChunk);
-    for (std::size_t i = begin; i < end; ++i) {
-      const Real inverse_mass = inverse_mass_[i];
-      Real force[3] = {0, 0, 0};
-      if (inverse_mass > Real(0)) {
-        if (springs)
-          for (uint32_t e = spring_offsets[i]; e < spring_offsets[i + 1]; ++e) {
-            const uint32_t s = adjacent_springs[e];
-            const Real sign = first_[s] == i ? Real(1) : Real(-1);
-            for (int k = 0; k < 3; ++k) force[k] += sign * spring_force_[3 * s + k];
-          }
-        if (triangles)
-          for (uint32_t e = triangle_offsets_[i]; e < triangle_offsets_[i + 1]; ++e)
-            for (int k = 0; k < 3; ++k) force[k] += triangle_share_[3 * adjacent_triangles_[e] + k];
-      }
-      for (std::size_t k = 0; k < 3; ++k) {
-        const Real value = inverse_mass > Real(0) ? force[k] * inverse_mass + gravity_[k] : Real(0);
-        a[k * stride_ + i] = value;
-        check += Real(0) * value;
-      }
+    const std::size_t begin = static_cast<std::size_t>(chunk) * (kChunk / kSpringBlock);
+    const std::size_t end = std::min(blocks, begin + kChunk / kSpringBlock);
+    for (std::size_t block = begin; block < end; ++block) {
+      alignas(kAlignment) Real force[3][kSpringBlock] = {};
+      if (springs) springs_.sum_incident(spring_force_.data(), block, force);
+      const std::size_t first = block * kSpringBlock;
+      const std::size_t count = std::min(kSpringBlock, n_ - first);
+      if (triangles)
+        for (std::size_t l = 0; l < count; ++l)
+          for (uint32_t e = triangle_offsets_[first + l]; e < triangle_offsets_[first + l + 1]; ++e)
+            for (std::size_t k = 0; k < 3; ++k)
+              force[k][l] += triangle_share_[3 * adjacent_triangles_[e] + k];
+      for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t l = 0; l < count; ++l) {
+          const Real inverse_mass = inverse_mass_[first + l];
+          const Real value =
+              inverse_mass > Real(0) ? force[k][l] * inverse_mass + gravity_[k] : Real(0);
+          a[k * stride_ + first + l] = value;
+          check += Real(0) * value;
+        }
     }
   }
   return check;
@@ -188,15 +160,24 @@ template <class Real>
 bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
                                       const StateCombination<Real>* v, Real* a,
                                       StageCounters& counters) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   const Real* positions = form(x, formed_x_.data());
   const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
   spring_pass(positions, velocities);
+  const auto springs_done = Clock::now();
   const bool cells = wind_ || air_;
   if (cells) triangle_pass(positions, velocities);
+  const auto triangles_done = Clock::now();
   const Real check = gather(a, true, cells);
+  // The gather, which also adds the triangles' shares, counts with the springs.
+  const double external = std::chrono::duration<double>(triangles_done - springs_done).count();
+  counters.external_forces_s += external;
+  counters.internal_forces_s +=
+      std::chrono::duration<double>(Clock::now() - start).count() - external;
   ++counters.force_evals;
-  counters.springs_evaluated += first_.size();
-  counters.springs_damped += velocities != nullptr ? damped_count_ : 0;
+  counters.springs_evaluated += spring_count_;
+  counters.springs_damped += velocities != nullptr ? springs_.damped_count() : 0;
   counters.normals_computed += cells ? triangles_.size() / 3 : 0;
   return check == Real(0);
 }

@@ -5,8 +5,9 @@
 // Threaded by gather, so the result is the same bits on any thread count and needs no atomics:
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
-// a fixed order and turns the sum into an acceleration. Scratch is sized at construction (the
-// Runge-Kutta-Nystrom stages' in reserve_stages): a step allocates nothing.
+// a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
+// SpringLanes (spring_lanes.hpp). Scratch is sized at construction (the Runge-Kutta-Nystrom
+// stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -18,6 +19,7 @@
 #include "aligned_buffer.hpp"
 #include "rkn_step.hpp"
 #include "simd_namespace.hpp"
+#include "spring_lanes.hpp"
 #include "state_combination.hpp"
 
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
@@ -56,11 +58,8 @@ class SpringListForces {
   bool parallel_ = false;
   bool velocity_forces_ = true;
 
-  std::vector<uint32_t> first_, second_;
-  AlignedBuffer<Real> rest_, ks_, kd_;
-  std::vector<uint8_t> damped_;  // 1 where the spring has damping and the integrator wants it
-  uint64_t damped_count_ = 0;
-  const ClothModel& model_;  // its particle -> spring lists; outlives this
+  SpringLanes<Real> springs_;
+  std::size_t spring_count_ = 0;
   std::vector<uint32_t> triangles_;
   std::vector<uint32_t> triangle_offsets_, adjacent_triangles_;  // particle -> triangle lists
 
@@ -72,7 +71,7 @@ class SpringListForces {
   Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;
   bool air_ = false;
 
-  AlignedBuffer<Real> spring_force_;    // 3 per spring: the force on its first particle
+  AlignedBuffer<Real> spring_force_;    // by slot (SpringLanes): the force on the first particle
   AlignedBuffer<Real> triangle_share_;  // 3 per triangle: the force on each of its corners
   AlignedBuffer<Real> formed_x_, formed_v_;
   uint32_t reserved_stages_ = 0;

@@ -4,6 +4,7 @@
 
 #include <clothlab/analysis/local_solve_bound.hpp>
 #include <clothlab/analysis/stability_prediction.hpp>
+#include <clothlab/core/triangle_mesh.hpp>
 #include <cmath>
 #include <stdexcept>
 
@@ -26,8 +27,7 @@ nlohmann::json run_case(const RunConfig& config, LoadedPlugins plugins, bool wit
     std::vector<double> positions;
     simulation.cloth().positions(positions);
     json["positions"] = positions;
-    const Scene& scene = simulation.cloth().scene();
-    json["diagonal"] = std::hypot(scene.width, scene.height);
+    json["diagonal"] = rest_diagonal(simulation.cloth().scene(), *simulation.cloth().model());
   }
   return json;
 }
@@ -68,7 +68,7 @@ nlohmann::json local_solve_case(const RunConfig& config, LoadedPlugins plugins) 
       (traits->flags & CLOTHLAB_TRAIT_LOCAL_SOLVES) == 0)
     return nullptr;
   const Simulation simulation(config, std::move(plugins));
-  const analysis::LocalSolveBound bound = analysis::local_solve_bound(simulation.cloth().scene());
+  const analysis::LocalSolveBound bound = analysis::local_solve_bound(*simulation.cloth().model());
   nlohmann::json json;
   json["dt_max"] =
       std::isfinite(bound.dt_max) ? nlohmann::json(bound.dt_max) : nlohmann::json(nullptr);

@@ -15,6 +15,7 @@
 
 #include "case_execution.hpp"
 #include "dry_run.hpp"
+#include "last_setting.hpp"
 #include "output_file.hpp"
 #include "run_config.hpp"
 #include "sweep_mode.hpp"
@@ -25,6 +26,7 @@ namespace {
 
 // The integrators to search, in plugin-path order unless choose.integrators names them.
 std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
+                                                   const std::vector<Setting>& settings,
                                                    const host::PluginSearchPath& search_path) {
   const host::LibraryScan scan = host::scan_libraries(search_path);
   std::vector<sweep::ChoiceCandidate> found;
@@ -61,7 +63,7 @@ std::vector<sweep::ChoiceCandidate> candidates_for(const Configuration& whole,
       return candidate.integrator == id;
     });
     if (match == found.end())
-      throw host::InputError("choose.integrators: " + id +
+      throw host::InputError(where_set(settings, "choose.integrators") + ": " + id +
                              " is not an integrator on the plugin path (" + search_path.describe() +
                              ")");
     chosen.push_back(*match);
@@ -125,7 +127,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                    [](const Setting& setting) { return setting.key == "frame_rate"; }))
     throw host::InputError("--choose needs frame_rate (Hz): --frame-rate 60 or frame_rate: 60");
   const sweep::ChoiceSettings& choice = choose.search;
-  std::vector<sweep::ChoiceCandidate> candidates = candidates_for(whole, search_path);
+  std::vector<sweep::ChoiceCandidate> candidates = candidates_for(whole, settings, search_path);
   if (candidates.empty())
     throw host::InputError("--choose: no integrator on the plugin path (" + search_path.describe() +
                            ")");
@@ -135,7 +137,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
   // its own integrator, so the reference integrator stands in for it.
   RunConfig scene = whole.run;
   scene.integrator = choice.reference_integrator;
-  scene.integrator_source = "choose.reference_integrator";
+  scene.integrator_source = where_set(settings, "choose.reference_integrator");
   scene.integrator_params.clear();
   check_plugins(scene, search_path);
 
@@ -178,7 +180,8 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
                                                    ? spec.output.parent_path() / "choose-references"
                                                    : std::filesystem::path(choose.reference_cache);
     sweep::TrajectoryCache cache(
-        cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); });
+        cache_folder, [&](const std::string& id) { return plugin_identity(search_path, id); },
+        host_identity());
     CaseWorker worker(search_path);
     predict_local_solvers(candidates, base, choice.frame_rate, worker);
     const sweep::TrajectoryRunner runner = [&](const sweep::CaseSpec& c) {

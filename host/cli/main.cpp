@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/plugin_search_path.hpp>
+#include <clothlab/sweep/progress.hpp>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -132,7 +133,8 @@ int run(int argc, const char* const argv[]) {
       std::cout << "dry run: --find-max-dt for " << described << "; nothing stepped\n";
       return exit_ok;
     }
-    const nlohmann::json result = find_max_dt(whole, search_path);
+    const nlohmann::json result =
+        find_max_dt(whole, search_path, clothlab::sweep::stderr_is_terminal());
     if (command_line.json_file)
       write_file_atomically(*command_line.json_file,
                             [&](std::ostream& out) { out << result.dump(2) << "\n"; });

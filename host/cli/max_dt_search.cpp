@@ -1,9 +1,11 @@
 #include "max_dt_search.hpp"
 
 #include <clothlab/analysis/find_max_dt.hpp>
+#include <clothlab/sweep/progress.hpp>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <iostream>
 
 #include "case_execution.hpp"
 #include "isolation.hpp"
@@ -18,9 +20,23 @@ RunConfig with_dt(RunConfig config, double dt) {
   return config;
 }
 
+// "dt 0.00125 s: stable", "dt 0.0025 s: unstable (energy at step 12)".
+std::string probe_label(const nlohmann::json& probe) {
+  char dt[32];
+  std::snprintf(dt, sizeof dt, "%.4g", probe["dt"].get<double>());
+  std::string label = "dt " + std::string(dt) + " s: ";
+  if (probe["stable"].get<bool>()) return label + "stable";
+  const nlohmann::json& check = probe["failed_check"];
+  label += "unstable (" + (check.is_string() ? check.get<std::string>() : std::string("?"));
+  if (probe["failed_step"].is_number())
+    label += " at step " + std::to_string(probe["failed_step"].get<uint64_t>());
+  return label + ")";
+}
+
 }  // namespace
 
-nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path) {
+nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path,
+                           bool show_progress) {
   const RunConfig& config = whole.run;
   // Every probe below turns an error into an unstable run, so bad input is found first.
   check_plugins(config, search_path);
@@ -45,6 +61,8 @@ nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchP
   }
 
   nlohmann::json probes = nlohmann::json::array();
+  sweep::Progress progress(static_cast<std::size_t>(options.max_evaluations), 0, std::cerr,
+                           show_progress);
   const analysis::MaxDtResult search = analysis::find_max_dt(
       [&](double dt) {
         nlohmann::json probe = {{"dt", dt}};
@@ -62,9 +80,11 @@ nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchP
           probe["error"] = error.what();
         }
         probes.push_back(probe);
+        progress.case_finished(probe_label(probe));
         return probe["stable"].get<bool>();
       },
       options);
+  progress.finish();
   result["dt_max"] = search.dt_stable > 0 ? nlohmann::json(search.dt_stable) : nullptr;
   result["dt_unstable"] = search.dt_unstable > 0 ? nlohmann::json(search.dt_unstable) : nullptr;
   result["outcome"] = analysis::to_string(search.outcome);

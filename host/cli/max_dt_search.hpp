@@ -13,7 +13,10 @@ namespace clothlab::cli {
 // that crashes or throws counts as unstable. The prediction failing is noted, not fatal.
 // Returns {integrator, scenario, rows, cols, precision, duration, tolerance, dt_max,
 // dt_unstable, outcome, evaluations, predicted_dt_max, measured_over_predicted, ..., probes}.
-nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path);
+// With `show_progress` (stderr is a terminal) each probe updates the sweeps' progress line,
+// counted against find_max_dt.max_evaluations (the search usually ends sooner).
+nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchPath& search_path,
+                           bool show_progress);
 
 std::string max_dt_summary(const nlohmann::json& result);
 

@@ -13,7 +13,7 @@
 namespace clothlab::cli {
 
 struct ListedParameter {
-  std::string key;            // "integrator.substeps"
+  std::string key;            // "integrator.iterations"
   std::string default_value;  // as a --set value would write it
   std::string allowed;        // "integer 1 .. 64"
   std::string help;

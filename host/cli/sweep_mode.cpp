@@ -18,6 +18,7 @@
 #include "case_worker.hpp"
 #include "dry_run.hpp"
 #include "isolation.hpp"
+#include "last_setting.hpp"
 #include "resident_plugins.hpp"
 #include "run_config.hpp"
 #include "simulation.hpp"
@@ -140,13 +141,40 @@ void check_every_case(const std::vector<sweep::CaseSpec>& cases,
   }
 }
 
+// The reference of a work-precision sweep is loaded like a case's integrator, in float64, and
+// a failure is reported at work_precision.reference_integrator, not in the first case's run.
+void check_reference_integrator(const sweep::SweepSpec& spec,
+                                const std::vector<sweep::CaseSpec>& cases,
+                                const host::PluginSearchPath& search_path) {
+  const std::vector<std::string>& own = spec.work_precision.self_reference;
+  const auto referenced = std::find_if(cases.begin(), cases.end(), [&](const auto& c) {
+    return std::find(own.begin(), own.end(), c.integrator) == own.end();
+  });
+  if (referenced == cases.end()) return;
+  RunConfig reference = resolve_run_config(referenced->settings);
+  reference.integrator = spec.work_precision.reference_integrator;
+  reference.integrator_source = where_set(spec.fixed, "work_precision.reference_integrator");
+  reference.integrator_params.clear();
+  reference.float64 = true;
+  check_plugins(reference, search_path);
+}
+
 }  // namespace
 
 // A plugin file's identity for the fingerprint: where it was found, its size and content hash.
 std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id) {
   const std::filesystem::path path = search_path.resolve(id);
-  return path.string() + " size " + std::to_string(std::filesystem::file_size(path)) + " fnv1a " +
+  std::error_code error;
+  const auto size = std::filesystem::file_size(path, error);
+  if (error) throw host::PluginLoadError("plugin " + path.string() + ": " + error.message());
+  return path.string() + " size " + std::to_string(size) + " fnv1a " +
          sweep::file_hash(path.string());
+}
+
+std::string host_identity() {
+  const std::filesystem::path executable = "/proc/self/exe";
+  return "clothlab size " + std::to_string(std::filesystem::file_size(executable)) + " fnv1a " +
+         sweep::file_hash(executable.string());
 }
 
 void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& search_path,
@@ -158,6 +186,8 @@ void run_sweep_file(const SweepRequest& request, const host::PluginSearchPath& s
     if (spec.mode == sweep::SweepMode::WorkPrecision)
       sweep::check_work_precision_cases(spec, all_cases);
     check_every_case(all_cases, search_path);
+    if (spec.mode == sweep::SweepMode::WorkPrecision)
+      check_reference_integrator(spec, all_cases, search_path);
     const sweep::Fingerprint fingerprint = sweep::sweep_fingerprint(
         spec, [&](const std::string& id) { return plugin_identity(search_path, id); });
     if (request.shard) (void)sweep::parse_shard(*request.shard, "--shard");

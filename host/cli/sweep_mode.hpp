@@ -35,6 +35,8 @@ sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& wor
 // A plugin file's identity for fingerprints and caches: where it was found, its size and
 // content hash.
 std::string plugin_identity(const host::PluginSearchPath& search_path, const std::string& id);
+// The running host's identity, as a plugin file's: its executable's size and content hash.
+std::string host_identity();
 
 // Runs the sweep (with dry_run: checks it), prints a summary to out. Throws InputError for a bad
 // sweep file or results that cannot be resumed or written. Unstable and failed cases are results,

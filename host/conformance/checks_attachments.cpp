@@ -43,9 +43,9 @@ class CirclingTargets final : public AttachmentSource {
   std::vector<double> starts_;
 };
 
-Verdict attachments_follow_their_targets(const clothlab_integrator& integrator,
+Verdict attachments_follow_their_targets(const clothlab_integrator& integrator, SheetShape shape,
                                          Precision precision) {
-  Cloth cloth(sheet_scene(6, 5), precision, pipeline_for(integrator));
+  Cloth cloth = sheet_cloth(sheet_scene(6, 5), shape, precision, pipeline_for(integrator));
   const std::vector<uint32_t> attached = cloth.scene().pinned;
   const State start = state_of(cloth);
   std::vector<double> starts;
@@ -90,11 +90,13 @@ std::vector<Check> attachment_checks(const clothlab_integrator& integrator) {
   const clothlab_integrator* c = &integrator;
   std::vector<Check> checks;
   if (c->precisions & (1u << CLOTHLAB_FLOAT64))
-    checks.push_back({c->id, "attachments.follow-f64",
-                      [c] { return attachments_follow_their_targets(*c, Precision::Float64); }});
+    checks.push_back(
+        {c->id, "attachments.follow-f64",
+         [c] { return on_every_shape(*c, attachments_follow_their_targets, Precision::Float64); }});
   if (c->precisions & (1u << CLOTHLAB_FLOAT32))
-    checks.push_back({c->id, "attachments.follow-f32",
-                      [c] { return attachments_follow_their_targets(*c, Precision::Float32); }});
+    checks.push_back(
+        {c->id, "attachments.follow-f32",
+         [c] { return on_every_shape(*c, attachments_follow_their_targets, Precision::Float32); }});
   return checks;
 }
 

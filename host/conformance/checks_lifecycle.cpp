@@ -1,4 +1,5 @@
-// lifecycle.*: instances survive every order of calls a host may make, on every grid shape.
+// lifecycle.*: instances survive every order of calls a host may make, on every grid shape and
+// on an irregular mesh.
 #include <string>
 
 #include "check.hpp"
@@ -13,11 +14,11 @@ constexpr double step_size = 1e-3;
 
 Values defaults_of(const clothlab_integrator& integrator) { return default_values(integrator); }
 
-Verdict repeated_lifecycle(const clothlab_integrator& integrator) {
+Verdict repeated_lifecycle(const clothlab_integrator& integrator, SheetShape shape) {
   State first;
   for (int round = 0; round < repeat_rounds; ++round) {
     const State state = simulate(integrator, sheet_scene(3, 3), preferred_precision(integrator), 1,
-                                 grid_steps, step_size);
+                                 grid_steps, step_size, shape);
     if (round == 0) first = state;
     require(state == first, "round " + std::to_string(round + 1) +
                                 " of create/prepare/step/destroy differs from round 1");
@@ -25,9 +26,10 @@ Verdict repeated_lifecycle(const clothlab_integrator& integrator) {
   return {true, std::to_string(repeat_rounds) + " rounds, identical results"};
 }
 
-Verdict zero_steps(const clothlab_integrator& integrator) {
+Verdict zero_steps(const clothlab_integrator& integrator, SheetShape shape) {
   { IntegratorInstance unprepared(integrator, defaults_of(integrator)); }
-  Cloth cloth(sheet_scene(3, 3), preferred_precision(integrator), pipeline_for(integrator));
+  Cloth cloth = sheet_cloth(sheet_scene(3, 3), shape, preferred_precision(integrator),
+                            pipeline_for(integrator));
   const State before = state_of(cloth);
   {
     IntegratorInstance instance(integrator, defaults_of(integrator));
@@ -38,8 +40,9 @@ Verdict zero_steps(const clothlab_integrator& integrator) {
   return {true, ""};
 }
 
-Verdict zero_dt(const clothlab_integrator& integrator) {
-  Cloth cloth(sheet_scene(4, 5, true), preferred_precision(integrator), pipeline_for(integrator));
+Verdict zero_dt(const clothlab_integrator& integrator, SheetShape shape) {
+  Cloth cloth = sheet_cloth(sheet_scene(4, 5, true), shape, preferred_precision(integrator),
+                            pipeline_for(integrator));
   IntegratorInstance instance(integrator, defaults_of(integrator));
   instance.prepare(cloth);
   instance.run(cloth, 5, step_size);  // moving, so a dt = 0 step has forces to ignore
@@ -60,12 +63,12 @@ Verdict grid_runs(const clothlab_integrator& integrator, uint32_t rows, uint32_t
 
 // The header allows rebinding: an instance prepared on one system, then on another, steps the
 // second exactly as a fresh instance would.
-Verdict prepare_twice(const clothlab_integrator& integrator) {
+Verdict prepare_twice(const clothlab_integrator& integrator, SheetShape shape) {
   const Precision precision = preferred_precision(integrator);
   const Scene scene = sheet_scene(4, 5, true);
-  const State fresh = simulate(integrator, scene, precision, 1, grid_steps, step_size);
-  Cloth first(sheet_scene(3, 3), precision, pipeline_for(integrator));
-  Cloth second(scene, precision, pipeline_for(integrator));
+  const State fresh = simulate(integrator, scene, precision, 1, grid_steps, step_size, shape);
+  Cloth first = sheet_cloth(sheet_scene(3, 3), shape, precision, pipeline_for(integrator));
+  Cloth second = sheet_cloth(scene, shape, precision, pipeline_for(integrator));
   IntegratorInstance instance(integrator, defaults_of(integrator));
   instance.prepare(first);
   instance.run(first, 3, step_size);
@@ -77,8 +80,9 @@ Verdict prepare_twice(const clothlab_integrator& integrator) {
 }
 
 // evals_per_step is what hosts budget by (work-precision plots count it): it must be exact.
-Verdict declared_evaluations(const clothlab_integrator& integrator) {
-  Cloth cloth(sheet_scene(4, 5, true), preferred_precision(integrator), pipeline_for(integrator));
+Verdict declared_evaluations(const clothlab_integrator& integrator, SheetShape shape) {
+  Cloth cloth = sheet_cloth(sheet_scene(4, 5, true), shape, preferred_precision(integrator),
+                            pipeline_for(integrator));
   IntegratorInstance instance(integrator, defaults_of(integrator));
   instance.prepare(cloth);
   cloth.reset_counters();
@@ -100,11 +104,11 @@ bool supports(const clothlab_integrator& integrator, uint32_t precision) {
 std::vector<Check> lifecycle_checks(const clothlab_integrator& integrator) {
   const clothlab_integrator* c = &integrator;
   std::vector<Check> checks = {
-      {c->id, "lifecycle.repeat", [c] { return repeated_lifecycle(*c); }},
-      {c->id, "lifecycle.zero-steps", [c] { return zero_steps(*c); }},
-      {c->id, "lifecycle.dt-zero", [c] { return zero_dt(*c); }},
-      {c->id, "lifecycle.prepare-twice", [c] { return prepare_twice(*c); }},
-      {c->id, "lifecycle.evals-per-step", [c] { return declared_evaluations(*c); }},
+      {c->id, "lifecycle.repeat", [c] { return on_every_shape(*c, repeated_lifecycle); }},
+      {c->id, "lifecycle.zero-steps", [c] { return on_every_shape(*c, zero_steps); }},
+      {c->id, "lifecycle.dt-zero", [c] { return on_every_shape(*c, zero_dt); }},
+      {c->id, "lifecycle.prepare-twice", [c] { return on_every_shape(*c, prepare_twice); }},
+      {c->id, "lifecycle.evals-per-step", [c] { return on_every_shape(*c, declared_evaluations); }},
   };
   const std::pair<uint32_t, uint32_t> grids[] = {{1, 1}, {2, 1}, {1, 7}, {3, 3}, {64, 48}};
   for (auto [rows, cols] : grids) {

@@ -30,9 +30,10 @@ void require_no_escape(const std::string& what, Call&& call) {
   }
 }
 
-Verdict nothing_escapes(const clothlab_integrator& integrator) {
+Verdict nothing_escapes(const clothlab_integrator& integrator, SheetShape shape) {
   Values values = default_values(integrator);
-  Cloth cloth(sheet_scene(4, 4, true), preferred_precision(integrator), pipeline_for(integrator));
+  Cloth cloth = sheet_cloth(sheet_scene(4, 4, true), shape, preferred_precision(integrator),
+                            pipeline_for(integrator));
   clothlab_message message{};
   void* instance = nullptr;
   require_no_escape("create", [&] {
@@ -73,12 +74,13 @@ Collider sphere_through_the_middle(const Cloth& cloth) {
   return sphere;
 }
 
-Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
-  Cloth cloth(sheet_scene(8, 8, true), preferred_precision(integrator), pipeline_for(integrator));
+Verdict step_does_not_allocate(const clothlab_integrator& integrator, SheetShape shape) {
+  Cloth cloth = sheet_cloth(sheet_scene(8, 8, true), shape, preferred_precision(integrator),
+                            pipeline_for(integrator));
   // An integrator that resolves contacts meets a collider, so its contact path is measured.
   const bool contacts = has_trait(integrator, CLOTHLAB_TRAIT_RESOLVES_CONTACTS);
   const Collider sphere = sphere_through_the_middle(cloth);
-  if (contacts) cloth.set_colliders({&sphere, 1});
+  if (contacts) cloth.set_colliders({&sphere, 1}, 0.0);
   PluginOnlySystem measured(cloth.system());
   IntegratorInstance instance(integrator, default_values(integrator));
   clothlab_message message{};
@@ -104,11 +106,11 @@ Verdict step_does_not_allocate(const clothlab_integrator& integrator) {
 
 // Two live instances stepped by turns in one thread: state shared between instances (a static)
 // shows here every time, where two threads show it only when their steps happen to overlap.
-void require_interleaved_equal(const clothlab_integrator& integrator, const Scene (&scenes)[2],
-                               const State (&sequential)[2]) {
+void require_interleaved_equal(const clothlab_integrator& integrator, SheetShape shape,
+                               const Scene (&scenes)[2], const State (&sequential)[2]) {
   const Precision precision = preferred_precision(integrator);
-  Cloth cloths[2] = {Cloth(scenes[0], precision, pipeline_for(integrator)),
-                     Cloth(scenes[1], precision, pipeline_for(integrator))};
+  Cloth cloths[2] = {sheet_cloth(scenes[0], shape, precision, pipeline_for(integrator)),
+                     sheet_cloth(scenes[1], shape, precision, pipeline_for(integrator))};
   IntegratorInstance first(integrator, default_values(integrator));
   IntegratorInstance second(integrator, default_values(integrator));
   IntegratorInstance* instances[2] = {&first, &second};
@@ -121,20 +123,20 @@ void require_interleaved_equal(const clothlab_integrator& integrator, const Scen
                 " stepped by turns with another differs from its run alone");
 }
 
-Verdict concurrent_equals_sequential(const clothlab_integrator& integrator) {
+Verdict concurrent_equals_sequential(const clothlab_integrator& integrator, SheetShape shape) {
   const Scene scenes[2] = {sheet_scene(16, 12, true), sheet_scene(12, 16)};
   State sequential[2], concurrent[2];
   for (int i = 0; i < 2; ++i)
-    sequential[i] =
-        simulate(integrator, scenes[i], preferred_precision(integrator), 1, concurrent_steps, 1e-3);
-  require_interleaved_equal(integrator, scenes, sequential);
+    sequential[i] = simulate(integrator, scenes[i], preferred_precision(integrator), 1,
+                             concurrent_steps, 1e-3, shape);
+  require_interleaved_equal(integrator, shape, scenes, sequential);
   std::string errors[2];
   std::thread workers[2];
   for (int i = 0; i < 2; ++i)
     workers[i] = std::thread([&, i] {
       try {
         concurrent[i] = simulate(integrator, scenes[i], preferred_precision(integrator), 1,
-                                 concurrent_steps, 1e-3);
+                                 concurrent_steps, 1e-3, shape);
       } catch (const std::exception& e) {
         errors[i] = e.what();
       }
@@ -153,9 +155,10 @@ Verdict concurrent_equals_sequential(const clothlab_integrator& integrator) {
 std::vector<Check> robustness_checks(const clothlab_integrator& integrator) {
   const clothlab_integrator* c = &integrator;
   return {
-      {c->id, "robustness.no-throw", [c] { return nothing_escapes(*c); }},
-      {c->id, "robustness.no-alloc", [c] { return step_does_not_allocate(*c); }},
-      {c->id, "robustness.concurrent", [c] { return concurrent_equals_sequential(*c); }},
+      {c->id, "robustness.no-throw", [c] { return on_every_shape(*c, nothing_escapes); }},
+      {c->id, "robustness.no-alloc", [c] { return on_every_shape(*c, step_does_not_allocate); }},
+      {c->id, "robustness.concurrent",
+       [c] { return on_every_shape(*c, concurrent_equals_sequential); }},
   };
 }
 

@@ -5,6 +5,7 @@
 #include <clothlab/ext/colliders.h>
 #include <clothlab/ext/text_parameters.h>
 
+#include <clothlab/core/triangle_mesh.hpp>
 #include <cstring>
 #include <iterator>
 
@@ -217,6 +218,58 @@ Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy) {
   return scene;
 }
 
+Cloth sheet_cloth(const Scene& scene, SheetShape shape, Precision precision,
+                  PipelineOptions options) {
+  if (shape == SheetShape::Grid) return Cloth(scene, precision, options);
+  const TriangleMesh mesh = irregular_grid_mesh(scene);
+  Scene mesh_scene = scene;
+  mesh_scene.rows = mesh_scene.cols = 0;  // as the host describes a mesh: no grid layout
+  return Cloth(mesh_scene, build_mesh_model(mesh, mesh_scene), precision, options);
+}
+
+namespace {
+
+// Why `integrator` will not run on a mesh, or "" when it does: the refusal of its first
+// prepare or step on a small irregular mesh with CLOTHLAB_ERROR_UNSUPPORTED.
+std::string mesh_refusal(const clothlab_integrator& integrator) {
+  const Cloth cloth = sheet_cloth(sheet_scene(4, 5, true), SheetShape::IrregularMesh,
+                                  preferred_precision(integrator), pipeline_for(integrator));
+  const std::vector<clothlab_param_value> values = default_values(integrator);
+  void* instance = nullptr;
+  clothlab_message message{};
+  if (integrator.create(values.data(), static_cast<uint32_t>(values.size()), &instance, &message) !=
+      CLOTHLAB_OK)
+    return "";  // the body fails on the grid already
+  clothlab_status status = integrator.prepare(instance, &cloth.system(), &message);
+  if (status == CLOTHLAB_OK)
+    status = integrator.step(instance, &cloth.system(), 0.0, 1e-3, &message);
+  integrator.destroy(instance);
+  return status == CLOTHLAB_ERROR_UNSUPPORTED ? describe_status(status, message) : "";
+}
+
+std::string joined(const std::string& grid, const std::string& mesh) {
+  if (mesh.empty()) return grid;
+  return grid.empty() ? "irregular mesh: " + mesh : grid + "; irregular mesh: " + mesh;
+}
+
+}  // namespace
+
+Verdict on_every_shape(const clothlab_integrator& integrator,
+                       const std::function<Verdict(SheetShape)>& body) {
+  const Verdict grid = body(SheetShape::Grid);
+  if (!grid.passed) return grid;
+  if (const std::string refusal = mesh_refusal(integrator); !refusal.empty())
+    return {true, joined(grid.reason, "not run, the integrator refuses meshes (" + refusal + ")")};
+  Verdict mesh;
+  try {
+    mesh = body(SheetShape::IrregularMesh);
+  } catch (const CheckFailure& failure) {
+    throw CheckFailure(std::string("on the irregular mesh: ") + failure.what());
+  }
+  if (!mesh.passed) return {false, "on the irregular mesh: " + mesh.reason};
+  return {true, joined(grid.reason, mesh.reason)};
+}
+
 bool uses_velocity_forces(const clothlab_integrator& integrator) {
   return (integrator.flags & CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES) != 0;
 }
@@ -253,8 +306,8 @@ State state_of(const Cloth& cloth) {
 }
 
 State simulate(const clothlab_integrator& integrator, const Scene& scene, Precision precision,
-               int threads, int steps, double dt) {
-  Cloth cloth(scene, precision, pipeline_for(integrator, threads));
+               int threads, int steps, double dt, SheetShape shape) {
+  Cloth cloth = sheet_cloth(scene, shape, precision, pipeline_for(integrator, threads));
   IntegratorInstance instance(integrator, default_values(integrator));
   instance.prepare(cloth);
   instance.run(cloth, steps, dt);

@@ -7,8 +7,11 @@
 
 #include <clothlab/core/cloth.hpp>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "verdict.hpp"
 
 namespace clothlab::conformance {
 
@@ -99,6 +102,29 @@ class ScenarioInstance {
 // springs of every family, light wind when `windy`.
 Scene sheet_scene(uint32_t rows, uint32_t cols, bool windy = false);
 
+// What a sheet check runs on: the grid, or the same particles jittered into an irregular
+// triangle mesh (irregular_grid_mesh) with the scene's pins, mass, springs' ks and kd and loads,
+// so the engine's spring-list path and an integrator's general path are exercised too.
+enum class SheetShape { Grid, IrregularMesh };
+// A cloth of `scene` (a grid of at least 2 x 2 for the mesh) in `shape`.
+Cloth sheet_cloth(const Scene& scene, SheetShape shape, Precision precision,
+                  PipelineOptions options);
+
+// Runs a sheet check's `body` on the grid, then on the irregular mesh; the verdict is both
+// (a failure on the mesh says so). An integrator that refuses the mesh with
+// CLOTHLAB_ERROR_UNSUPPORTED in its first prepare or step (it needs a grid-only extension)
+// runs on the grid alone, and the verdict's reason says why.
+Verdict on_every_shape(const clothlab_integrator& integrator,
+                       const std::function<Verdict(SheetShape)>& body);
+// The same for a check written as check(integrator, shape, args...).
+template <class... Args>
+Verdict on_every_shape(const clothlab_integrator& integrator,
+                       Verdict (*check)(const clothlab_integrator&, SheetShape, Args...),
+                       Args... args) {
+  return on_every_shape(integrator,
+                        [&](SheetShape shape) { return check(integrator, shape, args...); });
+}
+
 PipelineOptions pipeline_for(const clothlab_integrator& integrator, int threads = 1);
 
 bool uses_velocity_forces(const clothlab_integrator& integrator);
@@ -119,6 +145,6 @@ State state_of(const Cloth& cloth);
 
 // Runs `steps` steps of a fresh instance (default parameters) on a fresh Cloth of `scene`.
 State simulate(const clothlab_integrator& integrator, const Scene& scene, Precision precision,
-               int threads, int steps, double dt);
+               int threads, int steps, double dt, SheetShape shape = SheetShape::Grid);
 
 }  // namespace clothlab::conformance

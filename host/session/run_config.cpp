@@ -5,18 +5,23 @@
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
 
+#include "last_setting.hpp"
 #include "run_keys.hpp"
 
 namespace clothlab::cli {
 
-namespace {
-
-// The last setting of `key`, or nullptr.
 const Setting* last_setting(const std::vector<Setting>& settings, const std::string& key) {
   const auto found = std::find_if(settings.rbegin(), settings.rend(),
                                   [&](const Setting& setting) { return setting.key == key; });
   return found == settings.rend() ? nullptr : &*found;
 }
+
+std::string where_set(const std::vector<Setting>& settings, const std::string& key) {
+  const Setting* setting = last_setting(settings, key);
+  return setting == nullptr ? key : setting->source + ": " + key;
+}
+
+namespace {
 
 // A material sets every material.* number (the keys of the table's material family).
 void check_material_complete(const Material& material, const std::vector<Setting>& settings) {

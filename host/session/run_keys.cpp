@@ -6,6 +6,7 @@
 #include <clothlab/host/identifiers.hpp>
 #include <clothlab/host/param_text.hpp>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "run_config.hpp"
@@ -31,6 +32,32 @@ Material& material_of(RunConfig& config, const KeyValue& value) {
 [[noreturn]] void refuse(const KeyValue& value, const std::string& allowed) {
   throw host::InputError(value.setting.source + ": " + value.setting.key + " = " +
                          value.setting.value + ": not allowed; allowed: " + allowed);
+}
+
+// File and folder names longer than this are refused by Linux file systems (NAME_MAX).
+constexpr std::size_t max_name_bytes = 255;
+// What the outputs append to a results path's last name (".sqlite-journal", "-references").
+constexpr std::size_t output_suffix_bytes = 16;
+
+// A path any of whose names the file system cannot hold is refused where it is set, not when
+// the first file is created after the run. `suffix_bytes`: what the program appends to the
+// last name.
+std::string path_of(const KeyValue& value, std::size_t suffix_bytes) {
+  const std::filesystem::path path(value.text);
+  for (auto name = path.begin(); name != path.end(); ++name) {
+    const std::size_t limit = max_name_bytes - (std::next(name) == path.end() ? suffix_bytes : 0);
+    const std::size_t bytes = name->native().size();
+    if (bytes > limit)
+      throw host::InputError(value.setting.source + ": " + value.setting.key + ": the name " +
+                             name->native().substr(0, 24) + "... is " + std::to_string(bytes) +
+                             " bytes long; allowed: names of at most " +
+                             std::to_string(max_name_bytes) + " bytes" +
+                             (suffix_bytes > 0 ? ", the last at most " +
+                                                     std::to_string(max_name_bytes - suffix_bytes) +
+                                                     " (the outputs add their suffixes)"
+                                               : ""));
+  }
+  return value.text;
 }
 
 std::string plugin_id_of(const KeyValue& value, const std::string& text) {
@@ -185,10 +212,11 @@ const KeyInfo keys[] = {
      [](Configuration& c, const KeyValue& v) { c.choose.integrators = v.words; }},
     {"choose.output", T::NonEmptyText, 0, 0, "", "a path", "results/choose",
      "--choose: results file, without extension", nullptr,
-     [](Configuration& c, const KeyValue& v) { c.choose.output = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.choose.output = path_of(v, output_suffix_bytes); }},
     {"choose.reference_cache", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
      "--choose: folder of cached references; unset: choose-references beside choose.output",
-     nullptr, [](Configuration& c, const KeyValue& v) { c.choose.reference_cache = v.text; }},
+     nullptr,
+     [](Configuration& c, const KeyValue& v) { c.choose.reference_cache = path_of(v, 0); }},
     {"stability.interval", T::Whole, 1, max_steps, "steps", nullptr, "10",
      "steps between stability checks", nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.monitor.check_interval = whole<uint64_t>(v); }},
@@ -243,7 +271,7 @@ const KeyInfo keys[] = {
      "a sweep file's name (required there)", nullptr,
      [](Configuration& c, const KeyValue& v) {
        if (!host::is_plugin_id(v.text)) refuse(v, "[a-z0-9_-]+");
-       c.sweep.name = v.text;
+       c.sweep.name = path_of(v, output_suffix_bytes);
      }},
     {"sweep.mode", T::Choice, 0, 0, "", "run, work-precision, stability", "run",
      "a sweep's kind: runs, a work-precision ladder per case, or a stable-dt search per case",
@@ -255,7 +283,7 @@ const KeyInfo keys[] = {
      }},
     {"sweep.output", T::NonEmptyText, 0, 0, "", "a path without extension", nullptr,
      "a sweep's results (.sqlite, .csv, .json); unset: results/<sweep.name>", nullptr,
-     [](Configuration& c, const KeyValue& v) { c.sweep.output = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.sweep.output = path_of(v, output_suffix_bytes); }},
     {"work_precision.reference_integrator", T::NonEmptyText, 0, 0, "", "a plugin id", "rk4",
      "work-precision sweeps: the integrator of the reference runs", nullptr,
      [](Configuration& c, const KeyValue& v) {
@@ -314,7 +342,7 @@ const KeyInfo keys[] = {
      }},
     {"frames.dir", T::NonEmptyText, 0, 0, "", "a folder path", nullptr,
      "write the cloth every frame to this folder; `clothlab view DIR` plays it", "frames",
-     [](Configuration& c, const KeyValue& v) { c.run.frames.dir = v.text; }},
+     [](Configuration& c, const KeyValue& v) { c.run.frames.dir = path_of(v, 0); }},
     {"frames.every", T::Whole, 1, max_steps, "steps", nullptr, nullptr,
      "steps between frames, instead of frames.rate", nullptr,
      [](Configuration& c, const KeyValue& v) { c.run.frames.every = whole<uint64_t>(v); }},

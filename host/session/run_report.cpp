@@ -28,6 +28,7 @@ nlohmann::json contacts_json(const std::optional<RunRecord::ContactFigures>& con
           {"max_depth_past_thickness_over_run", contacts->max_depth_past_thickness_over_run},
           {"thickness", contacts->thickness},
           {"particles_inside_at_end", contacts->particles_inside_at_end},
+          {"crossings_over_run", contacts->crossings_over_run},
           {"drape_coefficient", contacts->drape_coefficient
                                     ? nlohmann::json(*contacts->drape_coefficient)
                                     : nlohmann::json(nullptr)},
@@ -219,9 +220,10 @@ std::string human_summary(const RunRecord& record) {
         static_cast<unsigned long long>(record.solver->non_converged_steps));
   if (record.contacts)
     text += printf_text(
-        "  contacts: %zu collider(s), max penetration %.3g m over the run, %u particles inside "
-        "at the end, drape coefficient %s\n",
+        "  contacts: %zu collider(s), max penetration %.3g m over the run, %llu crossings, %u "
+        "particles inside at the end, drape coefficient %s\n",
         record.contacts->colliders, record.contacts->max_penetration_over_run,
+        static_cast<unsigned long long>(record.contacts->crossings_over_run),
         static_cast<unsigned>(record.contacts->particles_inside_at_end),
         record.contacts->drape_coefficient
             ? printf_text("%.3f", *record.contacts->drape_coefficient).c_str()

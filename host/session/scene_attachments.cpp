@@ -20,7 +20,7 @@ void check_call(clothlab_status status, const clothlab_message& message, const s
 
 SceneAttachments::SceneAttachments(const host::ScenarioPlugin& scenario,
                                    const host::ScenarioInstance& instance, uint32_t particles,
-                                   double dt, uint64_t steps)
+                                   double dt, uint64_t steps, uint32_t samples_per_step)
     : table_(static_cast<const clothlab_attachments_extension*>(
           scenario.extension(CLOTHLAB_EXT_ATTACHMENTS))),
       instance_(instance.get()),
@@ -31,8 +31,8 @@ SceneAttachments::SceneAttachments(const host::ScenarioPlugin& scenario,
   clothlab_message message{};
   check_call(table_->particles(instance_, particles_.data(), &message), message,
              "scenario " + scenario_id_ + ": attachments: particles");
-  // Every target the run will ask for at a step start, so a scripted path that leaves the
-  // finite or jumps stops the run before its first step.
+  // Every target the run will ask for at a step start or substep, so a scripted path that leaves
+  // the finite or jumps stops the run before its first step.
   const auto read = [&](double t, std::vector<double>& positions, std::vector<double>& velocities) {
     check_call(table_->targets(instance_, t, positions.data(), velocities.data(), &message),
                message,
@@ -41,7 +41,20 @@ SceneAttachments::SceneAttachments(const host::ScenarioPlugin& scenario,
   };
   try {
     check_attached_particles(particles_, particles);
-    check_attachment_path(particles_, read, dt, steps);
+    check_attachment_path(particles_, read, dt, steps, samples_per_step);
+  } catch (const std::invalid_argument& error) {
+    throw host::InputError("scenario " + scenario_id_ + ": " + error.what());
+  }
+}
+
+void SceneAttachments::check_start(const Cloth& cloth) {
+  std::vector<double> start, positions(3 * particles_.size()), velocities(3 * particles_.size());
+  cloth.positions(start);
+  clothlab_message message{};
+  check_call(table_->targets(instance_, 0.0, positions.data(), velocities.data(), &message),
+             message, "scenario " + scenario_id_ + ": attachments: targets at t = 0 s");
+  try {
+    check_attachment_start(particles_, positions, start, *cloth.model());
   } catch (const std::invalid_argument& error) {
     throw host::InputError("scenario " + scenario_id_ + ": " + error.what());
   }

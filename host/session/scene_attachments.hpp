@@ -18,12 +18,18 @@ class SceneAttachments final : public AttachmentSource {
   // None: a scenario without the extension.
   SceneAttachments() = default;
   // Reads the attached particles and their targets at each step start t = k dt, k = 0 .. steps,
+  // and at samples_per_step - 1 times evenly between (the integrator's substeps, where it asks),
   // before the run (clothlab/core/attachment_path.hpp): a particle out of range (`particles` on
   // the cloth), a non-finite target, or a jump is an InputError naming the scenario, the
-  // attachment, the value and what is allowed; a failing call is the plugin's PluginError.
-  // `instance` must outlive this object.
+  // attachment, the time, the value and what is allowed; a failing call is the plugin's
+  // PluginError. `instance` must outlive this object.
   SceneAttachments(const host::ScenarioPlugin& scenario, const host::ScenarioInstance& instance,
-                   uint32_t particles, double dt, uint64_t steps);
+                   uint32_t particles, double dt, uint64_t steps, uint32_t samples_per_step = 1);
+
+  // Throws an InputError naming the scenario and the attachment when a target at t = 0 lies
+  // far from where its particle starts on `cloth` (check_attachment_start), which the host would
+  // otherwise snap there, starting the cloth stretched.
+  void check_start(const Cloth& cloth);
 
   bool empty() const { return particles_.empty(); }
   std::span<const uint32_t> particles() const { return particles_; }

@@ -38,8 +38,15 @@ SceneCloth scene_cloth(const host::ScenarioPlugin& scenario,
   return cloth;
 }
 
+void put_material(SceneCloth& cloth, const ClothMaterial& material) {
+  apply_material(cloth.scene, material, cloth.mesh ? &*cloth.mesh : nullptr);
+  cloth.material = material;
+}
+
 std::shared_ptr<const ClothModel> cloth_model(const SceneCloth& cloth) {
-  return cloth.mesh ? build_mesh_model(*cloth.mesh, cloth.scene) : build_grid_model(cloth.scene);
+  return cloth.mesh ? build_mesh_model(*cloth.mesh, cloth.scene,
+                                       cloth.material ? &*cloth.material : nullptr)
+                    : build_grid_model(cloth.scene);
 }
 
 }  // namespace clothlab::cli

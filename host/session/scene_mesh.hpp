@@ -3,6 +3,7 @@
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_material.hpp>
 #include <clothlab/core/cloth_model.hpp>
 #include <clothlab/core/triangle_mesh.hpp>
 #include <clothlab/host/components.hpp>
@@ -13,7 +14,8 @@ namespace clothlab::cli {
 
 struct SceneCloth {
   Scene scene;
-  std::optional<TriangleMesh> mesh;  // none: the scene's grid
+  std::optional<TriangleMesh> mesh;       // none: the scene's grid
+  std::optional<ClothMaterial> material;  // none: the scene's families decide the springs
 
   uint32_t particle_count() const {
     return mesh ? static_cast<uint32_t>(mesh->positions.size() / 3) : scene.rows * scene.cols;
@@ -25,6 +27,10 @@ struct SceneCloth {
 // is wrong.
 SceneCloth scene_cloth(const host::ScenarioPlugin& scenario,
                        const host::ScenarioInstance& instance);
+
+// Puts a material on the cloth (apply_material): its total mass, and its springs whatever the
+// scenario's parameters say.
+void put_material(SceneCloth& cloth, const ClothMaterial& material);
 
 // The core's model of `cloth` with its scene's pins as they are now: the one place the host
 // turns a scenario into springs (build_mesh_model or build_grid_model).

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <clothlab/analysis/projected_area.hpp>
 #include <clothlab/analysis/stability_monitor.hpp>
+#include <clothlab/core/cloth_material.hpp>
 #include <clothlab/core/cloth_model.hpp>
 #include <clothlab/host/errors.hpp>
 #include <clothlab/host/param_text.hpp>
@@ -20,16 +21,43 @@ namespace clothlab::cli {
 
 namespace {
 
+bool declares_param(const host::ParamSet& params, std::string_view name) {
+  return std::any_of(params.specs().begin(), params.specs().end(),
+                     [&](const clothlab_param_spec& spec) { return name == spec.name; });
+}
+
+// xpbd's own "substeps" (40 by default) multiplied the frame substeps; it became
+// inner_substeps (default 1), so the frame substeps are the one knob. A config written for the
+// old meaning would otherwise run 40 times less work without a word.
+void refuse_old_substeps(const host::ParamSet& params, std::string_view id, const Setting& setting,
+                         std::string_view key, const std::string& written) {
+  if (params.prefix() != "integrator" || key != "substeps" || declares_param(params, "substeps") ||
+      !declares_param(params, "inner_substeps"))
+    return;
+  throw host::InputError(setting.source + ": " + written + " = " + setting.value + ": " +
+                         std::string(id) +
+                         " has no substeps parameter any more; use the frame substeps (substeps: "
+                         "N or --substeps N, with frame_rate), which multiply its cost as "
+                         "integrator.substeps did, or integrator.inner_substeps for substeps "
+                         "inside each step");
+}
+
 // Applies the plugin_params.<id>.* settings addressed to this component, then its
 // integrator.* / scenario.* settings.
 host::ParamSet apply(host::ParamSet params, std::string_view id,
                      const std::vector<Setting>& for_plugin_ids,
                      const std::vector<Setting>& settings) {
   const std::string prefix = std::string(id) + ".";
-  for (const Setting& setting : for_plugin_ids)
-    if (setting.key.starts_with(prefix))
-      params.set(setting.key.substr(prefix.size()), setting.value, setting.source);
-  for (const Setting& setting : settings) params.set(setting.key, setting.value, setting.source);
+  for (const Setting& setting : for_plugin_ids) {
+    if (!setting.key.starts_with(prefix)) continue;
+    const std::string key = setting.key.substr(prefix.size());
+    refuse_old_substeps(params, id, setting, key, "plugin_params." + setting.key);
+    params.set(key, setting.value, setting.source);
+  }
+  for (const Setting& setting : settings) {
+    refuse_old_substeps(params, id, setting, setting.key, params.prefix() + "." + setting.key);
+    params.set(setting.key, setting.value, setting.source);
+  }
   return params;
 }
 
@@ -76,6 +104,18 @@ bool declares_trait(const host::IntegratorPlugin& integrator, uint32_t trait) {
          (traits->flags & trait) != 0;
 }
 
+// How often a step asks for the attachments' targets: once per substep (the count the traits'
+// substeps_param names), once per step for an integrator without substeps.
+uint32_t target_samples_per_step(const host::IntegratorPlugin& integrator,
+                                 const host::ParamSet& params) {
+  const auto* traits = static_cast<const clothlab_integrator_traits*>(
+      integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
+  if (traits == nullptr || traits->struct_size < sizeof(clothlab_integrator_traits) ||
+      traits->substeps_param == nullptr)
+    return 1;
+  return static_cast<uint32_t>(std::max(1.0, params.value(traits->substeps_param).v[0]));
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -95,10 +135,12 @@ void SolverTotals::add(uint64_t step, const clothlab_solver_step_statistics& sta
 
 namespace {
 
-host::PluginLibrary find_plugin(const std::string& name, const std::string& source,
-                                const char* kind, const host::PluginSearchPath& search_path) {
+// A plugin that cannot be loaded, or holds no plugin of the kind asked for, is reported at the
+// key that named it.
+template <class Load>
+auto at_key(const std::string& name, const std::string& source, const char* kind, Load&& load) {
   try {
-    return host::PluginLibrary::find(name, search_path);
+    return load();
   } catch (const host::PluginLoadError& error) {
     throw host::PluginLoadError(source + ": " + kind + " = " + name + ": " + error.what());
   }
@@ -170,21 +212,9 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
   std::vector<double> positions;
   cloth.positions(positions);
   const ClothModel& model = *cloth.model();
-  if (!model.grid) {
-    // The mesh's own area at rest: the sum of its triangles'.
-    double rest_area = 0;
-    for (std::size_t t = 0; t < model.triangles.size(); t += 3) {
-      double e[2][3];
-      for (int side = 0; side < 2; ++side)
-        for (int k = 0; k < 3; ++k)
-          e[side][k] = model.rest_positions[3 * model.triangles[t + side + 1] + k] -
-                       model.rest_positions[3 * model.triangles[t] + k];
-      rest_area += 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1],
-                                    e[0][2] * e[1][0] - e[0][0] * e[1][2],
-                                    e[0][0] * e[1][1] - e[0][1] * e[1][0]);
-    }
-    return analysis::projected_area(positions, model.triangles, scene.gravity) / rest_area;
-  }
+  if (!model.grid)
+    return analysis::projected_area(positions, model.triangles, scene.gravity) /
+           surface_area(model.rest_positions, model.triangles);
   return analysis::projected_area(positions, model.triangles, scene.gravity) /
          (scene.width * scene.height);
 }
@@ -193,11 +223,16 @@ std::optional<double> drape_coefficient(const Cloth& cloth) {
 
 LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath& search_path) {
   host::PluginLibrary integrator_library =
-      find_plugin(config.integrator, config.integrator_source, "integrator", search_path);
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return host::PluginLibrary::find(config.integrator, search_path); });
   host::PluginLibrary scenario_library =
-      find_plugin(config.scenario, config.scenario_source, "scenario", search_path);
-  const host::IntegratorPlugin* integrator = &integrator_library.integrator();
-  const host::ScenarioPlugin* scenario = &scenario_library.scenario();
+      at_key(config.scenario, config.scenario_source, "scenario",
+             [&] { return host::PluginLibrary::find(config.scenario, search_path); });
+  const host::IntegratorPlugin* integrator =
+      at_key(config.integrator, config.integrator_source, "integrator",
+             [&] { return &integrator_library.integrator(); });
+  const host::ScenarioPlugin* scenario = at_key(config.scenario, config.scenario_source, "scenario",
+                                                [&] { return &scenario_library.scenario(); });
   host::ParamSet integrator_params = apply(integrator->default_params(), integrator->info().id,
                                            config.plugin_params, config.integrator_params);
   host::ParamSet scenario_params = apply(scenario->default_params(), scenario->info().id,
@@ -209,7 +244,7 @@ LoadedPlugins load_plugins(const RunConfig& config, const host::PluginSearchPath
     for (const Setting& setting : config.plugin_params)
       if (setting.key.starts_with(prefix))
         user_settings.push_back({setting.key.substr(prefix.size()), setting.value, setting.source});
-    apply_material(*config.material, user_settings, scenario_params);
+    check_no_material_conflict(*config.material, user_settings);
   }
   const uint32_t precision = config.float64 ? CLOTHLAB_FLOAT64 : CLOTHLAB_FLOAT32;
   if (!integrator->supports_precision(precision))
@@ -241,9 +276,11 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
     scenario_instance_.emplace(
         create_with_user_params([&] { return scenario_->create(scenario_params); }));
     SceneCloth described = scene_cloth(*scenario_, *scenario_instance_);
+    if (config.material) put_material(described, *config.material);
     Scene& scene = described.scene;
     attachments_ = std::make_unique<SceneAttachments>(
-        *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps);
+        *scenario_, *scenario_instance_, described.particle_count(), config.dt, config.steps,
+        target_samples_per_step(*integrator_, integrator_params));
     if (!attachments_->empty() && !declares_trait(*integrator_, CLOTHLAB_TRAIT_MOVES_ATTACHMENTS))
       throw host::InputError("integrator " + std::string(integrator_->info().id) +
                              " does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS in "
@@ -265,6 +302,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
         std::make_unique<Cloth>(scene, cloth_model(described),
                                 config.float64 ? Precision::Float64 : Precision::Float32, options);
     if (!attachments_->empty()) {
+      attachments_->check_start(*cloth_);
       cloth_->set_attachments(attachments_->particles(), *attachments_);
       (void)cloth_->move_attachments(0.0);  // checked finite when read above
     }
@@ -276,7 +314,7 @@ Simulation::Simulation(const RunConfig& config, LoadedPlugins plugins)
                            "clothlab.integrator-traits/1), which scenario " +
                            std::string(scenario_->info().id) + "'s " +
                            std::to_string(colliders_.size()) + " collider(s) need");
-  cloth_->set_colliders(colliders_.at(0.0));
+  cloth_->set_colliders(colliders_.at(0.0), 0.0);
   integrator_instance_.emplace(
       create_with_user_params([&] { return integrator_->create(integrator_params); }));
   integrator_instance_->prepare(cloth_->system());
@@ -379,8 +417,6 @@ void Simulation::step_once(const RunHooks& hooks) {
   // t from the step count, not by summing dt, so long runs do not drift.
   const double t = static_cast<double>(step - 1) * config_.dt;
   const StageCounters before = cloth_->counters();
-  // The colliders keep their pose at the step's start over the step.
-  if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t));
   const auto start = std::chrono::steady_clock::now();
   cloth_->begin_step();
   try {
@@ -392,6 +428,10 @@ void Simulation::step_once(const RunHooks& hooks) {
   }
   cloth_->end_step();
   const double step_s = seconds_since(start);
+  // The colliders at the next step's start, moving at their velocity over it; the step's paths
+  // are judged against them for crossings.
+  const double t_end = static_cast<double>(step) * config_.dt;
+  if (!colliders_.empty()) cloth_->set_colliders(colliders_.at(t_end), t_end);
   record.step_total_s += step_s;
   if ((step - 1) % record.timing_stride == 0) {
     const StageCounters& after = cloth_->counters();
@@ -415,12 +455,12 @@ void Simulation::step_once(const RunHooks& hooks) {
         std::max(record.contacts->max_penetration_over_run, now.max_penetration);
     record.contacts->max_depth_past_thickness_over_run =
         std::max(record.contacts->max_depth_past_thickness_over_run, now.max_depth_past_thickness);
+    record.contacts->crossings_over_run += now.particles_crossed;
   }
   if (const auto statistics = integrator_instance_->last_step_statistics()) {
     if (!record.solver) record.solver.emplace();
     record.solver->add(step, *statistics);
   }
-  const double t_end = static_cast<double>(step) * config_.dt;
   const analysis::Verdict& verdict = step == config_.steps ? monitor.check(*cloth_, step, t_end)
                                                            : monitor.observe(*cloth_, step, t_end);
   if (!verdict.stable) fail(verdict.step, analysis::to_string(verdict.fired), verdict.reason);

@@ -95,13 +95,18 @@ struct RunRecord {
   // Scenes with colliders (clothlab.colliders/1) only.
   struct ContactFigures {
     std::size_t colliders = 0;
-    double max_penetration_over_run = 0;  // m, into a collider's surface, after any step
+    // m, into a collider's surface, after any step, where the step's last contact resolution
+    // met the collider.
+    double max_penetration_over_run = 0;
     // The largest depth past the thickness of the collider a particle lay in, after any step
     // (m): it went through the band the contacts keep clear, what `clothlab --choose` judges
     // (no tunnelling).
     double max_depth_past_thickness_over_run = 0;
     double thickness = 0;  // the thinnest collider's (m)
     uint32_t particles_inside_at_end = 0;
+    // Over the steps, the particles whose path over the step, relative to a collider, passed
+    // through it or past its middle (Cloth::Contacts::particles_crossed): tunnelled.
+    uint64_t crossings_over_run = 0;
     // The cloth's shadow on the plane normal to gravity over its flat area at the end (the
     // Cusick drape coefficient's projected area share); null without gravity.
     std::optional<double> drape_coefficient;

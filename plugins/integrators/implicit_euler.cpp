@@ -4,50 +4,16 @@
 // Witkin take one Newton step from dv = 0 with a linearised about (x0, v0):
 //   (I - h da/dv - h^2 da/dx) dv = h (a0 + h (da/dx) v0)
 // (their (M - h df/dv - h^2 df/dx) dv = h (f0 + h (df/dx) v0) divided by M). `newton_steps`
-// > 1 continues with Newton on g itself, linearised at each iterate (x1, v1):
-//   (I - h da/dv - h^2 da/dx) delta = h a(x1, v1) - dv,   dv += delta,
-// which converges to backward Euler proper. First order; stable at any dt on a damped cloth.
-//
-// Each linear system is solved matrix-free by block-Jacobi preconditioned conjugate gradients in
-// the mass inner product (preconditioned_cg.hpp): one Jacobian product per iteration; where the
-// host offers clothlab.cg-step/1, an iteration is two sweeps (the product with the vector
-// updates and dot product around it, and one update sweep). `multigrid` = 1 preconditions CG
-// with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
-// its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
-// with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
-// and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"); `multigrid_rebuild` = N reuses
-// that set-up for N solves, and the step statistics count the builds as factorisations. A solve
-// that stops at `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
-// clothlab.solver-statistics/1, never passed off as converged.
-//
-// Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
-// or unsymmetric once h is large (a folding flag at dt = 50 ms: CG breaks down, p.Ap <= 0,
-// and the step explodes): a spring shorter than its rest length has the transverse
-// stiffness -ks (1 - l0/l) (I - n n^T) > 0, and the damping force's x-derivative is not
-// symmetric. As Baraff and Witkin (and Choi & Ko 2002 for compression), the matrix then
-// keeps the springs' Hooke stiffness without that compressive term plus the damping's
-// velocity derivative: the host's clothlab.definite-jacobian/1, one product per CG
-// iteration. The Newton matrix changes, not the equation: still first order, and
-// newton_steps > 1 still converges to backward Euler. `definite` = 0 uses the exact
-// Jacobian (clothlab.jacobian/1).
-//
-// Warm start (`warm_start`, on by default): the first solve of a step starts from the
-// previous step's dv, scaled by the ratio of the steps (dv ~ h a), instead of 0; the
-// tolerance stays relative to the right-hand side, so a good guess saves iterations and
-// never loosens the solve. It costs one product for the initial residual.
+// > 1 continues with Newton on g itself, which converges to backward Euler proper. First order;
+// stable at any dt on a damped cloth. The Newton steps, their CG solves and the settings are
+// implicit_step_solver.hpp's, shared with bdf2.
 #include <clothlab/ext/integrator_traits.h>
 #include <clothlab/ext/solver_statistics.h>
 
-#include <algorithm>
 #include <array>
 #include <clothlab/sdk.hpp>
-#include <cmath>
-#include <optional>
-#include <utility>
-#include <vector>
 
-#include "preconditioned_cg.hpp"
-#include "scratch_vectors.hpp"
+#include "implicit_step_solver.hpp"
 
 namespace clothlab::builtin {
 
@@ -61,174 +27,39 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 9> params{
-      sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
-                      "CG stops when the residual's mass norm falls below tolerance x the "
-                      "right-hand side's"),
-      sdk::int_param("max_iterations", 1000, 1, 100000,
-                     "CG iterations per linear solve at most; a solve that hits it is reported"),
-      sdk::int_param("newton_steps", 1, 1, 50,
-                     "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward "
-                     "Euler on the nonlinear springs"),
-      sdk::bool_param("definite", true,
-                      "Baraff-Witkin's definite matrix: no compressive transverse stiffness, no "
-                      "damping x-derivative; 0 = the exact Jacobian"),
-      sdk::bool_param("warm_start", true,
-                      "CG starts from the previous step's dv (scaled by the step ratio); 0 = "
-                      "from 0"),
-      sdk::bool_param("multigrid", false,
-                      "CG preconditioned by a geometric multigrid V-cycle on the cloth's grid "
-                      "(clothlab.grid/1); 0 = block-Jacobi"),
-      sdk::int_param("multigrid_coarsest", kDefaultCoarsestNodes, 1, kMaxCoarsestNodes,
-                     "multigrid: coarsen the grid while it has more particles than this (and "
-                     "both sides at least 3); a dense direct solve there"),
-      sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
-                     "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
-                     "correction"),
-      sdk::int_param("multigrid_rebuild", 1, 1, 1024,
-                     "multigrid: build the hierarchy for every Nth linear solve and reuse it in "
-                     "between (CG still converges on the current matrix); always after prepare "
-                     "and when the step size changes"),
-  };
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS,
-      nullptr, "max_iterations"};
+  static constexpr std::array<clothlab_param_spec, 9> params = implicit_step_solver_params(
+      "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward Euler on the "
+      "nonlinear springs");
+  static constexpr clothlab_integrator_traits traits = implicit_step_solver_traits;
 
-  explicit ImplicitEuler(const sdk::Params& values)
-      : tolerance_(values.real("tolerance")),
-        max_iterations_(values.integer("max_iterations")),
-        newton_steps_(values.integer("newton_steps")),
-        definite_(values.flag("definite")),
-        warm_start_(values.flag("warm_start")),
-        multigrid_(values.flag("multigrid")),
-        multigrid_coarsest_(values.integer("multigrid_coarsest")),
-        multigrid_sweeps_(values.integer("multigrid_sweeps")),
-        multigrid_rebuild_(values.integer("multigrid_rebuild")) {}
+  explicit ImplicitEuler(const sdk::Params& values) : solver_(values) {}
 
   template <class Real>
   void prepare(sdk::System<Real>& system) {
-    system.jacobian().reserve();
-    // Checked here, so a host without them fails in prepare.
-    if (definite_) (void)system.definite_jacobian();
-    (void)system.reductions();
-    scratch_.allocate(system);
-    inverse_blocks_.assign(9 * size_t{system.particle_count()}, 0.0);
-    multigrid_preconditioner_.reset();
-    if (multigrid_)
-      multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_,
-                                        multigrid_rebuild_);
-    previous_h_ = 0.0;
-    last_ = {};
+    solver_.prepare(system);
   }
 
   template <class Real>
   void step(sdk::System<Real>& system, double t, double h) {
-    const auto vectors = scratch_.bind(system);
-    last_ = {sizeof(clothlab_solver_step_statistics), 1, 0, 0, 0.0};
+    solver_.begin_step();
     if (h == 0.0) return;
-    Real *const acceleration = vectors[0], *const dv = vectors[1], *const rhs = vectors[2],
-                *const delta = vectors[3], *const x1 = vectors[4], *const v1 = vectors[5],
-                *const zero = vectors[6];
-    std::array<Real*, PreconditionedCg<Real>::vector_count> cg_vectors{};
-    std::copy(vectors.begin() + step_vectors, vectors.end(), cg_vectors.begin());
-    PreconditionedCg<Real> solver(
-        system, cg_vectors, inverse_blocks_, definite_, true,
-        multigrid_preconditioner_ ? &*multigrid_preconditioner_ : nullptr);
     Real* x = system.x();
     Real* v = system.v();
-    const uint64_t rebuilds_before = rebuild_count();
-
-    // Baraff-Witkin: b = h a0 + h^2 (da/dx) v0, A linearised at (x0, v0).
-    system.acceleration(t, x, v, acceleration);
-    if (definite_) {
-      system.definite_jacobian().apply(t, x, v, h * h, 0.0, v, rhs);
-    } else {
-      system.jacobian().apply(t, x, v, h * h, 0.0, v, rhs);
-    }
-    system.template lincomb<1>(rhs, rhs, {h}, {acceleration});
-    // Cleared until the step completes: a step that throws leaves no dv to start from.
-    const double previous_h = std::exchange(previous_h_, 0.0);
-    const bool warm = warm_start_ && previous_h > 0.0;
-    if (warm) {
-      system.template lincomb<1>(dv, zero, {h / previous_h}, {dv});
-    } else {
-      system.copy(dv, zero);
-    }
-    solve(solver, t, h, x, v, rhs, dv, warm);
-
-    for (long newton = 1; newton < newton_steps_; ++newton) {
-      // Whole copies first: the pinned particles' entries of the iterate are theirs.
-      system.copy(v1, v);
-      system.axpy(v1, 1.0, dv);
-      system.copy(x1, x);
-      system.axpy(x1, h, v1);
-      system.acceleration(t + h, x1, v1, acceleration);
-      system.template lincomb<2>(rhs, zero, {h, -1.0}, {acceleration, dv});
-      system.copy(delta, zero);
-      solve(solver, t + h, h, x1, v1, rhs, delta, false);
-      system.axpy(dv, 1.0, delta);
-    }
-    // Each multigrid build ends in a factorisation of its coarsest level.
-    last_.factorizations = rebuild_count() - rebuilds_before;
+    const Real* dv = solver_.solve(system, t, t + h, h, x, v, FirstNewtonStep::kAtStart);
     system.axpy(v, 1.0, dv);
     system.axpy(x, h, v);
     // The solve saw the attachments' motion through their velocities in h^2 (da/dx) v0.
     system.move_attachments(t + h);
     // After the solve: contacts change v, and the warm start's dv stays the solver's.
     system.resolve_contacts(t + h);
-    previous_h_ = h;
   }
 
-  void last_step_statistics(clothlab_solver_step_statistics& out) const { out = last_; }
+  void last_step_statistics(clothlab_solver_step_statistics& out) const {
+    solver_.last_step_statistics(out);
+  }
 
  private:
-  // Scratch: acceleration, dv (kept from step to step for the warm start), rhs, delta, x1, v1,
-  // zero (never written), then CG's.
-  static constexpr size_t step_vectors = 7;
-  static constexpr size_t cg_vectors = PreconditionedCg<double>::vector_count;
-
-  uint64_t rebuild_count() const {
-    return multigrid_preconditioner_ ? multigrid_preconditioner_->rebuild_count() : 0;
-  }
-
-  // Solves (I - h da/dv - h^2 da/dx) at (x, v) times solution = rhs from the solution's entries
-  // (guess) or 0 (solution zeroed by the caller); adds to last_.
-  template <class Real>
-  void solve(PreconditionedCg<Real>& solver, double t, double h, const Real* x, const Real* v,
-             const Real* rhs, Real* solution, bool guess) {
-    solver.start(t, h, x, v, rhs, solution, guess, tolerance_);
-    long iterations = 0;
-    bool converged = solver.converged();
-    while (!converged && iterations < max_iterations_) {
-      const auto outcome = solver.iterate();
-      if (outcome == PreconditionedCg<Real>::Outcome::kBreakdown) break;  // reported as missed
-      ++iterations;
-      converged = outcome == PreconditionedCg<Real>::Outcome::kConverged;
-    }
-    solver.finish();
-    const double rhs_norm = solver.rhs_norm();
-    last_.iterations += static_cast<uint64_t>(iterations);
-    last_.converged = last_.converged && converged ? 1u : 0u;
-    last_.residual =
-        std::max(last_.residual, rhs_norm == 0.0 ? 0.0 : solver.residual_norm() / rhs_norm);
-  }
-
-  double tolerance_;
-  long max_iterations_;
-  long newton_steps_;
-  bool definite_;
-  bool warm_start_;
-  bool multigrid_;
-  long multigrid_coarsest_;
-  long multigrid_sweeps_;
-  long multigrid_rebuild_;
-  std::optional<MultigridPreconditioner> multigrid_preconditioner_;  // where multigrid_
-  double previous_h_ = 0.0;  // the last step's h; 0: no dv to start from
-  ScratchVectors<step_vectors + cg_vectors> scratch_;
-  std::vector<double> inverse_blocks_;  // 9 n, row-major 3x3 per particle
-  clothlab_solver_step_statistics last_{};
+  ImplicitStepSolver solver_;
 };
 
 }  // namespace clothlab::builtin

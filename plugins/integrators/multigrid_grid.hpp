@@ -21,8 +21,9 @@ namespace clothlab::builtin {
 template <class Real>
 sdk::Grid grid_of(const sdk::System<Real>& system, const std::string& setting) {
   const std::optional<sdk::Grid> grid = system.grid();
+  // Unsupported rather than invalid: the setting is fine, this scene lacks what it needs.
   if (!grid)
-    throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+    throw sdk::Error(CLOTHLAB_ERROR_UNSUPPORTED,
                      setting +
                          " needs a cloth laid out as a grid (clothlab.grid/1); this scene "
                          "is not one");

@@ -50,9 +50,10 @@ class MultigridHierarchy {
   // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c. fine_blocks: single
   // where the V-cycle only preconditions (implicit_euler's CG), exact where the fine level's
   // residual is the system solved (projective_dynamics). The coarse levels that smooth only
-  // serve the V-cycle and are single; the coarsest, solved directly, stays exact.
+  // serve the V-cycle and are single; the coarsest, solved directly, stays exact. lanes: the
+  // precision the single levels smooth in (multigrid_lanes.hpp).
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
-                     GridLevel::Blocks fine_blocks) {
+                     GridLevel::Blocks fine_blocks, LanePrecision lanes = LanePrecision::float64) {
     levels_.reserve(sizes.size());
     levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed), fine_blocks);
     for (std::size_t l = 1; l < sizes.size(); ++l) {
@@ -62,7 +63,7 @@ class MultigridHierarchy {
           sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
           l + 1 < sizes.size() ? GridLevel::Blocks::single : GridLevel::Blocks::exact);
     }
-    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l]);
+    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) smoothers_.emplace_back(levels_[l], lanes);
     coarsest_solve_.emplace(levels_.back());
   }
 

@@ -44,6 +44,11 @@ class GridLevel {
     if (single_) packed_.resize(9 * (kWindow * kWindow - 1) * interior_count());
   }
 
+  // A window offset: (r + rows, c + cols) from node (r, c).
+  struct Offset {
+    int rows, cols;
+  };
+
   int rows() const { return rows_; }
   int cols() const { return cols_; }
   std::size_t node_count() const { return static_cast<std::size_t>(rows_) * cols_; }
@@ -68,6 +73,10 @@ class GridLevel {
   // Row (r, c)'s blocks in window order.
   double* row_blocks(int r, int c) { return &blocks_[9 * offsets_[node(r, c)]]; }
   const double* row_blocks(int r, int c) const { return &blocks_[9 * offsets_[node(r, c)]]; }
+  // Whether the level keeps its off-diagonal blocks in single precision (Blocks::single).
+  bool single() const { return single_; }
+  // The window offsets with a nonzero block in some row, as `pack` found them (before: all).
+  const std::vector<Offset>& couplings() const { return couplings_; }
   // Whether products read the interior rows from their packed blocks (a single level, packed
   // since its blocks last changed).
   bool packed() const { return packed_valid_; }
@@ -231,9 +240,6 @@ class GridLevel {
   static constexpr int kWindow = 2 * reach + 1;
   static constexpr std::size_t kNoDiagonal = ~std::size_t{0};
   static constexpr std::size_t kNodesWorthATeam = 4096;
-  struct Offset {
-    int rows, cols;
-  };
 
   int rows_, cols_;
   bool single_;  // Blocks::single

@@ -8,7 +8,8 @@
 // two grid spacings apart (checked, multigrid_grid.hpp), so particles whose rows and columns are
 // equal mod 5 share no neighbour: one product with e_d on all particles of such a class gives
 // column d of every block coupling to them, 75 products in all. A single-precision system's blocks
-// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric.
+// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric;
+// its V-cycle also smooths in single precision (multigrid_lanes.hpp), all its CG resolves.
 // Pinned particles are the fine level's Dirichlet nodes.
 //
 // Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
@@ -24,6 +25,7 @@
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "multigrid_cycle.hpp"
@@ -41,7 +43,8 @@ class MultigridPreconditioner {
                           long rebuild_interval = 1)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
-                   fixed_particles(system), GridLevel::Blocks::single),
+                   fixed_particles(system), GridLevel::Blocks::single,
+                   std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         probe_(system.alloc_vector()),

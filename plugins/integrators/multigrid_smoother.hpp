@@ -8,16 +8,19 @@
 // (`run`), split among `threads` (the same bits on any count).
 // `forward` sweeps the colours 0..8, `backward` 8..0: the backward sweep is the forward one's
 // adjoint in the A inner product, which makes a V-cycle with forward pre- and backward
-// post-smoothing a symmetric preconditioner.
+// post-smoothing a symmetric preconditioner. A single-precision level (the V-cycle's) runs the
+// passes on its lanes (multigrid_lanes.hpp): the same updates, a column class of a row at once.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include "multigrid_lanes.hpp"
 #include "multigrid_level.hpp"
 
 namespace clothlab::builtin {
@@ -26,7 +29,11 @@ class BlockGaussSeidel {
  public:
   static constexpr int kPeriod = GridLevel::reach + 1;
 
-  explicit BlockGaussSeidel(const GridLevel& level) : inverse_diagonal_(9 * level.node_count()) {
+  // lanes: the precision a single level's passes run in (multigrid_lanes.hpp).
+  explicit BlockGaussSeidel(const GridLevel& level, LanePrecision lanes = LanePrecision::float64)
+      : inverse_diagonal_(9 * level.node_count()) {
+    if (level.single() && lanes == LanePrecision::float32) float_lanes_.emplace(level);
+    if (level.single() && lanes == LanePrecision::float64) double_lanes_.emplace(level);
     set_steps_per_chunk(level, 0);
   }
 
@@ -39,10 +46,16 @@ class BlockGaussSeidel {
         if (!invert_positive_definite(level.block(r, c, r, c), &inverse_diagonal_[9 * i]))
           return false;
       }
+    if (float_lanes_) float_lanes_->load(level, inverse_diagonal_);
+    if (double_lanes_) double_lanes_->load(level, inverse_diagonal_);
     return true;
   }
 
-  std::size_t storage_bytes() const { return inverse_diagonal_.size() * sizeof(double); }
+  std::size_t storage_bytes() const {
+    return inverse_diagonal_.size() * sizeof(double) +
+           (float_lanes_ ? float_lanes_->storage_bytes() : 0) +
+           (double_lanes_ ? double_lanes_->storage_bytes() : 0);
+  }
 
   // `sweeps` forward sweeps from x, then out = b - A x where out is not null.
   void forward(const GridLevel& level, const double* b, double* x, long sweeps, double* out,
@@ -85,6 +98,29 @@ class BlockGaussSeidel {
 
   void run(const GridLevel& level, const Pass& pass, const double* b, double* x, double* out,
            int threads) const {
+    if (float_lanes_) return run_on_lanes(*float_lanes_, level, pass, b, x, out, threads);
+    if (double_lanes_) return run_on_lanes(*double_lanes_, level, pass, b, x, out, threads);
+    wave(
+        level, pass, threads,
+        [&](int r, int col_class) { update_colour(level, r, col_class, b, x); },
+        [&](int r) { level.residual_row(r, b, x, out); });
+  }
+
+  template <class Real>
+  void run_on_lanes(LaneLevel<Real>& lanes, const GridLevel& level, const Pass& pass,
+                    const double* b, double* x, double* out, int threads) const {
+    lanes.gather(level, b, x, threads);
+    wave(
+        level, pass, threads, [&](int r, int col_class) { lanes.update(r, col_class); },
+        [&](int r) { lanes.residual_row(r); });
+    lanes.scatter(level, x, out, threads);
+  }
+
+  // The pass's wave: update(r, col_class) for the nodes of row r in columns col_class, col_class
+  // + 3, ..., residual_row(r) for the residual's rows.
+  template <class Update, class ResidualRow>
+  void wave(const GridLevel& level, const Pass& pass, int threads, Update&& update,
+            ResidualRow&& residual_row) const {
     const int rows = level.rows();
     const int steps = (rows + kPeriod - 1) / kPeriod + static_cast<int>(2 * pass.sweeps);
     const auto phase = [&](int t0, int t1, long p, auto&& for_each) {
@@ -92,8 +128,7 @@ class BlockGaussSeidel {
         const int lag = static_cast<int>(2 * pass.sweeps);
         const int begin = std::max(kPeriod * (t0 - lag), 0),
                   end = std::min(kPeriod * (t1 - lag), rows);
-        for_each(std::max(end - begin, 0),
-                 [&](int k) { level.residual_row(begin + k, b, x, out); });
+        for_each(std::max(end - begin, 0), [&](int k) { residual_row(begin + k); });
         return;
       }
       const int sweep = static_cast<int>(p / kPeriod), position = static_cast<int>(p % kPeriod);
@@ -105,7 +140,7 @@ class BlockGaussSeidel {
       for_each(std::max(last - first, 0), [&](int k) {
         const int r = kPeriod * (first + k - lag) + row_class;
         for (int step = 0; step < kPeriod; ++step)
-          update_colour(level, r, pass.backward ? kPeriod - 1 - step : step, b, x);
+          update(r, pass.backward ? kPeriod - 1 - step : step);
       });
     };
     // The chunks' phases in order, each phase's rows through for_each(count, body).
@@ -163,6 +198,10 @@ class BlockGaussSeidel {
   static constexpr int kChunkNodes = 16384;
 
   std::vector<double> inverse_diagonal_;  // 9 per node
+  // A single level's lanes, in one precision; their vectors are the passes' scratch (a smoother
+  // runs one pass at a time).
+  mutable std::optional<LaneLevel<float>> float_lanes_;
+  mutable std::optional<LaneLevel<double>> double_lanes_;
   int steps_per_chunk_ = 1;
 };
 

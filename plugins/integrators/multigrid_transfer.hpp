@@ -98,21 +98,24 @@ class GridTransfer {
         const int row0 = r / 2 - 2, col0 = c / 2 - 2;
         std::array<double, 9 * kSpan * kSpan> product{};
         std::array<uint8_t, kSpan * kSpan> touched{};
+        // Only the offsets `pack` found coupled: the others' blocks are zero in every row.
         const GridLevel::Window w = fine.window(r, c);
-        const double* a = fine.row_blocks(r, c);
-        for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-          for (int c2 = w.col_begin; c2 < w.col_end; ++c2, a += 9) {
-            if (fine.fixed(fine.node(r2, c2))) continue;
-            for (int i = 0; i < row_parents_.count(r2); ++i)
-              for (int j = 0; j < col_parents_.count(c2); ++j) {
-                const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
-                if (coarse.fixed(coarse.node(pr, pc))) continue;
-                const int local = (pr - row0) * kSpan + (pc - col0);
-                const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
-                for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
-                touched[local] = 1;
-              }
-          }
+        for (const GridLevel::Offset& offset : fine.couplings()) {
+          const int r2 = r + offset.rows, c2 = c + offset.cols;
+          if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end ||
+              fine.fixed(fine.node(r2, c2)))
+            continue;
+          const double* a = fine.block(r, c, r2, c2);
+          for (int i = 0; i < row_parents_.count(r2); ++i)
+            for (int j = 0; j < col_parents_.count(c2); ++j) {
+              const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
+              if (coarse.fixed(coarse.node(pr, pc))) continue;
+              const int local = (pr - row0) * kSpan + (pc - col0);
+              const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
+              for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
+              touched[local] = 1;
+            }
+        }
         for (int i = 0; i < row_parents_.count(r); ++i)
           for (int j = 0; j < col_parents_.count(c); ++j) {
             const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);

@@ -1,9 +1,9 @@
 // XPBD: the springs as compliant distance constraints (Macklin, Mueller, Chentanez 2016,
-// "XPBD: position-based simulation of compliant constrained dynamics"), stepped with
-// substeps of one iteration each by default (Macklin et al. 2019, "Small steps in physics
-// simulation").
+// "XPBD: position-based simulation of compliant constrained dynamics"), one iteration per
+// step by default: the host's frame substeps are the small steps of Macklin et al. 2019
+// ("Small steps in physics simulation"), so `--substeps` is the one knob of h.
 //
-// Per substep of length h = dt / substeps:
+// Per substep of length h = dt / inner_substeps (one substep, h = dt, by default):
 //   predict    dx = h (v + h a_ext(x))                        (gravity, wind: the host's
 //                                                             external-forces extension)
 //   project    lambda = 0, then `iterations` Gauss-Seidel sweeps over the springs, colour
@@ -106,13 +106,15 @@ struct Xpbd {
             "eq. 26), Gauss-Seidel by spring colour, substeps; first order, unconditionally "
             "stable";
   static constexpr uint32_t order = 1;
-  // No eval_acceleration calls: its cost is substeps x iterations passes over the springs.
+  // No eval_acceleration calls: its cost is inner_substeps x iterations passes over the springs.
   static constexpr uint32_t evals_per_step = 0;
   // The damping (kd) is part of the constraint projection; the flag makes the host and the
   // conformance runner treat the scene's damping as present.
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
   static constexpr std::array<clothlab_param_spec, 7> params{
-      sdk::int_param("substeps", 40, 1, 1000, "substeps per step (h = dt / substeps)"),
+      sdk::int_param("inner_substeps", 1, 1, 1000,
+                     "substeps inside each host step (h = dt / inner_substeps); they multiply the "
+                     "frame substeps, which are the knob to turn"),
       sdk::int_param("iterations", 1, 1, 100, "Gauss-Seidel sweeps over the springs per substep"),
       sdk::threads_param(),
       sdk::int_param("tethers", tethered_build ? 3 : 0, 0, 16,
@@ -134,10 +136,10 @@ struct Xpbd {
       CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
           CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS |
           CLOTHLAB_TRAIT_LOCAL_SOLVES,
-      "substeps", "iterations"};
+      "inner_substeps", "iterations"};
 
   explicit Xpbd(const sdk::Params& values)
-      : substeps_(static_cast<int>(values.integer("substeps"))),
+      : substeps_(static_cast<int>(values.integer("inner_substeps"))),
         iterations_(static_cast<int>(values.integer("iterations"))),
         requested_threads_(values.integer("threads")),
         tethers_per_particle_(static_cast<uint32_t>(values.integer("tethers"))),

@@ -1,12 +1,15 @@
 // Drape test (after Cusick's drape meter): a square cloth, level and centred, falls from just
 // above a support, a sphere or a table (box), and settles over it under gravity and friction.
+// The support may move at a constant velocity (clothlab.colliders/2): a table sliding under the
+// cloth carries it by friction; a thin one rising fast (a blade) must not pass through it.
 // The host reports the drape coefficient, the share of the cloth's area its shadow keeps
 // (clothlab.colliders/1 scenes: the run JSON's `contacts`). `anchored` pins the cloth's centre
 // particle, as the drape meter clamps the specimen's centre between two discs.
 //
 // Frame: the support's top is at the origin and y is up. The sphere's centre is at
-// (0, -radius, 0); the table is a box of half width `support.size` and half height
-// `support.size`, its top face at y = 0.
+// (0, -radius, 0); the table is a box of half width and half height `support.size`, the blade
+// a box of half width `support.size` and a thousandth of that half height (2 mm thick for a 1 m
+// half width), each with its top face at y = 0; all at t = 0, then moving at `support.velocity`.
 #include <clothlab/ext/colliders.h>
 
 #include <array>
@@ -18,7 +21,8 @@
 
 namespace clothlab::builtin {
 
-inline constexpr double support_sphere = 0, support_box = 1;
+inline constexpr double support_sphere = 0, support_box = 1, support_blade = 2;
+inline constexpr double blade_thinness = 1e-3;  // half height / half width
 
 struct Drape {
   static constexpr const char* id = "drape";
@@ -29,10 +33,13 @@ struct Drape {
   static constexpr auto params =
       concat(grid_cloth_params(),
              std::array{
-                 sdk::int_param("support", support_sphere, support_sphere, support_box,
-                                "what the cloth falls on: 0 = sphere, 1 = table (box)"),
+                 sdk::int_param("support", support_sphere, support_sphere, support_blade,
+                                "what the cloth falls on: 0 = sphere, 1 = table (box), 2 = blade "
+                                "(a box a thousandth as high as wide)"),
                  sdk::real_param("support.size", 0.3, 1e-3, 1e3, "m",
-                                 "the sphere's radius, or the table's half width and half height"),
+                                 "the sphere's radius, or the table's or blade's half width"),
+                 sdk::vec3_param("support.velocity", {0.0, 0.0, 0.0}, -100.0, 100.0, "m/s",
+                                 "the support's constant velocity from t = 0"),
                  sdk::real_param("friction", 0.5, 0.0, 10.0, "",
                                  "Coulomb coefficient between the cloth and the support"),
                  sdk::real_param("thickness", 0.005, 0.0, 0.1, "m",
@@ -53,9 +60,13 @@ struct Drape {
       centre_ = {0.0, -size, 0.0};
     } else {
       support_.shape = CLOTHLAB_COLLIDER_BOX;
-      for (double& half : support_.half_extents) half = size;
-      centre_ = {0.0, -size, 0.0};
+      const double half_height =
+          values.integer("support") == support_blade ? blade_thinness * size : size;
+      support_.half_extents[0] = support_.half_extents[2] = size;
+      support_.half_extents[1] = half_height;
+      centre_ = {0.0, -half_height, 0.0};
     }
+    velocity_ = values.vec3("support.velocity");
   }
 
   void describe(clothlab_scene& scene) const {
@@ -69,8 +80,14 @@ struct Drape {
   }
 
   std::span<const clothlab_collider> colliders() const { return {&support_, 1}; }
-  clothlab_pose collider_pose(uint32_t, double) const {
-    return {{centre_[0], centre_[1], centre_[2]}, {1.0, 0.0, 0.0, 0.0}};
+  clothlab_collider_motion collider_motion(uint32_t, double t) const {
+    clothlab_collider_motion out{};
+    for (int k = 0; k < 3; ++k) {
+      out.pose.position[k] = centre_[k] + velocity_[k] * t;
+      out.velocity[k] = velocity_[k];
+    }
+    out.pose.orientation[0] = 1.0;
+    return out;
   }
 
  private:
@@ -78,6 +95,7 @@ struct Drape {
   double drop_;
   clothlab_collider support_{};
   std::array<double, 3> centre_{};
+  std::array<double, 3> velocity_{};
   std::vector<uint32_t> pinned_;
 };
 

@@ -2,7 +2,7 @@
 `clothlab --set`), step it, and read and change its state as numpy views of the engine's memory.
 
     import clothlab
-    sim = clothlab.Simulation("configs/flag.yaml", overrides={"integrator.substeps": 8})
+    sim = clothlab.Simulation({"scenario": "flag", "frame_rate": 60}, overrides={"substeps": 8})
     sim.step(100)
     sim.positions        # (3, n) view: rows x, y, z; .T is (n, 3)
 
@@ -15,7 +15,11 @@ from ._clothlab import (
     PluginError,
     PluginLoadError,
     Simulation,
+    choose,
+    conformance,
     plugins,
+    sweep,
+    view,
 )
 
 __all__ = [
@@ -24,5 +28,9 @@ __all__ = [
     "PluginError",
     "PluginLoadError",
     "Simulation",
+    "choose",
+    "conformance",
     "plugins",
+    "sweep",
+    "view",
 ]

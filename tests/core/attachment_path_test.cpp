@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <clothlab/core/attachment_path.hpp>
+#include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -58,6 +60,31 @@ TEST(AttachmentPath, ANonFiniteTargetNamesTheTimeAndTheValue) {
   const std::string reason = refusal(lost, 1);
   EXPECT_EQ(reason.rfind("attachment 0 (particle 3): target at t = 0.05", 0), 0u) << reason;
   EXPECT_TRUE(reason.ends_with(" s: position.y = nan, allowed finite")) << reason;
+}
+
+// A 2 x 2 cloth of 1 m springs (the diagonals longer): its corner 3 at (1, -1, 0) may have its
+// target at t = 0 up to a tenth of 1 m away; 0.7 m away, the host would start the cloth
+// stretched 70 %, and it is refused naming the attachment and both distances.
+TEST(AttachmentPath, ATargetFarFromItsParticleAtTheStartIsRefused) {
+  Scene scene;
+  scene.rows = scene.cols = 2;
+  scene.width = scene.height = 1.0;
+  scene.total_mass = 1.0;
+  scene.structural = {10.0, 0.0};
+  scene.shear = {10.0, 0.0};
+  const std::shared_ptr<const ClothModel> model = build_grid_model(scene);
+  const std::vector<double>& start = model->rest_positions;
+  EXPECT_NO_THROW(
+      check_attachment_start(corner, std::vector<double>{1.05, -1.0, 0.0}, start, *model));
+  try {
+    check_attachment_start(corner, std::vector<double>{1.7, -1.0, 0.0}, start, *model);
+    ADD_FAILURE() << "a target 0.7 m from its particle passed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(),
+                 "attachment 0 (particle 3): target at t = 0 s lies 0.7 m from the particle's "
+                 "start, allowed at most 0.1 m (0.1 of its shortest spring's rest length, 1 m): "
+                 "start the cloth where its attachments hold it");
+  }
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ Particle fall(Particle p, std::span<const Collider> colliders, double h, int ste
     p.v[1] -= g * h;
     for (int k = 0; k < 3; ++k) p.x[k] += h * p.v[k];
     if (resolution == Resolution::Swept)
-      resolve_swept_contact(colliders, from, p.x, p.v);
+      resolve_swept_contact(colliders, colliders, from, p.x, p.v);
     else
       resolve_contact(colliders, p.x, p.v);
   }
@@ -151,7 +151,7 @@ TEST(ContactResolution, TheEnginesContactsExtensionKeepsTheClothOnTheFloor) {
     scene.origin = {0, 0.5, 0};
     Cloth cloth(scene, precision, PipelineOptions{});
     const Collider floor = ground(0.5, 0.01);
-    cloth.set_colliders({&floor, 1});
+    cloth.set_colliders({&floor, 1}, 0.0);
     const clothlab_system& system = cloth.system();
     const auto* contacts = static_cast<const clothlab_contacts_extension*>(
         clothlab_system_extension(&system, CLOTHLAB_EXT_CONTACTS));
@@ -193,12 +193,120 @@ TEST(ContactResolution, TheDepthPastTheThicknessIsEachCollidersOwn) {
 
   Scene scene = testing::bare_scene(1, 1);
   Cloth cloth(scene, Precision::Float64, PipelineOptions{});
-  cloth.set_colliders(both);
+  cloth.set_colliders(both, 0.0);
   cloth.set_state({0, -0.015, 0}, {0, 0, 0});
   EXPECT_NEAR(cloth.contacts().max_penetration, 0.015, 1e-15);
   EXPECT_EQ(cloth.contacts().max_depth_past_thickness, 0.0);
   cloth.set_state({5, 0.09, 0}, {0, 0, 0});
   EXPECT_NEAR(cloth.contacts().max_depth_past_thickness, 0.005, 1e-15);
+}
+
+// A blade: a box 2 mm thick (half height 1 mm), wide enough to cover a small cloth, its faces
+// normal to y, kept 2 mm clear of.
+Collider blade(double speed_up) {
+  Collider box;
+  box.shape = ColliderShape::Box;
+  box.half_extents = {5.0, 0.001, 5.0};
+  box.thickness = 0.002;
+  box.pose.position = {0, -0.03, 0};
+  box.motion.velocity = {0, speed_up, 0};
+  return box;
+}
+
+// A level 4 x 4 cloth at rest at y = 0 (no springs, no gravity: only the contacts move it), and a
+// blade rising through it at each speed, 1 ms steps, the contacts resolved at each step's end
+// as a force-based integrator does. With the blade's motion swept, no particle ends a step below
+// the blade's top (on its far side) and none is counted as crossing; with the blade's pose set
+// at each step's start and held (the contacts before colliders had velocities), it passes
+// through the cloth and the crossings say so.
+TEST(ContactResolution, AThinBladeRisingFastDoesNotPassThroughARestingCloth) {
+  for (const double speed : {20.0, 50.0, 95.0})
+    for (const bool swept : {true, false}) {
+      Scene scene = testing::bare_scene(4, 4);
+      scene.row_axis = {0, 0, 1};  // level, in the x-z plane over the blade
+      Cloth cloth(scene, Precision::Float64, PipelineOptions{});
+      const clothlab_system& system = cloth.system();
+      const auto* contacts = static_cast<const clothlab_contacts_extension*>(
+          clothlab_system_extension(&system, CLOTHLAB_EXT_CONTACTS));
+      constexpr double dt = 1e-3;
+      uint64_t crossings = 0;
+      bool far_side = false;
+      // As the host does: the blade at each step's start, set after the step before.
+      const auto set_blade = [&](double t) {
+        Collider now = blade(speed).advanced(t);
+        if (!swept) now.motion = {};
+        cloth.set_colliders({&now, 1}, t);
+      };
+      set_blade(0);
+      for (int step = 0; step < 5; ++step) {
+        const double t = step * dt;
+        ASSERT_EQ(contacts->resolve(system.context, t + dt, system.x, system.v), CLOTHLAB_OK);
+        set_blade(t + dt);
+        crossings += cloth.contacts().particles_crossed;
+        const double top = blade(speed).advanced(t + dt).pose.position[1] + 0.001;
+        std::vector<double> x;
+        cloth.positions(x);
+        for (std::size_t i = 1; i < x.size(); i += 3) far_side = far_side || x[i] < top;
+      }
+      EXPECT_EQ(far_side, !swept) << speed << " m/s";
+      EXPECT_EQ(crossings > 0, !swept) << speed << " m/s";
+      if (swept) {
+        std::vector<double> v;
+        cloth.velocities(v);
+        EXPECT_NEAR(v[1], speed, 1e-9) << "carried at the blade's speed";
+      }
+    }
+}
+
+// A particle resting on a floor that slides sideways at 2 m/s, friction 0.5: Coulomb friction
+// on the velocity relative to the floor accelerates it at mu g until it moves with the floor
+// (after 2 / (0.5 g) = 0.41 s), and it stays with it.
+TEST(ContactResolution, FrictionCarriesAParticleWithAMovingBody) {
+  Collider floor = ground(0.5, 0.0);
+  floor.motion.velocity = {2.0, 0, 0};
+  const double h = 1e-3;
+  Particle p{{0, 0, 0}, {0, 0, 0}};
+  double speed_at_0_2_s = 0;
+  for (int step = 1; step <= 1000; ++step) {
+    p = fall(p, {&floor, 1}, h, 1);
+    if (step == 200) speed_at_0_2_s = p.v[0];
+  }
+  EXPECT_NEAR(speed_at_0_2_s, 0.5 * g * 0.2, 2 * g * h);
+  EXPECT_NEAR(p.v[0], 2.0, 1e-12);
+  EXPECT_NEAR(p.x[1], 0.0, 1e-12);
+}
+
+// The motion that takes one pose to another in dt carries the first onto the second, turns
+// included; a velocity its poses do not follow is refused.
+TEST(ContactResolution, AMotionBetweenTwoPosesCarriesTheFirstOntoTheSecond) {
+  Collider box;
+  box.shape = ColliderShape::Box;
+  box.half_extents = {0.5, 0.1, 0.2};
+  box.pose.position = {1, 2, 3};
+  const double angle = 0.3;
+  Pose after;
+  after.position = {1.2, 1.9, 3.05};
+  after.orientation = {std::cos(angle / 2), 0, 0, std::sin(angle / 2)};
+  box.motion = motion_between(box.pose, after, 0.01);
+  EXPECT_NEAR(box.motion.angular_velocity[2], angle / 0.01, 1e-9);
+  const Collider moved = box.advanced(0.01);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(moved.pose.position[k], after.position[k], 1e-12);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(moved.pose.orientation[k], after.orientation[k], 1e-12);
+  // A point on the axis of turn moves with the frame; one 1 m off it adds angle / dt.
+  EXPECT_NEAR(box.velocity_at({1, 3, 3})[0], 20.0 - angle / 0.01, 1e-9);
+
+  EXPECT_NO_THROW(check_motion_agrees(box.motion, box.motion));
+  Motion backwards = box.motion;
+  for (double& component : backwards.velocity) component = -component;
+  EXPECT_THROW(check_motion_agrees(backwards, box.motion), std::invalid_argument);
+  try {
+    check_motion_agrees(Motion{{20, 0, 0}, {}}, Motion{});
+    ADD_FAILURE() << "a velocity of 20 m/s on a still body passed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(),
+                 "velocity 20 m/s, its poses move at 0 m/s (20 apart): allowed within 11 m/s of "
+                 "them");
+  }
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
-// Triangle meshes built in code for the mesh tests: a scene's grid written as triangles, a disc
-// and an irregular (jittered, randomly split) sheet.
+// Triangle meshes built in code for the mesh tests and the mesh path's benchmark: a scene's grid
+// written as triangles, a disc and an irregular (jittered, randomly split) sheet; and the RK4
+// scheme they step with.
 #pragma once
+
+#include <clothlab/plugin.h>
 
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/core/triangle_mesh.hpp>
@@ -75,36 +78,28 @@ inline TriangleMesh disc_mesh(uint32_t rings, double spacing) {
   return mesh;
 }
 
-// A rows x cols sheet of unit spacing in the xy plane, each vertex moved by up to a quarter of
-// the spacing (and a little out of plane) and each cell split along a diagonal chosen by a
-// hash: no rectangles, no straight lines of edges.
+// A rows x cols sheet of unit spacing in the xy plane, jittered and split at random
+// (irregular_grid_mesh): no rectangles, no straight lines of edges.
 inline TriangleMesh irregular_mesh(uint32_t rows, uint32_t cols) {
-  TriangleMesh mesh;
-  auto hash = [](uint32_t value) {
-    value ^= value >> 16;
-    value *= 0x7feb352dU;
-    value ^= value >> 15;
-    value *= 0x846ca68bU;
-    return value ^ (value >> 16);
-  };
-  auto jitter = [&](uint32_t i, uint32_t k) {
-    return (static_cast<double>(hash(3 * i + k) % 1000) / 1000.0 - 0.5) * 0.5;
-  };
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < cols; ++c) {
-      const uint32_t i = r * cols + c;
-      mesh.positions.insert(mesh.positions.end(),
-                            {c + jitter(i, 0), -(r + jitter(i, 1)), 0.2 * jitter(i, 2)});
-    }
-  for (uint32_t r = 0; r + 1 < rows; ++r)
-    for (uint32_t c = 0; c + 1 < cols; ++c) {
-      const uint32_t a = r * cols + c, b = a + 1, below = a + cols, d = below + 1;
-      if (hash(a + 7919) % 2 == 0)
-        mesh.triangles.insert(mesh.triangles.end(), {a, b, d, a, d, below});
-      else
-        mesh.triangles.insert(mesh.triangles.end(), {a, below, b, b, below, d});
-    }
-  return mesh;
+  Scene layout;
+  layout.rows = rows;
+  layout.cols = cols;
+  layout.width = cols - 1.0;
+  layout.height = rows - 1.0;
+  return irregular_grid_mesh(layout);
+}
+
+// The classic RK4 as a Runge-Kutta-Nystrom scheme (clothlab_rkn_scheme): what tests and
+// benchmarks step a cloth's own step_rkn with.
+inline const clothlab_rkn_scheme& rk4_scheme() {
+  static constexpr double c[4] = {0, 0.5, 0.5, 1}, alpha[4] = {0, 0.5, 0.5, 1};
+  static constexpr double x_coupling[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0.25, 0, 0, 0, 0, 0.5, 0};
+  static constexpr double v_coupling[16] = {0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 1, 0};
+  static constexpr double x_weights[4] = {1.0 / 6, 1.0 / 6, 1.0 / 6, 0};
+  static constexpr double v_weights[4] = {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6};
+  static constexpr clothlab_rkn_scheme scheme{sizeof scheme, 4,          c,         alpha,
+                                              x_coupling,    v_coupling, x_weights, v_weights};
+  return scheme;
 }
 
 }  // namespace clothlab::testing

@@ -71,7 +71,8 @@ TEST(TeamGovernor, AFasterThreadAloneRunsHoldsThatDoubleBetweenTriesOfTheTeam) {
   EXPECT_EQ(std::vector<int>(runs.lengths.begin(), runs.lengths.begin() + 8),
             (std::vector<int>{7, 8, 16, 32, 64, 128, 256, 256}));
   // Each try is kTrySteps team steps.
-  EXPECT_NE(choices.find(std::string(7, 'a') + "TTTT" + std::string(8, 'a')), std::string::npos);
+  const std::string alone_team_alone = std::string(7, 'a').append("TTTT").append(8, 'a');
+  EXPECT_NE(choices.find(alone_team_alone), std::string::npos);
 }
 
 TEST(TeamGovernor, ATeamStepMuchSlowerThanTheRecentOnesProbesAtOnce) {

@@ -651,6 +651,28 @@ sweep:
   EXPECT_EQ(rows[1]["status"], "stable") << rows[1].dump();
 }
 
+// On a terminal --find-max-dt shows each probe on the sweeps' progress line (stderr); through a
+// pipe it writes none of it. script(1) gives the program a terminal and records what it wrote.
+TEST_F(ClothlabStability, FindMaxDtShowsItsProbesOnATerminalOnly) {
+  const std::string search = tiny_sheet +
+                             "--integrator midpoint --duration 0.05 --find-max-dt "
+                             "--set find_max_dt.tolerance=0.5 --set find_max_dt.max_evaluations=9";
+  const Outcome piped = run(search);
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(piped.err, "");
+  const std::string on_terminal =
+      "cd '" + folder_.string() +
+      "' && env -u CLOTHLAB_PLUGIN_PATH script -qec \"'" CLOTHLAB_EXECUTABLE
+      "' --plugin-path '" CLOTHLAB_BUILTIN_PLUGIN_DIR "' " +
+      search + "\" terminal.txt > /dev/null";
+  ASSERT_EQ(std::system(on_terminal.c_str()), 0);
+  const std::string terminal = read_text(file("terminal.txt"));
+  EXPECT_NE(terminal.find("\r[1/9]"), std::string::npos) << terminal;
+  EXPECT_NE(terminal.find("s: stable"), std::string::npos) << terminal;
+  EXPECT_NE(terminal.find("s: unstable ("), std::string::npos) << terminal;
+  EXPECT_NE(terminal.find("measured  dt_max"), std::string::npos) << terminal;
+}
+
 TEST_F(ClothlabStability, FoundMaxDtIsStableAndTwentyPercentMoreIsNot) {
   const std::string scene = tiny_sheet + "--integrator midpoint --duration 0.5 ";
   const Outcome search = run(scene +

@@ -8,7 +8,6 @@
 #include <fstream>
 
 #include "config_file.hpp"
-#include "material.hpp"
 #include "run_config.hpp"
 
 namespace clothlab::cli {
@@ -131,27 +130,6 @@ TEST(Material, OutOfRangeFieldNamesFileLineColumnKeyValueAndRange) {
   EXPECT_NE(error_of(stiff).find("material.shear_stiffness = 7000 N/m is not below "
                                  "material.stretch_stiffness = 6129 N/m"),
             std::string::npos);
-}
-
-TEST(Material, MembraneSpringsIgnoreSpacingFlexionAndMassFollowIt) {
-  Material material;
-  material.areal_density = 0.2;
-  material.stretch_stiffness = 5000;
-  material.shear_stiffness = 100;
-  material.bending_stiffness = 1e-5;
-  material.damping_time = 1e-4;
-  const GridSprings coarse = grid_springs(material, 21, 21, 1.0, 1.0);  // h = 0.05 m
-  const GridSprings fine = grid_springs(material, 81, 81, 1.0, 1.0);    // h = 0.0125 m
-  for (const GridSprings& springs : {coarse, fine}) {
-    EXPECT_DOUBLE_EQ(springs.mass, 0.2);
-    EXPECT_DOUBLE_EQ(springs.structural_ks, 4900);  // E - G: the axes carry E with the diagonals
-    EXPECT_DOUBLE_EQ(springs.shear_ks, 100);
-    EXPECT_DOUBLE_EQ(springs.structural_kd, 0.49);
-  }
-  EXPECT_DOUBLE_EQ(coarse.flexion_ks, 1e-5 / (0.05 * 0.05));
-  EXPECT_DOUBLE_EQ(fine.flexion_ks, 16 * coarse.flexion_ks);  // B / h^2
-  EXPECT_DOUBLE_EQ(fine.flexion_kd, 1e-4 * fine.flexion_ks);
-  EXPECT_DOUBLE_EQ(grid_springs(material, 21, 21, 2.0, 3.0).mass, 1.2);  // density x area
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ inline std::string integrator_path(const std::string& id) {
   if (id == "rk4") return CLOTHLAB_TEST_RK4_PLUGIN;
   if (id == "verlet") return CLOTHLAB_TEST_VERLET_PLUGIN;
   if (id == "implicit_euler") return CLOTHLAB_TEST_IMPLICIT_EULER_PLUGIN;
+  if (id == "bdf2") return CLOTHLAB_TEST_BDF2_PLUGIN;
   if (id == "projective_dynamics") return CLOTHLAB_TEST_PROJECTIVE_DYNAMICS_PLUGIN;
   if (id == "xpbd") return CLOTHLAB_TEST_XPBD_PLUGIN;
   if (id == "vbd") return CLOTHLAB_TEST_VBD_PLUGIN;

@@ -266,7 +266,8 @@ TEST_F(MeshScenario, RefusesAFolderAnOversizedFileAndTooManyVertices) {
   EXPECT_NE(error(folder_.string()).find("is a folder"), std::string::npos);
   const std::string file = write("quads.obj", two_quads);
   // 0.001 MB = 1000 bytes, below the padded file's 2000 and more: refused before it is read.
-  const std::string padded = write("padded.obj", "#" + std::string(1999, ' ') + "\n" + two_quads);
+  const std::string padded =
+      write("padded.obj", std::string("#").append(1999, ' ').append("\n").append(two_quads));
   EXPECT_NE(error(padded, {{"max_file_mb", "0.001"}})
                 .find(padded + ": 0.00207 MB is over the limit scenario.max_file_mb = 0.001"),
             std::string::npos)

@@ -112,11 +112,13 @@ struct ClothMatrix {
   std::map<std::pair<int, int>, Eigen::Matrix3d> blocks;  // (i, j): S_ij, the nonzero ones
 };
 
-// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes.
-MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest) {
+// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes,
+// its single levels smoothed in `lanes`' precision.
+MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest,
+                                 builtin::LanePrecision lanes = builtin::LanePrecision::float64) {
   MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
                                                     static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, GridLevel::Blocks::single);
+                               cloth.fixed, GridLevel::Blocks::single, lanes);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
@@ -287,40 +289,50 @@ void reference_sweeps(const Eigen::MatrixXd& a, const GridLevel& level, bool bac
 // whatever the chunk, forward and backward passes of 1 to 3 sweeps, and the residual after a
 // forward pass, are those of the colour order. A wave whose sweeps lag one step less than
 // they must reads a row before the previous sweep has updated it, and the check sees it.
+// The lanes in single precision (a float32 system's V-cycle) give the same sweeps to single
+// precision's rounding.
 TEST(Multigrid, TheSmootherSweepsTheColoursInOrderInEveryChunkOfTheWave) {
-  for (int rows : {28, 29, 30}) {  // every remainder of the rows' period
-    ClothMatrix cloth(rows, 16);
-    MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);
-    const GridLevel& level = hierarchy.level(0);
-    const Eigen::MatrixXd a = dense_of(level);
-    builtin::BlockGaussSeidel smoother(level);
-    ASSERT_TRUE(smoother.factor(level));
-    const Eigen::VectorXd b = cloth.rhs(5), start = cloth.rhs(6);
-    for (const bool backward : {false, true})
-      for (long sweeps : {1L, 2L, 3L}) {
-        Eigen::VectorXd expected = start;
-        reference_sweeps(a, level, backward, sweeps, b, expected);
-        const double scale = expected.norm();
-        for (int steps_per_chunk : {1, 2, 5, 1000}) {
-          smoother.set_steps_per_chunk(level, steps_per_chunk);
-          const std::string where = std::to_string(rows) + " rows, " +
-                                    (backward ? "backward, " : "forward, ") +
-                                    std::to_string(sweeps) + " sweeps, " +
-                                    std::to_string(steps_per_chunk) + " steps per chunk";
-          Eigen::VectorXd x = start, residual(x.size());
-          if (backward) {
-            smoother.backward(level, b.data(), x.data(), sweeps);
-          } else {
-            smoother.forward(level, b.data(), x.data(), sweeps, residual.data());
-            Eigen::VectorXd expected_residual = b - a * x;
-            for (std::size_t i = 0; i < level.node_count(); ++i)
-              if (level.fixed(i)) expected_residual.segment<3>(3 * i).setZero();
-            EXPECT_LT((residual - expected_residual).norm(), 1e-10 * b.norm()) << where;
+  using builtin::LanePrecision;
+  for (const LanePrecision precision : {LanePrecision::float64, LanePrecision::float32})
+    for (int rows : {28, 29, 30}) {  // every remainder of the rows' period
+      ClothMatrix cloth(rows, 16);
+      MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);
+      const GridLevel& level = hierarchy.level(0);
+      const Eigen::MatrixXd a = dense_of(level);
+      builtin::BlockGaussSeidel smoother(level, precision);
+      ASSERT_TRUE(smoother.factor(level));
+      const double tolerance = precision == LanePrecision::float64 ? 1e-10 : 1e-4;
+      const Eigen::VectorXd b = cloth.rhs(5), start = cloth.rhs(6);
+      for (const bool backward : {false, true})
+        for (long sweeps : {1L, 2L, 3L}) {
+          Eigen::VectorXd expected = start;
+          reference_sweeps(a, level, backward, sweeps, b, expected);
+          const double scale = expected.norm();
+          for (int steps_per_chunk : {1, 2, 5, 1000}) {
+            smoother.set_steps_per_chunk(level, steps_per_chunk);
+            const std::string where =
+                std::to_string(rows) + " rows, " +
+                (precision == LanePrecision::float64 ? "double, " : "float, ") +
+                (backward ? "backward, " : "forward, ") + std::to_string(sweeps) + " sweeps, " +
+                std::to_string(steps_per_chunk) + " steps per chunk";
+            Eigen::VectorXd x = start, residual(x.size());
+            if (backward) {
+              smoother.backward(level, b.data(), x.data(), sweeps);
+            } else {
+              smoother.forward(level, b.data(), x.data(), sweeps, residual.data());
+              Eigen::VectorXd expected_residual = b - a * x;
+              for (std::size_t i = 0; i < level.node_count(); ++i)
+                if (level.fixed(i)) expected_residual.segment<3>(3 * i).setZero();
+              // In single precision b - A x cancels: its rounding scales with |A| |x|.
+              const double residual_scale = precision == LanePrecision::float64
+                                                ? b.norm()
+                                                : (a.cwiseAbs() * x.cwiseAbs()).norm();
+              EXPECT_LT((residual - expected_residual).norm(), tolerance * residual_scale) << where;
+            }
+            EXPECT_LT((x - expected).norm(), tolerance * scale) << where;
           }
-          EXPECT_LT((x - expected).norm(), 1e-10 * scale) << where;
         }
-      }
-  }
+    }
 }
 
 double asymmetry(VCycle& cycle, const ClothMatrix& cloth) {
@@ -361,32 +373,36 @@ TEST(Multigrid, TheVCycleIsSymmetric) {
 // not couple, so the V-cycle has the same bits on any count and in chunks of any size (70 x 70:
 // the finest level is large enough to split).
 TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
-  ClothMatrix cloth(70, 70);
-  MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes);
-  ASSERT_TRUE(hierarchy.level(0).splits(2));
-  const Eigen::VectorXd b = cloth.rhs(4);
-  VCycle one(hierarchy, 2, 1), two(hierarchy, 2, 2);
-  const Eigen::VectorXd alone = apply_cycle(one, b), team = apply_cycle(two, b);
-  ASSERT_EQ(alone.size(), team.size());
-  for (Eigen::Index i = 0; i < alone.size(); ++i) ASSERT_EQ(alone[i], team[i]) << "entry " << i;
-  EXPECT_GT(alone.norm(), 0.0);
-  // The fine level's smoothing in chunks of 3 steps (a team of two rounds them to 2) on 1 and 2
-  // threads, against the whole level at once on one thread.
-  const GridLevel& fine = hierarchy.level(0);
-  builtin::BlockGaussSeidel chunked(fine), whole(fine);
-  ASSERT_TRUE(chunked.factor(fine) && whole.factor(fine));
-  chunked.set_steps_per_chunk(fine, 3);
-  whole.set_steps_per_chunk(fine, 1000);
-  Eigen::VectorXd y = cloth.rhs(7), ry(y.size());
-  whole.forward(fine, b.data(), y.data(), 2, ry.data());
-  whole.backward(fine, b.data(), y.data(), 2);
-  for (int threads : {1, 2}) {
-    Eigen::VectorXd x = cloth.rhs(7), rx(x.size());
-    chunked.forward(fine, b.data(), x.data(), 2, rx.data(), threads);
-    chunked.backward(fine, b.data(), x.data(), 2, threads);
-    for (Eigen::Index i = 0; i < x.size(); ++i) {
-      ASSERT_EQ(x[i], y[i]) << threads << " threads, entry " << i;
-      ASSERT_EQ(rx[i], ry[i]) << threads << " threads, residual entry " << i;
+  using builtin::LanePrecision;
+  for (const LanePrecision precision : {LanePrecision::float64, LanePrecision::float32}) {
+    SCOPED_TRACE(precision == LanePrecision::float64 ? "double lanes" : "float lanes");
+    ClothMatrix cloth(70, 70);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, builtin::kDefaultCoarsestNodes, precision);
+    ASSERT_TRUE(hierarchy.level(0).splits(2));
+    const Eigen::VectorXd b = cloth.rhs(4);
+    VCycle one(hierarchy, 2, 1), two(hierarchy, 2, 2);
+    const Eigen::VectorXd alone = apply_cycle(one, b), team = apply_cycle(two, b);
+    ASSERT_EQ(alone.size(), team.size());
+    for (Eigen::Index i = 0; i < alone.size(); ++i) ASSERT_EQ(alone[i], team[i]) << "entry " << i;
+    EXPECT_GT(alone.norm(), 0.0);
+    // The fine level's smoothing in chunks of 3 steps (a team of two rounds them to 2) on 1 and 2
+    // threads, against the whole level at once on one thread.
+    const GridLevel& fine = hierarchy.level(0);
+    builtin::BlockGaussSeidel chunked(fine, precision), whole(fine, precision);
+    ASSERT_TRUE(chunked.factor(fine) && whole.factor(fine));
+    chunked.set_steps_per_chunk(fine, 3);
+    whole.set_steps_per_chunk(fine, 1000);
+    Eigen::VectorXd y = cloth.rhs(7), ry(y.size());
+    whole.forward(fine, b.data(), y.data(), 2, ry.data());
+    whole.backward(fine, b.data(), y.data(), 2);
+    for (int threads : {1, 2}) {
+      Eigen::VectorXd x = cloth.rhs(7), rx(x.size());
+      chunked.forward(fine, b.data(), x.data(), 2, rx.data(), threads);
+      chunked.backward(fine, b.data(), x.data(), 2, threads);
+      for (Eigen::Index i = 0; i < x.size(); ++i) {
+        ASSERT_EQ(x[i], y[i]) << threads << " threads, entry " << i;
+        ASSERT_EQ(rx[i], ry[i]) << threads << " threads, residual entry " << i;
+      }
     }
   }
 }

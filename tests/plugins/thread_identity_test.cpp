@@ -104,21 +104,25 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         ThreadedCase{"VbdFloat64", "vbd", false, 70, 3, {{"iterations", 3}}},
         ThreadedCase{"VbdFloat32", "vbd", true, 70, 3, {{"iterations", 3}}},
-        ThreadedCase{"XpbdFloat64", "xpbd", false, 190, 4, {{"substeps", 4}, {"iterations", 2}}},
-        ThreadedCase{"XpbdFloat32", "xpbd", true, 190, 4, {{"substeps", 4}, {"iterations", 2}}},
         ThreadedCase{
-            "XpbdChebyshev",
-            "xpbd",
-            false,
-            190,
-            4,
-            {{"substeps", 4}, {"iterations", 4}, {"chebyshev_rho", 0.5}, {"chebyshev_delay", 1}}},
+            "XpbdFloat64", "xpbd", false, 190, 4, {{"inner_substeps", 4}, {"iterations", 2}}},
+        ThreadedCase{
+            "XpbdFloat32", "xpbd", true, 190, 4, {{"inner_substeps", 4}, {"iterations", 2}}},
+        ThreadedCase{"XpbdChebyshev",
+                     "xpbd",
+                     false,
+                     190,
+                     4,
+                     {{"inner_substeps", 4},
+                      {"iterations", 4},
+                      {"chebyshev_rho", 0.5},
+                      {"chebyshev_delay", 1}}},
         ThreadedCase{"XpbdWithTethers",
                      "xpbd",
                      true,
                      190,
                      4,
-                     {{"substeps", 4}, {"iterations", 2}, {"tethers", 2}}}),
+                     {{"inner_substeps", 4}, {"iterations", 2}, {"tethers", 2}}}),
     [](const ::testing::TestParamInfo<ThreadedCase>& info) {
       return std::string(info.param.name);
     });

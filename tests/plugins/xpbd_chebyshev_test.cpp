@@ -81,7 +81,9 @@ NetStep one_substep(const Net& net, long iterations, double rho, long delay = 1,
     host.system().set_velocity(i, net.v0[i]);
   }
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 1).with("iterations", static_cast<double>(iterations)).with("threads", 1);
+  xpbd.with("inner_substeps", 1)
+      .with("iterations", static_cast<double>(iterations))
+      .with("threads", 1);
   xpbd.with("chebyshev_rho", rho).with("chebyshev_delay", static_cast<double>(delay));
   xpbd.start(host.system());
   NetStep result;

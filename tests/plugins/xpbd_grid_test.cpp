@@ -99,7 +99,7 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
       system.set_velocity(r * cols + c, {0, 0, 2.0 * std::sin(0.3 * (r * cols + c))});
     }
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 4).with("iterations", iterations).with("threads", 1);
+  xpbd.with("inner_substeps", 4).with("iterations", iterations).with("threads", 1);
   if (chebyshev != nullptr)
     xpbd.with("chebyshev_rho", chebyshev->rho)
         .with("chebyshev_delay", static_cast<double>(chebyshev->delay));

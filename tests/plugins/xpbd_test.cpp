@@ -69,7 +69,7 @@ template <class Real>
 double chain_sag_error(double ks, int iterations) {
   HangingChain<Real> chain(chain_count, chain_spacing, ks, chain_damping_ratio * ks);
   Integrator xpbd("xpbd");
-  xpbd.with("iterations", iterations).with("substeps", chain_substeps).with("threads", 1);
+  xpbd.with("iterations", iterations).with("inner_substeps", chain_substeps).with("threads", 1);
   xpbd.start(chain.system());
   xpbd.run(chain.system(), 4000, chain_dt);  // 40 s
   double error = 0;
@@ -126,7 +126,7 @@ double spring_period(int iterations) {
   MockSystem<double>& system = network.system();
   system.set_position(1, {0, -1.1, 0});
   Integrator xpbd("xpbd");
-  xpbd.with("iterations", iterations).with("substeps", 10);
+  xpbd.with("iterations", iterations).with("inner_substeps", 10);
   xpbd.start(system);
   std::vector<double> y;
   for (int n = 0; n < 7000; ++n) {  // 3.5 periods
@@ -152,7 +152,7 @@ TEST(Xpbd, StiffSpringPendulumHasTheRigidPendulumPeriod) {
   MockSystem<double>& system = network.system();
   system.set_position(1, {std::sin(theta0), -std::cos(theta0), 0});
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 20);
+  xpbd.with("inner_substeps", 20);
   xpbd.start(system);
   std::vector<double> x;
   double worst_length_error = 0;
@@ -190,9 +190,9 @@ TEST(Xpbd, WithoutTheTopologyExtensionPrepareFailsWithOneLine) {
 
 TEST(Xpbd, RejectsZeroSubsteps) {
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 0);
+  xpbd.with("inner_substeps", 0);
   EXPECT_EQ(xpbd.create(), CLOTHLAB_ERROR_INVALID_ARGUMENT);
-  EXPECT_NE(xpbd.message().find("substeps"), std::string::npos) << xpbd.message();
+  EXPECT_NE(xpbd.message().find("inner_substeps"), std::string::npos) << xpbd.message();
 }
 
 }  // namespace

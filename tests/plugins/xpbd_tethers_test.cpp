@@ -36,7 +36,7 @@ std::vector<Vec3> free_flight(Vec3 velocity, int tethers, double slack) {
   MockSystem<double>& system = scene.network.system();
   system.set_velocity(1, velocity);
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 4).with("tethers", tethers).with("tether_slack", slack);
+  xpbd.with("inner_substeps", 4).with("tethers", tethers).with("tether_slack", slack);
   xpbd.start(system);
   std::vector<Vec3> path;
   for (int n = 0; n < 50; ++n) {
@@ -139,7 +139,7 @@ double hang(bool general, uint32_t per_particle, int tethers) {
   const builtin::Tethers<double> expected = tethers_of(system, per_particle, 0.1);
   EXPECT_EQ(expected.slots(), per_particle);  // the nearest corner; both corners
   Integrator xpbd("xpbd");
-  xpbd.with("substeps", 2).with("tethers", tethers).with("tether_slack", 0.1);
+  xpbd.with("inner_substeps", 2).with("tethers", tethers).with("tether_slack", 0.1);
   xpbd.start(system);
   double worst = 0;
   for (int n = 0; n < 200; ++n) {  // 2 s: the sheet falls, swings and sags

@@ -3,18 +3,20 @@
 
 #include <gtest/gtest.h>
 
+#include <clothlab/core/triangle_mesh.hpp>
 #include <cmath>
+#include <numbers>
 
 namespace clothlab::analysis {
 namespace {
 
-Scene grid(uint32_t side, double total_mass, double ks) {
+ClothModel grid(uint32_t side, double total_mass, double ks) {
   Scene scene;
   scene.rows = scene.cols = side;
   scene.total_mass = total_mass;
   scene.structural.ks = ks;
   scene.shear.ks = 10 * ks;  // not the warp/weft springs: the bound ignores them
-  return scene;
+  return *build_grid_model(scene);
 }
 
 TEST(LocalSolveBound, IsTheStepWhereMassOverStepSquaredReachesTheStiffness) {
@@ -38,6 +40,31 @@ TEST(LocalSolveBound, GrowsWithTheMeshAsTheIssueEstimates) {
   // No warp/weft stiffness: no bound.
   EXPECT_TRUE(std::isinf(local_solve_bound(grid(10, 1.0, 0.0)).dt_max));
   EXPECT_EQ(local_solve_bound(grid(10, 1.0, 0.0)).substeps_per_frame(60), 1u);
+}
+
+TEST(LocalSolveBound, OnAMeshIsTheMedianStructuralSprings) {
+  // A disc (rings of 6k particles, spacing 0.1 m) of 1 kg under one ks: masses by area differ
+  // from particle to particle, so the bound is the median spring's sqrt(m / ks), not the
+  // lightest particle's.
+  Scene scene;
+  scene.rows = scene.cols = 0;
+  scene.total_mass = 1.0;
+  scene.structural.ks = 100.0;
+  TriangleMesh disc;
+  disc.positions = {0, 0, 0};
+  for (int j = 0; j < 6; ++j)
+    disc.positions.insert(disc.positions.end(), {0.1 * std::cos(j * std::numbers::pi / 3),
+                                                 0.1 * std::sin(j * std::numbers::pi / 3), 0.0});
+  for (uint32_t j = 0; j < 6; ++j)
+    disc.triangles.insert(disc.triangles.end(), {0, 1 + j, 1 + (j + 1) % 6});
+  const auto model = build_mesh_model(disc, scene);
+  // The hub holds a third of all six triangles (1/3 kg); each rim particle a third of two
+  // (1/9 kg). Six spokes (mean 2/9 kg) and six rim edges (1/9 kg): the median (index 6 of 12)
+  // is a spoke's.
+  const LocalSolveBound bound = local_solve_bound(*model);
+  EXPECT_NEAR(bound.particle_mass, 2.0 / 9, 1e-12);
+  EXPECT_DOUBLE_EQ(bound.stiffness, 100.0);
+  EXPECT_NEAR(bound.dt_max, std::sqrt(2.0 / 900), 1e-12);
 }
 
 }  // namespace

@@ -45,7 +45,7 @@ TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
   };
   CountingRuns runs;
   {
-    TrajectoryCache cache(folder.path() / "references", identity);
+    TrajectoryCache cache(folder.path() / "references", identity, "clothlab 1");
     const Trajectory first = cache.run(std::ref(runs), reference_case({}));
     EXPECT_EQ(runs.calls, 1);
     EXPECT_EQ(cache.hits(), 0);
@@ -53,7 +53,7 @@ TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
   }
   // A later session: the same effective settings (a repeated key's last value, another
   // timeout) are served, bit for bit.
-  TrajectoryCache cache(folder.path() / "references", identity);
+  TrajectoryCache cache(folder.path() / "references", identity, "clothlab 1");
   const Trajectory again =
       cache.run(std::ref(runs), reference_case({{"scenario.rows", "30", "test"},
                                                 {"scenario.rows", "20", "test"},
@@ -80,7 +80,7 @@ TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
 // 100 x 100 itself.
 TEST(TrajectoryCache, ServesTheSameMeshHoweverItIsSpelt) {
   ScratchFolder folder;
-  TrajectoryCache cache(folder.path(), nullptr);
+  TrajectoryCache cache(folder.path(), nullptr, "clothlab 1");
   CountingRuns runs;
   const auto scene = [](const std::string& side, const std::string& error_mesh) {
     std::vector<Setting> settings = {{"scenario.rows", side, "test"},
@@ -102,9 +102,47 @@ TEST(TrajectoryCache, ServesTheSameMeshHoweverItIsSpelt) {
   EXPECT_EQ(runs.calls, 3);
 }
 
+// A reference that does not match the scene is computed again, never served: another material,
+// mesh, precision, host build, or the same file name with other content.
+TEST(TrajectoryCache, RecomputesAReferenceOfAnotherSceneOrHost) {
+  ScratchFolder folder;
+  CountingRuns runs;
+  const std::filesystem::path mesh_file = folder.path() / "disc.obj";
+  std::ofstream(mesh_file) << "v 0 0 0\n";
+  const auto scene = [&](const std::string& stiffness, const std::string& rows,
+                         const std::string& precision) {
+    return reference_case({{"material.stretch_stiffness", stiffness, "test"},
+                           {"scenario.rows", rows, "test"},
+                           {"precision", precision, "test"},
+                           {"scenario.file", mesh_file.string(), "test"}});
+  };
+  {
+    TrajectoryCache cache(folder.path() / "references", nullptr, "clothlab 1");
+    cache.run(std::ref(runs), scene("6100", "20", "float64"));
+    cache.run(std::ref(runs), scene("6100", "20", "float64"));
+    EXPECT_EQ(runs.calls, 1);
+    cache.run(std::ref(runs), scene("3000", "20", "float64"));  // another material
+    cache.run(std::ref(runs), scene("6100", "30", "float64"));  // another mesh
+    cache.run(std::ref(runs), scene("6100", "20", "float32"));  // another precision
+    EXPECT_EQ(runs.calls, 4);
+    std::ofstream(mesh_file) << "v 0 0 1\n";  // the mesh file edited in place
+    cache.run(std::ref(runs), scene("6100", "20", "float64"));
+    EXPECT_EQ(runs.calls, 5);
+    EXPECT_EQ(cache.hits(), 1);
+  }
+  // Another host build (version) misses what the first stored, then serves its own.
+  TrajectoryCache rebuilt(folder.path() / "references", nullptr, "clothlab 2");
+  rebuilt.run(std::ref(runs), scene("6100", "20", "float64"));
+  EXPECT_EQ(runs.calls, 6);
+  EXPECT_EQ(rebuilt.hits(), 0);
+  rebuilt.run(std::ref(runs), scene("6100", "20", "float64"));
+  EXPECT_EQ(runs.calls, 6);
+  EXPECT_EQ(rebuilt.hits(), 1);
+}
+
 TEST(TrajectoryCache, KeepsNeitherUnstableRunsNorUnreadableFiles) {
   ScratchFolder folder;
-  TrajectoryCache cache(folder.path(), nullptr);
+  TrajectoryCache cache(folder.path(), nullptr, "clothlab 1");
   CountingRuns runs;
   runs.stable = false;
   cache.run(std::ref(runs), reference_case({}));

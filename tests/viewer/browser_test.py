@@ -141,7 +141,8 @@ def drape_view(out):
     folder = os.path.join(out, "drape")
     run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "drape",
         "--set", "scenario.rows=20", "--set", "scenario.cols=20", "--set", "scenario.width=0.4",
-        "--set", "scenario.height=0.4", "--duration", "0.5",
+        "--set", "scenario.height=0.4", "--frame-rate", "1000", "--substeps", "40",
+        "--duration", "0.5",
         "--set", "frames.rate=30", "--frames", folder, "--quiet")
     view = os.path.join(out, "view")
     run(CLOTHLAB, "view", folder, "--out", view)
@@ -214,7 +215,8 @@ def camera_azimuth(view):
 def cape_view(out):
     folder = os.path.join(out, "cape")
     run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "cape",
-        "--set", "scenario.rows=16", "--set", "scenario.cols=10", "--duration", str(CAPE_LATE),
+        "--set", "scenario.rows=16", "--set", "scenario.cols=10", "--frame-rate", "1000",
+        "--substeps", "40", "--duration", str(CAPE_LATE),
         "--set", "frames.rate=30", "--frames", folder, "--quiet")
     view = os.path.join(out, "view")
     run(CLOTHLAB, "view", folder, "--out", view)
@@ -359,7 +361,8 @@ def mesh_drawn():
     run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "mesh",
         "--set", f"scenario.file={disc}", "--set", "scenario.pin.by_box=true",
         "--set", "scenario.pin.box.min=[-0.05, 0.95, -0.05]",
-        "--set", "scenario.pin.box.max=[0.05, 1.05, 0.05]", "--duration", "1",
+        "--set", "scenario.pin.box.max=[0.05, 1.05, 0.05]", "--frame-rate", "1000",
+        "--substeps", "40", "--duration", "1",
         "--set", "frames.rate=30",
         "--frames", folder, "--quiet")
     page = run(CLOTHLAB, "view", folder, "--out", os.path.join(out, "view")).stdout

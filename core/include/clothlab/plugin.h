@@ -25,7 +25,8 @@
  *    integrator side:
  *      clothlab.explicit-scheme/1, clothlab.integrator-traits/1, clothlab.solver-statistics/1;
  *    scenario side:
- *      clothlab.air/1, clothlab.attachments/1, clothlab.colliders/1, clothlab.mesh/1;
+ *      clothlab.air/1, clothlab.attachments/1, clothlab.colliders/1, clothlab.colliders/2,
+ *      clothlab.mesh/1;
  *    plugin side (an integrator's or a scenario's):
  *      clothlab.text-parameters/1.
  *  - Errors are status codes plus a message written into a caller-owned buffer.

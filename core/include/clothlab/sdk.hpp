@@ -463,9 +463,45 @@ const clothlab_integrator* integrator_descriptor() {
   return &descriptor;
 }
 
+namespace detail {
+
+template <class Impl>
+uint32_t collider_count(void* instance) {
+  return static_cast<uint32_t>(static_cast<const Impl*>(instance)->colliders().size());
+}
+
+template <class Impl>
+clothlab_status describe_collider(void* instance, uint32_t index, clothlab_collider* out,
+                                  clothlab_message* error) {
+  return guarded(error, [&] {
+    const std::span<const clothlab_collider> all = static_cast<const Impl*>(instance)->colliders();
+    if (out == nullptr || out->struct_size < sizeof(clothlab_collider) || index >= all.size())
+      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                  "collider " + std::to_string(index) + ": no such collider or buffer");
+    *out = all[index];
+    out->struct_size = sizeof(clothlab_collider);
+  });
+}
+
+// Collider `index`'s answer at t from `answer(impl)` into *out, after checking both.
+template <class Impl, class Out, class Answer>
+clothlab_status collider_answer(void* instance, uint32_t index, Out* out, clothlab_message* error,
+                                Answer&& answer) {
+  return guarded(error, [&] {
+    const Impl& impl = *static_cast<const Impl*>(instance);
+    if (out == nullptr || index >= impl.colliders().size())
+      throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                  "collider " + std::to_string(index) + ": no such collider");
+    *out = answer(impl);
+  });
+}
+
+}  // namespace detail
+
 // A scenario's extensions: clothlab.colliders/1 when its class has colliders() and
-// collider_pose(), clothlab.air/1 when it has air(), and those it returns from a static member
-// `const void* extension(std::string_view id) noexcept`; NULL for any other id.
+// collider_pose(); clothlab.colliders/2 and /1 when it has colliders() and collider_motion()
+// (a pose with its velocity); clothlab.air/1 when it has air(), and those it returns from a
+// static member `const void* extension(std::string_view id) noexcept`; NULL for any other id.
 template <class Impl>
 const void* scenario_extension(const char* id) noexcept {
   if (id == nullptr) return nullptr;
@@ -474,33 +510,37 @@ const void* scenario_extension(const char* id) noexcept {
                   { impl.collider_pose(index, t) } -> std::same_as<clothlab_pose>;
                 }) {
     static const clothlab_colliders_extension colliders{
-        [](void* instance) -> uint32_t {
-          return static_cast<uint32_t>(static_cast<const Impl*>(instance)->colliders().size());
-        },
-        [](void* instance, uint32_t index, clothlab_collider* out,
-           clothlab_message* error) -> clothlab_status {
-          return guarded(error, [&] {
-            const std::span<const clothlab_collider> all =
-                static_cast<const Impl*>(instance)->colliders();
-            if (out == nullptr || out->struct_size < sizeof(clothlab_collider) ||
-                index >= all.size())
-              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                          "collider " + std::to_string(index) + ": no such collider or buffer");
-            *out = all[index];
-            out->struct_size = sizeof(clothlab_collider);
-          });
-        },
+        &detail::collider_count<Impl>, &detail::describe_collider<Impl>,
         [](void* instance, uint32_t index, double t, clothlab_pose* out,
            clothlab_message* error) -> clothlab_status {
-          return guarded(error, [&] {
-            const Impl& impl = *static_cast<const Impl*>(instance);
-            if (out == nullptr || index >= impl.colliders().size())
-              throw Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
-                          "collider " + std::to_string(index) + ": no such collider");
-            *out = impl.collider_pose(index, t);
+          return detail::collider_answer<Impl>(instance, index, out, error, [&](const Impl& impl) {
+            return impl.collider_pose(index, t);
           });
         }};
     if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS) == 0) return &colliders;
+  }
+  if constexpr (requires(const Impl& impl, uint32_t index, double t) {
+                  { impl.colliders() } -> std::convertible_to<std::span<const clothlab_collider>>;
+                  { impl.collider_motion(index, t) } -> std::same_as<clothlab_collider_motion>;
+                }) {
+    static const clothlab_colliders_extension_2 moving{
+        &detail::collider_count<Impl>, &detail::describe_collider<Impl>,
+        [](void* instance, uint32_t index, double t, clothlab_collider_motion* out,
+           clothlab_message* error) -> clothlab_status {
+          return detail::collider_answer<Impl>(instance, index, out, error, [&](const Impl& impl) {
+            return impl.collider_motion(index, t);
+          });
+        }};
+    static const clothlab_colliders_extension posed{
+        &detail::collider_count<Impl>, &detail::describe_collider<Impl>,
+        [](void* instance, uint32_t index, double t, clothlab_pose* out,
+           clothlab_message* error) -> clothlab_status {
+          return detail::collider_answer<Impl>(instance, index, out, error, [&](const Impl& impl) {
+            return impl.collider_motion(index, t).pose;
+          });
+        }};
+    if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS_2) == 0) return &moving;
+    if (std::strcmp(id, CLOTHLAB_EXT_COLLIDERS) == 0) return &posed;
   }
   if constexpr (requires(const Impl& impl, double t, std::span<double> out) {
                   { impl.attached_particles() } -> std::convertible_to<std::span<const uint32_t>>;

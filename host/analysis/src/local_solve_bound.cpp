@@ -3,17 +3,26 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace clothlab::analysis {
 
-LocalSolveBound local_solve_bound(const Scene& scene) {
-  LocalSolveBound bound;
-  const double particles = static_cast<double>(scene.rows) * scene.cols;
-  bound.particle_mass = scene.total_mass / particles;
-  bound.stiffness = scene.structural.ks;
-  bound.dt_max = bound.stiffness > 0 ? std::sqrt(bound.particle_mass / bound.stiffness)
-                                     : std::numeric_limits<double>::infinity();
-  return bound;
+LocalSolveBound local_solve_bound(const ClothModel& model) {
+  std::vector<LocalSolveBound> springs;
+  for (std::size_t s = 0; s < model.spring_count(); ++s) {
+    if (model.family[s] != CLOTHLAB_SPRING_STRUCTURAL || !(model.ks[s] > 0)) continue;
+    LocalSolveBound spring;
+    spring.particle_mass = (model.masses[model.first[s]] + model.masses[model.second[s]]) / 2;
+    spring.stiffness = model.ks[s];
+    spring.dt_max = std::sqrt(spring.particle_mass / spring.stiffness);
+    springs.push_back(spring);
+  }
+  if (springs.empty()) return {0, 0, std::numeric_limits<double>::infinity()};
+  const auto median = springs.begin() + static_cast<std::ptrdiff_t>(springs.size() / 2);
+  std::nth_element(
+      springs.begin(), median, springs.end(),
+      [](const LocalSolveBound& l, const LocalSolveBound& r) { return l.dt_max < r.dt_max; });
+  return *median;
 }
 
 uint32_t LocalSolveBound::substeps_per_frame(double frame_rate) const {

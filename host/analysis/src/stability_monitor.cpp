@@ -1,6 +1,7 @@
 #include "clothlab/analysis/stability_monitor.hpp"
 
 #include <algorithm>
+#include <clothlab/core/triangle_mesh.hpp>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -46,10 +47,11 @@ StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorO
   const Scene& scene = cloth.scene();
   const Cloth::Energy energy = cloth.energy();
   initial_energy_ = energy.total();
-  const double diagonal = std::hypot(scene.width, scene.height);
+  const ClothModel& model = *cloth.model();
+  const double diagonal = rest_diagonal(scene, model);
   energy_scale_ = scene.total_mass * norm(scene.gravity) * diagonal + std::abs(energy.kinetic) +
                   std::abs(energy.spring) + std::abs(energy.gravity);
-  rest_area_ = scene.rows > 1 && scene.cols > 1 ? scene.width * scene.height : 0.0;
+  rest_area_ = surface_area(model.rest_positions, model.triangles);
   if (cloth.state_is_finite()) {
     last_power_ = wind_power_bound(cloth, cloth.max_stretch());
     attachment_power_ = cloth.attachment_power();

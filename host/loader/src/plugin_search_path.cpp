@@ -76,8 +76,18 @@ fs::path PluginSearchPath::resolve(std::string_view argument) const {
   if (argument.empty()) throw PluginLoadError("empty plugin name");
   if (argument.find('/') != std::string_view::npos) {
     const fs::path path = fs::absolute(fs::path(argument)).lexically_normal();
-    if (!fs::exists(path))
-      throw PluginLoadError("plugin file " + path.string() + " does not exist");
+    // Asked without exceptions: a name too long for the file system is an answer, not a crash.
+    std::error_code error;
+    const fs::file_status status = fs::status(path, error);
+    if (!fs::exists(status))
+      throw PluginLoadError("plugin file " + path.string() + " does not exist" +
+                            (error && error != std::errc::no_such_file_or_directory
+                                 ? " (" + error.message() + ")"
+                                 : ""));
+    if (!fs::is_regular_file(status))
+      throw PluginLoadError("plugin file " + path.string() + " is " +
+                            (fs::is_directory(status) ? "a folder" : "a device or special file") +
+                            ", not a shared library");
     return path;
   }
   std::string file_name(argument);

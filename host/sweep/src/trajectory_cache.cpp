@@ -11,8 +11,11 @@
 
 namespace clothlab::sweep {
 
-TrajectoryCache::TrajectoryCache(std::filesystem::path folder, PluginIdentity plugin_identity)
-    : folder_(std::move(folder)), plugin_identity_(std::move(plugin_identity)) {}
+TrajectoryCache::TrajectoryCache(std::filesystem::path folder, PluginIdentity plugin_identity,
+                                 std::string host_identity)
+    : folder_(std::move(folder)),
+      plugin_identity_(std::move(plugin_identity)),
+      host_identity_(std::move(host_identity)) {}
 
 std::string TrajectoryCache::identity(const CaseSpec& c) const {
   std::map<std::string, std::string> effective;
@@ -29,8 +32,14 @@ std::string TrajectoryCache::identity(const CaseSpec& c) const {
       effective[setting.key] = setting.value;
     }
   }
-  std::string text;
-  for (const auto& [key, value] : effective) text += key + "=" + value + "\n";
+  std::string text = "host=" + host_identity_ + "\n";
+  for (const auto& [key, value] : effective) {
+    text += key + "=" + value + "\n";
+    // A setting that names a file (a mesh) stands for what the file holds now.
+    std::error_code error;
+    if (!value.empty() && std::filesystem::is_regular_file(value, error))
+      text += "file." + key + "=" + file_hash(value) + "\n";
+  }
   if (plugin_identity_)
     for (const std::string& id : {c.integrator, c.scenario})
       text += "plugin." + id + "=" + plugin_identity_(id) + "\n";

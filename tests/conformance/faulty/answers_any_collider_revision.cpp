@@ -8,7 +8,8 @@ struct AnswersAnyColliderRevision : clothlab::faulty::ColliderSheetBase {
   using ColliderSheetBase::ColliderSheetBase;
   static constexpr const char* id = "answers-any-collider-revision";
   static constexpr const char* name = "Sheet whose colliders answer any revision";
-  static constexpr const char* description = "faulty: clothlab.colliders/2 gives the /1 table";
+  static constexpr const char* description =
+      "faulty: clothlab.colliders/0 and /3 give the /1 table";
 
   std::span<const clothlab_collider> colliders() const { return {&sphere_, 1}; }
   clothlab_pose collider_pose(uint32_t, double t) const { return swinging(t); }

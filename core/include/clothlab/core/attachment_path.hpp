@@ -9,6 +9,8 @@
 
 namespace clothlab {
 
+struct ClothModel;
+
 // Fills the targets at time t: 3 positions and 3 velocities per attached particle.
 using AttachmentTargetReader =
     std::function<void(double t, std::vector<double>& positions, std::vector<double>& velocities)>;
@@ -24,5 +26,18 @@ void check_attached_particles(std::span<const uint32_t> particles, uint32_t part
 // faster velocity there allows (a jump).
 void check_attachment_path(std::span<const uint32_t> particles, const AttachmentTargetReader& read,
                            double dt, uint64_t steps, uint32_t samples_per_step = 1);
+
+// How far an attached particle's target at t = 0 may lie from where the particle starts, as a
+// share of the rest length of its shortest spring: the host moves the particle there before the
+// first step, and farther would start the cloth stretched.
+inline constexpr double max_attachment_start_offset = 0.1;
+
+// Throws std::invalid_argument for an attached particle whose target at t = 0 (`targets`, 3 per
+// attachment) lies farther from its start (`positions`, 3 per particle of `model`) than
+// max_attachment_start_offset of its shortest spring ("attachment 0 (particle 5): target at
+// t = 0 s lies 0.7 m from the particle's start, allowed at most 0.01 m (0.1 of its shortest
+// spring's rest length, 0.1 m)").
+void check_attachment_start(std::span<const uint32_t> particles, std::span<const double> targets,
+                            std::span<const double> positions, const ClothModel& model);
 
 }  // namespace clothlab

@@ -211,19 +211,27 @@ class Cloth {
   LongestSpring longest_spring(Springs springs = Springs::All) const;
   double max_stretch() const { return stretch().max; }
 
-  // The colliders at their current poses, which clothlab.contacts/1 keeps the cloth out of; the
-  // host sets them before each step (none: contacts are a no-op). Allocates only when there are
-  // more than ever before.
-  void set_colliders(std::span<const Collider> colliders);
-  // The colliders as last set (the frames draw them); valid until the next set_colliders.
+  // The colliders at time t (the step's start), with their motion over the step, which
+  // clothlab.contacts/1 keeps the cloth out of: a resolution at time t' meets each collider
+  // moved at its velocity to t' (Collider::advanced). The host sets them before each step, which
+  // is after the last (none: contacts are a no-op); each particle's path over the last step is
+  // then judged against them (Contacts::particles_crossed). Allocates only when there are more
+  // than ever before.
+  void set_colliders(std::span<const Collider> colliders, double t);
+  // The colliders where the last resolution met them (the step's start before any; the frames
+  // draw them); valid until the next set_colliders.
   std::span<const Collider> colliders() const;
-  // The cloth against the colliders now: the deepest penetration of a collider's surface (m),
-  // the largest depth past the thickness of the collider it lies in (m; tunnelling) and how
-  // many particles lie inside one.
+  // The cloth against the colliders where the last resolution, or set_colliders, put them: the
+  // deepest penetration of a collider's surface (m), the largest depth past the thickness of the
+  // collider it lies in (m) and how many particles lie inside one; and how many crossed one over
+  // the step that the last set_colliders ended: their path from the step's start to its end,
+  // relative to the collider between its poses at the two set_colliders calls, passed through
+  // it or past its middle (tunnelled).
   struct Contacts {
     double max_penetration = 0;
     double max_depth_past_thickness = 0;
     uint32_t particles_inside = 0;
+    uint32_t particles_crossed = 0;
   };
   Contacts contacts() const;
   // The energy clothlab.contacts/1 has added to the cloth since construction (J): over each

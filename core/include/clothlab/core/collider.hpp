@@ -26,6 +26,13 @@ struct Pose {
   Vec3 to_local(const Vec3& world) const;
 };
 
+// How a pose changes: a point p of the body moves at velocity + angular_velocity x (p -
+// pose.position) (world frame).
+struct Motion {
+  Vec3 velocity{0, 0, 0};          // m/s
+  Vec3 angular_velocity{0, 0, 0};  // rad/s
+};
+
 struct Collider {
   ColliderShape shape = ColliderShape::Sphere;
   double radius = 0;           // sphere; capsule at its -x end
@@ -35,6 +42,12 @@ struct Collider {
   double friction = 0;         // Coulomb coefficient
   double thickness = 0;        // particles are kept this far outside the surface
   Pose pose;
+  Motion motion;
+
+  // The velocity of the body's point at `point` (world).
+  Vec3 velocity_at(const Vec3& point) const;
+  // The collider `seconds` later, moved at its velocity (constant over that time).
+  Collider advanced(double seconds) const;
 };
 
 // Copies and validates a scenario's collider; throws std::invalid_argument naming the field,
@@ -43,6 +56,17 @@ Collider collider_from_abi(const clothlab_collider& collider);
 // Copies and validates a pose; throws std::invalid_argument for a non-finite component or an
 // orientation that is not a unit quaternion (within 1e-6; the copy is normalised).
 Pose pose_from_abi(const clothlab_pose& pose);
+
+// Copies and validates a pose's velocity (clothlab.colliders/2); throws std::invalid_argument
+// for a non-finite component ("velocity.x = inf, allowed finite").
+Motion motion_from_abi(const clothlab_collider_motion& motion);
+// The constant motion that takes `before` to `after` in dt (the shorter way round).
+Motion motion_between(const Pose& before, const Pose& after, double dt);
+// Throws std::invalid_argument when a scenario's velocity disagrees with the motion its poses
+// make (`derived`, motion_between): more than 1 m/s plus half the larger speed apart, or
+// 1 rad/s plus half the larger turn rate ("velocity 20 m/s, its poses move at 0 m/s: allowed
+// within 11 m/s of them").
+void check_motion_agrees(const Motion& given, const Motion& derived);
 
 // A scripted path may move a collider fast, not jump: between two poses dt apart it moves at
 // most max_collider_speed and turns at most max_collider_turn_rate (faster than anything a game

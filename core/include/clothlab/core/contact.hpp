@@ -9,19 +9,31 @@
 namespace clothlab {
 
 // Resolves one particle against every collider in turn; returns whether any touched it.
-// Friction: the tangential velocity shrinks by friction x the normal velocity removed (the
-// normal impulse per unit mass), and stops at 0; so a particle sliding on a surface under
-// gravity g decelerates by friction x g, as Coulomb's law has it.
+// The response acts on the particle's velocity relative to the body's surface at the contact
+// (Collider::velocity_at): the relative velocity into the body is removed, and friction shrinks
+// the relative tangential velocity by friction x the normal velocity removed (the normal impulse
+// per unit mass), stopping at the body's; so a particle sliding on a surface under gravity g
+// decelerates by friction x g relative to it, as Coulomb's law has it, and a particle resting on
+// a moving body is carried with it.
 bool resolve_contact(std::span<const Collider> colliders, Vec3& x, Vec3& v);
 
-// The same for a particle that moved from `from` to x in the last step or substep, so that a
-// fast one cannot pass through a thin collider (a capsule's arm) or past its middle between two
-// resolutions: when the nearest surface at x faces away from the one at `from` and the straight
-// path entered the collider's thickness, the particle goes back to where the path first entered
-// it and is resolved there. The path is searched by conservative advancement (the signed distance
-// bounds how far it may go untouched), in at most 256 advances: a collider thinner than 1/256 of
-// the path can still be missed.
-bool resolve_swept_contact(std::span<const Collider> colliders, const Vec3& from, Vec3& x, Vec3& v);
+// The same for a particle that moved from `from` to x since the last resolution, while each
+// collider moved from before[k] to now[k] (the same colliders at the two times), so that neither
+// a fast particle nor a fast collider passes through a thin collider (a capsule's arm, a blade)
+// or past its middle between two resolutions. The path is taken relative to the body: its start
+// is carried with the body to now[k]'s pose; when the nearest surface at x faces away from the
+// one at that start and the straight path between them entered the collider's thickness, the
+// particle goes back to where the path first entered it and is resolved there. The path is
+// searched by conservative advancement (the signed distance bounds how far it may go untouched),
+// in at most 256 advances: a collider thinner than 1/256 of the relative path can still be missed.
+bool resolve_swept_contact(std::span<const Collider> before, std::span<const Collider> now,
+                           const Vec3& from, Vec3& x, Vec3& v);
+
+// Whether the path from `from` (colliders at `before`) to `to` (colliders at `now`), relative
+// to a collider, passed through it or past its middle: the test resolve_swept_contact acts on,
+// which finds a particle that tunnelled.
+bool crossed_a_collider(std::span<const Collider> before, std::span<const Collider> now,
+                        const Vec3& from, const Vec3& to);
 
 // How deep a point lies inside any collider (0 when outside all): the penetration of the
 // surface itself, not of the thickness band.

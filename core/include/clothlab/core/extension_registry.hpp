@@ -60,6 +60,7 @@ inline constexpr PublishedExtension kPublishedExtensions[] = {
     {CLOTHLAB_EXT_EXPLICIT_SCHEME, ExtensionSide::Integrator},
     {CLOTHLAB_EXT_SOLVER_STATISTICS, ExtensionSide::Integrator},
     {CLOTHLAB_EXT_COLLIDERS, ExtensionSide::Scenario},
+    {CLOTHLAB_EXT_COLLIDERS_2, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_ATTACHMENTS, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_AIR, ExtensionSide::Scenario},
     {CLOTHLAB_EXT_MESH, ExtensionSide::Scenario},
@@ -108,7 +109,8 @@ inline std::vector<std::string> unpublished_ids(ExtensionSide side) {
     const int revision = std::stoi(std::string(id.substr(slash + 1)));
     for (const std::string& other : {name + "/" + std::to_string(revision + 1),
                                      name + "/" + std::to_string(revision - 1), name})
-      if (!is_published(other)) ids.push_back(other);
+      if (!is_published(other) && std::find(ids.begin(), ids.end(), other) == ids.end())
+        ids.push_back(other);
   }
   return ids;
 }

@@ -40,10 +40,27 @@ std::string validate_triangle_mesh(std::span<const double> positions,
                                    std::span<const double> masses = {},
                                    uint32_t max_particles = kMaxMeshParticles);
 
-// The model of `mesh` with the springs derived as above, ks and kd from scene's families,
-// scene.total_mass spread by area (unless mesh.masses), scene.pinned. Throws
-// std::invalid_argument with validate_triangle_mesh's reason, or for a pin out of range.
-std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, const Scene& scene);
+// The sum of the triangles' areas (m^2): a cloth's rest area.
+double surface_area(std::span<const double> positions, std::span<const uint32_t> triangles);
+
+// A cloth's size, what errors and energy scales are measured in: a grid's diagonal,
+// hypot(width, height); another cloth's the diagonal of the box around its rest positions.
+double rest_diagonal(const Scene& scene, const ClothModel& model);
+
+struct ClothMaterial;
+
+// The model of `mesh` with the springs derived as above, ks and kd from `material` spring by
+// spring (cloth_material.hpp) or, without one, from scene's families; scene.total_mass spread
+// by area (unless mesh.masses), scene.pinned. Throws std::invalid_argument with
+// validate_triangle_mesh's reason, or for a pin out of range.
+std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, const Scene& scene,
+                                                   const ClothMaterial* material = nullptr);
+
+// The rows x cols sheet of a grid `scene` as an irregular mesh: each vertex moved along the two
+// axes by up to a quarter of a spacing and out of the plane by up to a twentieth, each cell
+// split along a diagonal, all chosen by a hash of the vertex index (so the same every time): no
+// rectangles, no straight lines of edges. The mesh the conformance runner and the tests run.
+TriangleMesh irregular_grid_mesh(const Scene& scene);
 
 // A scenario's clothlab.mesh/1 (copied) as a mesh: throws std::invalid_argument naming
 // "mesh.FIELD" for a short struct or a NULL array.

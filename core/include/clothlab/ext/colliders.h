@@ -2,6 +2,9 @@
  * Scenario extension "clothlab.colliders/1" (ABI 1.3): rigid analytic bodies the cloth may not
  * enter. Each collider has a fixed shape, defined in its own frame, and a pose (local to world)
  * at any time t, so a scenario can move its colliders along a script.
+ * "clothlab.colliders/2" (ABI 1.3) is the same with each pose's velocity (its motion): the host
+ * asks a scenario for /2 first and takes /1 when it has none, deriving the velocity of a /1
+ * collider from its poses at each step's start and end.
  *
  * Shapes, in the collider's frame:
  *   sphere   centre at the origin, `radius`
@@ -23,6 +26,7 @@ extern "C" {
 #endif
 
 #define CLOTHLAB_EXT_COLLIDERS "clothlab.colliders/1"
+#define CLOTHLAB_EXT_COLLIDERS_2 "clothlab.colliders/2"
 
 #define CLOTHLAB_COLLIDER_SPHERE 1u
 #define CLOTHLAB_COLLIDER_CAPSULE 2u
@@ -31,13 +35,13 @@ extern "C" {
 
 typedef struct clothlab_collider {
   uint32_t struct_size;
-  uint32_t shape;          /* CLOTHLAB_COLLIDER_* */
-  double radius;           /* sphere; capsule at its -x end; m, > 0 */
-  double end_radius;       /* capsule at its +x end; m, > 0 */
-  double half_length;      /* capsule; m, > 0 */
-  double half_extents[3];  /* box; m, each > 0 */
-  double friction;         /* Coulomb coefficient, >= 0 */
-  double thickness;        /* m, >= 0 */
+  uint32_t shape;         /* CLOTHLAB_COLLIDER_* */
+  double radius;          /* sphere; capsule at its -x end; m, > 0 */
+  double end_radius;      /* capsule at its +x end; m, > 0 */
+  double half_length;     /* capsule; m, > 0 */
+  double half_extents[3]; /* box; m, each > 0 */
+  double friction;        /* Coulomb coefficient, >= 0 */
+  double thickness;       /* m, >= 0 */
 } clothlab_collider;
 
 /* Local to world: world = position + R(orientation) local. */
@@ -48,15 +52,38 @@ typedef struct clothlab_pose {
 
 typedef struct clothlab_colliders_extension {
   /* How many colliders the scene has; fixed for the instance's lifetime. */
-  uint32_t (*count)(void *instance);
+  uint32_t (*count)(void* instance);
   /* Collider `index` < count's shape, friction and thickness. The host sets
    * out->struct_size before the call. */
-  clothlab_status (*describe)(void *instance, uint32_t index, clothlab_collider *out,
-                              clothlab_message *error);
+  clothlab_status (*describe)(void* instance, uint32_t index, clothlab_collider* out,
+                              clothlab_message* error);
   /* Collider `index`'s pose at time t (s, from the run's start). */
-  clothlab_status (*pose)(void *instance, uint32_t index, double t, clothlab_pose *out,
-                          clothlab_message *error);
+  clothlab_status (*pose)(void* instance, uint32_t index, double t, clothlab_pose* out,
+                          clothlab_message* error);
 } clothlab_colliders_extension;
+
+/* A pose and how fast it changes: the velocity of a point p of the body is
+ * velocity + angular_velocity x (p - pose.position). */
+typedef struct clothlab_collider_motion {
+  clothlab_pose pose;
+  double velocity[3];         /* of the frame's origin, pose.position; m/s, world frame */
+  double angular_velocity[3]; /* rad/s, world frame */
+} clothlab_collider_motion;
+
+/* clothlab.colliders/2. Within a step the host moves each collider at the velocity it reports at
+ * the step's start. The host refuses a velocity that is not finite, or one that disagrees with
+ * the poses: more than 1 m/s (1 rad/s) plus half the larger speed away from the motion between
+ * the poses at the step's start and end. */
+typedef struct clothlab_colliders_extension_2 {
+  /* As in /1. */
+  uint32_t (*count)(void* instance);
+  /* As in /1. */
+  clothlab_status (*describe)(void* instance, uint32_t index, clothlab_collider* out,
+                              clothlab_message* error);
+  /* Collider `index`'s pose and velocity at time t (s, from the run's start). */
+  clothlab_status (*motion)(void* instance, uint32_t index, double t, clothlab_collider_motion* out,
+                            clothlab_message* error);
+} clothlab_colliders_extension_2;
 
 #ifdef __cplusplus
 }

@@ -2,9 +2,12 @@
 // --choose`'s float64 reference serves every later search of the same problem (other scene
 // meshes with the same error mesh, other frame rates with the same reference step, reruns).
 // A run is identified by its effective settings (the last value of each key; the timeout,
-// which cannot change a finished run, left out) and the identity of its plugin files, so a
-// rebuilt plugin is never served a stale result. One JSON file per run, named by the hash of
-// that identity and holding it in full (a hash collision is a miss, not a wrong answer).
+// which cannot change a finished run, left out: the material's numbers, the mesh, the
+// precision...), the content of every file a setting names (a mesh file edited in place), the
+// identity of its plugin files and that of the host (its forces and stepping are the host's
+// code), so a changed scene or a rebuilt plugin or host is never served a stale result. One JSON
+// file per run, named by the hash of that identity and holding it in full (a hash collision is a
+// miss, not a wrong answer).
 #pragma once
 
 #include <filesystem>
@@ -18,8 +21,10 @@ namespace clothlab::sweep {
 
 class TrajectoryCache {
  public:
-  // The folder is created when the first run is stored. plugin_identity: as for fingerprints.
-  TrajectoryCache(std::filesystem::path folder, PluginIdentity plugin_identity);
+  // The folder is created when the first run is stored. plugin_identity: as for fingerprints;
+  // host_identity: the running host's (e.g. its executable's size and hash).
+  TrajectoryCache(std::filesystem::path folder, PluginIdentity plugin_identity,
+                  std::string host_identity);
 
   // The stored result of an identical earlier case, or runner(c) (stored when stable).
   // Throws SweepError when a result cannot be stored.
@@ -34,6 +39,7 @@ class TrajectoryCache {
 
   std::filesystem::path folder_;
   PluginIdentity plugin_identity_;
+  std::string host_identity_;
   int hits_ = 0;
 };
 
