@@ -18,6 +18,7 @@
                                  the collider colour's hue
         mutant-draws-no-collider the page with the colliders never added to the scene: the
                                  collider check must find none (the check can fail)
+        cape-frames              the cape run the three cape cases view (run once, first)
         cape-and-character       a small cape run, 1 s of the character starting to walk along
                                  +x; at t = 0 and t = 1: the pixels that change when the
                                  colliders are hidden are many and in the collider colour's hue
@@ -212,14 +213,24 @@ def camera_azimuth(view):
     return float(json.loads(html.unescape(match.group(1)))["azimuth"])
 
 
-def cape_view(out):
-    folder = os.path.join(out, "cape")
+CAPE_FRAMES = os.path.join(WORK, "cape-frames")
+
+
+def cape_frames():
+    """The cape run the three cape cases view (a CTest fixture runs it once for them)."""
+    shutil.rmtree(CAPE_FRAMES, ignore_errors=True)
     run(CLOTHLAB, "--plugin-path", PLUGIN_DIR, "--integrator", "xpbd", "--scenario", "cape",
         "--set", "scenario.rows=16", "--set", "scenario.cols=10", "--frame-rate", "1000",
         "--substeps", "40", "--duration", str(CAPE_LATE),
-        "--set", "frames.rate=30", "--frames", folder, "--quiet")
+        "--set", "frames.rate=30", "--frames", CAPE_FRAMES, "--quiet")
+    print("ok: the cape's frames are in", CAPE_FRAMES)
+
+
+def cape_view(out):
+    if not os.path.isdir(CAPE_FRAMES):
+        fail(f"no cape frames in {CAPE_FRAMES}: the case cape-frames runs first (a CTest fixture)")
     view = os.path.join(out, "view")
-    run(CLOTHLAB, "view", folder, "--out", view)
+    run(CLOTHLAB, "view", CAPE_FRAMES, "--out", view)
     return view
 
 
@@ -462,7 +473,7 @@ def no_frames():
  "mesh-drawn": mesh_drawn,
  "no-frames": no_frames, "mutant-draws-nothing": mutant_draws_nothing,
  "collider-drawn": collider_drawn, "mutant-draws-no-collider": mutant_draws_no_collider,
- "cape-and-character": cape_and_character,
+ "cape-frames": cape_frames, "cape-and-character": cape_and_character,
  "mutant-character-frozen": mutant_character_frozen,
  "mutant-draws-no-cape": mutant_draws_no_cape, "folder-name-is-text": folder_name_is_text,
  "mutant-name-as-markup": mutant_name_as_markup}[CASE]()
