@@ -2,10 +2,12 @@
 // takes (issue 34): the bench-300 flag on its grid, the same grid read as a triangle mesh, and
 // an irregular mesh of the same size (irregular_grid_mesh). Springs per second of
 // one damped force evaluation (springs, damping, gravity, the flag's wind; and without the
-// wind), of one rk4 step (its four evaluations), of xpbd's sweeps and of vbd's iterations. Run by
-// hand, short:
+// wind), of one rk4 step (its four evaluations), of one CG product (clothlab.cg-step/1's q = A p,
+// implicit_euler's CG iteration), of xpbd's sweeps and of vbd's iterations. Run by hand, short:
 // --benchmark_min_time=0.2.
 #include <benchmark/benchmark.h>
+#include <clothlab/ext/cg_step.h>
+#include <clothlab/ext/jacobian.h>
 
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/core/cloth_model.hpp>
@@ -81,6 +83,35 @@ void rk4_step(benchmark::State& state, Path path) {
   count_springs(state, *cloth, 4);
 }
 
+// clothlab.cg-step/1's product q = A p at the rest state (c_x = h^2, c_v = h, damped), without
+// the direction update.
+void cg_products(benchmark::State& state, Path path) {
+  const auto cloth =
+      make_cloth(path, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), true);
+  const clothlab_system& system = cloth->system();
+  const auto* jacobian = static_cast<const clothlab_jacobian_extension*>(
+      system.get_extension(system.context, CLOTHLAB_EXT_JACOBIAN));
+  const auto* cg_step = static_cast<const clothlab_cg_step_extension*>(
+      system.get_extension(system.context, CLOTHLAB_EXT_CG_STEP));
+  const double h = 1e-3;
+  if (jacobian == nullptr || cg_step == nullptr || jacobian->reserve(system.context) != 0 ||
+      cg_step->linearise(system.context, 0.0, system.x, system.v, h * h, h) != 0) {
+    state.SkipWithError("the host lacks clothlab.cg-step/1");
+    return;
+  }
+  auto* p = static_cast<float*>(system.alloc_vector(system.context));
+  void* q = system.alloc_vector(system.context);
+  for (std::size_t k = 0; k < 3 * std::size_t{system.stride}; ++k)
+    p[k] = 1e-3f * static_cast<float>(k % 7);
+  double dot = 0;
+  for (auto _ : state) {
+    cg_step->product(system.context, 0.0, 0.0, nullptr, p, nullptr, q, &dot);
+    benchmark::DoNotOptimize(dot);
+    benchmark::ClobberMemory();
+  }
+  count_springs(state, *cloth, 1);
+}
+
 // Steps of an integrator whose cost is `passes` passes over the springs per step (xpbd:
 // substeps x iterations sweeps; vbd: iterations sweeps over the particles' springs).
 void integrator_steps(benchmark::State& state, Path path, const std::string& id,
@@ -111,7 +142,7 @@ void integrator_steps(benchmark::State& state, Path path, const std::string& id,
 }
 
 void xpbd_sweeps(benchmark::State& state, Path path) {
-  integrator_steps(state, path, "xpbd", {{"substeps", "2"}, {"iterations", "5"}}, 10);
+  integrator_steps(state, path, "xpbd", {{"inner_substeps", "2"}, {"iterations", "5"}}, 10);
 }
 
 void vbd_iterations(benchmark::State& state, Path path) {
@@ -131,6 +162,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 CLOTHLAB_MESH_PATH_BENCH(forces);
 CLOTHLAB_MESH_PATH_BENCH(spring_forces);
 CLOTHLAB_MESH_PATH_BENCH(rk4_step);
+CLOTHLAB_MESH_PATH_BENCH(cg_products);
 CLOTHLAB_MESH_PATH_BENCH(xpbd_sweeps);
 CLOTHLAB_MESH_PATH_BENCH(vbd_iterations);
 

@@ -80,7 +80,7 @@ void Cloth::set_attachments(std::span<const uint32_t> particles, AttachmentSourc
   impl_->engine->set_attachments(particles, source);
 }
 bool Cloth::move_attachments(double t) { return impl_->engine->move_attachments(t); }
-double Cloth::attachment_power() const { return impl_->engine->attachment_power(); }
+void Cloth::pin_loads(PinLoads& out) const { impl_->engine->pin_loads(out); }
 double Cloth::contact_work() const { return impl_->engine->contact_work(); }
 
 }  // namespace clothlab

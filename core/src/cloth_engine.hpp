@@ -53,7 +53,7 @@ class ClothEngine final : public Engine {
   std::span<const Collider> colliders() const override { return colliders_; }
   void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) override;
   bool move_attachments(double t) override;
-  double attachment_power() const override;
+  void pin_loads(Cloth::PinLoads& out) const override;
   double contact_work() const override { return contact_work_; }
 
  private:

@@ -31,13 +31,23 @@ void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
 }
 
 template <class Real>
-double ClothEngine<Real>::attachment_power() const {
-  if (attached_.empty()) return 0.0;
+void ClothEngine<Real>::pin_loads(Cloth::PinLoads& out) const {
+  out.positions.clear();
+  out.spring_forces.clear();
+  if (attached_.empty()) return;
   const ClothModel& springs = *model_;
   const std::size_t s = stride_;
-  double power = 0.0;
-  for (const uint32_t i : attached_) {
+  out.free_momentum = {0, 0, 0};
+  out.free_mass = 0;
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (inverse_mass_[i] == 0) continue;
+    const double mass = springs.masses[i];
+    out.free_mass += mass;
+    for (std::size_t axis = 0; axis < 3; ++axis) out.free_momentum[axis] += mass * v_[axis * s + i];
+  }
+  for (const uint32_t i : springs.pinned) {
     const Vec3 v_own{v_[i], v_[s + i], v_[2 * s + i]};
+    Vec3 force{0, 0, 0};
     for (uint32_t k = springs.adjacency_offsets[i]; k < springs.adjacency_offsets[i + 1]; ++k) {
       const uint32_t spring = springs.adjacent_springs[k];
       const uint32_t j =
@@ -53,11 +63,13 @@ double ClothEngine<Real>::attachment_power() const {
       double magnitude = springs.ks[spring] * (length - springs.rest_length[spring]);
       if (velocity_forces_)
         magnitude += springs.kd[spring] * (dv[0] * d[0] + dv[1] * d[1] + dv[2] * d[2]) / length;
-      // The attachment holds i with the opposite force, and moves it at v_own.
-      power -= magnitude / length * (d[0] * v_own[0] + d[1] * v_own[1] + d[2] * v_own[2]);
+      for (std::size_t axis = 0; axis < 3; ++axis) force[axis] += magnitude / length * d[axis];
+    }
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      out.positions.push_back(x_[axis * s + i]);
+      out.spring_forces.push_back(force[axis]);
     }
   }
-  return power;
 }
 
 template <class Real>

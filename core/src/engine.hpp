@@ -36,7 +36,7 @@ class Engine {
   virtual std::span<const Collider> colliders() const = 0;
   virtual void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) = 0;
   virtual bool move_attachments(double t) = 0;
-  virtual double attachment_power() const = 0;
+  virtual void pin_loads(Cloth::PinLoads& out) const = 0;
   virtual double contact_work() const = 0;
 };
 

@@ -37,8 +37,9 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
   for (std::size_t i = 0; i < n_; ++i)
     mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
   if (spring_list) {
-    spring_products_ = AlignedBuffer<Real>(3 * topology.spring_count());
-    spring_definite_ = AlignedBuffer<Real>(6 * topology.spring_count());
+    spring_lanes_.emplace(topology, false);
+    spring_products_ = AlignedBuffer<Real>(3 * spring_lanes_->slots());
+    spring_definite_ = AlignedBuffer<Real>(6 * spring_lanes_->slots());
   }
   const std::span<const Stencil> grid_stencils =
       spring_list ? std::span<const Stencil>() : std::span<const Stencil>(kProvotStencils);

@@ -16,8 +16,8 @@
 // any thread count. The block forms build M per adjacency entry.
 // On the spring list (any mesh, or a grid forced onto the general path) the products run by
 // gather instead (spring_list_jacobian.cpp): one pass puts each spring's M (u_j - u_i) in its
-// own slot, a second sums each particle's slots in its adjacency order; the same bits on any
-// thread count, no atomics.
+// slot of SpringLanes, a second sums each particle's slots in a fixed order; the same bits on
+// any thread count, no atomics.
 // Everything is allocated by the constructor; the calls never allocate.
 #pragma once
 
@@ -26,6 +26,7 @@
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "aligned_buffer.hpp"
@@ -33,6 +34,7 @@
 #include "grid.hpp"
 #include "jacobian_row_kernel.hpp"
 #include "simd_namespace.hpp"
+#include "spring_lanes.hpp"
 
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
@@ -122,7 +124,8 @@ class SpringJacobian {
   void list_apply(const Real* x, const Real* v, const Weights& w, const Real* u, Real* out) const;
   // The definite M of every spring at the linearisation, 6 coefficients each (M is symmetric).
   void list_linearise(const Real* x, const Real* v, double c_x, double c_v) const;
-  // Pass 1: slot s = M_s (u_second - u_first), pinned ends' u taken as 0; block(s, m) gives M_s.
+  // Pass 1: slot s = M_s (u_second - u_first), pinned ends' u taken as 0; block(spring, m)
+  // gives the M of the slot's spring.
   template <class Block>
   void list_spring_products(const Real* u, Block&& block) const;
   // Pass 2: out_i = inverse mass x the sum of particle i's slots (each signed by its end).
@@ -166,8 +169,11 @@ class SpringJacobian {
   AlignedBuffer<Real> mass_;          // 1 / inverse mass, 0 where pinned
   // Per grid row (on the spring list: per particle chunk): its share of <u, out>.
   mutable std::vector<double> row_dots_;
-  mutable AlignedBuffer<Real> spring_products_;  // spring list: 3 per spring, pass 1's slots
-  mutable AlignedBuffer<Real> spring_definite_;  // spring list: 6 per spring, list_linearise's
+  // Spring list: the slots (laid out as SpringLanes' forces) of pass 1's products, 3 per slot,
+  // and of list_linearise's coefficients, 6 per slot.
+  std::optional<SpringLanes<Real>> spring_lanes_;
+  mutable AlignedBuffer<Real> spring_products_;
+  mutable AlignedBuffer<Real> spring_definite_;
 };
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

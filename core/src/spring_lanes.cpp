@@ -9,6 +9,10 @@
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
+// An offset's springs form a band where they fill at least 1 / kBandShare of its range's slots:
+// a dead lane computed in order costs less than a live one gathered.
+constexpr std::size_t kBandShare = 5;
+
 bool consecutive(const uint32_t* values) {
   for (std::size_t l = 1; l < kSpringBlock; ++l)
     if (values[l] != values[0] + l) return false;
@@ -20,80 +24,145 @@ bool consecutive(const uint32_t* values) {
 template <class Real>
 SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
     : springs_(model.spring_count()), damped_(damped) {
+  const std::size_t particles = model.particle_count;
   std::vector<uint32_t> order(springs_);
   std::iota(order.begin(), order.end(), 0u);
+  const auto offset_of = [&](uint32_t spring) {
+    return model.second[spring] - model.first[spring];
+  };
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    const uint32_t offset_a = model.second[a] - model.first[a];
-    const uint32_t offset_b = model.second[b] - model.first[b];
-    return offset_a != offset_b ? offset_a < offset_b : model.first[a] < model.first[b];
+    return offset_of(a) != offset_of(b) ? offset_of(a) < offset_of(b)
+                                        : model.first[a] < model.first[b];
   });
 
-  const std::size_t slots = (springs_ / kSpringBlock + 1) * kSpringBlock;
-  const auto zero_slot = static_cast<uint32_t>(springs_);
+  // The bands: first particles [low, high) (whole blocks) from slot base.
+  struct Band {
+    uint32_t offset, low, high;
+    std::size_t base;
+  };
+  std::vector<Band> bands;
+  std::vector<uint32_t> slot_of(springs_);  // model spring -> slot
+  std::vector<uint32_t> gathered;           // the springs in no band, in order
+  std::size_t next = kSpringBlock;          // after the leading dead block
+  for (std::size_t begin = 0, end = 0; begin < springs_; begin = end) {
+    const uint32_t offset = offset_of(order[begin]);
+    bool distinct = true;
+    for (end = begin + 1; end < springs_ && offset_of(order[end]) == offset; ++end)
+      distinct = distinct && model.first[order[end]] != model.first[order[end - 1]];
+    const auto block = static_cast<uint32_t>(kSpringBlock);
+    const uint32_t low = model.first[order[begin]] / block * block;
+    const uint32_t high = (model.first[order[end - 1]] / block + 1) * block;
+    if (!distinct || kBandShare * (end - begin) < high - low) {
+      gathered.insert(gathered.end(), order.begin() + static_cast<std::ptrdiff_t>(begin),
+                      order.begin() + static_cast<std::ptrdiff_t>(end));
+      continue;
+    }
+    bands.push_back({offset, low, high, next});
+    for (std::size_t k = begin; k < end; ++k)
+      slot_of[order[k]] = static_cast<uint32_t>(next + model.first[order[k]] - low);
+    next += high - low + kSpringBlock;  // and a dead block after it
+  }
+  const std::size_t gathered_base = next;
+  for (std::size_t k = 0; k < gathered.size(); ++k)
+    slot_of[gathered[k]] = static_cast<uint32_t>(gathered_base + k);
+
+  const std::size_t slots =
+      gathered_base + (gathered.size() + kSpringBlock - 1) / kSpringBlock * kSpringBlock;
   first_ = AlignedBuffer<uint32_t>(slots);
   second_ = AlignedBuffer<uint32_t>(slots);
   rest_ = AlignedBuffer<Real>(slots);
   ks_ = AlignedBuffer<Real>(slots);
   kd_ = AlignedBuffer<Real>(slots);
-  std::vector<uint32_t> slot_of(springs_);  // model spring -> slot
-  for (std::size_t s = 0; s < springs_; ++s) {
-    const uint32_t spring = order[s];
-    slot_of[spring] = static_cast<uint32_t>(s);
+  // Zeroed: every slot dead (law 0), joining particle 0 to itself.
+  spring_in_.assign(slots, static_cast<uint32_t>(springs_));
+  std::vector<uint8_t> live(slots, 0);
+  // A band's dead slots join its own particles where they exist, so its blocks stay in order.
+  for (const Band& band : bands)
+    for (uint32_t i = band.low; i < band.high && std::size_t{i} + band.offset < particles; ++i) {
+      first_[band.base + i - band.low] = i;
+      second_[band.base + i - band.low] = i + band.offset;
+    }
+  for (std::size_t spring = 0; spring < springs_; ++spring) {
+    const std::size_t s = slot_of[spring];
     first_[s] = model.first[spring];
     second_[s] = model.second[spring];
     rest_[s] = static_cast<Real>(model.rest_length[spring]);
     ks_[s] = static_cast<Real>(model.ks[spring]);
     const bool has_damping = damped && model.kd[spring] > 0.0;
     kd_[s] = has_damping ? static_cast<Real>(model.kd[spring]) : Real(0);
+    live[s] = 1;
+    spring_in_[s] = static_cast<uint32_t>(spring);
     damped_count_ += has_damping;
   }
   for (std::size_t b = 0; b < slots / kSpringBlock; ++b) {
     const std::size_t s = b * kSpringBlock;
-    bool one_law = true;
-    for (std::size_t l = 1; l < kSpringBlock; ++l)
+    bool one_law = true, any_live = false, all_live = true;
+    for (std::size_t l = 0; l < kSpringBlock; ++l) {
       one_law = one_law && rest_[s + l] == rest_[s] && ks_[s + l] == ks_[s] && kd_[s + l] == kd_[s];
+      any_live = any_live || live[s + l] != 0;
+      all_live = all_live && live[s + l] != 0;
+    }
     const bool in_order = consecutive(&first_[s]) && consecutive(&second_[s]);
     block_kind_.push_back(
-        static_cast<uint8_t>((in_order ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0)));
+        static_cast<uint8_t>((in_order ? kEndsInOrder : 0) | (one_law && all_live ? kOneLaw : 0) |
+                             (all_live ? 0 : kDeadSlots) | (any_live ? 0 : kNoSpring)));
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
     block_law_.push_back({rest_[s], ks_[s], kd_[s]});
   }
 
-  // Each particle's entries, ascending by slot.
-  const std::size_t particles = model.particle_count;
+  // Each particle's gathered entries, ascending by slot.
   const std::size_t blocks = (particles + kSpringBlock - 1) / kSpringBlock;
   std::vector<std::vector<uint32_t>> incident(particles);
   for (std::size_t i = 0; i < particles; ++i) {
     for (uint32_t e = model.adjacency_offsets[i]; e < model.adjacency_offsets[i + 1]; ++e) {
-      const uint32_t spring = model.adjacent_springs[e];
-      incident[i].push_back(slot_of[spring]);
+      const uint32_t slot = slot_of[model.adjacent_springs[e]];
+      if (slot >= gathered_base) incident[i].push_back(slot);
     }
     std::sort(incident[i].begin(), incident[i].end());
     for (uint32_t& slot : incident[i])
       if (second_[slot] == i) slot |= kSecondEnd;
   }
-  row_begin_.assign(blocks + 1, 0);
+  // Per particle block: each band's rows (the block's particles as first ends, then as second
+  // ends, where the band reaches them), then its gathered rows.
+  std::vector<uint32_t> rows;
+  row_begin_.assign(1, 0);
   for (std::size_t b = 0; b < blocks; ++b) {
+    const auto start = static_cast<std::ptrdiff_t>(b * kSpringBlock);
+    const auto push_run = [&](std::size_t slot, uint32_t flag) {
+      for (std::size_t l = 0; l < kSpringBlock; ++l)
+        rows.push_back(static_cast<uint32_t>(slot + l) | flag);
+    };
+    for (const Band& band : bands) {
+      const auto low = static_cast<std::ptrdiff_t>(band.low);
+      const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
+      if (start >= low && start - low < span)
+        push_run(band.base + static_cast<std::size_t>(start - low), 0);
+      // The first ends of this block's second ends: within a dead block of the band's ends.
+      const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(band.offset) - low;
+      if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span)
+        push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window),
+                 kSecondEnd);
+    }
     std::size_t widest = 0;
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
       widest = std::max(widest, incident[i].size());
-    row_begin_[b + 1] = row_begin_[b] + static_cast<uint32_t>(widest);
-  }
-  entries_ = AlignedBuffer<uint32_t>(std::size_t{row_begin_[blocks]} * kSpringBlock);
-  row_in_order_.resize(row_begin_[blocks]);
-  row_first_.resize(row_begin_[blocks]);
-  for (std::size_t b = 0; b < blocks; ++b)
-    for (uint32_t r = row_begin_[b]; r < row_begin_[b + 1]; ++r) {
-      uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
+    for (std::size_t k = 0; k < widest; ++k)
       for (std::size_t l = 0; l < kSpringBlock; ++l) {
         const std::size_t i = b * kSpringBlock + l;
-        const std::size_t k = r - row_begin_[b];
-        row[l] = i < particles && k < incident[i].size() ? incident[i][k] : zero_slot;
+        rows.push_back(i < particles && k < incident[i].size() ? incident[i][k] : 0u);
       }
-      row_in_order_[r] = consecutive(row);
-      row_first_[r] = row[0];
-    }
+    row_begin_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
+  }
+  entries_ = AlignedBuffer<uint32_t>(rows.size());
+  std::copy(rows.begin(), rows.end(), entries_.data());
+  row_in_order_.resize(row_begin_[blocks]);
+  row_first_.resize(row_begin_[blocks]);
+  for (uint32_t r = 0; r < row_begin_[blocks]; ++r) {
+    const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
+    row_in_order_[r] = consecutive(row);
+    row_first_[r] = row[0];
+  }
 }
 
 namespace {
@@ -101,7 +170,8 @@ namespace {
 template <class Real, bool Damped>
 void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std::size_t block,
                            const uint32_t* first, const uint32_t* second, const Real* rest,
-                           const Real* ks, const Real* kd, std::size_t slots, Real* force) {
+                           const Real* ks, const Real* kd, bool dead_slots, std::size_t slots,
+                           Real* force) {
   for (std::size_t s = block * kSpringBlock; s < (block + 1) * kSpringBlock; ++s) {
     const std::size_t i = first[s], j = second[s];
     Real d[3], dv[3] = {0, 0, 0};
@@ -111,7 +181,8 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
     }
     const Real scale =
         spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest[s], ks[s], kd[s]);
-    for (std::size_t k = 0; k < 3; ++k) force[k * slots + s] = scale * d[k];
+    const bool dead = dead_slots && ks[s] + kd[s] == Real(0);
+    for (std::size_t k = 0; k < 3; ++k) force[k * slots + s] = dead ? Real(0) : scale * d[k];
   }
 }
 
@@ -129,7 +200,7 @@ struct SpringArrays {
 // gathered by the lanes' indices; one law (rest, ks, kd) broadcast or a law per lane.
 template <bool Damped, bool InOrder, bool OneLaw>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
-                        uint32_t first, uint32_t second, const float (&law)[3],
+                        uint32_t first, uint32_t second, const float (&law)[3], bool dead_slots,
                         const SpringArrays& arrays, float* force, std::size_t slots) {
   Floats d[3], dv[3] = {};
   if constexpr (InOrder) {
@@ -155,26 +226,72 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   }
   const Floats scale =
       spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
+  if (dead_slots) {
+    const LaneMask live = not_equal(ks + kd, zero_floats());
+    for (std::size_t k = 0; k < 3; ++k)
+      store_floats(force + k * slots + s, keep(live, scale * d[k]));
+    return;
+  }
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
+}
+
+// symmetric_products' block from slot s, its ends in order or gathered.
+template <bool InOrder>
+void symmetric_block_lanes(const float* matrix, const float* u, const float* inverse_mass,
+                           std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
+                           bool dead_slots, const SpringArrays& arrays, float* product,
+                           std::size_t slots) {
+  Floats u_first[3], u_second[3], mass_first, mass_second;
+  if constexpr (InOrder) {
+    mass_first = load_floats(inverse_mass + first),
+    mass_second = load_floats(inverse_mass + second);
+    for (std::size_t k = 0; k < 3; ++k) {
+      u_first[k] = load_floats(u + k * stride + first);
+      u_second[k] = load_floats(u + k * stride + second);
+    }
+  } else {
+    const Indices i = load_indices(arrays.first + s), j = load_indices(arrays.second + s);
+    mass_first = gather_floats(inverse_mass, i), mass_second = gather_floats(inverse_mass, j);
+    for (std::size_t k = 0; k < 3; ++k) {
+      u_first[k] = gather_floats(u + k * stride, i);
+      u_second[k] = gather_floats(u + k * stride, j);
+    }
+  }
+  const LaneMask first_active = greater(mass_first, zero_floats());
+  const LaneMask second_active = greater(mass_second, zero_floats());
+  Floats du[3];
+  for (std::size_t k = 0; k < 3; ++k)
+    du[k] = keep(second_active, u_second[k]) - keep(first_active, u_first[k]);
+  Floats m[6];
+  for (std::size_t q = 0; q < 6; ++q) m[q] = load_floats(matrix + q * slots + s);
+  Floats out[3] = {m[0] * du[0] + m[1] * du[1] + m[2] * du[2],
+                   m[1] * du[0] + m[3] * du[1] + m[4] * du[2],
+                   m[2] * du[0] + m[4] * du[1] + m[5] * du[2]};
+  if (dead_slots) {
+    const LaneMask live =
+        not_equal(load_floats(arrays.ks + s) + load_floats(arrays.kd + s), zero_floats());
+    for (Floats& value : out) value = keep(live, value);
+  }
+  for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
 }
 
 template <bool Damped>
 void spring_block_lanes(bool in_order, bool one_law, const float* x, const float* v,
                         std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
-                        const float (&law)[3], const SpringArrays& arrays, float* force,
-                        std::size_t slots) {
+                        const float (&law)[3], bool dead_slots, const SpringArrays& arrays,
+                        float* force, std::size_t slots) {
   if (in_order && one_law)
-    spring_block_lanes<Damped, true, true>(x, v, stride, s, first, second, law, arrays, force,
-                                           slots);
+    spring_block_lanes<Damped, true, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
+                                           force, slots);
   else if (in_order)
-    spring_block_lanes<Damped, true, false>(x, v, stride, s, first, second, law, arrays, force,
-                                            slots);
+    spring_block_lanes<Damped, true, false>(x, v, stride, s, first, second, law, dead_slots, arrays,
+                                            force, slots);
   else if (one_law)
-    spring_block_lanes<Damped, false, true>(x, v, stride, s, first, second, law, arrays, force,
-                                            slots);
+    spring_block_lanes<Damped, false, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
+                                            force, slots);
   else
-    spring_block_lanes<Damped, false, false>(x, v, stride, s, first, second, law, arrays, force,
-                                             slots);
+    spring_block_lanes<Damped, false, false>(x, v, stride, s, first, second, law, dead_slots,
+                                             arrays, force, slots);
 }
 #endif
 
@@ -185,6 +302,13 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
                                std::size_t end, Real* force) const {
   const bool damped = v != nullptr && damped_count_ > 0;
   for (std::size_t b = begin; b < end; ++b) {
+    // Dead slots join particles that may not be finite: they write 0 whatever the state.
+    if ((block_kind_[b] & kNoSpring) != 0) {
+      for (std::size_t k = 0; k < 3; ++k)
+        std::fill_n(force + k * slots() + b * kSpringBlock, kSpringBlock, Real(0));
+      continue;
+    }
+    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
@@ -195,25 +319,70 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const std::size_t s = b * kSpringBlock;
       if (damped)
         spring_block_lanes<true>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                 block_second_[b], law, arrays, force, slots());
+                                 block_second_[b], law, dead_slots, arrays, force, slots());
       else
         spring_block_lanes<false>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                  block_second_[b], law, arrays, force, slots());
+                                  block_second_[b], law, dead_slots, arrays, force, slots());
       continue;
     }
 #endif
     if (damped)
       spring_block_portable<Real, true>(x, v, stride, b, first_.data(), second_.data(),
-                                        rest_.data(), ks_.data(), kd_.data(), slots(), force);
+                                        rest_.data(), ks_.data(), kd_.data(), dead_slots, slots(),
+                                        force);
     else
       spring_block_portable<Real, false>(x, v, stride, b, first_.data(), second_.data(),
-                                         rest_.data(), ks_.data(), kd_.data(), slots(), force);
+                                         rest_.data(), ks_.data(), kd_.data(), dead_slots, slots(),
+                                         force);
   }
-  // The padding joins particle 0 to itself, which is 0 only while particle 0 is finite: the
-  // zero slot must stay 0 whatever the state.
-  if (end == spring_blocks())
-    for (std::size_t k = 0; k < 3; ++k)
-      std::fill(force + k * slots() + springs_, force + (k + 1) * slots(), Real(0));
+}
+
+template <class Real>
+void SpringLanes<Real>::symmetric_products(const Real* matrix, const Real* u,
+                                           const Real* inverse_mass, std::size_t stride,
+                                           std::size_t begin, std::size_t end,
+                                           Real* product) const {
+  for (std::size_t b = begin; b < end; ++b) {
+    if ((block_kind_[b] & kNoSpring) != 0) {
+      for (std::size_t k = 0; k < 3; ++k)
+        std::fill_n(product + k * slots() + b * kSpringBlock, kSpringBlock, Real(0));
+      continue;
+    }
+    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
+                                kd_.data()};
+      if ((block_kind_[b] & kEndsInOrder) != 0)
+        symmetric_block_lanes<true>(matrix, u, inverse_mass, stride, b * kSpringBlock,
+                                    block_first_[b], block_second_[b], dead_slots, arrays, product,
+                                    slots());
+      else
+        symmetric_block_lanes<false>(matrix, u, inverse_mass, stride, b * kSpringBlock,
+                                     block_first_[b], block_second_[b], dead_slots, arrays, product,
+                                     slots());
+      continue;
+    }
+#endif
+    for (std::size_t s = b * kSpringBlock; s < (b + 1) * kSpringBlock; ++s) {
+      const std::size_t i = first_[s], j = second_[s];
+      Real du[3];
+      for (std::size_t k = 0; k < 3; ++k)
+        du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
+                (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
+      const Real m[6] = {matrix[s],
+                         matrix[slots() + s],
+                         matrix[2 * slots() + s],
+                         matrix[3 * slots() + s],
+                         matrix[4 * slots() + s],
+                         matrix[5 * slots() + s]};
+      const Real out[3] = {m[0] * du[0] + m[1] * du[1] + m[2] * du[2],
+                           m[1] * du[0] + m[3] * du[1] + m[4] * du[2],
+                           m[2] * du[0] + m[4] * du[1] + m[5] * du[2]};
+      const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
+      for (std::size_t k = 0; k < 3; ++k) product[k * slots() + s] = dead ? Real(0) : out[k];
+    }
+  }
 }
 
 template <class Real>

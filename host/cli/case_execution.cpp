@@ -21,15 +21,24 @@ nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& s
 
 nlohmann::json run_case(const RunConfig& config, LoadedPlugins plugins, bool with_positions) {
   Simulation simulation(config, std::move(plugins));
-  const RunRecord record = simulation.run();
-  nlohmann::json json = summary_json(record);
+  nlohmann::json answer = {{"summary", summary_json(simulation.run())}};
   if (with_positions) {
     std::vector<double> positions;
     simulation.cloth().positions(positions);
-    json["positions"] = positions;
-    json["diagonal"] = rest_diagonal(simulation.cloth().scene(), *simulation.cloth().model());
+    answer["positions"] = positions;
+    answer["diagonal"] = rest_diagonal(simulation.cloth().scene(), *simulation.cloth().model());
   }
-  return json;
+  return answer;
+}
+
+CaseRun case_run_from_json(const nlohmann::json& answer) {
+  CaseRun run;
+  run.summary = host::run_summary_from_json(answer.at("summary"), "the case worker's answer");
+  // A diverged run's non-finite positions are JSON nulls; its verdict says enough.
+  if (answer.contains("positions") && run.summary.stable)
+    run.positions = answer["positions"].get<std::vector<double>>();
+  if (answer.contains("diagonal")) run.diagonal = answer["diagonal"].get<double>();
+  return run;
 }
 
 nlohmann::json predict_case(const RunConfig& config, const host::PluginSearchPath& search_path) {

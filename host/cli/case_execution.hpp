@@ -3,15 +3,26 @@
 #pragma once
 
 #include <clothlab/host/plugin_search_path.hpp>
+#include <clothlab/host/run_summary.hpp>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "run_config.hpp"
 #include "simulation.hpp"
 
 namespace clothlab::cli {
 
-// Runs the configured case and returns summary_json of its record; with_positions adds
-// "positions" (final x, particle-major) and "diagonal" (the cloth's, m).
+// One case's run as the worker child answers it: {"summary": the run JSON, "positions": final x,
+// particle-major, "diagonal": the cloth's, m} (the last two when asked for).
+struct CaseRun {
+  host::RunSummary summary;
+  std::vector<double> positions;  // empty for a run that was not stable (non-finite)
+  double diagonal = 0;
+};
+// Reads the answer; throws InputError naming a field that is missing, unknown or mistyped.
+CaseRun case_run_from_json(const nlohmann::json& answer);
+
+// Runs the configured case and returns its answer (CaseRun), with the positions when asked.
 nlohmann::json run_case(const RunConfig& config, const host::PluginSearchPath& search_path,
                         bool with_positions = false);
 // The same with the plugins already loaded (load_plugins).

@@ -42,8 +42,8 @@ nlohmann::json CaseWorker::ask(const std::string& task, const sweep::CaseSpec& c
                      resolve_run_config(c.settings).timeout_s);
 }
 
-nlohmann::json CaseWorker::run(const sweep::CaseSpec& c, bool with_positions) {
-  return ask(with_positions ? "positions" : "run", c);
+CaseRun CaseWorker::run(const sweep::CaseSpec& c, bool with_positions) {
+  return case_run_from_json(ask(with_positions ? "positions" : "run", c));
 }
 
 nlohmann::json CaseWorker::predict(const sweep::CaseSpec& c) { return ask("predict", c); }

@@ -7,6 +7,7 @@
 #include <clothlab/sweep/case_spec.hpp>
 #include <nlohmann/json.hpp>
 
+#include "case_execution.hpp"
 #include "isolation.hpp"
 
 namespace clothlab::cli {
@@ -18,7 +19,7 @@ class CaseWorker {
 
   // run_case, predict_case and local_solve_case (case_execution.hpp) of the case's settings, in
   // the child, bounded by the case's timeout; throws as JsonWorker::ask.
-  nlohmann::json run(const sweep::CaseSpec& c, bool with_positions = false);
+  CaseRun run(const sweep::CaseSpec& c, bool with_positions = false);
   nlohmann::json predict(const sweep::CaseSpec& c);
   nlohmann::json local_solve(const sweep::CaseSpec& c);
 

@@ -171,7 +171,7 @@ int run(int argc, const char* const argv[]) {
           write_file_atomically(*command_line.state_file, [&](std::ostream& out) {
             write_state_csv(simulation.cloth(), out);
           });
-        return nlohmann::json{{"summary", human_summary(record)},
+        return nlohmann::json{{"summary", human_summary(summarize(record))},
                               {"stable", record.stable},
                               {"interrupted", record.interrupted},
                               {"unconverged", record.failed_check == unconverged_check},

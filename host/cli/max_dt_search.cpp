@@ -67,13 +67,19 @@ nlohmann::json find_max_dt(const Configuration& whole, const host::PluginSearchP
       [&](double dt) {
         nlohmann::json probe = {{"dt", dt}};
         try {
-          const nlohmann::json run = run_isolated(
-              [&] { return run_case(with_dt(config, dt), search_path); }, config.timeout_s);
-          for (const char* field : {"integrator", "scenario", "rows", "cols", "precision"})
-            result[field] = run[field];
-          probe["stable"] = run["stable"];
-          probe["failed_check"] = run["failed_check"];
-          probe["failed_step"] = run["failed_step"];
+          const host::RunSummary run =
+              case_run_from_json(
+                  run_isolated([&] { return run_case(with_dt(config, dt), search_path); },
+                               config.timeout_s))
+                  .summary;
+          result["integrator"] = run.integrator;
+          result["scenario"] = run.scenario;
+          result["rows"] = run.rows;
+          result["cols"] = run.cols;
+          result["precision"] = run.precision;
+          probe["stable"] = run.stable;
+          probe["failed_check"] = run.failed_check ? nlohmann::json(*run.failed_check) : nullptr;
+          probe["failed_step"] = run.failed_step ? nlohmann::json(*run.failed_step) : nullptr;
         } catch (const std::exception& error) {
           probe["stable"] = false;
           probe["failed_check"] = "error";

@@ -52,7 +52,8 @@ std::vector<std::string> trait_names(const host::IntegratorPlugin& integrator) {
       {CLOTHLAB_TRAIT_ITERATIVE, "iterative"},
       {CLOTHLAB_TRAIT_RESOLVES_CONTACTS, "resolves-contacts"},
       {CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, "moves-attachments"},
-      {CLOTHLAB_TRAIT_LOCAL_SOLVES, "local-solves"}};
+      {CLOTHLAB_TRAIT_LOCAL_SOLVES, "local-solves"},
+      {CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST, "drags-towards-rest"}};
   const auto* traits = static_cast<const clothlab_integrator_traits*>(
       integrator.extension(CLOTHLAB_EXT_INTEGRATOR_TRAITS));
   std::vector<std::string> names;

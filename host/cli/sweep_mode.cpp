@@ -13,6 +13,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <utility>
 
 #include "case_execution.hpp"
 #include "case_worker.hpp"
@@ -29,72 +30,47 @@ namespace clothlab::cli {
 
 namespace {
 
-// The verdict part of a case result from a run's summary JSON.
-sweep::CaseResult verdict_of(const nlohmann::json& run) {
+// The verdict part of a case result from a run's summary.
+sweep::CaseResult verdict_of(const host::RunSummary& run) {
   sweep::CaseResult result;
-  if (!run["stable"].get<bool>()) {
+  if (!run.stable) {
     result.status = sweep::CaseStatus::Unstable;
-    result.fail_step = run["failed_step"].is_number() ? run["failed_step"].get<uint64_t>() : 0;
-    result.check = run["failed_check"].is_string() ? run["failed_check"].get<std::string>() : "";
-    result.reason = run["verdict"].get<std::string>();
+    result.fail_step = run.failed_step.value_or(0);
+    result.check = run.failed_check.value_or("");
+    result.reason = run.verdict;
   }
   return result;
 }
 
 sweep::CaseResult run_row(const sweep::CaseSpec& c, CaseWorker& worker) {
-  const nlohmann::json run = worker.run(c);
+  const host::RunSummary run = worker.run(c).summary;
   sweep::CaseResult result = verdict_of(run);
-  result.metrics = {{"steps", run["steps"].get<double>()},
-                    {"sim_time_s", run["sim_time_s"].get<double>()},
-                    {"wall_time_s", run["wall_time_s"].get<double>()},
-                    {"ms_per_step", run["ms_per_step"]["median"].get<double>()},
-                    {"ms_per_step_p90", run["ms_per_step"]["p90"].get<double>()},
-                    {"force_evals", run["force_evals"].get<double>()},
-                    {"springs_per_second", run["springs_per_second"].get<double>()},
-                    {"real_time_factor", run["real_time_factor"].get<double>()},
-                    {"threads", run["threads"].get<double>()}};
+  result.metrics = {{"steps", static_cast<double>(run.steps)},
+                    {"sim_time_s", run.sim_time_s},
+                    {"wall_time_s", run.wall_time_s},
+                    {"ms_per_step", run.ms_per_step.median},
+                    {"ms_per_step_p90", run.ms_per_step.p90},
+                    {"force_evals", static_cast<double>(run.force_evals)},
+                    {"springs_per_second", run.springs_per_second},
+                    {"real_time_factor", run.real_time_factor},
+                    {"threads", static_cast<double>(run.threads)}};
   // The warp/weft stretch over the run: its maximum and the robust figures beside it (a
-  // diverged run's are null in the JSON and left out here).
-  for (const char* figure : {"max_stretch", "max_stretch_away_from_pins", "p99_stretch"})
-    if (run[figure]["over_run"].is_number())
-      result.metrics.emplace_back(figure, run[figure]["over_run"].get<double>());
-  result.notes = {{"verdict", run["verdict"].get<std::string>()}};
+  // diverged run's are not finite and left out here).
+  for (const auto& [figure, value] :
+       {std::pair{"max_stretch", run.max_stretch.over_run},
+        std::pair{"max_stretch_away_from_pins", run.max_stretch_away_from_pins.over_run},
+        std::pair{"p99_stretch", run.p99_stretch.over_run}})
+    if (std::isfinite(value)) result.metrics.emplace_back(figure, value);
+  result.notes = {{"verdict", run.verdict}};
   return result;
 }
 
 }  // namespace
 
 sweep::Trajectory run_sweep_trajectory(const sweep::CaseSpec& c, CaseWorker& worker) {
-  const nlohmann::json run = worker.run(c, true);
-  sweep::Trajectory trajectory;
-  // A diverged run's non-finite positions are JSON nulls; its verdict says enough.
-  if (run["stable"].get<bool>()) trajectory.positions = run["positions"].get<std::vector<double>>();
-  trajectory.diagonal = run["diagonal"].get<double>();
-  trajectory.wall_s = run["wall_time_s"].get<double>();
-  trajectory.force_evals = run["force_evals"].get<uint64_t>();
-  const auto over_run = [&](const char* figure) {
-    const nlohmann::json& stretch = run[figure]["over_run"];
-    return stretch.is_number() ? stretch.get<double>() : NAN;
-  };
-  trajectory.max_stretch = over_run("max_stretch");
-  trajectory.max_stretch_away_from_pins = over_run("max_stretch_away_from_pins");
-  trajectory.p99_stretch = over_run("p99_stretch");
-  if (run["attachments"].is_object())
-    trajectory.attached_particles = run["attachments"]["particles"].get<uint32_t>();
-  if (const nlohmann::json& contacts = run["contacts"]; contacts.is_object()) {
-    trajectory.colliders = contacts["colliders"].get<uint32_t>();
-    // A diverged run's penetration is a JSON null (not finite): NAN judges nothing.
-    if (contacts["max_penetration_over_run"].is_number())
-      trajectory.max_penetration = contacts["max_penetration_over_run"].get<double>();
-    if (contacts["max_depth_past_thickness_over_run"].is_number())
-      trajectory.max_depth_past_thickness =
-          contacts["max_depth_past_thickness_over_run"].get<double>();
-    trajectory.collider_thickness = contacts["thickness"].get<double>();
-  }
-  trajectory.ms_per_frame = run["ms_per_frame"]["median"].get<double>();
-  trajectory.ms_per_frame_p10 = run["ms_per_frame"]["p10"].get<double>();
-  trajectory.verdict = verdict_of(run);
-  return trajectory;
+  CaseRun run = worker.run(c, true);
+  const sweep::CaseResult verdict = verdict_of(run.summary);
+  return {std::move(run.positions), run.diagonal, std::move(run.summary), verdict};
 }
 
 namespace {

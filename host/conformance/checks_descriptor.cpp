@@ -83,7 +83,7 @@ void require_traits(const clothlab_integrator& integrator, const clothlab_integr
               std::to_string(sizeof(clothlab_integrator_traits)));
   const uint32_t known = CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
                          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS |
-                         CLOTHLAB_TRAIT_LOCAL_SOLVES;
+                         CLOTHLAB_TRAIT_LOCAL_SOLVES | CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST;
   require((t.flags & ~known) == 0, "traits flags " + std::to_string(t.flags) + " has unknown bits");
   for (const char* name : {t.substeps_param, t.iterations_param})
     require(name == nullptr || names_integer_parameter(integrator, name),

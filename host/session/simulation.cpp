@@ -358,7 +358,10 @@ void Simulation::start(const RunHooks& hooks) {
     record.attachments.emplace().particles = attachments_->particles().size();
   // Taken at the first step, not at construction: a state the caller set before it is the
   // run's initial state.
-  monitor_.emplace(*cloth_, 0.0, config_.monitor);
+  analysis::MonitorOptions monitor_options = config_.monitor;
+  monitor_options.momentum_measures_pins =
+      !declares_trait(*integrator_, CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST);
+  monitor_.emplace(*cloth_, 0.0, monitor_options);
   trace_energy_ = hooks.trace_energy;
   if (trace_energy_) record.energy_trace.push_back({0.0, cloth_->energy()});
   cloth_->reset_counters();

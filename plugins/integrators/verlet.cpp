@@ -63,7 +63,8 @@ struct StormerVerlet {
   static constexpr clothlab_explicit_scheme explicit_scheme =
       sdk::explicit_scheme_of(raw_scheme, true);
   static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_MOVES_ATTACHMENTS, nullptr, nullptr};
+      sizeof(clothlab_integrator_traits),
+      CLOTHLAB_TRAIT_MOVES_ATTACHMENTS | CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST, nullptr, nullptr};
 
   explicit StormerVerlet(const sdk::Params& values)
       : damping_rate_(values.real("damping")), damping_per_step_(values.real("damping_per_step")) {}

@@ -89,6 +89,22 @@ inline TriangleMesh irregular_mesh(uint32_t rows, uint32_t cols) {
   return irregular_grid_mesh(layout);
 }
 
+// Vertex i of n renumbered as (i * step) mod n (step coprime to n): a numbering that puts a
+// triangle's corners far apart.
+inline uint32_t renumbered_index(uint32_t i, uint32_t step, uint32_t n) {
+  return static_cast<uint32_t>(uint64_t{i} * step % n);
+}
+
+inline TriangleMesh renumbered(const TriangleMesh& mesh, uint32_t step) {
+  const auto n = static_cast<uint32_t>(mesh.positions.size() / 3);
+  TriangleMesh out = mesh;
+  for (uint32_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < 3; ++k)
+      out.positions[3 * renumbered_index(i, step, n) + k] = mesh.positions[3 * i + k];
+  for (uint32_t& corner : out.triangles) corner = renumbered_index(corner, step, n);
+  return out;
+}
+
 // The classic RK4 as a Runge-Kutta-Nystrom scheme (clothlab_rkn_scheme): what tests and
 // benchmarks step a cloth's own step_rkn with.
 inline const clothlab_rkn_scheme& rk4_scheme() {

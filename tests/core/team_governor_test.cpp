@@ -96,7 +96,7 @@ TEST(TeamGovernor, JustUnderTheSlowStepBoundIsNoProbe) {
 std::string after_a_won_probe(double team_s) {
   TeamGovernor governor(2, true);
   const std::string probed = Machine{1.2e-3, 1e-3}.run(governor, 16 + 3);
-  EXPECT_EQ(probed, std::string(16, 'T') + "aaa");
+  EXPECT_EQ(probed, std::string(16, 'T').append("aaa"));
   return Machine{team_s, 1e-3}.run(governor, 4 + 4 + 8);
 }
 

@@ -710,6 +710,58 @@ TEST_F(Clothlab, EveryBuiltInLeavesAnAttachedParticleOnItsPathAfterEachStep) {
   }
 }
 
+// The test scenario's particle driven round its circle at 5 m/s (50 rad/s) for 0.2 s at a step
+// where the methods agree on the motion: the work the attachment did is the same for an
+// explicit, a constraint and an implicit method (the sampled springs gave xpbd 9 % more than
+// rk4), and xpbd_tethers, whose tethers pull on the attached particle inside the plugin, runs
+// stable (it was called diverged after one step).
+TEST_F(Clothlab, AnOrbitingAttachmentDoesTheSameWorkWithEveryKindOfMethod) {
+  const auto orbit = [&](const std::string& integrator) {
+    const Outcome outcome =
+        run("--integrator=" + integrator + " " + attachment_scene +
+            "--set scenario.omega=50 --dt 0.0001 --duration 0.2 --json orbit.json --quiet");
+    EXPECT_EQ(outcome.exit_code, 0) << integrator << ": " << outcome.err;
+    return nlohmann::json::parse(read_text(file("orbit.json")));
+  };
+  const double explicit_work = orbit("rk4")["attachments"]["work"].get<double>();
+  EXPECT_GT(explicit_work, 0.1);  // the cloth starts at rest and ends swinging round
+  for (const char* integrator : {"xpbd", "implicit_euler"}) {
+    const auto json = orbit(integrator);
+    EXPECT_EQ(json["stable"], true) << integrator << ": " << json["verdict"];
+    EXPECT_NEAR(json["attachments"]["work"].get<double>(), explicit_work, 0.03 * explicit_work)
+        << integrator;
+  }
+  const auto tethers = orbit("xpbd_tethers");
+  EXPECT_EQ(tethers["stable"], true) << tethers["verdict"];
+}
+
+// Verlet's drag towards world rest takes momentum no pin gave: it declares
+// CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST, and the monitor samples the pull from the springs instead
+// of taking the drag's impulse for the attachment's (which called this run diverged).
+TEST_F(Clothlab, VerletsDragTowardsRestIsNotTakenForAnAttachmentsPull) {
+  const Outcome outcome =
+      run("--integrator=verlet --set integrator.damping=100 " + attachment_scene +
+          "--set scenario.omega=50 --dt 0.001 --duration 2 --json drag.json --quiet");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("drag.json")));
+  EXPECT_EQ(json["stable"], true) << json["verdict"];
+}
+
+// The pump scales the free particles' velocity relative to the attached one: the momentum it
+// makes looks like the attachment's pull, the energy it adds is more than that pull's work.
+TEST_F(Clothlab, AnIntegratorPumpingEnergyAtAnAttachmentIsCalledDiverged) {
+  const Outcome outcome =
+      run("--integrator=" + (test_plugins / "pump" / "clothlab_test_pumps_energy.so").string() +
+          " --set integrator.relative=true --set integrator.gain=0.001 " + attachment_scene +
+          "--set scenario.omega=50 --dt 0.0001 --duration 0.2 --json pump.json --quiet");
+  EXPECT_EQ(outcome.exit_code, 3) << outcome.err;
+  const auto json = nlohmann::json::parse(read_text(file("pump.json")));
+  EXPECT_EQ(json["stable"], false);
+  EXPECT_EQ(json["failed_check"], "energy") << json["verdict"];
+  EXPECT_NE(json["verdict"].get<std::string>().find("attachment work"), std::string::npos)
+      << json["verdict"];
+}
+
 TEST_F(Clothlab, AnAttachmentOutOfRangeNonFiniteOrJumpingIsOneLineOfBadInputBeforeTheRun) {
   const std::pair<std::string, std::string> cases[] = {
       {"--set scenario.particle=9",

@@ -71,12 +71,20 @@ struct FakeRuns {
   Trajectory operator()(const CaseSpec& c) {
     ++calls;
     Trajectory run;
+    host::RunSummary& figures = run.summary;
     run.diagonal = 1.0;
-    run.attached_particles = attached_particles;
-    run.colliders = colliders;
+    if (attached_particles > 0)
+      figures.attachments = host::RunSummary::Attachments{attached_particles, 0.0};
+    if (colliders > 0) {
+      host::RunSummary::Contacts& contacts = figures.contacts.emplace();
+      contacts.colliders = colliders;
+      contacts.max_penetration_over_run = contacts.max_depth_past_thickness_over_run =
+          contacts.thickness = NAN;
+    }
     if (c.precision == "float64") {
       run.positions = {c.dt > 3e-5 ? reference_gap : 0.0, 0, 0};  // the coarser of the two
-      run.max_stretch = run.max_stretch_away_from_pins = reference_stretch;
+      figures.max_stretch.over_run = figures.max_stretch_away_from_pins.over_run =
+          reference_stretch;
       return run;
     }
     const double substeps = std::stod(c.setting("substeps"));
@@ -88,25 +96,28 @@ struct FakeRuns {
     const double iterations = text.empty() ? 0.0 : std::stod(text);
     settings.push_back(c.integrator + " " + c.setting("substeps") + " x " +
                        (text.empty() ? "0" : text));
-    run.ms_per_frame =
+    double& ms_per_frame = figures.ms_per_frame.median;
+    ms_per_frame =
         time_scale * (c.integrator == "steady" ? 25.0 : substeps) * (1.0 + 0.1 * iterations);
-    if (c.integrator == "dear") run.ms_per_frame = 2.5 * substeps;
-    if (c.integrator == "solver") run.ms_per_frame = 3 * substeps * iterations;
-    if (c.integrator == "walker") run.ms_per_frame *= 10;
-    if (loaded_from_call > 0 && calls >= loaded_from_call) run.ms_per_frame *= 2;
+    if (c.integrator == "dear") ms_per_frame = 2.5 * substeps;
+    if (c.integrator == "solver") ms_per_frame = 3 * substeps * iterations;
+    if (c.integrator == "walker") ms_per_frame *= 10;
+    if (loaded_from_call > 0 && calls >= loaded_from_call) ms_per_frame *= 2;
     if (c.duration < 1 && c.integrator + " " + c.setting("substeps") == burst_on) {
       if (--bursts == 0) burst_on.clear();
-      run.ms_per_frame *= 10;
+      ms_per_frame *= 10;
     }
-    run.ms_per_frame_p10 = 0.9 * run.ms_per_frame;
-    run.wall_s = run.ms_per_frame * c.duration * std::stod(c.setting("frame_rate")) / 1e3;
+    figures.ms_per_frame.p10 = 0.9 * ms_per_frame;
+    figures.wall_time_s = ms_per_frame * c.duration * std::stod(c.setting("frame_rate")) / 1e3;
     const std::string timeout = c.setting("timeout");
-    if (!timeout.empty() && run.wall_s > std::stod(timeout)) {
+    if (!timeout.empty() && figures.wall_time_s > std::stod(timeout)) {
       run.verdict.status = CaseStatus::Failed;
       run.verdict.reason = "timed out after " + timeout + " s";
       return run;
     }
-    run.max_stretch = 1.01;
+    double& max_stretch = figures.max_stretch.over_run;
+    double& away_from_pins = figures.max_stretch_away_from_pins.over_run;
+    max_stretch = 1.01;
     double error = 0.001;
     const bool unstable = (c.integrator == "explicit" && substeps < 37) ||
                           (c.integrator == "iterative" && substeps * iterations < 8) ||
@@ -118,22 +129,24 @@ struct FakeRuns {
     if (c.integrator == "plateau") error = 0.5 / substeps + 0.001 / iterations;
     if (c.integrator == "damped") error = 0.03 + 0.001 / substeps;
     if (c.integrator == "saturated") error = substeps <= 2 ? 0.2 : 0.5 / (substeps * substeps);
-    if (c.integrator == "stretchy") run.max_stretch = 1.0 + 0.5 / substeps;
-    if (c.integrator == "soft") run.max_stretch = 1.0 + 0.2 / substeps;
-    run.max_stretch_away_from_pins = run.max_stretch;
+    if (c.integrator == "stretchy") max_stretch = 1.0 + 0.5 / substeps;
+    if (c.integrator == "soft") max_stretch = 1.0 + 0.2 / substeps;
+    away_from_pins = max_stretch;
     if (c.integrator == "cornered") {
-      run.max_stretch = 1.3;
-      run.max_stretch_away_from_pins = 1.02;
+      max_stretch = 1.3;
+      away_from_pins = 1.02;
     }
-    run.p99_stretch = (1.0 + run.max_stretch_away_from_pins) / 2;
-    if (colliders > 0) {
+    figures.p99_stretch.over_run = (1.0 + away_from_pins) / 2;
+    if (figures.contacts) {
       // The thinnest collider is 0.01 m thick; "cushioned" lies 0.015 m inside one 0.02 m
       // thick, "rounded" a float32 rounding past a thickness of 0.
-      run.collider_thickness = 0.01;
-      run.max_penetration = c.integrator == "tunneller" ? 0.04 / substeps : 0.002;
-      run.max_depth_past_thickness = std::max(0.0, run.max_penetration - 0.01);
-      if (c.integrator == "cushioned") run.max_penetration = 0.015;
-      if (c.integrator == "rounded") run.max_depth_past_thickness = 5e-7;
+      host::RunSummary::Contacts& contacts = *figures.contacts;
+      contacts.thickness = 0.01;
+      contacts.max_penetration_over_run = c.integrator == "tunneller" ? 0.04 / substeps : 0.002;
+      contacts.max_depth_past_thickness_over_run =
+          std::max(0.0, contacts.max_penetration_over_run - 0.01);
+      if (c.integrator == "cushioned") contacts.max_penetration_over_run = 0.015;
+      if (c.integrator == "rounded") contacts.max_depth_past_thickness_over_run = 5e-7;
     }
     if (unstable) {
       run.verdict.status = CaseStatus::Unstable;
@@ -322,9 +335,9 @@ TEST(IntegratorChoice, JudgesTheStretchAwayFromThePins) {
   const std::vector<Choice> choices = fixture.choose({{"cornered", false}});
   ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_EQ(choices[0].substeps, 1u);
-  EXPECT_EQ(choices[0].max_stretch, 1.3);
-  EXPECT_EQ(choices[0].max_stretch_away_from_pins, 1.02);
-  EXPECT_EQ(choices[0].p99_stretch, 1.01);
+  EXPECT_EQ(choices[0].run->max_stretch.over_run, 1.3);
+  EXPECT_EQ(choices[0].run->max_stretch_away_from_pins.over_run, 1.02);
+  EXPECT_EQ(choices[0].run->p99_stretch.over_run, 1.01);
   const Row row = choice_rows(choices, fixture.settings).at(0);
   EXPECT_EQ(row["max_stretch"], 1.3);
   EXPECT_EQ(row["max_stretch_away_from_pins"], 1.02);
@@ -347,7 +360,7 @@ TEST(IntegratorChoice, HoldsTheStretchWithinAFactorOfTheReferences) {
   ASSERT_TRUE(choices[0].passed) << choices[0].verdict;
   EXPECT_GE(choices[0].substeps, 7u);
   EXPECT_LE(choices[0].substeps, 8u);
-  EXPECT_LE(choices[0].max_stretch_away_from_pins, 1.03);
+  EXPECT_LE(choices[0].run->max_stretch_away_from_pins.over_run, 1.03);
   EXPECT_NE(fixture.progress.str().find("soft 2 substeps: stretch 1.1 away from the pins, a "
                                         "strain over 1.5 x the reference's (1.02)"),
             std::string::npos)
@@ -592,8 +605,8 @@ TEST(IntegratorChoice, FailsAProbeThatPenetratesDeeperThanTheColliderThickness) 
   const Choice tunnelling = found("tunneller");
   ASSERT_TRUE(tunnelling.passed) << tunnelling.verdict;
   EXPECT_EQ(tunnelling.substeps, 4u);  // 0.04 / 4 = the thickness; 2 substeps: 0.02 m
-  EXPECT_LE(tunnelling.max_penetration, 0.01);
-  EXPECT_EQ(tunnelling.collider_thickness, 0.01);
+  EXPECT_LE(tunnelling.run->max_penetration(), 0.01);
+  EXPECT_EQ(tunnelling.run->collider_thickness(), 0.01);
   EXPECT_NE(fixture.progress.str().find("tunneller 2 substeps: a particle 0.01 m past the "
                                         "thickness of a collider (deepest penetration 0.02 m)"),
             std::string::npos)
@@ -601,7 +614,7 @@ TEST(IntegratorChoice, FailsAProbeThatPenetratesDeeperThanTheColliderThickness) 
   const Choice shallow = found("steady");
   ASSERT_TRUE(shallow.passed) << shallow.verdict;
   EXPECT_EQ(shallow.substeps, 1u);
-  EXPECT_EQ(shallow.max_penetration, 0.002);
+  EXPECT_EQ(shallow.run->max_penetration(), 0.002);
   EXPECT_NE(choice_table(choices, fixture.settings).find("0.002 m"), std::string::npos);
   const std::vector<Row> ranked = choice_rows(choices, fixture.settings);
   EXPECT_EQ(ranked[0]["collider_thickness"], 0.01);
@@ -624,7 +637,7 @@ TEST(IntegratorChoice, JudgesThePenetrationAgainstItsOwnCollidersThickness) {
     EXPECT_EQ(choice.substeps, 1u) << choice.integrator;
   }
   const Choice& cushioned = choices[0].integrator == "cushioned" ? choices[0] : choices[1];
-  EXPECT_GT(cushioned.max_penetration, cushioned.collider_thickness);
+  EXPECT_GT(cushioned.run->max_penetration(), cushioned.run->collider_thickness());
 }
 
 // Without colliders the penetration judges nothing and the rows leave it empty.

@@ -29,9 +29,11 @@ struct CountingRuns {
     Trajectory run;
     run.positions = {0.1, 0.2, 1.0 / 3.0};
     run.diagonal = 1.5;
-    run.max_stretch = 1.02;
-    run.max_stretch_away_from_pins = 1.015;
-    run.p99_stretch = 1.01;
+    run.summary.max_stretch.over_run = 1.02;
+    run.summary.max_stretch_away_from_pins.over_run = 1.015;
+    run.summary.p99_stretch.over_run = 1.01;
+    run.summary.contacts.emplace().colliders = 2;
+    run.summary.contacts->thickness = 0.01;
     if (!stable) run.verdict.status = CaseStatus::Unstable;
     return run;
   }
@@ -62,10 +64,8 @@ TEST(TrajectoryCache, ServesAnIdenticalCaseFromTheFolder) {
   EXPECT_EQ(cache.hits(), 1);
   EXPECT_EQ(again.positions, (std::vector<double>{0.1, 0.2, 1.0 / 3.0}));
   EXPECT_EQ(again.diagonal, 1.5);
-  // The robust stretch figures too: --choose holds a method to the reference's.
-  EXPECT_EQ(again.max_stretch, 1.02);
-  EXPECT_EQ(again.max_stretch_away_from_pins, 1.015);
-  EXPECT_EQ(again.p99_stretch, 1.01);
+  // Its whole summary too (--choose holds a method to the reference's robust stretch).
+  EXPECT_EQ(again.summary, CountingRuns()(reference_case({})).summary);
   // Another setting or a rebuilt plugin is a miss.
   cache.run(std::ref(runs), reference_case({{"scenario.rows", "30", "test"}}));
   EXPECT_EQ(runs.calls, 2);

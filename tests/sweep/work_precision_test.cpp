@@ -40,8 +40,8 @@ struct FakeIntegrators {
     Trajectory run;
     run.diagonal = kDiagonal;
     run.positions = {5.0 * std::pow(c.dt, order), 0.1, 0.0, 1.0, 0.2, -0.5};
-    run.wall_s = 1e-3 * static_cast<double>(c.steps);
-    run.force_evals = c.steps;
+    run.summary.wall_time_s = 1e-3 * static_cast<double>(c.steps);
+    run.summary.force_evals = c.steps;
     if (c.integrator == "euler" && c.dt == 0.01) {
       run.verdict.status = CaseStatus::Unstable;
       run.verdict.reason = "energy";

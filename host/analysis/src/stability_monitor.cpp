@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace clothlab::analysis {
 namespace {
@@ -54,15 +55,46 @@ StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorO
   rest_area_ = surface_area(model.rest_positions, model.triangles);
   if (cloth.state_is_finite()) {
     last_power_ = wind_power_bound(cloth, cloth.max_stretch());
-    attachment_power_ = cloth.attachment_power();
+    cloth.pin_loads(pins_before_);
   }
 }
 
 void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
   if (!(t > attachment_time_)) return;
-  const double power = cloth.attachment_power();
-  attachment_work_ += 0.5 * (power + attachment_power_) * (t - attachment_time_);
-  attachment_power_ = power;
+  cloth.pin_loads(pins_now_);
+  const Cloth::PinLoads& before = pins_before_;
+  const Cloth::PinLoads& now = pins_now_;
+  const std::size_t values = now.positions.size();
+  if (values != 0 && before.positions.size() == values) {
+    const double dt = t - attachment_time_;
+    // The pins' mean displacement over the interval.
+    Vec3 mean{0, 0, 0};
+    for (std::size_t k = 0; k < values; ++k) mean[k % 3] += now.positions[k] - before.positions[k];
+    for (double& component : mean) component /= static_cast<double>(values / 3);
+    // The impulse the pins gave the free cloth. Where gravity is the only other force on it, the
+    // free particles' momentum measures it whatever the method did inside the step (springs,
+    // constraints, tethers); otherwise it is sampled from the pins' springs.
+    const Scene& scene = cloth.scene();
+    const bool measured = options_.momentum_measures_pins && !scene.has_wind() &&
+                          !scene.has_air() && cloth.colliders().empty();
+    Vec3 impulse{0, 0, 0};
+    if (measured)
+      for (std::size_t axis = 0; axis < 3; ++axis)
+        impulse[axis] = now.free_momentum[axis] - before.free_momentum[axis] -
+                        now.free_mass * scene.gravity[axis] * dt;
+    else
+      for (std::size_t k = 0; k < values; ++k)
+        impulse[k % 3] -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) * dt;
+    // Work = sum over pins of impulse . displacement / dt: the whole impulse moves with the mean
+    // displacement (exact where measured), each pin's sampled share with its own difference.
+    double work = 0.0;
+    for (std::size_t axis = 0; axis < 3; ++axis) work += impulse[axis] * mean[axis] / dt;
+    for (std::size_t k = 0; k < values; ++k)
+      work -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) *
+              (now.positions[k] - before.positions[k] - mean[k % 3]);
+    attachment_work_ += work;
+  }
+  std::swap(pins_before_, pins_now_);
   attachment_time_ = t;
 }
 

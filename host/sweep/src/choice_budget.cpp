@@ -38,12 +38,13 @@ std::optional<uint32_t> IntegratorSearch::bisect_at(uint32_t substeps, uint32_t 
     const double timeout_s = budget_s(1.0);
     const Trajectory mine = attempt_within(first_frames_case(candidate_case(s, it)), timeout_s);
     const Trajectory theirs = attempt_within(best.first_frames, timeout_s);
-    if (mine.verdict.stable() && theirs.verdict.stable() && mine.ms_per_frame_p10 > 0 &&
-        theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10 > cut) {
-      cut = theirs.ms_per_frame_p10 * passing / mine.ms_per_frame_p10;
-      cost = mine.ms_per_frame_p10;
+    if (mine.verdict.stable() && theirs.verdict.stable() && mine.summary.ms_per_frame.p10 > 0 &&
+        theirs.summary.ms_per_frame.p10 * passing / mine.summary.ms_per_frame.p10 > cut) {
+      cut = theirs.summary.ms_per_frame.p10 * passing / mine.summary.ms_per_frame.p10;
+      cost = mine.summary.ms_per_frame.p10;
       char now[64];
-      std::snprintf(now, sizeof now, " (%.4g ms its first frames now)", theirs.ms_per_frame_p10);
+      std::snprintf(now, sizeof now, " (%.4g ms its first frames now)",
+                    theirs.summary.ms_per_frame.p10);
       yardstick += now;
     }
   }

@@ -1,10 +1,31 @@
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "clothlab/sweep/progress.hpp"
 #include "integrator_search.hpp"
 
 namespace clothlab::sweep {
+namespace {
+
+// The figures of a run at the scene's mesh that probe and choice rows carry: null without the
+// run, and for a figure it lacks (no colliders) or that is not finite.
+void put_run_figures(Row& row, const std::optional<host::RunSummary>& run) {
+  const auto figure = [&](double (*of)(const host::RunSummary&)) {
+    const double value = run ? of(*run) : NAN;
+    return std::isfinite(value) ? Row(value) : Row();
+  };
+  row["max_stretch"] = figure([](const host::RunSummary& r) { return r.max_stretch.over_run; });
+  row["max_stretch_away_from_pins"] =
+      figure([](const host::RunSummary& r) { return r.max_stretch_away_from_pins.over_run; });
+  row["p99_stretch"] = figure([](const host::RunSummary& r) { return r.p99_stretch.over_run; });
+  row["max_penetration"] = figure([](const host::RunSummary& r) { return r.max_penetration(); });
+  row["collider_thickness"] =
+      figure([](const host::RunSummary& r) { return r.collider_thickness(); });
+}
+
+}  // namespace
+
 namespace choice_detail {
 
 std::string percent(double fraction) {
@@ -30,12 +51,7 @@ void IntegratorSearch::store_row(const CaseSpec& c, uint32_t substeps, uint32_t 
   row["substeps"] = substeps;
   row["iterations"] = iterations;
   row["ms_per_frame"] = probe.ms_per_frame > 0 ? Row(probe.ms_per_frame) : Row();
-  const auto figure = [](double value) { return std::isfinite(value) ? Row(value) : Row(); };
-  row["max_stretch"] = figure(probe.max_stretch);
-  row["max_stretch_away_from_pins"] = figure(probe.max_stretch_away_from_pins);
-  row["p99_stretch"] = figure(probe.p99_stretch);
-  row["max_penetration"] = figure(probe.max_penetration);
-  row["collider_thickness"] = figure(probe.collider_thickness);
+  put_run_figures(row, probe.run);
   row["error"] = std::isfinite(probe.error) ? Row(probe.error) : Row();
   row["error_mesh"] = settings_.error_mesh.empty() ? "same" : settings_.error_mesh;
   row["passed"] = probe.passed;
@@ -80,15 +96,7 @@ std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSet
         choice.passed ? Row(1e3 / settings.frame_rate / choice.ms_per_frame) : Row();
     row["error"] = choice.passed ? Row(choice.error) : Row();
     row["error_mesh"] = settings.error_mesh.empty() ? "same" : settings.error_mesh;
-    row["max_stretch"] = choice.passed ? Row(choice.max_stretch) : Row();
-    row["max_stretch_away_from_pins"] =
-        choice.passed ? Row(choice.max_stretch_away_from_pins) : Row();
-    row["p99_stretch"] = choice.passed ? Row(choice.p99_stretch) : Row();
-    const auto figure = [&](double value) {
-      return choice.passed && std::isfinite(value) ? Row(value) : Row();
-    };
-    row["max_penetration"] = figure(choice.max_penetration);
-    row["collider_thickness"] = figure(choice.collider_thickness);
+    put_run_figures(row, choice.run);
     row["predicted_substeps"] = choice.predicted_substeps ? Row(choice.predicted_substeps) : Row();
     row["verdict"] = choice.verdict;
     row["probes"] = choice.probes;
@@ -115,14 +123,16 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
                                      : c.iterations_param == "iterations"
                                          ? std::to_string(c.iterations)
                                          : c.iterations_param + "=" + std::to_string(c.iterations);
+      const double deepest = c.run ? c.run->max_penetration() : NAN;
+      const double stretch = c.run ? c.run->max_stretch_away_from_pins.over_run : NAN;
+      const double max_stretch = c.run ? c.run->max_stretch.over_run : NAN;
       char penetration[32] = "-";
-      if (std::isfinite(c.max_penetration))
-        std::snprintf(penetration, sizeof penetration, "%.3g m", c.max_penetration);
+      if (std::isfinite(deepest)) std::snprintf(penetration, sizeof penetration, "%.3g m", deepest);
       std::snprintf(line, sizeof line, "%-4d %-20s %8u %10s %12.4g %8.3g %10s %8s %11s %11s  %s\n",
                     ++rank, c.integrator.c_str(), c.substeps, iterations.c_str(), c.ms_per_frame,
                     1e3 / settings.frame_rate / c.ms_per_frame, percent(c.error).c_str(),
-                    percent(c.max_stretch_away_from_pins - 1).c_str(),
-                    percent(c.max_stretch - 1).c_str(), penetration, c.verdict.c_str());
+                    percent(stretch - 1).c_str(), percent(max_stretch - 1).c_str(), penetration,
+                    c.verdict.c_str());
     } else {
       std::snprintf(line, sizeof line, "%-4s %-20s %8s %10s %12s %8s %10s %8s %11s %11s  %s\n", "-",
                     c.integrator.c_str(), "-", "-", "-", "-", "-", "-", "-", "-",

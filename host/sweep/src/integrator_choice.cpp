@@ -19,17 +19,17 @@ namespace {
 // attachments and colliders), as "refused: ..."; empty when nothing.
 std::string refusal(const ChoiceCandidate& candidate, const Trajectory& reference) {
   std::string missing;
-  if (reference.attached_particles > 0 && !candidate.moves_attachments)
+  if (reference.summary.attached_particles() > 0 && !candidate.moves_attachments)
     missing =
         "does not move attachments (no CLOTHLAB_TRAIT_MOVES_ATTACHMENTS), which the "
         "scene's " +
-        std::to_string(reference.attached_particles) + " attached particle(s) need";
-  if (reference.colliders > 0 && !candidate.resolves_contacts)
+        std::to_string(reference.summary.attached_particles()) + " attached particle(s) need";
+  if (reference.summary.colliders() > 0 && !candidate.resolves_contacts)
     missing += (missing.empty() ? "" : "; ") +
                std::string(
                    "does not resolve contacts (no CLOTHLAB_TRAIT_RESOLVES_CONTACTS), "
                    "which the scene's ") +
-               std::to_string(reference.colliders) + " collider(s) need";
+               std::to_string(reference.summary.colliders()) + " collider(s) need";
   return missing.empty() ? "" : "refused: " + missing;
 }
 

@@ -105,11 +105,7 @@ Choice IntegratorSearch::run() {
   choice.iterations_param = candidate_.iterations_param;
   choice.ms_per_frame = chosen.ms_per_frame;
   choice.error = chosen.error;
-  choice.max_stretch = chosen.max_stretch;
-  choice.max_stretch_away_from_pins = chosen.max_stretch_away_from_pins;
-  choice.max_penetration = chosen.max_penetration;
-  choice.collider_thickness = chosen.collider_thickness;
-  choice.p99_stretch = chosen.p99_stretch;
+  choice.run = chosen.run;
   choice.verdict =
       chosen.ms_per_frame <= 1e3 / settings_.frame_rate ? "real time" : "slower than real time";
   if (const auto note = unrefined_.find(*best); note != unrefined_.end())

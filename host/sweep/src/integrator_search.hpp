@@ -26,9 +26,10 @@ struct Probe {
   bool passed = false;
   bool error_failed = false;  // failed on the error criterion (the other runs were fine)
   bool stopped = false;       // killed by the cost budget: slower than the best verdict so far
-  double ms_per_frame = 0, error = NAN, max_stretch = NAN;
-  double max_stretch_away_from_pins = NAN, p99_stretch = NAN;  // the robust figures over T
-  double max_penetration = NAN, collider_thickness = NAN;      // over the run at the mesh
+  double ms_per_frame = 0, error = NAN;
+  // The figures of its run at the scene's mesh: the run over T, or its first frames where they
+  // failed on stretch or penetration; empty while neither was judged.
+  std::optional<host::RunSummary> run;
   std::string why;  // the failed criterion; empty when passed
 };
 

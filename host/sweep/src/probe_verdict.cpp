@@ -31,7 +31,7 @@ bool IntegratorSearch::judge_first_frames(const CaseSpec& c, uint32_t substeps, 
   const double timeout_s = budget_s(1.0);
   const CaseSpec short_case = first_frames_case(c);
   const Trajectory first = attempt_within(short_case, timeout_s);
-  probe.ms_per_frame = first.ms_per_frame;
+  probe.ms_per_frame = first.summary.ms_per_frame.median;
   if (stopped_by_budget(first, timeout_s, "its first frames", probe)) return false;
   // Cost first: over the budget, whether the setting is stable does not matter (more
   // substeps, which might be stable, cost more still). Judged on the fastest frames, and on
@@ -40,18 +40,19 @@ bool IntegratorSearch::judge_first_frames(const CaseSpec& c, uint32_t substeps, 
   const uint32_t value = candidate_.has_iterations ? iterations : substeps;
   const double floor_fraction = (failing + 1.0) / value;
   const auto limit = [&](double best) { return settings_.stop_factor / 2 * best / floor_fraction; };
-  if (first.ms_per_frame_p10 <= limit(context_.best.ms_per_frame))
+  if (first.summary.ms_per_frame.p10 <= limit(context_.best.ms_per_frame))
     return judge_run(first, probe, "in its first frames") &&
            judge_stretch(first, probe, " in its first frames") &&
            judge_penetration(first, probe, " in its first frames");
   const Trajectory again = attempt_within(short_case, timeout_s);
-  const double fastest = again.verdict.stable() || !timed_out(again)
-                             ? std::min(first.ms_per_frame_p10, again.ms_per_frame_p10)
-                             : first.ms_per_frame_p10;
+  const double fastest =
+      again.verdict.stable() || !timed_out(again)
+          ? std::min(first.summary.ms_per_frame.p10, again.summary.ms_per_frame.p10)
+          : first.summary.ms_per_frame.p10;
   // And beside the best's first frames measured now: a load that grew since the best was
   // measured slows both alike (the larger of the two is the yardstick).
   const Trajectory best_first = attempt_within(context_.best.first_frames, timeout_s);
-  const double best_now = best_first.verdict.stable() ? best_first.ms_per_frame_p10 : 0.0;
+  const double best_now = best_first.verdict.stable() ? best_first.summary.ms_per_frame.p10 : 0.0;
   const double yardstick = std::max(context_.best.ms_per_frame, best_now);
   if (fastest <= limit(yardstick))
     return judge_run(first, probe, "in its first frames") &&
@@ -86,13 +87,9 @@ bool IntegratorSearch::judge_error_run(const CaseSpec& c, Probe& probe) {
 bool IntegratorSearch::judge_full_run(const CaseSpec& c, Probe& probe, double& wall_s) {
   const double timeout_s = budget_s(1.0);
   const Trajectory run = attempt_within(c, timeout_s);
-  probe.ms_per_frame = run.ms_per_frame;
-  probe.max_stretch = run.max_stretch;
-  probe.max_stretch_away_from_pins = run.max_stretch_away_from_pins;
-  probe.p99_stretch = run.p99_stretch;
-  probe.max_penetration = run.max_penetration;
-  probe.collider_thickness = run.collider_thickness;
-  wall_s = run.wall_s;
+  probe.ms_per_frame = run.summary.ms_per_frame.median;
+  if (run.verdict.status != CaseStatus::Failed) probe.run = run.summary;  // a failed run has none
+  wall_s = run.summary.wall_time_s;
   if (stopped_by_budget(run, timeout_s, "its run", probe) || !judge_run(run, probe, "") ||
       !judge_stretch(run, probe, "") || !judge_penetration(run, probe, ""))
     return false;
@@ -103,11 +100,9 @@ bool IntegratorSearch::judge_full_run(const CaseSpec& c, Probe& probe, double& w
 // passes the limit (stability.stretch_stop judges the same figure).
 bool IntegratorSearch::judge_stretch(const Trajectory& run, Probe& probe,
                                      const std::string& where) const {
-  if (!(run.max_stretch_away_from_pins > settings_.stretch_limit)) return true;
-  probe.max_stretch = run.max_stretch;
-  probe.max_stretch_away_from_pins = run.max_stretch_away_from_pins;
-  probe.p99_stretch = run.p99_stretch;
-  probe.why = "stretch " + format_number(run.max_stretch_away_from_pins) +
+  if (!(run.summary.max_stretch_away_from_pins.over_run > settings_.stretch_limit)) return true;
+  probe.run = run.summary;
+  probe.why = "stretch " + format_number(run.summary.max_stretch_away_from_pins.over_run) +
               " away from the pins above " + format_number(settings_.stretch_limit) + where;
   return false;
 }
@@ -116,12 +111,11 @@ bool IntegratorSearch::judge_stretch(const Trajectory& run, Probe& probe,
 // band the contacts keep clear: at a larger penetration it tunnels through a thin body part.
 bool IntegratorSearch::judge_penetration(const Trajectory& run, Probe& probe,
                                          const std::string& where) const {
-  if (!(run.max_depth_past_thickness > tunnelling_tolerance_m)) return true;
-  probe.max_penetration = run.max_penetration;
-  probe.collider_thickness = run.collider_thickness;
-  probe.why = "a particle " + format_number(run.max_depth_past_thickness) +
+  if (!(run.summary.max_depth_past_thickness() > tunnelling_tolerance_m)) return true;
+  probe.run = run.summary;
+  probe.why = "a particle " + format_number(run.summary.max_depth_past_thickness()) +
               " m past the thickness of a collider (deepest penetration " +
-              format_number(run.max_penetration) + " m)" + where;
+              format_number(run.summary.max_penetration()) + " m)" + where;
   return false;
 }
 
@@ -130,11 +124,11 @@ bool IntegratorSearch::judge_penetration(const Trajectory& run, Probe& probe,
 // T and still not be this cloth.
 bool IntegratorSearch::judge_stretch_against_reference(const Trajectory& measured,
                                                        Probe& probe) const {
-  const double reference = context_.reference.max_stretch_away_from_pins;
+  const double reference = context_.reference.summary.max_stretch_away_from_pins.over_run;
   if (!(reference >= 1.0)) return true;  // a reference without the figure judges nothing
   const double allowed = 1.0 + settings_.reference_stretch_factor * (reference - 1.0);
-  if (!(measured.max_stretch_away_from_pins > allowed)) return true;
-  probe.why = "stretch " + format_number(measured.max_stretch_away_from_pins) +
+  if (!(measured.summary.max_stretch_away_from_pins.over_run > allowed)) return true;
+  probe.why = "stretch " + format_number(measured.summary.max_stretch_away_from_pins.over_run) +
               " away from the pins" +
               (settings_.error_mesh.empty() ? "" : " on the error mesh " + settings_.error_mesh) +
               ", a strain over " + format_number(settings_.reference_stretch_factor) +

@@ -1,6 +1,8 @@
 #include "clothlab/sweep/trajectory_cache.hpp"
 
 #include <clothlab/config/mesh_sides.hpp>
+#include <clothlab/host/errors.hpp>
+#include <clothlab/host/run_summary.hpp>
 #include <clothlab/io/atomic_file.hpp>
 #include <cmath>
 #include <fstream>
@@ -61,33 +63,20 @@ Trajectory TrajectoryCache::run(const TrajectoryRunner& runner, const CaseSpec& 
         Trajectory run;
         run.positions = cached.at("positions").get<std::vector<double>>();
         run.diagonal = cached.at("diagonal").get<double>();
-        run.wall_s = cached.at("wall_s").get<double>();
-        run.force_evals = cached.at("force_evals").get<uint64_t>();
-        run.max_stretch = cached.at("max_stretch").get<double>();
-        run.max_stretch_away_from_pins = cached.at("max_stretch_away_from_pins").get<double>();
-        run.p99_stretch = cached.at("p99_stretch").get<double>();
-        run.ms_per_frame = cached.at("ms_per_frame").get<double>();
-        run.attached_particles = cached.at("attached_particles").get<uint32_t>();
-        run.colliders = cached.at("colliders").get<uint32_t>();
+        run.summary = host::run_summary_from_json(cached.at("summary"), path.string());
         ++hits_;
         return run;
       }
     } catch (const nlohmann::json::exception&) {
+    } catch (const host::InputError&) {
     }
   }
   const Trajectory run = runner(c);
-  if (!run.verdict.stable() || !std::isfinite(run.max_stretch)) return run;
+  if (!run.verdict.stable() || !std::isfinite(run.summary.max_stretch.over_run)) return run;
   const nlohmann::json record = {{"identity", id},
                                  {"positions", run.positions},
                                  {"diagonal", run.diagonal},
-                                 {"wall_s", run.wall_s},
-                                 {"force_evals", run.force_evals},
-                                 {"max_stretch", run.max_stretch},
-                                 {"max_stretch_away_from_pins", run.max_stretch_away_from_pins},
-                                 {"p99_stretch", run.p99_stretch},
-                                 {"ms_per_frame", run.ms_per_frame},
-                                 {"attached_particles", run.attached_particles},
-                                 {"colliders", run.colliders}};
+                                 {"summary", host::to_json(run.summary)}};
   try {
     std::filesystem::create_directories(folder_);
     io::write_file_atomically(path, record.dump());

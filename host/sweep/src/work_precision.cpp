@@ -120,11 +120,11 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
     // The finer run's own error for an order-4 reference: difference / (2^4 - 1). A self
     // reference's order is what is being measured, so it gets no estimate.
     row["reference_error_estimate"] = is_self_referenced(wp, base) ? Row() : Row(difference / 15.0);
-    row["wall_s"] = coarse.wall_s + fine.wall_s;
+    row["wall_s"] = coarse.summary.wall_time_s + fine.summary.wall_time_s;
     // The converged model's own stretch over the run: what a method's is held to (--choose).
-    row["max_stretch"] = fine.max_stretch;
-    row["max_stretch_away_from_pins"] = fine.max_stretch_away_from_pins;
-    row["p99_stretch"] = fine.p99_stretch;
+    row["max_stretch"] = fine.summary.max_stretch.over_run;
+    row["max_stretch_away_from_pins"] = fine.summary.max_stretch_away_from_pins.over_run;
+    row["p99_stretch"] = fine.summary.p99_stretch.over_run;
     store.append(row, base.index);
   }
   return fine;
@@ -153,8 +153,8 @@ Row ladder_row(const CaseSpec& c, double dt, double duration, const Trajectory& 
   }
   row["status"] = to_string(verdict.status);
   row["stable"] = verdict.stable();
-  row["wall_per_sim_s"] = run.wall_s / duration;
-  row["force_evals"] = run.force_evals;
+  row["wall_per_sim_s"] = run.summary.wall_time_s / duration;
+  row["force_evals"] = run.summary.force_evals;
   row["check"] = verdict.check;
   row["reason"] = verdict.reason;
   return row;

@@ -249,10 +249,17 @@ class Cloth {
   // Moves the attached particles of the cloth's own state to their targets at t (the host does
   // so before the first step); false when a target is not finite.
   bool move_attachments(double t);
-  // The power the attachments deliver to the cloth now (W): over the attached particles, the
-  // velocity times the force holding them against their springs (Hooke, and the damping when
-  // the integrator uses velocity forces). 0 without attachments.
-  double attachment_power() const;
+  // What the attachments' work is measured from (analysis::StabilityMonitor): the free
+  // particles' momentum and mass, and at every pinned particle, attached or held still (ascending
+  // index), its position and the force its springs pull it with (Hooke, and the damping when the
+  // integrator uses velocity forces). Without attachments nothing is measured: positions and
+  // forces come back empty. Allocates only when there are more pins than `out` held before.
+  struct PinLoads {
+    Vec3 free_momentum{0, 0, 0};                   // kg m/s
+    double free_mass = 0;                          // kg
+    std::vector<double> positions, spring_forces;  // 3 per pinned particle
+  };
+  void pin_loads(PinLoads& out) const;
 
  private:
   struct Impl;

@@ -40,6 +40,13 @@ extern "C" {
  * ks behaves like itself only for h <~ sqrt(m / ks); `clothlab --choose` predicts the fewest
  * substeps per frame from that bound and reports it beside the ones it measures. */
 #define CLOTHLAB_TRAIT_LOCAL_SOLVES (1u << 4)
+/* Its step may apply a force of its own that does not come in pairs, such as a drag towards
+ * world rest (verlet's `damping`): the free particles' momentum then changes by more than
+ * gravity and the pins give it. The stability monitor measures the attachments' pull from that
+ * momentum for every other integrator; for this one it samples the pull from the springs at the
+ * pins. An integrator whose forces are the host's, its springs' and its constraints' between
+ * particles (every other built-in) leaves it out. */
+#define CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST (1u << 5)
 
 typedef struct clothlab_integrator_traits {
   uint32_t struct_size;

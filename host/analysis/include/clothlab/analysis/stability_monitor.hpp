@@ -15,9 +15,19 @@
 //         and by v_max against mean speeds, which is fine: a divergence grows without limit and
 //         crosses any such bound, while a calm run stays far below it. The air's drag and lift
 //         (clothlab/ext/air.h) add at most rho (C_d + C_l / 2) (|w| + v_max)^2 / 2 to S.
-//       W_attachments is the work the moving attachments have done on the cloth (the integral of
-//         Cloth::attachment_power, by the trapezoid rule over every observed step: a dragged
-//         cape gains the energy its shoulders give it, and loses it again when they stop);
+//       W_attachments is the work the moving attachments have done on the cloth, summed over
+//         every observed step as the impulse the pins (attached or held still) gave the free
+//         cloth times their displacement over the step, over dt. Where gravity is the only
+//         other force on the cloth (no wind, air or colliders, and an integrator whose own
+//         forces come in pairs: MonitorOptions::momentum_measures_pins), the impulse is the free
+//         particles' change of momentum less gravity's: measured, so whatever pulled inside the
+//         step (springs, constraints, an integrator's tethers) is counted, at every step size.
+//         It moves with the pins' mean displacement; where pins move differently, each pin's
+//         share of it relative to that mean, and the whole impulse where it is not measured,
+//         is sampled from the springs at the pins (trapezoid rule over the step). A dragged
+//         cape gains the energy its shoulders give it, and loses it again when they stop. An
+//         unstable method's internal forces still come in pairs: the energy it adds carries no
+//         momentum, so none of it is credited as work;
 //       W_contacts is the energy the contact resolution has added (Cloth::contact_work: a
 //         moving collider pushing the cloth);
 //       margin = energy_margin * scale, scale = M |g| diagonal + |E0 parts|: the energy the
@@ -42,6 +52,9 @@ struct MonitorOptions {
   double stretch_limit = 5.0;
   double energy_margin = 1.0;  // times the energy scale (see above)
   double wind_work_safety = 2.0;
+  // Whether the attachments' pull may be measured from the free particles' momentum: false
+  // for an integrator that declares CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST.
+  bool momentum_measures_pins = true;
 };
 
 enum class StabilityCheck { None, NonFinite, Stretch, Energy };
@@ -89,7 +102,7 @@ class StabilityMonitor {
   double last_time_ = 0.0;
   double last_power_ = 0.0;
   double attachment_work_ = 0.0;
-  double attachment_power_ = 0.0;  // at attachment_time_
+  Cloth::PinLoads pins_before_, pins_now_;  // pins_before_ at attachment_time_
   double attachment_time_ = 0.0;
   uint64_t checks_ = 0;
   std::vector<double> velocities_;  // reused between checks

@@ -68,8 +68,10 @@
 //     double ends that substep count (the solver has converged there).
 #pragma once
 
+#include <clothlab/host/run_summary.hpp>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -129,11 +131,9 @@ struct Choice {
   uint32_t substeps = 0;
   uint32_t iterations = 0;       // 0: the method has none
   std::string iterations_param;  // the parameter they set ("iterations", "max_iterations")
-  double ms_per_frame = 0, error = 0, max_stretch = 0;
-  double max_stretch_away_from_pins = 0, p99_stretch = 0;  // the robust figures over T
-  // Over the run at the scene's mesh: the deepest penetration of a collider's surface and the
-  // thinnest collider's thickness (m); NAN without colliders.
-  double max_penetration = NAN, collider_thickness = NAN;
+  double ms_per_frame = 0, error = 0;
+  // The figures of the passing setting's run over T at the scene's mesh (stretch, contacts).
+  std::optional<host::RunSummary> run;
   uint32_t predicted_substeps = 0;  // ChoiceCandidate's
   // "real time", "slower than real time" or why nothing passed ("slower than <best> ...
   // (stopped at ...)", "too slow: ...", "converges elsewhere: ...", "no setting passed ...")

@@ -12,6 +12,7 @@
 // has no velocity forces and its own drag): their reference is themselves at dt_ref, per problem.
 #pragma once
 
+#include <clothlab/host/run_summary.hpp>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -27,26 +28,9 @@ namespace clothlab::sweep {
 struct Trajectory {
   std::vector<double> positions;  // final positions, particle-major (3 per particle)
   double diagonal = 0.0;          // cloth diagonal, m (sqrt(width^2 + height^2))
-  double wall_s = 0.0;            // wall time spent stepping
-  uint64_t force_evals = 0;
-  double max_stretch = 0.0;  // largest spring length / rest length seen over the run
-  // The robust figures beside it, the largest seen over the run (issue 21): the warp/weft
-  // stretch with the springs within two spacings of a pin left out (what --choose judges),
-  // and its 99th percentile.
-  double max_stretch_away_from_pins = 0.0;
-  double p99_stretch = 0.0;
-  // What the scene needs of an integrator and the contacts over the run (issue 22): its
-  // attached particles and colliders (0: none), the deepest penetration of a collider's surface
-  // after a step (m), the largest depth past the thickness of the collider a particle lay in
-  // (m) and the thinnest collider's thickness (m); all NAN without colliders.
-  uint32_t attached_particles = 0;
-  uint32_t colliders = 0;
-  double max_penetration = NAN;
-  double max_depth_past_thickness = NAN;
-  double collider_thickness = NAN;
-  double ms_per_frame = 0.0;      // median wall time of a frame (substeps steps), ms
-  double ms_per_frame_p10 = 0.0;  // its 10th percentile: the least disturbed by other jobs
-  CaseResult verdict;             // status Stable, or Unstable/Failed with step and reason
+  // The run's figures; a run that failed (an exception, a timeout) has the defaults.
+  host::RunSummary summary;
+  CaseResult verdict;  // status Stable, or Unstable/Failed with step and reason
 };
 // Runs the case (its dt, precision and steps settings are set by the driver) to the end.
 using TrajectoryRunner = std::function<Trajectory(const CaseSpec&)>;
