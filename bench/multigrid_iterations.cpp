@@ -7,7 +7,7 @@
 // coarsest level and sweeps.
 //
 //   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]
-//       [--threads N...] [--precision float32|float64] [--split]]
+//       [--threads N...] [--precision float32|float64] [--split] [--cpu]]
 //
 // --split prints, for the multigrid alone, where a solve's time goes instead: the set-up (the
 // preconditioner's build in CG's start: 75 probing products, then the Galerkin products and
@@ -15,7 +15,9 @@
 // iterations (one product and one V-cycle each), the set-up in iterations, and an iteration in
 // explicit euler steps of the same cloth at the same precision and thread count (the euler
 // plugin's step, timed on its own). Its times are the fastest of 3 solves and of 5 batches of
-// 10 euler steps.
+// 10 euler steps. --cpu times with the process's CPU time instead of the wall clock: on a
+// machine shared with other work a one-thread row then counts only this process's cycles
+// (with several threads it sums theirs, so compare those rows at equal thread counts only).
 //
 // config (default configs/choose-cotton-flag-200.yaml) gives the material and scenario; sides
 // default to 50 100 200 300 600, the steps h = 1/N s to N = 60 and 240, the threads to 1 and the
@@ -29,6 +31,7 @@
 #include <clothlab/sdk.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <optional>
 #include <stdexcept>
@@ -61,9 +64,19 @@ struct SolveResult {
 
 constexpr int kProbingProducts = 75;
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+// The clock every time is read from: the wall clock, or the process's CPU time (--cpu).
+bool use_cpu_time = false;
+
+double now_seconds() {
+  if (use_cpu_time) {
+    timespec cpu{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
+    return static_cast<double>(cpu.tv_sec) + 1e-9 * static_cast<double>(cpu.tv_nsec);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+
+double seconds_since(double start) { return now_seconds() - start; }
 
 // Solves the first backward-Euler system of `cloth` at step h with one preconditioner.
 template <class Real>
@@ -87,7 +100,7 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   system.copy(solution, zero);
 
   SolveResult result;
-  const auto start = std::chrono::steady_clock::now();
+  const double start = now_seconds();
   cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, kTolerance);
   result.setup_seconds = seconds_since(start);
   result.converged = cg.converged();
@@ -100,7 +113,7 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   cg.finish();
   result.seconds = seconds_since(start);
   result.relative_residual = cg.residual_norm() / cg.rhs_norm();
-  const auto probing_start = std::chrono::steady_clock::now();
+  const double probing_start = now_seconds();
   for (int k = 0; k < kProbingProducts; ++k)
     system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, rhs, solution);
   result.probing_seconds = seconds_since(probing_start);
@@ -131,7 +144,7 @@ double euler_step_seconds(const Scene& scene, Precision precision, int threads) 
   double t = 0.0, fastest = 0.0;
   euler.step(t, dt);
   for (int batch = 0; batch < kEulerBatches; ++batch) {
-    const auto start = std::chrono::steady_clock::now();
+    const double start = now_seconds();
     for (int k = 0; k < kEulerStepsPerBatch; ++k) euler.step(t += dt, dt);
     const double seconds = seconds_since(start);
     fastest = batch == 0 ? seconds : std::min(fastest, seconds);
@@ -154,6 +167,7 @@ struct Options {
   std::vector<int> sides, rates, threads;
   Precision precision = Precision::Float64;
   bool split = false;
+  bool cpu = false;
 };
 
 int print_split(const cli::RunConfig& config, const Options& options) {
@@ -218,6 +232,8 @@ Options parse_options(int argc, char** argv) {
     const std::string arg = argv[k];
     if (arg == "--split") {
       options.split = true;
+    } else if (arg == "--cpu") {
+      options.cpu = true;
     } else if (arg == "--rate") {
       list = &options.rates;
     } else if (arg == "--threads") {
@@ -246,15 +262,16 @@ Options parse_options(int argc, char** argv) {
 int run(int argc, char** argv) {
   const std::string config_path = argc > 1 ? argv[1] : "configs/choose-cotton-flag-200.yaml";
   const Options options = parse_options(argc, argv);
+  use_cpu_time = options.cpu;
   const cli::RunConfig config = cli::resolve_run_config(config::read_config_file(config_path));
   if (!config.material) {
     std::fprintf(stderr, "%s: no material.* (the table is for a material's cloth)\n",
                  config_path.c_str());
     return 2;
   }
-  std::printf("%s, %s scenario, %s, CG from 0 to a relative residual of %g\n\n",
+  std::printf("%s, %s scenario, %s, CG from 0 to a relative residual of %g, %s\n\n",
               config.material->name.c_str(), config.scenario.c_str(), to_string(options.precision),
-              kTolerance);
+              kTolerance, options.cpu ? "CPU time of the process" : "wall-clock time");
   return options.split ? print_split(config, options) : print_iterations(config, options);
 }
 

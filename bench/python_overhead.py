@@ -1,7 +1,9 @@
 """What stepping from Python costs over the engine: (1) step(1) on a 10 x 10 flag, the time per
 call beyond the session's own time per step; (2) a 300 x 300 flag
 stepped one step per call from Python against the clothlab program's step loop on the same
-config (loop_time_s per step). Medians over repeats; a benchmark, not a test.
+config (loop_time_s per step), in separate processes; (3) the same in one process, against the
+session's own loop, two simulations stepped in turns that swap ways. Medians over repeats; a
+benchmark, not a test.
 
     PYTHONPATH=build/python python3 bench/python_overhead.py --clothlab build/bin/clothlab
 """
@@ -58,7 +60,8 @@ def cli_cpu_seconds(executable, config):
 def large_ratio(folder, executable, steps, repeats):
     """Per step, wall (the CLI's loop_time_s against Python's loop) and CPU time (the CLI's run
     of 1 + steps less its run of 1 step, against Python's loop): CPU time does not count the
-    waits of a loaded machine, wall time does."""
+    waits of a loaded machine, wall time does. Separate processes: the spread between runs is
+    as large as the difference."""
     config, one_step = folder / "large.yaml", folder / "large-1.yaml"
     config.write_text(config_text(300, steps, 2e-6))  # stable on cotton at 300
     one_step.write_text(config_text(300, 1, 2e-6))
@@ -82,12 +85,48 @@ def large_ratio(folder, executable, steps, repeats):
     return median(python_s), median(cli_s), median(python_cpu), median(cli_cpu)
 
 
+def paired_ratios(folder, steps, chunk):
+    """In one process, two simulations a and b of the same 300 x 300 run, stepped in turns,
+    chunk steps at a time, each chunk either by step(1) calls from Python or by one step(chunk)
+    call, the session's own loop, which is what the CLI runs (Simulation::run is step(steps)
+    then record()). The two swap ways every chunk: a by calls and b by its loop, then a by its
+    loop and b by calls. Two simulations differ by a per cent or so however they are stepped
+    (where their arrays lie in memory), and the one stepped first sees other caches, so each
+    ratio takes both simulations both ways, each first once: (a by calls + b by calls) over
+    (a by its loop + b by its loop) for each two chunks. The median ratio, its quartiles and the
+    ratio of the totals."""
+    config = folder / "paired.yaml"
+    config.write_text(config_text(300, steps, 2e-6))
+    a, b = clothlab.Simulation(config), clothlab.Simulation(config)
+
+    def timed(sim, by_calls):
+        start = time.process_time()
+        if by_calls:
+            for _ in range(chunk):
+                sim.step(1)
+        else:
+            sim.step(chunk)
+        return time.process_time() - start
+
+    calls_s, loop_s = [], []
+    for _ in range(steps // (2 * chunk)):
+        a_calls, b_loop = timed(a, True), timed(b, False)
+        a_loop, b_calls = timed(a, False), timed(b, True)
+        calls_s.append(a_calls + b_calls)
+        loop_s.append(a_loop + b_loop)
+    ratios = sorted(c / l for c, l in zip(calls_s, loop_s))
+    quartiles = statistics.quantiles(ratios, n=4)
+    return statistics.median(ratios), quartiles[0], quartiles[2], sum(calls_s) / sum(loop_s)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--clothlab", required=True, help="the clothlab program of the build")
     parser.add_argument("--calls", type=int, default=20000)
     parser.add_argument("--large-steps", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--paired-steps", type=int, default=4000)
+    parser.add_argument("--chunk", type=int, default=20)
     arguments = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
@@ -103,7 +142,12 @@ def main():
               f"{cli_cpu * 1e3:.3f} ms per step: {100 * (python_cpu / cli_cpu - 1):+.2f} % "
               f"(medians of {arguments.repeats} runs of {arguments.large_steps} steps; target "
               "within 2 %)")
-
+        median, low, high, total = paired_ratios(folder, arguments.paired_steps, arguments.chunk)
+        print(f"300x300 in one process, chunks of {arguments.chunk} steps: step(1) "
+              f"calls against one step({arguments.chunk}) call, CPU time {100 * (median - 1):+.2f} % "
+              f"(median over {arguments.paired_steps // (2 * arguments.chunk)} ratios, quartiles "
+              f"{100 * (low - 1):+.2f} % and {100 * (high - 1):+.2f} %; totals "
+              f"{100 * (total - 1):+.2f} %; target within 2 %)")
 
 if __name__ == "__main__":
     main()

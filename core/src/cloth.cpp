@@ -81,6 +81,7 @@ void Cloth::set_attachments(std::span<const uint32_t> particles, AttachmentSourc
 }
 bool Cloth::move_attachments(double t) { return impl_->engine->move_attachments(t); }
 void Cloth::pin_loads(PinLoads& out) const { impl_->engine->pin_loads(out); }
+Cloth::Momentum Cloth::free_momentum() const { return impl_->engine->free_momentum(); }
 double Cloth::contact_work() const { return impl_->engine->contact_work(); }
 
 }  // namespace clothlab

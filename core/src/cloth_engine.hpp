@@ -54,6 +54,7 @@ class ClothEngine final : public Engine {
   void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) override;
   bool move_attachments(double t) override;
   void pin_loads(Cloth::PinLoads& out) const override;
+  Cloth::Momentum free_momentum() const override;
   double contact_work() const override { return contact_work_; }
 
  private:

@@ -37,14 +37,6 @@ void ClothEngine<Real>::pin_loads(Cloth::PinLoads& out) const {
   if (attached_.empty()) return;
   const ClothModel& springs = *model_;
   const std::size_t s = stride_;
-  out.free_momentum = {0, 0, 0};
-  out.free_mass = 0;
-  for (std::size_t i = 0; i < n_; ++i) {
-    if (inverse_mass_[i] == 0) continue;
-    const double mass = springs.masses[i];
-    out.free_mass += mass;
-    for (std::size_t axis = 0; axis < 3; ++axis) out.free_momentum[axis] += mass * v_[axis * s + i];
-  }
   for (const uint32_t i : springs.pinned) {
     const Vec3 v_own{v_[i], v_[s + i], v_[2 * s + i]};
     Vec3 force{0, 0, 0};
@@ -70,6 +62,19 @@ void ClothEngine<Real>::pin_loads(Cloth::PinLoads& out) const {
       out.spring_forces.push_back(force[axis]);
     }
   }
+}
+
+template <class Real>
+Cloth::Momentum ClothEngine<Real>::free_momentum() const {
+  Cloth::Momentum out;
+  const std::size_t s = stride_;
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (inverse_mass_[i] == 0) continue;
+    const double mass = model_->masses[i];
+    out.mass += mass;
+    for (std::size_t axis = 0; axis < 3; ++axis) out.momentum[axis] += mass * v_[axis * s + i];
+  }
+  return out;
 }
 
 template <class Real>

@@ -37,6 +37,7 @@ class Engine {
   virtual void set_attachments(std::span<const uint32_t> particles, AttachmentSource& source) = 0;
   virtual bool move_attachments(double t) = 0;
   virtual void pin_loads(Cloth::PinLoads& out) const = 0;
+  virtual Cloth::Momentum free_momentum() const = 0;
   virtual double contact_work() const = 0;
 };
 

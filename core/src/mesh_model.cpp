@@ -8,8 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "mesh_edges.hpp"
-
 namespace clothlab {
 namespace {
 
@@ -79,7 +77,7 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
   model->triangles = mesh.triangles;
 
   // Edges: structural, or shear where two triangles form a rectangle split along it.
-  const std::vector<detail::EdgeUse> uses = detail::edge_uses(mesh.triangles);
+  const std::vector<sdk::mesh::EdgeUse> uses = sdk::mesh::edge_uses(mesh.triangles);
   std::vector<Candidate> candidates;
   struct SharedEdge {
     uint32_t a, b, p, q;
@@ -149,7 +147,8 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
   });
   const SpringFamily* laws[3] = {&scene.structural, &scene.shear, &scene.flexion};
   auto area = [&](uint32_t triangle) {
-    return detail::triangle_shape(mesh.positions, mesh.triangles.data() + 3 * std::size_t{triangle})
+    return sdk::mesh::triangle_shape(mesh.positions,
+                                     mesh.triangles.data() + 3 * std::size_t{triangle})
                .double_area /
            2;
   };
@@ -192,7 +191,7 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
     double total_area = 0;
     for (std::size_t t = 0; t < mesh.triangles.size() / 3; ++t) {
       const uint32_t* corner = mesh.triangles.data() + 3 * t;
-      const double third = detail::triangle_shape(mesh.positions, corner).double_area / 6;
+      const double third = sdk::mesh::triangle_shape(mesh.positions, corner).double_area / 6;
       for (int k = 0; k < 3; ++k) area[corner[k]] += third;
       total_area += 3 * third;
     }
@@ -214,7 +213,7 @@ std::shared_ptr<const ClothModel> build_mesh_model(const TriangleMesh& mesh, con
 double surface_area(std::span<const double> positions, std::span<const uint32_t> triangles) {
   double twice = 0;
   for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
-    twice += detail::triangle_shape(positions, triangles.data() + t).double_area;
+    twice += sdk::mesh::triangle_shape(positions, triangles.data() + t).double_area;
   return twice / 2;
 }
 

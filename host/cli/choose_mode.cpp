@@ -215,7 +215,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
     write_file_atomically(ranked_base.string() + ".csv",
                           [&](std::ostream& file) { file << sweep::rows_to_csv(rows); });
 
-    const sweep::Row& reference = ranked["reference"];
+    const sweep::Row reference = ranked.value("reference", sweep::Row());
     out << "choose: " << whole.run.scenario << ", "
         << (whole.run.material ? "material " + whole.run.material->name
                                : std::string("per-spring values"))
@@ -229,14 +229,7 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         << host::format_number(choice.error_duration > 0 ? choice.error_duration : choice.duration)
         << " s"
         << (choice.error_mesh.empty() ? "" : " (error measured at " + choice.error_mesh + ")")
-        << "\n  reference: " << reference.value("reference_integrator", std::string())
-        << " float64, dt " << host::format_number(reference.value("reference_dt", 0.0))
-        << " s, estimated own error "
-        << host::format_number(100 * reference.value("reference_error_estimate", 0.0))
-        << " % of the diagonal, stretch away from the pins "
-        << host::format_number(reference.value("max_stretch_away_from_pins", 0.0))
-        << " (99th percentile " << host::format_number(reference.value("p99_stretch", 0.0))
-        << ", max " << host::format_number(reference.value("max_stretch", 0.0)) << ")"
+        << "\n  reference: " << sweep::reference_line(reference)
         << (cache.hits() > 0 ? " (from the cache " + cache_folder.string() + ")" : std::string())
         << "\n"
         << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "

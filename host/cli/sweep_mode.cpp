@@ -56,11 +56,9 @@ sweep::CaseResult run_row(const sweep::CaseSpec& c, CaseWorker& worker) {
                     {"threads", static_cast<double>(run.threads)}};
   // The warp/weft stretch over the run: its maximum and the robust figures beside it (a
   // diverged run's are not finite and left out here).
-  for (const auto& [figure, value] :
-       {std::pair{"max_stretch", run.max_stretch.over_run},
-        std::pair{"max_stretch_away_from_pins", run.max_stretch_away_from_pins.over_run},
-        std::pair{"p99_stretch", run.p99_stretch.over_run}})
+  run.visit_stretch_over_run([&](const char* figure, double value) {
     if (std::isfinite(value)) result.metrics.emplace_back(figure, value);
+  });
   result.notes = {{"verdict", run.verdict}};
   return result;
 }

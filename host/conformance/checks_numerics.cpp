@@ -2,6 +2,7 @@
 // solutions, respect pins, keep rest at rest and are bit-for-bit deterministic.
 #include <algorithm>
 #include <clothlab/analysis/order_fit.hpp>
+#include <clothlab/core/cloth_model.hpp>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -15,6 +16,11 @@ namespace {
 
 constexpr double order_tolerance = 0.2;
 constexpr double roundoff_error = 1e-10;  // errors below this count as exact
+// A drag rate, 1/s. Round-off makes 1e-14; the built-ins that solve iteratively leave the
+// residual of their solve, whose sum over the particles is momentum no force gave: 3e-5 for
+// implicit_euler and bdf2 at CG's default tolerance (1e-5), 1e-11 for projective_dynamics. An
+// undeclared drag worth noticing is 1 1/s and more (verlet's damping is typically 1 to 100).
+constexpr double momentum_drag_tolerance = 1e-3;
 
 // Single spring hanging from a pin: particle 1 of a 2x1 grid, unit mass, unit rest length.
 constexpr double spring_k = 10.0;
@@ -156,6 +162,67 @@ Verdict rest_stays_at_rest(const clothlab_integrator& integrator, SheetShape sha
   return {true, ""};
 }
 
+// A free cloth thrown spinning, its springs stretched and sheared, under gravity alone: its
+// momentum changes by gravity's impulse and nothing else, however the method moves it inside.
+// The stability monitor credits the attachments' work from the free cloth's momentum for every
+// integrator that does not declare CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST, so one that removes or adds
+// momentum no force gave would have its pins' work misjudged. The measure is the drag rate that
+// would explain the difference: |delta p - M g T| over the integral of sum m |v| dt (not |p|:
+// round-off scales with the particles' momenta, which may cancel).
+Verdict conserves_momentum(const clothlab_integrator& integrator, SheetShape shape) {
+  Scene scene = sheet_scene(6, 5);
+  scene.pinned.clear();
+  Cloth cloth = sheet_cloth(scene, shape, Precision::Float64, pipeline_for(integrator));
+  State state = state_of(cloth);
+  const std::size_t n = state.x.size() / 3;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double phase = 0.7 * static_cast<double>(i);
+    const double x = state.x[3 * i], y = state.x[3 * i + 1];
+    // Up to 2 cm off rest (springs 16 to 25 cm long), a spin of 3 rad/s about z and a throw
+    // of about 1 m/s: every spring family pulls, and the spin keeps them pulling.
+    state.x[3 * i] += 0.02 * std::sin(phase);
+    state.x[3 * i + 1] += 0.02 * std::cos(1.3 * phase);
+    state.x[3 * i + 2] += 0.02 * std::sin(2.1 * phase);
+    state.v[3 * i] = -3.0 * y + 0.5;
+    state.v[3 * i + 1] = 3.0 * x + 0.8;
+    state.v[3 * i + 2] = 0.1 * std::cos(phase);
+  }
+  cloth.set_state(state.x, state.v);
+  IntegratorInstance instance(integrator, default_values(integrator));
+  instance.prepare(cloth);
+  constexpr int steps = 20;
+  constexpr double dt = 1e-3;
+  const std::vector<double>& masses = cloth.model()->masses;
+  std::vector<double> v;
+  auto momentum_sum = [&] {  // sum of m |v|, kg m/s
+    cloth.velocities(v);
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      sum += masses[i] * std::hypot(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+    return sum;
+  };
+  const Cloth::Momentum start = cloth.free_momentum();
+  double momentum_time = 0.5 * momentum_sum() * dt;  // trapezoid rule, kg m
+  for (int k = 0; k < steps; ++k) {
+    instance.step(cloth, k * dt, dt);
+    momentum_time += (k + 1 < steps ? 1.0 : 0.5) * momentum_sum() * dt;
+  }
+  const Cloth::Momentum end = cloth.free_momentum();
+  Vec3 unexplained{0, 0, 0};
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    unexplained[axis] =
+        end.momentum[axis] - start.momentum[axis] - start.mass * scene.gravity[axis] * steps * dt;
+  const double error = std::hypot(unexplained[0], unexplained[1], unexplained[2]);
+  const double drag_rate = error / momentum_time;
+  const std::string detail = "momentum not given by gravity " + format("%.3g", error) +
+                             " kg m/s over " + std::to_string(steps) +
+                             " steps of 1 ms: a drag of " + format("%.3g", drag_rate) + " 1/s";
+  require(drag_rate <= momentum_drag_tolerance,
+          detail + " (allowed " + format("%.3g", momentum_drag_tolerance) +
+              "; a method that drags towards rest declares CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST)");
+  return {true, detail};
+}
+
 Verdict repeatable(const clothlab_integrator& integrator, SheetShape shape) {
   const Scene scene = sheet_scene(64, 48, true);
   // Half the step on the mesh: masses by area leave a corner a sixth of an inner particle's
@@ -229,6 +296,11 @@ std::vector<Check> numerics_checks(const clothlab_integrator& integrator) {
       {c->id, "numerics.threads-f64",
        [c] { return on_every_shape(*c, thread_count_independent, Precision::Float64); }},
   };
+  // A drag towards rest, declared, removes momentum by design: the monitor measures no pin's
+  // pull from it.
+  if (!has_trait(integrator, CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST))
+    checks.push_back(
+        {c->id, "numerics.momentum", [c] { return on_every_shape(*c, conserves_momentum); }});
   // Without velocity forces the host builds no damping stage: the damped problem does not apply.
   if (uses_velocity_forces(integrator))
     checks.push_back({c->id, "numerics.order-damped-spring", [c] {

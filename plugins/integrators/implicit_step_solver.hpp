@@ -22,9 +22,10 @@
 // with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
 // its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
 // with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
-// and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"); `multigrid_rebuild` = N reuses
-// that set-up for N solves, and the step statistics count the builds as factorisations. A solve
-// that stops at `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
+// and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"), whose finest level smooths with
+// 2 x `multigrid_sweeps` more products; `multigrid_rebuild` = N reuses that set-up for N solves,
+// and the step statistics count the builds as factorisations. A solve that stops at
+// `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
 // clothlab.solver-statistics/1, never passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
@@ -91,8 +92,9 @@ constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(
                      "multigrid: coarsen the grid while it has more particles than this (and "
                      "both sides at least 3); a dense direct solve there"),
       sdk::int_param("multigrid_sweeps", kDefaultMultigridSweeps, 1, 8,
-                     "multigrid: coloured block Gauss-Seidel sweeps before and after each coarse "
-                     "correction"),
+                     "multigrid: smoothing steps before and after each coarse correction "
+                     "(Chebyshev steps of one Jacobian product each on the cloth's own grid, "
+                     "coloured block Gauss-Seidel sweeps on the coarser ones)"),
       sdk::int_param("multigrid_rebuild", 1, 1, 1024,
                      "multigrid: build the hierarchy for every Nth linear solve and reuse it in "
                      "between (CG still converges on the current matrix); always after prepare "

@@ -53,6 +53,16 @@ class VCycle {
     return solution_[0].data();
   }
 
+  // The fine level's coarse correction alone, for a fine smoother run by the caller: x += P B_1
+  // R r, B_1 the cycle from level 1 down, for the fine residual r; both 3 doubles per node.
+  // Needs a hierarchy of at least two levels.
+  void correct(const double* residual, double* x) {
+    const GridTransfer& transfer = hierarchy_.transfer(0);
+    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data());
+    cycle(1);
+    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x);
+  }
+
  private:
   void cycle(std::size_t l) {
     const GridLevel& level = hierarchy_.level(l);

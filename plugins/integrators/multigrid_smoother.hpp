@@ -51,6 +51,9 @@ class BlockGaussSeidel {
     return true;
   }
 
+  // The inverted diagonal blocks, 9 per node (row-major), as `factor` left them.
+  const std::vector<double>& inverse_diagonal() const { return inverse_diagonal_; }
+
   std::size_t storage_bytes() const {
     return inverse_diagonal_.size() * sizeof(double) +
            (float_lanes_ ? float_lanes_->storage_bytes() : 0) +

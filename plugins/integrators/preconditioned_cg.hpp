@@ -189,7 +189,8 @@ class PreconditionedCg {
 
   // z = blockdiag(A)^-1 r, or the multigrid's z, on the active particles.
   void precondition(const Real* r, Real* z) const {
-    if (multigrid_ != nullptr) return multigrid_->apply(system_, r, z);
+    if (multigrid_ != nullptr)
+      return multigrid_->apply(system_, r, z, [this](const Real* u, Real* out) { apply(u, out); });
     const std::size_t stride = system_.stride();
     for (const clothlab_range& range : system_.active())
       for (uint32_t i = range.begin; i < range.end; ++i) {

@@ -133,9 +133,8 @@ struct Xpbd {
   };
   static constexpr clothlab_integrator_traits traits{
       sizeof(clothlab_integrator_traits),
-      CLOTHLAB_TRAIT_UNCONDITIONALLY_STABLE | CLOTHLAB_TRAIT_ITERATIVE |
-          CLOTHLAB_TRAIT_RESOLVES_CONTACTS | CLOTHLAB_TRAIT_MOVES_ATTACHMENTS |
-          CLOTHLAB_TRAIT_LOCAL_SOLVES,
+      CLOTHLAB_TRAIT_ITERATIVE | CLOTHLAB_TRAIT_RESOLVES_CONTACTS |
+          CLOTHLAB_TRAIT_MOVES_ATTACHMENTS | CLOTHLAB_TRAIT_LOCAL_SOLVES,
       "inner_substeps", "iterations"};
 
   explicit Xpbd(const sdk::Params& values)

@@ -336,6 +336,25 @@ TEST(ConformanceRun, OnlyTheDefaultSceneRunsCatchAFlippedStiffnessSign) {
   EXPECT_GT(run.report["passed"].get<int>(), 40) << run.output;
 }
 
+// An undeclared drag that vanishes with the step keeps the order, rest and dt = 0: only the
+// momentum check sees it.
+TEST(ConformanceRun, OnlyTheMomentumCheckCatchesAnUndeclaredDrag) {
+  const RunnerOutput run =
+      run_conformance("--timeout 90 " + plugin("faulty_drags_without_declaring"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  ASSERT_FALSE(run.report.is_null()) << run.output;
+  std::vector<std::string> failed;
+  for (const nlohmann::json& result : run.report["checks"])
+    if (result["passed"] == false) failed.push_back(result["check"].get<std::string>());
+  EXPECT_EQ(failed, (std::vector<std::string>{"numerics.momentum"})) << run.output;
+  const nlohmann::json* momentum = find_check(run, "drags-without-declaring", "numerics.momentum");
+  ASSERT_NE(momentum, nullptr) << run.output;
+  EXPECT_NE((*momentum)["reason"].get<std::string>().find("momentum not given by gravity"),
+            std::string::npos)
+      << run.output;
+  EXPECT_GT(run.report["passed"].get<int>(), 40) << run.output;
+}
+
 TEST(ConformanceRun, ContinuesWithTheNextPluginAfterACrash) {
   const RunnerOutput run =
       run_conformance("--filter lifecycle.grid-3x3-f64 " + plugin("faulty_segfaults_in_step") +
@@ -429,13 +448,7 @@ std::vector<std::string> sound_plugins() {
                                         plugin("abi_legacy_1_0"), plugin("abi_legacy_1_1")};
   std::stringstream builtins(BUILTIN_PLUGINS);
   for (std::string name; std::getline(builtins, name, ',');) {
-    // Every built-in passes with its default parameters, but xpbd's claim of unconditional
-    // stability is checked in 50 ms steps: one sweep per step overstretches the cloth there, 40
-    // inner substeps (h = 1.25 ms, what its steps took before the frame substeps became the
-    // one knob) hold it.
-    const std::string substeps =
-        name.starts_with("xpbd") ? "--param " + name + ".inner_substeps=40 " : "";
-    arguments.push_back(substeps + BUILTIN_PLUGIN_DIR + std::string("/") + name + ".so");
+    arguments.push_back(BUILTIN_PLUGIN_DIR + std::string("/") + name + ".so");
   }
   return arguments;
 }

@@ -16,11 +16,6 @@
 namespace clothlab::host {
 namespace {
 
-template <class T>
-struct is_optional : std::false_type {};
-template <class T>
-struct is_optional<std::optional<T>> : std::true_type {};
-
 // Converts to any member type: T{any_member{} x N} compiles for N up to T's member count.
 struct any_member {
   template <class T>

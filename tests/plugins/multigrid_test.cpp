@@ -285,54 +285,66 @@ void reference_sweeps(const Eigen::MatrixXd& a, const GridLevel& level, bool bac
     }
 }
 
+// A random vector on a level's nodes, 0 on its fixed ones.
+Eigen::VectorXd level_vector(const GridLevel& level, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::VectorXd v(3 * static_cast<Eigen::Index>(level.node_count()));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    v(i) = level.fixed(static_cast<std::size_t>(i / 3)) ? 0.0 : uniform(random);
+  return v;
+}
+
 // The smoother's passes run as a wave over the rows in chunks of steps (multigrid_smoother.hpp);
 // whatever the chunk, forward and backward passes of 1 to 3 sweeps, and the residual after a
 // forward pass, are those of the colour order. A wave whose sweeps lag one step less than
 // they must reads a row before the previous sweep has updated it, and the check sees it.
 // The lanes in single precision (a float32 system's V-cycle) give the same sweeps to single
-// precision's rounding.
+// precision's rounding. Both the fine level (12 couplings) and the first Galerkin level (24).
 TEST(Multigrid, TheSmootherSweepsTheColoursInOrderInEveryChunkOfTheWave) {
   using builtin::LanePrecision;
   for (const LanePrecision precision : {LanePrecision::float64, LanePrecision::float32})
-    for (int rows : {28, 29, 30}) {  // every remainder of the rows' period
-      ClothMatrix cloth(rows, 16);
-      MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);
-      const GridLevel& level = hierarchy.level(0);
-      const Eigen::MatrixXd a = dense_of(level);
-      builtin::BlockGaussSeidel smoother(level, precision);
-      ASSERT_TRUE(smoother.factor(level));
-      const double tolerance = precision == LanePrecision::float64 ? 1e-10 : 1e-4;
-      const Eigen::VectorXd b = cloth.rhs(5), start = cloth.rhs(6);
-      for (const bool backward : {false, true})
-        for (long sweeps : {1L, 2L, 3L}) {
-          Eigen::VectorXd expected = start;
-          reference_sweeps(a, level, backward, sweeps, b, expected);
-          const double scale = expected.norm();
-          for (int steps_per_chunk : {1, 2, 5, 1000}) {
-            smoother.set_steps_per_chunk(level, steps_per_chunk);
-            const std::string where =
-                std::to_string(rows) + " rows, " +
-                (precision == LanePrecision::float64 ? "double, " : "float, ") +
-                (backward ? "backward, " : "forward, ") + std::to_string(sweeps) + " sweeps, " +
-                std::to_string(steps_per_chunk) + " steps per chunk";
-            Eigen::VectorXd x = start, residual(x.size());
-            if (backward) {
-              smoother.backward(level, b.data(), x.data(), sweeps);
-            } else {
-              smoother.forward(level, b.data(), x.data(), sweeps, residual.data());
-              Eigen::VectorXd expected_residual = b - a * x;
-              for (std::size_t i = 0; i < level.node_count(); ++i)
-                if (level.fixed(i)) expected_residual.segment<3>(3 * i).setZero();
-              // In single precision b - A x cancels: its rounding scales with |A| |x|.
-              const double residual_scale = precision == LanePrecision::float64
-                                                ? b.norm()
-                                                : (a.cwiseAbs() * x.cwiseAbs()).norm();
-              EXPECT_LT((residual - expected_residual).norm(), tolerance * residual_scale) << where;
+    for (int rows : {28, 29, 30})  // every remainder of the rows' period
+      for (std::size_t l : {0u, 1u}) {
+        ClothMatrix cloth(rows, 16);
+        MultigridHierarchy hierarchy = hierarchy_for(cloth, 100);
+        const GridLevel& level = hierarchy.level(l);
+        const Eigen::MatrixXd a = dense_of(level);
+        builtin::BlockGaussSeidel smoother(level, precision);
+        ASSERT_TRUE(smoother.factor(level));
+        const double tolerance = precision == LanePrecision::float64 ? 1e-10 : 1e-4;
+        const Eigen::VectorXd b = level_vector(level, 5), start = level_vector(level, 6);
+        for (const bool backward : {false, true})
+          for (long sweeps : {1L, 2L, 3L}) {
+            Eigen::VectorXd expected = start;
+            reference_sweeps(a, level, backward, sweeps, b, expected);
+            const double scale = expected.norm();
+            for (int steps_per_chunk : {1, 2, 5, 1000}) {
+              smoother.set_steps_per_chunk(level, steps_per_chunk);
+              const std::string where =
+                  "level " + std::to_string(l) + ", " + std::to_string(rows) + " rows, " +
+                  (precision == LanePrecision::float64 ? "double, " : "float, ") +
+                  (backward ? "backward, " : "forward, ") + std::to_string(sweeps) + " sweeps, " +
+                  std::to_string(steps_per_chunk) + " steps per chunk";
+              Eigen::VectorXd x = start, residual(x.size());
+              if (backward) {
+                smoother.backward(level, b.data(), x.data(), sweeps);
+              } else {
+                smoother.forward(level, b.data(), x.data(), sweeps, residual.data());
+                Eigen::VectorXd expected_residual = b - a * x;
+                for (std::size_t i = 0; i < level.node_count(); ++i)
+                  if (level.fixed(i)) expected_residual.segment<3>(3 * i).setZero();
+                // In single precision b - A x cancels: its rounding scales with |A| |x|.
+                const double residual_scale = precision == LanePrecision::float64
+                                                  ? b.norm()
+                                                  : (a.cwiseAbs() * x.cwiseAbs()).norm();
+                EXPECT_LT((residual - expected_residual).norm(), tolerance * residual_scale)
+                    << where;
+              }
+              EXPECT_LT((x - expected).norm(), tolerance * scale) << where;
             }
-            EXPECT_LT((x - expected).norm(), tolerance * scale) << where;
           }
-        }
-    }
+      }
 }
 
 double asymmetry(VCycle& cycle, const ClothMatrix& cloth) {
@@ -563,6 +575,71 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   EXPECT_LT(worst, 1e-6 * scale);
 }
 
+// The fine level's matrix-free Chebyshev smoother: its bound on D^-1 A's eigenvalues (D the
+// diagonal blocks) lies above the largest one and within 1.5 times it (lambda D - S positive
+// definite or not, for the probed S = M A and its diagonal blocks D_S); a bound below would let
+// the polynomial amplify the stiffest modes. The whole cycle z = B M r is symmetric and positive in
+// the mass inner product (r1^T M z2 = r2^T M z1, r^T M z > 0).
+TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetric) {
+  GridNet net(14, 17);
+  MockSystem<double>& mock = net.host.system();
+  const sdk::System<double> system(mock.raw());
+  mock.allocation_allowed = true;
+  builtin::MultigridPreconditioner preconditioner(system, 0, 2);
+  double* r1 = system.alloc_vector();
+  double* r2 = system.alloc_vector();
+  double* z1 = system.alloc_vector();
+  double* z2 = system.alloc_vector();
+  mock.allocation_allowed = false;
+  const double h = 1.0 / 60.0;
+  const auto product = [&](const double* in, double* out) {
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+  };
+  preconditioner.linearise(system, product);
+  ASSERT_GT(preconditioner.hierarchy().level_count(), 1u);
+
+  const GridLevel& fine = preconditioner.hierarchy().level(0);
+  std::vector<Eigen::Index> free_unknowns;
+  for (std::size_t i = 0; i < fine.node_count(); ++i)
+    if (!fine.fixed(i))
+      for (Eigen::Index d = 0; d < 3; ++d)
+        free_unknowns.push_back(3 * static_cast<Eigen::Index>(i) + d);
+  const Eigen::MatrixXd all = dense_of(fine);
+  const auto n = static_cast<Eigen::Index>(free_unknowns.size());
+  Eigen::MatrixXd s(n, n), diagonal = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index a = 0; a < n; ++a)
+    for (Eigen::Index b = 0; b < n; ++b) {
+      s(a, b) = all(free_unknowns[a], free_unknowns[b]);
+      if (free_unknowns[a] / 3 == free_unknowns[b] / 3) diagonal(a, b) = s(a, b);
+    }
+  // lambda D - S is positive definite for lambda above D^-1 S's largest eigenvalue only.
+  const auto above_the_spectrum = [&](double lambda) {
+    return Eigen::LLT<Eigen::MatrixXd>(lambda * diagonal - s).info() == Eigen::Success;
+  };
+  const double bound = preconditioner.lambda_max();
+  EXPECT_TRUE(above_the_spectrum(bound * (1.0 + 1e-9))) << bound;
+  EXPECT_FALSE(above_the_spectrum(bound / 1.5)) << bound;
+
+  const std::size_t stride = system.stride();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < 3 * stride; ++k) r1[k] = uniform(random), r2[k] = uniform(random);
+  preconditioner.apply(system, r1, z1, product);
+  preconditioner.apply(system, r2, z2, product);
+  const auto mass_dot = [&](const double* a, const double* b) {
+    double sum = 0.0;
+    for (const clothlab_range& range : system.active())
+      for (uint32_t i = range.begin; i < range.end; ++i)
+        for (std::size_t d = 0; d < 3; ++d)
+          sum += a[d * stride + i] * b[d * stride + i] / system.inverse_mass()[i];
+    return sum;
+  };
+  const double r1z2 = mass_dot(r1, z2), r2z1 = mass_dot(r2, z1);
+  EXPECT_LT(std::abs(r1z2 - r2z1), 1e-10 * std::abs(r1z2));
+  EXPECT_GT(mass_dot(r1, z1), 0.0);
+  EXPECT_GT(mass_dot(r2, z2), 0.0);
+}
+
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
 // tightly) in fewer iterations.
 TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
@@ -634,6 +711,20 @@ TEST(Multigrid, ImplicitEulerRefusesARebuildIntervalOutOfRange) {
     EXPECT_NE(integrator.create(), CLOTHLAB_OK);
     EXPECT_NE(integrator.message().find("multigrid_rebuild"), std::string::npos)
         << integrator.message();
+  }
+}
+
+// The V-cycle's smoothing budget (Chebyshev products on the fine level, sweeps below): 0 or more
+// than 8 is refused in one line naming the setting and its range.
+TEST(Multigrid, ImplicitEulerRefusesASmoothingBudgetOutOfRange) {
+  for (const double sweeps : {0.0, 9.0}) {
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid_sweeps", sweeps);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
+    const std::string message = integrator.message();
+    EXPECT_NE(message.find("multigrid_sweeps"), std::string::npos) << message;
+    EXPECT_NE(message.find("[1, 8]"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
 }
 

@@ -222,6 +222,32 @@ TEST(IntegratorChoice, FindsEachCheapestPassingSettingAndRanksByCost) {
   EXPECT_NE(choice_table(choices, fixture.settings).find("iterative"), std::string::npos);
 }
 
+// The report's reference line reads every figure from the reference row, each stretch figure
+// of the run summary included; a row without one is an error naming it, not a 0.
+TEST(IntegratorChoice, StatesTheReferenceFromItsRowAndRefusesAMissingFigure) {
+  Fixture fixture;
+  fixture.runs.reference_gap = 3e-4;
+  fixture.runs.reference_stretch = 1.002;
+  fixture.choose({{"explicit", false}});
+  Row reference;
+  for (const Row& row : fixture.store.rows())
+    if (row["kind"] == "reference") reference = row;
+  const std::string line = reference_line(reference);
+  EXPECT_NE(line.find("rk4 float64"), std::string::npos) << line;
+  // The reference's own error is estimated as its two runs' difference / 15.
+  EXPECT_NE(line.find("estimated own error 0.002 %"), std::string::npos) << line;
+  EXPECT_NE(line.find("max_stretch_away_from_pins 1.002"), std::string::npos) << line;
+  EXPECT_NE(line.find("p99_stretch 1"), std::string::npos) << line;
+  reference.erase("p99_stretch");
+  try {
+    reference_line(reference);
+    ADD_FAILURE() << "a reference row without p99_stretch was printed";
+  } catch (const SweepError& error) {
+    EXPECT_STREQ(error.what(), "choose: the reference row has no p99_stretch");
+  }
+  EXPECT_THROW(reference_line(Row()), SweepError);
+}
+
 // Once a setting passed, a probe that takes stop_factor x its time is stopped, and the table
 // says so; a cheaper integrator searched later is still found.
 TEST(IntegratorChoice, StopsProbesSlowerThanTheBestSoFarAndSaysSo) {

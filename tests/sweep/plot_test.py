@@ -1,19 +1,32 @@
 #!/usr/bin/python3
 """tools/plot.py on small synthetic results: every plot kind writes PNG and SVG; bad input is
 one line on stderr and exit code 1."""
+import contextlib
 import csv
+import io
 import json
 import os
-import subprocess
 import sys
 import tempfile
+import types
 import unittest
 
-PLOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "plot.py")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import plot  # noqa: E402  (tools/plot.py, found through the path above)
 
 
 def run_plot(*args):
-    return subprocess.run([sys.executable, PLOT, *args], capture_output=True, text=True)
+    """plot.py's main as its command line runs it (`sys.exit(main())`), in this process: one
+    matplotlib import for every case instead of one per case. Its exit code and what it wrote."""
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        try:
+            code = plot.main(list(args))
+        except SystemExit as exit_:  # argparse's refusals
+            code = exit_.code
+    plot.plt.close("all")
+    return types.SimpleNamespace(returncode=code, stdout=stdout.getvalue(),
+                                 stderr=stderr.getvalue())
 
 
 def work_precision_rows():

@@ -53,9 +53,14 @@ StabilityMonitor::StabilityMonitor(const Cloth& cloth, double t0, const MonitorO
   energy_scale_ = scene.total_mass * norm(scene.gravity) * diagonal + std::abs(energy.kinetic) +
                   std::abs(energy.spring) + std::abs(energy.gravity);
   rest_area_ = surface_area(model.rest_positions, model.triangles);
+  // Nothing here changes during a run: decided once, so the momentum's pass over every particle
+  // is made only where it is used.
+  measures_momentum_ = options.momentum_measures_pins && !scene.has_wind() && !scene.has_air() &&
+                       cloth.colliders().empty();
   if (cloth.state_is_finite()) {
     last_power_ = wind_power_bound(cloth, cloth.max_stretch());
     cloth.pin_loads(pins_before_);
+    if (measures_momentum_) momentum_before_ = cloth.free_momentum();
   }
 }
 
@@ -65,6 +70,8 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
   const Cloth::PinLoads& before = pins_before_;
   const Cloth::PinLoads& now = pins_now_;
   const std::size_t values = now.positions.size();
+  const Cloth::Momentum momentum_now =
+      measures_momentum_ && values != 0 ? cloth.free_momentum() : Cloth::Momentum{};
   if (values != 0 && before.positions.size() == values) {
     const double dt = t - attachment_time_;
     // The pins' mean displacement over the interval.
@@ -74,14 +81,12 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
     // The impulse the pins gave the free cloth. Where gravity is the only other force on it, the
     // free particles' momentum measures it whatever the method did inside the step (springs,
     // constraints, tethers); otherwise it is sampled from the pins' springs.
-    const Scene& scene = cloth.scene();
-    const bool measured = options_.momentum_measures_pins && !scene.has_wind() &&
-                          !scene.has_air() && cloth.colliders().empty();
+    const Vec3& gravity = cloth.scene().gravity;
     Vec3 impulse{0, 0, 0};
-    if (measured)
+    if (measures_momentum_)
       for (std::size_t axis = 0; axis < 3; ++axis)
-        impulse[axis] = now.free_momentum[axis] - before.free_momentum[axis] -
-                        now.free_mass * scene.gravity[axis] * dt;
+        impulse[axis] = momentum_now.momentum[axis] - momentum_before_.momentum[axis] -
+                        momentum_now.mass * gravity[axis] * dt;
     else
       for (std::size_t k = 0; k < values; ++k)
         impulse[k % 3] -= 0.5 * (now.spring_forces[k] + before.spring_forces[k]) * dt;
@@ -95,6 +100,7 @@ void StabilityMonitor::add_attachment_work(const Cloth& cloth, double t) {
     attachment_work_ += work;
   }
   std::swap(pins_before_, pins_now_);
+  momentum_before_ = momentum_now;
   attachment_time_ = t;
 }
 

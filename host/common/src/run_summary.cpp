@@ -8,11 +8,6 @@
 namespace clothlab::host {
 namespace {
 
-template <class T>
-struct is_optional : std::false_type {};
-template <class T>
-struct is_optional<std::optional<T>> : std::true_type {};
-
 class Writer {
  public:
   explicit Writer(nlohmann::json& out) : out_(out) {}

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "clothlab/sweep/progress.hpp"
+#include "clothlab/sweep/sweep_error.hpp"
 #include "integrator_search.hpp"
 
 namespace clothlab::sweep {
@@ -15,10 +16,9 @@ void put_run_figures(Row& row, const std::optional<host::RunSummary>& run) {
     const double value = run ? of(*run) : NAN;
     return std::isfinite(value) ? Row(value) : Row();
   };
-  row["max_stretch"] = figure([](const host::RunSummary& r) { return r.max_stretch.over_run; });
-  row["max_stretch_away_from_pins"] =
-      figure([](const host::RunSummary& r) { return r.max_stretch_away_from_pins.over_run; });
-  row["p99_stretch"] = figure([](const host::RunSummary& r) { return r.p99_stretch.over_run; });
+  (run ? *run : host::RunSummary{}).visit_stretch_over_run([&](const char* name, double value) {
+    row[name] = run && std::isfinite(value) ? Row(value) : Row();
+  });
   row["max_penetration"] = figure([](const host::RunSummary& r) { return r.max_penetration(); });
   row["collider_thickness"] =
       figure([](const host::RunSummary& r) { return r.collider_thickness(); });
@@ -141,6 +141,32 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
     text += line;
   }
   return text;
+}
+
+std::string reference_line(const Row& reference) {
+  if (!reference.is_object()) throw SweepError("choose: no reference row in the results");
+  const auto figure = [&](const std::string& name) -> const Row& {
+    const auto found = reference.find(name);
+    if (found == reference.end() || found->is_null())
+      throw SweepError("choose: the reference row has no " + name);
+    return *found;
+  };
+  const auto number = [&](const std::string& name) {
+    const Row& value = figure(name);
+    if (!value.is_number())
+      throw SweepError("choose: the reference row's " + name + " is " + value.dump() +
+                       ", not a number");
+    return value.get<double>();
+  };
+  std::string stretch;
+  host::RunSummary{}.visit_stretch_over_run([&](const char* name, double) {
+    stretch +=
+        std::string(stretch.empty() ? "" : ", ") + name + " " + host::format_number(number(name));
+  });
+  return figure("reference_integrator").get<std::string>() + " float64, dt " +
+         host::format_number(number("reference_dt")) + " s, estimated own error " +
+         host::format_number(100 * number("reference_error_estimate")) +
+         " % of the diagonal; stretch over the run: " + stretch;
 }
 
 }  // namespace clothlab::sweep

@@ -122,9 +122,7 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
     row["reference_error_estimate"] = is_self_referenced(wp, base) ? Row() : Row(difference / 15.0);
     row["wall_s"] = coarse.summary.wall_time_s + fine.summary.wall_time_s;
     // The converged model's own stretch over the run: what a method's is held to (--choose).
-    row["max_stretch"] = fine.summary.max_stretch.over_run;
-    row["max_stretch_away_from_pins"] = fine.summary.max_stretch_away_from_pins.over_run;
-    row["p99_stretch"] = fine.summary.p99_stretch.over_run;
+    fine.summary.visit_stretch_over_run([&](const char* name, double value) { row[name] = value; });
     store.append(row, base.index);
   }
   return fine;

@@ -249,17 +249,23 @@ class Cloth {
   // Moves the attached particles of the cloth's own state to their targets at t (the host does
   // so before the first step); false when a target is not finite.
   bool move_attachments(double t);
-  // What the attachments' work is measured from (analysis::StabilityMonitor): the free
-  // particles' momentum and mass, and at every pinned particle, attached or held still (ascending
-  // index), its position and the force its springs pull it with (Hooke, and the damping when the
-  // integrator uses velocity forces). Without attachments nothing is measured: positions and
-  // forces come back empty. Allocates only when there are more pins than `out` held before.
+  // What the attachments' work is sampled from (analysis::StabilityMonitor): at every pinned
+  // particle, attached or held still (ascending index), its position and the force its springs
+  // pull it with (Hooke, and the damping when the integrator uses velocity forces). Without
+  // attachments nothing is sampled: both come back empty. Allocates only when there are more
+  // pins than `out` held before.
   struct PinLoads {
-    Vec3 free_momentum{0, 0, 0};                   // kg m/s
-    double free_mass = 0;                          // kg
     std::vector<double> positions, spring_forces;  // 3 per pinned particle
   };
   void pin_loads(PinLoads& out) const;
+  // The momentum and mass of the particles that are not pinned: where gravity is the only force
+  // from outside, their change of momentum less gravity's impulse is what the pins gave them.
+  // One pass over the particles; allocates nothing.
+  struct Momentum {
+    Vec3 momentum{0, 0, 0};  // kg m/s
+    double mass = 0;         // kg
+  };
+  Momentum free_momentum() const;
 
  private:
   struct Impl;

@@ -13,6 +13,7 @@
 
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/core/cloth_model.hpp>
+#include <clothlab/sdk/mesh_check.hpp>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -21,8 +22,7 @@
 
 namespace clothlab {
 
-// The most particles a mesh may have (as the largest grid, 4096 x 4096).
-inline constexpr uint32_t kMaxMeshParticles = 4096u * 4096u;
+inline constexpr uint32_t kMaxMeshParticles = sdk::max_mesh_particles;
 
 struct TriangleMesh {
   std::vector<double> positions;    // 3 per vertex (m)
@@ -30,15 +30,9 @@ struct TriangleMesh {
   std::vector<double> masses;       // one per vertex (kg), or empty: total mass spread by area
 };
 
-// Why the mesh cannot be a cloth, in one line ("triangle 12: vertex index 40 out of range
-// (40 vertices)"), or "" when it can: empty mesh, more than max_particles vertices, a positions
-// or triangles array whose size is not a multiple of 3, a non-finite coordinate, an index out of
-// range, a triangle with a repeated corner or (nearly) zero area, an edge of more than two
-// triangles, a vertex in no triangle, masses of the wrong count or not finite and positive.
-std::string validate_triangle_mesh(std::span<const double> positions,
-                                   std::span<const uint32_t> triangles,
-                                   std::span<const double> masses = {},
-                                   uint32_t max_particles = kMaxMeshParticles);
+// The one mesh check (clothlab/sdk/mesh_check.hpp: a scenario runs it too), which every reader
+// and builder calls.
+using sdk::validate_triangle_mesh;
 
 // The sum of the triangles' areas (m^2): a cloth's rest area.
 double surface_area(std::span<const double> positions, std::span<const uint32_t> triangles);

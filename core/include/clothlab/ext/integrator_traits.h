@@ -45,7 +45,8 @@ extern "C" {
  * gravity and the pins give it. The stability monitor measures the attachments' pull from that
  * momentum for every other integrator; for this one it samples the pull from the springs at the
  * pins. An integrator whose forces are the host's, its springs' and its constraints' between
- * particles (every other built-in) leaves it out. */
+ * particles (every other built-in) leaves it out; the conformance check numerics.momentum
+ * holds it to that (a free cloth's momentum changes by gravity's impulse alone). */
 #define CLOTHLAB_TRAIT_DRAGS_TOWARDS_REST (1u << 5)
 
 typedef struct clothlab_integrator_traits {

@@ -72,8 +72,9 @@ struct Verdict {
 
 class StabilityMonitor {
  public:
-  // Takes the initial energy from the cloth's current state (time t0). Throws
-  // std::invalid_argument for options out of range.
+  // Takes the initial energy from the cloth's current state (time t0), and from its colliders,
+  // wind and air then how the attachments' pull is counted for the whole run (set the colliders
+  // first). Throws std::invalid_argument for options out of range.
   StabilityMonitor(const Cloth& cloth, double t0, const MonitorOptions& options = {});
 
   // Checks when step is a multiple of check_interval; otherwise returns the current verdict.
@@ -103,6 +104,8 @@ class StabilityMonitor {
   double last_power_ = 0.0;
   double attachment_work_ = 0.0;
   Cloth::PinLoads pins_before_, pins_now_;  // pins_before_ at attachment_time_
+  bool measures_momentum_ = false;          // the pins' impulse from the free cloth's momentum
+  Cloth::Momentum momentum_before_;         // at attachment_time_, where measured
   double attachment_time_ = 0.0;
   uint64_t checks_ = 0;
   std::vector<double> velocities_;  // reused between checks

@@ -11,8 +11,16 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace clothlab::host {
+
+// Whether a field is optional (null in the JSON when empty): the writer, the reader and the
+// test that every member is in its table all walk into an optional's value.
+template <class T>
+struct is_optional : std::false_type {};
+template <class T>
+struct is_optional<std::optional<T>> : std::true_type {};
 
 struct RunSummary {
   // Wall time of one step or one frame over the run, ms.
@@ -239,6 +247,15 @@ struct RunSummary {
     return contacts ? contacts->max_depth_past_thickness_over_run : NAN;
   }
   double collider_thickness() const { return contacts ? contacts->thickness : NAN; }
+
+  // The stretch figures over the run, by the names that sweep rows, --choose's probes and
+  // choices and the work-precision reference row carry them: a new one is one line here.
+  template <class Visit>
+  void visit_stretch_over_run(Visit&& visit) const {
+    visit("max_stretch", max_stretch.over_run);
+    visit("max_stretch_away_from_pins", max_stretch_away_from_pins.over_run);
+    visit("p99_stretch", p99_stretch.over_run);
+  }
 
   // Compares NaN figures (a diverged run's) as unequal, like the numbers themselves.
   bool operator==(const RunSummary&) const = default;

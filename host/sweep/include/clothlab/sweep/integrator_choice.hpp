@@ -160,4 +160,9 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
 std::vector<Row> choice_rows(const std::vector<Choice>& choices, const ChoiceSettings& settings);
 std::string choice_table(const std::vector<Choice>& choices, const ChoiceSettings& settings);
 
+// The report's line on the reference, from its row (compute_reference): integrator, dt,
+// estimated own error and its stretch figures over the run. A figure the row lacks is a
+// SweepError naming it, never printed as 0.
+std::string reference_line(const Row& reference);
+
 }  // namespace clothlab::sweep
