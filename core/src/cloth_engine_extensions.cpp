@@ -111,6 +111,25 @@ uint32_t ClothEngine<Real>::threads_callback(void* context) {
   return static_cast<uint32_t>(static_cast<const ClothEngine*>(context)->threads_);
 }
 
+// ------------------------------------------------- contacts and attachments
+
+template <class Real>
+clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, double t, void* x,
+                                                             void* v) {
+  return static_cast<ClothEngine*>(context)->resolve_contacts(t, x, v);
+}
+
+template <class Real>
+uint32_t ClothEngine<Real>::attachments_count_callback(void* context) {
+  return static_cast<const ClothEngine*>(context)->attachment_count();
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::attachments_move_callback(void* context, double t, void* x,
+                                                             void* v) {
+  return static_cast<ClothEngine*>(context)->move_attached(t, x, v);
+}
+
 // ------------------------------------------------------------------- topology
 
 template <class Real>

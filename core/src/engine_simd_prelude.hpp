@@ -23,6 +23,7 @@
 
 #include "aligned_buffer.hpp"
 #include "engine.hpp"
+#include "engine_state.hpp"
 #include "grid.hpp"
 #include "grid_colors.hpp"
 #include "rkn_step.hpp"
