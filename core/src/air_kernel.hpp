@@ -15,8 +15,9 @@
 
 #include "grid_cell.hpp"
 #include "inverse_sqrt.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 struct AirRow {
@@ -88,4 +89,4 @@ inline void add_air_row_forces(const AirRow<Real>& row) {
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

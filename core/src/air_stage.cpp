@@ -2,8 +2,9 @@
 // cell row (air_kernel.hpp), added to the shares the wind stage and the external pass gather.
 #include "air_kernel.hpp"
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void ForcePipeline<Real>::add_air(const Real* x, const Real* below, const Real* v,
@@ -31,4 +32,4 @@ template void ForcePipeline<double>::add_air(const double*, const double*, const
                                              const double*, std::size_t, double*, double*,
                                              std::size_t) const;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

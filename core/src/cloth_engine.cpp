@@ -1,19 +1,15 @@
 #include "cloth_engine.hpp"
 
-#include <omp.h>
-
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <new>
-#include <stdexcept>
-#include <string>
 #include <utility>
 
 #include "grid_colors.hpp"
+#include "simd_namespace.hpp"
 #include "vector_kernels.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 // The force pipeline streams grid rows, with a fixed cost per row (staging, accumulator rings,
@@ -35,10 +31,6 @@ Scene pipeline_scene(const Scene& scene) {
   std::swap(turned.col_axis, turned.row_axis);
   return turned;
 }
-
-constexpr std::size_t kChunk = 2048;  // particles per thread work item
-
-std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
 
 template <class Real>
 StateCombination<Real> in_place(const void* base) {
@@ -64,74 +56,9 @@ bool convert(const clothlab_combination& from, StateCombination<Real>& to) {
 template <class Real>
 ClothEngine<Real>::ClothEngine(const Scene& scene, std::shared_ptr<const ClothModel> model,
                                PipelineOptions options)
-    : scene_(scene),
-      model_(std::move(model)),
-      n_(model_->particle_count),
-      stride_(round_up_16(n_)) {
-  if (options.threads < 0) {
-    throw std::invalid_argument("threads = " + std::to_string(options.threads) +
-                                ": allowed 0 (all hardware threads) or >= 1");
-  }
-  if (n_ < 1) throw std::invalid_argument("cloth: no particles (allowed: at least 1)");
-  threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
-  parallel_capable_ = threads_ > 1 && n_ >= parallel_from_particles;
-  parallel_ = parallel_capable_;
+    : Base(scene, std::move(model), options) {
   governor_ = TeamGovernor(threads_, options.adaptive_threads && parallel_capable_);
-  if (parallel_) {
-    // Start the thread team now: its first start allocates, which a step must not do.
-#pragma omp parallel num_threads(threads_)
-    { (void)omp_get_thread_num(); }
-  }
-
-  x_ = AlignedBuffer<Real>(3 * stride_);
-  v_ = AlignedBuffer<Real>(3 * stride_);
-  inverse_mass_ = AlignedBuffer<Real>(stride_);
-  for (std::size_t i = 0; i < n_; ++i) {
-    for (std::size_t k = 0; k < 3; ++k)
-      x_[k * stride_ + i] = static_cast<Real>(model_->rest_positions[3 * i + k]);
-    inverse_mass_[i] = static_cast<Real>(model_->inverse_masses[i]);
-  }
-  near_pin_.assign(n_, 0);
-  if (model_->grid) {
-    const GridShape grid = *model_->grid;
-    for (uint32_t pinned : model_->pinned) {
-      const uint32_t row = pinned / grid.cols, col = pinned % grid.cols;
-      for (uint32_t r = row > 2 ? row - 2 : 0; r <= std::min(row + 2, grid.rows - 1); ++r)
-        for (uint32_t c = col > 2 ? col - 2 : 0; c <= std::min(col + 2, grid.cols - 1); ++c)
-          near_pin_[std::size_t{r} * grid.cols + c] = 1;
-    }
-  } else {
-    // Two springs from a pin: on a grid's springs, about its two rows and columns.
-    for (uint32_t pinned : model_->pinned) near_pin_[pinned] = 1;
-    for (int hop = 0; hop < 2; ++hop) {
-      std::vector<uint8_t> reached = near_pin_;
-      for (std::size_t i = 0; i < n_; ++i) {
-        if (near_pin_[i] == 0) continue;
-        for (uint32_t e = model_->adjacency_offsets[i]; e < model_->adjacency_offsets[i + 1]; ++e) {
-          const uint32_t s = model_->adjacent_springs[e];
-          reached[model_->first[s] == i ? model_->second[s] : model_->first[s]] = 1;
-        }
-      }
-      near_pin_ = std::move(reached);
-    }
-  }
-
-  // Active ranges: maximal runs between pinned indices (scene.pinned is sorted, unique).
-  std::size_t begin = 0;
-  for (std::size_t i = 0; i <= n_; ++i) {
-    if (i == n_ || inverse_mass_[i] == 0) {
-      if (i > begin) active_.push_back({static_cast<uint32_t>(begin), static_cast<uint32_t>(i)});
-      begin = i + 1;
-    }
-  }
-  for (const clothlab_range& range : active_) {
-    for (std::size_t b = range.begin; b < range.end; b += kChunk) {
-      active_chunks_.push_back({b, std::min<std::size_t>(range.end, b + kChunk)});
-    }
-    active_particles_ += range.end - range.begin;
-  }
-
-  if (model_->grid && !options.force_general_path) {
+  if (on_grid_path()) {
     forces_ = std::make_unique<ForcePipeline<Real>>(
         pipeline_scene(scene), stride_, inverse_mass_.data(), options.velocity_forces, threads_,
         parallel_, turned_for_pipeline(scene) ? scene.cols : 1);
@@ -141,7 +68,6 @@ ClothEngine<Real>::ClothEngine(const Scene& scene, std::shared_ptr<const ClothMo
         std::make_unique<SpringListForces<Real>>(*model_, scene, stride_, inverse_mass_.data(),
                                                  options.velocity_forces, threads_, parallel_);
   }
-  velocity_forces_ = options.velocity_forces;
   chunk_sums_.assign(active_chunks_.size(), 0.0);
   chunk_sums_z_.assign(active_chunks_.size(), 0.0);
   mass_.assign(n_, 0.0);
@@ -342,8 +268,15 @@ void* ClothEngine<Real>::alloc_callback(void* context) {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-std::unique_ptr<Engine> make_engine(const Scene& scene, std::shared_ptr<const ClothModel> model,
-                                    Precision precision, PipelineOptions options) {
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
+
+namespace clothlab::detail {
+
+// make_engine_<target> (engine_targets.hpp): this copy's engine.
+std::unique_ptr<Engine> CLOTHLAB_SIMD_ENTRY(make_engine)(const Scene& scene,
+                                                         std::shared_ptr<const ClothModel> model,
+                                                         Precision precision,
+                                                         PipelineOptions options) {
   if (precision == Precision::Float32)
     return std::make_unique<ClothEngine<float>>(scene, std::move(model), options);
   return std::make_unique<ClothEngine<double>>(scene, std::move(model), options);

@@ -15,8 +15,9 @@
 #include <new>
 
 #include "cloth_engine.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 // Running out of memory in a callback (the first topology or jacobian call builds its data) is a
@@ -108,6 +109,25 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
 template <class Real>
 uint32_t ClothEngine<Real>::threads_callback(void* context) {
   return static_cast<uint32_t>(static_cast<const ClothEngine*>(context)->threads_);
+}
+
+// ------------------------------------------------- contacts and attachments
+
+template <class Real>
+clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, double t, void* x,
+                                                             void* v) {
+  return static_cast<ClothEngine*>(context)->resolve_contacts(t, x, v);
+}
+
+template <class Real>
+uint32_t ClothEngine<Real>::attachments_count_callback(void* context) {
+  return static_cast<const ClothEngine*>(context)->attachment_count();
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::attachments_move_callback(void* context, double t, void* x,
+                                                             void* v) {
+  return static_cast<ClothEngine*>(context)->move_attached(t, x, v);
 }
 
 // ------------------------------------------------------------------- topology
@@ -416,4 +436,4 @@ int32_t ClothEngine<Real>::depends_on_position_callback(void* context) {
 template class ClothEngine<float>;
 template class ClothEngine<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -21,10 +21,11 @@
 
 #include "interior_row_kernel.hpp"
 #include "jacobian_row_kernel.hpp"
+#include "simd_namespace.hpp"
 
 #if defined(CLOTHLAB_FLOAT_LANES)
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // CG's direction update on one grid row (pointers at its column 0, components `stride` apart):
 // solution += alpha p, then p = z + beta p, on the active particles.
@@ -263,6 +264,6 @@ inline void definite_row_shifted_ends(const DefiniteRow& row) {
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
 
 #endif

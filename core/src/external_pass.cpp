@@ -13,9 +13,10 @@
 
 #include "external_row_kernel.hpp"
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 #include "wind_kernel.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 using namespace scratch;
 
@@ -127,4 +128,4 @@ bool ForcePipeline<Real>::evaluate_external(const Real* x, const Real* v, Real* 
 template bool ForcePipeline<float>::evaluate_external(const float*, const float*, float*);
 template bool ForcePipeline<double>::evaluate_external(const double*, const double*, double*);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -15,8 +15,9 @@
 #include <type_traits>
 
 #include "float_lanes.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // Share rows hold their components share_span apart (zeros left of column 0 and in
 // column cols - 1, which starts no cell); out holds them out_span apart.
@@ -97,4 +98,4 @@ inline Real external_row_accelerations(const ExternalRow<Real>& row) {
   return external_row_accelerations_portable(row);
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

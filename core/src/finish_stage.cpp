@@ -4,8 +4,9 @@
 #include <algorithm>
 
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 using namespace scratch;
 
@@ -44,4 +45,4 @@ template double ForcePipeline<double>::finish_row(double*, std::size_t, double*,
 template void ForcePipeline<float>::clear_row(float*, std::size_t);
 template void ForcePipeline<double>::clear_row(double*, std::size_t);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -1,24 +1,33 @@
 // The SIMD lanes of the engine's hand-written float kernels: 16 floats on AVX-512, 8 on AVX2
 // with FMA (most laptops, AMD Zen 2 and 3). A kernel is written once against `Floats` and the
-// few operations below (arithmetic through GCC's vector operators); each build compiles it for
-// the one instruction set it targets. Without either, CLOTHLAB_FLOAT_LANES stays undefined and
-// the kernels' portable loops run.
+// few operations below (arithmetic through GCC's vector operators). A translation unit compiled
+// for one of a module's SIMD targets (simd_target_begin.hpp) gets that target's lanes; any
+// other gets those of the build's flags. Without either instruction set, CLOTHLAB_FLOAT_LANES
+// stays undefined and the kernels' portable loops run.
 #pragma once
 
 #include <cfloat>
 #include <cstddef>
 #include <cstdint>
 
-#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+#include "simd_namespace.hpp"
+
+#if defined(CLOTHLAB_SIMD_AVX512) || (!defined(CLOTHLAB_SIMD_AVX2) && defined(__AVX512F__))
+#define CLOTHLAB_LANES_AVX512 1
+#elif defined(CLOTHLAB_SIMD_AVX2) || (defined(__AVX2__) && defined(__FMA__))
+#define CLOTHLAB_LANES_AVX2 1
+#endif
+
+#if defined(CLOTHLAB_LANES_AVX512) || defined(CLOTHLAB_LANES_AVX2)
 #include <immintrin.h>
 #define CLOTHLAB_FLOAT_LANES 1
 #endif
 
 #if defined(CLOTHLAB_FLOAT_LANES)
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
-#if defined(__AVX512F__)
+#if defined(CLOTHLAB_LANES_AVX512)
 
 using Floats = __m512;
 using LaneMask = __mmask16;  // a bit per lane
@@ -283,6 +292,6 @@ inline LaneMask columns_in(std::size_t c, std::size_t begin, std::size_t end) {
   return lanes_from_to(low, high);  // empty where high <= low
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
 
 #endif

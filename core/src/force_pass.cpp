@@ -7,8 +7,9 @@
 #include <chrono>
 
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t end,
@@ -83,4 +84,4 @@ template bool ForcePipeline<double>::evaluate(const StateCombination<double>&,
                                               const StateCombination<double>*, double*,
                                               StageCounters&);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

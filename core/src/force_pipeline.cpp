@@ -5,8 +5,9 @@
 #include <type_traits>
 
 #include "float_lanes.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 using namespace scratch;
@@ -116,4 +117,4 @@ void ForcePipeline<Real>::balance_split() {
 template class ForcePipeline<float>;
 template class ForcePipeline<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

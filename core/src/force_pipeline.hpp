@@ -39,9 +39,10 @@
 #include "grid.hpp"
 #include "rkn_step.hpp"
 #include "scratch_layout.hpp"
+#include "simd_namespace.hpp"
 #include "state_combination.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class ForcePipeline {
@@ -245,4 +246,4 @@ class ForcePipeline {
   uint64_t normals_per_eval_ = 0;
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

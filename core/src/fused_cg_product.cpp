@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <type_traits>
 
+#include "simd_namespace.hpp"
 #include "spring_jacobian.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void SpringJacobian<Real>::linearise_definite(const Real* x, const Real* v, double c_x,
@@ -130,4 +131,4 @@ template void SpringJacobian<float>::definite_rows(float*, float*, std::size_t, 
 template void SpringJacobian<double>::definite_rows(double*, double*, std::size_t, std::size_t,
                                                     double*, const Direction*) const;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -6,7 +6,9 @@
 
 #include <cstddef>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // The corners of cell c from a row and the next, whose components lie `span` apart.
 template <class Real>
@@ -33,4 +35,4 @@ inline void cell_triangle_edges(const Lane (&a)[3], const Lane (&b)[3], const La
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -14,12 +14,13 @@
 #include <cstddef>
 
 #include "inverse_sqrt.hpp"
+#include "simd_namespace.hpp"
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
 
 #if defined(CLOTHLAB_FLOAT_LANES)
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
 struct InteriorRow {
@@ -140,6 +141,6 @@ inline void interior_row_forces(const InteriorRow& row) {
   for (; c < cols; c += kLanes) interior_row_block<Damped, Wind, true>(row, c);
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
 
 #endif

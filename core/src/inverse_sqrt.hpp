@@ -6,8 +6,9 @@
 #include <cmath>
 
 #include "float_lanes.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 inline Real inverse_sqrt_or_zero(Real s) {
@@ -27,4 +28,4 @@ inline Floats inverse_sqrt_or_zero(Floats s) {
 }
 #endif
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

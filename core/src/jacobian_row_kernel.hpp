@@ -18,8 +18,9 @@
 #include <type_traits>
 
 #include "inverse_sqrt.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 enum class JacobianForm { kExact, kDefinite };
 
@@ -186,4 +187,4 @@ inline void jacobian_row(const JacobianRow<Real>& row) {
   jacobian_row_portable<Real, Form, Damped, Direct>(row);
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

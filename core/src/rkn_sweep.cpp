@@ -15,8 +15,9 @@
 #include <chrono>
 
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,
@@ -195,4 +196,4 @@ template bool ForcePipeline<float>::step_rkn(float*, float*, const RknStep<float
 template bool ForcePipeline<double>::step_rkn(double*, double*, const RknStep<double>&,
                                               StageCounters&);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

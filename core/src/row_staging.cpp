@@ -5,8 +5,9 @@
 #include <algorithm>
 
 #include "force_pipeline.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void ForcePipeline<Real>::stage_row(int thread, Real* ring,
@@ -70,4 +71,4 @@ template void ForcePipeline<double>::gather_row(const double*, std::size_t, doub
 template void ForcePipeline<float>::scatter_row(const float*, float*, std::size_t) const;
 template void ForcePipeline<double>::scatter_row(const double*, double*, std::size_t) const;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

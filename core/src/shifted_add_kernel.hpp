@@ -5,7 +5,9 @@
 
 #include <cstddef>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // A spring from column c to column c + step of the same row: acc[c] += f[c] - f[c - step].
 template <class Real>
@@ -32,4 +34,4 @@ inline void add_cell_winds(Real* __restrict acc, Real* __restrict acc_next,
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

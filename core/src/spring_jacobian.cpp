@@ -6,11 +6,13 @@
 #include <cmath>
 #include <span>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
-constexpr std::size_t kChunk = 2048;  // particles per thread work item, as the vector ops
-constexpr std::size_t kMargin = 16;   // zeros left of a scratch row's column 0
+constexpr std::size_t kParticleChunk = 2048;  // particles per thread work item, as the vector ops
+constexpr std::size_t kMargin = 16;           // zeros left of a scratch row's column 0
 
 }  // namespace
 
@@ -31,7 +33,7 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
       span_(kMargin + (cols_ + kMargin + 15) / 16 * 16),
       product_rows_(static_cast<std::size_t>(threads) * 3 * span_),
       mass_(topology.particle_count),
-      row_dots_(spring_list ? (n_ + kChunk - 1) / kChunk : rows_, 0.0) {
+      row_dots_(spring_list ? (n_ + kParticleChunk - 1) / kParticleChunk : rows_, 0.0) {
   for (std::size_t i = 0; i < n_; ++i)
     mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
   if (spring_list) {
@@ -90,11 +92,11 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
 template <class Real>
 template <class Body>
 void SpringJacobian<Real>::for_chunks(std::size_t count, Body&& body) const {
-  const auto chunks = static_cast<std::ptrdiff_t>((count + kChunk - 1) / kChunk);
+  const auto chunks = static_cast<std::ptrdiff_t>((count + kParticleChunk - 1) / kParticleChunk);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    body(begin, std::min(count, begin + kChunk));
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kParticleChunk;
+    body(begin, std::min(count, begin + kParticleChunk));
   }
 }
 
@@ -390,4 +392,4 @@ clothlab_block_pattern SpringJacobian<Real>::pattern() const {
 template class SpringJacobian<float>;
 template class SpringJacobian<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

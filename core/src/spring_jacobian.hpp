@@ -33,9 +33,10 @@
 #include "definite_row_kernel.hpp"
 #include "grid.hpp"
 #include "jacobian_row_kernel.hpp"
+#include "simd_namespace.hpp"
 #include "spring_lanes.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class SpringJacobian {
@@ -176,4 +177,4 @@ class SpringJacobian {
   mutable AlignedBuffer<Real> spring_inverse_length_;
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -13,8 +13,9 @@
 #include <type_traits>
 
 #include "inverse_sqrt.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // Every row below holds its three components `span` elements apart: component k of
 // column c at [c + k * span]. One stride for all of them keeps the kernel to six base
@@ -127,4 +128,4 @@ inline void spring_row_forces(const SpringRow<Real>& row) {
   spring_row_forces_portable<Real, Damped, Forward>(row);
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -8,7 +8,7 @@
 #include "jacobian_row_kernel.hpp"
 #include "spring_kernel.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 // An offset's springs form a band where they fill at least 1 / kBandShare of its range's slots:
@@ -453,4 +453,4 @@ void SpringLanes<Real>::sum_incident(const Real* per_slot, std::size_t block,
 template class SpringLanes<float>;
 template class SpringLanes<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -26,8 +26,9 @@
 
 #include "aligned_buffer.hpp"
 #include "float_lanes.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 #if defined(CLOTHLAB_FLOAT_LANES)
 inline constexpr std::size_t kSpringBlock = kLanes;
@@ -176,4 +177,4 @@ void SpringLanes<Real>::sweep(std::size_t tile, int threads, bool parallel, cons
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -11,10 +11,11 @@
 #include <type_traits>
 
 #include "air_kernel.hpp"
+#include "simd_namespace.hpp"
 #include "spring_kernel.hpp"
 #include "wind_kernel.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 constexpr std::size_t kChunk = 1024;  // items per thread work item
@@ -352,4 +353,4 @@ bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& ste
 template class SpringListForces<float>;
 template class SpringListForces<double>;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

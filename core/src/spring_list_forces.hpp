@@ -18,10 +18,11 @@
 
 #include "aligned_buffer.hpp"
 #include "rkn_step.hpp"
+#include "simd_namespace.hpp"
 #include "spring_lanes.hpp"
 #include "state_combination.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class SpringListForces {
@@ -92,4 +93,4 @@ class SpringListForces {
   std::vector<AlignedBuffer<Real>> stage_a_;  // the stages' accelerations
 };
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -9,9 +9,10 @@
 
 #include <algorithm>
 
+#include "simd_namespace.hpp"
 #include "spring_jacobian.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
 constexpr std::size_t kChunk = 2048;  // slots or particles per thread work item
@@ -150,4 +151,4 @@ template void SpringJacobian<double>::list_apply<JacobianForm::kDefinite, true>(
 template void SpringJacobian<float>::list_linearise(const float*) const;
 template void SpringJacobian<double>::list_linearise(const double*) const;
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -8,9 +8,10 @@
 #include "force_pipeline.hpp"
 #include "interior_row_kernel.hpp"
 #include "shifted_add_kernel.hpp"
+#include "simd_namespace.hpp"
 #include "spring_kernel.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass) {
@@ -110,4 +111,4 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
 template void ForcePipeline<float>::add_springs(float*, std::size_t, const Pass&);
 template void ForcePipeline<double>::add_springs(double*, std::size_t, const Pass&);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

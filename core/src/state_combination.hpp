@@ -9,7 +9,9 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 struct StateCombination {
@@ -74,4 +76,4 @@ inline void combine_row(Real* __restrict out, const Real* __restrict base, uint3
   for (std::size_t c = 0; c < cols; ++c) out[c] = inverse_mass[c] > Real(0) ? out[c] : base[c];
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -4,7 +4,9 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace clothlab::detail {
+#include "simd_namespace.hpp"
+
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 inline void axpy_span(Real* y, Real alpha, const Real* x, std::size_t begin, std::size_t end) {
@@ -34,4 +36,4 @@ inline void lincomb_span(Real* out, const Real* base, uint32_t count, const doub
   }
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -14,8 +14,9 @@
 
 #include "grid_cell.hpp"
 #include "inverse_sqrt.hpp"
+#include "simd_namespace.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // Rows hold their components a span apart, as in the spring kernel: the positions
 // position_span apart (a scratch row's span, or the state's stride when read in place),
@@ -117,4 +118,4 @@ inline void wind_row_forces(const WindRow<Real>& row) {
   wind_row_forces_portable(row);
 }
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

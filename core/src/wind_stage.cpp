@@ -7,9 +7,10 @@
 
 #include "force_pipeline.hpp"
 #include "shifted_add_kernel.hpp"
+#include "simd_namespace.hpp"
 #include "wind_kernel.hpp"
 
-namespace clothlab::detail {
+namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
@@ -53,4 +54,4 @@ void ForcePipeline<Real>::add_wind(Real* ring, std::size_t row, Pass& pass) {
 template void ForcePipeline<float>::add_wind(float*, std::size_t, Pass&);
 template void ForcePipeline<double>::add_wind(double*, std::size_t, Pass&);
 
-}  // namespace clothlab::detail
+}  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

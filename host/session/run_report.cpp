@@ -1,7 +1,9 @@
 #include "run_report.hpp"
 
 #include <algorithm>
+#include <clothlab/core/simd.hpp>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "statistics.hpp"
@@ -121,6 +123,7 @@ host::RunSummary summarize(const RunRecord& record) {
     summary.attachments =
         host::RunSummary::Attachments{record.attachments->particles, record.attachments->work};
   summary.threads = record.threads;
+  summary.simd = std::string(simd_target());
   summary.counters = {counters.springs_evaluated, counters.springs_damped,
                       counters.normals_computed, counters.particles_integrated,
                       counters.steps_on_one_thread};
@@ -133,11 +136,11 @@ nlohmann::json summary_json(const RunRecord& record) { return host::to_json(summ
 
 std::string human_summary(const host::RunSummary& run) {
   std::string text = printf_text(
-      "%s on %s, %llux%llu, %s, %lld threads: %llu steps of %g s = %g s simulated\n",
+      "%s on %s, %llux%llu, %s, %lld threads, SIMD %s: %llu steps of %g s = %g s simulated\n",
       run.integrator.c_str(), run.scenario.c_str(), static_cast<unsigned long long>(run.rows),
       static_cast<unsigned long long>(run.cols), run.precision.c_str(),
-      static_cast<long long>(run.threads), static_cast<unsigned long long>(run.steps), run.dt,
-      run.sim_time_s);
+      static_cast<long long>(run.threads), run.simd.c_str(),
+      static_cast<unsigned long long>(run.steps), run.dt, run.sim_time_s);
   text += printf_text(
       "  %.4g ms/step (median; p10 %.4g, p90 %.4g), stepping wall time %.4g s, real-time "
       "factor %.3g\n",

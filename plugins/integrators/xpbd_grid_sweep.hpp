@@ -31,7 +31,7 @@
 
 #include "xpbd_bands.hpp"
 #include "xpbd_grid.hpp"
-#include "xpbd_row_kernel.hpp"
+#include "xpbd_row_targets.hpp"
 #include "xpbd_substep.hpp"
 #include "xpbd_uniform_mass.hpp"
 #include "xpbd_wavefront.hpp"
@@ -54,6 +54,7 @@ class GridSweep {
     publish_every_ = std::max<uint32_t>(1, 2048 / layout_.cols);
     uniform_.find(inverse_mass, layout_.rows, layout_.cols);
     progress_ = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
+    if constexpr (std::is_same_v<Real, float>) float_row_ = choose_float_row_kernel();
   }
 
   // One substep on `threads` threads; false when a velocity came out non-finite.
@@ -207,15 +208,31 @@ class GridSweep {
         Real* lambda = lambda_.empty()
                            ? nullptr
                            : lambda_.data() + std::size_t{phase.color} * s.particle_count;
-        project_row(ColorRow<Real>{
-            s.x, s.v, s.inverse_mass, lambda, s.stride, row_begin + color.col_begin,
+        const ColorRow<Real> job{
+            s.x,
+            s.v,
+            s.inverse_mass,
+            lambda,
+            s.stride,
+            row_begin + color.col_begin,
             color.col_end - color.col_begin,
             static_cast<std::size_t>(int64_t{color.row_step} * layout_.cols + color.col_step),
-            color.in_row(), color.col_step == 2 ? 1u : 0u, color.parity,
-            static_cast<Real>(color.rest), static_cast<Real>(color.ks) * s.h_squared,
-            static_cast<Real>(color.kd) * s.h, phase.iteration == 0,
+            color.in_row(),
+            color.col_step == 2 ? 1u : 0u,
+            color.parity,
+            static_cast<Real>(color.rest),
+            static_cast<Real>(color.ks) * s.h_squared,
+            static_cast<Real>(color.kd) * s.h,
+            phase.iteration == 0,
             phase.iteration + 1 < static_cast<uint32_t>(iterations_),
-            static_cast<Real>(uniform_.value()), varied_begin, varied_end});
+            static_cast<Real>(uniform_.value()),
+            varied_begin,
+            varied_end};
+        if constexpr (std::is_same_v<Real, float>) {
+          float_row_(job);
+        } else {
+          project_row(job);
+        }
         return;
       }
     }
@@ -226,6 +243,7 @@ class GridSweep {
   std::vector<Real> lambda_;  // per colour n multipliers, from the row's first particle on
   std::vector<Phase> phases_;
   UniformInverseMass uniform_;
+  FloatRowKernel float_row_ = nullptr;    // the SIMD target's (xpbd_row_targets.hpp)
   uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress_;  // one per thread
   std::unique_ptr<RowClaims> claims_ = std::make_unique<RowClaims>();  // the two bands' rows

@@ -109,6 +109,7 @@ TEST_F(Clothlab, JsonSummaryHasEveryKey) {
                           "stable",
                           "verdict",
                           "threads",
+                          "simd",
                           "counters",
                           "contacts",
                           "integrator_params",

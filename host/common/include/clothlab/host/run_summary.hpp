@@ -187,6 +187,7 @@ struct RunSummary {
   std::optional<Contacts> contacts;
   std::optional<Attachments> attachments;
   int64_t threads = 0;
+  std::string simd;  // the SIMD target the core's kernels ran on
   Counters counters;
   nlohmann::json integrator_params = nlohmann::json::object();
   nlohmann::json scenario_params = nlohmann::json::object();
@@ -232,6 +233,7 @@ struct RunSummary {
     visit("contacts", self.contacts);
     visit("attachments", self.attachments);
     visit("threads", self.threads);
+    visit("simd", self.simd);
     visit("counters", self.counters);
     visit("integrator_params", self.integrator_params);
     visit("scenario_params", self.scenario_params);

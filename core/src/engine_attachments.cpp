@@ -1,4 +1,4 @@
-// The host extension clothlab.attachment-targets/1 of ClothEngine
+// The host extension clothlab.attachment-targets/1 of the engine
 // (clothlab/ext/attachment_targets.h): the attached particles set to their targets' positions
 // and velocities.
 #include <clothlab/ext/attachment_targets.h>
@@ -7,12 +7,12 @@
 #include <stdexcept>
 #include <string>
 
-#include "cloth_engine.hpp"
+#include "engine_state.hpp"
 
 namespace clothlab::detail {
 
 template <class Real>
-void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
+void EngineState<Real>::set_attachments(std::span<const uint32_t> particles,
                                         AttachmentSource& source) {
   for (const uint32_t particle : particles) {
     if (particle >= n_)
@@ -30,7 +30,7 @@ void ClothEngine<Real>::set_attachments(std::span<const uint32_t> particles,
 }
 
 template <class Real>
-void ClothEngine<Real>::pin_loads(Cloth::PinLoads& out) const {
+void EngineState<Real>::pin_loads(Cloth::PinLoads& out) const {
   out.positions.clear();
   out.spring_forces.clear();
   if (attached_.empty()) return;
@@ -64,7 +64,7 @@ void ClothEngine<Real>::pin_loads(Cloth::PinLoads& out) const {
 }
 
 template <class Real>
-Cloth::Momentum ClothEngine<Real>::free_momentum() const {
+Cloth::Momentum EngineState<Real>::free_momentum() const {
   Cloth::Momentum out;
   const std::size_t s = stride_;
   for (std::size_t i = 0; i < n_; ++i) {
@@ -77,35 +77,27 @@ Cloth::Momentum ClothEngine<Real>::free_momentum() const {
 }
 
 template <class Real>
-bool ClothEngine<Real>::move_attachments(double t) {
-  return attachments_move_callback(this, t, x_.data(), v_.data()) == CLOTHLAB_OK;
+bool EngineState<Real>::move_attachments(double t) {
+  return move_attached(t, x_.data(), v_.data()) == CLOTHLAB_OK;
 }
 
 template <class Real>
-uint32_t ClothEngine<Real>::attachments_count_callback(void* context) {
-  return static_cast<uint32_t>(static_cast<const ClothEngine*>(context)->attached_.size());
-}
-
-template <class Real>
-clothlab_status ClothEngine<Real>::attachments_move_callback(void* context, double t, void* x,
-                                                             void* v) {
-  ClothEngine& self = *static_cast<ClothEngine*>(context);
-  if (self.attachment_source_ == nullptr) return CLOTHLAB_OK;
+clothlab_status EngineState<Real>::move_attached(double t, void* x, void* v) {
+  if (attachment_source_ == nullptr) return CLOTHLAB_OK;
   if (x == nullptr || v == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  if (!self.attachment_source_->targets(t, self.target_x_, self.target_v_))
-    return CLOTHLAB_ERROR_NUMERICAL;
+  if (!attachment_source_->targets(t, target_x_, target_v_)) return CLOTHLAB_ERROR_NUMERICAL;
   Real* const px = static_cast<Real*>(x);
   Real* const pv = static_cast<Real*>(v);
-  const std::size_t s = self.stride_;
-  for (std::size_t k = 0; k < self.attached_.size(); ++k)
+  const std::size_t s = stride_;
+  for (std::size_t k = 0; k < attached_.size(); ++k)
     for (std::size_t axis = 0; axis < 3; ++axis) {
-      px[axis * s + self.attached_[k]] = static_cast<Real>(self.target_x_[3 * k + axis]);
-      pv[axis * s + self.attached_[k]] = static_cast<Real>(self.target_v_[3 * k + axis]);
+      px[axis * s + attached_[k]] = static_cast<Real>(target_x_[3 * k + axis]);
+      pv[axis * s + attached_[k]] = static_cast<Real>(target_v_[3 * k + axis]);
     }
   return CLOTHLAB_OK;
 }
 
-template class ClothEngine<float>;
-template class ClothEngine<double>;
+template class EngineState<float>;
+template class EngineState<double>;
 
 }  // namespace clothlab::detail

@@ -1,4 +1,4 @@
-// The host extension clothlab.contacts/1 of ClothEngine (clothlab/ext/contacts.h), and what the
+// The host extension clothlab.contacts/1 of the engine (clothlab/ext/contacts.h), and what the
 // host reads of the cloth's contacts: the deepest penetration, the particles inside, the
 // particles that crossed a collider.
 #include <clothlab/ext/contacts.h>
@@ -7,7 +7,7 @@
 #include <clothlab/core/contact.hpp>
 #include <cmath>
 
-#include "cloth_engine.hpp"
+#include "engine_state.hpp"
 
 namespace clothlab::detail {
 
@@ -15,7 +15,7 @@ namespace clothlab::detail {
 // positions then are where each particle's path over the step begins. Against these poses,
 // from the scenario and not from any motion, the last step's paths are judged for crossings.
 template <class Real>
-void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders, double t) {
+void EngineState<Real>::set_colliders(std::span<const Collider> colliders, double t) {
   particles_crossed_ = 0;
   if (colliders.size() == step_colliders_.size() && step_start_x_.size() == x_.size()) {
     const Real* const px = x_.data();
@@ -40,7 +40,7 @@ void ClothEngine<Real>::set_colliders(std::span<const Collider> colliders, doubl
 }
 
 template <class Real>
-double ClothEngine<Real>::spring_energy_at(const Real* px, std::size_t i,
+double EngineState<Real>::spring_energy_at(const Real* px, std::size_t i,
                                            const Vec3& position) const {
   const ClothModel& springs = *model_;
   const std::size_t s = stride_;
@@ -57,40 +57,38 @@ double ClothEngine<Real>::spring_energy_at(const Real* px, std::size_t i,
 }
 
 template <class Real>
-clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, double t, void* x,
-                                                             void* v) {
-  ClothEngine& self = *static_cast<ClothEngine*>(context);
-  if (self.colliders_.empty()) return CLOTHLAB_OK;
+clothlab_status EngineState<Real>::resolve_contacts(double t, void* x, void* v) {
+  if (colliders_.empty()) return CLOTHLAB_OK;
   if (x == nullptr || v == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   Real* const px = static_cast<Real*>(x);
   Real* const pv = static_cast<Real*>(v);
-  const std::size_t s = self.stride_;
-  const std::vector<double>& masses = self.model_->masses;  // a mesh's differ per particle
+  const std::size_t s = stride_;
+  const std::vector<double>& masses = model_->masses;  // a mesh's differ per particle
   // Each collider where its motion has carried it by t; the paths start where the last
   // resolution (or the step's start) left the particles and the colliders.
-  for (std::size_t k = 0; k < self.colliders_.size(); ++k)
-    self.moved_colliders_[k] = self.step_colliders_[k].advanced(t - self.step_start_time_);
-  const std::span<const Collider> met_before = self.colliders_, met_now = self.moved_colliders_;
+  for (std::size_t k = 0; k < colliders_.size(); ++k)
+    moved_colliders_[k] = step_colliders_[k].advanced(t - step_start_time_);
+  const std::span<const Collider> met_before = colliders_, met_now = moved_colliders_;
   // Serial: a handful of colliders against the particles costs a fraction of a force pass.
-  for (const clothlab_range& range : self.active_)
+  for (const clothlab_range& range : active_)
     for (std::size_t i = range.begin; i < range.end; ++i) {
       Vec3 position{px[i], px[s + i], px[2 * s + i]};
       Vec3 velocity{pv[i], pv[s + i], pv[2 * s + i]};
       for (int k = 0; k < 3; ++k)
         if (!std::isfinite(position[k]) || !std::isfinite(velocity[k]))
           return CLOTHLAB_ERROR_NUMERICAL;
-      Real* const start = self.path_start_.data();
+      Real* const start = path_start_.data();
       const Vec3 from{start[i], start[s + i], start[2 * s + i]};
       const Vec3 before = position, velocity_before = velocity;
       if (resolve_swept_contact(met_before, met_now, from, position, velocity)) {
         // What the move did to the cloth's energy, signed (StabilityMonitor balances it): the
         // springs are read on the positions already moved, so the sum over particles is exact.
-        double work = self.spring_energy_at(px, i, position) - self.spring_energy_at(px, i, before);
+        double work = spring_energy_at(px, i, position) - spring_energy_at(px, i, before);
         for (int k = 0; k < 3; ++k)
           work += masses[i] *
                   (0.5 * (velocity[k] * velocity[k] - velocity_before[k] * velocity_before[k]) -
-                   self.scene_.gravity[k] * (position[k] - before[k]));
-        self.contact_work_ += work;
+                   scene_.gravity[k] * (position[k] - before[k]));
+        contact_work_ += work;
         for (int k = 0; k < 3; ++k) {
           px[k * s + i] = static_cast<Real>(position[k]);
           pv[k * s + i] = static_cast<Real>(velocity[k]);
@@ -99,12 +97,12 @@ clothlab_status ClothEngine<Real>::contacts_resolve_callback(void* context, doub
       // The next substep's path starts where this one's ends.
       for (int k = 0; k < 3; ++k) start[k * s + i] = px[k * s + i];
     }
-  self.colliders_.swap(self.moved_colliders_);
+  colliders_.swap(moved_colliders_);
   return CLOTHLAB_OK;
 }
 
 template <class Real>
-Cloth::Contacts ClothEngine<Real>::contacts() const {
+Cloth::Contacts EngineState<Real>::contacts() const {
   Cloth::Contacts out;
   if (colliders_.empty()) return out;
   out.particles_crossed = particles_crossed_;
@@ -120,7 +118,7 @@ Cloth::Contacts ClothEngine<Real>::contacts() const {
   return out;
 }
 
-template class ClothEngine<float>;
-template class ClothEngine<double>;
+template class EngineState<float>;
+template class EngineState<double>;
 
 }  // namespace clothlab::detail

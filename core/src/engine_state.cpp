@@ -1,13 +1,18 @@
-// State access and diagnostics of ClothEngine: conversions to and from double,
-// finiteness, energy and stretch. None of this runs inside a step.
+// The engine's state (engine_state.hpp): its setup, conversions to and from double, finiteness,
+// energy and stretch. None of this runs inside a step.
+#include "engine_state.hpp"
+
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
-#include "cloth_engine.hpp"
+#include "grid.hpp"
 
 namespace clothlab::detail {
 namespace {
@@ -28,30 +33,106 @@ double spring_length(const Real* x, std::size_t stride, std::size_t i, std::size
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+constexpr std::size_t kChunk = 2048;  // particles per thread work item
+
+std::size_t round_up_16(std::size_t value) { return (value + 15) / 16 * 16; }
+
 }  // namespace
 
 template <class Real>
-void ClothEngine<Real>::positions(std::vector<double>& out) const {
+EngineState<Real>::EngineState(const Scene& scene, std::shared_ptr<const ClothModel> model,
+                               const PipelineOptions& options)
+    : scene_(scene),
+      model_(std::move(model)),
+      n_(model_->particle_count),
+      stride_(round_up_16(n_)),
+      velocity_forces_(options.velocity_forces),
+      grid_path_(model_->grid && !options.force_general_path) {
+  if (options.threads < 0) {
+    throw std::invalid_argument("threads = " + std::to_string(options.threads) +
+                                ": allowed 0 (all hardware threads) or >= 1");
+  }
+  if (n_ < 1) throw std::invalid_argument("cloth: no particles (allowed: at least 1)");
+  threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
+  parallel_capable_ = threads_ > 1 && n_ >= parallel_from_particles;
+  parallel_ = parallel_capable_;
+  if (parallel_) {
+    // Start the thread team now: its first start allocates, which a step must not do.
+#pragma omp parallel num_threads(threads_)
+    { (void)omp_get_thread_num(); }
+  }
+
+  x_ = AlignedBuffer<Real>(3 * stride_);
+  v_ = AlignedBuffer<Real>(3 * stride_);
+  inverse_mass_ = AlignedBuffer<Real>(stride_);
+  for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t k = 0; k < 3; ++k)
+      x_[k * stride_ + i] = static_cast<Real>(model_->rest_positions[3 * i + k]);
+    inverse_mass_[i] = static_cast<Real>(model_->inverse_masses[i]);
+  }
+  near_pin_.assign(n_, 0);
+  if (model_->grid) {
+    const GridShape grid = *model_->grid;
+    for (uint32_t pinned : model_->pinned) {
+      const uint32_t row = pinned / grid.cols, col = pinned % grid.cols;
+      for (uint32_t r = row > 2 ? row - 2 : 0; r <= std::min(row + 2, grid.rows - 1); ++r)
+        for (uint32_t c = col > 2 ? col - 2 : 0; c <= std::min(col + 2, grid.cols - 1); ++c)
+          near_pin_[std::size_t{r} * grid.cols + c] = 1;
+    }
+  } else {
+    // Two springs from a pin: on a grid's springs, about its two rows and columns.
+    for (uint32_t pinned : model_->pinned) near_pin_[pinned] = 1;
+    for (int hop = 0; hop < 2; ++hop) {
+      std::vector<uint8_t> reached = near_pin_;
+      for (std::size_t i = 0; i < n_; ++i) {
+        if (near_pin_[i] == 0) continue;
+        for (uint32_t e = model_->adjacency_offsets[i]; e < model_->adjacency_offsets[i + 1]; ++e) {
+          const uint32_t s = model_->adjacent_springs[e];
+          reached[model_->first[s] == i ? model_->second[s] : model_->first[s]] = 1;
+        }
+      }
+      near_pin_ = std::move(reached);
+    }
+  }
+
+  // Active ranges: maximal runs between pinned indices (scene.pinned is sorted, unique).
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i <= n_; ++i) {
+    if (i == n_ || inverse_mass_[i] == 0) {
+      if (i > begin) active_.push_back({static_cast<uint32_t>(begin), static_cast<uint32_t>(i)});
+      begin = i + 1;
+    }
+  }
+  for (const clothlab_range& range : active_) {
+    for (std::size_t b = range.begin; b < range.end; b += kChunk) {
+      active_chunks_.push_back({b, std::min<std::size_t>(range.end, b + kChunk)});
+    }
+    active_particles_ += range.end - range.begin;
+  }
+}
+
+template <class Real>
+void EngineState<Real>::positions(std::vector<double>& out) const {
   to_particle_major(x_.data(), n_, stride_, out);
 }
 
 template <class Real>
-void ClothEngine<Real>::velocities(std::vector<double>& out) const {
+void EngineState<Real>::velocities(std::vector<double>& out) const {
   to_particle_major(v_.data(), n_, stride_, out);
 }
 
 template <class Real>
-void ClothEngine<Real>::positions(std::vector<float>& out) const {
+void EngineState<Real>::positions(std::vector<float>& out) const {
   to_particle_major(x_.data(), n_, stride_, out);
 }
 
 template <class Real>
-void ClothEngine<Real>::velocities(std::vector<float>& out) const {
+void EngineState<Real>::velocities(std::vector<float>& out) const {
   to_particle_major(v_.data(), n_, stride_, out);
 }
 
 template <class Real>
-void ClothEngine<Real>::set_state(const std::vector<double>& x, const std::vector<double>& v) {
+void EngineState<Real>::set_state(const std::vector<double>& x, const std::vector<double>& v) {
   if (x.size() != 3 * n_ || v.size() != 3 * n_) {
     throw std::invalid_argument("set_state: got " + std::to_string(x.size()) + " positions and " +
                                 std::to_string(v.size()) + " velocities, expected " +
@@ -66,7 +147,7 @@ void ClothEngine<Real>::set_state(const std::vector<double>& x, const std::vecto
 }
 
 template <class Real>
-void ClothEngine<Real>::copy_raw_state(Cloth::RawState& out) const {
+void EngineState<Real>::copy_raw_state(Cloth::RawState& out) const {
   const std::size_t bytes = x_.size() * sizeof(Real);
   out.x.resize(bytes);
   out.v.resize(bytes);
@@ -75,7 +156,7 @@ void ClothEngine<Real>::copy_raw_state(Cloth::RawState& out) const {
 }
 
 template <class Real>
-void ClothEngine<Real>::set_raw_state(const Cloth::RawState& state) {
+void EngineState<Real>::set_raw_state(const Cloth::RawState& state) {
   const std::size_t bytes = x_.size() * sizeof(Real);
   if (state.x.size() != bytes || state.v.size() != bytes) {
     throw std::invalid_argument("set_raw_state: got " + std::to_string(state.x.size()) + " and " +
@@ -87,7 +168,7 @@ void ClothEngine<Real>::set_raw_state(const Cloth::RawState& state) {
 }
 
 template <class Real>
-bool ClothEngine<Real>::state_is_finite() const {
+bool EngineState<Real>::state_is_finite() const {
   for (std::size_t k = 0; k < 3; ++k) {
     for (std::size_t i = 0; i < n_; ++i) {
       if (!std::isfinite(x_[k * stride_ + i]) || !std::isfinite(v_[k * stride_ + i])) return false;
@@ -97,7 +178,7 @@ bool ClothEngine<Real>::state_is_finite() const {
 }
 
 template <class Real>
-Cloth::Energy ClothEngine<Real>::energy() const {
+Cloth::Energy EngineState<Real>::energy() const {
   Cloth::Energy energy;
   for (std::size_t i = 0; i < n_; ++i) {
     if (inverse_mass_[i] == 0) continue;  // pinned: does not move, no finite mass
@@ -138,7 +219,7 @@ Cloth::Energy ClothEngine<Real>::energy() const {
 }
 
 template <class Real>
-double ClothEngine<Real>::list_spring_energy() const {
+double EngineState<Real>::list_spring_energy() const {
   const ClothModel& m = *model_;
   double spring = 0.0;
   for (std::size_t s = 0; s < m.spring_count(); ++s) {
@@ -151,7 +232,7 @@ double ClothEngine<Real>::list_spring_energy() const {
 
 template <class Real>
 template <class Visit>
-void ClothEngine<Real>::for_each_ratio(Cloth::Springs which, Visit&& visit) const {
+void EngineState<Real>::for_each_ratio(Cloth::Springs which, Visit&& visit) const {
   const ClothModel& m = *model_;
   for (std::size_t s = 0; s < m.spring_count(); ++s) {
     if (which == Cloth::Springs::Structural && m.family[s] != CLOTHLAB_SPRING_STRUCTURAL) continue;
@@ -161,7 +242,7 @@ void ClothEngine<Real>::for_each_ratio(Cloth::Springs which, Visit&& visit) cons
 }
 
 template <class Real>
-Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
+Cloth::Stretch EngineState<Real>::stretch(Cloth::Springs which) const {
   if (!on_grid_path()) {
     double worst = 0.0, worst_away = 0.0, sum = 0.0;
     std::size_t springs = 0, away = 0;
@@ -210,7 +291,7 @@ Cloth::Stretch ClothEngine<Real>::stretch(Cloth::Springs which) const {
 }
 
 template <class Real>
-double ClothEngine<Real>::stretch_percentile(Cloth::Springs which, double fraction) const {
+double EngineState<Real>::stretch_percentile(Cloth::Springs which, double fraction) const {
   if (!(fraction > 0.0 && fraction <= 1.0))
     throw std::invalid_argument("stretch_percentile: fraction " + std::to_string(fraction) +
                                 " outside (0, 1]");
@@ -240,7 +321,7 @@ double ClothEngine<Real>::stretch_percentile(Cloth::Springs which, double fracti
 }
 
 template <class Real>
-Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) const {
+Cloth::LongestSpring EngineState<Real>::longest_spring(Cloth::Springs which) const {
   Cloth::LongestSpring longest;
   double worst = -1.0;  // below any length ratio: the first spring is taken
   if (!on_grid_path()) {
@@ -273,7 +354,7 @@ Cloth::LongestSpring ClothEngine<Real>::longest_spring(Cloth::Springs which) con
   return longest;
 }
 
-template class ClothEngine<float>;
-template class ClothEngine<double>;
+template class EngineState<float>;
+template class EngineState<double>;
 
 }  // namespace clothlab::detail
