@@ -40,24 +40,10 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, std::shared_ptr<const Cl
 
 }  // namespace detail
 
-namespace {
-
-constexpr std::string_view kBuilt[] = {
-    CLOTHLAB_SIMD_BASELINE,
-#if defined(CLOTHLAB_SIMD_WITH_AVX2)
-    "avx2",
-#endif
-#if defined(CLOTHLAB_SIMD_WITH_AVX512)
-    "avx512",
-#endif
-};
-
-}  // namespace
-
-std::span<const std::string_view> simd_targets_built() { return kBuilt; }
+std::span<const std::string_view> simd_targets_built() { return sdk::kBuiltSimdTargets; }
 
 std::string_view simd_target() {
-  const sdk::SimdChoice choice = sdk::choose_simd_target(kBuilt);
+  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
   if (choice.target.empty()) throw std::invalid_argument(choice.error);
   return choice.target;
 }

@@ -28,16 +28,7 @@ void project_float_row_avx512(const ColorRow<float>& row);
 // Throws sdk::Error (invalid argument) with the choice's one-line reason when CLOTHLAB_SIMD
 // names a target that cannot run here.
 inline FloatRowKernel choose_float_row_kernel() {
-  static constexpr std::string_view built[] = {
-    CLOTHLAB_SIMD_BASELINE,
-#if defined(CLOTHLAB_SIMD_WITH_AVX2)
-    "avx2",
-#endif
-#if defined(CLOTHLAB_SIMD_WITH_AVX512)
-    "avx512",
-#endif
-  };
-  const sdk::SimdChoice choice = sdk::choose_simd_target(built);
+  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
   if (choice.target.empty()) throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, choice.error);
 #if defined(CLOTHLAB_SIMD_WITH_AVX512)
   if (choice.target == "avx512") return project_float_row_avx512;

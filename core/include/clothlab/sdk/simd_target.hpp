@@ -95,4 +95,19 @@ inline SimdChoice choose_simd_target(std::span<const std::string_view> built) {
   return choose_simd_target(built, std::getenv(std::string(kSimdVariable).c_str()));
 }
 
+#if defined(CLOTHLAB_SIMD_BASELINE)
+// The targets the module including this was built with, narrowest first, from the definitions
+// its build sets (CLOTHLAB_SIMD_BASELINE, CLOTHLAB_SIMD_WITH_AVX2, CLOTHLAB_SIMD_WITH_AVX512).
+// Internal linkage: the core and a plugin each keep their own list.
+static constexpr std::string_view kBuiltSimdTargets[] = {
+    CLOTHLAB_SIMD_BASELINE,
+#if defined(CLOTHLAB_SIMD_WITH_AVX2)
+    "avx2",
+#endif
+#if defined(CLOTHLAB_SIMD_WITH_AVX512)
+    "avx512",
+#endif
+};
+#endif
+
 }  // namespace clothlab::sdk
