@@ -53,8 +53,13 @@ double first_entry(const Collider& collider, const Vec3& from, const Vec3& to) {
   return -1;
 }
 
-// The particle's start where the body is now: the same point of the body's frame.
+// The particle's start where the body is now: the same point of the body's frame. A body that
+// has not turned (most: a table, a character's translation) only carries it along.
 Vec3 start_on_body(const Collider& before, const Collider& now, const Vec3& from) {
+  if (before.pose.orientation == now.pose.orientation)
+    return {from[0] + (now.pose.position[0] - before.pose.position[0]),
+            from[1] + (now.pose.position[1] - before.pose.position[1]),
+            from[2] + (now.pose.position[2] - before.pose.position[2])};
   return now.pose.to_world(before.pose.to_local(from));
 }
 
@@ -65,9 +70,10 @@ double crossing(const Collider& collider, const Vec3& from, const Vec3& to) {
   const Vec3 path{to[0] - from[0], to[1] - from[1], to[2] - from[2]};
   const double half = 0.5 * std::sqrt(dot(path, path));
   const Vec3 middle{from[0] + 0.5 * path[0], from[1] + 0.5 * path[1], from[2] + 0.5 * path[2]};
-  // The path lies within `half` of its middle: farther than that plus the thickness from the
-  // surface, it cannot touch (the common case, one distance per particle).
-  if (surface_distance(collider, middle).distance > half + collider.thickness) return -1;
+  // The path lies within `half` of its middle: farther than that from the surface, it never
+  // enters the collider, so it can neither pass through it nor past its middle (the common
+  // case, one distance per particle, also for one resting in the thickness band).
+  if (surface_distance(collider, middle).distance > half) return -1;
   if (dot(surface_distance(collider, from).normal, surface_distance(collider, to).normal) >= 0)
     return -1;  // the same side: the end's own resolution is right
   return first_entry(collider, from, to);
