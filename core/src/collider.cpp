@@ -12,6 +12,8 @@ namespace {
 
 // Rotates v by the unit quaternion (w, x, y, z), or by its inverse.
 Vec3 rotate_by(const std::array<double, 4>& q, const Vec3& v, bool inverse) {
+  // Most bodies a cloth meets are never turned (a table, a character's capsules as set up).
+  if (q[1] == 0 && q[2] == 0 && q[3] == 0) return v;
   const double w = q[0];
   const double s = inverse ? -1.0 : 1.0;
   const Vec3 u{s * q[1], s * q[2], s * q[3]};

@@ -48,9 +48,11 @@ double EngineState<Real>::spring_energy_at(const Real* px, std::size_t i,
   for (uint32_t k = springs.adjacency_offsets[i]; k < springs.adjacency_offsets[i + 1]; ++k) {
     const uint32_t spring = springs.adjacent_springs[k];
     const uint32_t j = springs.first[spring] == i ? springs.second[spring] : springs.first[spring];
-    const double stretch =
-        std::hypot(px[j] - position[0], px[s + j] - position[1], px[2 * s + j] - position[2]) -
-        springs.rest_length[spring];
+    // No hypot: its scaling against overflow costs more than the rest of the spring, and a
+    // cloth whose lengths overflow when squared (past 1e154 m) has long been called diverged.
+    const double dx = px[j] - position[0], dy = px[s + j] - position[1],
+                 dz = px[2 * s + j] - position[2];
+    const double stretch = std::sqrt(dx * dx + dy * dy + dz * dz) - springs.rest_length[spring];
     energy += 0.5 * springs.ks[spring] * stretch * stretch;
   }
   return energy;
