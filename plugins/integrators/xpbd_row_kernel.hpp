@@ -162,15 +162,16 @@ template <bool Uniform>
 struct PushLanes;
 
 // Uniform-weight lanes: one product serves both ends, zero where the spring is not pushed, so
-// the ends need no blend (six per spring: a cost on 8 lanes, where a blend is an instruction of
-// its own). A lane not pushed adds 0 d, d finite (its squared length is below FLT_MIN, and
-// lanes outside the block load zeros): its displacement stays, but for a zero's sign.
+// the ends need no blend (six per block of lanes: a cost on 8 lanes, where a blend is an
+// instruction of its own, and a masked FMA on 16 is one). A lane not pushed adds 0 d, d finite (its
+// squared length is below FLT_MIN, and lanes outside the block load zeros): its displacement stays,
+// but for a zero's sign.
 template <>
 struct PushLanes<true> {
   Floats push;
 
   PushLanes(const SpringLanes& u, Floats w, Floats)
-      : push(keep(u.pushed, w * u.delta * u.inverse_length)) {}
+      : push(keep(u.pushed, w * (u.delta * u.inverse_length))) {}
   Floats first_end(Floats d, Floats dx) const { return fused_multiply_add(push, d, dx); }
   Floats second_end(Floats d, Floats dx) const { return fused_negated_multiply_add(push, d, dx); }
 };
