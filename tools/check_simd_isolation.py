@@ -3,7 +3,7 @@
 
   check_simd_isolation.py FILE...
 
-A portable build compiles the engine and xpbd's row kernel once per SIMD target, each copy in a
+A portable build compiles the engine and xpbd's grid sweep once per SIMD target, each copy in a
 namespace of its own (docs/reference/simd-dispatch.md). Should a function compiled for AVX2 or
 AVX-512 lose that namespace (an inline function of a header the prelude left out, say), the
 linker may keep its copy for every caller, and a CPU without the target would stop on an

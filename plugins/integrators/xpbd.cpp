@@ -26,12 +26,15 @@
 //   xpbd_general_sweep.hpp  a substep over any topology, spring by spring
 //   xpbd_chebyshev.hpp      Chebyshev acceleration of the general sweep's iterations
 //   xpbd_grid.hpp           the host's grid (clothlab.grid/1) and its colours as stencils
+//   xpbd_grid_path.hpp      the grid path: its plan (xpbd_grid_plan.hpp) and the SIMD
+//                           target's sweep
 //   xpbd_grid_sweep.hpp     a substep on the grid, row by row, on up to two bands of threads
 //   xpbd_wavefront.hpp      the grid substep's phases and their lags
 //   xpbd_bands.hpp          how the grid sweep's threads share the rows and phases
 //   xpbd_row_kernel.hpp     one colour's springs of one grid row
 //   xpbd_uniform_mass.hpp   the grid's common inverse mass, which the row kernels skip
 //   xpbd_tethers.hpp        the long-range attachments to the pins
+//   xpbd_tether_projection.hpp  their projection
 //
 // Tethers are a model change, not a solver setting: where the spring dynamics would strain the
 // cloth along a tether by more than the slack, the tethered cloth converges (in h) to another
@@ -61,7 +64,7 @@
 #include "scratch_vectors.hpp"
 #include "xpbd_general_sweep.hpp"
 #include "xpbd_grid.hpp"
-#include "xpbd_grid_sweep.hpp"
+#include "xpbd_grid_path.hpp"
 #include "xpbd_substep.hpp"
 #include "xpbd_tethers.hpp"
 
@@ -77,7 +80,7 @@ template <class Real>
 struct Solver {
   Tethers<Real> tethers;
   GeneralSweep<Real> general;
-  GridSweep<Real> grid;
+  GridPath<Real> grid;
   bool on_grid = false;
 };
 

@@ -17,6 +17,7 @@
 #include "xpbd_chebyshev.hpp"
 #include "xpbd_constraint.hpp"
 #include "xpbd_substep.hpp"
+#include "xpbd_tether_projection.hpp"
 
 namespace clothlab::builtin {
 
@@ -116,9 +117,9 @@ class GeneralSweep {
       const long blocks = (n + tether_block - 1) / tether_block;
 #pragma omp for schedule(static)
       for (long block = 0; block < blocks; ++block)
-        s.tethers->project(static_cast<std::size_t>(block * tether_block),
-                           static_cast<std::size_t>(std::min(n, (block + 1) * tether_block)), s.x,
-                           s.displacement, s.inverse_mass, s.stride);
+        project_tethers(*s.tethers, static_cast<std::size_t>(block * tether_block),
+                        static_cast<std::size_t>(std::min(n, (block + 1) * tether_block)), s.x,
+                        s.displacement, s.inverse_mass, s.stride);
     }
     bool finite = true;
 #pragma omp for schedule(static)

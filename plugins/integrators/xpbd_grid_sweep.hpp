@@ -14,6 +14,10 @@
 // The substep's displacement dx lives in v's memory (the pins' velocities wait in the
 // scratch array), and runs of springs whose ends all have the grid's common inverse mass
 // skip the weights (xpbd_uniform_mass.hpp).
+//
+// The whole sweep is compiled per SIMD target in a portable build (xpbd_grid_path.hpp), so
+// its predict, tether and velocity passes run the target's instructions as its row kernel
+// does; what it works with is the plan built at prepare (xpbd_grid_plan.hpp).
 #pragma once
 
 #include <omp.h>
@@ -29,43 +33,31 @@
 #include <utility>
 #include <vector>
 
+#include "simd_namespace.hpp"
 #include "xpbd_bands.hpp"
-#include "xpbd_grid.hpp"
-#include "xpbd_row_targets.hpp"
+#include "xpbd_color_row.hpp"
+#include "xpbd_grid_plan.hpp"
+#include "xpbd_row_kernel.hpp"
 #include "xpbd_substep.hpp"
-#include "xpbd_uniform_mass.hpp"
+#include "xpbd_tether_projection.hpp"
 #include "xpbd_wavefront.hpp"
 
-namespace clothlab::builtin {
+namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
 class GridSweep {
  public:
-  // From `prepare`: allocates all a substep needs on up to `threads` threads.
-  void prepare(GridLayout layout, int iterations, uint32_t tether_slots, const Real* inverse_mass,
-               uint32_t particle_count, int threads) {
-    layout_ = std::move(layout);
-    iterations_ = iterations;
-    // n multipliers per colour, kept only when a substep runs more than one iteration.
-    lambda_.assign(iterations > 1 ? layout_.colors.size() * particle_count : 0, 0);
-    phases_ = wavefront_phases(layout_, iterations, tether_slots);
-    // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
-    // can cost a context switch on a loaded machine, one per narrow row would dominate.
-    publish_every_ = std::max<uint32_t>(1, 2048 / layout_.cols);
-    uniform_.find(inverse_mass, layout_.rows, layout_.cols);
-    progress_ = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
-    if constexpr (std::is_same_v<Real, float>) float_row_ = choose_float_row_kernel();
-  }
+  GridSweep(GridPlan<Real>& plan, const Substep<Real>& s) : plan_(plan), s_(s) {}
 
   // One substep on `threads` threads; false when a velocity came out non-finite.
-  bool run(const Substep<Real>& s, int threads) {
-    if (threads == 1) return sweep(s, 0, 1);
-    for (int thread = 0; thread < threads; ++thread) progress_[thread].reset();
-    for (int side = 0; side < 2; ++side) seam_progress_[side].reset();
-    claims_->reset(layout_.rows, band_reserve(phases_));
+  bool run(int threads) {
+    if (threads == 1) return sweep(0, 1);
+    for (int thread = 0; thread < threads; ++thread) plan_.progress[thread].reset();
+    for (int side = 0; side < 2; ++side) plan_.seam_progress[side].reset();
+    plan_.claims->reset(plan_.layout.rows, band_reserve(plan_.phases));
     bool finite = true;
 #pragma omp parallel num_threads(threads) reduction(&& : finite)
-    finite = sweep(s, omp_get_thread_num(), omp_get_num_threads());
+    finite = sweep(omp_get_thread_num(), omp_get_num_threads());
     return finite;
   }
 
@@ -73,40 +65,41 @@ class GridSweep {
   // This thread's phases over its band's wavefront, as long as the band claims rows, then
   // (each band's first thread, after all bands are done) the seam between the bands;
   // returns its share of "every velocity is finite".
-  bool sweep(const Substep<Real>& s, int thread, int threads) {
-    const uint32_t reserve = band_reserve(phases_);
-    const Bands bands = bands_of(threads, layout_.rows, reserve);
-    const uint32_t rows = layout_.rows;
+  bool sweep(int thread, int threads) {
+    const std::vector<Phase>& phases = plan_.phases;
+    const uint32_t reserve = band_reserve(phases);
+    const Bands bands = bands_of(threads, plan_.layout.rows, reserve);
+    const uint32_t rows = plan_.layout.rows;
     const bool upper = thread >= bands.lower_threads;
     const int member = upper ? thread - bands.lower_threads : thread;
     const int team = upper ? threads - bands.lower_threads : bands.lower_threads;
-    const auto [begin, end] = phases_of(phases_, member, team);
+    const auto [begin, end] = phases_of(phases, member, team);
+    Progress* progress = plan_.progress.get();
     bool finite = true;
     uint32_t held = bands.two ? reserve : rows;  // the band's rows, for its first thread
     uint32_t time = 0;
     for (;; ++time) {
       if (member > 0) {
-        if (!wait_for(progress_[thread - 1], time)) break;
+        if (!wait_for(progress[thread - 1], time)) break;
       } else if (time == held) {
-        if (bands.two) held += claims_->claim();
+        if (bands.two) held += plan_.claims->claim();
         if (time == held) break;
       }
       for (std::size_t q = begin; q < end; ++q) {
-        const Phase& phase = phases_[q];
+        const Phase& phase = phases[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
-        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, s,
-                  finite);
+        run_phase(phase, upper ? rows - 1 - time + phase.upward_offset : time - phase.lag, finite);
       }
-      if (member + 1 < team && (time + 1) % publish_every_ == 0)
-        progress_[thread].completed.store(time + 1, std::memory_order_release);
+      if (member + 1 < team && (time + 1) % plan_.publish_every == 0)
+        progress[thread].completed.store(time + 1, std::memory_order_release);
     }
-    if (member + 1 < team) progress_[thread].end(time);
+    if (member + 1 < team) progress[thread].end(time);
     if (threads > 1) {
 #pragma omp barrier
     }
     // The lower band holds rows [0, boundary), the upper band the rest.
     if (thread == 0 || (bands.two && thread == bands.lower_threads))
-      run_seam(s, bands.two, upper, upper ? rows - time : time, finite);
+      run_seam(bands.two, upper, upper ? rows - time : time, finite);
     return finite;
   }
 
@@ -114,21 +107,21 @@ class GridSweep {
   // each band's first thread takes the rows on its side, and the two meet after each phase
   // (a phase's rows are independent; the next phase reads rows either may have written).
   // One band: thread 0 takes the last rows.
-  void run_seam(const Substep<Real>& s, bool two_bands, bool upper, uint32_t boundary,
-                bool& finite) {
+  void run_seam(bool two_bands, bool upper, uint32_t boundary, bool& finite) {
+    const std::vector<Phase>& phases = plan_.phases;
     const int side = upper ? 1 : 0;
-    for (std::size_t q = 0; q < phases_.size(); ++q) {
-      const Phase& phase = phases_[q];
+    for (std::size_t q = 0; q < phases.size(); ++q) {
+      const Phase& phase = phases[q];
       const uint32_t first = upper ? boundary : boundary - std::min(boundary, phase.lag);
-      const uint32_t last = !two_bands ? layout_.rows
+      const uint32_t last = !two_bands ? plan_.layout.rows
                             : upper    ? boundary + phase.upward_offset
                                        : boundary;  // one past
-      for (uint32_t row = first; row < last; ++row) run_phase(phase, row, s, finite);
+      for (uint32_t row = first; row < last; ++row) run_phase(phase, row, finite);
       // A phase with no lag left no rows on either side: nothing to wait for.
-      if (two_bands && q + 1 < phases_.size() && phase.lag > 0) {
-        seam_progress_[side].completed.store(static_cast<uint32_t>(q + 1),
-                                             std::memory_order_release);
-        wait_for(seam_progress_[1 - side], static_cast<uint32_t>(q));
+      if (two_bands && q + 1 < phases.size() && phase.lag > 0) {
+        plan_.seam_progress[side].completed.store(static_cast<uint32_t>(q + 1),
+                                                  std::memory_order_release);
+        wait_for(plan_.seam_progress[1 - side], static_cast<uint32_t>(q));
       }
     }
   }
@@ -171,11 +164,12 @@ class GridSweep {
     return non_finite == 0;
   }
 
-  void run_phase(const Phase& phase, uint32_t row, const Substep<Real>& s, bool& finite) {
-    const std::size_t row_begin = std::size_t{row} * layout_.cols;
+  void run_phase(const Phase& phase, uint32_t row, bool& finite) {
+    const Substep<Real>& s = s_;
+    const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
-        uniform_.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
           for (std::size_t c = 0; c < 3; ++c) {
             const std::size_t e = c * s.stride + row_begin + begin;
             predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
@@ -186,11 +180,12 @@ class GridSweep {
         return;
       case Phase::Kind::tether:
         // On the grid v holds the substep's displacement between predict and velocity.
-        s.tethers->project(row_begin, row_begin + layout_.cols, s.x, s.v, s.inverse_mass, s.stride);
+        project_tethers(*s.tethers, row_begin, row_begin + plan_.layout.cols, s.x, s.v,
+                        s.inverse_mass, s.stride);
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
-        uniform_.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
+        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
           for (std::size_t c = 0; c < 3; ++c) {
             const std::size_t e = c * s.stride + row_begin + begin;
             bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
@@ -202,12 +197,12 @@ class GridSweep {
         return;
       }
       case Phase::Kind::project: {
-        const GridColor& color = layout_.colors[phase.color];
+        const GridColor& color = plan_.layout.colors[phase.color];
         if (!color.starts_in_row(row)) return;
-        const auto [varied_begin, varied_end] = uniform_.varied_positions(color, row);
-        Real* lambda = lambda_.empty()
+        const auto [varied_begin, varied_end] = plan_.uniform.varied_positions(color, row);
+        Real* lambda = plan_.lambda.empty()
                            ? nullptr
-                           : lambda_.data() + std::size_t{phase.color} * s.particle_count;
+                           : plan_.lambda.data() + std::size_t{phase.color} * s.particle_count;
         const ColorRow<Real> job{
             s.x,
             s.v,
@@ -216,7 +211,7 @@ class GridSweep {
             s.stride,
             row_begin + color.col_begin,
             color.col_end - color.col_begin,
-            static_cast<std::size_t>(int64_t{color.row_step} * layout_.cols + color.col_step),
+            static_cast<std::size_t>(int64_t{color.row_step} * plan_.layout.cols + color.col_step),
             color.in_row(),
             color.col_step == 2 ? 1u : 0u,
             color.parity,
@@ -224,31 +219,25 @@ class GridSweep {
             static_cast<Real>(color.ks) * s.h_squared,
             static_cast<Real>(color.kd) * s.h,
             phase.iteration == 0,
-            phase.iteration + 1 < static_cast<uint32_t>(iterations_),
-            static_cast<Real>(uniform_.value()),
+            phase.iteration + 1 < static_cast<uint32_t>(plan_.iterations),
+            static_cast<Real>(plan_.uniform.value()),
             varied_begin,
             varied_end};
-        if constexpr (std::is_same_v<Real, float>) {
-          float_row_(job);
-        } else {
-          project_row(job);
-        }
+        project_row(job);
         return;
       }
     }
   }
 
-  GridLayout layout_;
-  int iterations_ = 1;
-  std::vector<Real> lambda_;  // per colour n multipliers, from the row's first particle on
-  std::vector<Phase> phases_;
-  UniformInverseMass uniform_;
-  FloatRowKernel float_row_ = nullptr;    // the SIMD target's (xpbd_row_targets.hpp)
-  uint32_t publish_every_ = 1;            // wavefront times between a thread's progress stores
-  std::unique_ptr<Progress[]> progress_;  // one per thread
-  std::unique_ptr<RowClaims> claims_ = std::make_unique<RowClaims>();  // the two bands' rows
-  // The seam's phases done by each band's first thread, the lower band's first.
-  std::unique_ptr<Progress[]> seam_progress_ = std::make_unique<Progress[]>(2);
+  GridPlan<Real>& plan_;
+  const Substep<Real>& s_;
 };
 
-}  // namespace clothlab::builtin
+// One substep on the grid on `threads` threads (what a SIMD target's entry point runs,
+// xpbd_grid_sweep_target.cpp); false when a velocity came out non-finite.
+template <class Real>
+bool sweep_grid(GridPlan<Real>& plan, const Substep<Real>& s, int threads) {
+  return GridSweep<Real>(plan, s).run(threads);
+}
+
+}  // namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE

@@ -156,25 +156,46 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
   return out;
 }
 
-// Pushes of the springs' two ends; on uniform-weight lanes one product serves both and a
-// pushed spring moves both ends.
-struct PushLanes {
-  Floats first, second;
-  LaneMask moves_first, moves_second;
+// Pushes of the springs' two ends, and the ends' displacements they give: dx_i + push_i d and
+// dx_j - push_j d where the end moves, dx unchanged elsewhere.
+template <bool Uniform>
+struct PushLanes;
+
+// Uniform-weight lanes: one product serves both ends, zero where the spring is not pushed, so
+// the ends need no blend (six per block of lanes: a cost on 8 lanes, where a blend is an
+// instruction of its own, and a masked FMA on 16 is one). A lane not pushed adds 0 d, d finite (its
+// squared length is below FLT_MIN, and lanes outside the block load zeros): its displacement stays,
+// but for a zero's sign.
+template <>
+struct PushLanes<true> {
+  Floats push;
+
+  PushLanes(const SpringLanes& u, Floats w, Floats)
+      : push(keep(u.pushed, w * (u.delta * u.inverse_length))) {}
+  Floats first_end(Floats d, Floats dx) const { return fused_multiply_add(push, d, dx); }
+  Floats second_end(Floats d, Floats dx) const { return fused_negated_multiply_add(push, d, dx); }
 };
 
-template <bool Uniform>
-inline PushLanes pushes(const SpringLanes& u, Floats wi, Floats wj) {
-  const Floats scale = u.delta * u.inverse_length;
-  if constexpr (Uniform) {
-    const Floats push = wi * scale;
-    return {push, push, u.pushed, u.pushed};
-  } else {
+// Lanes of another weight: an end of weight 0 (a pin) keeps its displacement bit for bit.
+template <>
+struct PushLanes<false> {
+  Floats first, second;
+  LaneMask moves_first, moves_second;
+
+  PushLanes(const SpringLanes& u, Floats wi, Floats wj) {
+    const Floats scale = u.delta * u.inverse_length;
     const Floats zero = zero_floats();
-    return {wi * scale, wj * scale, both(u.pushed, not_equal(wi, zero)),
-            both(u.pushed, not_equal(wj, zero))};
+    first = wi * scale, second = wj * scale;
+    moves_first = both(u.pushed, not_equal(wi, zero));
+    moves_second = both(u.pushed, not_equal(wj, zero));
   }
-}
+  Floats first_end(Floats d, Floats dx) const {
+    return masked_fused_multiply_add(moves_first, first, d, dx);
+  }
+  Floats second_end(Floats d, Floats dx) const {
+    return masked_fused_negated_multiply_add(moves_second, second, d, dx);
+  }
+};
 
 // A row's arrays from its first spring start, and the spacings, copied out of the ColorRow
 // once: the kernel's float stores could alias the row's fields, which the loop would then
@@ -219,13 +240,11 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   const SpringLanes u =
       spring_update(law, block.mask(), x_difference, dxi, dxj, inverse, accumulated);
   if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
-  const PushLanes push = pushes<Uniform>(u, wi, wj);
+  const PushLanes<Uniform> push(u, wi, wj);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
-    block.store(row.dx + i,
-                masked_fused_multiply_add(push.moves_first, push.first, u.d[k], dxi[k]));
-    block.store(row.dx + i + o,
-                masked_fused_negated_multiply_add(push.moves_second, push.second, u.d[k], dxj[k]));
+    block.store(row.dx + i, push.first_end(u.d[k], dxi[k]));
+    block.store(row.dx + i + o, push.second_end(u.d[k], dxj[k]));
   }
 }
 
@@ -324,12 +343,10 @@ inline void project_in_row(const ColorRow<float>& row) {
     if constexpr (!Fresh) accumulated = load(lambda, lanes);
     const SpringLanes u = spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
     if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
-    const PushLanes push = pushes<kUniform>(u, wi, wj);
+    const PushLanes<kUniform> push(u, wi, wj);
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
-      interleave<Step>(
-          masked_fused_multiply_add(push.moves_first, push.first, u.d[k], dxi[k]),
-          masked_fused_negated_multiply_add(push.moves_second, push.second, u.d[k], dxj[k]), a, b);
+      interleave<Step>(push.first_end(u.d[k], dxi[k]), push.second_end(u.d[k], dxj[k]), a, b);
       store(dx + c + k * s, low, a);
       store(dx + c + k * s + kLanes, high, b);
     }

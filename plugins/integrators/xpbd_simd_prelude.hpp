@@ -1,8 +1,11 @@
-// xpbd's prelude for its row kernel's per-target copies (CMakeLists.txt): the type the copies
-// share, then the target's instruction sets (the core's simd_target_begin.hpp).
+// xpbd's prelude for its grid sweep's per-target copies (CMakeLists.txt): the types the copies
+// share with the rest of the plugin, then the target's instruction sets (the core's
+// simd_target_begin.hpp).
 #pragma once
 
 #include "xpbd_color_row.hpp"
+#include "xpbd_grid_plan.hpp"
+#include "xpbd_substep.hpp"
 
 // Last: what follows is compiled for the target.
 #include "simd_target_begin.hpp"

@@ -139,41 +139,17 @@ class Tethers {
         anchor_position_[c * count + a] = x[c * stride + anchor_particles_[a]];
   }
 
-  // Projects particles [begin, end) onto their tethers, slot by slot: dx is the substep's
-  // displacement (the particle is at x + dx), pins (inverse mass 0) are left alone.
-  // In double whatever Real is: a tether is up to the cloth's size long, float32 resolves
-  // d = x + dx - anchor ~ 1 m only to ~6e-8 m, and that rounding, new every substep, would
-  // enter the correction, which v = dx / h turns into ~1e-3 m/s (the conformance runner's
-  // float32-against-float64 check sees it; a spring, a few mm long, needs no such care).
-  void project(std::size_t begin, std::size_t end, const Real* __restrict x, Real* __restrict dx,
-               const Real* __restrict inverse_mass, std::size_t stride) const {
-    const std::size_t count = anchor_particles_.size();
-    const double* ax = anchor_position_.data();
-    const double *ay = ax + count, *az = ay + count;
-    const Real *x0 = x, *x1 = x + stride, *x2 = x + 2 * stride;
-    Real *dx0 = dx, *dx1 = dx + stride, *dx2 = dx + 2 * stride;
-    for (uint32_t slot = 0; slot < slots_; ++slot) {
-      const uint32_t* anchor = slot_anchor_.data() + std::size_t{slot} * particle_count_;
-      const Real* limit = slot_limit_.data() + std::size_t{slot} * particle_count_;
-#pragma omp simd
-      for (std::size_t i = begin; i < end; ++i) {
-        const uint32_t a = anchor[i];
-        const double d0 = (double{x0[i]} - ax[a]) + double{dx0[i]};
-        const double d1 = (double{x1[i]} - ay[a]) + double{dx1[i]};
-        const double d2 = (double{x2[i]} - az[a]) + double{dx2[i]};
-        const double squared = d0 * d0 + d1 * d1 + d2 * d2;
-        const double most = limit[i];
-        // Past its limit the particle moves onto the sphere: d -> d limit / |d|. Inside, and
-        // on a pin (whose limit is infinite), nothing moves: the tether is unilateral. (Both
-        // tests in double and without a short circuit, or the loop does not vectorise.)
-        const bool taut = (double{inverse_mass[i]} != 0) & (squared > most * most);
-        const double shrink = taut ? most / std::sqrt(squared) - 1 : 0.0;
-        dx0[i] += static_cast<Real>(shrink * d0);
-        dx1[i] += static_cast<Real>(shrink * d1);
-        dx2[i] += static_cast<Real>(shrink * d2);
-      }
-    }
+  // What a projection reads (xpbd_tether_projection.hpp): slot `slot`'s anchors (indices into
+  // the anchors' positions) and max lengths, one per particle, and the anchors' positions
+  // (3 x anchor_count(), SoA).
+  const uint32_t* slot_anchors(uint32_t slot) const {
+    return slot_anchor_.data() + std::size_t{slot} * particle_count_;
   }
+  const Real* slot_limits(uint32_t slot) const {
+    return slot_limit_.data() + std::size_t{slot} * particle_count_;
+  }
+  const double* anchor_positions() const { return anchor_position_.data(); }
+  std::size_t anchor_count() const { return anchor_particles_.size(); }
 
  private:
   // The pins' connected components over springs joining two pins, each ascending.

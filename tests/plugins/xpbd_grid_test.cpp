@@ -66,7 +66,8 @@ struct ProvotGrid {
 
 // The positions and velocities after 10 steps, every particle started moving (pins too).
 // On a host that offers the grid (`on_grid`) or not; colours in the order given; Chebyshev
-// acceleration (chebyshev_rho, chebyshev_delay) set when `chebyshev` is. With
+// acceleration (chebyshev_rho, chebyshev_delay) set when `chebyshev` is; `tethers` per
+// particle (xpbd's option). With
 // `parities_swapped`, the host's topology lists each stencil's two parities the other way
 // round than its grid stencils: the general path sweeps in the topology's order, the grid path
 // in the stencils', so the two end apart on every build (in one order, a build without the
@@ -80,7 +81,7 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
                                 const std::vector<uint32_t>& color_order, int iterations,
                                 const std::vector<uint32_t>& pins,
                                 const ChebyshevSetting* chebyshev = nullptr,
-                                bool parities_swapped = false) {
+                                bool parities_swapped = false, int tethers = 0) {
   const ProvotGrid grid(rows, cols);
   SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
   std::vector<std::vector<uint32_t>> colors;
@@ -99,7 +100,10 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
       system.set_velocity(r * cols + c, {0, 0, 2.0 * std::sin(0.3 * (r * cols + c))});
     }
   Integrator xpbd("xpbd");
-  xpbd.with("inner_substeps", 4).with("iterations", iterations).with("threads", 1);
+  xpbd.with("inner_substeps", 4)
+      .with("iterations", iterations)
+      .with("threads", 1)
+      .with("tethers", tethers);
   if (chebyshev != nullptr)
     xpbd.with("chebyshev_rho", chebyshev->rho)
         .with("chebyshev_delay", static_cast<double>(chebyshev->delay));
@@ -136,13 +140,17 @@ std::vector<uint32_t> scattered_pins() {
 // difference. 37 columns: whole in-row runs and row blocks plus a tail at 16 lanes and at 8.
 template <class Real>
 void expect_grid_path_is_the_general_sweep(int iterations, double tolerance,
-                                           const std::vector<uint32_t>& pins = corner_pins) {
+                                           const std::vector<uint32_t>& pins = corner_pins,
+                                           int tethers = 0) {
   std::vector<uint32_t> order(12), reversed(12);
   for (uint32_t c = 0; c < 12; ++c) order[c] = c, reversed[c] = 11 - c;
-  const std::vector<double> fast = state_after<Real>(rows, cols, true, order, iterations, pins);
-  const std::vector<double> general = state_after<Real>(rows, cols, false, order, iterations, pins);
-  const std::vector<double> other_order =
-      state_after<Real>(rows, cols, false, reversed, iterations, pins);
+  const auto state = [&](bool on_grid, const std::vector<uint32_t>& colors) {
+    return state_after<Real>(rows, cols, on_grid, colors, iterations, pins, nullptr, false,
+                             tethers);
+  };
+  const std::vector<double> fast = state(true, order);
+  const std::vector<double> general = state(false, order);
+  const std::vector<double> other_order = state(false, reversed);
   EXPECT_LT(largest_position_difference(fast, general), tolerance);
   EXPECT_GT(largest_position_difference(other_order, general), 10 * tolerance)
       << "the tolerance does not resolve a change of sweep order";
@@ -166,6 +174,14 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
   std::vector<uint32_t> middle = scattered_pins();
   middle.push_back(rows / 2 * cols + cols / 2);
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6, middle);
+}
+
+// The tethers, projected row by row in the grid sweep's wavefront (and by each SIMD target's
+// copy of it) and after the whole sweep on the general path.
+TEST(XpbdGrid, FastPathIsTheGeneralSweepWithTethers) {
+  expect_grid_path_is_the_general_sweep<double>(1, 1e-12, corner_pins, 3);
+  expect_grid_path_is_the_general_sweep<float>(1, 1e-6, corner_pins, 3);
+  expect_grid_path_is_the_general_sweep<float>(1, 1e-6, scattered_pins(), 3);
 }
 
 // A grid cloth on the host whose topology swaps the parities (state_after): the grid path and

@@ -1,0 +1,73 @@
+// xpbd's path on the grid: the plan built at prepare (xpbd_grid_plan.hpp) and the grid sweep
+// (xpbd_grid_sweep.hpp) of the SIMD target that runs here: the plugin's own copy (its build's
+// flags) or, in a portable build, a wider target's (xpbd_grid_sweep_target.cpp), chosen as the
+// core chooses its engine's (clothlab/sdk/simd_target.hpp): the widest the CPU runs, or the one
+// CLOTHLAB_SIMD names. float64 runs the plugin's own copy: the wider targets' copies are
+// float32 only, as the lane kernels are.
+#pragma once
+
+#include <clothlab/plugin.h>
+
+#include <clothlab/sdk.hpp>
+#include <clothlab/sdk/error.hpp>
+#include <clothlab/sdk/simd_target.hpp>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+
+#include "xpbd_grid.hpp"
+#include "xpbd_grid_plan.hpp"
+#include "xpbd_grid_sweep.hpp"
+#include "xpbd_substep.hpp"
+
+namespace clothlab::builtin {
+
+using FloatGridSweep = bool (*)(GridPlan<float>&, const Substep<float>&, int);
+
+#if defined(CLOTHLAB_SIMD_WITH_AVX2)
+bool sweep_float_grid_avx2(GridPlan<float>& plan, const Substep<float>& s, int threads);
+#endif
+#if defined(CLOTHLAB_SIMD_WITH_AVX512)
+bool sweep_float_grid_avx512(GridPlan<float>& plan, const Substep<float>& s, int threads);
+#endif
+
+// Throws sdk::Error (invalid argument) with the choice's one-line reason when CLOTHLAB_SIMD
+// names a target that cannot run here.
+inline FloatGridSweep choose_float_grid_sweep() {
+  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
+  if (choice.target.empty()) throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, choice.error);
+#if defined(CLOTHLAB_SIMD_WITH_AVX512)
+  if (choice.target == "avx512") return sweep_float_grid_avx512;
+#endif
+#if defined(CLOTHLAB_SIMD_WITH_AVX2)
+  if (choice.target == "avx2") return sweep_float_grid_avx2;
+#endif
+  return sweep_grid<float>;
+}
+
+template <class Real>
+class GridPath {
+ public:
+  // From `prepare`: the plan for up to `threads` threads, and the target's sweep.
+  void prepare(GridLayout layout, int iterations, uint32_t tether_slots, const Real* inverse_mass,
+               uint32_t particle_count, int threads) {
+    plan_.prepare(std::move(layout), iterations, tether_slots, inverse_mass, particle_count,
+                  threads);
+    if constexpr (std::is_same_v<Real, float>) float_sweep_ = choose_float_grid_sweep();
+  }
+
+  // One substep on `threads` threads; false when a velocity came out non-finite.
+  bool run(const Substep<Real>& s, int threads) {
+    if constexpr (std::is_same_v<Real, float>)
+      return float_sweep_(plan_, s, threads);
+    else
+      return sweep_grid(plan_, s, threads);
+  }
+
+ private:
+  GridPlan<Real> plan_;
+  FloatGridSweep float_sweep_ = nullptr;  // the SIMD target's
+};
+
+}  // namespace clothlab::builtin

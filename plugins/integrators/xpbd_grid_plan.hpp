@@ -1,0 +1,49 @@
+// What xpbd's grid sweep (xpbd_grid_sweep.hpp) works with, built once per prepare: the grid's
+// layout, the substep's phases, the multipliers, the common inverse mass and the threads'
+// progress. One type for every SIMD target's copy of the sweep.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "xpbd_bands.hpp"
+#include "xpbd_grid.hpp"
+#include "xpbd_uniform_mass.hpp"
+#include "xpbd_wavefront.hpp"
+
+namespace clothlab::builtin {
+
+template <class Real>
+struct GridPlan {
+  // Allocates all a substep needs on up to `threads` threads.
+  void prepare(GridLayout grid, int iteration_count, uint32_t tether_slots,
+               const Real* inverse_mass, uint32_t particle_count, int threads) {
+    layout = std::move(grid);
+    iterations = iteration_count;
+    // n multipliers per colour, kept only when a substep runs more than one iteration.
+    lambda.assign(iterations > 1 ? layout.colors.size() * particle_count : 0, 0);
+    phases = wavefront_phases(layout, iterations, tether_slots);
+    // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
+    // can cost a context switch on a loaded machine, one per narrow row would dominate.
+    publish_every = std::max<uint32_t>(1, 2048 / layout.cols);
+    uniform.find(inverse_mass, layout.rows, layout.cols);
+    progress = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
+  }
+
+  GridLayout layout;
+  int iterations = 1;
+  std::vector<Real> lambda;  // per colour n multipliers, from the row's first particle on
+  std::vector<Phase> phases;
+  UniformInverseMass uniform;
+  uint32_t publish_every = 1;            // wavefront times between a thread's progress stores
+  std::unique_ptr<Progress[]> progress;  // one per thread
+  std::unique_ptr<RowClaims> claims = std::make_unique<RowClaims>();  // the two bands' rows
+  // The seam's phases done by each band's first thread, the lower band's first.
+  std::unique_ptr<Progress[]> seam_progress = std::make_unique<Progress[]>(2);
+};
+
+}  // namespace clothlab::builtin
