@@ -13,5 +13,9 @@ if [ "$profile" = run ]; then
   parts=()
   [ -f build/CMakeCache.txt ] || parts=(-DCLOTHLAB_BUILD_TESTS=OFF -DCLOTHLAB_BUILD_BENCH=OFF)
 fi
+# A new tree is generated for Ninja (ninja-build), which compiles a target's files while the
+# libraries it links are still being built, where Makefiles wait for them; a tree keeps the
+# generator it was made with.
+if command -v ninja >/dev/null; then export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"; fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${parts[@]}" "$@"
 cmake --build build -j "$(nproc)"

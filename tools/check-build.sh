@@ -21,6 +21,8 @@ case "$label" in
     ;;
 esac
 build="build-check"
+# Ninja for a new tree, as in tools/build.sh.
+if command -v ninja >/dev/null; then export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"; fi
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCLOTHLAB_NATIVE=OFF -DCLOTHLAB_SANITIZE=host \
   -DCLOTHLAB_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "tests_$label"

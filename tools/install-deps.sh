@@ -10,7 +10,7 @@
 set -euo pipefail
 profile="${1:-test}"
 packages=(
-  cmake g++ make pkg-config
+  cmake ninja-build g++ make pkg-config
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libsqlite3-dev libsuitesparse-dev
   libassimp-dev

@@ -74,27 +74,55 @@ def frames(out, integrator):
     return folder
 
 
-def chromium(page, query, profile, *options):
-    """Headless Chromium (software WebGL) on the page; its result with the output options'."""
+def chromium_start(page, query, profile, *options):
+    """Starts headless Chromium (software WebGL) on the page with the output options; most of a
+    run is Chromium starting and stopping, not drawing, so a case starts its runs at once."""
     shutil.rmtree(profile, ignore_errors=True)
-    result = run("chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+    arguments = ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
                  "--no-first-run", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", f"--user-data-dir={profile}", "--use-angle=swiftshader",
                  "--enable-unsafe-swiftshader", f"--window-size={WIDTH},{HEIGHT}",
-                 "--virtual-time-budget=5000", *options, f"file://{page}?{query}")
+                 "--virtual-time-budget=5000", *options, f"file://{page}?{query}"]
+    process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return arguments, profile, process
+
+
+def chromium_output(started):
+    """The standard output of a Chromium run chromium_start started, once it ended well."""
+    arguments, profile, process = started
+    try:
+        stdout, stderr = process.communicate(timeout=300)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.communicate()
+        fail(f"{' '.join(arguments)} ran over 300 s")
     shutil.rmtree(profile, ignore_errors=True)
-    return result
+    if process.returncode != 0:
+        fail(f"{' '.join(arguments)} exited {process.returncode}: {stderr}")
+    return stdout
+
+
+def screenshots(page, shots):
+    """The page's screenshots, one per (query, path), taken by Chromium runs at the same time."""
+    started = [chromium_start(page, query, path + ".profile", f"--screenshot={path}")
+               for query, path in shots]
+    for run_started in started:
+        chromium_output(run_started)
+    images = []
+    for _, path in shots:
+        print("screenshot:", path)
+        images.append(Image.open(path).convert("RGB"))
+    return images
 
 
 def screenshot(page, query, path):
-    chromium(page, query, path + ".profile", f"--screenshot={path}")
-    print("screenshot:", path)
-    return Image.open(path).convert("RGB")
+    return screenshots(page, [(query, path)])[0]
 
 
-def page_dom(page, query, work):
-    """The page's document after its scripts ran (chromium --dump-dom)."""
-    return chromium(page, query, os.path.join(work, "dom.profile"), "--dump-dom").stdout
+def page_dom_start(page, query, work):
+    """Starts Chromium on the page to print its document after its scripts ran (--dump-dom);
+    chromium_output gives the document."""
+    return chromium_start(page, query, os.path.join(work, "dom.profile"), "--dump-dom")
 
 
 def differing(first, second):
@@ -150,16 +178,25 @@ def drape_view(out):
     return view
 
 
-def collider_pixels(view, out, t=0.5, name=""):
-    """The view at time t with its colliders, the mask of the pixels that change when the colliders
-    are hidden (colliders=0), their count, and the view with the colliders hidden."""
-    page = os.path.join(view, "index.html")
-    shown = screenshot(page, f"t={t}&paused=1", os.path.join(out, f"{name}colliders.png"))
-    hidden = screenshot(page, f"t={t}&paused=1&colliders=0",
-                        os.path.join(out, f"{name}no-colliders.png"))
+def collider_shots(out, t, name):
+    """The (query, path) of the view at time t with its colliders and with them hidden
+    (colliders=0)."""
+    return [(f"t={t}&paused=1", os.path.join(out, f"{name}colliders.png")),
+            (f"t={t}&paused=1&colliders=0", os.path.join(out, f"{name}no-colliders.png"))]
+
+
+def collider_mask(shown, hidden):
+    """The view with its colliders, the mask of the pixels that change when the colliders are
+    hidden, their count, and the view with the colliders hidden."""
     box = (0, 0, WIDTH - PANEL, HEIGHT)
     mask = differing(shown.crop(box), hidden.crop(box))
     return shown.crop(box), mask, sum(1 for p in mask.getdata() if p), hidden.crop(box)
+
+
+def collider_pixels(view, out, t=0.5, name=""):
+    """collider_mask of the view at time t."""
+    shots = collider_shots(out, t, name)
+    return collider_mask(*screenshots(os.path.join(view, "index.html"), shots))
 
 
 def collider_coloured(image, mask):
@@ -203,13 +240,12 @@ def mutant_draws_no_collider():
 # The cape run: the character stands at t = 0 and by CAPE_LATE has walked about 1.1 m along +x
 # (cape.cpp's script: 0.5 s from standing to 1.5 m/s, then walking straight).
 CAPE_LATE = 1.0
-def camera_azimuth(view):
-    """The page's starting orbit azimuth, which it publishes on its root element (data-orbit):
-    the camera's right axis is (cos, 0, -sin) of it."""
-    dom = page_dom(os.path.join(view, "index.html"), "paused=1", view)
+def camera_azimuth(dom):
+    """The page's starting orbit azimuth, which it publishes on its root element (data-orbit) of
+    its document after its scripts ran: the camera's right axis is (cos, 0, -sin) of it."""
     match = re.search(r'<html[^>]*data-orbit="([^"]*)"', dom)
     if match is None:
-        fail(f"{view}/index.html: no data-orbit on the page's root element to read")
+        fail("the cape's index.html: no data-orbit on the page's root element to read")
     return float(json.loads(html.unescape(match.group(1)))["azimuth"])
 
 
@@ -234,15 +270,16 @@ def cape_view(out):
     return view
 
 
-def walk_rightwards(view):
+def walk_rightwards(view, dom):
     """How far the torso (the run's first collider) goes from the first to the last frame along
-    the camera's right axis, in metres, from the runs.js the page plays."""
+    the camera's right axis, in metres, from the runs.js the page plays and the page's document
+    after its scripts ran."""
     with open(os.path.join(view, "runs.js")) as stream:
         text = stream.read()
     opening = "Object.assign("
     head, _ = json.JSONDecoder().raw_decode(text, text.index(opening) + len(opening))
     first, last = head["collider_poses"][0], head["collider_poses"][-1]
-    azimuth = camera_azimuth(view)
+    azimuth = camera_azimuth(dom)
     return (last[0] - first[0]) * math.cos(azimuth) - (last[2] - first[2]) * math.sin(azimuth)
 
 
@@ -260,13 +297,18 @@ def cape_problems(view, out):
     area = (WIDTH - PANEL) * HEIGHT
     problems = {"character": None, "cape": None, "motion": None}
     centres = []
+    page = os.path.join(view, "index.html")
+    dom = page_dom_start(page, "paused=1", view)
+    times = (0, CAPE_LATE)
+    shots = [shot for t in times for shot in collider_shots(out, t, f"cape-t{t}-")]
+    images = screenshots(page, shots)
     # The character faces the way it walks: its back, and the cape, are on the other side.
-    walk = walk_rightwards(view)
+    walk = walk_rightwards(view, chromium_output(dom))
     if abs(walk) < 0.5:
         fail(f"the run's torso goes only {walk:.2f} m across the view: the cape run is too short")
     behind = "left" if walk > 0 else "right"
-    for t in (0, CAPE_LATE):
-        image, mask, count, hidden = collider_pixels(view, out, t, f"cape-t{t}-")
+    for k, t in enumerate(times):
+        image, mask, count, hidden = collider_mask(images[2 * k], images[2 * k + 1])
         if count < 0.01 * area:
             problems["character"] = problems["character"] or (
                 f"t = {t}: only {count} of {area} view pixels change when the colliders are "
@@ -353,8 +395,8 @@ def cloth_drawn_and_moving():
     page = run(CLOTHLAB, "view", folder, "--out", os.path.join(out, "view")).stdout
     page = page.split("file://", 1)[1].split()[0]
     view = (0, 0, WIDTH - PANEL, HEIGHT)
-    early = screenshot(page, "t=0&paused=1", os.path.join(out, "t0.png"))
-    late = screenshot(page, "t=0.8&paused=1", os.path.join(out, "t0.8.png"))
+    early, late = screenshots(page, [("t=0&paused=1", os.path.join(out, "t0.png")),
+                                     ("t=0.8&paused=1", os.path.join(out, "t0.8.png"))])
     check_cloth(early, view, "t = 0")
     check_cloth(late, view, "t = 0.8")
     changed = sum(1 for p in differing(early.crop(view), late.crop(view)).getdata() if p)
@@ -421,7 +463,7 @@ INJECTED = 'run<img src=x onerror="document.body.setAttribute(\'data-injected\',
 def injection_problems(view):
     """Whether the page ran the folder name's script, and whether the name reached the page at
     all (shown as text), from the page's document after its scripts ran."""
-    dom = page_dom(os.path.join(view, "index.html"), "t=0&paused=1", view)
+    dom = chromium_output(page_dom_start(os.path.join(view, "index.html"), "t=0&paused=1", view))
     ran = re.search(r"<body[^>]*data-injected", dom) is not None
     shown = html.escape(INJECTED, quote=False) in dom
     return ran, shown
