@@ -117,11 +117,15 @@ Verdict parameters_respected(const clothlab_scenario& scenario) {
 
 // Every collider and its path over two seconds at 60 Hz pass the core's one collider validation,
 // as the host checks them before a run: shapes (collider_from_abi), finite unit poses
-// (pose_from_abi) and no jump between two frames (check_pose_continuity).
+// (pose_from_abi), no jump between two frames (check_pose_continuity) and, where the scenario
+// gives velocities (clothlab.colliders/2), finite ones (motion_from_abi) that its poses follow
+// (check_motion_agrees).
 Verdict colliders_valid(const clothlab_scenario& scenario) {
   const auto* table = static_cast<const clothlab_colliders_extension*>(
       clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_COLLIDERS));
   if (table == nullptr) return {true, "no colliders"};
+  const auto* moving = static_cast<const clothlab_colliders_extension_2*>(
+      clothlab_scenario_extension(&scenario, CLOTHLAB_EXT_COLLIDERS_2));
   const ScenarioInstance instance(scenario, defaults_of(scenario));
   constexpr double dt = 1.0 / 60.0;
   constexpr int frames = 120;
@@ -139,22 +143,39 @@ Verdict colliders_valid(const clothlab_scenario& scenario) {
       throw CheckFailure(which + error.what());
     }
     Pose previous;
+    Motion previous_motion;
     for (int frame = 0; frame <= frames; ++frame) {
       const double t = frame * dt;
       clothlab_pose raw_pose{};
       status = table->pose(instance.handle(), i, t, &raw_pose, &message);
       require(status == CLOTHLAB_OK, which + "pose at t = " + host::format_number(t) +
                                          " s failed: " + describe_status(status, message));
+      clothlab_collider_motion raw_motion{};
+      if (moving != nullptr) {
+        status = moving->motion(instance.handle(), i, t, &raw_motion, &message);
+        require(status == CLOTHLAB_OK, which + "motion at t = " + host::format_number(t) +
+                                           " s failed: " + describe_status(status, message));
+      }
+      Pose now;
       try {
-        const Pose now = pose_from_abi(raw_pose);
+        now = pose_from_abi(raw_pose);
         if (frame > 0) check_pose_continuity(previous, now, dt);
-        previous = now;
       } catch (const std::invalid_argument& error) {
         throw CheckFailure(which + "pose at t = " + host::format_number(t) + " s: " + error.what());
       }
+      if (moving != nullptr) try {
+          const Motion given = motion_from_abi(raw_motion);
+          if (frame > 0) check_motion_agrees(previous_motion, motion_between(previous, now, dt));
+          previous_motion = given;
+        } catch (const std::invalid_argument& error) {
+          throw CheckFailure(which + "motion at t = " + host::format_number(t) +
+                             " s: " + error.what());
+        }
+      previous = now;
     }
   }
-  return {true, std::to_string(count) + " colliders, valid shapes and continuous poses over 2 s"};
+  return {true, std::to_string(count) + " colliders, valid shapes, continuous poses" +
+                    (moving != nullptr ? " and velocities they follow" : "") + " over 2 s"};
 }
 
 // The cloth's particle count: the mesh's vertices when the scenario offers one.
