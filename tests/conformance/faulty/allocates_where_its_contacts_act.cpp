@@ -5,27 +5,21 @@
 
 #include "symplectic_euler.hpp"
 
-struct AllocatesWhereItsContactsAct : clothlab::faulty::SymplecticEulerBase {
-  using SymplecticEulerBase::SymplecticEulerBase;
+struct AllocatesWhereItsContactsAct
+    : clothlab::faulty::ContactsAroundEulerBase<AllocatesWhereItsContactsAct> {
+  using ContactsAroundEulerBase::ContactsAroundEulerBase;
   static constexpr const char* id = "allocates-where-its-contacts-act";
   static constexpr const char* name = "Symplectic Euler allocating where its contacts act";
   static constexpr const char* description =
       "faulty: allocates a list of the particles clothlab.contacts/1 moved";
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_RESOLVES_CONTACTS, nullptr, nullptr};
 
   template <class Real>
-  void prepare(clothlab::sdk::System<Real>& system) {
-    SymplecticEulerBase::prepare(system);
-    before_ = system.alloc_vector();
+  static const Real* kept(clothlab::sdk::System<Real>& system) {
+    return system.x();
   }
 
   template <class Real>
-  void step(clothlab::sdk::System<Real>& system, double t, double dt) {
-    SymplecticEulerBase::step(system, t, dt);
-    Real* const before = static_cast<Real*>(before_);
-    system.copy(before, system.x());
-    system.resolve_contacts(t + dt);
+  void after_contacts(clothlab::sdk::System<Real>& system, const Real* before) {
     const Real* const x = system.x();
     std::vector<uint32_t> moved;
     for (uint32_t i = 0; i < system.particle_count(); ++i)
@@ -33,7 +27,6 @@ struct AllocatesWhereItsContactsAct : clothlab::faulty::SymplecticEulerBase {
     moved_count_ += moved.size();
   }
 
-  void* before_ = nullptr;
   std::size_t moved_count_ = 0;
 };
 

@@ -8,8 +8,7 @@ struct ClaimsToResolveContacts : clothlab::faulty::SymplecticEulerBase {
   static constexpr const char* name = "Symplectic Euler claiming to resolve contacts";
   static constexpr const char* description =
       "faulty: declares that it resolves contacts, never calls clothlab.contacts/1";
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_RESOLVES_CONTACTS, nullptr, nullptr};
+  static constexpr clothlab_integrator_traits traits = clothlab::faulty::kResolvesContactsTraits;
 };
 
 CLOTHLAB_PLUGIN_ENTRY("faulty-claims-to-resolve-contacts", "0.0.1",

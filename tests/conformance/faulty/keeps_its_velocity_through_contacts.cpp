@@ -3,31 +3,23 @@
 // (contacts.carried-by-a-moving-body catches it).
 #include "symplectic_euler.hpp"
 
-struct KeepsItsVelocityThroughContacts : clothlab::faulty::SymplecticEulerBase {
-  using SymplecticEulerBase::SymplecticEulerBase;
+struct KeepsItsVelocityThroughContacts
+    : clothlab::faulty::ContactsAroundEulerBase<KeepsItsVelocityThroughContacts> {
+  using ContactsAroundEulerBase::ContactsAroundEulerBase;
   static constexpr const char* id = "keeps-its-velocity-through-contacts";
   static constexpr const char* name = "Symplectic Euler ignoring the contacts' velocity";
   static constexpr const char* description =
       "faulty: restores its velocity after clothlab.contacts/1";
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_RESOLVES_CONTACTS, nullptr, nullptr};
 
   template <class Real>
-  void prepare(clothlab::sdk::System<Real>& system) {
-    SymplecticEulerBase::prepare(system);
-    velocity_ = system.alloc_vector();
+  static const Real* kept(clothlab::sdk::System<Real>& system) {
+    return system.v();
   }
 
   template <class Real>
-  void step(clothlab::sdk::System<Real>& system, double t, double dt) {
-    SymplecticEulerBase::step(system, t, dt);
-    Real* const kept = static_cast<Real*>(velocity_);
-    system.copy(kept, system.v());
-    system.resolve_contacts(t + dt);
-    system.copy(system.v(), kept);
+  void after_contacts(clothlab::sdk::System<Real>& system, const Real* velocity_before) {
+    system.copy(system.v(), velocity_before);
   }
-
-  void* velocity_ = nullptr;
 };
 
 CLOTHLAB_PLUGIN_ENTRY("faulty-keeps-its-velocity-through-contacts", "0.0.1",

@@ -10,8 +10,7 @@ struct ResolvesAtTheStepStart : clothlab::faulty::SymplecticEulerBase {
   static constexpr const char* name = "Symplectic Euler resolving contacts at the step's start";
   static constexpr const char* description =
       "faulty: calls clothlab.contacts/1 with the step's start time";
-  static constexpr clothlab_integrator_traits traits{
-      sizeof(clothlab_integrator_traits), CLOTHLAB_TRAIT_RESOLVES_CONTACTS, nullptr, nullptr};
+  static constexpr clothlab_integrator_traits traits = clothlab::faulty::kResolvesContactsTraits;
 
   template <class Real>
   void step(clothlab::sdk::System<Real>& system, double t, double dt) {
