@@ -11,14 +11,15 @@
 #include <cmath>
 #include <vector>
 
-#include "preconditioned_cg.hpp"
 #include "extension_support.hpp"
+#include "preconditioned_cg.hpp"
 #include "reference_system.hpp"
 
 namespace clothlab {
 namespace {
 
 using testing::host_extension;
+using testing::max_abs;
 using testing::values_of;
 using testing::vector_from;
 
@@ -76,12 +77,6 @@ Sweeps run_sweeps(const clothlab_system& system, bool with_velocity) {
   out.r = values_of<Real>(system, r);
   out.z = values_of<Real>(system, z);
   return out;
-}
-
-double max_abs(const std::vector<double>& values) {
-  double worst = 0;
-  for (double value : values) worst = std::max(worst, std::abs(value));
-  return worst;
 }
 
 void expect_near(const std::vector<double>& engine, const std::vector<double>& oracle,

@@ -1,5 +1,8 @@
-// Small helpers shared by the core tests: scenes and element access into system vectors.
+// Small helpers shared by the core tests: scenes, element access into system vectors, and the
+// largest entry and difference of particle-major vectors.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <clothlab/core/cloth.hpp>
@@ -99,6 +102,22 @@ std::vector<double> acceleration(Cloth& cloth, bool with_velocity = true) {
   }
   if (status != CLOTHLAB_OK) out.assign(out.size(), -1e300);
   return out;
+}
+
+// The largest magnitude among `values`.
+inline double max_abs(const std::vector<double>& values) {
+  double largest = 0;
+  for (double value : values) largest = std::max(largest, std::abs(value));
+  return largest;
+}
+
+// The largest entrywise difference of two vectors of one size.
+inline double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double largest = 0;
+  for (std::size_t e = 0; e < a.size() && e < b.size(); ++e)
+    largest = std::max(largest, std::abs(a[e] - b[e]));
+  return largest;
 }
 
 }  // namespace clothlab::testing

@@ -15,20 +15,10 @@ namespace clothlab {
 namespace {
 
 using testing::host_extension;
+using testing::max_abs;
+using testing::max_difference;
 using testing::values_of;
 using testing::vector_from;
-
-double max_abs(const std::vector<double>& values) {
-  double worst = 0;
-  for (double value : values) worst = std::max(worst, std::abs(value));
-  return worst;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double worst = 0;
-  for (std::size_t e = 0; e < a.size(); ++e) worst = std::max(worst, std::abs(a[e] - b[e]));
-  return worst;
-}
 
 // A float64 cloth scaled by `scale` about its first particle (> 1: every spring stretched,
 // < 1: every spring compressed), with velocities and two directions u, w (0 where pinned).

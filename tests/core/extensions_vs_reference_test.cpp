@@ -15,14 +15,9 @@ namespace clothlab {
 namespace {
 
 using testing::host_extension;
+using testing::max_abs;
 using testing::values_of;
 using testing::vector_from;
-
-double max_abs(const std::vector<double>& values) {
-  double worst = 0;
-  for (double value : values) worst = std::max(worst, std::abs(value));
-  return worst;
-}
 
 template <class Real>
 struct Pair {

@@ -35,6 +35,9 @@
 namespace clothlab {
 namespace {
 
+using testing::max_abs;
+using testing::max_difference;
+
 PipelineOptions general_options(int threads = 1) {
   PipelineOptions options;
   options.threads = threads;
@@ -76,19 +79,6 @@ std::vector<double> accelerations(Cloth& cloth, bool with_velocities = true) {
                                                             : static_cast<const float*>(a)[at];
     }
   return out;
-}
-
-double max_abs(const std::vector<double>& values) {
-  double largest = 0;
-  for (double value : values) largest = std::max(largest, std::abs(value));
-  return largest;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double largest = 0;
-  for (std::size_t c = 0; c < a.size(); ++c) largest = std::max(largest, std::abs(a[c] - b[c]));
-  return largest;
 }
 
 Scene airy_scene(uint32_t rows, uint32_t cols) {

@@ -13,6 +13,8 @@ namespace clothlab {
 namespace {
 
 using testing::host_extension;
+using testing::max_abs;
+using testing::max_difference;
 using testing::values_of;
 using testing::vector_from;
 
@@ -20,18 +22,6 @@ Scene windless(uint32_t rows, uint32_t cols) {
   Scene scene = testing::busy_scene(rows, cols);
   scene.wind_strength = 0.0;
   return scene;
-}
-
-double max_abs(const std::vector<double>& values) {
-  double worst = 0;
-  for (double value : values) worst = std::max(worst, std::abs(value));
-  return worst;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double worst = 0;
-  for (std::size_t e = 0; e < a.size(); ++e) worst = std::max(worst, std::abs(a[e] - b[e]));
-  return worst;
 }
 
 // A float64 cloth off rest with a direction u (zero on pinned particles) and the Jacobian.

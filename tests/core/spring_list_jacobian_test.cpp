@@ -19,6 +19,8 @@ namespace clothlab {
 namespace {
 
 using testing::host_extension;
+using testing::max_abs;
+using testing::max_difference;
 using testing::values_of;
 using testing::vector_from;
 
@@ -28,19 +30,6 @@ PipelineOptions options_with(bool general, int threads = 1) {
   options.adaptive_threads = false;
   options.force_general_path = general;
   return options;
-}
-
-double max_abs(const std::vector<double>& values) {
-  double worst = 0;
-  for (double value : values) worst = std::max(worst, std::abs(value));
-  return worst;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double worst = 0;
-  for (std::size_t e = 0; e < a.size(); ++e) worst = std::max(worst, std::abs(a[e] - b[e]));
-  return worst;
 }
 
 std::vector<double> wave(std::size_t size, double frequency, double phase) {

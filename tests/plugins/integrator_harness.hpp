@@ -14,6 +14,9 @@
 
 namespace clothlab::test {
 
+// Standard gravity (m/s²), under which the integrator tests' scenes fall.
+inline constexpr double g = 9.81;
+
 // The test name suffix of a test parameterised by integrator id: "/rk4", stable across builds.
 template <class Id>
 std::string integrator_id_name(const ::testing::TestParamInfo<Id>& info) {

@@ -16,8 +16,6 @@
 namespace clothlab::test {
 namespace {
 
-constexpr double g = 9.81;
-
 clothlab_solver_step_statistics last_step(const Integrator& integrator) {
   const auto* extension = static_cast<const clothlab_solver_statistics_extension*>(
       integrator.descriptor().get_extension(CLOTHLAB_EXT_SOLVER_STATISTICS));

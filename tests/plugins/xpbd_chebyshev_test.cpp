@@ -18,7 +18,6 @@
 namespace clothlab::test {
 namespace {
 
-constexpr double g = 9.81;
 constexpr double kH = 1.0 / 30.0;
 
 // Particles of 1 kg joined by springs, some pinned, started moving: one substep of h.

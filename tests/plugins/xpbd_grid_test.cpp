@@ -18,7 +18,6 @@
 namespace clothlab::test {
 namespace {
 
-constexpr double g = 9.81;
 constexpr double spacing = 0.01;
 
 struct Stencil {

@@ -16,8 +16,6 @@
 namespace clothlab::test {
 namespace {
 
-constexpr double g = 9.81;
-
 std::vector<TestSpring> chain_springs(uint32_t count, double spacing, double ks, double kd) {
   std::vector<TestSpring> springs;
   for (uint32_t i = 0; i + 1 < count; ++i) springs.push_back({i, i + 1, spacing, ks, kd});

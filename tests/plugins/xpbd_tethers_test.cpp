@@ -16,8 +16,6 @@
 namespace clothlab::test {
 namespace {
 
-constexpr double g = 9.81;
-
 double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 }

@@ -9,21 +9,21 @@
 namespace clothlab::analysis {
 namespace {
 
-constexpr double kStiffness = 80.0, kDamping = 0.05, kMass = 0.1;
+constexpr double kSpringStiffness = 80.0, kSpringDamping = 0.05, kPairMass = 0.1;
 
 Scene single_spring(double damping) {
   Scene scene;
   scene.rows = 2;
   scene.cols = 1;
   scene.height = 0.4;
-  scene.total_mass = kMass;
-  scene.structural = {kStiffness, damping};
+  scene.total_mass = kPairMass;
+  scene.structural = {kSpringStiffness, damping};
   scene.pinned = {0};
   return scene;
 }
 
 TEST(StabilityPrediction, UndampedSpringThroughTheCore) {
-  const double omega = std::sqrt(kStiffness / (kMass / 2.0));
+  const double omega = std::sqrt(kSpringStiffness / (kPairMass / 2.0));
   const StabilityPrediction verlet = predict_stability(single_spring(0.0), Method::PositionVerlet);
   EXPECT_NEAR(verlet.spectrum.omega_max, omega, 1e-5 * omega);
   EXPECT_NEAR(verlet.dt_max * omega, 2.0, 1e-4);
@@ -32,14 +32,14 @@ TEST(StabilityPrediction, UndampedSpringThroughTheCore) {
 }
 
 TEST(StabilityPrediction, DampedSpringThroughTheCore) {
-  const double omega2 = kStiffness / (kMass / 2.0);
-  const double c = kDamping / (kMass / 2.0);
+  const double omega2 = kSpringStiffness / (kPairMass / 2.0);
+  const double c = kSpringDamping / (kPairMass / 2.0);
   const StabilityPrediction euler =
-      predict_stability(single_spring(kDamping), Method::ExplicitEuler);
+      predict_stability(single_spring(kSpringDamping), Method::ExplicitEuler);
   EXPECT_NEAR(euler.spectrum.stiffest_mode.damping_rate, c, 1e-5 * c);
   EXPECT_NEAR(euler.dt_max, c / omega2, 1e-4 * c / omega2);
   const StabilityPrediction symplectic =
-      predict_stability(single_spring(kDamping), Method::SymplecticEuler);
+      predict_stability(single_spring(kSpringDamping), Method::SymplecticEuler);
   const double expected = (-c + std::sqrt(c * c + 4.0 * omega2)) / omega2;
   EXPECT_NEAR(symplectic.dt_max, expected, 1e-4 * expected);
 }
