@@ -66,10 +66,15 @@ class ColorBlocks {
   std::size_t slots() const { return first_.size(); }
   // Colour c's blocks: [blocks_begin(c), blocks_begin(c + 1)).
   long blocks_begin(std::size_t color) const { return color_blocks_[color]; }
-  // How many blocks load their ends in order or as a split run (the others are gathered).
-  std::size_t run_blocks() const {
-    return static_cast<std::size_t>(
-        std::count_if(kind_.begin(), kind_.end(), [](Kind k) { return k != Kind::kGathered; }));
+  // kSplitPairs: offset 1, firsts every other particle of a run of 2 kLanes (deinterleave<1>);
+  // kSplitQuads: offset 2, the first two of every four (deinterleave<2>); kEveryOther: any
+  // other offset, firsts every other particle, each end's run split and stored under a mask
+  // (the other particles of its runs belong to other springs).
+  enum class Kind : uint8_t { kInOrder, kSplitPairs, kSplitQuads, kEveryOther, kGathered };
+
+  // How many blocks are of a kind.
+  std::size_t blocks_of(Kind kind) const {
+    return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kind));
   }
 
   // Projects block b's springs at x + dx; lambda by slot, reset where `fresh`.
@@ -90,12 +95,6 @@ class ColorBlocks {
   }
 
  private:
-  // kSplitPairs: offset 1, firsts every other particle of a run of 2 kLanes (deinterleave<1>);
-  // kSplitQuads: offset 2, the first two of every four (deinterleave<2>); kEveryOther: any
-  // other offset, firsts every other particle, each end's run split and stored under a mask
-  // (the other particles of its runs belong to other springs).
-  enum class Kind : uint8_t { kInOrder, kSplitPairs, kSplitQuads, kEveryOther, kGathered };
-
   // The lane order of a split run: where in the run each lane's first end lies.
   template <int Step>
   static std::vector<uint32_t> split_positions() {
