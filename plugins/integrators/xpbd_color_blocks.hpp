@@ -49,13 +49,13 @@ class ColorBlocks {
       std::vector<uint32_t> gathered;
       std::size_t p = 0;
       while (p < order.size()) {
-        const Kind kind = find_runs ? run_at(springs, order, p) : Kind::kGathered;
-        if (kind == Kind::kGathered) {
+        const Run run = find_runs ? run_at(springs, order, p) : Run{Kind::kGathered, 1};
+        if (run.kind == Kind::kGathered) {
           gathered.push_back(order[p++]);
           continue;
         }
-        add_block(springs, &order[p], kLanes, kind);
-        p += kLanes;
+        add_block(springs, &order[p], run.count, run.kind);
+        p += run.count;
       }
       for (std::size_t g = 0; g < gathered.size(); g += kLanes)
         add_block(springs, &gathered[g], std::min(kLanes, gathered.size() - g), Kind::kGathered);
@@ -80,17 +80,26 @@ class ColorBlocks {
   // Projects block b's springs at x + dx; lambda by slot, reset where `fresh`.
   void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
                float h_squared, float* lambda) const {
-    switch (kind_[static_cast<std::size_t>(b)]) {
+    const std::size_t block = static_cast<std::size_t>(b);
+    const bool holes = live_[block] < kLanes;
+    switch (kind_[block]) {
       case Kind::kInOrder:
-        return project<Kind::kInOrder>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return holes
+                   ? project<Kind::kInOrder, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kInOrder, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
       case Kind::kSplitPairs:
-        return project<Kind::kSplitPairs>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return project<Kind::kSplitPairs, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
       case Kind::kSplitQuads:
-        return project<Kind::kSplitQuads>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return project<Kind::kSplitQuads, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
       case Kind::kEveryOther:
-        return project<Kind::kEveryOther>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return holes
+                   ? project<Kind::kEveryOther, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kEveryOther, false>(b, fresh, x, dx, stride, h, h_squared,
+                                                       lambda);
       case Kind::kGathered:
-        return project<Kind::kGathered>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return holes
+                   ? project<Kind::kGathered, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kGathered, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
     }
   }
 
@@ -107,42 +116,73 @@ class ColorBlocks {
     return {lanes, lanes + kLanes};
   }
 
-  // The block the kLanes springs from order[p] form, if they form one.
-  static Kind run_at(const std::vector<Constraint<float>>& springs,
-                     const std::vector<uint32_t>& order, std::size_t p) {
-    if (p + kLanes > order.size()) return Kind::kGathered;
+  // A block from order[p]: its kind and how many springs it takes.
+  struct Run {
+    Kind kind;
+    std::size_t count;
+  };
+
+  // The springs from order[p] of its offset that lie in a run from its first particle: every
+  // particle of kLanes, or every other of 2 kLanes (the run ends at one that does not), with
+  // dead lanes where a spring is missing, if they fill a quarter of its lanes. A full run of
+  // offset 1 or 2 is split without masks.
+  static Run run_at(const std::vector<Constraint<float>>& springs,
+                    const std::vector<uint32_t>& order, std::size_t p) {
     const Constraint<float>& lead = springs[order[p]];
     const uint32_t offset = lead.second - lead.first;
-    bool in_order = true, every_other = true, quads = offset == 2;
-    for (std::size_t l = 1; l < kLanes; ++l) {
-      const Constraint<float>& spring = springs[order[p + l]];
-      if (spring.second - spring.first != offset) return Kind::kGathered;
-      const uint32_t step = spring.first - lead.first;
-      in_order = in_order && step == l;
-      every_other = every_other && step == 2 * l;
-      quads = quads && step == 4 * (l / 2) + l % 2;
+    const auto steps = [&](auto fits) {
+      std::size_t n = 0;
+      for (; p + n < order.size(); ++n) {
+        const Constraint<float>& spring = springs[order[p + n]];
+        if (spring.second - spring.first != offset || !fits(spring.first - lead.first)) break;
+      }
+      return n;
+    };
+    const std::size_t in_order = steps([](uint32_t step) { return step < kLanes; });
+    const std::size_t every_other =
+        steps([](uint32_t step) { return step < 2 * kLanes && step % 2 == 0; });
+    if (offset == 2 && p + kLanes <= order.size()) {
+      bool quads = true;
+      for (std::size_t l = 0; l < kLanes; ++l)
+        quads = quads && springs[order[p + l]].second - springs[order[p + l]].first == offset &&
+                springs[order[p + l]].first - lead.first == 4 * (l / 2) + l % 2;
+      if (quads) return {Kind::kSplitQuads, kLanes};
     }
-    if (in_order) return Kind::kInOrder;
-    if (every_other) return offset == 1 ? Kind::kSplitPairs : Kind::kEveryOther;
-    return quads ? Kind::kSplitQuads : Kind::kGathered;
+    if (every_other == kLanes && offset == 1) return {Kind::kSplitPairs, kLanes};
+    if (4 * std::max(in_order, every_other) < kLanes) return {Kind::kGathered, 1};
+    return in_order >= every_other ? Run{Kind::kInOrder, in_order}
+                                   : Run{Kind::kEveryOther, every_other};
   }
 
-  // A block of `count` springs (ascending by first where a run), in its lanes' order; the
-  // lanes past count are dead: weights and law 0, ends at particle 0, never stored.
+  // A block of `count` springs (ascending by first), in its lanes' order. A dead lane (no
+  // spring: weights and law 0, never stored) of a run joins its run's particles, of a
+  // gathered block particle 0 to itself.
   void add_block(const std::vector<Constraint<float>>& springs, const uint32_t* members,
                  std::size_t count, Kind kind) {
-    std::vector<uint32_t> lane_member(members, members + count);
-    if (kind != Kind::kInOrder && kind != Kind::kGathered) {
-      const std::vector<uint32_t> positions =
-          kind == Kind::kSplitQuads ? split_positions<2>() : split_positions<1>();
-      const uint32_t base = springs[members[0]].first;
-      for (std::size_t l = 0; l < kLanes; ++l)
-        for (std::size_t m = 0; m < kLanes; ++m)
-          if (springs[members[m]].first == base + positions[l]) lane_member[l] = members[m];
+    constexpr uint32_t kDead = ~0u;
+    std::vector<uint32_t> lane_member(kLanes, kDead);
+    std::vector<uint32_t> positions(kLanes);
+    std::iota(positions.begin(), positions.end(), 0u);
+    if (kind == Kind::kSplitQuads) positions = split_positions<2>();
+    if (kind == Kind::kSplitPairs || kind == Kind::kEveryOther) positions = split_positions<1>();
+    const uint32_t base = springs[members[0]].first;
+    const uint32_t offset = springs[members[0]].second - base;
+    for (std::size_t m = 0; m < count; ++m) {
+      if (kind == Kind::kGathered) {
+        lane_member[m] = members[m];
+        continue;
+      }
+      const auto lane =
+          std::find(positions.begin(), positions.end(), springs[members[m]].first - base) -
+          positions.begin();
+      lane_member[static_cast<std::size_t>(lane)] = members[m];
     }
     for (std::size_t l = 0; l < kLanes; ++l) {
+      const uint32_t at = kind == Kind::kGathered ? 0u : base + positions[l];
       const Constraint<float> spring =
-          l < count ? springs[lane_member[l]] : Constraint<float>{0, 0, 0, 0, 0, 0, 0};
+          lane_member[l] != kDead
+              ? springs[lane_member[l]]
+              : Constraint<float>{at, kind == Kind::kGathered ? at : at + offset, 0, 0, 0, 0, 0};
       first_.push_back(spring.first), second_.push_back(spring.second);
       rest_.push_back(spring.rest), ks_.push_back(spring.ks), kd_.push_back(spring.kd);
       first_weight_.push_back(spring.first_weight);
@@ -152,39 +192,62 @@ class ColorBlocks {
     live_.push_back(static_cast<uint8_t>(count));
   }
 
-  template <Kind kKind>
+  // Holes: some lanes dead (no spring), whose particles a run neither reads nor writes.
+  template <Kind kKind, bool kHoles>
   void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
                float h_squared, float* lambda) const {
     using namespace row_lanes;
     const std::size_t s = static_cast<std::size_t>(b) * kLanes;
     const uint32_t first = first_[s], second = second_[s];
-    Floats x_difference[3], dxi[3], dxj[3];
-    const auto split = [&](const float* p, Floats& at_first, Floats& at_second) {
-      deinterleave<kKind == Kind::kSplitPairs ? 1 : 2>(
-          load_floats(p + first), load_floats(p + first + kLanes), at_first, at_second);
+    const Floats wi = load_floats(&first_weight_[s]), wj = load_floats(&second_weight_[s]);
+    // A live lane has a moving end (springs with both ends pinned are left out).
+    const LaneMask live = kHoles ? greater(wi + wj, zero_floats()) : all_lanes();
+    // An every-other run's particles that live lanes hold, in its two halves.
+    LaneMask low_half = all_lanes(), high_half = all_lanes();
+    if constexpr (kKind == Kind::kEveryOther) {
+      Floats low, high;
+      interleave<1>(keep(live, broadcast(1.0f)), zero_floats(), low, high);
+      low_half = greater(low, zero_floats()), high_half = greater(high, zero_floats());
+    }
+    const auto load = [&](LaneMask lanes, const float* p) {
+      if constexpr (kHoles || kKind == Kind::kEveryOther)
+        return load_floats(lanes, p);
+      else
+        return load_floats(p);
     };
+    const auto store = [&](LaneMask lanes, float* p, Floats value) {
+      if constexpr (kHoles || kKind == Kind::kEveryOther)
+        store_floats(lanes, p, value);
+      else
+        store_floats(p, value);
+    };
+    Floats x_difference[3], dxi[3], dxj[3];
     for (std::size_t k = 0; k < 3; ++k) {
       const float* xk = x + k * stride;
       const float* dxk = dx + k * stride;
       if constexpr (kKind == Kind::kInOrder) {
-        x_difference[k] = load_floats(xk + first) - load_floats(xk + second);
-        dxi[k] = load_floats(dxk + first), dxj[k] = load_floats(dxk + second);
+        x_difference[k] = load(live, xk + first) - load(live, xk + second);
+        dxi[k] = load(live, dxk + first), dxj[k] = load(live, dxk + second);
       } else if constexpr (kKind == Kind::kGathered) {
         const Indices i = load_indices(&first_[s]), j = load_indices(&second_[s]);
         x_difference[k] = gather_floats(xk, i) - gather_floats(xk, j);
         dxi[k] = gather_floats(dxk, i), dxj[k] = gather_floats(dxk, j);
       } else if constexpr (kKind == Kind::kEveryOther) {
-        Floats xi, xj, odd;
-        deinterleave<1>(load_floats(xk + first), load_floats(xk + first + kLanes), xi, odd);
-        deinterleave<1>(load_floats(xk + second), load_floats(xk + second + kLanes), xj, odd);
-        x_difference[k] = xi - xj;
-        deinterleave<1>(load_floats(dxk + first), load_floats(dxk + first + kLanes), dxi[k], odd);
-        deinterleave<1>(load_floats(dxk + second), load_floats(dxk + second + kLanes), dxj[k], odd);
-      } else {
+        const auto split = [&](const float* p, Floats& value) {
+          Floats odd;
+          deinterleave<1>(load(low_half, p), load(high_half, p + kLanes), value, odd);
+        };
         Floats xi, xj;
-        split(xk, xi, xj);
+        split(xk + first, xi), split(xk + second, xj);
         x_difference[k] = xi - xj;
-        split(dxk, dxi[k], dxj[k]);
+        split(dxk + first, dxi[k]), split(dxk + second, dxj[k]);
+      } else {
+        constexpr int kStep = kKind == Kind::kSplitPairs ? 1 : 2;
+        Floats xi, xj;
+        deinterleave<kStep>(load_floats(xk + first), load_floats(xk + first + kLanes), xi, xj);
+        x_difference[k] = xi - xj;
+        deinterleave<kStep>(load_floats(dxk + first), load_floats(dxk + first + kLanes), dxi[k],
+                            dxj[k]);
       }
     }
     LawLanes law{};
@@ -192,11 +255,10 @@ class ColorBlocks {
     law.stiffness = load_floats(&ks_[s]) * broadcast(h_squared);
     law.damping = load_floats(&kd_[s]) * broadcast(h);
     law.compliance_scale = law.stiffness + law.damping;
-    const Floats wi = load_floats(&first_weight_[s]), wj = load_floats(&second_weight_[s]);
     const Floats accumulated = fresh ? zero_floats() : load_floats(lambda + s);
     const SpringLanes u =
-        spring_update(law, lanes_from_to(0, live_[static_cast<std::size_t>(b)]), x_difference, dxi,
-                      dxj, inverse_denominator(law.compliance_scale, wi, wj), accumulated);
+        spring_update(law, live, x_difference, dxi, dxj,
+                      inverse_denominator(law.compliance_scale, wi, wj), accumulated);
     store_floats(lambda + s, masked_add(u.pushed, accumulated, u.delta));
     const PushLanes<false> push(u, wi, wj);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -204,7 +266,7 @@ class ColorBlocks {
       const Floats at_first = push.first_end(u.d[k], dxi[k]);
       const Floats at_second = push.second_end(u.d[k], dxj[k]);
       if constexpr (kKind == Kind::kInOrder) {
-        store_floats(dxk + first, at_first), store_floats(dxk + second, at_second);
+        store(live, dxk + first, at_first), store(live, dxk + second, at_second);
       } else if constexpr (kKind == Kind::kGathered) {
         float firsts[kLanes], seconds[kLanes];
         store_floats(firsts, at_first), store_floats(seconds, at_second);
@@ -213,12 +275,11 @@ class ColorBlocks {
           dxk[second_[s + l]] = seconds[l];
         }
       } else if constexpr (kKind == Kind::kEveryOther) {
-        const LaneMask even = greater(load_floats(kEvenLanes), zero_floats());
         Floats low, high;
         interleave<1>(at_first, at_first, low, high);
-        store_floats(even, dxk + first, low), store_floats(even, dxk + first + kLanes, high);
+        store(low_half, dxk + first, low), store(high_half, dxk + first + kLanes, high);
         interleave<1>(at_second, at_second, low, high);
-        store_floats(even, dxk + second, low), store_floats(even, dxk + second + kLanes, high);
+        store(low_half, dxk + second, low), store(high_half, dxk + second + kLanes, high);
       } else {
         Floats low, high;
         interleave<kKind == Kind::kSplitPairs ? 1 : 2>(at_first, at_second, low, high);
@@ -226,9 +287,6 @@ class ColorBlocks {
       }
     }
   }
-
-  // 1 in the even lanes: the particles of an every-other run that its block's springs hold.
-  static constexpr float kEvenLanes[16] = {1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0};
 
   // By slot, kLanes per block, in the lanes' order.
   std::vector<uint32_t> first_, second_;
