@@ -1,4 +1,4 @@
-// XPBD's general path: a substep over any topology, one spring at a time through its indices.
+// XPBD's general path: a substep over any topology, through the springs' indices.
 //
 // Predict dx = h (v + h a) on the free particles, then `iterations` Gauss-Seidel sweeps over
 // the springs colour by colour (the topology extension's independent sets), each colour's
