@@ -76,6 +76,13 @@ class ColorBlocks {
   std::size_t blocks_of(Kind kind) const {
     return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kind));
   }
+  // How many runs have dead lanes.
+  std::size_t runs_with_holes() const {
+    std::size_t count = 0;
+    for (std::size_t b = 0; b < kind_.size(); ++b)
+      count += kind_[b] != Kind::kGathered && live_[b] < kLanes;
+    return count;
+  }
 
   // Projects block b's springs at x + dx; lambda by slot, reset where `fresh`.
   void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,

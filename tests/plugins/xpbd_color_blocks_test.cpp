@@ -23,7 +23,7 @@ constexpr std::size_t stride = std::size_t{rows} * cols + 5;  // padded, as a sy
 // stencil whose first particles have one parity along it (every other row: runs in order;
 // every other column: split pairs; columns 0, 1 of every 4 two apart: split quads) and
 // diagonals from every other column (every other particle, offset cols + 1). Row ends leave
-// springs no run takes (gathered). Particle 40 is pinned.
+// runs with holes and springs no run takes (gathered). Particle 40 is pinned.
 struct ColoredNet {
   std::vector<Constraint<float>> springs;
   std::vector<uint32_t> color_offsets{0};
@@ -50,7 +50,8 @@ struct ColoredNet {
       color_offsets.push_back(static_cast<uint32_t>(springs.size()));
       for (uint32_t r = parity; r + 1 < rows; r += 2)
         for (uint32_t c = 0; c + 1 < cols; c += 2)
-          add(r * cols + c, (r + 1) * cols + c + 1, spacing * std::sqrt(2.0f), 60, 0.01f);
+          if (r > 1 || c != 10)  // a hole in the first run
+            add(r * cols + c, (r + 1) * cols + c + 1, spacing * std::sqrt(2.0f), 60, 0.01f);
       color_offsets.push_back(static_cast<uint32_t>(springs.size()));
     }
   }
@@ -91,6 +92,7 @@ TEST(XpbdColorBlocks, RunsGiveTheBitsOfTheSameSpringsGathered) {
   for (Kind kind :
        {Kind::kInOrder, Kind::kSplitPairs, Kind::kSplitQuads, Kind::kEveryOther, Kind::kGathered})
     EXPECT_GT(blocks.blocks_of(kind), 0u) << "no block of kind " << static_cast<int>(kind);
+  EXPECT_GT(blocks.runs_with_holes(), 0u);
   const Sweep runs = sweep_blocks(net, true), gathered = sweep_blocks(net, false);
   EXPECT_EQ(runs.displacement, gathered.displacement);
 #else
