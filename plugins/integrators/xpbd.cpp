@@ -23,7 +23,8 @@
 //
 // Where the parts are:
 //   xpbd_constraint.hpp     the constraint law of one spring (eq. 26 with damping)
-//   xpbd_general_sweep.hpp  a substep over any topology, spring by spring
+//   xpbd_general_sweep.hpp  a substep over any topology, colour by colour
+//   xpbd_color_blocks.hpp   a colour's springs in blocks of lanes (float32)
 //   xpbd_chebyshev.hpp      Chebyshev acceleration of the general sweep's iterations
 //   xpbd_grid.hpp           the host's grid (clothlab.grid/1) and its colours as stencils
 //   xpbd_grid_path.hpp      the grid path: its plan (xpbd_grid_plan.hpp) and the SIMD

@@ -1,8 +1,9 @@
-// XPBD's general path: a substep over any topology, one spring at a time through its indices.
+// XPBD's general path: a substep over any topology, through the springs' indices.
 //
 // Predict dx = h (v + h a) on the free particles, then `iterations` Gauss-Seidel sweeps over
 // the springs colour by colour (the topology extension's independent sets), each colour's
 // springs in parallel: no two share a particle, so every thread count gives the same bits.
+// In float32 with lanes a colour's springs run in blocks of lanes (xpbd_color_blocks.hpp).
 // Then the tethers, and v = dx / h, x += dx on the free particles. With Chebyshev
 // acceleration on (xpbd_chebyshev.hpp), each sweep's iterate is extrapolated.
 #pragma once
@@ -12,9 +13,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "xpbd_chebyshev.hpp"
+#include "xpbd_color_blocks.hpp"
 #include "xpbd_constraint.hpp"
 #include "xpbd_substep.hpp"
 #include "xpbd_tether_projection.hpp"
@@ -26,8 +29,9 @@ class GeneralSweep {
  public:
   // Copies the springs colour by colour; springs with both ends pinned never move and are
   // left out (their colour ranges shrink accordingly). rho = 0: no acceleration.
+  // lane_runs false: every lane block gathered (the runs' test).
   void build(const sdk::System<Real>& system, const sdk::Topology& topology, int iterations,
-             double chebyshev_rho, long chebyshev_delay) {
+             double chebyshev_rho, long chebyshev_delay, bool lane_runs = true) {
     iterations_ = iterations;
     const Real* inverse_mass = system.inverse_mass();
     springs_.clear();
@@ -43,9 +47,17 @@ class GeneralSweep {
       }
       color_offsets_.push_back(static_cast<uint32_t>(springs_.size()));
     }
-    lambda_.assign(springs_.size(), 0);
+    std::size_t multipliers = springs_.size();
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      blocks_.build(springs_, color_offsets_, lane_runs);
+      multipliers = blocks_.slots();
+    }
+#endif
+    (void)lane_runs;
+    lambda_.assign(multipliers, 0);
     chebyshev_.build(chebyshev_rho, chebyshev_delay, iterations, system.particle_count(),
-                     system.stride(), springs_.size());
+                     system.stride(), multipliers);
   }
 
   // One substep; false when a velocity came out non-finite. The worksharing loops run on the
@@ -102,6 +114,16 @@ class GeneralSweep {
     for (int iteration = 0; iteration < iterations_; ++iteration) {
       if (chebyshev_.active()) chebyshev_.save(iteration, s.displacement, lambda);
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+        if constexpr (std::is_same_v<Real, float>) {
+          const long begin = blocks_.blocks_begin(color), end = blocks_.blocks_begin(color + 1);
+#pragma omp for schedule(static)
+          for (long b = begin; b < end; ++b)
+            blocks_.project(b, iteration == 0, s.x, s.displacement, s.stride, s.h, s.h_squared,
+                            lambda);
+          continue;
+        }
+#endif
         const long begin = color_offsets_[color], end = color_offsets_[color + 1];
 #pragma omp for schedule(static)
         for (long k = begin; k < end; ++k)
@@ -137,7 +159,10 @@ class GeneralSweep {
 
   int iterations_ = 1;
   std::vector<Constraint<Real>> springs_;
-  std::vector<Real> lambda_;             // one per spring
+  std::vector<Real> lambda_;  // one per spring (float lanes: per slot)
+#if defined(CLOTHLAB_FLOAT_LANES)
+  ColorBlocks blocks_;  // float32's springs in lane blocks
+#endif
   std::vector<uint32_t> color_offsets_;  // springs of colour c: [offsets[c], offsets[c + 1])
   XpbdChebyshev<Real> chebyshev_;
   Real first_change_ = 0, last_change_ = 0;  // of the last substep

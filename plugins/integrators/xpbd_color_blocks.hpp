@@ -1,0 +1,311 @@
+// xpbd's general sweep on lanes (float32): each colour's springs in blocks of kLanes, projected
+// with the grid's lane law (xpbd_row_kernel.hpp's spring_update), so a block's springs cost
+// what a grid row's do where their ends lie as a grid row's would.
+//
+// Within a colour the springs are sorted by offset (second - first) and first particle, then
+// cut into blocks whose ends load with plain loads: consecutive firsts of one offset (a
+// vertical or diagonal stencil of a mesh numbered along rows), or the grid's in-row patterns
+// (offset 1 or 2, every other first or every other pair), which load a run of 2 kLanes
+// particles and split it. The springs that fit no such block are gathered and scattered
+// by index. A colour's springs share no particle, so the order within it does not change
+// the sweep, and each lane computes the same instructions whatever block it is in: the bits
+// do not depend on how the springs were cut, nor on the thread count.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "float_lanes.hpp"
+#include "simd_namespace.hpp"
+#include "xpbd_constraint.hpp"
+#include "xpbd_row_kernel.hpp"
+
+namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
+
+#if defined(CLOTHLAB_FLOAT_LANES)
+namespace color_lanes {
+
+using namespace detail;
+
+class ColorBlocks {
+ public:
+  // springs: colour c's in [color_offsets[c], color_offsets[c + 1]). find_runs false: every
+  // block gathered (what a test holds the runs against).
+  void build(const std::vector<Constraint<float>>& springs,
+             const std::vector<uint32_t>& color_offsets, bool find_runs = true) {
+    first_.clear(), second_.clear(), rest_.clear(), ks_.clear(), kd_.clear();
+    first_weight_.clear(), second_weight_.clear(), kind_.clear(), live_.clear();
+    color_blocks_.assign(1, 0);
+    for (std::size_t c = 0; c + 1 < color_offsets.size(); ++c) {
+      std::vector<uint32_t> order(color_offsets[c + 1] - color_offsets[c]);
+      std::iota(order.begin(), order.end(), color_offsets[c]);
+      const auto offset = [&](uint32_t k) { return springs[k].second - springs[k].first; };
+      std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return offset(a) != offset(b) ? offset(a) < offset(b) : springs[a].first < springs[b].first;
+      });
+      std::vector<uint32_t> gathered;
+      std::size_t p = 0;
+      while (p < order.size()) {
+        const Run run = find_runs ? run_at(springs, order, p) : Run{Kind::kGathered, 1};
+        if (run.kind == Kind::kGathered) {
+          gathered.push_back(order[p++]);
+          continue;
+        }
+        add_block(springs, &order[p], run.count, run.kind);
+        p += run.count;
+      }
+      for (std::size_t g = 0; g < gathered.size(); g += kLanes)
+        add_block(springs, &gathered[g], std::min(kLanes, gathered.size() - g), Kind::kGathered);
+      color_blocks_.push_back(static_cast<uint32_t>(kind_.size()));
+    }
+  }
+
+  std::size_t slots() const { return first_.size(); }
+  // Colour c's blocks: [blocks_begin(c), blocks_begin(c + 1)).
+  long blocks_begin(std::size_t color) const { return color_blocks_[color]; }
+  // kSplitPairs: offset 1, firsts every other particle of a run of 2 kLanes (deinterleave<1>);
+  // kSplitQuads: offset 2, the first two of every four (deinterleave<2>); kEveryOther: any
+  // other offset, firsts every other particle, each end's run split and stored under a mask
+  // (the other particles of its runs belong to other springs).
+  enum class Kind : uint8_t { kInOrder, kSplitPairs, kSplitQuads, kEveryOther, kGathered };
+
+  // How many blocks are of a kind.
+  std::size_t blocks_of(Kind kind) const {
+    return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kind));
+  }
+  // How many runs have dead lanes.
+  std::size_t runs_with_holes() const {
+    std::size_t count = 0;
+    for (std::size_t b = 0; b < kind_.size(); ++b)
+      count += kind_[b] != Kind::kGathered && live_[b] < kLanes;
+    return count;
+  }
+
+  // Projects block b's springs at x + dx; lambda by slot, reset where `fresh`.
+  void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
+               float h_squared, float* lambda) const {
+    const std::size_t block = static_cast<std::size_t>(b);
+    const bool holes = live_[block] < kLanes;
+    switch (kind_[block]) {
+      case Kind::kInOrder:
+        return holes
+                   ? project<Kind::kInOrder, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kInOrder, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+      case Kind::kSplitPairs:
+        return project<Kind::kSplitPairs, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+      case Kind::kSplitQuads:
+        return project<Kind::kSplitQuads, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+      case Kind::kEveryOther:
+        return holes
+                   ? project<Kind::kEveryOther, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kEveryOther, false>(b, fresh, x, dx, stride, h, h_squared,
+                                                       lambda);
+      case Kind::kGathered:
+        return holes
+                   ? project<Kind::kGathered, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
+                   : project<Kind::kGathered, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+    }
+  }
+
+ private:
+  // The lane order of a split run: where in the run each lane's first end lies.
+  template <int Step>
+  static std::vector<uint32_t> split_positions() {
+    float run[2 * kLanes];
+    for (std::size_t k = 0; k < 2 * kLanes; ++k) run[k] = static_cast<float>(k);
+    Floats starts, partners;
+    deinterleave<Step>(load_floats(run), load_floats(run + kLanes), starts, partners);
+    float lanes[kLanes];
+    store_floats(lanes, starts);
+    return {lanes, lanes + kLanes};
+  }
+
+  // A block from order[p]: its kind and how many springs it takes.
+  struct Run {
+    Kind kind;
+    std::size_t count;
+  };
+
+  // The springs from order[p] of its offset that lie in a run from its first particle: every
+  // particle of kLanes, or every other of 2 kLanes (the run ends at one that does not), with
+  // dead lanes where a spring is missing, if they fill a quarter of its lanes. A full run of
+  // offset 1 or 2 is split without masks.
+  static Run run_at(const std::vector<Constraint<float>>& springs,
+                    const std::vector<uint32_t>& order, std::size_t p) {
+    const Constraint<float>& lead = springs[order[p]];
+    const uint32_t offset = lead.second - lead.first;
+    const auto steps = [&](auto fits) {
+      std::size_t n = 0;
+      for (; p + n < order.size(); ++n) {
+        const Constraint<float>& spring = springs[order[p + n]];
+        if (spring.second - spring.first != offset || !fits(spring.first - lead.first)) break;
+      }
+      return n;
+    };
+    const std::size_t in_order = steps([](uint32_t step) { return step < kLanes; });
+    const std::size_t every_other =
+        steps([](uint32_t step) { return step < 2 * kLanes && step % 2 == 0; });
+    if (offset == 2 && p + kLanes <= order.size()) {
+      bool quads = true;
+      for (std::size_t l = 0; l < kLanes; ++l)
+        quads = quads && springs[order[p + l]].second - springs[order[p + l]].first == offset &&
+                springs[order[p + l]].first - lead.first == 4 * (l / 2) + l % 2;
+      if (quads) return {Kind::kSplitQuads, kLanes};
+    }
+    if (every_other == kLanes && offset == 1) return {Kind::kSplitPairs, kLanes};
+    if (4 * std::max(in_order, every_other) < kLanes) return {Kind::kGathered, 1};
+    return in_order >= every_other ? Run{Kind::kInOrder, in_order}
+                                   : Run{Kind::kEveryOther, every_other};
+  }
+
+  // A block of `count` springs (ascending by first), in its lanes' order. A dead lane (no
+  // spring: weights and law 0, never stored) of a run joins its run's particles, of a
+  // gathered block particle 0 to itself.
+  void add_block(const std::vector<Constraint<float>>& springs, const uint32_t* members,
+                 std::size_t count, Kind kind) {
+    constexpr uint32_t kDead = ~0u;
+    std::vector<uint32_t> lane_member(kLanes, kDead);
+    std::vector<uint32_t> positions(kLanes);
+    std::iota(positions.begin(), positions.end(), 0u);
+    if (kind == Kind::kSplitQuads) positions = split_positions<2>();
+    if (kind == Kind::kSplitPairs || kind == Kind::kEveryOther) positions = split_positions<1>();
+    const uint32_t base = springs[members[0]].first;
+    const uint32_t offset = springs[members[0]].second - base;
+    for (std::size_t m = 0; m < count; ++m) {
+      if (kind == Kind::kGathered) {
+        lane_member[m] = members[m];
+        continue;
+      }
+      const auto lane =
+          std::find(positions.begin(), positions.end(), springs[members[m]].first - base) -
+          positions.begin();
+      lane_member[static_cast<std::size_t>(lane)] = members[m];
+    }
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const uint32_t at = kind == Kind::kGathered ? 0u : base + positions[l];
+      const Constraint<float> spring =
+          lane_member[l] != kDead
+              ? springs[lane_member[l]]
+              : Constraint<float>{at, kind == Kind::kGathered ? at : at + offset, 0, 0, 0, 0, 0};
+      first_.push_back(spring.first), second_.push_back(spring.second);
+      rest_.push_back(spring.rest), ks_.push_back(spring.ks), kd_.push_back(spring.kd);
+      first_weight_.push_back(spring.first_weight);
+      second_weight_.push_back(spring.second_weight);
+    }
+    kind_.push_back(kind);
+    live_.push_back(static_cast<uint8_t>(count));
+  }
+
+  // Holes: some lanes dead (no spring), whose particles a run neither reads nor writes.
+  template <Kind kKind, bool kHoles>
+  void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
+               float h_squared, float* lambda) const {
+    using namespace row_lanes;
+    const std::size_t s = static_cast<std::size_t>(b) * kLanes;
+    const uint32_t first = first_[s], second = second_[s];
+    const Floats wi = load_floats(&first_weight_[s]), wj = load_floats(&second_weight_[s]);
+    // A live lane has a moving end (springs with both ends pinned are left out).
+    const LaneMask live = kHoles ? greater(wi + wj, zero_floats()) : all_lanes();
+    // An every-other run's particles that live lanes hold, in its two halves.
+    LaneMask low_half = all_lanes(), high_half = all_lanes();
+    if constexpr (kKind == Kind::kEveryOther) {
+      Floats low, high;
+      interleave<1>(keep(live, broadcast(1.0f)), zero_floats(), low, high);
+      low_half = greater(low, zero_floats()), high_half = greater(high, zero_floats());
+    }
+    const auto load = [&](LaneMask lanes, const float* p) {
+      if constexpr (kHoles || kKind == Kind::kEveryOther)
+        return load_floats(lanes, p);
+      else
+        return load_floats(p);
+    };
+    const auto store = [&](LaneMask lanes, float* p, Floats value) {
+      if constexpr (kHoles || kKind == Kind::kEveryOther)
+        store_floats(lanes, p, value);
+      else
+        store_floats(p, value);
+    };
+    Floats x_difference[3], dxi[3], dxj[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const float* xk = x + k * stride;
+      const float* dxk = dx + k * stride;
+      if constexpr (kKind == Kind::kInOrder) {
+        x_difference[k] = load(live, xk + first) - load(live, xk + second);
+        dxi[k] = load(live, dxk + first), dxj[k] = load(live, dxk + second);
+      } else if constexpr (kKind == Kind::kGathered) {
+        const Indices i = load_indices(&first_[s]), j = load_indices(&second_[s]);
+        x_difference[k] = gather_floats(xk, i) - gather_floats(xk, j);
+        dxi[k] = gather_floats(dxk, i), dxj[k] = gather_floats(dxk, j);
+      } else if constexpr (kKind == Kind::kEveryOther) {
+        const auto split = [&](const float* p, Floats& value) {
+          Floats odd;
+          deinterleave<1>(load(low_half, p), load(high_half, p + kLanes), value, odd);
+        };
+        Floats xi, xj;
+        split(xk + first, xi), split(xk + second, xj);
+        x_difference[k] = xi - xj;
+        split(dxk + first, dxi[k]), split(dxk + second, dxj[k]);
+      } else {
+        constexpr int kStep = kKind == Kind::kSplitPairs ? 1 : 2;
+        Floats xi, xj;
+        deinterleave<kStep>(load_floats(xk + first), load_floats(xk + first + kLanes), xi, xj);
+        x_difference[k] = xi - xj;
+        deinterleave<kStep>(load_floats(dxk + first), load_floats(dxk + first + kLanes), dxi[k],
+                            dxj[k]);
+      }
+    }
+    LawLanes law{};
+    law.rest = load_floats(&rest_[s]);
+    law.stiffness = load_floats(&ks_[s]) * broadcast(h_squared);
+    law.damping = load_floats(&kd_[s]) * broadcast(h);
+    law.compliance_scale = law.stiffness + law.damping;
+    const Floats accumulated = fresh ? zero_floats() : load_floats(lambda + s);
+    const SpringLanes u =
+        spring_update(law, live, x_difference, dxi, dxj,
+                      inverse_denominator(law.compliance_scale, wi, wj), accumulated);
+    store_floats(lambda + s, masked_add(u.pushed, accumulated, u.delta));
+    const PushLanes<false> push(u, wi, wj);
+    for (std::size_t k = 0; k < 3; ++k) {
+      float* dxk = dx + k * stride;
+      const Floats at_first = push.first_end(u.d[k], dxi[k]);
+      const Floats at_second = push.second_end(u.d[k], dxj[k]);
+      if constexpr (kKind == Kind::kInOrder) {
+        store(live, dxk + first, at_first), store(live, dxk + second, at_second);
+      } else if constexpr (kKind == Kind::kGathered) {
+        float firsts[kLanes], seconds[kLanes];
+        store_floats(firsts, at_first), store_floats(seconds, at_second);
+        for (std::size_t l = 0; l < live_[static_cast<std::size_t>(b)]; ++l) {
+          dxk[first_[s + l]] = firsts[l];
+          dxk[second_[s + l]] = seconds[l];
+        }
+      } else if constexpr (kKind == Kind::kEveryOther) {
+        Floats low, high;
+        interleave<1>(at_first, at_first, low, high);
+        store(low_half, dxk + first, low), store(high_half, dxk + first + kLanes, high);
+        interleave<1>(at_second, at_second, low, high);
+        store(low_half, dxk + second, low), store(high_half, dxk + second + kLanes, high);
+      } else {
+        Floats low, high;
+        interleave<kKind == Kind::kSplitPairs ? 1 : 2>(at_first, at_second, low, high);
+        store_floats(dxk + first, low), store_floats(dxk + first + kLanes, high);
+      }
+    }
+  }
+
+  // By slot, kLanes per block, in the lanes' order.
+  std::vector<uint32_t> first_, second_;
+  std::vector<float> rest_, ks_, kd_, first_weight_, second_weight_;
+  std::vector<Kind> kind_;              // per block
+  std::vector<uint8_t> live_;           // per block: its springs (the rest of its lanes are dead)
+  std::vector<uint32_t> color_blocks_;  // colour c's blocks: [c], [c + 1])
+};
+
+}  // namespace color_lanes
+
+using color_lanes::ColorBlocks;
+#endif
+
+}  // namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE
