@@ -4,8 +4,8 @@
 // stiffness; M D is symmetric and D (c_x, c_v < 0) positive, so I + D is definite; its
 // diagonal blocks reproduce the product's diagonal; its block table (clothlab.definite-jacobian/2)
 // is the product's matrix, column by column, on the grid and the spring-list path (and a
-// table with one block halved or two swapped is caught); the same bits on one and several
-// threads.
+// table with one block halved or two swapped is caught); the same bits, product and table, on
+// one and several threads.
 #include <clothlab/ext/definite_jacobian.h>
 #include <gtest/gtest.h>
 
@@ -239,16 +239,27 @@ TEST(DefiniteJacobian, TheBlockTableIsTheProductsMatrixOnTheGridAndTheSpringList
 }
 
 TEST(DefiniteJacobian, SameBitsOnOneAndSeveralThreads) {
-  std::vector<double> reference;
+  std::vector<double> reference, reference_table;
   for (int threads : {1, 2, 3}) {
     PipelineOptions options;
     options.threads = threads;
     Scaled cloth(0.95, options, 80, 70);  // large enough to run threaded
     const std::vector<double> product = cloth.apply(true, 1.0, 0.1, true, cloth.u);
+    clothlab_block_pattern pattern{};
+    pattern.struct_size = sizeof pattern;
+    ASSERT_EQ(cloth.exact->pattern(cloth.system.context, &pattern), CLOTHLAB_OK);
+    std::vector<double> table(9 * std::size_t{pattern.block_count});
+    ASSERT_EQ(host_extension<clothlab_definite_jacobian_2_extension>(
+                  cloth.system, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2)
+                  .blocks(cloth.system.context, 0.0, cloth.system.x, cloth.system.v, 1.0, 0.1,
+                          table.data()),
+              CLOTHLAB_OK);
     if (reference.empty()) {
       reference = product;
+      reference_table = table;
     } else {
       EXPECT_EQ(product, reference) << threads << " threads";
+      EXPECT_EQ(table, reference_table) << threads << " threads, the block table";
     }
   }
 }
