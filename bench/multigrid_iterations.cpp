@@ -7,11 +7,15 @@
 // coarsest level and sweeps.
 //
 //   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]
-//       [--threads N...] [--precision float32|float64] [--split] [--cpu]]
+//       [--threads N...] [--precision float32|float64] [--assembly table|probe] [--split]
+//       [--cpu]]
 //
+// --assembly: where the multigrid's fine blocks come from, the host's block table
+// (clothlab.definite-jacobian/2, the plugin's choice, default) or 75 probing products.
 // --split prints, for the multigrid alone, where a solve's time goes instead: the set-up (the
-// preconditioner's build in CG's start: 75 probing products, then the Galerkin products and
-// factors, whose share is the set-up less 75 products timed on their own) against the
+// preconditioner's build in CG's start: the fine blocks, then the Galerkin products and
+// factors, whose share is the set-up less the fine blocks' call or products timed on their
+// own) against the
 // iterations (one product and one V-cycle each), the set-up in iterations, and an iteration in
 // explicit euler steps of the same cloth at the same precision and thread count (the euler
 // plugin's step, timed on its own). Its times are the fastest of 3 solves and of 5 batches of
@@ -57,12 +61,15 @@ struct SolveResult {
   long iterations = 0;
   bool converged = false;
   double relative_residual = 0.0;
-  double seconds = 0.0;          // the whole solve: set-up (preconditioner) and iterations
-  double setup_seconds = 0.0;    // CG's start: the preconditioner's build and first residual
-  double probing_seconds = 0.0;  // 75 Jacobian products, the probing's share of the set-up
+  double seconds = 0.0;              // the whole solve: set-up (preconditioner) and iterations
+  double setup_seconds = 0.0;        // CG's start: the preconditioner's build and first residual
+  double fine_blocks_seconds = 0.0;  // the block table's call or the 75 probing products
 };
 
 constexpr int kProbingProducts = 75;
+
+// Whether the multigrid takes the host's block table (--assembly table) or probes.
+bool use_block_table = true;
 
 // The clock every time is read from: the wall clock, or the process's CPU time (--cpu).
 bool use_cpu_time = false;
@@ -90,9 +97,12 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   Real* const zero = system.alloc_vector();
   std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
   std::optional<builtin::MultigridPreconditioner> preconditioner;
+  const bool table = use_block_table && system.definite_jacobian().has_blocks();
   if (multigrid)
-    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes,
-                           builtin::kDefaultMultigridSweeps);
+    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes, builtin::kDefaultMultigridSweeps,
+                           1, table ? std::optional(system.jacobian().pattern()) : std::nullopt);
+  std::vector<double> block_values(table ? 9 * std::size_t{system.jacobian().pattern().block_count}
+                                         : 0);
   builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, false,
                                      preconditioner ? &*preconditioner : nullptr);
   system.acceleration(0.0, system.x(), system.v(), rhs);
@@ -113,10 +123,14 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   cg.finish();
   result.seconds = seconds_since(start);
   result.relative_residual = cg.residual_norm() / cg.rhs_norm();
-  const double probing_start = now_seconds();
-  for (int k = 0; k < kProbingProducts; ++k)
-    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, rhs, solution);
-  result.probing_seconds = seconds_since(probing_start);
+  const double fine_blocks_start = now_seconds();
+  if (table) {
+    system.definite_jacobian().blocks(0.0, system.x(), system.v(), -h * h, -h, block_values.data());
+  } else {
+    for (int k = 0; k < kProbingProducts; ++k)
+      system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, rhs, solution);
+  }
+  result.fine_blocks_seconds = seconds_since(fine_blocks_start);
   return result;
 }
 
@@ -168,11 +182,12 @@ struct Options {
   Precision precision = Precision::Float64;
   bool split = false;
   bool cpu = false;
+  bool assembly_table = true;
 };
 
 int print_split(const cli::RunConfig& config, const Options& options) {
   std::printf(
-      "| side | threads | h (s) | set-up ms | of which probing ms | Galerkin + factors ms | "
+      "| side | threads | h (s) | set-up ms | of which fine blocks ms | Galerkin + factors ms | "
       "iterations | iterations ms | ms per iteration | set-up in iterations | euler step ms | "
       "iteration in euler steps |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const int rate : options.rates)
@@ -186,8 +201,8 @@ int print_split(const cli::RunConfig& config, const Options& options) {
         const double per_iteration = iterating / static_cast<double>(std::max(r.iterations, 1L));
         std::printf(
             "| %d | %d | 1/%d | %.1f | %.1f | %.1f | %ld%s | %.1f | %.2f | %.1f | %.3f | %.1f |\n",
-            side, threads, rate, 1e3 * r.setup_seconds, 1e3 * r.probing_seconds,
-            1e3 * (r.setup_seconds - r.probing_seconds), r.iterations,
+            side, threads, rate, 1e3 * r.setup_seconds, 1e3 * r.fine_blocks_seconds,
+            1e3 * (r.setup_seconds - r.fine_blocks_seconds), r.iterations,
             r.converged ? "" : " (not converged)", 1e3 * iterating, 1e3 * per_iteration,
             r.setup_seconds / per_iteration, 1e3 * euler, per_iteration / euler);
         std::fflush(stdout);
@@ -238,6 +253,11 @@ Options parse_options(int argc, char** argv) {
       list = &options.rates;
     } else if (arg == "--threads") {
       list = &options.threads;
+    } else if (arg == "--assembly") {
+      const std::string value = k + 1 < argc ? argv[++k] : "";
+      if (value != "table" && value != "probe")
+        throw std::runtime_error("--assembly '" + value + "': table or probe");
+      options.assembly_table = value == "table";
     } else if (arg == "--precision") {
       const std::string value = k + 1 < argc ? argv[++k] : "";
       if (value != "float32" && value != "float64")
@@ -263,15 +283,17 @@ int run(int argc, char** argv) {
   const std::string config_path = argc > 1 ? argv[1] : "configs/choose-cotton-flag-200.yaml";
   const Options options = parse_options(argc, argv);
   use_cpu_time = options.cpu;
+  use_block_table = options.assembly_table;
   const cli::RunConfig config = cli::resolve_run_config(config::read_config_file(config_path));
   if (!config.material) {
     std::fprintf(stderr, "%s: no material.* (the table is for a material's cloth)\n",
                  config_path.c_str());
     return 2;
   }
-  std::printf("%s, %s scenario, %s, CG from 0 to a relative residual of %g, %s\n\n",
+  std::printf("%s, %s scenario, %s, CG from 0 to a relative residual of %g, %s, fine blocks %s\n\n",
               config.material->name.c_str(), config.scenario.c_str(), to_string(options.precision),
-              kTolerance, options.cpu ? "CPU time of the process" : "wall-clock time");
+              kTolerance, options.cpu ? "CPU time of the process" : "wall-clock time",
+              options.assembly_table ? "from the host's block table" : "by probing");
   return options.split ? print_split(config, options) : print_iterations(config, options);
 }
 

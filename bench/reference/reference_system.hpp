@@ -6,6 +6,7 @@
 
 #include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/contacts.h>
+#include <clothlab/ext/definite_jacobian.h>
 #include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/threads.h>
@@ -31,9 +32,11 @@ class ReferenceSystem {
 
   const clothlab_system& system() const { return system_; }
   // The host extensions it does not offer (clothlab/core/extension_registry.hpp): its loops
-  // are serial, and its scenes have neither colliders nor attachments.
+  // are serial, its scenes have neither colliders nor attachments, and its implicit
+  // integrators assemble no multigrid from a block table (they probe the product).
   static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_THREADS, CLOTHLAB_EXT_CONTACTS,
-                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS};
+                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS,
+                                                        CLOTHLAB_EXT_DEFINITE_JACOBIAN_2};
   uint64_t force_evals() const { return force_evals_; }
   double force_seconds() const { return force_seconds_; }  // wall time in eval_acceleration
   // Positions, particle-major: out[3 * i + k].

@@ -86,6 +86,7 @@ class ClothEngine final : public EngineState<Real> {
                                                     const void* v, double c_x, double c_v,
                                                     double* out);
   static clothlab_status jacobian_pattern_callback(void* context, clothlab_block_pattern* out);
+  template <bool Definite>
   static clothlab_status jacobian_blocks_callback(void* context, double t, const void* x,
                                                   const void* v, double c_x, double c_v,
                                                   double* values);

@@ -74,9 +74,13 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
   static constexpr clothlab_grid_extension grid_table{&grid_callback};
   static constexpr clothlab_jacobian_extension jacobian_table{
       &jacobian_reserve_callback, &jacobian_apply_callback<false>,
-      &jacobian_diagonal_callback<false>, &jacobian_pattern_callback, &jacobian_blocks_callback};
+      &jacobian_diagonal_callback<false>, &jacobian_pattern_callback,
+      &jacobian_blocks_callback<false>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
       &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
+  static constexpr clothlab_definite_jacobian_2_extension definite_jacobian_2_table{
+      &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>,
+      &jacobian_blocks_callback<true>};
   static constexpr clothlab_cg_step_extension cg_step_table{
       &cg_linearise_callback, &cg_product_callback, &cg_update_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
@@ -95,6 +99,7 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
     return static_cast<const ClothEngine*>(context)->on_grid_path() ? &grid_table : nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian_table;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2) == 0) return &definite_jacobian_2_table;
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
@@ -210,13 +215,19 @@ clothlab_status ClothEngine<Real>::jacobian_pattern_callback(void* context,
 }
 
 template <class Real>
+template <bool Definite>
 clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, double, const void* x,
                                                             const void* v, double c_x, double c_v,
                                                             double* values) {
   if (x == nullptr || values == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
-    static_cast<ClothEngine*>(context)->jacobian().blocks(
-        static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, values);
+    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
+    const auto* xs = static_cast<const Real*>(x);
+    const auto* vs = static_cast<const Real*>(v);
+    if constexpr (Definite)
+      jacobian.blocks_definite(xs, vs, c_x, c_v, values);
+    else
+      jacobian.blocks(xs, vs, c_x, c_v, values);
   });
 }
 

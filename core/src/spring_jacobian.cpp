@@ -357,7 +357,18 @@ void SpringJacobian<Real>::diagonal_blocks(const Real* x, const Real* v, const W
 template <class Real>
 void SpringJacobian<Real>::blocks(const Real* x, const Real* v, double c_x, double c_v,
                                   double* values) const {
-  const Weights w{c_x, c_v, damping_ && v != nullptr};
+  blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr}, values);
+}
+
+template <class Real>
+void SpringJacobian<Real>::blocks_definite(const Real* x, const Real* v, double c_x, double c_v,
+                                           double* values) const {
+  blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr, true}, values);
+}
+
+template <class Real>
+void SpringJacobian<Real>::blocks(const Real* x, const Real* v, const Weights& w,
+                                  double* values) const {
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
   for_particles([&](uint32_t i) {
     std::fill(values + 9 * std::size_t{row_offsets_[i]},

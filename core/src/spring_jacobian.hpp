@@ -77,7 +77,9 @@ class SpringJacobian {
                                 double* out) const;
   // out[9 i + 3 r + c] = J_ii(r, c).
   void diagonal_blocks(const Real* x, const Real* v, double c_x, double c_v, double* out) const;
+  // values: every block of J in pattern()'s order (9 per block); blocks_definite: of D.
   void blocks(const Real* x, const Real* v, double c_x, double c_v, double* values) const;
+  void blocks_definite(const Real* x, const Real* v, double c_x, double c_v, double* values) const;
   clothlab_block_pattern pattern() const;
 
  private:
@@ -87,6 +89,7 @@ class SpringJacobian {
     bool definite = false;
   };
   void diagonal_blocks(const Real* x, const Real* v, const Weights& w, double* out) const;
+  void blocks(const Real* x, const Real* v, const Weights& w, double* values) const;
   // M of spring `spring` (see above); 0 for a zero-length spring.
   void spring_block(const Real* x, const Real* v, uint32_t spring, const Weights& w,
                     double* m) const;

@@ -17,6 +17,10 @@ const void* PluginOnlySystem::host_table<clothlab_definite_jacobian_extension>()
   return host_definite_jacobian_;
 }
 template <>
+const void* PluginOnlySystem::host_table<clothlab_definite_jacobian_2_extension>() const {
+  return host_definite_jacobian_2_;
+}
+template <>
 const void* PluginOnlySystem::host_table<clothlab_cg_step_extension>() const {
   return host_cg_step_;
 }
@@ -53,6 +57,10 @@ const char* PluginOnlySystem::extension_id<clothlab_jacobian_extension>() {
 template <>
 const char* PluginOnlySystem::extension_id<clothlab_definite_jacobian_extension>() {
   return CLOTHLAB_EXT_DEFINITE_JACOBIAN;
+}
+template <>
+const char* PluginOnlySystem::extension_id<clothlab_definite_jacobian_2_extension>() {
+  return CLOTHLAB_EXT_DEFINITE_JACOBIAN_2;
 }
 template <>
 const char* PluginOnlySystem::extension_id<clothlab_cg_step_extension>() {
@@ -135,6 +143,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_topology_ = clothlab_system_extension(&host, CLOTHLAB_EXT_TOPOLOGY);
     host_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_JACOBIAN);
     host_definite_jacobian_ = clothlab_system_extension(&host, CLOTHLAB_EXT_DEFINITE_JACOBIAN);
+    host_definite_jacobian_2_ = clothlab_system_extension(&host, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2);
     host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
@@ -150,6 +159,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using T = clothlab_topology_extension;
   using J = clothlab_jacobian_extension;
   using D = clothlab_definite_jacobian_extension;
+  using D2 = clothlab_definite_jacobian_2_extension;
   using C = clothlab_cg_step_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
@@ -164,6 +174,9 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                               &AfterReserve<J, &J::blocks>::call};
   static constexpr D definite_jacobian{&AfterReserve<D, &D::apply>::call,
                                        &AfterReserve<D, &D::diagonal_blocks>::call};
+  static constexpr D2 definite_jacobian_2{&AfterReserve<D2, &D2::apply>::call,
+                                          &AfterReserve<D2, &D2::diagonal_blocks>::call,
+                                          &AfterReserve<D2, &D2::blocks>::call};
   static constexpr C cg_step{&AfterReserve<C, &C::linearise>::call,
                              &AfterReserve<C, &C::product>::call,
                              &AfterReserve<C, &C::update>::call};
@@ -182,6 +195,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_TOPOLOGY) == 0) return &topology;
   if (std::strcmp(id, CLOTHLAB_EXT_JACOBIAN) == 0) return &jacobian;
   if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian;
+  if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2) == 0) return &definite_jacobian_2;
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;

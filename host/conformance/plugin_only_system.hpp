@@ -94,6 +94,7 @@ class PluginOnlySystem {
   const void* host_topology_ = nullptr;
   const void* host_jacobian_ = nullptr;
   const void* host_definite_jacobian_ = nullptr;
+  const void* host_definite_jacobian_2_ = nullptr;
   const void* host_cg_step_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;

@@ -21,11 +21,12 @@
 // updates and dot product around it, and one update sweep). `multigrid` = 1 preconditions CG
 // with a geometric multigrid V-cycle on the cloth's grid instead (multigrid_preconditioner.hpp):
 // its iteration count stays nearly the same as the mesh is refined, where block-Jacobi's grows
-// with the grid's side, at the price of 75 Jacobian products per solve to assemble the matrix
-// and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"), whose finest level smooths with
-// 2 x `multigrid_sweeps` more products; `multigrid_rebuild` = N reuses that set-up for N solves,
-// and the step statistics count the builds as factorisations. A solve that stops at
-// `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
+// with the grid's side, at the price of assembling the matrix (from the host's block table of
+// the definite Jacobian, clothlab.definite-jacobian/2, else by 75 Jacobian products) and
+// Galerkin products per solve, and a V-cycle per iteration (lab/real-cloth.md, "Multigrid"), whose
+// finest level smooths with 2 x `multigrid_sweeps` more products; `multigrid_rebuild` = N reuses
+// that set-up for N solves, and the step statistics count the builds as factorisations. A solve
+// that stops at `max_iterations` (or meets p.Ap <= 0) before the tolerance is reported through
 // clothlab.solver-statistics/1, never passed off as converged.
 //
 // Definiteness (`definite`, on by default). Two terms of the exact da/dx make A indefinite
@@ -129,7 +130,10 @@ class ImplicitStepSolver {
     multigrid_preconditioner_.reset();
     if (multigrid_)
       multigrid_preconditioner_.emplace(system, multigrid_coarsest_, multigrid_sweeps_,
-                                        multigrid_rebuild_);
+                                        multigrid_rebuild_,
+                                        definite_ && system.definite_jacobian().has_blocks()
+                                            ? std::optional(system.jacobian().pattern())
+                                            : std::nullopt);
     previous_h_ = 0.0;
     last_ = {};
   }

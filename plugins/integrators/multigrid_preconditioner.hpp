@@ -3,14 +3,16 @@
 // (clothlab.grid/1, particle r * cols + c). CG runs in the mass inner product, so its
 // preconditioner is z = B M r with B ~ S^-1 symmetric: self-adjoint in that product.
 //
-// S's blocks come from J's products, not from a host block table: the definite Jacobian has
-// none, and probing gives whichever form CG solves with. Every spring joins particles at most
-// two grid spacings apart (checked, multigrid_grid.hpp), so particles whose rows and columns are
-// equal mod 5 share no neighbour: one product with e_d on all particles of such a class gives
-// column d of every block coupling to them, 75 products in all. A single-precision system's blocks
-// carry its rounding, so S is symmetrised ((S + S^T) / 2) and the V-cycle stays exactly symmetric;
-// its V-cycle also smooths in single precision (multigrid_lanes.hpp), all its CG resolves.
-// Pinned particles are the fine level's Dirichlet nodes.
+// S's blocks come from the host's block table of the definite Jacobian where it offers one
+// (clothlab.definite-jacobian/2, in clothlab.jacobian/1's pattern: one call, S_ij = m_i D_ij),
+// else from J's products (probing: the exact Jacobian, `definite` = 0, and hosts with /1
+// alone). Every spring joins particles at most two grid spacings apart (checked,
+// multigrid_grid.hpp), so particles whose rows and columns are equal mod 5 share no neighbour:
+// one product with e_d on all particles of such a class gives column d of every block coupling
+// to them, 75 products in all. Products and tables carry rounding, so S is symmetrised
+// ((S + S^T) / 2) and the V-cycle stays exactly symmetric; a single-precision system's V-cycle
+// also smooths in single precision (multigrid_lanes.hpp), all its CG resolves. Pinned
+// particles are the fine level's Dirichlet nodes.
 //
 // The fine level smooths matrix-free: Chebyshev iteration on block-Jacobi (D^-1 A, D the
 // diagonal blocks of A), `sweeps` host products before the coarse correction and as many
@@ -21,7 +23,7 @@
 // side. On the cotton flag 2 + 2 such steps take about as many CG iterations as 2 + 2
 // Gauss-Seidel sweeps.
 //
-// Reuse: the set-up (probing, Galerkin products, factors) costs several CG iterations, so
+// Reuse: the set-up (the fine blocks, Galerkin products, factors) costs several CG iterations, so
 // `prepare_solve` can keep the last hierarchy for up to `rebuild_interval` solves. CG's products
 // still use the current matrix, so the answer is converged as before; a V-cycle of an older
 // symmetric positive definite matrix is still a symmetric positive definite preconditioner, and
@@ -35,6 +37,8 @@
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -47,10 +51,14 @@ namespace clothlab::builtin {
 class MultigridPreconditioner {
  public:
   // From `prepare`: one-line sdk::Error where the cloth is no grid, a spring reaches further
-  // than two spacings, or the grid does not coarsen far enough (plan_levels).
+  // than two spacings, the grid does not coarsen far enough (plan_levels), or block_pattern
+  // disagrees with the grid. block_pattern: the host's (clothlab.jacobian/1), where the solves'
+  // fine blocks come from `prepare_solve`'s blocks (the host's table of the definite Jacobian);
+  // nothing: from probing the product.
   template <class Real>
   MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps,
-                          long rebuild_interval = 1)
+                          long rebuild_interval = 1,
+                          std::optional<clothlab_block_pattern> block_pattern = std::nullopt)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
                    fixed_particles(system), GridLevel::Blocks::single,
@@ -69,6 +77,11 @@ class MultigridPreconditioner {
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i) mass_[i] = 1.0 / inverse_mass[i];
     std::fill_n(static_cast<Real*>(probe_), 3 * std::size_t{system.stride()}, Real{0});
+    if (block_pattern) {
+      check_block_pattern(*block_pattern, hierarchy_.level(0));
+      pattern_ = block_pattern;
+      block_values_.assign(9 * std::size_t{pattern_->block_count}, 0.0);
+    }
   }
   MultigridPreconditioner(const MultigridPreconditioner&) = delete;
   MultigridPreconditioner& operator=(const MultigridPreconditioner&) = delete;
@@ -81,14 +94,22 @@ class MultigridPreconditioner {
   // Hierarchies built so far (each ends in a factorisation of the coarsest level).
   uint64_t rebuild_count() const { return rebuild_count_; }
 
-  // Readies the V-cycle for a solve whose matrix has J's position weight c_x = -h^2: linearises
-  // (see `linearise`) where there is no valid hierarchy, c_x changed since the last build (the
-  // old matrix may then be far from the new one), or `rebuild_interval` solves used the last.
-  template <class Real, class Product>
-  void prepare_solve(const sdk::System<Real>& system, double c_x, Product&& product) {
+  // Readies the V-cycle for a solve whose matrix has J's position weight c_x = -h^2: assembles
+  // (`assemble` from blocks(values), which fills the host's block table, where built with a
+  // block pattern, else `linearise` by product(u, out): out = J u) where there is no valid
+  // hierarchy, c_x changed since the last build (the old matrix may then be far from the new
+  // one), or `rebuild_interval` solves used the last.
+  template <class Real, class Product, class Blocks>
+  void prepare_solve(const sdk::System<Real>& system, double c_x, Product&& product,
+                     Blocks&& blocks) {
     if (!valid_ || c_x != built_c_x_ || solves_since_rebuild_ >= rebuild_interval_) {
-      valid_ = false;  // until linearise succeeds: a throw leaves no hierarchy to reuse
-      linearise(system, product);
+      valid_ = false;  // until the build succeeds: a throw leaves no hierarchy to reuse
+      if (pattern_) {
+        blocks(block_values_.data());
+        assemble(system, block_values_.data());
+      } else {
+        linearise(system, product);
+      }
       valid_ = true, built_c_x_ = c_x, solves_since_rebuild_ = 0;
     }
     ++solves_since_rebuild_;
@@ -125,19 +146,27 @@ class MultigridPreconditioner {
         }
       }
     }
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        if (fine.fixed(fine.node(r, c))) continue;
-        double* diagonal = fine.block(r, c, r, c);
-        for (int k = 0; k < 3; ++k) diagonal[4 * k] += mass_[fine.node(r, c)];
+    finish_fine_level(system);
+  }
+
+  // Assembles S = M (I + J) from J's blocks `values` (9 each) in the order of the block pattern
+  // given at construction, and rebuilds the levels.
+  template <class Real>
+  void assemble(const sdk::System<Real>& system, const double* values) {
+    GridLevel& fine = hierarchy_.level(0);
+    fine.clear();
+    const auto cols = static_cast<uint32_t>(fine.cols());
+    for (uint32_t i = 0; i < pattern_->row_count; ++i) {
+      if (fine.fixed(i)) continue;
+      const auto r = static_cast<int>(i / cols), c = static_cast<int>(i % cols);
+      for (uint32_t k = pattern_->row_offsets[i]; k < pattern_->row_offsets[i + 1]; ++k) {
+        const uint32_t j = pattern_->columns[k];
+        if (fine.fixed(j)) continue;
+        double* block = fine.block(r, c, static_cast<int>(j / cols), static_cast<int>(j % cols));
+        for (std::size_t e = 0; e < 9; ++e) block[e] = mass_[i] * values[9 * std::size_t{k} + e];
       }
-    symmetrise(fine);
-    ++rebuild_count_;
-    if (!hierarchy_.rebuild())
-      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
-                       "multigrid: the linearised matrix is not positive definite (definite = 0 "
-                       "with compressed springs?)");
-    if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
+    }
+    finish_fine_level(system);
   }
 
   // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
@@ -201,6 +230,25 @@ class MultigridPreconditioner {
   }
 
  private:
+  // S's fine blocks written (J's part, M J): adds M, symmetrises and rebuilds the levels.
+  template <class Real>
+  void finish_fine_level(const sdk::System<Real>& system) {
+    GridLevel& fine = hierarchy_.level(0);
+    for (int r = 0; r < fine.rows(); ++r)
+      for (int c = 0; c < fine.cols(); ++c) {
+        if (fine.fixed(fine.node(r, c))) continue;
+        double* diagonal = fine.block(r, c, r, c);
+        for (int k = 0; k < 3; ++k) diagonal[4 * k] += mass_[fine.node(r, c)];
+      }
+    symmetrise(fine);
+    ++rebuild_count_;
+    if (!hierarchy_.rebuild())
+      throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
+                       "multigrid: the linearised matrix is not positive definite (definite = 0 "
+                       "with compressed springs?)");
+    if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
+  }
+
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
   // Particles of a range worth splitting among the V-cycle's threads.
   static constexpr uint32_t kParticlesWorthATeam = 4096;
@@ -291,6 +339,45 @@ class MultigridPreconditioner {
         component[fine.node(r, c)] = value;
   }
 
+  // One line of sdk::Error unless `pattern` (the host's, for its block table) has a row per
+  // particle of the grid, ascending rows that each hold their diagonal, and no column beyond
+  // the fine level's window.
+  static void check_block_pattern(const clothlab_block_pattern& pattern, const GridLevel& fine) {
+    const auto fail = [](const std::string& what) {
+      throw sdk::Error(
+          CLOTHLAB_ERROR_INVALID_ARGUMENT,
+          "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) " + what);
+    };
+    if (pattern.row_count != fine.node_count())
+      fail("has " + std::to_string(pattern.row_count) + " rows; the " +
+           std::to_string(fine.rows()) + " x " + std::to_string(fine.cols()) + " grid has " +
+           std::to_string(fine.node_count()) + " particles");
+    if (pattern.row_offsets[0] != 0 ||
+        pattern.row_offsets[pattern.row_count] != pattern.block_count)
+      fail("has row offsets from " + std::to_string(pattern.row_offsets[0]) + " to " +
+           std::to_string(pattern.row_offsets[pattern.row_count]) + "; its blocks are 0 to " +
+           std::to_string(pattern.block_count));
+    for (uint32_t i = 0; i < pattern.row_count; ++i) {
+      if (pattern.row_offsets[i + 1] < pattern.row_offsets[i])
+        fail("has row " + std::to_string(i) + " ending before it begins");
+      const int r = static_cast<int>(i / static_cast<uint32_t>(fine.cols()));
+      const int c = static_cast<int>(i % static_cast<uint32_t>(fine.cols()));
+      const GridLevel::Window w = fine.window(r, c);
+      bool diagonal = false;
+      for (uint32_t k = pattern.row_offsets[i]; k < pattern.row_offsets[i + 1]; ++k) {
+        const uint32_t j = pattern.columns[k];
+        const auto r2 = static_cast<int>(j / static_cast<uint32_t>(fine.cols()));
+        const auto c2 = static_cast<int>(j % static_cast<uint32_t>(fine.cols()));
+        if (j >= pattern.row_count || r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin ||
+            c2 >= w.col_end || (k > pattern.row_offsets[i] && j <= pattern.columns[k - 1]))
+          fail("couples particle " + std::to_string(i) + " to " + std::to_string(j) +
+               " (columns must ascend and lie within two grid spacings)");
+        diagonal = diagonal || j == i;
+      }
+      if (!diagonal) fail("has no diagonal block in row " + std::to_string(i));
+    }
+  }
+
   // A = (A + A^T) / 2, block by block.
   static void symmetrise(GridLevel& level) {
     for (int r = 0; r < level.rows(); ++r)
@@ -326,6 +413,9 @@ class MultigridPreconditioner {
   // System vectors in its precision: the probe, and J times it for each of its components.
   void* probe_;
   std::array<void*, 3> probe_products_;
+  // With block_table: the host's pattern and its table's values (9 per block).
+  std::optional<clothlab_block_pattern> pattern_;
+  std::vector<double> block_values_;
 };
 
 }  // namespace clothlab::builtin

@@ -68,7 +68,9 @@ class PreconditionedCg {
     c_x_ = -h * h, c_v_ = -h;
     if (cg_step_) cg_step_->linearise(t, x, v, c_x_, c_v_);
     if (multigrid_ != nullptr) {
-      multigrid_->prepare_solve(system_, c_x_, [this](const Real* u, Real* out) { apply(u, out); });
+      multigrid_->prepare_solve(
+          system_, c_x_, [this](const Real* u, Real* out) { apply(u, out); },
+          [this](double* values) { definite_->blocks(t_, x_, v_, c_x_, c_v_, values); });
     } else {
       invert_diagonal_blocks();
     }

@@ -2,12 +2,18 @@
 // Hooke Jacobian plus the damping's velocity part (clothlab.jacobian/1, itself checked against
 // finite differences); where springs are compressed it drops exactly their transverse
 // stiffness; M D is symmetric and D (c_x, c_v < 0) positive, so I + D is definite; its
-// diagonal blocks reproduce the product's diagonal; the same bits on one and several threads.
+// diagonal blocks reproduce the product's diagonal; its block table (clothlab.definite-jacobian/2)
+// is the product's matrix, column by column, on the grid and the spring-list path (and a
+// table with one block halved or two swapped is caught); the same bits, product and table, on
+// one and several threads.
 #include <clothlab/ext/definite_jacobian.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "extension_support.hpp"
 
@@ -158,17 +164,92 @@ TEST(DefiniteJacobian, DiagonalBlocksAreTheProductsDiagonal) {
     }
 }
 
+// The largest difference between the matrix of a block table (the pattern's blocks, zero
+// elsewhere) and the definite product's, probed with every unit vector of the free particles;
+// rows and columns of pinned particles are zero in both.
+double table_against_products(Scaled& cloth, const clothlab_block_pattern& pattern,
+                              const std::vector<double>& values, double c_x, double c_v) {
+  const std::size_t n = cloth.system.particle_count;
+  double worst = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (cloth.inverse_mass(j) == 0.0) continue;
+      std::vector<double> unit(3 * n, 0.0);
+      unit[3 * j + c] = 1.0;
+      const std::vector<double> column = cloth.apply(true, c_x, c_v, true, unit);
+      std::vector<double> from_table(3 * n, 0.0);
+      for (std::size_t i = 0; i < n; ++i)
+        for (uint32_t k = pattern.row_offsets[i]; k < pattern.row_offsets[i + 1]; ++k)
+          if (pattern.columns[k] == j)
+            for (std::size_t r = 0; r < 3; ++r) from_table[3 * i + r] = values[9 * k + 3 * r + c];
+      worst = std::max(worst, max_difference(column, from_table));
+    }
+  return worst;
+}
+
+TEST(DefiniteJacobian, TheBlockTableIsTheProductsMatrixOnTheGridAndTheSpringList) {
+  for (const bool general : {false, true})
+    for (const double scale : {0.85, 1.15}) {
+      PipelineOptions options;
+      options.force_general_path = general;
+      Scaled cloth(scale, options);
+      const auto& table = host_extension<clothlab_definite_jacobian_2_extension>(
+          cloth.system, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2);
+      clothlab_block_pattern pattern{};
+      pattern.struct_size = sizeof pattern;
+      ASSERT_EQ(cloth.exact->pattern(cloth.system.context, &pattern), CLOTHLAB_OK);
+      std::vector<double> values(9 * std::size_t{pattern.block_count});
+      ASSERT_EQ(table.blocks(cloth.system.context, 0.0, cloth.system.x, cloth.system.v, 0.7, 0.2,
+                             values.data()),
+                CLOTHLAB_OK);
+      const double size = max_abs(values);
+      const std::string where =
+          (general ? "spring list, scale " : "grid, scale ") + std::to_string(scale);
+      EXPECT_LT(table_against_products(cloth, pattern, values, 0.7, 0.2), 1e-12 * size) << where;
+      // Mutants the comparison must catch: an off-diagonal block halved, and two off-diagonal
+      // blocks of a row swapped (a block in another's slot).
+      // The first free row with two off-diagonal blocks of free particles.
+      std::vector<uint32_t> off_diagonal;
+      for (uint32_t row = 0; row < pattern.row_count && off_diagonal.size() < 2; ++row) {
+        off_diagonal.clear();
+        if (cloth.inverse_mass(row) == 0.0) continue;
+        for (uint32_t k = pattern.row_offsets[row]; k < pattern.row_offsets[row + 1]; ++k)
+          if (pattern.columns[k] != row && cloth.inverse_mass(pattern.columns[k]) > 0.0)
+            off_diagonal.push_back(k);
+      }
+      ASSERT_GE(off_diagonal.size(), 2u);
+      std::vector<double> halved = values, swapped = values;
+      for (std::size_t e = 0; e < 9; ++e) {
+        halved[9 * off_diagonal[0] + e] *= 0.5;
+        std::swap(swapped[9 * off_diagonal[0] + e], swapped[9 * off_diagonal[1] + e]);
+      }
+      EXPECT_GT(table_against_products(cloth, pattern, halved, 0.7, 0.2), 1e-3 * size) << where;
+      EXPECT_GT(table_against_products(cloth, pattern, swapped, 0.7, 0.2), 1e-3 * size) << where;
+    }
+}
+
 TEST(DefiniteJacobian, SameBitsOnOneAndSeveralThreads) {
-  std::vector<double> reference;
+  std::vector<double> reference, reference_table;
   for (int threads : {1, 2, 3}) {
     PipelineOptions options;
     options.threads = threads;
     Scaled cloth(0.95, options, 80, 70);  // large enough to run threaded
     const std::vector<double> product = cloth.apply(true, 1.0, 0.1, true, cloth.u);
+    clothlab_block_pattern pattern{};
+    pattern.struct_size = sizeof pattern;
+    ASSERT_EQ(cloth.exact->pattern(cloth.system.context, &pattern), CLOTHLAB_OK);
+    std::vector<double> table(9 * std::size_t{pattern.block_count});
+    ASSERT_EQ(host_extension<clothlab_definite_jacobian_2_extension>(
+                  cloth.system, CLOTHLAB_EXT_DEFINITE_JACOBIAN_2)
+                  .blocks(cloth.system.context, 0.0, cloth.system.x, cloth.system.v, 1.0, 0.1,
+                          table.data()),
+              CLOTHLAB_OK);
     if (reference.empty()) {
       reference = product;
+      reference_table = table;
     } else {
       EXPECT_EQ(product, reference) << threads << " threads";
+      EXPECT_EQ(table, reference_table) << threads << " threads, the block table";
     }
   }
 }

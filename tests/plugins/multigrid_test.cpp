@@ -675,6 +675,124 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   EXPECT_LT(worst, 1e-6 * scale);
 }
 
+// A block table of the host's definite J in the pattern of every 5 x 5 window, probed column
+// by column with unit vectors (not the plugin's 25 classes): the table a host offers through
+// clothlab.definite-jacobian/2.
+struct ProbedTable {
+  ProbedTable(const sdk::System<double>& system, int rows, int cols, double h) {
+    const std::size_t n = system.particle_count(), stride = system.stride();
+    offsets.push_back(0);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        for (int r2 = std::max(r - 2, 0); r2 < std::min(r + 3, rows); ++r2)
+          for (int c2 = std::max(c - 2, 0); c2 < std::min(c + 3, cols); ++c2)
+            columns.push_back(static_cast<uint32_t>(r2 * cols + c2));
+        offsets.push_back(static_cast<uint32_t>(columns.size()));
+      }
+    values.assign(9 * columns.size(), 0.0);
+    std::vector<double> unit(3 * stride, 0.0), image(3 * stride, 0.0);
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t d = 0; d < 3; ++d) {
+        unit[d * stride + j] = 1.0;
+        system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, unit.data(),
+                                         image.data());
+        unit[d * stride + j] = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+          for (uint32_t k = offsets[i]; k < offsets[i + 1]; ++k)
+            if (columns[k] == j)
+              for (std::size_t e = 0; e < 3; ++e) values[9 * k + 3 * e + d] = image[e * stride + i];
+      }
+  }
+  clothlab_block_pattern pattern() const {
+    return {sizeof(clothlab_block_pattern),
+            static_cast<uint32_t>(offsets.size() - 1),
+            static_cast<uint32_t>(columns.size()),
+            0,
+            offsets.data(),
+            columns.data()};
+  }
+  std::vector<uint32_t> offsets, columns;
+  std::vector<double> values;
+};
+
+// The largest difference between two fine levels' blocks.
+double fine_level_difference(const GridLevel& a, const GridLevel& b) {
+  double worst = 0.0;
+  for (int r = 0; r < a.rows(); ++r)
+    for (int c = 0; c < a.cols(); ++c) {
+      const GridLevel::Window w = a.window(r, c);
+      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
+          for (int e = 0; e < 9; ++e)
+            worst = std::max(worst, std::abs(a.block(r, c, r2, c2)[e] - b.block(r, c, r2, c2)[e]));
+    }
+  return worst;
+}
+
+// The fine level assembled from a host's block table is the probed one (to the single-precision
+// rounding of the off-diagonal blocks); a table with one off-diagonal block halved is caught.
+TEST(Multigrid, TheFineLevelFromTheHostsBlockTableIsTheProbedOne) {
+  constexpr int kRows = 11, kCols = 13;
+  GridNet net(kRows, kCols);
+  MockSystem<double>& mock = net.host.system();
+  const sdk::System<double> system(mock.raw());
+  const double h = 1.0 / 60.0;
+  mock.allocation_allowed = true;
+  const ProbedTable table(system, kRows, kCols, h);
+  builtin::MultigridPreconditioner probed(system, 0, 1);
+  builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  mock.allocation_allowed = false;
+  probed.linearise(system, [&](const double* in, double* out) {
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+  });
+  tabled.assemble(system, table.values.data());
+  const GridLevel& expected = probed.hierarchy().level(0);
+  double size = 0.0;
+  for (const double value : table.values) size = std::max(size, std::abs(value));
+  ASSERT_GT(size, 1e-3);
+  EXPECT_LT(fine_level_difference(tabled.hierarchy().level(0), expected), 1e-6 * size);
+  // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (symmetrising leaves 3/4 of
+  // it, a quarter of the block off: about 6 % of the largest, a diagonal, entry).
+  std::vector<double> halved = table.values;
+  const uint32_t row = 5 * kCols + 6;
+  for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
+    if (table.columns[k] == row + 1)
+      for (std::size_t e = 0; e < 9; ++e) halved[9 * k + e] *= 0.5;
+  tabled.assemble(system, halved.data());
+  EXPECT_GT(fine_level_difference(tabled.hierarchy().level(0), expected), 0.01 * size);
+}
+
+// A block table whose pattern disagrees with the grid: one line naming the table and the
+// disagreement, at construction.
+TEST(Multigrid, RefusesABlockTableThatDisagreesWithTheGrid) {
+  constexpr int kRows = 9, kCols = 10;
+  GridNet net(kRows, kCols);
+  MockSystem<double>& mock = net.host.system();
+  const sdk::System<double> system(mock.raw());
+  mock.allocation_allowed = true;
+  ProbedTable table(system, kRows, kCols, 0.01);
+  const auto message = [&](clothlab_block_pattern pattern) -> std::string {
+    try {
+      builtin::MultigridPreconditioner preconditioner(system, 0, 1, 1, pattern);
+    } catch (const sdk::Error& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  clothlab_block_pattern short_by_a_row = table.pattern();
+  short_by_a_row.row_count -= 1;
+  EXPECT_EQ(message(short_by_a_row),
+            "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) has 89 rows; "
+            "the 9 x 10 grid has 90 particles");
+  clothlab_block_pattern one_block_short = table.pattern();
+  one_block_short.block_count -= 1;
+  EXPECT_NE(message(one_block_short).find("its blocks are 0 to"), std::string::npos);
+  table.columns[0] = 3;  // particle 0 to particle 3: three spacings along its row
+  EXPECT_EQ(message(table.pattern()),
+            "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) couples particle "
+            "0 to 3 (columns must ascend and lie within two grid spacings)");
+}
+
 // The fine level's matrix-free Chebyshev smoother: its bound on D^-1 A's eigenvalues (D the
 // diagonal blocks) lies above the largest one and within 1.5 times it (lambda D - S positive
 // definite or not, for the probed S = M A and its diagonal blocks D_S); a bound below would let

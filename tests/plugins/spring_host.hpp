@@ -89,10 +89,12 @@ class SpringHost {
 
   MockSystem<Real>& system() { return system_; }
   // The host extensions it never offers (clothlab/core/extension_registry.hpp): the tests it
-  // serves need no fused CG sweeps, colliders or attachments. The grid and the thread count
-  // are offered once set_grid and set_threads have been called.
+  // serves need no fused CG sweeps, colliders or attachments, and no block table (its multigrid
+  // tests probe the product). The grid and the thread count are offered once set_grid and
+  // set_threads have been called.
   static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_CG_STEP, CLOTHLAB_EXT_CONTACTS,
-                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS};
+                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS,
+                                                        CLOTHLAB_EXT_DEFINITE_JACOBIAN_2};
   int jacobian_products = 0;  // of either form
 
   // Replaces the trivial spring colouring (one spring per colour) with `colors`, spring

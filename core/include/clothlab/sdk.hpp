@@ -297,7 +297,8 @@ class System {
   }
   DefiniteJacobian<Real> definite_jacobian() const {
     return {required<clothlab_definite_jacobian_extension>(CLOTHLAB_EXT_DEFINITE_JACOBIAN),
-            raw_->context};
+            raw_->context,
+            extension<clothlab_definite_jacobian_2_extension>(CLOTHLAB_EXT_DEFINITE_JACOBIAN_2)};
   }
   CgStep<Real> cg_step() const {
     return {required<clothlab_cg_step_extension>(CLOTHLAB_EXT_CG_STEP), raw_->context};

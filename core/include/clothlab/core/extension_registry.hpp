@@ -50,6 +50,7 @@ inline constexpr PublishedExtension kPublishedExtensions[] = {
     {CLOTHLAB_EXT_GRID, ExtensionSide::Host},
     {CLOTHLAB_EXT_JACOBIAN, ExtensionSide::Host},
     {CLOTHLAB_EXT_DEFINITE_JACOBIAN, ExtensionSide::Host},
+    {CLOTHLAB_EXT_DEFINITE_JACOBIAN_2, ExtensionSide::Host},
     {CLOTHLAB_EXT_CG_STEP, ExtensionSide::Host},
     {CLOTHLAB_EXT_REDUCTIONS, ExtensionSide::Host},
     {CLOTHLAB_EXT_EXTERNAL_FORCES, ExtensionSide::Host},

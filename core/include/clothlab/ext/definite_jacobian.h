@@ -15,7 +15,16 @@
  * symmetric; for c_x, c_v <= 0, I + D is positive definite in the mass inner product. Rows
  * and columns of pinned particles are zero.
  *
- * Call `reserve` of clothlab.jacobian/1 from `prepare` first (it readies both). Thread
+ * "clothlab.definite-jacobian/2" (ABI 1.3) is revision 1 with the block table: every 3x3
+ * block of D at once, in the block pattern of clothlab.jacobian/1 (one pattern for both
+ * forms, on a grid and on any mesh alike), so that a preconditioner assembles D without
+ * probing it with products. The table is a CSR of blocks, not a per-spring list: a row's
+ * blocks are what a multigrid level or an incomplete factor consumes, and two springs
+ * joining the same pair share one block. Its values are double
+ * whatever the precision: the diagonal blocks of I + D on a fine cloth carry a mass term below
+ * single precision's resolution of the diagonal. A host offering /2 offers /1 too.
+ *
+ * Call `reserve` of clothlab.jacobian/1 from `prepare` first (it readies all). Thread
  * rule: as eval_acceleration. No allocation.
  */
 #ifndef CLOTHLAB_EXT_DEFINITE_JACOBIAN_H
@@ -28,6 +37,7 @@ extern "C" {
 #endif
 
 #define CLOTHLAB_EXT_DEFINITE_JACOBIAN "clothlab.definite-jacobian/1"
+#define CLOTHLAB_EXT_DEFINITE_JACOBIAN_2 "clothlab.definite-jacobian/2"
 
 typedef struct clothlab_definite_jacobian_extension {
   /* out = D u on active particles; out is 0 on pinned ones, u's pinned entries are
@@ -39,6 +49,19 @@ typedef struct clothlab_definite_jacobian_extension {
   clothlab_status (*diagonal_blocks)(void* context, double t, const void* x, const void* v,
                                      double c_x, double c_v, double* out);
 } clothlab_definite_jacobian_extension;
+
+/* Revision 2: revision 1's calls, then the block table. */
+typedef struct clothlab_definite_jacobian_2_extension {
+  clothlab_status (*apply)(void* context, double t, const void* x, const void* v, double c_x,
+                           double c_v, const void* u, void* out);
+  clothlab_status (*diagonal_blocks)(void* context, double t, const void* x, const void* v,
+                                     double c_x, double c_v, double* out);
+  /* All blocks of D in the order of clothlab.jacobian/1's `pattern`: values[9 k + 3 r + c] for
+   * block k, row-major, double; rows and columns of pinned particles are zero. values is
+   * caller-owned, 9 block_count doubles. */
+  clothlab_status (*blocks)(void* context, double t, const void* x, const void* v, double c_x,
+                            double c_v, double* values);
+} clothlab_definite_jacobian_2_extension;
 
 #ifdef __cplusplus
 }

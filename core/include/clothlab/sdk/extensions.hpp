@@ -121,12 +121,14 @@ class Jacobian {
 };
 
 // D = c_x K + c_v (da/dv), Baraff and Witkin's definite form of the Jacobian (see
-// clothlab/ext/definite_jacobian.h); readied by Jacobian::reserve.
+// clothlab/ext/definite_jacobian.h); readied by Jacobian::reserve. block_table: the host's
+// clothlab.definite-jacobian/2, or null where it offers /1 alone.
 template <class Real>
 class DefiniteJacobian {
  public:
-  DefiniteJacobian(const clothlab_definite_jacobian_extension& table, void* context)
-      : table_(&table), context_(context) {}
+  DefiniteJacobian(const clothlab_definite_jacobian_extension& table, void* context,
+                   const clothlab_definite_jacobian_2_extension* block_table = nullptr)
+      : table_(&table), block_table_(block_table), context_(context) {}
 
   // out = D u on active particles (0 on pinned ones); out must not alias u, x or v.
   void apply(double t, const Real* x, const Real* v, double c_x, double c_v, const Real* u,
@@ -139,9 +141,18 @@ class DefiniteJacobian {
     check(table_->diagonal_blocks(context_, t, x, v, c_x, c_v, out),
           "definite jacobian diagonal_blocks failed");
   }
+  // Whether the host offers every block at once (clothlab.definite-jacobian/2).
+  bool has_blocks() const { return block_table_ != nullptr; }
+  // Every block of D in the order of Jacobian::pattern, 9 block_count doubles; has_blocks only.
+  void blocks(double t, const Real* x, const Real* v, double c_x, double c_v,
+              double* values) const {
+    check(block_table_->blocks(context_, t, x, v, c_x, c_v, values),
+          "definite jacobian blocks failed");
+  }
 
  private:
   const clothlab_definite_jacobian_extension* table_;
+  const clothlab_definite_jacobian_2_extension* block_table_;
   void* context_;
 };
 
