@@ -74,9 +74,8 @@ template <bool Damped, bool Wind, bool Edge>
       load(row.v[dr], dc, dv);
       for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
     }
-    const Floats scale =
-        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], row.rest[s], row.ks[s],
-                                   row.kd[s]);
+    const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2],
+                                                    row.rest[s], row.ks[s], row.kd[s]);
     Vec3 f;
     for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
     mask(f, valid);
