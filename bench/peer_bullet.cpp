@@ -15,11 +15,12 @@
 // is checked against the engine's own Cloth::stretch_percentile every frame.
 //
 //   build/bin/clothlab_peer_bullet [config] [--side N] [--scenario sheet|flag] [--duration S]
-//       [--limit L] [--full]
+//       [--limit L] [--integrator xpbd|xpbd_tethers] [--full]
 //
 // Default: both scenarios at side 30 for 1 s (a short run), limit 1.05, stopping at each
-// engine's first setting within the limit; the tables are --side 100 and --side 300. --full runs
-// every setting of both ladders.
+// engine's first setting within the limit, and stopping each setting's run at the first frame
+// over the limit; the tables are --side 100 and --side 300. --full runs every setting of both
+// ladders for all the frames.
 #include <BulletSoftBody/btSoftBody.h>
 #include <BulletSoftBody/btSoftBodyHelpers.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
@@ -68,6 +69,7 @@ std::vector<Setting> ladder(const std::vector<int>& substeps, const std::vector<
 struct Outcome {
   double p99 = 0.0;  // the largest over the frames; infinite where the run broke
   double ms_per_frame = 0.0;
+  int frames = 0;  // run: fewer than asked where the run broke or passed the stop
 };
 
 using Positions = std::vector<double>;  // 3 per particle, particle r * cols + c
@@ -81,16 +83,19 @@ bool finite(const Positions& xyz) {
   return std::all_of(xyz.begin(), xyz.end(), [](double value) { return std::isfinite(value); });
 }
 
-// Runs `frames` frames of `step` (one frame each call), reading positions after each.
-Outcome run_frames(const Scene& scene, int frames, const std::function<void()>& step,
+// Runs up to `frames` frames of `step` (one frame each call), reading positions after each. A
+// run stops at the first frame whose p99 passes `stop` (the figure is the largest over the
+// frames, so the setting is then over the limit whatever the later frames do).
+Outcome run_frames(const Scene& scene, int frames, double stop, const std::function<void()>& step,
                    const std::function<Positions()>& positions,
                    const std::function<void(const Positions&)>& check) {
   Outcome outcome;
   double seconds = 0.0;
-  for (int f = 0; f < frames; ++f) {
+  while (outcome.frames < frames && outcome.p99 <= stop) {
     const auto start = std::chrono::steady_clock::now();
     step();
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++outcome.frames;
     const Positions xyz = positions();
     if (!finite(xyz)) {
       outcome.p99 = INFINITY;
@@ -99,13 +104,13 @@ Outcome run_frames(const Scene& scene, int frames, const std::function<void()>& 
     check(xyz);
     outcome.p99 = std::max(outcome.p99, p99_of(scene, xyz));
   }
-  outcome.ms_per_frame = 1e3 * seconds / frames;
+  outcome.ms_per_frame = 1e3 * seconds / outcome.frames;
   return outcome;
 }
 
 // ClothLab: integrator `id` (xpbd) on one thread, float32, one step of inner substeps per frame.
 Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting, double frame,
-                     int frames) {
+                     int frames, double stop) {
   const Cloth cloth(scene, Precision::Float32, PipelineOptions{true, 1, false});
   BoundIntegrator integrator(id, cloth,
                              {{"inner_substeps", std::to_string(setting.substeps)},
@@ -114,7 +119,7 @@ Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting,
   const sdk::System<float> system(cloth.system());
   double t = 0.0;
   return run_frames(
-      scene, frames,
+      scene, frames, stop,
       [&] {
         try {
           integrator.step(t, frame);
@@ -248,7 +253,7 @@ class BulletCloth {
   btSoftBody* body_ = nullptr;
 };
 
-Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames,
+Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames, double stop,
                    const Positions& clothlab_start) {
   BulletCloth cloth(scene, setting);
   const Positions start = cloth.positions();
@@ -257,7 +262,7 @@ Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames
       throw std::runtime_error("Bullet's patch is not ClothLab's layout at particle " +
                                std::to_string(i / 3));
   return run_frames(
-      scene, frames, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
+      scene, frames, stop, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
       [](const Positions&) {});
 }
 
@@ -273,6 +278,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> scenarios;
   int side = 30;
   double duration = 1.0, limit = 1.05;
+  std::string integrator = "xpbd";
   bool full = false;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
@@ -285,6 +291,8 @@ int run(int argc, char** argv) {
       duration = number_of(arg, argv[++k]);
     } else if (arg == "--limit" && has_value) {
       limit = number_of(arg, argv[++k]);
+    } else if (arg == "--integrator" && has_value) {
+      integrator = argv[++k];
     } else if (arg == "--full") {
       full = true;
     } else if (arg.rfind("--", 0) == 0) {
@@ -328,25 +336,27 @@ int run(int argc, char** argv) {
         for (std::size_t k = 0; k < 3; ++k) start.push_back(system.x()[k * system.stride() + i]);
     }
     std::printf(
-        "\n%s\n| engine | substeps | iterations | p99 stretch | ms per frame |\n"
-        "|---|---|---|---|---|\n",
+        "\n%s\n| engine | substeps | iterations | p99 stretch | ms per frame | frames |\n"
+        "|---|---|---|---|---|---|\n",
         id.c_str());
+    // A setting over the limit stops there, but with --full, which wants every figure.
+    const double stop = full ? INFINITY : limit;
     const auto sweep = [&](const char* engine, const std::vector<Setting>& settings,
                            const std::function<Outcome(Setting)>& run_one) {
       for (const Setting& setting : settings) {
         const Outcome outcome = run_one(setting);
         const bool within = outcome.p99 <= limit;
-        std::printf("| %s | %d | %d | %s | %.2f |%s\n", engine, setting.substeps,
+        std::printf("| %s | %d | %d | %s | %.2f | %d |%s\n", engine, setting.substeps,
                     setting.iterations, percent(outcome.p99).c_str(), outcome.ms_per_frame,
-                    within ? " within" : "");
+                    outcome.frames, within ? " within" : "");
         std::fflush(stdout);
         if (within && !full) return;
       }
     };
-    sweep("clothlab xpbd", xpbd_ladder,
-          [&](Setting s) { return run_clothlab(scene, "xpbd", s, frame, frames); });
+    sweep(("clothlab " + integrator).c_str(), xpbd_ladder,
+          [&](Setting s) { return run_clothlab(scene, integrator, s, frame, frames, stop); });
     sweep("bullet", bullet_ladder,
-          [&](Setting s) { return run_bullet(scene, s, frame, frames, start); });
+          [&](Setting s) { return run_bullet(scene, s, frame, frames, stop, start); });
   }
   return 0;
 }
