@@ -15,7 +15,7 @@
 // is checked against the engine's own Cloth::stretch_percentile every frame.
 //
 //   build/bin/clothlab_peer_bullet [config] [--side N] [--scenario sheet|flag] [--duration S]
-//       [--limit L] [--integrator xpbd|xpbd_tethers] [--bullet-from COST] [--full]
+//       [--limit L] [--integrator xpbd|xpbd_tethers] [--bullet S I] [--full]
 //
 // Default: both scenarios at side 30 for 1 s (a short run), limit 1.05, stopping at each
 // engine's first setting within the limit, and stopping each setting's run at the first frame
@@ -279,7 +279,7 @@ int run(int argc, char** argv) {
   int side = 30;
   double duration = 1.0, limit = 1.05;
   std::string integrator = "xpbd";
-  double bullet_from = 1;  // the cost (substeps x iterations) Bullet's ladder starts at
+  double bullet_substeps = 0, bullet_iterations = 0;  // one Bullet setting instead of its ladder
   bool full = false;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
@@ -292,8 +292,9 @@ int run(int argc, char** argv) {
       duration = number_of(arg, argv[++k]);
     } else if (arg == "--limit" && has_value) {
       limit = number_of(arg, argv[++k]);
-    } else if (arg == "--bullet-from" && has_value) {
-      bullet_from = number_of(arg, argv[++k]);
+    } else if (arg == "--bullet" && k + 2 < argc) {
+      bullet_substeps = number_of(arg, argv[++k]);
+      bullet_iterations = number_of(arg, argv[++k]);
     } else if (arg == "--integrator" && has_value) {
       integrator = argv[++k];
     } else if (arg == "--full") {
@@ -306,10 +307,13 @@ int run(int argc, char** argv) {
     }
   }
   if (side < 3 || side > 1000 || !(duration > 0.0 && duration <= 60.0) || !(limit > 1.0) ||
-      !(bullet_from >= 1.0 && bullet_from <= 8192.0)) {
+      bullet_substeps < 0 || bullet_substeps > 1000 || bullet_iterations < 0 ||
+      bullet_iterations > 1000 || (bullet_substeps == 0) != (bullet_iterations == 0) ||
+      std::floor(bullet_substeps) != bullet_substeps ||
+      std::floor(bullet_iterations) != bullet_iterations) {
     std::fprintf(stderr,
                  "clothlab_peer_bullet: --side must be in [3, 1000], --duration in (0, 60] s, "
-                 "--limit > 1, --bullet-from in [1, 8192]\n");
+                 "--limit > 1, --bullet substeps and iterations whole numbers in [1, 1000]\n");
     return 2;
   }
   if (scenarios.empty()) scenarios = {"sheet", "flag"};
@@ -323,11 +327,12 @@ int run(int argc, char** argv) {
   const double frame = 1.0 / rate;
   const int frames = std::max(1, static_cast<int>(std::lround(duration * rate)));
   const std::vector<Setting> xpbd_ladder = ladder({1, 2, 4, 8, 16, 32, 64, 96}, {1, 2, 4});
-  std::vector<Setting> bullet_ladder =
-      ladder({1, 2, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 16, 32, 64, 128});
-  // Skipped settings are not shown to be over the limit: the first within is then the cheapest
-  // only from that cost on.
-  std::erase_if(bullet_ladder, [&](const Setting& s) { return s.cost() < bullet_from; });
+  // --bullet times one setting (at a large side each takes minutes): its row says whether it
+  // is within the limit, not whether it is the cheapest.
+  const std::vector<Setting> bullet_ladder =
+      bullet_substeps > 0 ? std::vector<Setting>{{static_cast<int>(bullet_substeps),
+                                                  static_cast<int>(bullet_iterations)}}
+                          : ladder({1, 2, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 16, 32, 64, 128});
   std::printf(
       "%s (%s), %dx%d, %d frames at %g Hz, one thread; p99 warp/weft stretch limit %.2f %%\n",
       config_path.c_str(), config.material->name.c_str(), side, side, frames, rate,
