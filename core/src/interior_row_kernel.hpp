@@ -61,21 +61,17 @@ template <bool Damped, bool Wind, bool Edge>
     }
   };
   const std::size_t cols = row.cols;
-  Vec3 own = {};
+  Vec3 x, v = {}, own = {};
+  load(row.x[0], 0, x);
+  if constexpr (Damped) load(row.v[0], 0, v);
   // Force of stencil s on the own end, partner at `partner` (row r + dr, column c + dc).
-  // Returns the force on the partner end, -f. The own end's position and velocity are loaded
-  // anew for each spring (the stores between the springs keep the compiler from merging the
-  // loads): held in registers they outnumber AVX2's 16 and went to the stack, a store and a
-  // load each, where a load is an operand of the subtraction.
+  // Returns the force on the partner end, -f.
   const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, LaneMask valid,
                           Vec3& on_partner) {
-    Vec3 x, d, dv = {};
-    load(row.x[0], 0, x);
+    Vec3 d, dv = {};
     for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - x[k];
     if constexpr (Damped) {
-      Vec3 v;
       load(row.v[dr], dc, dv);
-      load(row.v[0], 0, v);
       for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
     }
     const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2],
@@ -89,8 +85,7 @@ template <bool Damped, bool Wind, bool Edge>
     }
   };
   // The cell's corners other than x are partners of the first three stencils.
-  Vec3 x, right, below, below_right, far;
-  load(row.x[0], 0, x);
+  Vec3 right, below, below_right, far;
   load(row.x[0], 1, right);
   load(row.x[1], 0, below);
   load(row.x[1], 1, below_right);
