@@ -15,7 +15,7 @@
 // is checked against the engine's own Cloth::stretch_percentile every frame.
 //
 //   build/bin/clothlab_peer_bullet [config] [--side N] [--scenario sheet|flag] [--duration S]
-//       [--limit L] [--integrator xpbd|xpbd_tethers] [--bullet S I] [--full]
+//       [--limit L] [--integrator xpbd|xpbd_tethers] [--bullet S I] [--cpu-time] [--full]
 //
 // Default: both scenarios at side 30 for 1 s (a short run), limit 1.05, stopping at each
 // engine's first setting within the limit, and stopping each setting's run at the first frame
@@ -83,18 +83,29 @@ bool finite(const Positions& xyz) {
   return std::all_of(xyz.begin(), xyz.end(), [](double value) { return std::isfinite(value); });
 }
 
+// Seconds on the calling thread's CPU clock: both engines step on that thread alone, and on a
+// loaded machine its CPU time leaves out the time it waited for a core.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
 // Runs up to `frames` frames of `step` (one frame each call), reading positions after each. A
 // run stops at the first frame whose p99 passes `stop` (the figure is the largest over the
 // frames, so the setting is then over the limit whatever the later frames do).
-Outcome run_frames(const Scene& scene, int frames, double stop, const std::function<void()>& step,
-                   const std::function<Positions()>& positions,
+Outcome run_frames(const Scene& scene, int frames, double stop, bool cpu_time,
+                   const std::function<void()>& step, const std::function<Positions()>& positions,
                    const std::function<void(const Positions&)>& check) {
   Outcome outcome;
   double seconds = 0.0;
   while (outcome.frames < frames && outcome.p99 <= stop) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = cpu_time ? thread_cpu_seconds() : 0.0;
     step();
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds +=
+        cpu_time ? thread_cpu_seconds() - cpu_start
+                 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++outcome.frames;
     const Positions xyz = positions();
     if (!finite(xyz)) {
@@ -110,7 +121,7 @@ Outcome run_frames(const Scene& scene, int frames, double stop, const std::funct
 
 // ClothLab: integrator `id` (xpbd) on one thread, float32, one step of inner substeps per frame.
 Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting, double frame,
-                     int frames, double stop) {
+                     int frames, double stop, bool cpu_time) {
   const Cloth cloth(scene, Precision::Float32, PipelineOptions{true, 1, false});
   BoundIntegrator integrator(id, cloth,
                              {{"inner_substeps", std::to_string(setting.substeps)},
@@ -119,7 +130,7 @@ Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting,
   const sdk::System<float> system(cloth.system());
   double t = 0.0;
   return run_frames(
-      scene, frames, stop,
+      scene, frames, stop, cpu_time,
       [&] {
         try {
           integrator.step(t, frame);
@@ -254,7 +265,7 @@ class BulletCloth {
 };
 
 Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames, double stop,
-                   const Positions& clothlab_start) {
+                   bool cpu_time, const Positions& clothlab_start) {
   BulletCloth cloth(scene, setting);
   const Positions start = cloth.positions();
   for (std::size_t i = 0; i < start.size(); ++i)
@@ -262,7 +273,7 @@ Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames
       throw std::runtime_error("Bullet's patch is not ClothLab's layout at particle " +
                                std::to_string(i / 3));
   return run_frames(
-      scene, frames, stop, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
+      scene, frames, stop, cpu_time, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
       [](const Positions&) {});
 }
 
@@ -281,6 +292,7 @@ int run(int argc, char** argv) {
   std::string integrator = "xpbd";
   double bullet_substeps = 0, bullet_iterations = 0;  // one Bullet setting instead of its ladder
   bool full = false;
+  bool cpu_time = false;  // the thread's CPU time per frame instead of the wall time
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     const bool has_value = k + 1 < argc;
@@ -297,6 +309,8 @@ int run(int argc, char** argv) {
       bullet_iterations = number_of(arg, argv[++k]);
     } else if (arg == "--integrator" && has_value) {
       integrator = argv[++k];
+    } else if (arg == "--cpu-time") {
+      cpu_time = true;
     } else if (arg == "--full") {
       full = true;
     } else if (arg.rfind("--", 0) == 0) {
@@ -334,9 +348,10 @@ int run(int argc, char** argv) {
                                                   static_cast<int>(bullet_iterations)}}
                           : ladder({1, 2, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 16, 32, 64, 128});
   std::printf(
-      "%s (%s), %dx%d, %d frames at %g Hz, one thread; p99 warp/weft stretch limit %.2f %%\n",
+      "%s (%s), %dx%d, %d frames at %g Hz, one thread; p99 warp/weft stretch limit %.2f %%; "
+      "ms per frame in %s\n",
       config_path.c_str(), config.material->name.c_str(), side, side, frames, rate,
-      100.0 * (limit - 1.0));
+      100.0 * (limit - 1.0), cpu_time ? "the thread's CPU time" : "wall time");
   for (const std::string& id : scenarios) {
     config.scenario = id;
     const Scene scene = make_material_scene(config, side);
@@ -365,10 +380,11 @@ int run(int argc, char** argv) {
         if (within && !full) return;
       }
     };
-    sweep(("clothlab " + integrator).c_str(), xpbd_ladder,
-          [&](Setting s) { return run_clothlab(scene, integrator, s, frame, frames, stop); });
+    sweep(("clothlab " + integrator).c_str(), xpbd_ladder, [&](Setting s) {
+      return run_clothlab(scene, integrator, s, frame, frames, stop, cpu_time);
+    });
     sweep("bullet", bullet_ladder,
-          [&](Setting s) { return run_bullet(scene, s, frame, frames, stop, start); });
+          [&](Setting s) { return run_bullet(scene, s, frame, frames, stop, cpu_time, start); });
   }
   return 0;
 }
