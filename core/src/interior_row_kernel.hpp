@@ -32,10 +32,8 @@ struct InteriorRow {
   float* plus2;       // row r: ends two columns to the right
   std::size_t span;   // between the components of every row above, as in SpringRow
   std::size_t cols;
-  // Broadcast once per row: the kernel reads them as memory operands, where a scalar would
-  // cost a broadcast per use (the loop has too few vector registers to keep them).
-  Floats rest[6], ks[6], kd[6];
-  Floats wind_direction[3];  // used only with wind
+  LoopConstant rest[6], ks[6], kd[6];  // read as memory operands (float_lanes.hpp)
+  Floats wind_direction[3];            // used only with wind
   Floats wind_strength_sixth;
 };
 
@@ -74,8 +72,9 @@ template <bool Damped, bool Wind, bool Edge>
       load(row.v[dr], dc, dv);
       for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
     }
-    const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2],
-                                                    row.rest[s], row.ks[s], row.kd[s]);
+    const Floats scale =
+        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_of(row.rest[s]),
+                                   lanes_of(row.ks[s]), lanes_of(row.kd[s]));
     Vec3 f;
     for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
     mask(f, valid);
