@@ -15,11 +15,12 @@
 // is checked against the engine's own Cloth::stretch_percentile every frame.
 //
 //   build/bin/clothlab_peer_bullet [config] [--side N] [--scenario sheet|flag] [--duration S]
-//       [--limit L] [--full]
+//       [--limit L] [--integrator xpbd|xpbd_tethers] [--bullet S I] [--cpu-time] [--full]
 //
 // Default: both scenarios at side 30 for 1 s (a short run), limit 1.05, stopping at each
-// engine's first setting within the limit; the tables are --side 100 and --side 300. --full runs
-// every setting of both ladders.
+// engine's first setting within the limit, and stopping each setting's run at the first frame
+// over the limit; the tables are --side 100 and --side 300. --full runs every setting of both
+// ladders for all the frames.
 #include <BulletSoftBody/btSoftBody.h>
 #include <BulletSoftBody/btSoftBodyHelpers.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
@@ -68,6 +69,7 @@ std::vector<Setting> ladder(const std::vector<int>& substeps, const std::vector<
 struct Outcome {
   double p99 = 0.0;  // the largest over the frames; infinite where the run broke
   double ms_per_frame = 0.0;
+  int frames = 0;  // run: fewer than asked where the run broke or passed the stop
 };
 
 using Positions = std::vector<double>;  // 3 per particle, particle r * cols + c
@@ -81,16 +83,30 @@ bool finite(const Positions& xyz) {
   return std::all_of(xyz.begin(), xyz.end(), [](double value) { return std::isfinite(value); });
 }
 
-// Runs `frames` frames of `step` (one frame each call), reading positions after each.
-Outcome run_frames(const Scene& scene, int frames, const std::function<void()>& step,
-                   const std::function<Positions()>& positions,
+// Seconds on the calling thread's CPU clock: both engines step on that thread alone, and on a
+// loaded machine its CPU time leaves out the time it waited for a core.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+// Runs up to `frames` frames of `step` (one frame each call), reading positions after each. A
+// run stops at the first frame whose p99 passes `stop` (the figure is the largest over the
+// frames, so the setting is then over the limit whatever the later frames do).
+Outcome run_frames(const Scene& scene, int frames, double stop, bool cpu_time,
+                   const std::function<void()>& step, const std::function<Positions()>& positions,
                    const std::function<void(const Positions&)>& check) {
   Outcome outcome;
   double seconds = 0.0;
-  for (int f = 0; f < frames; ++f) {
+  while (outcome.frames < frames && outcome.p99 <= stop) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = cpu_time ? thread_cpu_seconds() : 0.0;
     step();
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds +=
+        cpu_time ? thread_cpu_seconds() - cpu_start
+                 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++outcome.frames;
     const Positions xyz = positions();
     if (!finite(xyz)) {
       outcome.p99 = INFINITY;
@@ -99,13 +115,13 @@ Outcome run_frames(const Scene& scene, int frames, const std::function<void()>& 
     check(xyz);
     outcome.p99 = std::max(outcome.p99, p99_of(scene, xyz));
   }
-  outcome.ms_per_frame = 1e3 * seconds / frames;
+  outcome.ms_per_frame = 1e3 * seconds / outcome.frames;
   return outcome;
 }
 
 // ClothLab: integrator `id` (xpbd) on one thread, float32, one step of inner substeps per frame.
 Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting, double frame,
-                     int frames) {
+                     int frames, double stop, bool cpu_time) {
   const Cloth cloth(scene, Precision::Float32, PipelineOptions{true, 1, false});
   BoundIntegrator integrator(id, cloth,
                              {{"inner_substeps", std::to_string(setting.substeps)},
@@ -114,7 +130,7 @@ Outcome run_clothlab(const Scene& scene, const std::string& id, Setting setting,
   const sdk::System<float> system(cloth.system());
   double t = 0.0;
   return run_frames(
-      scene, frames,
+      scene, frames, stop, cpu_time,
       [&] {
         try {
           integrator.step(t, frame);
@@ -248,8 +264,8 @@ class BulletCloth {
   btSoftBody* body_ = nullptr;
 };
 
-Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames,
-                   const Positions& clothlab_start) {
+Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames, double stop,
+                   bool cpu_time, const Positions& clothlab_start) {
   BulletCloth cloth(scene, setting);
   const Positions start = cloth.positions();
   for (std::size_t i = 0; i < start.size(); ++i)
@@ -257,7 +273,7 @@ Outcome run_bullet(const Scene& scene, Setting setting, double frame, int frames
       throw std::runtime_error("Bullet's patch is not ClothLab's layout at particle " +
                                std::to_string(i / 3));
   return run_frames(
-      scene, frames, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
+      scene, frames, stop, cpu_time, [&] { cloth.step(frame); }, [&] { return cloth.positions(); },
       [](const Positions&) {});
 }
 
@@ -273,7 +289,10 @@ int run(int argc, char** argv) {
   std::vector<std::string> scenarios;
   int side = 30;
   double duration = 1.0, limit = 1.05;
+  std::string integrator = "xpbd";
+  double bullet_substeps = 0, bullet_iterations = 0;  // one Bullet setting instead of its ladder
   bool full = false;
+  bool cpu_time = false;  // the thread's CPU time per frame instead of the wall time
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     const bool has_value = k + 1 < argc;
@@ -285,6 +304,13 @@ int run(int argc, char** argv) {
       duration = number_of(arg, argv[++k]);
     } else if (arg == "--limit" && has_value) {
       limit = number_of(arg, argv[++k]);
+    } else if (arg == "--bullet" && k + 2 < argc) {
+      bullet_substeps = number_of(arg, argv[++k]);
+      bullet_iterations = number_of(arg, argv[++k]);
+    } else if (arg == "--integrator" && has_value) {
+      integrator = argv[++k];
+    } else if (arg == "--cpu-time") {
+      cpu_time = true;
     } else if (arg == "--full") {
       full = true;
     } else if (arg.rfind("--", 0) == 0) {
@@ -294,10 +320,14 @@ int run(int argc, char** argv) {
       config_path = arg;
     }
   }
-  if (side < 3 || side > 1000 || !(duration > 0.0 && duration <= 60.0) || !(limit > 1.0)) {
+  if (side < 3 || side > 1000 || !(duration > 0.0 && duration <= 60.0) || !(limit > 1.0) ||
+      bullet_substeps < 0 || bullet_substeps > 1000 || bullet_iterations < 0 ||
+      bullet_iterations > 1000 || (bullet_substeps == 0) != (bullet_iterations == 0) ||
+      std::floor(bullet_substeps) != bullet_substeps ||
+      std::floor(bullet_iterations) != bullet_iterations) {
     std::fprintf(stderr,
                  "clothlab_peer_bullet: --side must be in [3, 1000], --duration in (0, 60] s, "
-                 "--limit > 1\n");
+                 "--limit > 1, --bullet substeps and iterations whole numbers in [1, 1000]\n");
     return 2;
   }
   if (scenarios.empty()) scenarios = {"sheet", "flag"};
@@ -311,12 +341,17 @@ int run(int argc, char** argv) {
   const double frame = 1.0 / rate;
   const int frames = std::max(1, static_cast<int>(std::lround(duration * rate)));
   const std::vector<Setting> xpbd_ladder = ladder({1, 2, 4, 8, 16, 32, 64, 96}, {1, 2, 4});
+  // --bullet times one setting (at a large side each takes minutes): its row says whether it
+  // is within the limit, not whether it is the cheapest.
   const std::vector<Setting> bullet_ladder =
-      ladder({1, 2, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 16, 32, 64, 128});
+      bullet_substeps > 0 ? std::vector<Setting>{{static_cast<int>(bullet_substeps),
+                                                  static_cast<int>(bullet_iterations)}}
+                          : ladder({1, 2, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 16, 32, 64, 128});
   std::printf(
-      "%s (%s), %dx%d, %d frames at %g Hz, one thread; p99 warp/weft stretch limit %.2f %%\n",
+      "%s (%s), %dx%d, %d frames at %g Hz, one thread; p99 warp/weft stretch limit %.2f %%; "
+      "ms per frame in %s\n",
       config_path.c_str(), config.material->name.c_str(), side, side, frames, rate,
-      100.0 * (limit - 1.0));
+      100.0 * (limit - 1.0), cpu_time ? "the thread's CPU time" : "wall time");
   for (const std::string& id : scenarios) {
     config.scenario = id;
     const Scene scene = make_material_scene(config, side);
@@ -328,25 +363,28 @@ int run(int argc, char** argv) {
         for (std::size_t k = 0; k < 3; ++k) start.push_back(system.x()[k * system.stride() + i]);
     }
     std::printf(
-        "\n%s\n| engine | substeps | iterations | p99 stretch | ms per frame |\n"
-        "|---|---|---|---|---|\n",
+        "\n%s\n| engine | substeps | iterations | p99 stretch | ms per frame | frames |\n"
+        "|---|---|---|---|---|---|\n",
         id.c_str());
+    // A setting over the limit stops there, but with --full, which wants every figure.
+    const double stop = full ? INFINITY : limit;
     const auto sweep = [&](const char* engine, const std::vector<Setting>& settings,
                            const std::function<Outcome(Setting)>& run_one) {
       for (const Setting& setting : settings) {
         const Outcome outcome = run_one(setting);
         const bool within = outcome.p99 <= limit;
-        std::printf("| %s | %d | %d | %s | %.2f |%s\n", engine, setting.substeps,
+        std::printf("| %s | %d | %d | %s | %.2f | %d |%s\n", engine, setting.substeps,
                     setting.iterations, percent(outcome.p99).c_str(), outcome.ms_per_frame,
-                    within ? " within" : "");
+                    outcome.frames, within ? " within" : "");
         std::fflush(stdout);
         if (within && !full) return;
       }
     };
-    sweep("clothlab xpbd", xpbd_ladder,
-          [&](Setting s) { return run_clothlab(scene, "xpbd", s, frame, frames); });
+    sweep(("clothlab " + integrator).c_str(), xpbd_ladder, [&](Setting s) {
+      return run_clothlab(scene, integrator, s, frame, frames, stop, cpu_time);
+    });
     sweep("bullet", bullet_ladder,
-          [&](Setting s) { return run_bullet(scene, s, frame, frames, start); });
+          [&](Setting s) { return run_bullet(scene, s, frame, frames, stop, cpu_time, start); });
   }
   return 0;
 }

@@ -35,6 +35,11 @@ using Doubles = __m512d;     // half as many doubles as Floats lanes
 inline constexpr std::size_t kLanes = 16;
 
 inline Floats broadcast(float value) { return _mm512_set1_ps(value); }
+// A constant of a kernel's whole loop kept in memory, where the loop has no register for it:
+// AVX-512's instructions broadcast a float as they read it, so it stays a float.
+using LoopConstant = float;
+inline LoopConstant loop_constant(float value) { return value; }
+inline Floats lanes_of(LoopConstant value) { return broadcast(value); }
 inline Floats zero_floats() { return _mm512_setzero_ps(); }
 inline Floats load_floats(const float* p) { return _mm512_loadu_ps(p); }
 inline void store_floats(float* p, Floats value) { _mm512_storeu_ps(p, value); }
@@ -166,6 +171,12 @@ using Doubles = __m256d;
 inline constexpr std::size_t kLanes = 8;
 
 inline Floats broadcast(float value) { return _mm256_set1_ps(value); }
+// A constant of a kernel's whole loop kept in memory, where the loop has no register for it:
+// AVX2's instructions cannot broadcast an operand, so it is kept broadcast (a float would cost a
+// broadcast per use).
+using LoopConstant = Floats;
+inline LoopConstant loop_constant(float value) { return broadcast(value); }
+inline Floats lanes_of(LoopConstant value) { return value; }
 inline Floats zero_floats() { return _mm256_setzero_ps(); }
 inline Floats load_floats(const float* p) { return _mm256_loadu_ps(p); }
 inline void store_floats(float* p, Floats value) { _mm256_storeu_ps(p, value); }

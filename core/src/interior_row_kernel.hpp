@@ -32,8 +32,8 @@ struct InteriorRow {
   float* plus2;       // row r: ends two columns to the right
   std::size_t span;   // between the components of every row above, as in SpringRow
   std::size_t cols;
-  float rest[6], ks[6], kd[6];
-  Floats wind_direction[3];  // broadcast; used only with wind
+  LoopConstant rest[6], ks[6], kd[6];  // read as memory operands (float_lanes.hpp)
+  Floats wind_direction[3];            // used only with wind
   Floats wind_strength_sixth;
 };
 
@@ -41,7 +41,7 @@ struct InteriorRow {
 // cell to its columns; their loads and stores may reach into the zero margins around a
 // row, where masked lanes add exactly 0.
 template <bool Damped, bool Wind, bool Edge>
-inline void interior_row_block(const InteriorRow& row, std::size_t c) {
+[[gnu::always_inline]] inline void interior_row_block(const InteriorRow& row, std::size_t c) {
   using Vec3 = Floats[3];
   const std::size_t span = row.span;
   const auto load = [&](const float* p, std::ptrdiff_t shift, Vec3& out) {
@@ -73,8 +73,8 @@ inline void interior_row_block(const InteriorRow& row, std::size_t c) {
       for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
     }
     const Floats scale =
-        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], broadcast(row.rest[s]),
-                                   broadcast(row.ks[s]), broadcast(row.kd[s]));
+        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_of(row.rest[s]),
+                                   lanes_of(row.ks[s]), lanes_of(row.kd[s]));
     Vec3 f;
     for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
     mask(f, valid);

@@ -84,9 +84,9 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
     for (std::size_t s = 0; s < 6; ++s) {
       const SpringStage& stage = stages_[s];
       const bool stage_damped = stage.damped && pass.damped;
-      job.rest[s] = stage.rest;
-      job.ks[s] = stage.ks;
-      job.kd[s] = stage_damped ? stage.kd : 0.0f;  // one damped sweep; undamped ones add 0
+      job.rest[s] = loop_constant(stage.rest);
+      job.ks[s] = loop_constant(stage.ks);
+      job.kd[s] = loop_constant(stage_damped ? stage.kd : 0.0f);  // undamped ones add 0
       damped = damped || stage_damped;
     }
     for (int k = 0; k < 3; ++k) job.wind_direction[k] = broadcast(wind_direction_[k]);
