@@ -205,8 +205,10 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         {"error_tolerance", choice.error_tolerance},
         {"error_mesh", choice.error_mesh.empty() ? "same" : choice.error_mesh},
         {"unconverged", whole.run.unconverged_fails ? "fail" : "count"}};
-    for (const sweep::Row& row : store.rows())
+    for (const sweep::Row& row : store.rows()) {
       if (row["kind"] == "reference") ranked["reference"] = row;
+      if (row["kind"] == "precision_floor") ranked["precision_floor"] = row;
+    }
     const std::vector<sweep::Row> rows = sweep::choice_rows(choices, choice);
     ranked["ranking"] = rows;
     const std::filesystem::path ranked_base = spec.output.string() + "-ranked";
@@ -232,6 +234,9 @@ void run_choose(const std::vector<Setting>& settings, const host::PluginSearchPa
         << "\n  reference: " << sweep::reference_line(reference)
         << (cache.hits() > 0 ? " (from the cache " + cache_folder.string() + ")" : std::string())
         << "\n"
+        << (ranked.contains("precision_floor")
+                ? "  " + sweep::precision_floor_line(ranked["precision_floor"]) + "\n"
+                : std::string())
         << sweep::choice_table(choices, choice) << "  results: " << ranked_base.string() << ".csv, "
         << ranked_base.string() << ".json (probes: " << store.csv_path().string() << ")\n";
   } catch (const sweep::SweepError& error) {

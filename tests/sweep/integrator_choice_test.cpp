@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <clothlab/config/mesh_sides.hpp>
+#include <clothlab/host/param_text.hpp>
 #include <cmath>
 #include <sstream>
 
@@ -54,6 +55,8 @@ std::string rows_of(const CaseSpec& c) {
 struct FakeRuns {
   double reference_gap = 0.0;
   double reference_stretch = 0.0;
+  double precision_floor = 0.0;
+  std::vector<std::string> precision_floor_runs;  // "precision dt" per run
   // The scene's attached particles and colliders, as every run reports them.
   uint32_t attached_particles = 0;
   uint32_t colliders = 0;
@@ -69,10 +72,18 @@ struct FakeRuns {
   std::vector<std::string> settings;       // "integrator substeps x iterations" per probe run
   std::vector<std::string> stretch_stops;  // "rows stability.stretch_stop" per probe run
   Trajectory operator()(const CaseSpec& c) {
-    ++calls;
     Trajectory run;
     host::RunSummary& figures = run.summary;
     run.diagonal = 1.0;
+    // The reference integrator in the scene's (lower) precision at the reference's step: it
+    // lies `precision_floor` from the float64 run. Not counted in `calls`, which schedule the
+    // probes' load from the reference on.
+    if (c.integrator == "rk4" && c.precision != "float64") {
+      precision_floor_runs.push_back(c.precision + " " + host::format_number(c.dt));
+      run.positions = {precision_floor, 0, 0};
+      return run;
+    }
+    ++calls;
     if (attached_particles > 0)
       figures.attachments = host::RunSummary::Attachments{attached_particles, 0.0};
     if (colliders > 0) {
@@ -603,6 +614,56 @@ TEST(IntegratorChoice, MeasuresTheFirstFramesAgainBeforeAStop) {
   EXPECT_EQ(choices[1].substeps, 64u);
   // 2 short, 1 T, and 1 short beside steady's before the bracket is cut
   EXPECT_EQ(std::count(fixture.runs.runs.begin(), fixture.runs.runs.end(), "explicit 0 64"), 4);
+}
+
+// In float32 the reference integrator runs once more, at the reference's own step in float32:
+// its distance from the float64 run is the floor no float32 setting can be expected below. A
+// tolerance under it is refused before any probe, naming the floor and the allowed ways out;
+// above it, the floor is stored and reported.
+TEST(IntegratorChoice, MeasuresThePrecisionFloorAndRefusesAToleranceBelowIt) {
+  Fixture fixture;
+  fixture.runs.precision_floor = 0.012;
+  try {
+    fixture.choose({{"explicit", false}});
+    ADD_FAILURE() << "a tolerance below the float32 floor was searched";
+  } catch (const SweepError& error) {
+    EXPECT_STREQ(error.what(),
+                 "choose: float32 cannot meet the tolerance here: rk4 float32 at the reference's "
+                 "step is 1.2 % of the cloth diagonal from its float64 run at T = 1 s, above "
+                 "choose.error_tolerance 1 %; allowed: choose.error_tolerance above 1.2 %, "
+                 "precision float64, or a shorter choose.error_duration");
+  }
+  EXPECT_TRUE(fixture.runs.runs.empty());  // no probe ran
+  // The floor's run is at the reference's own step: 1 / (50 x 512) / 2 s.
+  ASSERT_EQ(fixture.runs.precision_floor_runs.size(), 1u);
+  EXPECT_EQ(fixture.runs.precision_floor_runs[0], "float32 " + host::format_number(1.0 / 51200));
+
+  Fixture below;
+  below.runs.precision_floor = 0.004;
+  EXPECT_TRUE(below.choose({{"explicit", false}}).at(0).passed);
+  Row floor;
+  for (const Row& row : below.store.rows())
+    if (row["kind"] == "precision_floor") floor = row;
+  ASSERT_TRUE(floor.is_object());
+  EXPECT_DOUBLE_EQ(floor["precision_floor"].get<double>(), 0.004);
+  EXPECT_EQ(precision_floor_line(floor), "float32 floor: rk4 float32 at dt " +
+                                             host::format_number(1.0 / 51200) +
+                                             " s is 0.4 % of the diagonal from its float64 run");
+  EXPECT_NE(below.progress.str().find("choose: float32 floor 0.4 % of the diagonal"),
+            std::string::npos)
+      << below.progress.str();
+  floor.erase("precision_floor");
+  EXPECT_THROW(precision_floor_line(floor), SweepError);
+
+  // A float64 search has no floor to measure: nothing runs.
+  Fixture in_float64;
+  in_float64.spec.fixed.push_back({"precision", "float64", "test"});
+  in_float64.base = expand_cases(in_float64.spec).at(0);
+  in_float64.runs.precision_floor = 0.5;
+  EXPECT_EQ(compute_precision_floor(in_float64.spec, in_float64.base, 1e-3, Trajectory{},
+                                    std::ref(in_float64.runs), in_float64.store),
+            0.0);
+  EXPECT_TRUE(in_float64.runs.precision_floor_runs.empty());
 }
 
 TEST(IntegratorChoice, RefusesAnUnconvergedReference) {

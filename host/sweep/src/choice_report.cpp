@@ -143,30 +143,51 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
   return text;
 }
 
+namespace {
+
+// A stored row's figure by name; a missing or null one is a SweepError naming it and the row.
+const Row& figure_of(const Row& row, const std::string& what, const std::string& name) {
+  const auto found = row.find(name);
+  if (found == row.end() || found->is_null())
+    throw SweepError("choose: the " + what + " row has no " + name);
+  return *found;
+}
+
+double number_of(const Row& row, const std::string& what, const std::string& name) {
+  const Row& value = figure_of(row, what, name);
+  if (!value.is_number())
+    throw SweepError("choose: the " + what + " row's " + name + " is " + value.dump() +
+                     ", not a number");
+  return value.get<double>();
+}
+
+}  // namespace
+
 std::string reference_line(const Row& reference) {
   if (!reference.is_object()) throw SweepError("choose: no reference row in the results");
-  const auto figure = [&](const std::string& name) -> const Row& {
-    const auto found = reference.find(name);
-    if (found == reference.end() || found->is_null())
-      throw SweepError("choose: the reference row has no " + name);
-    return *found;
-  };
   const auto number = [&](const std::string& name) {
-    const Row& value = figure(name);
-    if (!value.is_number())
-      throw SweepError("choose: the reference row's " + name + " is " + value.dump() +
-                       ", not a number");
-    return value.get<double>();
+    return number_of(reference, "reference", name);
   };
   std::string stretch;
   host::RunSummary{}.visit_stretch_over_run([&](const char* name, double) {
     stretch +=
         std::string(stretch.empty() ? "" : ", ") + name + " " + host::format_number(number(name));
   });
-  return figure("reference_integrator").get<std::string>() + " float64, dt " +
-         host::format_number(number("reference_dt")) + " s, estimated own error " +
+  return figure_of(reference, "reference", "reference_integrator").get<std::string>() +
+         " float64, dt " + host::format_number(number("reference_dt")) +
+         " s, estimated own error " +
          host::format_number(100 * number("reference_error_estimate")) +
          " % of the diagonal; stretch over the run: " + stretch;
+}
+
+std::string precision_floor_line(const Row& floor) {
+  const std::string what = "precision_floor";
+  const std::string precision = figure_of(floor, what, "precision").get<std::string>();
+  return precision +
+         " floor: " + figure_of(floor, what, "reference_integrator").get<std::string>() + " " +
+         precision + " at dt " + host::format_number(number_of(floor, what, "dt")) + " s is " +
+         host::format_number(100 * number_of(floor, what, "precision_floor")) +
+         " % of the diagonal from its float64 run";
 }
 
 }  // namespace clothlab::sweep

@@ -73,6 +73,22 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
              << "]\n"
              << std::flush;
   }
+  const double floor =
+      compute_precision_floor(spec, error_base, reference_dt, reference, reference_runner, store);
+  if (floor > settings.error_tolerance)
+    throw SweepError("choose: " + error_base.precision +
+                     " cannot meet the tolerance here: " + settings.reference_integrator + " " +
+                     error_base.precision + " at the reference's step is " + percent(floor) +
+                     " of the cloth diagonal from its float64 run at T = " +
+                     format_number(error_duration(settings)) + " s, above choose.error_tolerance " +
+                     percent(settings.error_tolerance) +
+                     "; allowed: choose.error_tolerance above " + percent(floor) +
+                     ", precision float64, or a shorter choose.error_duration");
+  if (error_base.precision != "float64")
+    progress << "choose: " << error_base.precision << " floor " << percent(floor)
+             << " of the diagonal (" << settings.reference_integrator << " " << error_base.precision
+             << " at the reference's step)\n"
+             << std::flush;
   choice_detail::SearchContext context{settings, runner, reference, store, progress, start, {}};
   std::vector<Choice> choices;
   for (std::size_t i = 0; i < candidates.size(); ++i) {

@@ -46,6 +46,10 @@ std::string reference_key(const WorkPrecisionSettings& wp, const CaseSpec& c) {
   const std::string key = "work-precision;reference;" + join(problem_coordinates(c));
   return is_self_referenced(wp, c) ? key + ";integrator=" + c.integrator : key;
 }
+std::string precision_floor_key(const WorkPrecisionSettings& wp, const CaseSpec& c) {
+  return "work-precision;precision-floor;" + join(problem_coordinates(c)) +
+         ";integrator=" + reference_integrator(wp, c) + ";precision=" + c.precision;
+}
 std::string ladder_key(const CaseSpec& c, double dt) {
   return "work-precision;ladder;" + c.key + ";dt=" + host::format_number(dt);
 }
@@ -126,6 +130,38 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
     store.append(row, base.index);
   }
   return fine;
+}
+
+double compute_precision_floor(const SweepSpec& spec, const CaseSpec& base, double dt,
+                               const Trajectory& reference, const TrajectoryRunner& runner,
+                               ResultsStore& store) {
+  if (base.precision == "float64") return 0.0;
+  const auto& wp = spec.work_precision;
+  const double duration = duration_of(spec, base);
+  const std::string integrator = reference_integrator(wp, base);
+  const CaseSpec same_step =
+      run_spec(with_setting(base, "integrator.plugin", integrator), dt / 2.0, duration);
+  const Trajectory run = attempt_trajectory(runner, same_step);
+  if (!run.verdict.stable())
+    throw SweepError("work-precision: " + integrator + " " + base.precision + " at dt " +
+                     host::format_number(dt / 2.0) + " s, the reference's step, for " +
+                     join(problem_coordinates(base)) + " is " + to_string(run.verdict.status) +
+                     ": " + run.verdict.reason);
+  const double floor = relative_rms_error(run.positions, reference.positions, reference.diagonal);
+  if (!store.contains(precision_floor_key(wp, base))) {
+    Row row;
+    row["key"] = precision_floor_key(wp, base);
+    row["kind"] = "precision_floor";
+    for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
+    row["precision"] = base.precision;
+    row["reference_integrator"] = integrator;
+    row["dt"] = dt / 2.0;
+    row["T"] = duration;
+    row["precision_floor"] = floor;
+    row["wall_s"] = run.summary.wall_time_s;
+    store.append(row, base.index);
+  }
+  return floor;
 }
 
 namespace {

@@ -165,4 +165,9 @@ std::string choice_table(const std::vector<Choice>& choices, const ChoiceSetting
 // SweepError naming it, never printed as 0.
 std::string reference_line(const Row& reference);
 
+// The report's line on the run's precision floor (compute_precision_floor's row): "float32
+// floor: rk4 float32 at dt ... s is ... % of the diagonal from its float64 run". A figure the
+// row lacks is a SweepError naming it.
+std::string precision_floor_line(const Row& floor);
+
 }  // namespace clothlab::sweep
