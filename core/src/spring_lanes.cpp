@@ -16,6 +16,8 @@ namespace {
 // a dead lane computed in order costs less than a live one gathered.
 constexpr std::size_t kBandShare = 5;
 
+constexpr uint32_t kAllLive = (1u << kSpringBlock) - 1;  // a block's live bits, none dead
+
 bool consecutive(const uint32_t* values) {
   for (std::size_t l = 1; l < kSpringBlock; ++l)
     if (values[l] != values[0] + l) return false;
@@ -224,19 +226,23 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
   }
   for (std::size_t b = 0; b < slots / kSpringBlock; ++b) {
     const std::size_t s = b * kSpringBlock;
-    bool one_law = true, any_live = false, all_live = true;
-    for (std::size_t l = 0; l < kSpringBlock; ++l) {
-      const bool live = layout_.item_in(s + l) != layout_.items();
-      one_law = one_law && rest_[s + l] == rest_[s] && ks_[s + l] == ks_[s] && kd_[s + l] == kd_[s];
-      any_live = any_live || live;
-      all_live = all_live && live;
-    }
+    uint32_t live = 0;
+    for (std::size_t l = 0; l < kSpringBlock; ++l)
+      if (layout_.item_in(s + l) != layout_.items()) live |= 1u << l;
+    // One law: every live lane's is the first live lane's (the dead lanes are masked).
+    const std::size_t lead = live == 0 ? s : s + static_cast<std::size_t>(__builtin_ctz(live));
+    bool one_law = true;
+    for (std::size_t l = 0; l < kSpringBlock; ++l)
+      one_law = one_law &&
+                ((live >> l & 1u) == 0 || (rest_[s + l] == rest_[lead] && ks_[s + l] == ks_[lead] &&
+                                           kd_[s + l] == kd_[lead]));
     block_kind_.push_back(static_cast<uint8_t>(
-        (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (one_law && all_live ? kOneLaw : 0) |
-        (all_live ? 0 : kDeadSlots) | (any_live ? 0 : kNoSpring)));
+        (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0) |
+        (live == kAllLive ? 0 : kDeadSlots) | (live != 0 ? 0 : kNoSpring)));
+    block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
-    block_law_.push_back({rest_[s], ks_[s], kd_[s]});
+    block_law_.push_back({rest_[lead], ks_[lead], kd_[lead]});
   }
 }
 
@@ -262,7 +268,10 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
 }
 
 #if defined(CLOTHLAB_FLOAT_LANES)
-// The arrays a block reads where its ends are not in order or its lanes' laws differ.
+}  // namespace
+
+// The arrays a block reads where its ends are not in order or its lanes' laws differ (outside
+// the anonymous namespace: the members' lambdas capture it).
 struct SpringArrays {
   const uint32_t* first;
   const uint32_t* second;
@@ -271,11 +280,13 @@ struct SpringArrays {
   const float* kd;
 };
 
+namespace {
+
 // The block of springs from slot s: ends in order (runs from particles first and second) or
 // gathered by the lanes' indices; one law (rest, ks, kd) broadcast or a law per lane.
 template <bool Damped, bool InOrder, bool OneLaw>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
-                        uint32_t first, uint32_t second, const float (&law)[3], bool dead_slots,
+                        uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
                         const SpringArrays& arrays, float* force, std::size_t slots) {
   Floats d[3], dv[3] = {};
   if constexpr (InOrder) {
@@ -301,10 +312,10 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   }
   const Floats scale =
       spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
-  if (dead_slots) {
-    const LaneMask live = not_equal(ks + kd, zero_floats());
+  if (live != kAllLive) {
+    const LaneMask lanes = lanes_of_bits(live);
     for (std::size_t k = 0; k < 3; ++k)
-      store_floats(force + k * slots + s, keep(live, scale * d[k]));
+      store_floats(force + k * slots + s, keep(lanes, scale * d[k]));
     return;
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
@@ -315,7 +326,7 @@ template <bool InOrder, bool OneLaw>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
                           std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
-                          bool dead_slots, const SpringArrays& arrays, float* product,
+                          uint32_t live, const SpringArrays& arrays, float* product,
                           std::size_t slots) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
   if constexpr (InOrder) {
@@ -354,30 +365,24 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
   Floats out[3];
   for (std::size_t k = 0; k < 3; ++k) out[k] = across * du[k] + along * d[k];
-  if (dead_slots) {
-    const LaneMask live = not_equal(ks + kd, zero_floats());
-    for (Floats& value : out) value = keep(live, value);
+  if (live != kAllLive) {
+    const LaneMask lanes = lanes_of_bits(live);
+    for (Floats& value : out) value = keep(lanes, value);
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
 }
 
-template <bool Damped>
-void spring_block_lanes(bool in_order, bool one_law, const float* x, const float* v,
-                        std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
-                        const float (&law)[3], bool dead_slots, const SpringArrays& arrays,
-                        float* force, std::size_t slots) {
+// Calls block(InOrder, OneLaw) with the block's kind as compile-time flags.
+template <class Block>
+void with_block_kind(bool in_order, bool one_law, const Block& block) {
   if (in_order && one_law)
-    spring_block_lanes<Damped, true, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                           force, slots);
+    block(std::true_type{}, std::true_type{});
   else if (in_order)
-    spring_block_lanes<Damped, true, false>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                            force, slots);
+    block(std::true_type{}, std::false_type{});
   else if (one_law)
-    spring_block_lanes<Damped, false, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                            force, slots);
+    block(std::false_type{}, std::true_type{});
   else
-    spring_block_lanes<Damped, false, false>(x, v, stride, s, first, second, law, dead_slots,
-                                             arrays, force, slots);
+    block(std::false_type{}, std::false_type{});
 }
 #endif
 
@@ -402,12 +407,16 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
       const std::size_t s = b * kSpringBlock;
-      if (damped)
-        spring_block_lanes<true>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                 block_second_[b], law, dead_slots, arrays, force, slots());
-      else
-        spring_block_lanes<false>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                  block_second_[b], law, dead_slots, arrays, force, slots());
+      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
+        if (damped)
+          spring_block_lanes<true, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
+                                                           block_second_[b], law, block_live_[b],
+                                                           arrays, force, slots());
+        else
+          spring_block_lanes<false, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
+                                                            block_second_[b], law, block_live_[b],
+                                                            arrays, force, slots());
+      });
       continue;
     }
 #endif
@@ -452,13 +461,11 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
-      const auto block =
-          in_order
-              ? (one_law ? &definite_block_lanes<true, true> : &definite_block_lanes<true, false>)
-              : (one_law ? &definite_block_lanes<false, true>
-                         : &definite_block_lanes<false, false>);
-      block(x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
-            block_second_[b], law, dead_slots, arrays, product, slots());
+      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
+        definite_block_lanes<ends_in_order(), one()>(
+            x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
+            block_second_[b], law, block_live_[b], arrays, product, slots());
+      });
       continue;
     }
 #endif

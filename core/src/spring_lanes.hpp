@@ -158,8 +158,8 @@ class SpringLanes {
 
  private:
   // What a spring block reads: its lane 0's ends (the others follow in order) or every lane's
-  // by index; one law for all lanes, or a law per lane. Only what a block needs is read.
-  // A block with dead slots writes 0 there; a block with no spring writes only 0.
+  // by index; one law for all its live lanes, or a law per lane. Only what a block needs is
+  // read. A block with dead slots writes 0 there; a block with no spring writes only 0.
   enum BlockKind : uint8_t { kEndsInOrder = 1, kOneLaw = 2, kDeadSlots = 4, kNoSpring = 8 };
   struct BlockLaw {
     Real rest, ks, kd;
@@ -172,7 +172,8 @@ class SpringLanes {
   AlignedBuffer<Real> rest_, ks_, kd_;
   std::vector<uint8_t> block_kind_;
   std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
-  std::vector<BlockLaw> block_law_;                   // per block: lane 0's law
+  std::vector<BlockLaw> block_law_;                   // per block: its first live lane's law
+  std::vector<uint32_t> block_live_;                  // per block: bit l set where lane l lives
   uint64_t damped_count_ = 0;
   bool damped_ = false;
 };
