@@ -5,9 +5,10 @@
 // Threaded by gather, so the result is the same bits on any thread count and needs no atomics:
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
-// a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
-// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at
-// construction (the Runge-Kutta-Nystrom stages' in reserve_stages): a step allocates nothing.
+// a fixed order and turns the sum into an acceleration. The springs and the triangles are laid
+// out in bands for the lanes (SpringLanes and LaneBands, spring_lanes.hpp) and both passes run
+// tile by tile (LaneBands::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
+// stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
