@@ -20,6 +20,26 @@ constexpr std::size_t kChunk = 1024;  // items per thread work item
 
 std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk; }
 
+#if defined(CLOTHLAB_FLOAT_LANES)
+// The wind's shares of the block of triangle slots from t, whose corners follow in order (plain
+// loads, as the grid's cells), its dead lanes (live's clear bits) 0; laid out as the slots.
+inline void wind_block_lanes(const float* x, std::size_t stride,
+                             const uint32_t* const (&corners)[3], std::size_t t,
+                             const Floats (&direction)[3], Floats strength_sixth, uint32_t live,
+                             float* share, std::size_t slots) {
+  Floats e1[3], e2[3], out[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    const float* component = x + k * stride;
+    const Floats corner = load_floats(component + corners[0][t]);
+    e1[k] = load_floats(component + corners[1][t]) - corner;
+    e2[k] = load_floats(component + corners[2][t]) - corner;
+  }
+  triangle_wind_share(e1, e2, direction, strength_sixth, out);
+  const LaneMask lanes = lanes_of_bits(live);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * slots + t, keep(lanes, out[k]));
+}
+#endif
+
 }  // namespace
 
 template <class Real>
@@ -133,8 +153,16 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
                                              std::size_t end) {
   const std::size_t s1 = stride_, s2 = 2 * stride_, slots = triangles_->slots();
   const Real third = Real(1) / Real(3);
-  const uint32_t *corner_a = triangles_->ends(0), *corner_b = triangles_->ends(1),
-                 *corner_c = triangles_->ends(2);
+  const uint32_t* const corners[3] = {triangles_->ends(0), triangles_->ends(1),
+                                      triangles_->ends(2)};
+  const uint32_t *corner_a = corners[0], *corner_b = corners[1], *corner_c = corners[2];
+#if defined(CLOTHLAB_FLOAT_LANES)
+  Floats direction[3], strength_sixth = zero_floats();
+  if constexpr (std::is_same_v<Real, float>) {
+    for (std::size_t k = 0; k < 3; ++k) direction[k] = broadcast(wind_direction_[k]);
+    strength_sixth = broadcast(wind_strength_sixth_);
+  }
+#endif
   for (std::size_t block = begin; block < end; ++block) {
     if (triangle_live_[block] == 0) {
       // Dead slots join particles that may not be finite: they give 0 whatever the state.
@@ -144,9 +172,9 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
     }
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
-      // A block whose corners follow in order: the wind on lanes, with plain loads.
       if (!air_ && triangles_->ends_in_order(block)) {
-        wind_block_lanes(x, block);
+        wind_block_lanes(x, stride_, corners, block * kSpringBlock, direction, strength_sixth,
+                         triangle_live_[block], triangle_share_.data(), slots);
         continue;
       }
     }
@@ -175,31 +203,6 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
     }
   }
 }
-
-#if defined(CLOTHLAB_FLOAT_LANES)
-template <class Real>
-void SpringListForces<Real>::wind_block_lanes(const Real* x, std::size_t b) {
-  if constexpr (std::is_same_v<Real, float>) {
-    const std::size_t t = b * kSpringBlock, slots = triangles_->slots();
-    const uint32_t a = triangles_->ends(0)[t], second = triangles_->ends(1)[t],
-                   c = triangles_->ends(2)[t];
-    Floats e1[3], e2[3], direction[3], share[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const float* component = x + k * stride_;
-      const Floats corner = load_floats(component + a);
-      e1[k] = load_floats(component + second) - corner;
-      e2[k] = load_floats(component + c) - corner;
-      direction[k] = broadcast(wind_direction_[k]);
-    }
-    triangle_wind_share(e1, e2, direction, broadcast(wind_strength_sixth_), share);
-    if (triangle_live_[b] != (1u << kSpringBlock) - 1) {
-      const LaneMask live = lanes_of_bits(triangle_live_[b]);
-      for (Floats& value : share) value = keep(live, value);
-    }
-    for (std::size_t k = 0; k < 3; ++k) store_floats(&triangle_share_[k * slots + t], share[k]);
-  }
-}
-#endif
 
 template <class Real>
 Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, bool springs,

@@ -54,10 +54,6 @@ class SpringListForces {
   void triangle_pass(const Real* x, const Real* v);
   // The wind and air shares of the triangle slot blocks [begin, end).
   void triangle_shares(const Real* x, const Real* v, std::size_t begin, std::size_t end);
-#if defined(CLOTHLAB_FLOAT_LANES)
-  // The wind's shares of triangle slot block b, whose corners follow in order.
-  void wind_block_lanes(const Real* x, std::size_t b);
-#endif
   // The springs' forces (and the triangles' shares) and the particles' sums of them, tile by
   // tile (LaneBands::sweep); returns the sum of 0 * a (NaN when some a is not finite), and adds
   // thread 0's time on the triangles to triangle_seconds.
