@@ -58,6 +58,8 @@ inline bool no_lane(LaneMask lanes) { return lanes == 0; }
 inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
   return LaneMask(((1u << high) - 1) & ~((1u << low) - 1));
 }
+// The lanes l whose bit l of `bits` is set.
+inline LaneMask lanes_of_bits(uint32_t bits) { return LaneMask(bits); }
 inline LaneMask greater(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
 inline LaneMask not_less(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_NLT_UQ); }
 inline LaneMask unordered(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_UNORD_Q); }
@@ -195,6 +197,11 @@ inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
   const __m256i below_high = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(high)), lane);
   const __m256i below_low = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(low)), lane);
   return {_mm256_castsi256_ps(_mm256_andnot_si256(below_low, below_high))};
+}
+inline LaneMask lanes_of_bits(uint32_t bits) {
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i set = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(bits)), lane_bit);
+  return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit))};
 }
 inline LaneMask greater(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_GT_OQ)}; }
 inline LaneMask not_less(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_NLT_UQ)}; }

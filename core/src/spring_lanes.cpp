@@ -1,6 +1,7 @@
 #include "spring_lanes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <type_traits>
 
@@ -15,6 +16,8 @@ namespace {
 // a dead lane computed in order costs less than a live one gathered.
 constexpr std::size_t kBandShare = 5;
 
+constexpr uint32_t kAllLive = (1u << kSpringBlock) - 1;  // a block's live bits, none dead
+
 bool consecutive(const uint32_t* values) {
   for (std::size_t l = 1; l < kSpringBlock; ++l)
     if (values[l] != values[0] + l) return false;
@@ -23,40 +26,45 @@ bool consecutive(const uint32_t* values) {
 
 }  // namespace
 
-template <class Real>
-SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
-    : springs_(model.spring_count()), damped_(damped) {
-  const std::size_t particles = model.particle_count;
-  std::vector<uint32_t> order(springs_);
-  std::iota(order.begin(), order.end(), 0u);
-  const auto offset_of = [&](uint32_t spring) {
-    return model.second[spring] - model.first[spring];
+LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, std::size_t arity,
+                     uint32_t subtracted)
+    : items_(ends.size() / arity), ends_(arity) {
+  const auto end_of = [&](std::size_t item, std::size_t e) { return ends[arity * item + e]; };
+  // The offsets of an item's other ends from its first: its band's key.
+  const auto offsets_of = [&](std::size_t item) {
+    std::array<uint32_t, 2> offsets{};
+    for (std::size_t e = 1; e < arity; ++e) offsets[e - 1] = end_of(item, e) - end_of(item, 0);
+    return offsets;
   };
+  std::vector<uint32_t> order(items_);
+  std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return offset_of(a) != offset_of(b) ? offset_of(a) < offset_of(b)
-                                        : model.first[a] < model.first[b];
+    return offsets_of(a) != offsets_of(b) ? offsets_of(a) < offsets_of(b)
+                                          : end_of(a, 0) < end_of(b, 0);
   });
 
-  std::vector<uint32_t> slot_of(springs_);  // model spring -> slot
-  std::vector<uint32_t> gathered;           // the springs in no band, in order
-  std::size_t next = kSpringBlock;          // after the leading dead block
-  for (std::size_t begin = 0, end = 0; begin < springs_; begin = end) {
-    const uint32_t offset = offset_of(order[begin]);
+  std::vector<uint32_t> slot_of(items_);
+  std::vector<uint32_t> gathered;   // the items in no band, in order
+  std::size_t next = kSpringBlock;  // after the leading dead block
+  std::vector<std::array<uint32_t, 2>> band_offsets;
+  for (std::size_t begin = 0, end = 0; begin < items_; begin = end) {
+    const std::array<uint32_t, 2> offsets = offsets_of(order[begin]);
     bool distinct = true;
-    for (end = begin + 1; end < springs_ && offset_of(order[end]) == offset; ++end)
-      distinct = distinct && model.first[order[end]] != model.first[order[end - 1]];
+    for (end = begin + 1; end < items_ && offsets_of(order[end]) == offsets; ++end)
+      distinct = distinct && end_of(order[end], 0) != end_of(order[end - 1], 0);
     const auto block = static_cast<uint32_t>(kSpringBlock);
-    const uint32_t low = model.first[order[begin]] / block * block;
-    const uint32_t high = (model.first[order[end - 1]] / block + 1) * block;
+    const uint32_t low = end_of(order[begin], 0) / block * block;
+    const uint32_t high = (end_of(order[end - 1], 0) / block + 1) * block;
     if (!distinct || kBandShare * (end - begin) < high - low) {
       gathered.insert(gathered.end(), order.begin() + static_cast<std::ptrdiff_t>(begin),
                       order.begin() + static_cast<std::ptrdiff_t>(end));
       continue;
     }
-    bands_.push_back({offset, low, high, next});
+    bands_.push_back({std::max(offsets[0], offsets[1]), low, high, next});
+    band_offsets.push_back(offsets);
     dead_blocks_.push_back(static_cast<uint32_t>((next + high - low) / kSpringBlock));
     for (std::size_t k = begin; k < end; ++k)
-      slot_of[order[k]] = static_cast<uint32_t>(next + model.first[order[k]] - low);
+      slot_of[order[k]] = static_cast<uint32_t>(next + end_of(order[k], 0) - low);
     next += high - low + kSpringBlock;  // and a dead block after it
   }
   const std::size_t gathered_base = next;
@@ -67,63 +75,40 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
 
   const std::size_t slots =
       gathered_base + (gathered.size() + kSpringBlock - 1) / kSpringBlock * kSpringBlock;
-  first_ = AlignedBuffer<uint32_t>(slots);
-  second_ = AlignedBuffer<uint32_t>(slots);
-  rest_ = AlignedBuffer<Real>(slots);
-  ks_ = AlignedBuffer<Real>(slots);
-  kd_ = AlignedBuffer<Real>(slots);
-  // Zeroed: every slot dead (law 0), joining particle 0 to itself.
-  spring_in_.assign(slots, static_cast<uint32_t>(springs_));
-  std::vector<uint8_t> live(slots, 0);
+  for (auto& end : ends_) end = AlignedBuffer<uint32_t>(slots);  // zeroed: particle 0
+  item_in_.assign(slots, static_cast<uint32_t>(items_));
   // A band's dead slots join its own particles where they exist, so its blocks stay in order.
-  for (const Band& band : bands_)
-    for (uint32_t i = band.low; i < band.high && std::size_t{i} + band.offset < particles; ++i) {
-      first_[band.base + i - band.low] = i;
-      second_[band.base + i - band.low] = i + band.offset;
+  for (std::size_t k = 0; k < bands_.size(); ++k) {
+    const Band& band = bands_[k];
+    for (uint32_t i = band.low; i < band.high && std::size_t{i} + band.reach < particles; ++i) {
+      ends_[0][band.base + i - band.low] = i;
+      for (std::size_t e = 1; e < arity; ++e)
+        ends_[e][band.base + i - band.low] = i + band_offsets[k][e - 1];
     }
-  for (std::size_t spring = 0; spring < springs_; ++spring) {
-    const std::size_t s = slot_of[spring];
-    first_[s] = model.first[spring];
-    second_[s] = model.second[spring];
-    rest_[s] = static_cast<Real>(model.rest_length[spring]);
-    ks_[s] = static_cast<Real>(model.ks[spring]);
-    const bool has_damping = damped && model.kd[spring] > 0.0;
-    kd_[s] = has_damping ? static_cast<Real>(model.kd[spring]) : Real(0);
-    live[s] = 1;
-    spring_in_[s] = static_cast<uint32_t>(spring);
-    damped_count_ += has_damping;
+  }
+  for (std::size_t item = 0; item < items_; ++item) {
+    const std::size_t s = slot_of[item];
+    for (std::size_t e = 0; e < arity; ++e) ends_[e][s] = end_of(item, e);
+    item_in_[s] = static_cast<uint32_t>(item);
   }
   for (std::size_t b = 0; b < slots / kSpringBlock; ++b) {
-    const std::size_t s = b * kSpringBlock;
-    bool one_law = true, any_live = false, all_live = true;
-    for (std::size_t l = 0; l < kSpringBlock; ++l) {
-      one_law = one_law && rest_[s + l] == rest_[s] && ks_[s + l] == ks_[s] && kd_[s + l] == kd_[s];
-      any_live = any_live || live[s + l] != 0;
-      all_live = all_live && live[s + l] != 0;
-    }
-    const bool in_order = consecutive(&first_[s]) && consecutive(&second_[s]);
-    block_kind_.push_back(
-        static_cast<uint8_t>((in_order ? kEndsInOrder : 0) | (one_law && all_live ? kOneLaw : 0) |
-                             (all_live ? 0 : kDeadSlots) | (any_live ? 0 : kNoSpring)));
-    block_first_.push_back(first_[s]);
-    block_second_.push_back(second_[s]);
-    block_law_.push_back({rest_[s], ks_[s], kd_[s]});
+    bool in_order = true;
+    for (const auto& end : ends_) in_order = in_order && consecutive(&end[b * kSpringBlock]);
+    in_order_.push_back(in_order);
   }
 
   // Each particle's gathered entries, ascending by slot.
   const std::size_t blocks = (particles + kSpringBlock - 1) / kSpringBlock;
   std::vector<std::vector<uint32_t>> incident(particles);
-  for (std::size_t i = 0; i < particles; ++i) {
-    for (uint32_t e = model.adjacency_offsets[i]; e < model.adjacency_offsets[i + 1]; ++e) {
-      const uint32_t slot = slot_of[model.adjacent_springs[e]];
-      if (slot >= gathered_base) incident[i].push_back(slot);
-    }
-    std::sort(incident[i].begin(), incident[i].end());
-    for (uint32_t& slot : incident[i])
-      if (second_[slot] == i) slot |= kSecondEnd;
-  }
-  // Per particle block: each band's rows (the block's particles as first ends, then as second
-  // ends, where the band reaches them), then its gathered rows.
+  for (uint32_t item : gathered)
+    for (std::size_t e = 0; e < arity; ++e)
+      incident[end_of(item, e)].push_back(slot_of[item] |
+                                          ((subtracted >> e & 1u) != 0 ? kSubtract : 0u));
+  for (auto& entries : incident)
+    std::sort(entries.begin(), entries.end(),
+              [](uint32_t a, uint32_t b) { return (a & ~kSubtract) < (b & ~kSubtract); });
+  // Per particle block: each band's rows (the block's particles as each of the band's ends,
+  // where the band reaches them), then its gathered rows.
   std::vector<uint32_t> rows;
   row_begin_.assign(1, 0);
   for (std::size_t b = 0; b < blocks; ++b) {
@@ -132,16 +117,18 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
       for (std::size_t l = 0; l < kSpringBlock; ++l)
         rows.push_back(static_cast<uint32_t>(slot + l) | flag);
     };
-    for (const Band& band : bands_) {
+    for (std::size_t k = 0; k < bands_.size(); ++k) {
+      const Band& band = bands_[k];
       const auto low = static_cast<std::ptrdiff_t>(band.low);
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
-      if (start >= low && start - low < span)
-        push_run(band.base + static_cast<std::size_t>(start - low), 0);
-      // The first ends of this block's second ends: within a dead block of the band's ends.
-      const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(band.offset) - low;
-      if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span)
-        push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window),
-                 kSecondEnd);
+      for (std::size_t e = 0; e < arity; ++e) {
+        // The first ends of this block's particles as end e: within a dead block of the band's.
+        const uint32_t offset = e == 0 ? 0 : band_offsets[k][e - 1];
+        const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(offset) - low;
+        if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span)
+          push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window),
+                   (subtracted >> e & 1u) != 0 ? kSubtract : 0u);
+      }
     }
     std::size_t widest = 0;
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
@@ -161,6 +148,101 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
     const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
     row_in_order_[r] = consecutive(row);
     row_first_[r] = row[0];
+  }
+}
+
+template <class Real>
+void LaneBands::sum_incident(const Real* per_slot, std::size_t block,
+                             Real (&sum)[3][kSpringBlock]) const {
+  const std::size_t stride = slots();
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) {
+    Floats total[3] = {load_floats(sum[0]), load_floats(sum[1]), load_floats(sum[2])};
+    for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
+      if (row_in_order_[r]) {
+        const std::size_t slot = row_first_[r] & ~kSubtract;
+        const bool subtract = (row_first_[r] & kSubtract) != 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const Floats value = load_floats(per_slot + k * stride + slot);
+          total[k] = subtract ? total[k] - value : total[k] + value;
+        }
+      } else {
+        const Indices entry = load_indices(&entries_[std::size_t{r} * kSpringBlock]);
+        const Indices slot = without_top_bit(entry);
+        for (std::size_t k = 0; k < 3; ++k)
+          total[k] =
+              total[k] + negated_where_top_bit(gather_floats(per_slot + k * stride, slot), entry);
+      }
+    }
+    for (std::size_t k = 0; k < 3; ++k) store_floats(sum[k], total[k]);
+    return;
+  }
+#endif
+  for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
+    const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
+    for (std::size_t l = 0; l < kSpringBlock; ++l) {
+      const std::size_t slot = row[l] & ~kSubtract;
+      const bool subtract = (row[l] & kSubtract) != 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Real value = per_slot[k * stride + slot];
+        sum[k][l] = subtract ? sum[k][l] - value : sum[k][l] + value;
+      }
+    }
+  }
+}
+
+template void LaneBands::sum_incident(const float*, std::size_t, float (&)[3][kSpringBlock]) const;
+template void LaneBands::sum_incident(const double*, std::size_t,
+                                      double (&)[3][kSpringBlock]) const;
+
+template <class Real>
+SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
+    : layout_(
+          model.particle_count,
+          [&] {
+            std::vector<uint32_t> ends(2 * model.spring_count());
+            for (std::size_t k = 0; k < model.spring_count(); ++k) {
+              ends[2 * k] = model.first[k];
+              ends[2 * k + 1] = model.second[k];
+            }
+            return ends;
+          }(),
+          2, 2u),  // the second end subtracts
+      first_(layout_.ends(0)),
+      second_(layout_.ends(1)),
+      damped_(damped) {
+  const std::size_t slots = layout_.slots();
+  rest_ = AlignedBuffer<Real>(slots);  // zeroed: every slot dead (law 0)
+  ks_ = AlignedBuffer<Real>(slots);
+  kd_ = AlignedBuffer<Real>(slots);
+  for (std::size_t s = 0; s < slots; ++s) {
+    const std::size_t spring = layout_.item_in(s);
+    if (spring == layout_.items()) continue;
+    rest_[s] = static_cast<Real>(model.rest_length[spring]);
+    ks_[s] = static_cast<Real>(model.ks[spring]);
+    const bool has_damping = damped && model.kd[spring] > 0.0;
+    kd_[s] = has_damping ? static_cast<Real>(model.kd[spring]) : Real(0);
+    damped_count_ += has_damping;
+  }
+  for (std::size_t b = 0; b < slots / kSpringBlock; ++b) {
+    const std::size_t s = b * kSpringBlock;
+    uint32_t live = 0;
+    for (std::size_t l = 0; l < kSpringBlock; ++l)
+      if (layout_.item_in(s + l) != layout_.items()) live |= 1u << l;
+    // One law: every live lane's is the first live lane's (the dead lanes are masked).
+    const std::size_t lead = live == 0 ? s : s + static_cast<std::size_t>(__builtin_ctz(live));
+    bool one_law = true;
+    for (std::size_t l = 0; l < kSpringBlock; ++l)
+      one_law = one_law &&
+                ((live >> l & 1u) == 0 || (rest_[s + l] == rest_[lead] && ks_[s + l] == ks_[lead] &&
+                                           kd_[s + l] == kd_[lead]));
+    block_kind_.push_back(static_cast<uint8_t>(
+        (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0) |
+        (live == kAllLive ? 0 : kDeadSlots) | (live != 0 ? 0 : kNoSpring)));
+    block_live_.push_back(live);
+    block_first_.push_back(first_[s]);
+    block_second_.push_back(second_[s]);
+    block_law_.push_back({rest_[lead], ks_[lead], kd_[lead]});
   }
 }
 
@@ -186,7 +268,10 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
 }
 
 #if defined(CLOTHLAB_FLOAT_LANES)
-// The arrays a block reads where its ends are not in order or its lanes' laws differ.
+}  // namespace
+
+// The arrays a block reads where its ends are not in order or its lanes' laws differ (outside
+// the anonymous namespace: the members' lambdas capture it).
 struct SpringArrays {
   const uint32_t* first;
   const uint32_t* second;
@@ -195,11 +280,13 @@ struct SpringArrays {
   const float* kd;
 };
 
+namespace {
+
 // The block of springs from slot s: ends in order (runs from particles first and second) or
 // gathered by the lanes' indices; one law (rest, ks, kd) broadcast or a law per lane.
 template <bool Damped, bool InOrder, bool OneLaw>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
-                        uint32_t first, uint32_t second, const float (&law)[3], bool dead_slots,
+                        uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
                         const SpringArrays& arrays, float* force, std::size_t slots) {
   Floats d[3], dv[3] = {};
   if constexpr (InOrder) {
@@ -225,10 +312,10 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   }
   const Floats scale =
       spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
-  if (dead_slots) {
-    const LaneMask live = not_equal(ks + kd, zero_floats());
+  if (live != kAllLive) {
+    const LaneMask lanes = lanes_of_bits(live);
     for (std::size_t k = 0; k < 3; ++k)
-      store_floats(force + k * slots + s, keep(live, scale * d[k]));
+      store_floats(force + k * slots + s, keep(lanes, scale * d[k]));
     return;
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
@@ -239,7 +326,7 @@ template <bool InOrder, bool OneLaw>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
                           std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
-                          bool dead_slots, const SpringArrays& arrays, float* product,
+                          uint32_t live, const SpringArrays& arrays, float* product,
                           std::size_t slots) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
   if constexpr (InOrder) {
@@ -278,30 +365,24 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
   Floats out[3];
   for (std::size_t k = 0; k < 3; ++k) out[k] = across * du[k] + along * d[k];
-  if (dead_slots) {
-    const LaneMask live = not_equal(ks + kd, zero_floats());
-    for (Floats& value : out) value = keep(live, value);
+  if (live != kAllLive) {
+    const LaneMask lanes = lanes_of_bits(live);
+    for (Floats& value : out) value = keep(lanes, value);
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
 }
 
-template <bool Damped>
-void spring_block_lanes(bool in_order, bool one_law, const float* x, const float* v,
-                        std::size_t stride, std::size_t s, uint32_t first, uint32_t second,
-                        const float (&law)[3], bool dead_slots, const SpringArrays& arrays,
-                        float* force, std::size_t slots) {
+// Calls block(InOrder, OneLaw) with the block's kind as compile-time flags.
+template <class Block>
+void with_block_kind(bool in_order, bool one_law, const Block& block) {
   if (in_order && one_law)
-    spring_block_lanes<Damped, true, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                           force, slots);
+    block(std::true_type{}, std::true_type{});
   else if (in_order)
-    spring_block_lanes<Damped, true, false>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                            force, slots);
+    block(std::true_type{}, std::false_type{});
   else if (one_law)
-    spring_block_lanes<Damped, false, true>(x, v, stride, s, first, second, law, dead_slots, arrays,
-                                            force, slots);
+    block(std::false_type{}, std::true_type{});
   else
-    spring_block_lanes<Damped, false, false>(x, v, stride, s, first, second, law, dead_slots,
-                                             arrays, force, slots);
+    block(std::false_type{}, std::false_type{});
 }
 #endif
 
@@ -321,29 +402,30 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
-      const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
-                                kd_.data()};
+      const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
       const std::size_t s = b * kSpringBlock;
-      if (damped)
-        spring_block_lanes<true>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                 block_second_[b], law, dead_slots, arrays, force, slots());
-      else
-        spring_block_lanes<false>(in_order, one_law, x, v, stride, s, block_first_[b],
-                                  block_second_[b], law, dead_slots, arrays, force, slots());
+      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
+        if (damped)
+          spring_block_lanes<true, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
+                                                           block_second_[b], law, block_live_[b],
+                                                           arrays, force, slots());
+        else
+          spring_block_lanes<false, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
+                                                            block_second_[b], law, block_live_[b],
+                                                            arrays, force, slots());
+      });
       continue;
     }
 #endif
     if (damped)
-      spring_block_portable<Real, true>(x, v, stride, b, first_.data(), second_.data(),
-                                        rest_.data(), ks_.data(), kd_.data(), dead_slots, slots(),
-                                        force);
+      spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
+                                        kd_.data(), dead_slots, slots(), force);
     else
-      spring_block_portable<Real, false>(x, v, stride, b, first_.data(), second_.data(),
-                                         rest_.data(), ks_.data(), kd_.data(), dead_slots, slots(),
-                                         force);
+      spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
+                                         kd_.data(), dead_slots, slots(), force);
   }
 }
 
@@ -375,18 +457,15 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
-      const SpringArrays arrays{first_.data(), second_.data(), rest_.data(), ks_.data(),
-                                kd_.data()};
+      const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
-      const auto block =
-          in_order
-              ? (one_law ? &definite_block_lanes<true, true> : &definite_block_lanes<true, false>)
-              : (one_law ? &definite_block_lanes<false, true>
-                         : &definite_block_lanes<false, false>);
-      block(x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
-            block_second_[b], law, dead_slots, arrays, product, slots());
+      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
+        definite_block_lanes<ends_in_order(), one()>(
+            x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
+            block_second_[b], law, block_live_[b], arrays, product, slots());
+      });
       continue;
     }
 #endif
@@ -405,47 +484,6 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
       for (std::size_t k = 0; k < 3; ++k)
         product[k * slots() + s] = dead ? Real(0) : across * du[k] + along * d[k];
-    }
-  }
-}
-
-template <class Real>
-void SpringLanes<Real>::sum_incident(const Real* per_slot, std::size_t block,
-                                     Real (&sum)[3][kSpringBlock]) const {
-  const std::size_t stride = slots();
-#if defined(CLOTHLAB_FLOAT_LANES)
-  if constexpr (std::is_same_v<Real, float>) {
-    Floats total[3] = {zero_floats(), zero_floats(), zero_floats()};
-    for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-      if (row_in_order_[r]) {
-        const std::size_t slot = row_first_[r] & ~kSecondEnd;
-        const bool subtract = (row_first_[r] & kSecondEnd) != 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(per_slot + k * stride + slot);
-          total[k] = subtract ? total[k] - value : total[k] + value;
-        }
-      } else {
-        const Indices entry = load_indices(&entries_[std::size_t{r} * kSpringBlock]);
-        const Indices slot = without_top_bit(entry);
-        for (std::size_t k = 0; k < 3; ++k)
-          total[k] =
-              total[k] + negated_where_top_bit(gather_floats(per_slot + k * stride, slot), entry);
-      }
-    }
-    for (std::size_t k = 0; k < 3; ++k) store_floats(sum[k], total[k]);
-    return;
-  }
-#endif
-  for (std::size_t k = 0; k < 3; ++k) std::fill(sum[k], sum[k] + kSpringBlock, Real(0));
-  for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-    const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
-    for (std::size_t l = 0; l < kSpringBlock; ++l) {
-      const std::size_t slot = row[l] & ~kSecondEnd;
-      const bool subtract = (row[l] & kSecondEnd) != 0;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const Real value = per_slot[k * stride + slot];
-        sum[k][l] = subtract ? sum[k][l] - value : sum[k][l] + value;
-      }
     }
   }
 }

@@ -6,8 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numeric>
-#include <tuple>
 #include <type_traits>
 
 #include "air_kernel.hpp"
@@ -21,6 +19,26 @@ namespace {
 constexpr std::size_t kChunk = 1024;  // items per thread work item
 
 std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk; }
+
+#if defined(CLOTHLAB_FLOAT_LANES)
+// The wind's shares of the block of triangle slots from t, whose corners follow in order (plain
+// loads, as the grid's cells), its dead lanes (live's clear bits) 0; laid out as the slots.
+inline void wind_block_lanes(const float* x, std::size_t stride,
+                             const uint32_t* const (&corners)[3], std::size_t t,
+                             const Floats (&direction)[3], Floats strength_sixth, uint32_t live,
+                             float* share, std::size_t slots) {
+  Floats e1[3], e2[3], out[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    const float* component = x + k * stride;
+    const Floats corner = load_floats(component + corners[0][t]);
+    e1[k] = load_floats(component + corners[1][t]) - corner;
+    e2[k] = load_floats(component + corners[2][t]) - corner;
+  }
+  triangle_wind_share(e1, e2, direction, strength_sixth, out);
+  const LaneMask lanes = lanes_of_bits(live);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * slots + t, keep(lanes, out[k]));
+}
+#endif
 
 }  // namespace
 
@@ -36,7 +54,7 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
       velocity_forces_(velocity_forces),
       springs_(model, velocity_forces),
       spring_count_(model.spring_count()),
-      triangles_(model.triangles) {
+      triangle_count_(model.triangle_count()) {
   spring_force_ = AlignedBuffer<Real>(3 * springs_.slots());
 
   for (int k = 0; k < 3; ++k) {
@@ -44,68 +62,31 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
     wind_direction_[k] = static_cast<Real>(scene.wind_direction[k]);
     air_wind_[k] = static_cast<Real>(scene.air.wind_velocity[k]);
   }
-  const std::size_t triangles = model.triangle_count();
-  wind_ = scene.has_wind() && triangles > 0;
-  air_ = scene.has_air() && triangles > 0;
+  wind_ = scene.has_wind() && triangle_count_ > 0;
+  air_ = scene.has_air() && triangle_count_ > 0;
   wind_strength_sixth_ = static_cast<Real>(scene.wind_strength) / Real(6);
   air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
   air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
-  if (wind_ || air_) {
-    order_triangles();
-    triangle_share_ = AlignedBuffer<Real>(3 * triangles);
-    triangle_offsets_.assign(n_ + 1, 0);
-    for (uint32_t corner : triangles_) ++triangle_offsets_[corner + 1];
-    for (std::size_t i = 0; i < n_; ++i) triangle_offsets_[i + 1] += triangle_offsets_[i];
-    adjacent_triangles_.resize(triangle_offsets_[n_]);
-    std::vector<uint32_t> next(triangle_offsets_.begin(), triangle_offsets_.end() - 1);
-    for (std::size_t t = 0; t < triangles; ++t)
-      for (int corner = 0; corner < 3; ++corner)
-        adjacent_triangles_[next[triangles_[3 * t + corner]]++] = static_cast<uint32_t>(t);
-  }
+  if (wind_ || air_) lay_out_triangles(model);
   formed_x_ = AlignedBuffer<Real>(3 * stride_);
   formed_v_ = AlignedBuffer<Real>(3 * stride_);
 }
 
 template <class Real>
-void SpringListForces<Real>::order_triangles() {
-  const std::size_t triangles = triangles_.size() / 3;
-  std::vector<uint32_t> rotated(triangles_.size());
-  for (std::size_t t = 0; t < triangles; ++t) {
-    const uint32_t* corners = &triangles_[3 * t];
+void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
+  std::vector<uint32_t> rotated(model.triangles.size());
+  for (std::size_t t = 0; t < triangle_count_; ++t) {
+    const uint32_t* corners = &model.triangles[3 * t];
     const std::size_t low = std::min_element(corners, corners + 3) - corners;
     for (std::size_t c = 0; c < 3; ++c) rotated[3 * t + c] = corners[(low + c) % 3];
   }
-  std::vector<uint32_t> order(triangles);
-  std::iota(order.begin(), order.end(), 0u);
-  const auto key = [&](uint32_t t) {
-    const uint32_t* c = &rotated[3 * t];
-    return std::tuple{c[1] - c[0], c[2] - c[0], c[0]};
-  };
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-  const auto follows = [&](std::size_t i) {  // order[i, i + kSpringBlock) advance by one
-    for (std::size_t l = 1; l < kSpringBlock; ++l)
-      for (std::size_t c = 0; c < 3; ++c)
-        if (rotated[3 * order[i + l] + c] != rotated[3 * order[i] + c] + l) return false;
-    return true;
-  };
-  std::vector<uint32_t> runs, rest;
-  for (std::size_t i = 0; i < triangles;) {
-    if (i + kSpringBlock <= triangles && follows(i)) {
-      runs.insert(runs.end(), order.begin() + static_cast<std::ptrdiff_t>(i),
-                  order.begin() + static_cast<std::ptrdiff_t>(i + kSpringBlock));
-      i += kSpringBlock;
-    } else {
-      rest.push_back(order[i++]);
-    }
-  }
-  std::sort(rest.begin(), rest.end());  // the others keep the model's order and corners
-  const std::vector<uint32_t> model = triangles_;
-  for (std::size_t t = 0; t < runs.size(); ++t)
-    for (std::size_t c = 0; c < 3; ++c) triangles_[3 * t + c] = rotated[3 * runs[t] + c];
-  for (std::size_t t = 0; t < rest.size(); ++t)
-    for (std::size_t c = 0; c < 3; ++c)
-      triangles_[3 * (runs.size() + t) + c] = model[3 * rest[t] + c];
-  lane_triangles_ = runs.size();
+  triangles_.emplace(n_, rotated, 3, 0u);
+  const std::size_t slots = triangles_->slots();
+  triangle_share_ = AlignedBuffer<Real>(3 * slots);
+  triangle_live_.assign(triangles_->slot_blocks(), 0);
+  for (std::size_t s = 0; s < slots; ++s)
+    if (triangles_->item_in(s) != triangle_count_)
+      triangle_live_[s / kSpringBlock] |= 1u << (s % kSpringBlock);
 }
 
 template <class Real>
@@ -128,9 +109,17 @@ const Real* SpringListForces<Real>::form(const StateCombination<Real>& state, Re
 }
 
 template <class Real>
-Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a, bool triangles) {
+Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a, bool triangles,
+                                          double& triangle_seconds) {
   Real check = 0;
   const std::size_t tile = kChunk / kSpringBlock;
+  const auto shares = [&](std::size_t begin, std::size_t end) {
+    if (omp_get_thread_num() != 0) return triangle_shares(x, v, begin, end);
+    const auto start = std::chrono::steady_clock::now();
+    triangle_shares(x, v, begin, end);
+    triangle_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
   springs_.sweep(
       tile, threads_, parallel_,
       [&](std::size_t begin, std::size_t end) {
@@ -142,77 +131,78 @@ Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a,
           tile_check += gather_block(block, a, true, triangles);
 #pragma omp atomic
         check += tile_check;
-      });
+      },
+      triangles ? &*triangles_ : nullptr, &shares);
   return check;
 }
 
 template <class Real>
 void SpringListForces<Real>::triangle_pass(const Real* x, const Real* v) {
-  const std::size_t triangles = triangles_.size() / 3;
-  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(triangles));
+  const std::size_t blocks = triangles_->slot_blocks();
+  const std::size_t chunk_blocks = kChunk / kSpringBlock;
+  const auto chunks = static_cast<std::ptrdiff_t>((blocks + chunk_blocks - 1) / chunk_blocks);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(triangles, begin + kChunk);
-#if defined(CLOTHLAB_FLOAT_LANES)
-    if constexpr (std::is_same_v<Real, float>) {
-      // The blocks of triangles whose corners follow in order: the wind on lanes, plain loads.
-      if (!air_)
-        for (; begin < std::min(end, lane_triangles_); begin += kSpringBlock)
-          wind_block_lanes(x, begin);
-    }
-#endif
-    triangle_shares(x, v, begin, end);
+    const std::size_t begin = static_cast<std::size_t>(chunk) * chunk_blocks;
+    triangle_shares(x, v, begin, std::min(blocks, begin + chunk_blocks));
   }
 }
 
 template <class Real>
 void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::size_t begin,
                                              std::size_t end) {
-  const std::size_t s1 = stride_, s2 = 2 * stride_;
+  const std::size_t s1 = stride_, s2 = 2 * stride_, slots = triangles_->slots();
   const Real third = Real(1) / Real(3);
-  for (std::size_t t = begin; t < end; ++t) {
-    const std::size_t a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
-    const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
-    const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};
-    Real share[3] = {0, 0, 0};
-    if (wind_) triangle_wind_share(e1, e2, wind_direction_, wind_strength_sixth_, share);
-    if (air_) {
-      Real velocity[3] = {0, 0, 0};
-      if (v != nullptr)
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride_;
-          velocity[k] = (v[a + at] + v[b + at] + v[c + at]) * third;
-        }
-      Real air[3];
-      triangle_air_share(e1, e2, velocity, air_wind_, air_drag_twelfth_, air_lift_twelfth_, air);
-      for (int k = 0; k < 3; ++k) share[k] += air[k];
-    }
-    for (int k = 0; k < 3; ++k) triangle_share_[3 * t + k] = share[k];
-  }
-}
-
+  const uint32_t* const corners[3] = {triangles_->ends(0), triangles_->ends(1),
+                                      triangles_->ends(2)};
+  const uint32_t *corner_a = corners[0], *corner_b = corners[1], *corner_c = corners[2];
 #if defined(CLOTHLAB_FLOAT_LANES)
-template <class Real>
-void SpringListForces<Real>::wind_block_lanes(const Real* x, std::size_t t) {
+  Floats direction[3], strength_sixth = zero_floats();
   if constexpr (std::is_same_v<Real, float>) {
-    const uint32_t a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
-    Floats e1[3], e2[3], direction[3], share[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const float* component = x + k * stride_;
-      const Floats corner = load_floats(component + a);
-      e1[k] = load_floats(component + b) - corner;
-      e2[k] = load_floats(component + c) - corner;
-      direction[k] = broadcast(wind_direction_[k]);
+    for (std::size_t k = 0; k < 3; ++k) direction[k] = broadcast(wind_direction_[k]);
+    strength_sixth = broadcast(wind_strength_sixth_);
+  }
+#endif
+  for (std::size_t block = begin; block < end; ++block) {
+    if (triangle_live_[block] == 0) {
+      // Dead slots join particles that may not be finite: they give 0 whatever the state.
+      for (std::size_t k = 0; k < 3; ++k)
+        std::fill_n(&triangle_share_[k * slots + block * kSpringBlock], kSpringBlock, Real(0));
+      continue;
     }
-    triangle_wind_share(e1, e2, direction, broadcast(wind_strength_sixth_), share);
-    alignas(kAlignment) float lanes[3][kSpringBlock];
-    for (std::size_t k = 0; k < 3; ++k) store_floats(lanes[k], share[k]);
-    for (std::size_t l = 0; l < kSpringBlock; ++l)
-      for (std::size_t k = 0; k < 3; ++k) triangle_share_[3 * (t + l) + k] = lanes[k][l];
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      if (!air_ && triangles_->ends_in_order(block)) {
+        wind_block_lanes(x, stride_, corners, block * kSpringBlock, direction, strength_sixth,
+                         triangle_live_[block], triangle_share_.data(), slots);
+        continue;
+      }
+    }
+#endif
+    for (std::size_t t = block * kSpringBlock; t < (block + 1) * kSpringBlock; ++t) {
+      Real share[3] = {0, 0, 0};
+      if ((triangle_live_[block] >> (t % kSpringBlock) & 1u) != 0) {
+        const std::size_t a = corner_a[t], b = corner_b[t], c = corner_c[t];
+        const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
+        const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};
+        if (wind_) triangle_wind_share(e1, e2, wind_direction_, wind_strength_sixth_, share);
+        if (air_) {
+          Real velocity[3] = {0, 0, 0};
+          if (v != nullptr)
+            for (std::size_t k = 0; k < 3; ++k) {
+              const std::size_t at = k * stride_;
+              velocity[k] = (v[a + at] + v[b + at] + v[c + at]) * third;
+            }
+          Real air[3];
+          triangle_air_share(e1, e2, velocity, air_wind_, air_drag_twelfth_, air_lift_twelfth_,
+                             air);
+          for (int k = 0; k < 3; ++k) share[k] += air[k];
+        }
+      }
+      for (std::size_t k = 0; k < 3; ++k) triangle_share_[k * slots + t] = share[k];
+    }
   }
 }
-#endif
 
 template <class Real>
 Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, bool springs,
@@ -221,11 +211,7 @@ Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, bool sprin
   if (springs) springs_.sum_incident(spring_force_.data(), block, force);
   const std::size_t first = block * kSpringBlock;
   const std::size_t count = std::min(kSpringBlock, n_ - first);
-  if (triangles)
-    for (std::size_t l = 0; l < count; ++l)
-      for (uint32_t e = triangle_offsets_[first + l]; e < triangle_offsets_[first + l + 1]; ++e)
-        for (std::size_t k = 0; k < 3; ++k)
-          force[k][l] += triangle_share_[3 * adjacent_triangles_[e] + k];
+  if (triangles) triangles_->sum_incident(triangle_share_.data(), block, force);
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     if (count == kSpringBlock) {
@@ -277,20 +263,18 @@ bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
   const auto start = Clock::now();
   const Real* positions = form(x, formed_x_.data());
   const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
-  const auto formed = Clock::now();
   const bool cells = wind_ || air_;
-  if (cells) triangle_pass(positions, velocities);
-  const auto triangles_done = Clock::now();
-  // The sums, which also add the triangles' shares, count with the springs.
-  const Real check = spring_sweep(positions, velocities, a, cells);
-  const double external = std::chrono::duration<double>(triangles_done - formed).count();
-  counters.external_forces_s += external;
-  counters.internal_forces_s +=
-      std::chrono::duration<double>(Clock::now() - start).count() - external;
+  // The sweep is fused, so its time is split by thread 0's share of triangle work (as the grid's).
+  double triangle_seconds = 0.0;
+  const Real check = spring_sweep(positions, velocities, a, cells, triangle_seconds);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  triangle_seconds = std::min(triangle_seconds, seconds);
+  counters.external_forces_s += triangle_seconds;
+  counters.internal_forces_s += seconds - triangle_seconds;
   ++counters.force_evals;
   counters.springs_evaluated += spring_count_;
   counters.springs_damped += velocities != nullptr ? springs_.damped_count() : 0;
-  counters.normals_computed += cells ? triangles_.size() / 3 : 0;
+  counters.normals_computed += cells ? triangle_count_ : 0;
   return check == Real(0);
 }
 
@@ -333,19 +317,30 @@ bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& ste
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t end = std::min(n_, begin + kChunk);
-    for (std::size_t k = 0; k < 3; ++k)
-      for (std::size_t i = begin; i < end; ++i) {
-        if (inverse_mass_[i] == Real(0)) continue;
-        const std::size_t at = k * stride_ + i;
-        Real dx = step.h * v[at], dv = 0;
-        for (uint32_t s = 0; s < step.stages; ++s) {
-          dx += step.x_weights[s] * stage_a_[s][at];
-          dv += step.v_weights[s] * stage_a_[s][at];
+    const std::size_t count = std::min(n_, begin + kChunk) - begin;
+    // Stage by stage over the chunk, so the loops run on lanes; each sum in the same order.
+    alignas(kAlignment) Real dx[kChunk], dv[kChunk];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = k * stride_ + begin;
+#pragma omp simd
+      for (std::size_t i = 0; i < count; ++i) dx[i] = step.h * v[at + i], dv[i] = 0;
+      for (uint32_t s = 0; s < step.stages; ++s) {
+        const Real* stage = stage_a_[s].data() + at;
+        const Real x_weight = step.x_weights[s], v_weight = step.v_weights[s];
+#pragma omp simd
+        for (std::size_t i = 0; i < count; ++i) {
+          dx[i] += x_weight * stage[i];
+          dv[i] += v_weight * stage[i];
         }
-        x[at] += dx;
-        v[at] += dv;
       }
+      const Real* inverse_mass = inverse_mass_ + begin;
+#pragma omp simd
+      for (std::size_t i = 0; i < count; ++i) {
+        const bool active = inverse_mass[i] != Real(0);
+        x[at + i] = active ? x[at + i] + dx[i] : x[at + i];
+        v[at + i] = active ? v[at + i] + dv[i] : v[at + i];
+      }
+    }
   }
   return finite;
 }

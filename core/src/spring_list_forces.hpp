@@ -5,8 +5,9 @@
 // Threaded by gather, so the result is the same bits on any thread count and needs no atomics:
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
-// a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
-// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
+// a fixed order and turns the sum into an acceleration. The springs and the triangles are laid
+// out in bands for the lanes (SpringLanes and LaneBands, spring_lanes.hpp) and both passes run
+// tile by tile (LaneBands::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
 // stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
@@ -14,6 +15,7 @@
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "aligned_buffer.hpp"
@@ -46,20 +48,17 @@ class SpringListForces {
   // Whole state vectors (3 x stride) formed as combinations, into `out`; the base itself when
   // there is no term.
   const Real* form(const StateCombination<Real>& state, Real* out);
-  // Orders the triangles by shape (each rotated, winding kept, to start at its smallest
-  // corner; by the offsets of the others from it) and then by first corner: on a mesh numbered
-  // along rows, runs whose corners follow in order, which the wind reads with plain loads.
-  void order_triangles();
+  // The triangles (each rotated, its winding kept, to start at its smallest corner) in the slots
+  // of LaneBands: on a mesh numbered along rows, bands whose corners follow in order.
+  void lay_out_triangles(const ClothModel& model);
   void triangle_pass(const Real* x, const Real* v);
-  // The wind and air shares of triangles [begin, end).
+  // The wind and air shares of the triangle slot blocks [begin, end).
   void triangle_shares(const Real* x, const Real* v, std::size_t begin, std::size_t end);
-#if defined(CLOTHLAB_FLOAT_LANES)
-  // The wind's shares of the block of triangles from t, whose corners follow in order.
-  void wind_block_lanes(const Real* x, std::size_t t);
-#endif
-  // The springs' forces and the particles' sums of them (and of the triangles' shares), tile by
-  // tile (SpringLanes::sweep); returns the sum of 0 * a (NaN when some a is not finite).
-  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles);
+  // The springs' forces (and the triangles' shares) and the particles' sums of them, tile by
+  // tile (LaneBands::sweep); returns the sum of 0 * a (NaN when some a is not finite), and adds
+  // thread 0's time on the triangles to triangle_seconds.
+  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles,
+                    double& triangle_seconds);
   // The triangles' shares alone into accelerations; returns as spring_sweep.
   Real gather_external(Real* a, bool triangles);
   // Particle block b's sum into accelerations; returns its sum of 0 * a.
@@ -74,9 +73,9 @@ class SpringListForces {
 
   SpringLanes<Real> springs_;
   std::size_t spring_count_ = 0;
-  std::vector<uint32_t> triangles_;
-  std::vector<uint32_t> triangle_offsets_, adjacent_triangles_;  // particle -> triangle lists
-  std::size_t lane_triangles_ = 0;  // the leading triangles, in blocks that follow in order
+  std::size_t triangle_count_ = 0;
+  std::optional<LaneBands> triangles_;   // with the wind or the air
+  std::vector<uint32_t> triangle_live_;  // per triangle slot block: bit l set where lane l lives
 
   Real gravity_[3] = {0, 0, 0};
   Real wind_direction_[3] = {0, 0, 0};
@@ -86,8 +85,9 @@ class SpringListForces {
   Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;
   bool air_ = false;
 
-  AlignedBuffer<Real> spring_force_;    // by slot (SpringLanes): the force on the first particle
-  AlignedBuffer<Real> triangle_share_;  // 3 per triangle: the force on each of its corners
+  AlignedBuffer<Real> spring_force_;  // by slot (SpringLanes): the force on the first particle
+  // By triangle slot, laid out as spring_force_: the force on each of the triangle's corners.
+  AlignedBuffer<Real> triangle_share_;
   AlignedBuffer<Real> formed_x_, formed_v_;
   uint32_t reserved_stages_ = 0;
   std::vector<AlignedBuffer<Real>> stage_a_;  // the stages' accelerations

@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <type_traits>
 
 #include "simd_namespace.hpp"
 #include "spring_jacobian.hpp"
@@ -64,11 +65,32 @@ double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, std::s
                                                 std::size_t end) const {
   const SpringLanes<Real>& lanes = *spring_lanes_;
   double dot = 0.0;
+#if defined(CLOTHLAB_FLOAT_LANES)
+  Doubles dots[2] = {zero_doubles(), zero_doubles()};
+#endif
   for (std::size_t block = begin; block < end; ++block) {
     alignas(kAlignment) Real sum[3][kSpringBlock];
     lanes.sum_incident(spring_products_.data(), block, sum);
     const std::size_t first = block * kSpringBlock;
     const std::size_t count = std::min(kSpringBlock, n_ - first);
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float> && Shifted) {
+      if (count == kSpringBlock) {  // as the grid's kernel: <u, q> widened to double lanes
+        const Floats inverse_mass = load_floats(inverse_mass_ + first);
+        const LaneMask active = greater(inverse_mass, zero_floats());
+        Floats u_dot_q = zero_floats();
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride_ + first;
+          const Floats u_k = load_floats(u + at);
+          const Floats value = keep(active, u_k + inverse_mass * load_floats(sum[k]));
+          store_floats(out + at, value);
+          u_dot_q = u_dot_q + u_k * value;
+        }
+        add_widened(load_floats(mass_.data() + first) * u_dot_q, dots);
+        continue;
+      }
+    }
+#endif
     for (std::size_t l = 0; l < count; ++l) {
       const std::size_t i = first + l;
       const Real inverse_mass = inverse_mass_[i];
@@ -87,6 +109,9 @@ double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, std::s
       if constexpr (Shifted) dot += double{mass_[i] * term};
     }
   }
+#if defined(CLOTHLAB_FLOAT_LANES)
+  dot += lane_sum(dots);
+#endif
   return dot;
 }
 
