@@ -389,15 +389,16 @@ void SpringJacobian<Real>::blocks(const Real* x, const Real* v, const Weights& w
                                   values + 9 * std::size_t{entry_mirror_slot_[e]}};
   };
   for_particles([&](uint32_t i) {
-    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e)
-      if (entry_partner_[e] > i)
-        for (double* block : pair_blocks(e)) std::fill(block, block + 9, 0.0);
     for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
       if (entry_partner_[e] < i) continue;
       double m[9];
       spring_block(x, v, topology_.adjacent_springs[e], w, m);
+      // The pair's first spring in the row writes its slots, a later one (two springs joining
+      // the same pair) adds: no pass zeroes the table first.
+      const bool first = std::find(entry_slot_.begin() + offsets[i], entry_slot_.begin() + e,
+                                   entry_slot_[e]) == entry_slot_.begin() + e;
       for (double* block : pair_blocks(e))
-        for (std::size_t k = 0; k < 9; ++k) block[k] += m[k];
+        for (std::size_t k = 0; k < 9; ++k) block[k] = first ? m[k] : block[k] + m[k];
     }
   });
   for_particles([&](uint32_t i) {
