@@ -819,6 +819,19 @@ TEST(Multigrid, RefusesABlockTableThatDisagreesWithTheGrid) {
   clothlab_block_pattern one_block_short = table.pattern();
   one_block_short.block_count -= 1;
   EXPECT_NE(message(one_block_short).find("its blocks are 0 to"), std::string::npos);
+  // Row 1 without its block of particle 0, which row 0 has: no transpose to symmetrise with.
+  std::vector<uint32_t> offsets = table.offsets, columns = table.columns;
+  columns.erase(columns.begin() + offsets[1]);
+  for (std::size_t k = 2; k < offsets.size(); ++k) --offsets[k];
+  const clothlab_block_pattern lopsided{sizeof(clothlab_block_pattern),
+                                        static_cast<uint32_t>(offsets.size() - 1),
+                                        static_cast<uint32_t>(columns.size()),
+                                        0,
+                                        offsets.data(),
+                                        columns.data()};
+  EXPECT_EQ(message(lopsided),
+            "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) couples particle "
+            "0 to 1 but not 1 to 0");
   table.columns[0] = 3;  // particle 0 to particle 3: three spacings along its row
   EXPECT_EQ(message(table.pattern()),
             "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) couples particle "
