@@ -81,15 +81,14 @@ class ClothEngine final : public EngineState<Real> {
   static clothlab_status jacobian_apply_callback(void* context, double t, const void* x,
                                                  const void* v, double c_x, double c_v,
                                                  const void* u, void* out);
-  template <bool Definite>
-  static clothlab_status jacobian_diagonal_callback(void* context, double t, const void* x,
-                                                    const void* v, double c_x, double c_v,
-                                                    double* out);
   static clothlab_status jacobian_pattern_callback(void* context, clothlab_block_pattern* out);
-  template <bool Definite>
+  // The block calls (diagonal blocks, the table) of either form: Method fills `out`.
+  using BlockMethod = void (SpringJacobian<Real>::*)(const Real*, const Real*, double, double,
+                                                     double*) const;
+  template <BlockMethod Method>
   static clothlab_status jacobian_blocks_callback(void* context, double t, const void* x,
                                                   const void* v, double c_x, double c_v,
-                                                  double* values);
+                                                  double* out);
   static clothlab_status cg_linearise_callback(void* context, double t, const void* x,
                                                const void* v, double c_x, double c_v);
   static clothlab_status cg_product_callback(void* context, double alpha, double beta,

@@ -72,15 +72,18 @@ template <class Real>
 const void* ClothEngine<Real>::get_extension_callback(void* context, const char* id) {
   static constexpr clothlab_topology_extension topology_table{&topology_callback};
   static constexpr clothlab_grid_extension grid_table{&grid_callback};
+  using Jacobian = SpringJacobian<Real>;
   static constexpr clothlab_jacobian_extension jacobian_table{
       &jacobian_reserve_callback, &jacobian_apply_callback<false>,
-      &jacobian_diagonal_callback<false>, &jacobian_pattern_callback,
-      &jacobian_blocks_callback<false>};
+      &jacobian_blocks_callback<&Jacobian::diagonal_blocks>, &jacobian_pattern_callback,
+      &jacobian_blocks_callback<&Jacobian::blocks>};
   static constexpr clothlab_definite_jacobian_extension definite_jacobian_table{
-      &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>};
+      &jacobian_apply_callback<true>,
+      &jacobian_blocks_callback<&Jacobian::diagonal_blocks_definite>};
   static constexpr clothlab_definite_jacobian_2_extension definite_jacobian_2_table{
-      &jacobian_apply_callback<true>, &jacobian_diagonal_callback<true>,
-      &jacobian_blocks_callback<true>};
+      &jacobian_apply_callback<true>,
+      &jacobian_blocks_callback<&Jacobian::diagonal_blocks_definite>,
+      &jacobian_blocks_callback<&Jacobian::blocks_definite>};
   static constexpr clothlab_cg_step_extension cg_step_table{
       &cg_linearise_callback, &cg_product_callback, &cg_update_callback};
   static constexpr clothlab_reductions_extension reductions_table{&dot_callback, &mass_dot_callback,
@@ -190,23 +193,6 @@ clothlab_status ClothEngine<Real>::jacobian_apply_callback(void* context, double
 }
 
 template <class Real>
-template <bool Definite>
-clothlab_status ClothEngine<Real>::jacobian_diagonal_callback(void* context, double, const void* x,
-                                                              const void* v, double c_x, double c_v,
-                                                              double* out) {
-  if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
-  return status_of([&] {
-    const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
-    const auto* xs = static_cast<const Real*>(x);
-    const auto* vs = static_cast<const Real*>(v);
-    if constexpr (Definite)
-      jacobian.diagonal_blocks_definite(xs, vs, c_x, c_v, out);
-    else
-      jacobian.diagonal_blocks(xs, vs, c_x, c_v, out);
-  });
-}
-
-template <class Real>
 clothlab_status ClothEngine<Real>::jacobian_pattern_callback(void* context,
                                                              clothlab_block_pattern* out) {
   if (out == nullptr || out->struct_size < sizeof(clothlab_block_pattern))
@@ -215,19 +201,14 @@ clothlab_status ClothEngine<Real>::jacobian_pattern_callback(void* context,
 }
 
 template <class Real>
-template <bool Definite>
+template <typename ClothEngine<Real>::BlockMethod Method>
 clothlab_status ClothEngine<Real>::jacobian_blocks_callback(void* context, double, const void* x,
                                                             const void* v, double c_x, double c_v,
-                                                            double* values) {
-  if (x == nullptr || values == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+                                                            double* out) {
+  if (x == nullptr || out == nullptr) return CLOTHLAB_ERROR_INVALID_ARGUMENT;
   return status_of([&] {
     const SpringJacobian<Real>& jacobian = static_cast<ClothEngine*>(context)->jacobian();
-    const auto* xs = static_cast<const Real*>(x);
-    const auto* vs = static_cast<const Real*>(v);
-    if constexpr (Definite)
-      jacobian.blocks_definite(xs, vs, c_x, c_v, values);
-    else
-      jacobian.blocks(xs, vs, c_x, c_v, values);
+    (jacobian.*Method)(static_cast<const Real*>(x), static_cast<const Real*>(v), c_x, c_v, out);
   });
 }
 

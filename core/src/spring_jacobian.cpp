@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 
@@ -87,6 +88,15 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
     columns_.insert(columns_.end(), row.begin(), row.end());
     row_offsets_[i + 1] = static_cast<uint32_t>(columns_.size());
   }
+  entry_mirror_slot_.resize(topology.adjacent_springs.size());
+  for (uint32_t i = 0; i < n_; ++i)
+    for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      const uint32_t j = entry_partner_[e];
+      const auto first = columns_.begin() + row_offsets_[j];
+      const auto last = columns_.begin() + row_offsets_[j + 1];
+      entry_mirror_slot_[e] =
+          static_cast<uint32_t>(std::lower_bound(first, last, i) - columns_.begin());
+    }
 }
 
 template <class Real>
@@ -366,26 +376,46 @@ void SpringJacobian<Real>::blocks_definite(const Real* x, const Real* v, double 
   blocks(x, v, Weights{c_x, c_v, damping_ && v != nullptr, true}, values);
 }
 
+// Each spring's block is built once: pass 1 sums the blocks of the springs joining a pair, on
+// the row of its lower particle, into both of the pair's slots (no other row writes them); pass
+// 2 finishes each row alone: its off-diagonal sums times m_i^-1 (0 where the partner is pinned),
+// its diagonal -m_i^-1 times their total.
 template <class Real>
 void SpringJacobian<Real>::blocks(const Real* x, const Real* v, const Weights& w,
                                   double* values) const {
   const std::vector<uint32_t>& offsets = topology_.adjacency_offsets;
+  const auto pair_blocks = [&](uint32_t e) {
+    return std::array<double*, 2>{values + 9 * std::size_t{entry_slot_[e]},
+                                  values + 9 * std::size_t{entry_mirror_slot_[e]}};
+  };
   for_particles([&](uint32_t i) {
-    std::fill(values + 9 * std::size_t{row_offsets_[i]},
-              values + 9 * std::size_t{row_offsets_[i + 1]}, 0.0);
-    const double inverse_mass = inverse_mass_[i];
-    if (inverse_mass == 0.0) return;
-    double* diagonal = values + 9 * std::size_t{diagonal_slot_[i]};
     for (uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      if (entry_partner_[e] < i) continue;
       double m[9];
       spring_block(x, v, topology_.adjacent_springs[e], w, m);
-      const bool j_active = inverse_mass_[entry_partner_[e]] > Real(0);
-      double* off_diagonal = values + 9 * std::size_t{entry_slot_[e]};
+      // The pair's first spring in the row writes its slots, a later one (two springs joining
+      // the same pair) adds: no pass zeroes the table first.
+      const bool first = std::find(entry_slot_.begin() + offsets[i], entry_slot_.begin() + e,
+                                   entry_slot_[e]) == entry_slot_.begin() + e;
+      for (double* block : pair_blocks(e))
+        for (std::size_t k = 0; k < 9; ++k) block[k] = first ? m[k] : block[k] + m[k];
+    }
+  });
+  for_particles([&](uint32_t i) {
+    const double inverse_mass = inverse_mass_[i];
+    double total[9] = {};
+    for (uint32_t slot = row_offsets_[i]; slot < row_offsets_[i + 1]; ++slot) {
+      if (slot == diagonal_slot_[i]) continue;
+      double* block = values + 9 * std::size_t{slot};
+      const double scale = inverse_mass_[columns_[slot]] > Real(0) ? inverse_mass : 0.0;
       for (std::size_t k = 0; k < 9; ++k) {
-        diagonal[k] -= inverse_mass * m[k];
-        if (j_active) off_diagonal[k] += inverse_mass * m[k];
+        total[k] += block[k];
+        block[k] = scale > 0.0 ? scale * block[k] : 0.0;
       }
     }
+    double* diagonal = values + 9 * std::size_t{diagonal_slot_[i]};
+    for (std::size_t k = 0; k < 9; ++k)
+      diagonal[k] = inverse_mass > 0.0 ? -inverse_mass * total[k] : 0.0;
   });
 }
 

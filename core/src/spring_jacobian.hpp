@@ -155,8 +155,8 @@ class SpringJacobian {
   // Block CSR pattern: row i's columns, ascending; the slot of each adjacency entry's
   // block and of each diagonal block in it.
   std::vector<uint32_t> row_offsets_, columns_, entry_slot_, diagonal_slot_;
-  // The other particle of each adjacency entry.
-  std::vector<uint32_t> entry_partner_;
+  // The other particle of each adjacency entry, and the slot of the entry's block in its row.
+  std::vector<uint32_t> entry_partner_, entry_mirror_slot_;
   // Per thread a scratch row of M (u_j - u_i), components span_ apart, zero margins
   // (apply is not reentrant).
   std::size_t span_;

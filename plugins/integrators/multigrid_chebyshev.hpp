@@ -62,6 +62,20 @@ class ChebyshevSteps {
   double theta_, delta_, sigma_, rho_;
 };
 
+// Row i's part of the bound below: the largest row sum of |D_i^-1 A_ij| over the blocks that
+// row_blocks(visit) visits (visit(a) for each block a of the row); d = D_i^-1, row-major.
+template <class RowBlocks>
+double jacobi_row_bound(const double* d, RowBlocks&& row_blocks) {
+  std::array<double, 3> row_sums{};
+  row_blocks([&](const double* a) {
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        row_sums[static_cast<std::size_t>(k)] +=
+            std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
+  });
+  return std::max({row_sums[0], row_sums[1], row_sums[2]});
+}
+
 // An upper bound on D^-1 A's eigenvalues for a level's free rows: the largest row sum of
 // |D_i^-1 A_ij| over a row's blocks; `inverse_diagonal` 9 per node, row-major.
 inline double jacobi_spectral_bound(const GridLevel& level,
@@ -71,19 +85,15 @@ inline double jacobi_spectral_bound(const GridLevel& level,
     for (int c = 0; c < level.cols(); ++c) {
       const std::size_t i = level.node(r, c);
       if (level.fixed(i)) continue;
-      const double* d = &inverse_diagonal[9 * i];
       const GridLevel::Window w = level.window(r, c);
-      std::array<double, 3> row_sums{};
-      for (const GridLevel::Offset& offset : level.couplings()) {
-        const int r2 = r + offset.rows, c2 = c + offset.cols;
-        if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end) continue;
-        const double* a = level.block(r, c, r2, c2);
-        for (int k = 0; k < 3; ++k)
-          for (int j = 0; j < 3; ++j)
-            row_sums[static_cast<std::size_t>(k)] +=
-                std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
-      }
-      bound = std::max({bound, row_sums[0], row_sums[1], row_sums[2]});
+      bound = std::max(
+          bound, jacobi_row_bound(&inverse_diagonal[9 * i], [&](auto&& visit) {
+            for (const GridLevel::Offset& offset : level.couplings()) {
+              const int r2 = r + offset.rows, c2 = c + offset.cols;
+              if (r2 >= w.row_begin && r2 < w.row_end && c2 >= w.col_begin && c2 < w.col_end)
+                visit(level.block(r, c, r2, c2));
+            }
+          }));
     }
   return bound;
 }

@@ -57,13 +57,17 @@ class MultigridHierarchy {
  public:
   // fixed: the fine level's Dirichlet nodes (pins), node r * cols + c. fine_blocks: single
   // where the V-cycle only preconditions (implicit_euler's CG), exact where the fine level's
-  // residual is the system solved (projective_dynamics). The coarse levels that smooth only
+  // residual is the system solved (projective_dynamics), none where the caller holds the fine
+  // matrix and forms level 1 (`rebuild_below(1)`). The coarse levels that smooth only
   // serve the V-cycle and are single; the coarsest, solved directly, stays exact. lanes: the
   // precision the single levels smooth in (multigrid_lanes.hpp).
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
                      GridLevel::Blocks fine_blocks, LanePrecision lanes = LanePrecision::float64,
                      Smoothing smoothing = Smoothing::gauss_seidel) {
     levels_.reserve(sizes.size());
+    // A fine level that is the coarsest is solved from its blocks: it keeps them.
+    if (fine_blocks == GridLevel::Blocks::none && sizes.size() == 1)
+      fine_blocks = GridLevel::Blocks::single;
     levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed), fine_blocks);
     for (std::size_t l = 1; l < sizes.size(); ++l) {
       transfers_.emplace_back(levels_.back());
@@ -72,6 +76,9 @@ class MultigridHierarchy {
           sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),
           l + 1 < sizes.size() ? GridLevel::Blocks::single : GridLevel::Blocks::exact);
     }
+    // Chebyshev's products run in its lanes or the caller's: no level reads packed rows.
+    if (smoothing == Smoothing::chebyshev)
+      for (GridLevel& level : levels_) level.drop_packing();
     for (std::size_t l = 0; l + 1 < levels_.size(); ++l)
       if (smoothing == Smoothing::gauss_seidel)
         smoothers_.emplace_back(levels_[l], lanes);
@@ -114,11 +121,15 @@ class MultigridHierarchy {
   }
 
   // The coarse operators and factors for the fine level's current matrix; false where a level
-  // is not positive definite (then the V-cycle is no preconditioner for CG).
-  bool rebuild() {
-    for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
+  // is not positive definite (then the V-cycle is no preconditioner for CG). The Galerkin
+  // products run on `threads`.
+  bool rebuild(int threads = 1) { return rebuild_below(0, threads); }
+  // As rebuild, from level `first` down, its matrix formed by the caller (level 1 where the fine
+  // level keeps no blocks: the caller smooths it and forms its Galerkin product).
+  bool rebuild_below(std::size_t first, int threads = 1) {
+    for (std::size_t l = first; l + 1 < levels_.size(); ++l) {
       levels_[l].pack();
-      transfers_[l].galerkin(levels_[l], levels_[l + 1]);
+      transfers_[l].galerkin(levels_[l], levels_[l + 1], threads);
       if (!(chebyshev_.empty() ? smoothers_[l].factor(levels_[l])
                                : chebyshev_[l].factor(levels_[l])))
         return false;

@@ -21,14 +21,16 @@ class GridLevel {
   static constexpr int reach = 2;  // grid spacings a row's couplings span along each axis
 
   // How `pack` keeps the blocks: exact (double), or rounded to single precision with the
-  // interior rows packed for the V-cycle's products.
-  enum class Blocks { exact, single };
+  // interior rows packed for the V-cycle's products; none: the level keeps no blocks (a fine
+  // level whose matrix its caller holds and smooths, forming the next level's Galerkin product).
+  enum class Blocks { exact, single, none };
 
   GridLevel(uint32_t rows, uint32_t cols, std::vector<uint8_t> fixed, Blocks blocks = Blocks::exact)
       : rows_(static_cast<int>(rows)),
         cols_(static_cast<int>(cols)),
         single_(blocks == Blocks::single),
         fixed_(std::move(fixed)) {
+    if (blocks == Blocks::none) return;
     offsets_.resize(node_count() + 1, 0);
     for (int r = 0; r < rows_; ++r)
       for (int c = 0; c < cols_; ++c) {
@@ -70,6 +72,10 @@ class GridLevel {
   const double* block(int r, int c, int r2, int c2) const {
     return &blocks_[9 * slot(r, c, r2, c2)];
   }
+  // Row (r, c)'s block coupling it to (r2, c2), in window w = window(r, c), from row_blocks.
+  static std::size_t window_slot(const Window& w, int r2, int c2) {
+    return static_cast<std::size_t>((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
+  }
   // Row (r, c)'s blocks in window order.
   double* row_blocks(int r, int c) { return &blocks_[9 * offsets_[node(r, c)]]; }
   const double* row_blocks(int r, int c) const { return &blocks_[9 * offsets_[node(r, c)]]; }
@@ -80,6 +86,9 @@ class GridLevel {
   // Whether products read the interior rows from their packed blocks (a single level, packed
   // since its blocks last changed).
   bool packed() const { return packed_valid_; }
+  // Frees the packed rows and packs none from now on: for a level whose products run elsewhere
+  // (Chebyshev's lanes, or the caller's).
+  void drop_packing() { packed_ = {}; }
   void clear() {
     std::fill(blocks_.begin(), blocks_.end(), 0.0);
     packed_valid_ = false;
@@ -176,7 +185,7 @@ class GridLevel {
                                   (static_cast<std::ptrdiff_t>(offset.rows) * cols_ + offset.cols));
       }
     packed_valid_ = false;
-    if (!single_) return;
+    if (!single_ || packed_.empty()) return;
     PackedReal* out = packed_.data();
     for (int r = reach; r < rows_ - reach; ++r)
       for (int c = reach; c < cols_ - reach; ++c) {
@@ -232,9 +241,7 @@ class GridLevel {
   }
 
   std::size_t slot(int r, int c, int r2, int c2) const {
-    const Window w = window(r, c);
-    return offsets_[node(r, c)] +
-           static_cast<std::size_t>((r2 - w.row_begin) * w.width() + (c2 - w.col_begin));
+    return offsets_[node(r, c)] + window_slot(window(r, c), r2, c2);
   }
 
   static constexpr int kWindow = 2 * reach + 1;

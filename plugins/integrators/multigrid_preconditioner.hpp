@@ -10,7 +10,9 @@
 // multigrid_grid.hpp), so particles whose rows and columns are equal mod 5 share no neighbour:
 // one product with e_d on all particles of such a class gives column d of every block coupling
 // to them, 75 products in all. Products and tables carry rounding, so S is symmetrised
-// ((S + S^T) / 2) and the V-cycle stays exactly symmetric; a single-precision system's V-cycle
+// ((S + S^T) / 2) and the V-cycle stays exactly symmetric. From a table the fine level keeps no
+// blocks: level 1 (its Galerkin product), D^-1 and the fine smoother's bound are formed from
+// the table's rows as they are read, on the V-cycle's threads; a single-precision system's V-cycle
 // also smooths in single precision (multigrid_lanes.hpp), all its CG resolves. Pinned
 // particles are the fine level's Dirichlet nodes.
 //
@@ -37,6 +39,7 @@
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -61,7 +64,8 @@ class MultigridPreconditioner {
                           std::optional<clothlab_block_pattern> block_pattern = std::nullopt)
       : rebuild_interval_(rebuild_interval),
         hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
-                   fixed_particles(system), GridLevel::Blocks::single,
+                   fixed_particles(system),
+                   block_pattern ? GridLevel::Blocks::none : GridLevel::Blocks::single,
                    std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
                    Smoothing::chebyshev),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
@@ -71,7 +75,8 @@ class MultigridPreconditioner {
         fine_residual_(3 * std::size_t{system.particle_count()}, 0.0),
         fine_correction_(3 * std::size_t{system.particle_count()}, 0.0),
         probe_(system.alloc_vector()),
-        probe_products_{system.alloc_vector(), system.alloc_vector(), system.alloc_vector()} {
+        probe_products_{system.alloc_vector(), system.alloc_vector(), system.alloc_vector()},
+        row_bounds_(static_cast<std::size_t>(hierarchy_.level(0).rows()), 0.0) {
     check_spring_reach(system, hierarchy_.level(0).cols(), "multigrid = 1");
     const Real* inverse_mass = system.inverse_mass();
     for (const clothlab_range& range : system.active())
@@ -80,6 +85,12 @@ class MultigridPreconditioner {
     if (block_pattern) {
       check_block_pattern(*block_pattern, hierarchy_.level(0));
       pattern_ = block_pattern;
+      transposed_ = transposed_slots(*block_pattern);
+      for (uint32_t i = 0; i < block_pattern->row_count; ++i)
+        diagonal_slots_.push_back(static_cast<uint32_t>(
+            std::lower_bound(block_pattern->columns + block_pattern->row_offsets[i],
+                             block_pattern->columns + block_pattern->row_offsets[i + 1], i) -
+            block_pattern->columns));
       block_values_.assign(9 * std::size_t{pattern_->block_count}, 0.0);
     }
   }
@@ -106,7 +117,7 @@ class MultigridPreconditioner {
       valid_ = false;  // until the build succeeds: a throw leaves no hierarchy to reuse
       if (pattern_) {
         blocks(block_values_.data());
-        assemble(system, block_values_.data());
+        assemble(block_values_.data());
       } else {
         linearise(system, product);
       }
@@ -150,23 +161,50 @@ class MultigridPreconditioner {
   }
 
   // Assembles S = M (I + J) from J's blocks `values` (9 each) in the order of the block pattern
-  // given at construction, and rebuilds the levels.
-  template <class Real>
-  void assemble(const sdk::System<Real>& system, const double* values) {
+  // given at construction, and rebuilds the levels. The fine level keeps no blocks where it
+  // has a coarser one: level 1, D^-1 and the fine bound come straight from the table.
+  void assemble(const double* values) {
+    const int threads = cycle_.threads();
+    ++rebuild_count_;
     GridLevel& fine = hierarchy_.level(0);
-    fine.clear();
-    const auto cols = static_cast<uint32_t>(fine.cols());
-    for (uint32_t i = 0; i < pattern_->row_count; ++i) {
-      if (fine.fixed(i)) continue;
-      const auto r = static_cast<int>(i / cols), c = static_cast<int>(i % cols);
-      for (uint32_t k = pattern_->row_offsets[i]; k < pattern_->row_offsets[i + 1]; ++k) {
-        const uint32_t j = pattern_->columns[k];
-        if (fine.fixed(j)) continue;
-        double* block = fine.block(r, c, static_cast<int>(j / cols), static_cast<int>(j % cols));
-        for (std::size_t e = 0; e < 9; ++e) block[e] = mass_[i] * values[9 * std::size_t{k} + e];
-      }
+    const auto table_rows = [&](int r, int c, auto&& visit) {
+      table_row(values, static_cast<uint32_t>(fine.node(r, c)), visit);
+    };
+    if (hierarchy_.level_count() == 1) {  // the fine level is the coarsest: solved directly
+      fine.clear();
+      for (int r = 0; r < fine.rows(); ++r)
+        for (int c = 0; c < fine.cols(); ++c)
+          if (!fine.fixed(fine.node(r, c)))
+            table_rows(r, c, [&](int r2, int c2, const double* block) {
+              std::copy_n(block, 9, fine.block(r, c, r2, c2));
+            });
+      return require_definite(hierarchy_.rebuild(threads));
     }
-    finish_fine_level(system);
+    hierarchy_.transfer(0).galerkin(fine, hierarchy_.level(1), threads, table_rows);
+    // D^-1 and the bound on D^-1 A's eigenvalues (those of D_S^-1 S, D_S = M D) row by row.
+    fine.for_each_index(fine.rows(), threads, [&](int r) {
+      double bound = 0.0;
+      for (int c = 0; c < fine.cols(); ++c) {
+        const std::size_t i = fine.node(r, c);
+        if (fine.fixed(i)) continue;
+        double diagonal[9], inverse[9];  // NaN unless the diagonal block is positive definite
+        std::fill_n(inverse, 9, std::numeric_limits<double>::quiet_NaN());
+        table_block(values, static_cast<uint32_t>(i), diagonal_slots_[i], diagonal);
+        invert_positive_definite(diagonal, inverse);
+        for (std::size_t k = 0; k < 9; ++k) jacobi_[9 * i + k] = mass_[i] * inverse[k];
+        const double row = jacobi_row_bound(inverse, [&](auto&& visit) {
+          table_rows(r, c, [&](int, int, const double* block) { visit(block); });
+        });
+        bound = std::isnan(row) ? row : std::max(bound, row);
+        if (std::isnan(bound)) break;
+      }
+      row_bounds_[static_cast<std::size_t>(r)] = bound;
+    });
+    lambda_max_ = 0.0;
+    for (const double bound : row_bounds_)
+      lambda_max_ = std::isnan(bound) ? bound : std::max(lambda_max_, bound);
+    require_definite(lambda_max_ > 0.0 && std::isfinite(lambda_max_) &&
+                     hierarchy_.rebuild_below(1, threads));
   }
 
   // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
@@ -242,11 +280,64 @@ class MultigridPreconditioner {
       }
     symmetrise(fine);
     ++rebuild_count_;
-    if (!hierarchy_.rebuild())
+    require_definite(hierarchy_.rebuild(cycle_.threads()));
+    if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
+  }
+
+  static void require_definite(bool built) {
+    if (!built)
       throw sdk::Error(CLOTHLAB_ERROR_NUMERICAL,
                        "multigrid: the linearised matrix is not positive definite (definite = 0 "
                        "with compressed springs?)");
-    if (hierarchy_.level_count() > 1) prepare_chebyshev(system);
+  }
+
+  // S's blocks of the free fine row i from the host's table `values`, formed as they are read:
+  // S_ij = m_i D_ij made symmetric ((S + S^T) / 2, the same bits on both sides of the diagonal:
+  // the V-cycle stays exactly symmetric) and M added on the diagonal. visit(r2, c2, block) for
+  // each free j = r2 * cols + c2 the row couples to.
+  template <class Visit>
+  void table_row(const double* values, uint32_t i, Visit&& visit) const {
+    const GridLevel& fine = hierarchy_.level(0);
+    const auto cols = static_cast<uint32_t>(fine.cols());
+    for (uint32_t k = pattern_->row_offsets[i]; k < pattern_->row_offsets[i + 1]; ++k) {
+      const uint32_t j = pattern_->columns[k];
+      if (fine.fixed(j)) continue;
+      double s[9];
+      table_block(values, i, k, s);
+      visit(static_cast<int>(j / cols), static_cast<int>(j % cols), static_cast<const double*>(s));
+    }
+  }
+  // table_row's block of slot k, in row i, into s.
+  void table_block(const double* values, uint32_t i, uint32_t k, double* s) const {
+    const uint32_t j = pattern_->columns[k];
+    const double* a = values + 9 * std::size_t{k};
+    const double* t = values + 9 * std::size_t{transposed_[k]};
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col)
+        s[3 * row + col] = 0.5 * (mass_[i] * a[3 * row + col] + mass_[j] * t[3 * col + row]);
+    if (j == i)
+      for (int d = 0; d < 3; ++d) s[4 * d] += mass_[i];
+  }
+
+  // Per block of `pattern`, the slot of its transpose; one line of sdk::Error where one is
+  // missing (the table must be structurally symmetric).
+  static std::vector<uint32_t> transposed_slots(const clothlab_block_pattern& pattern) {
+    std::vector<uint32_t> slots(pattern.block_count);
+    for (uint32_t i = 0; i < pattern.row_count; ++i)
+      for (uint32_t k = pattern.row_offsets[i]; k < pattern.row_offsets[i + 1]; ++k) {
+        const uint32_t j = pattern.columns[k];
+        const uint32_t* first = pattern.columns + pattern.row_offsets[j];
+        const uint32_t* last = pattern.columns + pattern.row_offsets[j + 1];
+        const uint32_t* at = std::lower_bound(first, last, i);
+        if (at == last || *at != i)
+          throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT,
+                           "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) "
+                           "couples particle " +
+                               std::to_string(i) + " to " + std::to_string(j) + " but not " +
+                               std::to_string(j) + " to " + std::to_string(i));
+        slots[k] = static_cast<uint32_t>(at - pattern.columns);
+      }
+    return slots;
   }
 
   static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
@@ -416,6 +507,9 @@ class MultigridPreconditioner {
   // With block_table: the host's pattern and its table's values (9 per block).
   std::optional<clothlab_block_pattern> pattern_;
   std::vector<double> block_values_;
+  std::vector<uint32_t> transposed_;      // per block of the pattern, its transpose's slot
+  std::vector<uint32_t> diagonal_slots_;  // per row of the pattern, its diagonal block's slot
+  std::vector<double> row_bounds_;        // per fine row of nodes, its part of lambda_max
 };
 
 }  // namespace clothlab::builtin

@@ -101,50 +101,80 @@ class GridTransfer {
   }
 
   // coarse = R fine P, a row of A P at a time: (A P)_fJ = sum_g A_fg P_gJ, then
-  // (R A P)_IJ += P_fI (A P)_fJ for f's parents I.
-  void galerkin(const GridLevel& fine, GridLevel& coarse) const {
-    coarse.clear();
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        if (fine.fixed(fine.node(r, c))) continue;
-        // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
-        const int row0 = r / 2 - 2, col0 = c / 2 - 2;
-        std::array<double, 9 * kSpan * kSpan> product{};
-        std::array<uint8_t, kSpan * kSpan> touched{};
-        // Only the offsets `pack` found coupled: the others' blocks are zero in every row.
-        const GridLevel::Window w = fine.window(r, c);
-        for (const GridLevel::Offset& offset : fine.couplings()) {
-          const int r2 = r + offset.rows, c2 = c + offset.cols;
-          if (r2 < w.row_begin || r2 >= w.row_end || c2 < w.col_begin || c2 >= w.col_end ||
-              fine.fixed(fine.node(r2, c2)))
-            continue;
-          const double* a = fine.block(r, c, r2, c2);
-          for (int i = 0; i < row_parents_.count(r2); ++i)
-            for (int j = 0; j < col_parents_.count(c2); ++j) {
-              const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
-              if (coarse.fixed(coarse.node(pr, pc))) continue;
-              const int local = (pr - row0) * kSpan + (pc - col0);
-              const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
-              for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
-              touched[local] = 1;
-            }
-        }
-        for (int i = 0; i < row_parents_.count(r); ++i)
-          for (int j = 0; j < col_parents_.count(c); ++j) {
-            const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);
-            if (coarse.fixed(coarse.node(pr, pc))) continue;
-            const double weight = row_parents_.weight(r) * col_parents_.weight(c);
-            for (int local = 0; local < kSpan * kSpan; ++local) {
-              if (!touched[local]) continue;
-              double* target = coarse.block(pr, pc, row0 + local / kSpan, col0 + local % kSpan);
-              for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
-            }
-          }
+  // (R A P)_IJ += P_fI (A P)_fJ for f's parents I. The fine blocks come from the level's own
+  // (the offsets `pack` found coupled), or from row_blocks(r, c, visit), which calls
+  // visit(r2, c2, a) for each block a of the free fine row (r, c). The coarse rows split among
+  // `threads` in bands, each band from the fine rows under it: a coarse block sums its terms in
+  // the fine rows' order, so any count gives the same bits.
+  void galerkin(const GridLevel& fine, GridLevel& coarse, int threads = 1) const {
+    galerkin(fine, coarse, threads, [&](int r, int c, auto&& visit) {
+      const GridLevel::Window w = fine.window(r, c);
+      const double* row = fine.row_blocks(r, c);
+      for (const GridLevel::Offset& offset : fine.couplings()) {
+        const int r2 = r + offset.rows, c2 = c + offset.cols;
+        if (r2 >= w.row_begin && r2 < w.row_end && c2 >= w.col_begin && c2 < w.col_end)
+          visit(r2, c2, row + 9 * GridLevel::window_slot(w, r2, c2));
       }
+    });
+  }
+  template <class RowBlocks>
+  void galerkin(const GridLevel& fine, GridLevel& coarse, int threads,
+                RowBlocks&& row_blocks) const {
+    coarse.clear();
+    const int bands = (coarse.rows() + kBandRows - 1) / kBandRows;
+    fine.for_each_index(bands, threads, [&](int band) {
+      const int first = band * kBandRows, last = std::min(first + kBandRows, coarse.rows());
+      const auto owned = [&](int pr) { return pr >= first && pr < last; };
+      for (int r = std::max(2 * first - 2, 0); r < std::min(2 * last + 1, fine.rows()); ++r) {
+        if (!owned(row_parents_.parent(r, 0)) &&
+            !(row_parents_.count(r) == 2 && owned(row_parents_.parent(r, 1))))
+          continue;
+        for (int c = 0; c < fine.cols(); ++c)
+          if (!fine.fixed(fine.node(r, c))) galerkin_row(fine, coarse, r, c, owned, row_blocks);
+      }
+    });
   }
 
  private:
   static constexpr int kSpan = 5;
+  static constexpr int kBandRows = 8;  // coarse rows per band of the Galerkin product
+
+  // Fine row (r, c)'s terms of R A P in the coarse rows `owned` accepts.
+  template <class Owned, class RowBlocks>
+  void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, const Owned& owned,
+                    RowBlocks& row_blocks) const {
+    // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
+    const int row0 = r / 2 - 2, col0 = c / 2 - 2;
+    std::array<double, 9 * kSpan * kSpan> product{};
+    std::array<uint8_t, kSpan * kSpan> touched{};
+    row_blocks(r, c, [&](int r2, int c2, const double* a) {
+      if (fine.fixed(fine.node(r2, c2))) return;
+      for (int i = 0; i < row_parents_.count(r2); ++i)
+        for (int j = 0; j < col_parents_.count(c2); ++j) {
+          const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
+          if (coarse.fixed(coarse.node(pr, pc))) continue;
+          const int local = (pr - row0) * kSpan + (pc - col0);
+          const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
+          for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
+          touched[local] = 1;
+        }
+    });
+    for (int i = 0; i < row_parents_.count(r); ++i)
+      for (int j = 0; j < col_parents_.count(c); ++j) {
+        const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);
+        if (!owned(pr) || coarse.fixed(coarse.node(pr, pc))) continue;
+        const double weight = row_parents_.weight(r) * col_parents_.weight(c);
+        // The touched blocks lie in (pr, pc)'s window.
+        const GridLevel::Window w = coarse.window(pr, pc);
+        double* const row = coarse.row_blocks(pr, pc);
+        for (int local = 0; local < kSpan * kSpan; ++local) {
+          if (!touched[local]) continue;
+          double* target =
+              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan);
+          for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
+        }
+      }
+  }
 
   template <class Visit>
   void for_parents(const GridLevel& coarse, int r, int c, Visit&& visit) const {

@@ -225,7 +225,8 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
 
 // Even and odd sides both: an even axis ends in a coarse interval of one fine spacing.
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
-  for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}}) {
+  // 20 x 7: more coarse rows than one band of the threaded product.
+  for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}}) {
     ClothMatrix cloth(rows, cols, 30.0);
     MultigridHierarchy hierarchy = hierarchy_for(cloth, rows * cols - 1);  // two levels
     ASSERT_EQ(hierarchy.level_count(), 2u);
@@ -235,6 +236,42 @@ TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
     const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
     EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm()) << rows << " x " << cols;
     EXPECT_GT(expected.norm(), 0.0);
+  }
+}
+
+// The largest difference between two levels' blocks.
+double level_difference(const GridLevel& a, const GridLevel& b) {
+  double worst = 0.0;
+  for (int r = 0; r < a.rows(); ++r)
+    for (int c = 0; c < a.cols(); ++c) {
+      const GridLevel::Window w = a.window(r, c);
+      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
+        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
+          for (int e = 0; e < 9; ++e)
+            worst = std::max(worst, std::abs(a.block(r, c, r2, c2)[e] - b.block(r, c, r2, c2)[e]));
+    }
+  return worst;
+}
+
+// The Galerkin product splits the coarse rows among the threads in bands, each coarse block
+// summed in the fine rows' order: 1, 2 and 3 threads give the same bits (65 x 65: the fine level
+// splits; its 33 coarse rows make five bands).
+TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
+  ClothMatrix cloth(65, 65, 30.0);
+  MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000);
+  ASSERT_EQ(hierarchy.level(1).rows(), 33);
+  ASSERT_TRUE(hierarchy.level(0).splits(2));
+  hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
+  const GridLevel one_thread = hierarchy.level(1);
+  for (int threads : {2, 3}) {
+    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+    const GridLevel& coarse = hierarchy.level(1);
+    for (int r = 0; r < coarse.rows(); ++r)
+      for (int c = 0; c < coarse.cols(); ++c)
+        for (int e = 0; e < 9; ++e)
+          ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
+              << threads << " threads, node " << r << " x " << c;
+    EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
   }
 }
 
@@ -715,23 +752,11 @@ struct ProbedTable {
   std::vector<double> values;
 };
 
-// The largest difference between two fine levels' blocks.
-double fine_level_difference(const GridLevel& a, const GridLevel& b) {
-  double worst = 0.0;
-  for (int r = 0; r < a.rows(); ++r)
-    for (int c = 0; c < a.cols(); ++c) {
-      const GridLevel::Window w = a.window(r, c);
-      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
-          for (int e = 0; e < 9; ++e)
-            worst = std::max(worst, std::abs(a.block(r, c, r2, c2)[e] - b.block(r, c, r2, c2)[e]));
-    }
-  return worst;
-}
-
-// The fine level assembled from a host's block table is the probed one (to the single-precision
-// rounding of the off-diagonal blocks); a table with one off-diagonal block halved is caught.
-TEST(Multigrid, TheFineLevelFromTheHostsBlockTableIsTheProbedOne) {
+// From a host's block table the fine level keeps no blocks: level 1 (its Galerkin product) and
+// the fine smoother's bound come straight from the table, and are the probed ones (to the
+// single-precision rounding of the probed fine level's off-diagonal blocks); a table with one
+// off-diagonal block halved is caught.
+TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   constexpr int kRows = 11, kCols = 13;
   GridNet net(kRows, kCols);
   MockSystem<double>& mock = net.host.system();
@@ -745,21 +770,28 @@ TEST(Multigrid, TheFineLevelFromTheHostsBlockTableIsTheProbedOne) {
   probed.linearise(system, [&](const double* in, double* out) {
     system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
   });
-  tabled.assemble(system, table.values.data());
-  const GridLevel& expected = probed.hierarchy().level(0);
+  tabled.assemble(table.values.data());
+  ASSERT_GT(tabled.hierarchy().level_count(), 2u);
+  // The fine level's storage is its pin flags alone.
+  EXPECT_EQ(tabled.hierarchy().level(0).storage_bytes(), tabled.hierarchy().level(0).node_count());
+  const GridLevel& expected = probed.hierarchy().level(1);
   double size = 0.0;
-  for (const double value : table.values) size = std::max(size, std::abs(value));
+  for (int r = 0; r < expected.rows(); ++r)
+    for (int c = 0; c < expected.cols(); ++c)
+      for (int e = 0; e < 9; ++e) size = std::max(size, std::abs(expected.block(r, c, r, c)[e]));
   ASSERT_GT(size, 1e-3);
-  EXPECT_LT(fine_level_difference(tabled.hierarchy().level(0), expected), 1e-6 * size);
+  EXPECT_LT(level_difference(tabled.hierarchy().level(1), expected), 1e-6 * size);
+  EXPECT_NEAR(tabled.lambda_max(), probed.lambda_max(), 1e-6 * probed.lambda_max());
+  ASSERT_GT(probed.lambda_max(), 1.0);
   // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (symmetrising leaves 3/4 of
-  // it, a quarter of the block off: about 6 % of the largest, a diagonal, entry).
+  // it, a quarter of the block off).
   std::vector<double> halved = table.values;
   const uint32_t row = 5 * kCols + 6;
   for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
     if (table.columns[k] == row + 1)
       for (std::size_t e = 0; e < 9; ++e) halved[9 * k + e] *= 0.5;
-  tabled.assemble(system, halved.data());
-  EXPECT_GT(fine_level_difference(tabled.hierarchy().level(0), expected), 0.01 * size);
+  tabled.assemble(halved.data());
+  EXPECT_GT(level_difference(tabled.hierarchy().level(1), expected), 1e-3 * size);
 }
 
 // A block table whose pattern disagrees with the grid: one line naming the table and the
@@ -787,6 +819,19 @@ TEST(Multigrid, RefusesABlockTableThatDisagreesWithTheGrid) {
   clothlab_block_pattern one_block_short = table.pattern();
   one_block_short.block_count -= 1;
   EXPECT_NE(message(one_block_short).find("its blocks are 0 to"), std::string::npos);
+  // Row 1 without its block of particle 0, which row 0 has: no transpose to symmetrise with.
+  std::vector<uint32_t> offsets = table.offsets, columns = table.columns;
+  columns.erase(columns.begin() + offsets[1]);
+  for (std::size_t k = 2; k < offsets.size(); ++k) --offsets[k];
+  const clothlab_block_pattern lopsided{sizeof(clothlab_block_pattern),
+                                        static_cast<uint32_t>(offsets.size() - 1),
+                                        static_cast<uint32_t>(columns.size()),
+                                        0,
+                                        offsets.data(),
+                                        columns.data()};
+  EXPECT_EQ(message(lopsided),
+            "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) couples particle "
+            "0 to 1 but not 1 to 0");
   table.columns[0] = 3;  // particle 0 to particle 3: three spacings along its row
   EXPECT_EQ(message(table.pattern()),
             "multigrid = 1: the host's block table (clothlab.jacobian/1 pattern) couples particle "
