@@ -2,8 +2,10 @@
 # Issue-10 tables: real cloth in a real frame budget, for every integrator on the plugin path.
 # For each scenario x mesh x frame rate, `clothlab --choose` on configs/bench-300.yaml (cotton,
 # Earth gravity, float32, all threads) finds every integrator's cheapest setting that stays
-# stable over 1 s, keeps the warp/weft stretch <= STRETCH_LIMIT and the position error <= 1 %
-# of the diagonal at T = 0.25 s (judged on the mesh itself), and reports ms per frame and the
+# stable over 1 s, keeps the warp/weft stretch <= STRETCH_LIMIT and the position error <=
+# ERROR_TOLERANCE of the diagonal at T = 0.25 s (judged on the mesh itself; on the flag from
+# 200 x 200 float32's own floor is over 1 % and --choose refuses that bar, so the default is
+# 2 %: configs/choose-cotton-flag-200.yaml), and reports ms per frame and the
 # real-time factor. The reference step is the same at every frame rate (512 substeps at 60 Hz,
 # 1024 at 30 Hz, up to 100 x 100; twice that above: at 200 x 200 rk4 at 512 diverges), so one
 # float64 reference per mesh serves every table (cached in $RESULTS_DIR/references). Then,
@@ -13,7 +15,8 @@
 # Usage: tools/bench-frames.sh
 # Environment: BUILD_DIR (build), RESULTS_DIR (results/bench-frames), SCENARIOS ("flag"),
 #              MESHES ("50 100 200"), FRAME_RATES ("60 30"), INTEGRATORS (empty: every one on
-#              the path, in the 200 x 200 preset's order), STRETCH_LIMIT (1.10), STOP_FACTOR (3),
+#              the path, in the 200 x 200 preset's order), STRETCH_LIMIT (1.10),
+#              ERROR_TOLERANCE (0.02), STOP_FACTOR (3),
 #              ENERGY_MESH (50), PLOTS (1: draw the plots; needs python3-matplotlib).
 # Results: $RESULTS_DIR/choose-<scenario>-<mesh>-<rate>Hz{,-ranked}.{csv,json}, the printed
 #          table (.txt), plots/, energy-*.csv, and summary.md (machine, date, load, wall times
@@ -47,6 +50,7 @@ for rate in ${FRAME_RATES:-60 30}; do
         --set scenario.rows="$mesh" --set scenario.cols="$mesh" --frame-rate "$rate" \
         --set choose.reference_substeps="$reference_substeps" \
         --set choose.stretch_limit="${STRETCH_LIMIT:-1.10}" \
+        --set choose.error_tolerance="${ERROR_TOLERANCE:-0.02}" \
         --set choose.stop_factor="${STOP_FACTOR:-3}" \
         --set "choose.integrators=[${integrators// /, }]" \
         --set choose.reference_cache="$results/references" \
