@@ -47,7 +47,8 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
   const std::size_t triangles = model.triangle_count();
   wind_ = scene.has_wind() && triangles > 0;
   air_ = scene.has_air() && triangles > 0;
-  wind_strength_sixth_ = static_cast<Real>(scene.wind_strength) / Real(6);
+  wind_strength_ = static_cast<Real>(scene.wind_strength);
+  wind_pressure(wind_direction_, wind_strength_, kScalarInverseSqrtScale, wind_pressure_);
   air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
   air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
   if (wind_ || air_) {
@@ -176,7 +177,7 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
     const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
     const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};
     Real share[3] = {0, 0, 0};
-    if (wind_) triangle_wind_share(e1, e2, wind_direction_, wind_strength_sixth_, share);
+    if (wind_) triangle_wind_share(e1, e2, wind_pressure_, share);
     if (air_) {
       Real velocity[3] = {0, 0, 0};
       if (v != nullptr)
@@ -197,15 +198,17 @@ template <class Real>
 void SpringListForces<Real>::wind_block_lanes(const Real* x, std::size_t t) {
   if constexpr (std::is_same_v<Real, float>) {
     const uint32_t a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
-    Floats e1[3], e2[3], direction[3], share[3];
+    float lane_pressure[3];
+    wind_pressure(wind_direction_, wind_strength_, kLanesInverseSqrtScale, lane_pressure);
+    Floats e1[3], e2[3], pressure[3], share[3];
     for (std::size_t k = 0; k < 3; ++k) {
       const float* component = x + k * stride_;
       const Floats corner = load_floats(component + a);
       e1[k] = load_floats(component + b) - corner;
       e2[k] = load_floats(component + c) - corner;
-      direction[k] = broadcast(wind_direction_[k]);
+      pressure[k] = broadcast(lane_pressure[k]);
     }
-    triangle_wind_share(e1, e2, direction, broadcast(wind_strength_sixth_), share);
+    triangle_wind_share(e1, e2, pressure, share);
     alignas(kAlignment) float lanes[3][kSpringBlock];
     for (std::size_t k = 0; k < 3; ++k) store_floats(lanes[k], share[k]);
     for (std::size_t l = 0; l < kSpringBlock; ++l)

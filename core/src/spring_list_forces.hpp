@@ -6,8 +6,8 @@
 // one pass computes each spring's force once (and each triangle's wind and air share), each into
 // its own slot; a second pass sums, for each particle, the slots of its springs and triangles in
 // a fixed order and turns the sum into an acceleration. The springs' passes run on the lanes of
-// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at construction (the Runge-Kutta-Nystrom
-// stages' in reserve_stages): a step allocates nothing.
+// SpringLanes (spring_lanes.hpp), tile by tile (SpringLanes::sweep). Scratch is sized at
+// construction (the Runge-Kutta-Nystrom stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
 #include <clothlab/core/cloth.hpp>
@@ -80,7 +80,8 @@ class SpringListForces {
 
   Real gravity_[3] = {0, 0, 0};
   Real wind_direction_[3] = {0, 0, 0};
-  Real wind_strength_sixth_ = 0;
+  Real wind_strength_ = 0;
+  Real wind_pressure_[3] = {0, 0, 0};  // of the scalar path (wind_kernel.hpp)
   bool wind_ = false;
   Real air_wind_[3] = {0, 0, 0};
   Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;
