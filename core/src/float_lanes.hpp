@@ -76,6 +76,9 @@ inline Floats fused_negated_multiply_add(Floats a, Floats b, Floats c) {  // c -
 inline Floats inverse_sqrt_estimate(LaneMask lanes, Floats s) {
   return _mm512_maskz_rsqrt14_ps(lanes, s);
 }
+inline Floats inverse_sqrt_estimate(Floats s) { return inverse_sqrt_estimate(all_lanes(), s); }
+// The smaller of a and b by lane, b where either is NaN (maskz form: see add_widened).
+inline Floats lane_min(Floats a, Floats b) { return _mm512_maskz_min_ps(0xffff, a, b); }
 // Lanes moved Shift places up, the lowest Shift from the top of `before` (valignd; the maskz
 // form, as the plain one's header trips GCC 12's -Wuninitialized).
 template <int Shift>
@@ -216,6 +219,8 @@ inline Floats fused_negated_multiply_add(Floats a, Floats b, Floats c) {
 inline Floats inverse_sqrt_estimate(LaneMask lanes, Floats s) {
   return _mm256_and_ps(lanes.bits, _mm256_rsqrt_ps(s));
 }
+inline Floats inverse_sqrt_estimate(Floats s) { return _mm256_rsqrt_ps(s); }
+inline Floats lane_min(Floats a, Floats b) { return _mm256_min_ps(a, b); }
 template <int Shift>
 inline Floats shift_up(Floats value, Floats before) {
   // Both rotated Shift lanes up; the lowest Shift lanes then come from `before`'s top.

@@ -32,9 +32,8 @@ struct InteriorRow {
   float* plus2;       // row r: ends two columns to the right
   std::size_t span;   // between the components of every row above, as in SpringRow
   std::size_t cols;
-  LoopConstant rest[6], ks[6], kd[6];  // read as memory operands (float_lanes.hpp)
-  Floats wind_direction[3];            // used only with wind
-  Floats wind_strength_sixth;
+  LoopConstant law[6][3];   // spring_law's; read as memory operands (float_lanes.hpp)
+  Floats wind_pressure[3];  // wind_pressure's; used only with wind
 };
 
 // Edge blocks (the first, and those reaching the last two columns) mask each spring and
@@ -47,40 +46,39 @@ template <bool Damped, bool Wind, bool Edge>
   const auto load = [&](const float* p, std::ptrdiff_t shift, Vec3& out) {
     for (std::size_t k = 0; k < 3; ++k) out[k] = load_floats(p + c + k * span + shift);
   };
-  const auto add_to = [&](float* p, std::ptrdiff_t shift, const Vec3& value) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      float* q = p + c + k * span + shift;
-      store_floats(q, load_floats(q) + value[k]);
-    }
-  };
   const auto mask = [](Vec3& value, LaneMask valid) {
     if constexpr (Edge) {
       for (std::size_t k = 0; k < 3; ++k) value[k] = keep(valid, value[k]);
     }
   };
   const std::size_t cols = row.cols;
-  Vec3 x, v = {}, own = {};
+  Vec3 x, own;
   load(row.x[0], 0, x);
-  if constexpr (Damped) load(row.v[0], 0, v);
-  // Force of stencil s on the own end, partner at `partner` (row r + dr, column c + dc).
-  // Returns the force on the partner end, -f.
+  load(row.aligned[0], 0, own);  // what the rows above added to the own ends
+  // The spring of stencil s to `partner` (row r + dr, column c + dc): f = scale d on the own end,
+  // -f to the partner's accumulator `to`, with the partner's wind share `wind` if given.
   const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, LaneMask valid,
-                          Vec3& on_partner) {
+                          float* to, const Vec3* wind) {
     Vec3 d, dv = {};
-    for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - x[k];
+    // The own end read again per spring rather than held: too few registers for all.
+    for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - load_floats(row.x[0] + c + k * span);
     if constexpr (Damped) {
       load(row.v[dr], dc, dv);
-      for (std::size_t k = 0; k < 3; ++k) dv[k] -= v[k];
+      for (std::size_t k = 0; k < 3; ++k) dv[k] -= load_floats(row.v[0] + c + k * span);
     }
-    const Floats scale =
-        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_of(row.rest[s]),
-                                   lanes_of(row.ks[s]), lanes_of(row.kd[s]));
-    Vec3 f;
-    for (std::size_t k = 0; k < 3; ++k) f[k] = scale * d[k];
-    mask(f, valid);
+    const Floats law[3] = {lanes_of(row.law[s][0]), lanes_of(row.law[s][1]),
+                           lanes_of(row.law[s][2])};
+    Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], law);
+    if constexpr (Edge) {  // both factors 0 outside: 0 d is 0 even where scale is not finite
+      scale = keep(valid, scale);
+      mask(d, valid);
+    }
     for (std::size_t k = 0; k < 3; ++k) {
-      own[k] += f[k];
-      on_partner[k] = -f[k];
+      own[k] = fused_multiply_add(scale, d[k], own[k]);
+      float* q = to + c + k * span + dc;
+      Floats sum = load_floats(q);
+      if (wind != nullptr) sum += (*wind)[k];
+      store_floats(q, fused_negated_multiply_add(scale, d[k], sum));
     }
   };
   // The cell's corners other than x are partners of the first three stencils.
@@ -93,8 +91,7 @@ template <bool Damped, bool Wind, bool Edge>
   Vec3 both = {}, second = {};  // shares of corners b and c' (both triangles), d (second)
   if constexpr (Wind) {
     Vec3 first;
-    cell_wind_shares(x, right, below, below_right, row.wind_direction, row.wind_strength_sixth,
-                     first, second);
+    cell_wind_shares(x, right, below, below_right, row.wind_pressure, first, second);
     const LaneMask cells = columns_in(c, 0, cols - 1);
     mask(first, cells);
     mask(second, cells);
@@ -103,35 +100,24 @@ template <bool Damped, bool Wind, bool Edge>
       both[k] = first[k] + second[k];
     }
   }
-  const auto with_wind = [&](Vec3& partner, const Vec3& share) {
-    if constexpr (Wind) {
-      for (std::size_t k = 0; k < 3; ++k) partner[k] += share[k];
-    }
-  };
-  Vec3 partner;
-  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), partner);
-  with_wind(partner, both);
-  add_to(row.plus1[0], 1, partner);
-  spring(1, below, 1, 0, columns_in(c, 0, cols), partner);
-  with_wind(partner, both);
-  add_to(row.aligned[1], 0, partner);
-  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), partner);
-  with_wind(partner, second);
-  add_to(row.plus1[1], 1, partner);
+  const Vec3* wind_both = Wind ? &both : nullptr;
+  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), row.plus1[0], wind_both);
+  spring(1, below, 1, 0, columns_in(c, 0, cols), row.aligned[1], wind_both);
+  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), row.plus1[1], Wind ? &second : nullptr);
   load(row.x[1], -1, far);
-  spring(3, far, 1, -1, columns_in(c, 1, cols), partner);
-  add_to(row.minus1, -1, partner);
+  spring(3, far, 1, -1, columns_in(c, 1, cols), row.minus1, nullptr);
   load(row.x[0], 2, far);
-  spring(4, far, 0, 2, columns_in(c, 0, cols - 2), partner);
-  add_to(row.plus2, 2, partner);
+  spring(4, far, 0, 2, columns_in(c, 0, cols - 2), row.plus2, nullptr);
   load(row.x[2], 0, far);
-  spring(5, far, 2, 0, columns_in(c, 0, cols), partner);
-  add_to(row.aligned[2], 0, partner);
-  add_to(row.aligned[0], 0, own);
+  spring(5, far, 2, 0, columns_in(c, 0, cols), row.aligned[2], nullptr);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(row.aligned[0] + c + k * span, own[k]);
 }
 
 template <bool Damped, bool Wind>
-inline void interior_row_forces(const InteriorRow& row) {
+inline void interior_row_forces(const InteriorRow& job) {
+  // A copy of its own: the kernel's float stores could alias the caller's, whose pointers the
+  // loop would then load again after every store.
+  const InteriorRow row = job;
   const std::size_t cols = row.cols;
   std::size_t c = 0;
   interior_row_block<Damped, Wind, true>(row, c);

@@ -36,16 +36,30 @@ struct SpringRow {
   Real kd;
 };
 
+// A spring's law as spring_force_scale reads it: {ks, ks rest / scale, kd / scale^2}, scale
+// that of the kernel's inverse square root (inverse_sqrt.hpp), so the kernel never multiplies
+// by it.
+template <class Lane>
+inline void spring_law(Lane rest, Lane ks, Lane kd, float scale, Lane (&law)[3]) {
+  const float unit = 1.0f / scale;  // a power of two: exact
+  law[0] = ks;
+  law[1] = ks * rest * unit;
+  law[2] = kd * (unit * unit);
+}
+
 // Force on the first particle per unit of d = x_partner - x_own: Hooke (seed eq. 2.7),
-// plus damping along the spring (eq. 2.8) when Damped (dv = v_partner - v_own).
+// ks (|d| - rest) / |d| = ks - ks rest / |d|, plus damping along the spring (eq. 2.8) when
+// Damped, kd (dv . d) / |d|^2 (dv = v_partner - v_own).
 template <bool Damped, class Lane>
-inline Lane spring_force_scale(Lane dx, Lane dy, Lane dz, Lane dvx, Lane dvy, Lane dvz, Lane rest,
-                               Lane ks, Lane kd) {
+inline Lane spring_force_scale(Lane dx, Lane dy, Lane dz, Lane dvx, Lane dvy, Lane dvz,
+                               const Lane (&law)[3]) {
   const Lane squared = dx * dx + dy * dy + dz * dz;
-  const Lane inverse_length = inverse_sqrt_or_zero(squared);
-  Lane magnitude = ks * (squared * inverse_length - rest);
-  if constexpr (Damped) magnitude += kd * (dvx * dx + dvy * dy + dvz * dz) * inverse_length;
-  return magnitude * inverse_length;
+  const Lane inverse_length = scaled_inverse_sqrt(squared);  // scaled: see spring_law
+  if constexpr (Damped) {
+    const Lane rate = law[2] * (dvx * dx + dvy * dy + dvz * dz);
+    return (rate * inverse_length - law[1]) * inverse_length + law[0];
+  }
+  return law[0] - law[1] * inverse_length;
 }
 
 template <class Real, bool Damped, bool Forward>
@@ -57,9 +71,8 @@ inline void spring_row_forces_portable(const SpringRow<Real>& row) {
   Real* __restrict own = row.own;
   Real* __restrict partner = row.partner;
   const std::size_t y = row.span, z = 2 * row.span;
-  const Real rest = row.rest;
-  const Real ks = row.ks;
-  const Real kd = row.kd;
+  Real law[3];
+  spring_law(row.rest, row.ks, row.kd, kScalarInverseSqrtScale, law);
 #pragma omp simd
   for (std::size_t c = row.col_begin; c < row.col_end; ++c) {
     const Real dx = xp[c] - x[c];
@@ -71,7 +84,7 @@ inline void spring_row_forces_portable(const SpringRow<Real>& row) {
       dvy = vp[c + y] - v[c + y];
       dvz = vp[c + z] - v[c + z];
     }
-    const Real scale = spring_force_scale<Damped>(dx, dy, dz, dvx, dvy, dvz, rest, ks, kd);
+    const Real scale = spring_force_scale<Damped>(dx, dy, dz, dvx, dvy, dvz, law);
     if constexpr (Forward) {
       own[c] += scale * dx;
       own[c + y] += scale * dy;
@@ -90,9 +103,9 @@ inline void spring_row_forces_portable(const SpringRow<Real>& row) {
 #if defined(CLOTHLAB_FLOAT_LANES)
 template <bool Damped, bool Forward>
 inline void spring_row_forces_lanes(const SpringRow<float>& row) {
-  const Floats rest = broadcast(row.rest);
-  const Floats ks = broadcast(row.ks);
-  const Floats kd = broadcast(row.kd);
+  float row_law[3];
+  spring_law(row.rest, row.ks, row.kd, kLanesInverseSqrtScale, row_law);
+  const Floats law[3] = {broadcast(row_law[0]), broadcast(row_law[1]), broadcast(row_law[2])};
   const std::size_t span = row.span;
   for_each_lane_block(row.col_begin, row.col_end, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, int k) { return lanes.load(p + c + k * span); };
@@ -102,8 +115,7 @@ inline void spring_row_forces_lanes(const SpringRow<float>& row) {
     if constexpr (Damped) {
       for (int k = 0; k < 3; ++k) dv[k] = load(row.v_partner, k) - load(row.v, k);
     }
-    const Floats scale =
-        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
+    const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], law);
     for (int k = 0; k < 3; ++k) {
       const Floats force = scale * d[k];
       if constexpr (Forward) {

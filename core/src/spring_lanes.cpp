@@ -260,8 +260,9 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
       d[k] = x[j + k * stride] - x[i + k * stride];
       if constexpr (Damped) dv[k] = v[j + k * stride] - v[i + k * stride];
     }
-    const Real scale =
-        spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest[s], ks[s], kd[s]);
+    Real law[3];
+    spring_law(rest[s], ks[s], kd[s], kScalarInverseSqrtScale, law);
+    const Real scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], law);
     const bool dead = dead_slots && ks[s] + kd[s] == Real(0);
     for (std::size_t k = 0; k < 3; ++k) force[k * slots + s] = dead ? Real(0) : scale * d[k];
   }
@@ -303,15 +304,16 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
         dv[k] = gather_floats(v + k * stride, j) - gather_floats(v + k * stride, i);
     }
   }
-  Floats rest, ks, kd;
+  Floats lanes_law[3];
   if constexpr (OneLaw) {
-    rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
+    float one[3];
+    spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
+    for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
   } else {
-    rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
-    kd = load_floats(arrays.kd + s);
+    spring_law(load_floats(arrays.rest + s), load_floats(arrays.ks + s), load_floats(arrays.kd + s),
+               kLanesInverseSqrtScale, lanes_law);
   }
-  const Floats scale =
-      spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], rest, ks, kd);
+  const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_law);
   if (live != kAllLive) {
     const LaneMask lanes = lanes_of_bits(live);
     for (std::size_t k = 0; k < 3; ++k)

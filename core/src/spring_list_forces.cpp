@@ -25,8 +25,8 @@ std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk;
 // loads, as the grid's cells), its dead lanes (live's clear bits) 0; laid out as the slots.
 inline void wind_block_lanes(const float* x, std::size_t stride,
                              const uint32_t* const (&corners)[3], std::size_t t,
-                             const Floats (&direction)[3], Floats strength_sixth, uint32_t live,
-                             float* share, std::size_t slots) {
+                             const Floats (&pressure)[3], uint32_t live, float* share,
+                             std::size_t slots) {
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
     const float* component = x + k * stride;
@@ -34,7 +34,7 @@ inline void wind_block_lanes(const float* x, std::size_t stride,
     e1[k] = load_floats(component + corners[1][t]) - corner;
     e2[k] = load_floats(component + corners[2][t]) - corner;
   }
-  triangle_wind_share(e1, e2, direction, strength_sixth, out);
+  triangle_wind_share(e1, e2, pressure, out);
   const LaneMask lanes = lanes_of_bits(live);
   for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * slots + t, keep(lanes, out[k]));
 }
@@ -64,7 +64,8 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
   }
   wind_ = scene.has_wind() && triangle_count_ > 0;
   air_ = scene.has_air() && triangle_count_ > 0;
-  wind_strength_sixth_ = static_cast<Real>(scene.wind_strength) / Real(6);
+  wind_strength_ = static_cast<Real>(scene.wind_strength);
+  wind_pressure(wind_direction_, wind_strength_, kScalarInverseSqrtScale, wind_pressure_);
   air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
   air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
   if (wind_ || air_) lay_out_triangles(model);
@@ -157,10 +158,11 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
                                       triangles_->ends(2)};
   const uint32_t *corner_a = corners[0], *corner_b = corners[1], *corner_c = corners[2];
 #if defined(CLOTHLAB_FLOAT_LANES)
-  Floats direction[3], strength_sixth = zero_floats();
+  Floats pressure[3] = {zero_floats(), zero_floats(), zero_floats()};
   if constexpr (std::is_same_v<Real, float>) {
-    for (std::size_t k = 0; k < 3; ++k) direction[k] = broadcast(wind_direction_[k]);
-    strength_sixth = broadcast(wind_strength_sixth_);
+    float lane_pressure[3];
+    wind_pressure(wind_direction_, wind_strength_, kLanesInverseSqrtScale, lane_pressure);
+    for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_pressure[k]);
   }
 #endif
   for (std::size_t block = begin; block < end; ++block) {
@@ -173,7 +175,7 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       if (!air_ && triangles_->ends_in_order(block)) {
-        wind_block_lanes(x, stride_, corners, block * kSpringBlock, direction, strength_sixth,
+        wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure,
                          triangle_live_[block], triangle_share_.data(), slots);
         continue;
       }
@@ -185,7 +187,7 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
         const std::size_t a = corner_a[t], b = corner_b[t], c = corner_c[t];
         const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
         const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};
-        if (wind_) triangle_wind_share(e1, e2, wind_direction_, wind_strength_sixth_, share);
+        if (wind_) triangle_wind_share(e1, e2, wind_pressure_, share);
         if (air_) {
           Real velocity[3] = {0, 0, 0};
           if (v != nullptr)

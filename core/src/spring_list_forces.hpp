@@ -79,7 +79,8 @@ class SpringListForces {
 
   Real gravity_[3] = {0, 0, 0};
   Real wind_direction_[3] = {0, 0, 0};
-  Real wind_strength_sixth_ = 0;
+  Real wind_strength_ = 0;
+  Real wind_pressure_[3] = {0, 0, 0};  // of the scalar path (wind_kernel.hpp)
   bool wind_ = false;
   Real air_wind_[3] = {0, 0, 0};
   Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;

@@ -84,13 +84,15 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
     for (std::size_t s = 0; s < 6; ++s) {
       const SpringStage& stage = stages_[s];
       const bool stage_damped = stage.damped && pass.damped;
-      job.rest[s] = loop_constant(stage.rest);
-      job.ks[s] = loop_constant(stage.ks);
-      job.kd[s] = loop_constant(stage_damped ? stage.kd : 0.0f);  // undamped ones add 0
+      // Undamped ones add 0.
+      float law[3];
+      spring_law(stage.rest, stage.ks, stage_damped ? stage.kd : 0.0f, kLanesInverseSqrtScale, law);
+      for (int t = 0; t < 3; ++t) job.law[s][t] = loop_constant(law[t]);
       damped = damped || stage_damped;
     }
-    for (int k = 0; k < 3; ++k) job.wind_direction[k] = broadcast(wind_direction_[k]);
-    job.wind_strength_sixth = broadcast(wind_strength_ / 6.0f);
+    float pressure[3];
+    wind_pressure(wind_direction_, wind_strength_, kLanesInverseSqrtScale, pressure);
+    for (int k = 0; k < 3; ++k) job.wind_pressure[k] = broadcast(pressure[k]);
     if (damped) {
       if (wind_) {
         interior_row_forces<true, true>(job);

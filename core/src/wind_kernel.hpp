@@ -34,27 +34,36 @@ struct WindRow {
   Real strength;
 };
 
+// The wind as triangle_wind_share reads it: direction times strength / 6, over the scale of the
+// kernel's inverse square root (inverse_sqrt.hpp), so the kernel never multiplies by either.
+template <class Real>
+inline void wind_pressure(const Real (&direction)[3], Real strength, float scale,
+                          Real (&pressure)[3]) {
+  const Real factor = strength / (Real(6) * Real(scale));
+  for (int k = 0; k < 3; ++k) pressure[k] = direction[k] * factor;
+}
+
 // Per-corner share of the wind force on the triangle with edges e1, e2 from one corner.
 template <class Lane>
-inline void triangle_wind_share(const Lane (&e1)[3], const Lane (&e2)[3], const Lane (&w)[3],
-                                Lane strength_sixth, Lane (&share)[3]) {
+inline void triangle_wind_share(const Lane (&e1)[3], const Lane (&e2)[3], const Lane (&pressure)[3],
+                                Lane (&share)[3]) {
   const Lane n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                      e1[0] * e2[1] - e1[1] * e2[0]};
   // area * (n_hat . w) n_hat / 3 = (n . w) n / (6 |n|); a degenerate triangle gets none.
-  const Lane inverse_norm = inverse_sqrt_or_zero(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  const Lane scale = strength_sixth * (n[0] * w[0] + n[1] * w[1] + n[2] * w[2]) * inverse_norm;
+  const Lane inverse_norm = scaled_inverse_sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const Lane scale = (n[0] * pressure[0] + n[1] * pressure[1] + n[2] * pressure[2]) * inverse_norm;
   for (int k = 0; k < 3; ++k) share[k] = scale * n[k];
 }
 
 // The shares of both triangles of a cell from its corners a, b (this row), c', d (next).
 template <class Lane>
 inline void cell_wind_shares(const Lane (&a)[3], const Lane (&b)[3], const Lane (&c)[3],
-                             const Lane (&d)[3], const Lane (&w)[3], Lane strength_sixth,
-                             Lane (&first)[3], Lane (&second)[3]) {
+                             const Lane (&d)[3], const Lane (&pressure)[3], Lane (&first)[3],
+                             Lane (&second)[3]) {
   Lane ab[3], ac[3], bd[3], bc[3];
   cell_triangle_edges(a, b, c, d, ab, ac, bd, bc);
-  triangle_wind_share(ab, ac, w, strength_sixth, first);
-  triangle_wind_share(bd, bc, w, strength_sixth, second);
+  triangle_wind_share(ab, ac, pressure, first);
+  triangle_wind_share(bd, bc, pressure, second);
 }
 
 template <class Real>
@@ -64,14 +73,14 @@ inline void wind_row_forces_portable(const WindRow<Real>& row) {
   Real* __restrict first = row.first;
   Real* __restrict second = row.second;
   const std::size_t y = row.span, z = 2 * row.span;
-  const Real w[3] = {row.direction[0], row.direction[1], row.direction[2]};
-  const Real strength_sixth = row.strength / Real(6);
+  Real pressure[3];
+  wind_pressure(row.direction, row.strength, kScalarInverseSqrtScale, pressure);
 #pragma omp simd
   for (std::size_t c = 0; c < row.cells; ++c) {
     Real a[3], b[3], c_[3], d[3];
     load_cell_corners(x, below, c, row.position_span, a, b, c_, d);
     Real share_first[3], share_second[3];
-    cell_wind_shares(a, b, c_, d, w, strength_sixth, share_first, share_second);
+    cell_wind_shares(a, b, c_, d, pressure, share_first, share_second);
     first[c] = share_first[0];
     first[c + y] = share_first[1];
     first[c + z] = share_first[2];
@@ -83,9 +92,10 @@ inline void wind_row_forces_portable(const WindRow<Real>& row) {
 
 #if defined(CLOTHLAB_FLOAT_LANES)
 inline void wind_row_forces_lanes(const WindRow<float>& row) {
-  const Floats w[3] = {broadcast(row.direction[0]), broadcast(row.direction[1]),
-                       broadcast(row.direction[2])};
-  const Floats strength_sixth = broadcast(row.strength / 6.0f);
+  float row_pressure[3];
+  wind_pressure(row.direction, row.strength, kLanesInverseSqrtScale, row_pressure);
+  const Floats pressure[3] = {broadcast(row_pressure[0]), broadcast(row_pressure[1]),
+                              broadcast(row_pressure[2])};
   const std::size_t span = row.span, position_span = row.position_span;
   for_each_lane_block(0, row.cells, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, std::size_t k) {
@@ -98,7 +108,7 @@ inline void wind_row_forces_lanes(const WindRow<float>& row) {
       below[k] = load(row.below, k);
       d[k] = load(row.below + 1, k);
     }
-    cell_wind_shares(a, b, below, d, w, strength_sixth, first, second);
+    cell_wind_shares(a, b, below, d, pressure, first, second);
     for (std::size_t k = 0; k < 3; ++k) {
       lanes.store(row.first + c + k * span, first[k]);
       lanes.store(row.second + c + k * span, second[k]);

@@ -257,11 +257,9 @@ class ColorBlocks {
                             dxj[k]);
       }
     }
-    LawLanes law{};
-    law.rest = load_floats(&rest_[s]);
-    law.stiffness = load_floats(&ks_[s]) * broadcast(h_squared);
-    law.damping = load_floats(&kd_[s]) * broadcast(h);
-    law.compliance_scale = law.stiffness + law.damping;
+    const LawLanes law =
+        law_lanes(load_floats(&rest_[s]), load_floats(&ks_[s]) * broadcast(h_squared),
+                  load_floats(&kd_[s]) * broadcast(h));
     const Floats accumulated = fresh ? zero_floats() : load_floats(lambda + s);
     const SpringLanes u =
         spring_update(law, live, x_difference, dxi, dxj,

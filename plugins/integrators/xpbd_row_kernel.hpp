@@ -102,21 +102,34 @@ inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj)
 
 // The colour's spring law in registers, read once per row: the kernels' stores go through
 // float pointers, which could alias the row's float fields. The uniform weight's
-// denominator comes from the same instructions as a lane's, so it has the same bits.
+// denominator comes from the same instructions as a lane's, so it has the same bits. The
+// stiffness and damping are halved for the inverse length's scale 2 (inverse_sqrt.hpp).
 struct LawLanes {
-  Floats rest, stiffness, damping, compliance_scale;
+  Floats stiffness_rest, half_stiffness, half_damping, compliance_scale;
   Floats uniform_weight, uniform_inverse_denominator;
 };
 
+// From ks h^2 and kd h (halving is exact): floats broadcast, or a law per lane.
+inline Floats law_lanes_of(float value) { return broadcast(value); }
+inline Floats law_lanes_of(Floats value) { return value; }
+
+template <class Value>
+inline LawLanes law_lanes(Value rest, Value stiffness, Value damping) {
+  const Floats zero = zero_floats();  // the uniform weight's, set by the row's law_lanes
+  return {law_lanes_of(stiffness * rest),
+          law_lanes_of(0.5f * stiffness),
+          law_lanes_of(0.5f * damping),
+          law_lanes_of(stiffness + damping),
+          zero,
+          zero};
+}
+
 inline LawLanes law_lanes(const ColorRow<float>& row) {
-  const Floats compliance_scale = broadcast(row.stiffness + row.damping);
-  const Floats uniform_weight = broadcast(row.uniform_weight);
-  return {broadcast(row.rest),
-          broadcast(row.stiffness),
-          broadcast(row.damping),
-          compliance_scale,
-          uniform_weight,
-          inverse_denominator(compliance_scale, uniform_weight, uniform_weight)};
+  LawLanes law = law_lanes(row.rest, row.stiffness, row.damping);
+  law.uniform_weight = broadcast(row.uniform_weight);
+  law.uniform_inverse_denominator =
+      inverse_denominator(law.compliance_scale, law.uniform_weight, law.uniform_weight);
+  return law;
 }
 
 // Which springs of a row have both ends of the uniform weight: those at positions outside
@@ -145,13 +158,15 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
   }
   const Floats squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
   out.pushed = both(lanes, not_less(squared, broadcast(FLT_MIN)));
-  out.inverse_length = inverse_sqrt_or_zero(squared);
-  const Floats length = squared * out.inverse_length;
-  const Floats closing =
-      (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2]) *
-      out.inverse_length;
+  // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
+  // the scaled inverse length (2 / |d|, finite where the spring is not pushed).
+  const Floats twice_inverse_length = scaled_inverse_sqrt(squared);
+  out.inverse_length = broadcast(0.5f) * twice_inverse_length;
+  const Floats pull = law.half_stiffness * squared +
+                      law.half_damping * (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] +
+                                          out.d[2] * out.moved[2]);
   const Floats numerator =
-      zero_floats() - law.stiffness * (length - law.rest) - accumulated - law.damping * closing;
+      fused_negated_multiply_add(pull, twice_inverse_length, law.stiffness_rest - accumulated);
   out.delta = numerator * inverse_denominator;
   return out;
 }
