@@ -92,6 +92,18 @@ double duration_of(const SweepSpec& spec, const CaseSpec& c) {
                    "instead of steps");
 }
 
+// A row about base's problem (its coordinates without integrator and precision), run by
+// `integrator`.
+Row problem_row(const std::string& key, const std::string& kind, const CaseSpec& base,
+                const std::string& integrator) {
+  Row row;
+  row["key"] = key;
+  row["kind"] = kind;
+  for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
+  row["reference_integrator"] = integrator;
+  return row;
+}
+
 }  // namespace
 
 Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double dt,
@@ -112,11 +124,7 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
   }
   const double difference = relative_rms_error(coarse.positions, fine.positions, fine.diagonal);
   if (!store.contains(reference_key(wp, base))) {
-    Row row;
-    row["key"] = reference_key(wp, base);
-    row["kind"] = "reference";
-    for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
-    row["reference_integrator"] = integrator;
+    Row row = problem_row(reference_key(wp, base), "reference", base, integrator);
     row["reference_dt"] = dt / 2.0;
     row["check_dt"] = dt;
     row["T"] = duration;
@@ -149,12 +157,8 @@ double compute_precision_floor(const SweepSpec& spec, const CaseSpec& base, doub
                      ": " + run.verdict.reason);
   const double floor = relative_rms_error(run.positions, reference.positions, reference.diagonal);
   if (!store.contains(precision_floor_key(wp, base))) {
-    Row row;
-    row["key"] = precision_floor_key(wp, base);
-    row["kind"] = "precision_floor";
-    for (const auto& [name, value] : problem_coordinates(base)) row[name] = value;
+    Row row = problem_row(precision_floor_key(wp, base), "precision_floor", base, integrator);
     row["precision"] = base.precision;
-    row["reference_integrator"] = integrator;
     row["dt"] = dt / 2.0;
     row["T"] = duration;
     row["precision_floor"] = floor;
