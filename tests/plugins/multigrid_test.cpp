@@ -207,19 +207,25 @@ SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t
   return p;
 }
 
-Eigen::MatrixXd dense_of(const GridLevel& level) {
-  const auto n = static_cast<Eigen::Index>(3 * level.node_count());
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+// visit(r, c, r2, c2, k) for entry k of every block in the level's windows.
+template <class Visit>
+void for_each_block_entry(const GridLevel& level, Visit visit) {
   for (int r = 0; r < level.rows(); ++r)
     for (int c = 0; c < level.cols(); ++c) {
       const GridLevel::Window w = level.window(r, c);
       for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
         for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
-          for (int k = 0; k < 9; ++k)
-            out(static_cast<Eigen::Index>(3 * level.node(r, c)) + k / 3,
-                static_cast<Eigen::Index>(3 * level.node(r2, c2)) + k % 3) =
-                level.block(r, c, r2, c2)[k];
+          for (int k = 0; k < 9; ++k) visit(r, c, r2, c2, k);
     }
+}
+
+Eigen::MatrixXd dense_of(const GridLevel& level) {
+  const auto n = static_cast<Eigen::Index>(3 * level.node_count());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+  for_each_block_entry(level, [&](int r, int c, int r2, int c2, int k) {
+    out(static_cast<Eigen::Index>(3 * level.node(r, c)) + k / 3,
+        static_cast<Eigen::Index>(3 * level.node(r2, c2)) + k % 3) = level.block(r, c, r2, c2)[k];
+  });
   return out;
 }
 
@@ -242,14 +248,9 @@ TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
 // The largest difference between two levels' blocks.
 double level_difference(const GridLevel& a, const GridLevel& b) {
   double worst = 0.0;
-  for (int r = 0; r < a.rows(); ++r)
-    for (int c = 0; c < a.cols(); ++c) {
-      const GridLevel::Window w = a.window(r, c);
-      for (int r2 = w.row_begin; r2 < w.row_end; ++r2)
-        for (int c2 = w.col_begin; c2 < w.col_end; ++c2)
-          for (int e = 0; e < 9; ++e)
-            worst = std::max(worst, std::abs(a.block(r, c, r2, c2)[e] - b.block(r, c, r2, c2)[e]));
-    }
+  for_each_block_entry(a, [&](int r, int c, int r2, int c2, int k) {
+    worst = std::max(worst, std::abs(a.block(r, c, r2, c2)[k] - b.block(r, c, r2, c2)[k]));
+  });
   return worst;
 }
 
