@@ -4,8 +4,8 @@
 # Earth gravity, float32, all threads) finds every integrator's cheapest setting that stays
 # stable over 1 s, keeps the warp/weft stretch <= STRETCH_LIMIT and the position error <=
 # ERROR_TOLERANCE of the diagonal at T = 0.25 s (judged on the mesh itself; on the flag from
-# 200 x 200 float32's own floor is over 1 % and --choose refuses that bar, so the default is
-# 2 %: configs/choose-cotton-flag-200.yaml), and reports ms per frame and the
+# 200 x 200 float32's own floor is about 1 % or more and --choose refuses a bar below it, so the
+# default is 2 %: configs/choose-cotton-flag-200.yaml), and reports ms per frame and the
 # real-time factor. The reference step is the same at every frame rate (512 substeps at 60 Hz,
 # 1024 at 30 Hz, up to 100 x 100; twice that above: at 200 x 200 rk4 at 512 diverges), so one
 # float64 reference per mesh serves every table (cached in $RESULTS_DIR/references). Then,
