@@ -339,14 +339,47 @@ StateCombination<Real> SpringListForces<Real>::stage_state(const Real* x, const 
 template <class Real>
 void SpringListForces<Real>::advance_range(Real* x, Real* v, const RknStep<Real>& step,
                                            std::size_t begin, std::size_t count) const {
+  const Real* stages[RknStep<Real>::kMaxStages];
+  for (uint32_t s = 0; s < step.stages; ++s) stages[s] = stage_a_[s].data() + begin;
+  const Real h = step.h;
+  const Real* __restrict inverse_mass = inverse_mass_ + begin;
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) {
+    // On lanes, the stages' sums kept in registers (GCC's own vectorisation of the loops below
+    // gathers one stage's loads); each sum in the same order as there.
+    for (std::size_t i = 0; i < count; i += kLanes) {
+      const LaneMask lanes = lanes_from_to(0, std::min(kLanes, count - i));
+      const LaneMask active =
+          both(lanes, not_equal(load_floats(lanes, inverse_mass + i), zero_floats()));
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride_ + begin + i;
+        const Floats velocity = load_floats(lanes, v + at);
+        Floats dx = broadcast(h) * velocity, dv = zero_floats();
+        for (uint32_t s = 0; s < step.stages; ++s) {
+          const Floats stage = load_floats(lanes, stages[s] + k * stride_ + i);
+          dx = fused_multiply_add(broadcast(step.x_weights[s]), stage, dx);
+          dv = fused_multiply_add(broadcast(step.v_weights[s]), stage, dv);
+        }
+        const Floats position = load_floats(lanes, x + at);
+        store_floats(lanes, x + at, select(active, position + dx, position));
+        store_floats(lanes, v + at, select(active, velocity + dv, velocity));
+      }
+    }
+    return;
+  }
+#endif
   // Stage by stage over the range, so the loops run on lanes; each sum in the same order.
   alignas(kAlignment) Real dx[kChunk], dv[kChunk];
   for (std::size_t k = 0; k < 3; ++k) {
-    const std::size_t at = k * stride_ + begin;
+    Real* __restrict xk = x + k * stride_ + begin;
+    Real* __restrict vk = v + k * stride_ + begin;
 #pragma omp simd
-    for (std::size_t i = 0; i < count; ++i) dx[i] = step.h * v[at + i], dv[i] = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      dx[i] = h * vk[i];
+      dv[i] = 0;
+    }
     for (uint32_t s = 0; s < step.stages; ++s) {
-      const Real* stage = stage_a_[s].data() + at;
+      const Real* __restrict stage = stages[s] + k * stride_;
       const Real x_weight = step.x_weights[s], v_weight = step.v_weights[s];
 #pragma omp simd
       for (std::size_t i = 0; i < count; ++i) {
@@ -354,12 +387,11 @@ void SpringListForces<Real>::advance_range(Real* x, Real* v, const RknStep<Real>
         dv[i] += v_weight * stage[i];
       }
     }
-    const Real* inverse_mass = inverse_mass_ + begin;
 #pragma omp simd
     for (std::size_t i = 0; i < count; ++i) {
       const bool active = inverse_mass[i] != Real(0);
-      x[at + i] = active ? x[at + i] + dx[i] : x[at + i];
-      v[at + i] = active ? v[at + i] + dv[i] : v[at + i];
+      xk[i] = active ? xk[i] + dx[i] : xk[i];
+      vk[i] = active ? vk[i] + dv[i] : vk[i];
     }
   }
 }
