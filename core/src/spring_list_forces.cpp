@@ -69,10 +69,8 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
   air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
   air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
   if (wind_ || air_) lay_out_triangles(model);
-  for (std::size_t b = 0; b < 2; ++b) {
-    formed_x_[b] = AlignedBuffer<Real>(3 * stride_);
-    formed_v_[b] = AlignedBuffer<Real>(3 * stride_);
-  }
+  formed_x_ = AlignedBuffer<Real>(3 * stride_);
+  formed_v_ = AlignedBuffer<Real>(3 * stride_);
 }
 
 template <class Real>
@@ -279,8 +277,8 @@ bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
                                       const StateCombination<Real>* v, Real* a,
                                       StageCounters& counters) {
   const auto start = std::chrono::steady_clock::now();
-  const Real* positions = form(x, formed_x_[0].data());
-  const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_[0].data());
+  const Real* positions = form(x, formed_x_.data());
+  const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
   counters.internal_forces_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return sweep_stage(positions, velocities, a, nullptr, counters);
@@ -400,23 +398,23 @@ template <class Real>
 bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
                                       StageCounters& counters) {
   // Stage s: X_s = x + x_velocity[s] v + sum_k x_stage[s][k] A_k, V_s = v + sum_k v_stage[s][k]
-  // A_k. Each sweep's tiles form the next stage's states as their accelerations come out, and
-  // the last sweep's advance x and v: after the sweep's barrier a tile's forces read only its
-  // own and later particles of the thread's share, so no pass over whole vectors is left.
+  // A_k. Each sweep's tiles form the next stage's states as their accelerations come out (over
+  // this stage's, in place), and the last sweep's advance x and v: after the sweep's barrier a
+  // tile's forces read only its own and later particles of the thread's share (LaneBands::sweep),
+  // so no pass over whole vectors is left.
   const auto start = std::chrono::steady_clock::now();
-  const Real* positions = form(stage_state(x, v, step, 0, false), formed_x_[0].data());
-  const Real* velocities = form(stage_state(x, v, step, 0, true), formed_v_[0].data());
+  const Real* positions = form(stage_state(x, v, step, 0, false), formed_x_.data());
+  const Real* velocities = form(stage_state(x, v, step, 0, true), formed_v_.data());
   counters.internal_forces_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bool finite = true;
   for (uint32_t s = 0; s < step.stages; ++s) {
     TileEpilogue after;
-    const std::size_t next = (s + 1) % 2;
     if (s + 1 < step.stages) {
       after.x = stage_state(x, v, step, s + 1, false);
       after.v = stage_state(x, v, step, s + 1, true);
-      after.formed_x = formed_x_[next].data();
-      after.formed_v = formed_v_[next].data();
+      after.formed_x = formed_x_.data();
+      after.formed_v = formed_v_.data();
     } else {
       after.step = &step;
       after.advanced_x = x;

@@ -113,8 +113,7 @@ class SpringListForces {
   AlignedBuffer<Real> spring_force_;  // by slot (SpringLanes): the force on the first particle
   // By triangle slot, laid out as spring_force_: the force on each of the triangle's corners.
   AlignedBuffer<Real> triangle_share_;
-  // Two of each: a stage's sweep reads one while its tiles form the next stage's in the other.
-  AlignedBuffer<Real> formed_x_[2], formed_v_[2];
+  AlignedBuffer<Real> formed_x_, formed_v_;
   uint32_t reserved_stages_ = 0;
   std::vector<AlignedBuffer<Real>> stage_a_;  // the stages' accelerations
 };
