@@ -70,6 +70,8 @@ class LaneBands {
   // tile's sums; first, the blocks other threads read (the gathered and dead blocks, and the
   // band blocks within an offset of its last tile), then a barrier. With `also` (a layout of
   // the same particles), its slot blocks likewise by also_compute, before the sums that read them.
+  // After the barrier, a tile's slot blocks read (as ends) only the particles of that tile and of
+  // the thread's later tiles, so sum may rewrite the state of its tile's particles.
   template <class Compute, class Sum, class AlsoCompute = Compute>
   void sweep(std::size_t tile, int threads, bool parallel, const Compute& compute, const Sum& sum,
              const LaneBands* also = nullptr, const AlsoCompute* also_compute = nullptr) const;

@@ -97,21 +97,26 @@ const Real* SpringListForces<Real>::form(const StateCombination<Real>& state, Re
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t count = std::min(kChunk, n_ - begin);
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t at = k * stride_ + begin;
-      const Real* vectors[StateCombination<Real>::kMaxTerms];
-      for (uint32_t t = 0; t < state.count; ++t) vectors[t] = state.vectors[t] + at;
-      combine_row(out + at, state.base + at, state.count, state.coefficients, vectors,
-                  inverse_mass_ + begin, count);
-    }
+    form_range(state, out, begin, std::min(kChunk, n_ - begin));
   }
   return out;
 }
 
 template <class Real>
+void SpringListForces<Real>::form_range(const StateCombination<Real>& state, Real* out,
+                                        std::size_t begin, std::size_t count) const {
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t at = k * stride_ + begin;
+    const Real* vectors[StateCombination<Real>::kMaxTerms];
+    for (uint32_t t = 0; t < state.count; ++t) vectors[t] = state.vectors[t] + at;
+    combine_row(out + at, state.base + at, state.count, state.coefficients, vectors,
+                inverse_mass_ + begin, count);
+  }
+}
+
+template <class Real>
 Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a, bool triangles,
-                                          double& triangle_seconds) {
+                                          double& triangle_seconds, const TileEpilogue* after) {
   Real check = 0;
   const std::size_t tile = kChunk / kSpringBlock;
   const auto shares = [&](std::size_t begin, std::size_t end) {
@@ -130,6 +135,16 @@ Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a,
         Real tile_check = 0;
         for (std::size_t block = begin; block < end; ++block)
           tile_check += gather_block(block, a, true, triangles);
+        if (after != nullptr) {
+          const std::size_t first = begin * kSpringBlock;
+          const std::size_t count = std::min(n_, end * kSpringBlock) - first;
+          if (after->step != nullptr) {
+            advance_range(after->advanced_x, after->advanced_v, *after->step, first, count);
+          } else {
+            if (after->x.count != 0) form_range(after->x, after->formed_x, first, count);
+            if (after->v.count != 0) form_range(after->v, after->formed_v, first, count);
+          }
+        }
 #pragma omp atomic
         check += tile_check;
       },
@@ -175,8 +190,8 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       if (!air_ && triangles_->ends_in_order(block)) {
-        wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure,
-                         triangle_live_[block], triangle_share_.data(), slots);
+        wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure, triangle_live_[block],
+                         triangle_share_.data(), slots);
         continue;
       }
     }
@@ -261,14 +276,23 @@ template <class Real>
 bool SpringListForces<Real>::evaluate(const StateCombination<Real>& x,
                                       const StateCombination<Real>* v, Real* a,
                                       StageCounters& counters) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const Real* positions = form(x, formed_x_.data());
   const Real* velocities = v == nullptr ? nullptr : form(*v, formed_v_.data());
+  counters.internal_forces_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return sweep_stage(positions, velocities, a, nullptr, counters);
+}
+
+template <class Real>
+bool SpringListForces<Real>::sweep_stage(const Real* positions, const Real* velocities, Real* a,
+                                         const TileEpilogue* after, StageCounters& counters) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   const bool cells = wind_ || air_;
   // The sweep is fused, so its time is split by thread 0's share of triangle work (as the grid's).
   double triangle_seconds = 0.0;
-  const Real check = spring_sweep(positions, velocities, a, cells, triangle_seconds);
+  const Real check = spring_sweep(positions, velocities, a, cells, triangle_seconds, after);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   triangle_seconds = std::min(triangle_seconds, seconds);
   counters.external_forces_s += triangle_seconds;
@@ -294,55 +318,111 @@ void SpringListForces<Real>::reserve_stages(uint32_t stages) {
 }
 
 template <class Real>
-bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
-                                      StageCounters& counters) {
-  bool finite = true;
-  for (uint32_t s = 0; s < step.stages; ++s) {
-    // X_s = x + x_velocity[s] v + sum_k x_stage[s][k] A_k, V_s = v + sum_k v_stage[s][k] A_k.
-    StateCombination<Real> stage_x, stage_v;
-    stage_x.base = x;
-    stage_x.vectors[0] = v;
-    stage_x.coefficients[0] = step.x_velocity[s];
-    stage_x.count = 1 + s;
-    stage_v.base = v;
-    stage_v.count = s;
-    for (uint32_t k = 0; k < s; ++k) {
-      stage_x.vectors[1 + k] = stage_a_[k].data();
-      stage_x.coefficients[1 + k] = step.x_stage[s][k];
-      stage_v.vectors[k] = stage_a_[k].data();
-      stage_v.coefficients[k] = step.v_stage[s][k];
-    }
-    finite = evaluate(stage_x, &stage_v, stage_a_[s].data(), counters) && finite;
-  }
-  // x += h v + sum_k x_weights[k] A_k, v += sum_k v_weights[k] A_k on the active particles.
-  const auto chunks = static_cast<std::ptrdiff_t>(chunks_of(n_));
-#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
-  for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
-    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
-    const std::size_t count = std::min(n_, begin + kChunk) - begin;
-    // Stage by stage over the chunk, so the loops run on lanes; each sum in the same order.
-    alignas(kAlignment) Real dx[kChunk], dv[kChunk];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t at = k * stride_ + begin;
-#pragma omp simd
-      for (std::size_t i = 0; i < count; ++i) dx[i] = step.h * v[at + i], dv[i] = 0;
-      for (uint32_t s = 0; s < step.stages; ++s) {
-        const Real* stage = stage_a_[s].data() + at;
-        const Real x_weight = step.x_weights[s], v_weight = step.v_weights[s];
-#pragma omp simd
-        for (std::size_t i = 0; i < count; ++i) {
-          dx[i] += x_weight * stage[i];
-          dv[i] += v_weight * stage[i];
+StateCombination<Real> SpringListForces<Real>::stage_state(const Real* x, const Real* v,
+                                                           const RknStep<Real>& step, uint32_t s,
+                                                           bool velocity) const {
+  StateCombination<Real> state;
+  state.base = velocity ? v : x;
+  const auto add = [&](const Real* vector, Real coefficient) {
+    if (coefficient == Real(0)) return;
+    state.vectors[state.count] = vector;
+    state.coefficients[state.count++] = coefficient;
+  };
+  if (!velocity) add(v, step.x_velocity[s]);
+  for (uint32_t k = 0; k < s; ++k)
+    add(stage_a_[k].data(), velocity ? step.v_stage[s][k] : step.x_stage[s][k]);
+  return state;
+}
+
+template <class Real>
+void SpringListForces<Real>::advance_range(Real* x, Real* v, const RknStep<Real>& step,
+                                           std::size_t begin, std::size_t count) const {
+  const Real* stages[RknStep<Real>::kMaxStages];
+  for (uint32_t s = 0; s < step.stages; ++s) stages[s] = stage_a_[s].data() + begin;
+  const Real h = step.h;
+  const Real* __restrict inverse_mass = inverse_mass_ + begin;
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) {
+    // On lanes, the stages' sums kept in registers (GCC's own vectorisation of the loops below
+    // gathers one stage's loads); each sum in the same order as there.
+    for (std::size_t i = 0; i < count; i += kLanes) {
+      const LaneMask lanes = lanes_from_to(0, std::min(kLanes, count - i));
+      const LaneMask active =
+          both(lanes, not_equal(load_floats(lanes, inverse_mass + i), zero_floats()));
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride_ + begin + i;
+        const Floats velocity = load_floats(lanes, v + at);
+        Floats dx = broadcast(h) * velocity, dv = zero_floats();
+        for (uint32_t s = 0; s < step.stages; ++s) {
+          const Floats stage = load_floats(lanes, stages[s] + k * stride_ + i);
+          dx = fused_multiply_add(broadcast(step.x_weights[s]), stage, dx);
+          dv = fused_multiply_add(broadcast(step.v_weights[s]), stage, dv);
         }
+        const Floats position = load_floats(lanes, x + at);
+        store_floats(lanes, x + at, select(active, position + dx, position));
+        store_floats(lanes, v + at, select(active, velocity + dv, velocity));
       }
-      const Real* inverse_mass = inverse_mass_ + begin;
+    }
+    return;
+  }
+#endif
+  // Stage by stage over the range, so the loops run on lanes; each sum in the same order.
+  alignas(kAlignment) Real dx[kChunk], dv[kChunk];
+  for (std::size_t k = 0; k < 3; ++k) {
+    Real* __restrict xk = x + k * stride_ + begin;
+    Real* __restrict vk = v + k * stride_ + begin;
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i) {
+      dx[i] = h * vk[i];
+      dv[i] = 0;
+    }
+    for (uint32_t s = 0; s < step.stages; ++s) {
+      const Real* __restrict stage = stages[s] + k * stride_;
+      const Real x_weight = step.x_weights[s], v_weight = step.v_weights[s];
 #pragma omp simd
       for (std::size_t i = 0; i < count; ++i) {
-        const bool active = inverse_mass[i] != Real(0);
-        x[at + i] = active ? x[at + i] + dx[i] : x[at + i];
-        v[at + i] = active ? v[at + i] + dv[i] : v[at + i];
+        dx[i] += x_weight * stage[i];
+        dv[i] += v_weight * stage[i];
       }
     }
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i) {
+      const bool active = inverse_mass[i] != Real(0);
+      xk[i] = active ? xk[i] + dx[i] : xk[i];
+      vk[i] = active ? vk[i] + dv[i] : vk[i];
+    }
+  }
+}
+
+template <class Real>
+bool SpringListForces<Real>::step_rkn(Real* x, Real* v, const RknStep<Real>& step,
+                                      StageCounters& counters) {
+  // Stage s: X_s = x + x_velocity[s] v + sum_k x_stage[s][k] A_k, V_s = v + sum_k v_stage[s][k]
+  // A_k. Each sweep's tiles form the next stage's states as their accelerations come out (over
+  // this stage's, in place), and the last sweep's advance x and v: after the sweep's barrier a
+  // tile's forces read only its own and later particles of the thread's share (LaneBands::sweep),
+  // so no pass over whole vectors is left.
+  const auto start = std::chrono::steady_clock::now();
+  const Real* positions = form(stage_state(x, v, step, 0, false), formed_x_.data());
+  const Real* velocities = form(stage_state(x, v, step, 0, true), formed_v_.data());
+  counters.internal_forces_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  bool finite = true;
+  for (uint32_t s = 0; s < step.stages; ++s) {
+    TileEpilogue after;
+    if (s + 1 < step.stages) {
+      after.x = stage_state(x, v, step, s + 1, false);
+      after.v = stage_state(x, v, step, s + 1, true);
+      after.formed_x = formed_x_.data();
+      after.formed_v = formed_v_.data();
+    } else {
+      after.step = &step;
+      after.advanced_x = x;
+      after.advanced_v = v;
+    }
+    finite = sweep_stage(positions, velocities, stage_a_[s].data(), &after, counters) && finite;
+    positions = after.x.count != 0 ? after.formed_x : x;
+    velocities = after.v.count != 0 ? after.formed_v : v;
   }
   return finite;
 }

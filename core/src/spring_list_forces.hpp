@@ -45,9 +45,33 @@ class SpringListForces {
   bool step_rkn(Real* x, Real* v, const RknStep<Real>& step, StageCounters& counters);
 
  private:
+  // What a sweep does with a tile's particles once their accelerations are final: form the next
+  // Runge-Kutta-Nystrom stage's state (each of x and v into its buffer where it has terms), or,
+  // with `step`, advance x and v.
+  struct TileEpilogue {
+    StateCombination<Real> x, v;
+    Real *formed_x = nullptr, *formed_v = nullptr;
+    const RknStep<Real>* step = nullptr;
+    Real *advanced_x = nullptr, *advanced_v = nullptr;
+  };
+
   // Whole state vectors (3 x stride) formed as combinations, into `out`; the base itself when
   // there is no term.
   const Real* form(const StateCombination<Real>& state, Real* out);
+  // The same for the particles [begin, begin + count).
+  void form_range(const StateCombination<Real>& state, Real* out, std::size_t begin,
+                  std::size_t count) const;
+  // x += h v + sum_s x_weights[s] A_s, v += sum_s v_weights[s] A_s on the active particles of
+  // [begin, begin + count), count <= kChunk.
+  void advance_range(Real* x, Real* v, const RknStep<Real>& step, std::size_t begin,
+                     std::size_t count) const;
+  // Stage s's combination of x (velocity false) or v, without the terms of coefficient 0 (as the
+  // grid's).
+  StateCombination<Real> stage_state(const Real* x, const Real* v, const RknStep<Real>& step,
+                                     uint32_t s, bool velocity) const;
+  // The sweep of evaluate at formed states, then `after` on each tile; as evaluate.
+  bool sweep_stage(const Real* x, const Real* v, Real* a, const TileEpilogue* after,
+                   StageCounters& counters);
   // The triangles (each rotated, its winding kept, to start at its smallest corner) in the slots
   // of LaneBands: on a mesh numbered along rows, bands whose corners follow in order.
   void lay_out_triangles(const ClothModel& model);
@@ -57,8 +81,8 @@ class SpringListForces {
   // The springs' forces (and the triangles' shares) and the particles' sums of them, tile by
   // tile (LaneBands::sweep); returns the sum of 0 * a (NaN when some a is not finite), and adds
   // thread 0's time on the triangles to triangle_seconds.
-  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles,
-                    double& triangle_seconds);
+  Real spring_sweep(const Real* x, const Real* v, Real* a, bool triangles, double& triangle_seconds,
+                    const TileEpilogue* after);
   // The triangles' shares alone into accelerations; returns as spring_sweep.
   Real gather_external(Real* a, bool triangles);
   // Particle block b's sum into accelerations; returns its sum of 0 * a.

@@ -196,6 +196,26 @@ TEST(GeneralPath, SameBitsOnAnyThreadCount) {
   }
 }
 
+// A pinned particle (inverse mass 0) stays where it is under rk4 on the general path, even when
+// its state carries a velocity (the update's active mask, not a zero velocity, holds it).
+TEST(GeneralPath, PinnedParticlesStayPutUnderRk4WithAVelocity) {
+  const Scene scene = testing::busy_scene(20, 21);
+  ASSERT_FALSE(scene.pinned.empty());
+  for (Precision precision : {Precision::Float32, Precision::Float64}) {
+    Cloth cloth(scene, precision, general_options(1));
+    perturb(cloth);
+    std::vector<double> before, velocities;
+    cloth.positions(before);
+    cloth.velocities(velocities);
+    const std::vector<double> after = rk4_steps(cloth, 3);
+    for (uint32_t pin : scene.pinned)
+      for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_NE(velocities[3 * pin + k], 0.0);
+        EXPECT_EQ(after[3 * pin + k], before[3 * pin + k]) << "pin " << pin << " axis " << k;
+      }
+  }
+}
+
 // Numbered along rows, nearly every spring and triangle of a mesh lies in a band of LaneBands
 // (read in order: the wind alone runs on lanes, dead slots masked); numbered at random, nearly
 // none does (gathered). Both give each particle its forces.
