@@ -524,6 +524,20 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
       smoothed.push_back(r);
     }
     EXPECT_GT(smoothed[0].norm(), 0.0);
+    // The factor (inverted diagonal, bound, lanes) on 2 and 3 threads: the same bits.
+    for (int threads : {2, 3}) {
+      builtin::BlockChebyshev team(fine, precision);
+      ASSERT_TRUE(team.factor(fine, threads));
+      EXPECT_EQ(team.lambda_max(), chebyshev.lambda_max()) << threads << " threads";
+      EXPECT_EQ(team.inverse_diagonal(), chebyshev.inverse_diagonal()) << threads << " threads";
+      Eigen::VectorXd x(b.size()), r(b.size());
+      team.smooth_from_zero(fine, b.data(), x.data(), 2, r.data(), 1);
+      team.smooth(fine, b.data(), x.data(), 2, 1);
+      for (Eigen::Index i = 0; i < x.size(); ++i) {
+        ASSERT_EQ(x[i], smoothed[0][i]) << threads << " threads, entry " << i;
+        ASSERT_EQ(r[i], smoothed[1][i]) << threads << " threads, residual entry " << i;
+      }
+    }
     // The lanes' steps against the recurrence written out on the level's own residual: the
     // same polynomial, to rounding in double lanes.
     if (precision == LanePrecision::float64) {
