@@ -77,11 +77,13 @@ double jacobi_row_bound(const double* d, RowBlocks&& row_blocks) {
 }
 
 // An upper bound on D^-1 A's eigenvalues for a level's free rows: the largest row sum of
-// |D_i^-1 A_ij| over a row's blocks; `inverse_diagonal` 9 per node, row-major.
+// |D_i^-1 A_ij| over a row's blocks; `inverse_diagonal` 9 per node, row-major. Rows of nodes
+// split among `threads`, each its own bound, their largest taken in order.
 inline double jacobi_spectral_bound(const GridLevel& level,
-                                    const std::vector<double>& inverse_diagonal) {
-  double bound = 0.0;
-  for (int r = 0; r < level.rows(); ++r)
+                                    const std::vector<double>& inverse_diagonal, int threads = 1) {
+  std::vector<double> row_bounds(static_cast<std::size_t>(level.rows()), 0.0);
+  level.for_each_index(level.rows(), threads, [&](int r) {
+    double bound = 0.0;
     for (int c = 0; c < level.cols(); ++c) {
       const std::size_t i = level.node(r, c);
       if (level.fixed(i)) continue;
@@ -95,6 +97,10 @@ inline double jacobi_spectral_bound(const GridLevel& level,
             }
           }));
     }
+    row_bounds[static_cast<std::size_t>(r)] = bound;
+  });
+  double bound = 0.0;
+  for (const double row : row_bounds) bound = std::max(bound, row);
   return bound;
 }
 
@@ -108,13 +114,14 @@ class BlockChebyshev {
   }
 
   // Inverts the level's diagonal blocks and bounds D^-1 A's spectrum; false where a free
-  // node's diagonal block is not positive definite or no finite bound comes out.
-  bool factor(const GridLevel& level) {
-    if (!invert_diagonal_blocks(level, inverse_diagonal_)) return false;
-    lambda_max_ = jacobi_spectral_bound(level, inverse_diagonal_);
+  // node's diagonal block is not positive definite or no finite bound comes out. Rows split
+  // among `threads`: the same bits on any count.
+  bool factor(const GridLevel& level, int threads = 1) {
+    if (!invert_diagonal_blocks(level, inverse_diagonal_, threads)) return false;
+    lambda_max_ = jacobi_spectral_bound(level, inverse_diagonal_, threads);
     if (!(lambda_max_ > 0.0 && std::isfinite(lambda_max_))) return false;
-    if (float_lanes_) float_lanes_->load(level, inverse_diagonal_);
-    if (double_lanes_) double_lanes_->load(level, inverse_diagonal_);
+    if (float_lanes_) float_lanes_->load(level, inverse_diagonal_, threads);
+    if (double_lanes_) double_lanes_->load(level, inverse_diagonal_, threads);
     return true;
   }
 

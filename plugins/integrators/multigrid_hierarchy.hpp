@@ -131,7 +131,7 @@ class MultigridHierarchy {
       levels_[l].pack();
       transfers_[l].galerkin(levels_[l], levels_[l + 1], threads);
       if (!(chebyshev_.empty() ? smoothers_[l].factor(levels_[l])
-                               : chebyshev_[l].factor(levels_[l])))
+                               : chebyshev_[l].factor(levels_[l], threads)))
         return false;
     }
     return coarsest_solve().factor(levels_.back());

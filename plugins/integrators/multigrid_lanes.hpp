@@ -58,7 +58,7 @@ class LaneLevel {
 
   // The level's blocks and the smoother's inverted diagonal blocks (9 per node, row-major, 0 on
   // fixed nodes) into the lanes; after the level's `pack`.
-  void load(const GridLevel& level, const std::vector<double>& inverse_diagonal) {
+  void load(const GridLevel& level, const std::vector<double>& inverse_diagonal, int threads = 1) {
     couplings_ = 0;
     for (const GridLevel::Offset& offset : level.couplings())
       if (offset.rows != 0 || offset.cols != 0) {
@@ -73,7 +73,7 @@ class LaneLevel {
     std::fill_n(blocks_.begin(), 9 * couplings_ * class_nodes_, 0.0f);
     std::fill(diagonal_.begin(), diagonal_.end(), Real{0});
     std::fill(inverse_diagonal_.begin(), inverse_diagonal_.end(), Real{0});
-    for (int r = 0; r < rows_; ++r)
+    level.for_each_index(rows_, threads, [&](int r) {
       for (int c = 0; c < cols_; ++c) {
         const std::size_t i = level.node(r, c);
         if (level.fixed(i)) continue;
@@ -93,6 +93,7 @@ class LaneLevel {
               static_cast<Real>(inverse_diagonal[9 * i + e]);
         }
       }
+    });
   }
 
   // b, and x where it is not null (3 doubles per node), into the lanes, rows split among

@@ -274,15 +274,19 @@ inline bool invert_positive_definite(const double* a, double* out) {
 }
 
 // inverse (9 per node, row-major) = the level's diagonal blocks inverted on free nodes; false
-// where one is not positive definite.
-inline bool invert_diagonal_blocks(const GridLevel& level, std::vector<double>& inverse) {
-  for (int r = 0; r < level.rows(); ++r)
+// where one is not positive definite. Rows split among `threads`, each node's inverse its own.
+inline bool invert_diagonal_blocks(const GridLevel& level, std::vector<double>& inverse,
+                                   int threads = 1) {
+  std::vector<uint8_t> definite(static_cast<std::size_t>(level.rows()), 1);
+  level.for_each_index(level.rows(), threads, [&](int r) {
     for (int c = 0; c < level.cols(); ++c) {
       const std::size_t i = level.node(r, c);
       if (level.fixed(i)) continue;
-      if (!invert_positive_definite(level.block(r, c, r, c), &inverse[9 * i])) return false;
+      if (!invert_positive_definite(level.block(r, c, r, c), &inverse[9 * i]))
+        return void(definite[static_cast<std::size_t>(r)] = 0);
     }
-  return true;
+  });
+  return std::all_of(definite.begin(), definite.end(), [](uint8_t row) { return row != 0; });
 }
 
 }  // namespace clothlab::builtin

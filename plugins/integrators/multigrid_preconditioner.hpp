@@ -162,44 +162,46 @@ class MultigridPreconditioner {
 
   // Assembles S = M (I + J) from J's blocks `values` (9 each) in the order of the block pattern
   // given at construction, and rebuilds the levels. The fine level keeps no blocks where it
-  // has a coarser one: level 1, D^-1 and the fine bound come straight from the table.
+  // has a coarser one: level 1, D^-1 and the fine bound come straight from the table, in one
+  // pass over it (the Galerkin product's).
   void assemble(const double* values) {
     const int threads = cycle_.threads();
     ++rebuild_count_;
     GridLevel& fine = hierarchy_.level(0);
-    const auto table_rows = [&](int r, int c, auto&& visit) {
-      table_row(values, static_cast<uint32_t>(fine.node(r, c)), visit);
-    };
     if (hierarchy_.level_count() == 1) {  // the fine level is the coarsest: solved directly
       fine.clear();
       for (int r = 0; r < fine.rows(); ++r)
-        for (int c = 0; c < fine.cols(); ++c)
-          if (!fine.fixed(fine.node(r, c)))
-            table_rows(r, c, [&](int r2, int c2, const double* block) {
+        for (int c = 0; c < fine.cols(); ++c) {
+          const auto i = static_cast<uint32_t>(fine.node(r, c));
+          if (!fine.fixed(i))
+            table_row(values, i, [&](int r2, int c2, const double* block) {
               std::copy_n(block, 9, fine.block(r, c, r2, c2));
             });
+        }
       return require_definite(hierarchy_.rebuild(threads));
     }
-    hierarchy_.transfer(0).galerkin(fine, hierarchy_.level(1), threads, table_rows);
-    // D^-1 and the bound on D^-1 A's eigenvalues (those of D_S^-1 S, D_S = M D) row by row.
-    fine.for_each_index(fine.rows(), threads, [&](int r) {
-      double bound = 0.0;
-      for (int c = 0; c < fine.cols(); ++c) {
-        const std::size_t i = fine.node(r, c);
-        if (fine.fixed(i)) continue;
-        double diagonal[9], inverse[9];  // NaN unless the diagonal block is positive definite
-        std::fill_n(inverse, 9, std::numeric_limits<double>::quiet_NaN());
-        table_block(values, static_cast<uint32_t>(i), diagonal_slots_[i], diagonal);
-        invert_positive_definite(diagonal, inverse);
-        for (std::size_t k = 0; k < 9; ++k) jacobi_[9 * i + k] = mass_[i] * inverse[k];
-        const double row = jacobi_row_bound(inverse, [&](auto&& visit) {
-          table_rows(r, c, [&](int, int, const double* block) { visit(block); });
+    // Row i's read for the Galerkin product also gives, once per row, D^-1 and the bound on
+    // D^-1 A's eigenvalues (those of D_S^-1 S, D_S = M D): row_bounds_[r] is the largest over
+    // the free nodes of fine row r, NaN once a diagonal block is not positive definite.
+    std::fill(row_bounds_.begin(), row_bounds_.end(), 0.0);
+    const auto table_rows = [&](int r, int c, bool once, auto&& visit) {
+      const auto i = static_cast<uint32_t>(fine.node(r, c));
+      if (!once) return table_row(values, i, visit);
+      double diagonal[9], inverse[9];  // NaN unless the diagonal block is positive definite
+      std::fill_n(inverse, 9, std::numeric_limits<double>::quiet_NaN());
+      table_block(values, i, diagonal_slots_[i], diagonal);
+      invert_positive_definite(diagonal, inverse);
+      for (std::size_t k = 0; k < 9; ++k) jacobi_[9 * i + k] = mass_[i] * inverse[k];
+      const double row = jacobi_row_bound(inverse, [&](auto&& bound_visit) {
+        table_row(values, i, [&](int r2, int c2, const double* block) {
+          visit(r2, c2, block);
+          bound_visit(block);
         });
-        bound = std::isnan(row) ? row : std::max(bound, row);
-        if (std::isnan(bound)) break;
-      }
-      row_bounds_[static_cast<std::size_t>(r)] = bound;
-    });
+      });
+      double& bound = row_bounds_[static_cast<std::size_t>(r)];
+      if (!std::isnan(bound)) bound = std::isnan(row) ? row : std::max(bound, row);
+    };
+    hierarchy_.transfer(0).galerkin(fine, hierarchy_.level(1), threads, table_rows);
     lambda_max_ = 0.0;
     for (const double bound : row_bounds_)
       lambda_max_ = std::isnan(bound) ? bound : std::max(lambda_max_, bound);

@@ -102,12 +102,14 @@ class GridTransfer {
 
   // coarse = R fine P, a row of A P at a time: (A P)_fJ = sum_g A_fg P_gJ, then
   // (R A P)_IJ += P_fI (A P)_fJ for f's parents I. The fine blocks come from the level's own
-  // (the offsets `pack` found coupled), or from row_blocks(r, c, visit), which calls
-  // visit(r2, c2, a) for each block a of the free fine row (r, c). The coarse rows split among
-  // `threads` in bands, each band from the fine rows under it: a coarse block sums its terms in
-  // the fine rows' order, so any count gives the same bits.
+  // (the offsets `pack` found coupled), or from row_blocks(r, c, once, visit), which calls
+  // visit(r2, c2, a) for each block a of the free fine row (r, c); `once` is true on exactly
+  // one of a row's reads (a fine row under two bands is read by both), on the thread that
+  // reads the fine row of nodes r in order, so per-row work done there has one writer. The
+  // coarse rows split among `threads` in bands, each band from the fine rows under it: a
+  // coarse block sums its terms in the fine rows' order, so any count gives the same bits.
   void galerkin(const GridLevel& fine, GridLevel& coarse, int threads = 1) const {
-    galerkin(fine, coarse, threads, [&](int r, int c, auto&& visit) {
+    galerkin(fine, coarse, threads, [&](int r, int c, bool, auto&& visit) {
       const GridLevel::Window w = fine.window(r, c);
       const double* row = fine.row_blocks(r, c);
       for (const GridLevel::Offset& offset : fine.couplings()) {
@@ -129,8 +131,10 @@ class GridTransfer {
         if (!owned(row_parents_.parent(r, 0)) &&
             !(row_parents_.count(r) == 2 && owned(row_parents_.parent(r, 1))))
           continue;
+        const bool once = owned(row_parents_.parent(r, 0));
         for (int c = 0; c < fine.cols(); ++c)
-          if (!fine.fixed(fine.node(r, c))) galerkin_row(fine, coarse, r, c, owned, row_blocks);
+          if (!fine.fixed(fine.node(r, c)))
+            galerkin_row(fine, coarse, r, c, once, owned, row_blocks);
       }
     });
   }
@@ -141,13 +145,13 @@ class GridTransfer {
 
   // Fine row (r, c)'s terms of R A P in the coarse rows `owned` accepts.
   template <class Owned, class RowBlocks>
-  void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, const Owned& owned,
-                    RowBlocks& row_blocks) const {
+  void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, bool once,
+                    const Owned& owned, RowBlocks& row_blocks) const {
     // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
     const int row0 = r / 2 - 2, col0 = c / 2 - 2;
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
-    row_blocks(r, c, [&](int r2, int c2, const double* a) {
+    row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
       if (fine.fixed(fine.node(r2, c2))) return;
       for (int i = 0; i < row_parents_.count(r2); ++i)
         for (int j = 0; j < col_parents_.count(c2); ++j) {

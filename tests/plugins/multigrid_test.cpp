@@ -525,6 +525,20 @@ TEST(Multigrid, TheVCycleHasTheSameBitsOnOneAndTwoThreads) {
       smoothed.push_back(r);
     }
     EXPECT_GT(smoothed[0].norm(), 0.0);
+    // The factor (inverted diagonal, bound, lanes) on 2 and 3 threads: the same bits.
+    for (int threads : {2, 3}) {
+      builtin::BlockChebyshev team(fine, precision);
+      ASSERT_TRUE(team.factor(fine, threads));
+      EXPECT_EQ(team.lambda_max(), chebyshev.lambda_max()) << threads << " threads";
+      EXPECT_EQ(team.inverse_diagonal(), chebyshev.inverse_diagonal()) << threads << " threads";
+      Eigen::VectorXd x(b.size()), r(b.size());
+      team.smooth_from_zero(fine, b.data(), x.data(), 2, r.data(), 1);
+      team.smooth(fine, b.data(), x.data(), 2, 1);
+      for (Eigen::Index i = 0; i < x.size(); ++i) {
+        ASSERT_EQ(x[i], smoothed[0][i]) << threads << " threads, entry " << i;
+        ASSERT_EQ(r[i], smoothed[1][i]) << threads << " threads, residual entry " << i;
+      }
+    }
     // The lanes' steps against the recurrence written out on the level's own residual: the
     // same polynomial, to rounding in double lanes.
     if (precision == LanePrecision::float64) {
@@ -753,12 +767,13 @@ struct ProbedTable {
   std::vector<double> values;
 };
 
-// From a host's block table the fine level keeps no blocks: level 1 (its Galerkin product) and
-// the fine smoother's bound come straight from the table, and are the probed ones (to the
-// single-precision rounding of the probed fine level's off-diagonal blocks); a table with one
-// off-diagonal block halved is caught.
+// From a host's block table the fine level keeps no blocks: level 1 (its Galerkin product),
+// D^-1 and the fine smoother's bound come straight from the table in one pass, and are the
+// probed ones (to the single-precision rounding of the probed fine level's off-diagonal
+// blocks), as is the V-cycle they make; a table with one off-diagonal block halved is caught.
+// 21 rows: 11 coarse rows, two bands of the Galerkin product, a fine row read by both.
 TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
-  constexpr int kRows = 11, kCols = 13;
+  constexpr int kRows = 21, kCols = 13;
   GridNet net(kRows, kCols);
   MockSystem<double>& mock = net.host.system();
   const sdk::System<double> system(mock.raw());
@@ -767,11 +782,30 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   const ProbedTable table(system, kRows, kCols, h);
   builtin::MultigridPreconditioner probed(system, 0, 1);
   builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  double* r = system.alloc_vector();
+  double* z_probed = system.alloc_vector();
+  double* z_tabled = system.alloc_vector();
   mock.allocation_allowed = false;
-  probed.linearise(system, [&](const double* in, double* out) {
+  const auto product = [&](const double* in, double* out) {
     system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
-  });
+  };
+  probed.linearise(system, product);
   tabled.assemble(table.values.data());
+  const std::size_t vector_size = 3 * std::size_t{system.stride()};
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < vector_size; ++k) r[k] = uniform(random);
+  std::fill_n(z_probed, vector_size, 0.0);
+  std::fill_n(z_tabled, vector_size, 0.0);
+  probed.apply(system, r, z_probed, product);
+  tabled.apply(system, r, z_tabled, product);
+  double z_size = 0.0, z_difference = 0.0;
+  for (std::size_t k = 0; k < vector_size; ++k) {
+    z_size = std::max(z_size, std::abs(z_probed[k]));
+    z_difference = std::max(z_difference, std::abs(z_probed[k] - z_tabled[k]));
+  }
+  ASSERT_GT(z_size, 1e-3);
+  EXPECT_LT(z_difference, 1e-6 * z_size);
   ASSERT_GT(tabled.hierarchy().level_count(), 2u);
   // The fine level's storage is its pin flags alone.
   EXPECT_EQ(tabled.hierarchy().level(0).storage_bytes(), tabled.hierarchy().level(0).node_count());
