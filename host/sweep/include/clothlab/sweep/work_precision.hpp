@@ -66,10 +66,10 @@ Trajectory compute_reference(const SweepSpec& spec, const CaseSpec& base, double
 // What base's precision alone costs on this problem: the reference integrator at the reference's
 // own step (dt / 2 of compute_reference's dt) in base's precision, against `reference` (that
 // run in float64), as RMS distance over the diagonal. No integrator at any step can be expected
-// below it: a scene whose motion amplifies rounding (the windy flag) holds float32 runs above
-// a tolerance that float64 runs meet. Stores the precision_floor row (problem coordinates,
-// precision, reference_integrator, dt, T, precision_floor) unless stored; returns 0 without a
-// run when base is float64. Throws SweepError when the run is not stable.
+// below it: on the windy flag it holds float32 runs above a tolerance that float64 runs meet.
+// Stores the precision_floor row (problem coordinates, precision, reference_integrator, dt, T,
+// precision_floor) unless stored; returns 0 without a run when base is float64. Throws SweepError
+// when the run is not stable.
 double compute_precision_floor(const SweepSpec& spec, const CaseSpec& base, double dt,
                                const Trajectory& reference, const TrajectoryRunner& runner,
                                ResultsStore& store);
