@@ -634,6 +634,19 @@ TEST(IntegratorChoice, MeasuresThePrecisionFloorAndRefusesAToleranceBelowIt) {
                  "precision float64, or a shorter choose.error_duration");
   }
   EXPECT_TRUE(fixture.runs.runs.empty());  // no probe ran
+  // A floor just above the tolerance is printed with the digits that tell the two apart.
+  Fixture just_above;
+  just_above.runs.precision_floor = 0.010009;
+  try {
+    just_above.choose({{"explicit", false}});
+    ADD_FAILURE() << "a tolerance just below the float32 floor was searched";
+  } catch (const SweepError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("is 1.001 % of the cloth diagonal from its float64 "
+                        "run at T = 1 s, above choose.error_tolerance 1 %"),
+              std::string::npos)
+        << error.what();
+  }
   // The floor's run is at the reference's own step: 1 / (50 x 512) / 2 s.
   ASSERT_EQ(fixture.runs.precision_floor_runs.size(), 1u);
   EXPECT_EQ(fixture.runs.precision_floor_runs[0], "float32 " + host::format_number(1.0 / 51200));

@@ -28,10 +28,18 @@ void put_run_figures(Row& row, const std::optional<host::RunSummary>& run) {
 
 namespace choice_detail {
 
-std::string percent(double fraction) {
+std::string percent(double fraction, int digits) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.3g %%", 100 * fraction);
+  std::snprintf(text, sizeof text, "%.*g %%", digits, 100 * fraction);
   return text;
+}
+
+std::pair<std::string, std::string> percents_apart(double fraction, double other) {
+  constexpr int most_digits = 9;
+  for (int digits = 3;; ++digits) {
+    std::pair<std::string, std::string> texts{percent(fraction, digits), percent(other, digits)};
+    if (texts.first != texts.second || digits == most_digits) return texts;
+  }
 }
 
 std::string label_of(uint32_t substeps, uint32_t iterations) {

@@ -11,6 +11,7 @@ namespace clothlab::sweep {
 
 using choice_detail::error_duration;
 using choice_detail::percent;
+using choice_detail::percents_apart;
 using host::format_number;
 
 namespace {
@@ -57,13 +58,13 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
   for (const Row& row : store.rows()) {
     if (row["kind"] != "reference") continue;
     const double difference = row["reference_difference"].get<double>();
+    const auto [gap, tolerance] = percents_apart(difference, settings.error_tolerance);
     if (difference > settings.error_tolerance)
       throw SweepError("choose: the reference is not converged at T = " +
                        format_number(error_duration(settings)) +
                        " s: " + settings.reference_integrator + " float64 at dt " +
-                       format_number(reference_dt) + " s and dt / 2 differ by " +
-                       percent(difference) + " of the cloth diagonal, above the tolerance " +
-                       percent(settings.error_tolerance) +
+                       format_number(reference_dt) + " s and dt / 2 differ by " + gap +
+                       " of the cloth diagonal, above the tolerance " + tolerance +
                        "; allowed: a shorter choose.error_duration (wind makes the flag's motion "
                        "chaotic) or more choose.reference_substeps");
     progress << "choose: reference done, estimated own error "
@@ -75,14 +76,14 @@ std::vector<Choice> choose_integrators(const SweepSpec& spec, const CaseSpec& ba
   }
   const double floor =
       compute_precision_floor(spec, error_base, reference_dt, reference, reference_runner, store);
+  const auto [floor_text, tolerance] = percents_apart(floor, settings.error_tolerance);
   if (floor > settings.error_tolerance)
     throw SweepError("choose: " + error_base.precision +
                      " cannot meet the tolerance here: " + settings.reference_integrator + " " +
-                     error_base.precision + " at the reference's step is " + percent(floor) +
+                     error_base.precision + " at the reference's step is " + floor_text +
                      " of the cloth diagonal from its float64 run at T = " +
                      format_number(error_duration(settings)) + " s, above choose.error_tolerance " +
-                     percent(settings.error_tolerance) +
-                     "; allowed: choose.error_tolerance above " + percent(floor) +
+                     tolerance + "; allowed: choose.error_tolerance above " + floor_text +
                      ", precision float64, or a shorter choose.error_duration");
   if (error_base.precision != "float64")
     progress << "choose: " << error_base.precision << " floor " << percent(floor)

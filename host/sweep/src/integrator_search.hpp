@@ -61,8 +61,11 @@ struct Fewest {
   uint32_t stopped_refining_at = 0;
 };
 
-// "12.3 %" for 0.123.
-std::string percent(double fraction);
+// "12.3 %" for 0.123, to `digits` significant digits.
+std::string percent(double fraction, int digits = 3);
+// Both fractions as percents, with the fewest digits (3 or more) that tell them apart, so that a
+// comparison never reads "1 % above 1 %".
+std::pair<std::string, std::string> percents_apart(double fraction, double other);
 // "8 substeps x 4 iterations"; iterations 0: the method has none.
 std::string label_of(uint32_t substeps, uint32_t iterations);
 // The T of the error runs (integrator_search.cpp).

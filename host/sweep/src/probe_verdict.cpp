@@ -153,7 +153,8 @@ bool IntegratorSearch::judge_error(const Trajectory& measured, Probe& probe) con
   if (probe.error <= settings_.error_tolerance)
     return judge_stretch_against_reference(measured, probe);
   probe.error_failed = true;
-  probe.why = "error " + percent(probe.error) + " above " + percent(settings_.error_tolerance);
+  const auto [error, tolerance] = percents_apart(probe.error, settings_.error_tolerance);
+  probe.why = "error " + error + " above " + tolerance;
   return false;
 }
 
