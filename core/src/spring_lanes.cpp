@@ -231,14 +231,17 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
       if (layout_.item_in(s + l) != layout_.items()) live |= 1u << l;
     // One law: every live lane's is the first live lane's (the dead lanes are masked).
     const std::size_t lead = live == 0 ? s : s + static_cast<std::size_t>(__builtin_ctz(live));
-    bool one_law = true;
-    for (std::size_t l = 0; l < kSpringBlock; ++l)
-      one_law = one_law &&
-                ((live >> l & 1u) == 0 || (rest_[s + l] == rest_[lead] && ks_[s + l] == ks_[lead] &&
-                                           kd_[s + l] == kd_[lead]));
+    bool one_stiffness = true, one_rest = true;
+    for (std::size_t l = 0; l < kSpringBlock; ++l) {
+      if ((live >> l & 1u) == 0) continue;
+      one_stiffness = one_stiffness && ks_[s + l] == ks_[lead] && kd_[s + l] == kd_[lead];
+      one_rest = one_rest && rest_[s + l] == rest_[lead];
+    }
+    const bool one_law = one_stiffness && one_rest;
     block_kind_.push_back(static_cast<uint8_t>(
         (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0) |
-        (live == kAllLive ? 0 : kDeadSlots) | (live != 0 ? 0 : kNoSpring)));
+        (one_stiffness && !one_law ? kOneStiffness : 0) | (live == kAllLive ? 0 : kDeadSlots) |
+        (live != 0 ? 0 : kNoSpring)));
     block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
@@ -283,9 +286,30 @@ struct SpringArrays {
 
 namespace {
 
+// How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and
+// kd alone (broadcast, the rest lengths loaded), or the whole law (broadcast).
+enum class LawShare { kNone, kStiffness, kAll };
+
+// The block's law on the lanes, as spring_law gives it per lane: law the lead lane's.
+template <LawShare Share>
+void block_law_lanes(const SpringArrays& arrays, std::size_t s, const float (&law)[3],
+                     Floats (&lanes_law)[3]) {
+  if constexpr (Share == LawShare::kAll) {
+    float one[3];
+    spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
+    for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
+  } else if constexpr (Share == LawShare::kStiffness) {
+    spring_law(load_floats(arrays.rest + s), broadcast(law[1]), broadcast(law[2]),
+               kLanesInverseSqrtScale, lanes_law);
+  } else {
+    spring_law(load_floats(arrays.rest + s), load_floats(arrays.ks + s), load_floats(arrays.kd + s),
+               kLanesInverseSqrtScale, lanes_law);
+  }
+}
+
 // The block of springs from slot s: ends in order (runs from particles first and second) or
-// gathered by the lanes' indices; one law (rest, ks, kd) broadcast or a law per lane.
-template <bool Damped, bool InOrder, bool OneLaw>
+// gathered by the lanes' indices; its law shared as Share says.
+template <bool Damped, bool InOrder, LawShare Share>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
                         uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
                         const SpringArrays& arrays, float* force, std::size_t slots) {
@@ -305,14 +329,7 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
     }
   }
   Floats lanes_law[3];
-  if constexpr (OneLaw) {
-    float one[3];
-    spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
-    for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
-  } else {
-    spring_law(load_floats(arrays.rest + s), load_floats(arrays.ks + s), load_floats(arrays.kd + s),
-               kLanesInverseSqrtScale, lanes_law);
-  }
+  block_law_lanes<Share>(arrays, s, law, lanes_law);
   const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_law);
   if (live != kAllLive) {
     const LaneMask lanes = lanes_of_bits(live);
@@ -323,8 +340,9 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
 }
 
-// definite_products' block from slot s, its ends in order or gathered, one law or a law per lane.
-template <bool InOrder, bool OneLaw>
+// definite_products' block from slot s, its ends in order or gathered, its law shared as Share
+// says.
+template <bool InOrder, LawShare Share>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
                           std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
@@ -354,8 +372,10 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   for (std::size_t k = 0; k < 3; ++k)
     du[k] = keep(second_active, u_second[k]) - keep(first_active, u_first[k]);
   Floats rest, ks, kd;
-  if constexpr (OneLaw) {
+  if constexpr (Share == LawShare::kAll) {
     rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
+  } else if constexpr (Share == LawShare::kStiffness) {
+    rest = load_floats(arrays.rest + s), ks = broadcast(law[1]), kd = broadcast(law[2]);
   } else {
     rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
     kd = load_floats(arrays.kd + s);
@@ -374,17 +394,24 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
 }
 
-// Calls block(InOrder, OneLaw) with the block's kind as compile-time flags.
+// Calls block(InOrder, Share) with the block's kind as compile-time constants.
 template <class Block>
-void with_block_kind(bool in_order, bool one_law, const Block& block) {
-  if (in_order && one_law)
-    block(std::true_type{}, std::true_type{});
-  else if (in_order)
-    block(std::true_type{}, std::false_type{});
-  else if (one_law)
-    block(std::false_type{}, std::true_type{});
+void with_block_kind(bool in_order, bool one_law, bool one_stiffness, const Block& block) {
+  const auto with_share = [&](auto ends_in_order) {
+    using All = std::integral_constant<LawShare, LawShare::kAll>;
+    using Stiffness = std::integral_constant<LawShare, LawShare::kStiffness>;
+    using None = std::integral_constant<LawShare, LawShare::kNone>;
+    if (one_law)
+      block(ends_in_order, All{});
+    else if (one_stiffness)
+      block(ends_in_order, Stiffness{});
+    else
+      block(ends_in_order, None{});
+  };
+  if (in_order)
+    with_share(std::true_type{});
   else
-    block(std::false_type{}, std::false_type{});
+    with_share(std::false_type{});
 }
 #endif
 
@@ -407,17 +434,18 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
-      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
       const std::size_t s = b * kSpringBlock;
-      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
+      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
+      const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
+      with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
         if (damped)
-          spring_block_lanes<true, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
-                                                           block_second_[b], law, block_live_[b],
-                                                           arrays, force, slots());
+          spring_block_lanes<true, ends_in_order(), shared()>(x, v, stride, s, block_first_[b],
+                                                              block_second_[b], law, block_live_[b],
+                                                              arrays, force, slots());
         else
-          spring_block_lanes<false, ends_in_order(), one()>(x, v, stride, s, block_first_[b],
-                                                            block_second_[b], law, block_live_[b],
-                                                            arrays, force, slots());
+          spring_block_lanes<false, ends_in_order(), shared()>(
+              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b], arrays,
+              force, slots());
       });
       continue;
     }
@@ -463,8 +491,9 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
-      with_block_kind(in_order, one_law, [&](auto ends_in_order, auto one) {
-        definite_block_lanes<ends_in_order(), one()>(
+      const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
+      with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
+        definite_block_lanes<ends_in_order(), shared()>(
             x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
             block_second_[b], law, block_live_[b], arrays, product, slots());
       });

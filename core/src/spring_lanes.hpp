@@ -160,9 +160,16 @@ class SpringLanes {
 
  private:
   // What a spring block reads: its lane 0's ends (the others follow in order) or every lane's
-  // by index; one law for all its live lanes, or a law per lane. Only what a block needs is
+  // by index; one law for all its live lanes, one ks and kd with a rest length per lane (an
+  // irregular mesh's springs of one family), or a law per lane. Only what a block needs is
   // read. A block with dead slots writes 0 there; a block with no spring writes only 0.
-  enum BlockKind : uint8_t { kEndsInOrder = 1, kOneLaw = 2, kDeadSlots = 4, kNoSpring = 8 };
+  enum BlockKind : uint8_t {
+    kEndsInOrder = 1,
+    kOneLaw = 2,
+    kDeadSlots = 4,
+    kNoSpring = 8,
+    kOneStiffness = 16
+  };
   struct BlockLaw {
     Real rest, ks, kd;
   };

@@ -57,15 +57,19 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
       triangle_count_(model.triangle_count()) {
   spring_force_ = AlignedBuffer<Real>(3 * springs_.slots());
 
+  Real wind_direction[3];
   for (int k = 0; k < 3; ++k) {
     gravity_[k] = static_cast<Real>(scene.gravity[k]);
-    wind_direction_[k] = static_cast<Real>(scene.wind_direction[k]);
+    wind_direction[k] = static_cast<Real>(scene.wind_direction[k]);
     air_wind_[k] = static_cast<Real>(scene.air.wind_velocity[k]);
   }
   wind_ = scene.has_wind() && triangle_count_ > 0;
   air_ = scene.has_air() && triangle_count_ > 0;
-  wind_strength_ = static_cast<Real>(scene.wind_strength);
-  wind_pressure(wind_direction_, wind_strength_, kScalarInverseSqrtScale, wind_pressure_);
+  const auto wind_strength = static_cast<Real>(scene.wind_strength);
+  wind_pressure(wind_direction, wind_strength, kScalarInverseSqrtScale, wind_pressure_);
+#if defined(CLOTHLAB_FLOAT_LANES)
+  wind_pressure(wind_direction, wind_strength, kLanesInverseSqrtScale, lane_wind_pressure_);
+#endif
   air_drag_twelfth_ = static_cast<Real>(scene.air.density * scene.air.drag_coefficient / 12.0);
   air_lift_twelfth_ = static_cast<Real>(scene.air.density * scene.air.lift_coefficient / 12.0);
   if (wind_ || air_) lay_out_triangles(model);
@@ -174,11 +178,8 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
   const uint32_t *corner_a = corners[0], *corner_b = corners[1], *corner_c = corners[2];
 #if defined(CLOTHLAB_FLOAT_LANES)
   Floats pressure[3] = {zero_floats(), zero_floats(), zero_floats()};
-  if constexpr (std::is_same_v<Real, float>) {
-    float lane_pressure[3];
-    wind_pressure(wind_direction_, wind_strength_, kLanesInverseSqrtScale, lane_pressure);
-    for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_pressure[k]);
-  }
+  if constexpr (std::is_same_v<Real, float>)
+    for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_wind_pressure_[k]);
 #endif
   for (std::size_t block = begin; block < end; ++block) {
     if (triangle_live_[block] == 0) {

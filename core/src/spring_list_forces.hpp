@@ -102,9 +102,10 @@ class SpringListForces {
   std::vector<uint32_t> triangle_live_;  // per triangle slot block: bit l set where lane l lives
 
   Real gravity_[3] = {0, 0, 0};
-  Real wind_direction_[3] = {0, 0, 0};
-  Real wind_strength_ = 0;
-  Real wind_pressure_[3] = {0, 0, 0};  // of the scalar path (wind_kernel.hpp)
+  // The wind as triangle_wind_share reads it (wind_kernel.hpp), at the scalar kernel's scale and
+  // at the lanes' (float_lanes.hpp), each built once.
+  Real wind_pressure_[3] = {0, 0, 0};
+  Real lane_wind_pressure_[3] = {0, 0, 0};
   bool wind_ = false;
   Real air_wind_[3] = {0, 0, 0};
   Real air_drag_twelfth_ = 0, air_lift_twelfth_ = 0;
