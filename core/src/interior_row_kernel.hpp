@@ -4,15 +4,14 @@
 // wind, then the three others. Two sweeps, each with half the springs, keep each one's pointers
 // and values in registers (AVX2 has 16 of each); the own ends' sums go to memory in between.
 //
-// Per column block the row's own positions and velocities are loaded once and the forces
-// on its own particles summed in registers over the sweep's springs; only the partners' ends
-// go to memory. A cell's corners are partners of the (0,1), (1,0), (1,1) springs, so its
-// wind shares ride on their loads and stores. Each partner end whose column is shifted (+1, -1, +2)
-// goes to an accumulator of its own for that shift, so the read-modify-writes of one block never
-// overlap each other or the next block's (overlapping ones would stall store
-// forwarding). finish_row sums the shifted accumulators. The sweeps of row r are the first to
-// write three of them (rows r+1's shifted ones, row r+2's aligned one): they store there
-// without reading, so they need no clearing in between (recycle_row, force_pipeline.hpp).
+// Per column block the forces on the row's own particles are summed in registers over the
+// sweep's springs; only the partners' ends go to memory. A cell's corners are partners of the
+// (0,1), (1,0), (1,1) springs, so its wind shares ride on their loads and stores. Each partner end
+// whose column is shifted (+1, -1, +2) goes to an accumulator of its own for that shift, so the
+// read-modify-writes of one block never overlap each other or the next block's (overlapping ones
+// would stall store forwarding). finish_row sums the shifted accumulators. The sweeps of row r are
+// the first to write three of them (rows r+1's shifted ones, row r+2's aligned one): they store
+// there without reading, so they need no clearing in between (recycle_row, force_pipeline.hpp).
 #pragma once
 
 #include <cstddef>
