@@ -22,23 +22,22 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
   // rows belong to another thread and are dropped.
   const std::size_t first = begin >= 2 ? begin - 2 : 0;
   std::size_t staged = first;
+  clear_accumulators(own);
   for (std::size_t row = first; row < end; ++row) {
     // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
     for (; staged < std::min(row + 3, rows_); ++staged) stage_row(thread, own, state, staged);
     add_springs(own, row, pass);
     add_wind(own, row, pass);
-    if (row < begin) {
-      clear_row(own, row);
-    } else if (col_pitch_ == 1) {
+    if (row >= begin && col_pitch_ == 1) {
       probe += finish_row(own, row, a + row * cols_, stride_);
-    } else {
+    } else if (row >= begin) {
       Real* finished = thread_row(thread, turned_from());
       probe += finish_row(own, row, finished, row_span_);
       scatter_row(finished, a, row);
     }
+    recycle_row(own, row);
   }
-  // Forces already added to the rows after the block belong to the next thread's rows.
-  for (std::size_t row = end; row < std::min(end + 2, rows_); ++row) clear_row(own, row);
+  // What was added to the rows after the block belongs to the next thread's rows: dropped.
   return probe;
 }
 

@@ -188,10 +188,13 @@ class ForcePipeline {
   void add_air(const Real* x, const Real* below, const Real* v, const Real* v_below,
                std::size_t position_span, Real* first, Real* second, std::size_t span) const;
   // The finish stage (finish_stage.cpp): turns row's accumulators into accelerations at out
-  // (components `span` apart) and clears them; returns the sum of 0 * a (NaN exactly when some
-  // a is not finite).
+  // (components `span` apart); returns the sum of 0 * a (NaN exactly when some a is not finite).
   Real finish_row(Real* ring, std::size_t row, Real* out, std::size_t span);
-  void clear_row(Real* ring, std::size_t row);
+  // Readies row's accumulators for row + 3, which reuses them: clears those that no interior
+  // sweep will store into first (the aligned ones are stored by row + 1's, the shifted ones by
+  // row + 2's; interior_row_kernel.hpp). A pass starts from cleared ones (clear_accumulators).
+  void recycle_row(Real* ring, std::size_t row);
+  void clear_accumulators(Real* ring);
 
   // The force pass (force_pass.cpp): a thread's block of rows through all stages.
   Real run_rows(int thread, std::size_t begin, std::size_t end, StatePair state, Real* a,

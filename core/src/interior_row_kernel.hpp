@@ -1,14 +1,17 @@
 // All six Provot stencils of one interior grid row (a row every stencil starts in), and
-// the wind on the cells below it, in one sweep over its columns, a block of SIMD lanes
-// (float_lanes.hpp) at a time.
+// the wind on the cells below it, in two sweeps over its columns, a block of SIMD lanes
+// (float_lanes.hpp) at a time: the cell's springs (partners the cell's corners) with the cell's
+// wind, then the three others. Two sweeps, each with half the springs, keep each one's pointers
+// and values in registers (AVX2 has 16 of each); the own ends' sums go to memory in between.
 //
-// Per column block the row's own positions and velocities are loaded once and the forces
-// on its own particles summed in registers over the six springs; only the partners' ends
-// go to memory. A cell's corners are partners of the (0,1), (1,0), (1,1) springs, so its
-// wind shares ride on their loads and stores. Each partner end whose column is shifted (+1, -1, +2)
-// goes to an accumulator of its own for that shift, so the read-modify-writes of one block never
-// overlap each other or the next block's (overlapping ones would stall store
-// forwarding). finish_row sums the shifted accumulators.
+// Per column block the forces on the row's own particles are summed in registers over the
+// sweep's springs; only the partners' ends go to memory. A cell's corners are partners of the
+// (0,1), (1,0), (1,1) springs, so its wind shares ride on their loads and stores. Each partner end
+// whose column is shifted (+1, -1, +2) goes to an accumulator of its own for that shift, so the
+// read-modify-writes of one block never overlap each other or the next block's (overlapping ones
+// would stall store forwarding). finish_row sums the shifted accumulators. The sweeps of row r are
+// the first to write three of them (rows r+1's shifted ones, row r+2's aligned one): they store
+// there without reading, so they need no clearing in between (recycle_row, force_pipeline.hpp).
 #pragma once
 
 #include <cstddef>
@@ -36,10 +39,13 @@ struct InteriorRow {
   Floats wind_pressure[3];  // wind_pressure's; used only with wind
 };
 
+// The springs of one sweep: the cell's (stencils 0-2, and the wind when Wind) or the others (3-5).
+enum class InteriorSweep { kCell, kFar };
+
 // Edge blocks (the first, and those reaching the last two columns) mask each spring and
 // cell to its columns; their loads and stores may reach into the zero margins around a
 // row, where masked lanes add exactly 0.
-template <bool Damped, bool Wind, bool Edge>
+template <InteriorSweep Sweep, bool Damped, bool Wind, bool Edge>
 [[gnu::always_inline]] inline void interior_row_block(const InteriorRow& row, std::size_t c) {
   using Vec3 = Floats[3];
   const std::size_t span = row.span;
@@ -52,13 +58,13 @@ template <bool Damped, bool Wind, bool Edge>
     }
   };
   const std::size_t cols = row.cols;
-  Vec3 x, own;
-  load(row.x[0], 0, x);
-  load(row.aligned[0], 0, own);  // what the rows above added to the own ends
+  Vec3 own;
+  load(row.aligned[0], 0, own);  // what the rows above (and the cell sweep) added to the own ends
   // The spring of stencil s to `partner` (row r + dr, column c + dc): f = scale d on the own end,
-  // -f to the partner's accumulator `to`, with the partner's wind share `wind` if given.
+  // -f to the partner's accumulator `to`, with the partner's wind share `wind` if given; `first`:
+  // this sweep is the first to write `to`, so -f (and the share) is stored without reading it.
   const auto spring = [&](int s, const Vec3& partner, int dr, std::ptrdiff_t dc, LaneMask valid,
-                          float* to, const Vec3* wind) {
+                          float* to, const Vec3* wind, bool first) {
     Vec3 d, dv = {};
     // The own end read again per spring rather than held: too few registers for all.
     for (std::size_t k = 0; k < 3; ++k) d[k] = partner[k] - load_floats(row.x[0] + c + k * span);
@@ -76,55 +82,70 @@ template <bool Damped, bool Wind, bool Edge>
     for (std::size_t k = 0; k < 3; ++k) {
       own[k] = fused_multiply_add(scale, d[k], own[k]);
       float* q = to + c + k * span + dc;
-      Floats sum = load_floats(q);
-      if (wind != nullptr) sum += (*wind)[k];
+      Floats sum = first ? zero_floats() : load_floats(q);
+      if (wind != nullptr) sum = first ? (*wind)[k] : sum + (*wind)[k];
       store_floats(q, fused_negated_multiply_add(scale, d[k], sum));
     }
   };
-  // The cell's corners other than x are partners of the first three stencils.
-  Vec3 right, below, below_right, far;
-  load(row.x[0], 1, right);
-  load(row.x[1], 0, below);
-  load(row.x[1], 1, below_right);
-  // Wind first: its shares join the partner ends of the first three springs, so only one
-  // partner sum is alive at a time (fewer registers spilled).
-  Vec3 both = {}, second = {};  // shares of corners b and c' (both triangles), d (second)
-  if constexpr (Wind) {
-    Vec3 first;
-    cell_wind_shares(x, right, below, below_right, row.wind_pressure, first, second);
-    const LaneMask cells = columns_in(c, 0, cols - 1);
-    mask(first, cells);
-    mask(second, cells);
-    for (std::size_t k = 0; k < 3; ++k) {
-      own[k] += first[k];
-      both[k] = first[k] + second[k];
+  if constexpr (Sweep == InteriorSweep::kCell) {
+    // The cell's corners other than x are partners of the first three stencils.
+    Vec3 x, right, below, below_right;
+    load(row.x[0], 0, x);
+    load(row.x[0], 1, right);
+    load(row.x[1], 0, below);
+    load(row.x[1], 1, below_right);
+    // Wind first: its shares join the partner ends of the first three springs, so only one
+    // partner sum is alive at a time (fewer registers spilled).
+    Vec3 both = {}, second = {};  // shares of corners b and c' (both triangles), d (second)
+    if constexpr (Wind) {
+      Vec3 first;
+      cell_wind_shares(x, right, below, below_right, row.wind_pressure, first, second);
+      const LaneMask cells = columns_in(c, 0, cols - 1);
+      mask(first, cells);
+      mask(second, cells);
+      for (std::size_t k = 0; k < 3; ++k) {
+        own[k] += first[k];
+        both[k] = first[k] + second[k];
+      }
     }
+    const Vec3* wind_both = Wind ? &both : nullptr;
+    spring(0, right, 0, 1, columns_in(c, 0, cols - 1), row.plus1[0], wind_both, false);
+    spring(1, below, 1, 0, columns_in(c, 0, cols), row.aligned[1], wind_both, false);
+    spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), row.plus1[1], Wind ? &second : nullptr,
+           true);
+  } else {
+    Vec3 far;
+    load(row.x[1], -1, far);
+    spring(3, far, 1, -1, columns_in(c, 1, cols), row.minus1, nullptr, true);
+    load(row.x[0], 2, far);
+    spring(4, far, 0, 2, columns_in(c, 0, cols - 2), row.plus2, nullptr, false);
+    load(row.x[2], 0, far);
+    spring(5, far, 2, 0, columns_in(c, 0, cols), row.aligned[2], nullptr, true);
   }
-  const Vec3* wind_both = Wind ? &both : nullptr;
-  spring(0, right, 0, 1, columns_in(c, 0, cols - 1), row.plus1[0], wind_both);
-  spring(1, below, 1, 0, columns_in(c, 0, cols), row.aligned[1], wind_both);
-  spring(2, below_right, 1, 1, columns_in(c, 0, cols - 1), row.plus1[1], Wind ? &second : nullptr);
-  load(row.x[1], -1, far);
-  spring(3, far, 1, -1, columns_in(c, 1, cols), row.minus1, nullptr);
-  load(row.x[0], 2, far);
-  spring(4, far, 0, 2, columns_in(c, 0, cols - 2), row.plus2, nullptr);
-  load(row.x[2], 0, far);
-  spring(5, far, 2, 0, columns_in(c, 0, cols), row.aligned[2], nullptr);
   for (std::size_t k = 0; k < 3; ++k) store_floats(row.aligned[0] + c + k * span, own[k]);
 }
 
-template <bool Damped, bool Wind>
-inline void interior_row_forces(const InteriorRow& job) {
+template <InteriorSweep Sweep, bool Damped, bool Wind>
+inline void interior_row_sweep(const InteriorRow& job) {
   // A copy of its own: the kernel's float stores could alias the caller's, whose pointers the
   // loop would then load again after every store.
   const InteriorRow row = job;
   const std::size_t cols = row.cols;
   std::size_t c = 0;
-  interior_row_block<Damped, Wind, true>(row, c);
+  interior_row_block<Sweep, Damped, Wind, true>(row, c);
   // Blocks clear of both edges: every lane of every stencil is a spring.
   for (c = kLanes; c + kLanes + 2 <= cols; c += kLanes)
-    interior_row_block<Damped, Wind, false>(row, c);
-  for (; c < cols; c += kLanes) interior_row_block<Damped, Wind, true>(row, c);
+    interior_row_block<Sweep, Damped, Wind, false>(row, c);
+  // The (1,-1) springs store their partners' ends a column to the left, so that sweep runs
+  // until it has stored column cols - 1 too (a block of masked lanes where cols fills its last).
+  const std::size_t end = Sweep == InteriorSweep::kFar ? cols + 1 : cols;
+  for (; c < end; c += kLanes) interior_row_block<Sweep, Damped, Wind, true>(row, c);
+}
+
+template <bool Damped, bool Wind>
+inline void interior_row_forces(const InteriorRow& row) {
+  interior_row_sweep<InteriorSweep::kCell, Damped, Wind>(row);
+  interior_row_sweep<InteriorSweep::kFar, Damped, false>(row);
 }
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -35,6 +35,7 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
     first[s] = ready[s] > 2 ? ready[s] - 2 : 0;
     last[s] = std::min(rows_ - 1, end - 1 + ahead);
     staged[s] = first[s];
+    clear_accumulators(ring(thread, s));
   }
   // Component k of row `row` of x (quantity 0) or v (1): in place in the block (of a turned
   // grid: its copy, gathered by stage_rkn_row), else halo.
@@ -133,20 +134,14 @@ Real ForcePipeline<Real>::rkn_rows(int thread, std::size_t begin, std::size_t en
       for (; staged[s] < std::min(row + 3, rows_); ++staged[s]) stage_rkn_row(s, staged[s]);
       add_springs(stage_ring, row, pass);
       add_wind(stage_ring, row, pass);
-      if (row < ready[s]) {
-        clear_row(stage_ring, row);
-        continue;
+      if (row >= ready[s]) {
+        probe += finish_row(stage_ring, row, window_row(thread, s, row), row_span_);
+        if (s == stages - 1) advance_row(row);
       }
-      probe += finish_row(stage_ring, row, window_row(thread, s, row), row_span_);
-      if (s == stages - 1) advance_row(row);
+      recycle_row(stage_ring, row);
     }
   }
-  // Forces already added to rows after a stage's last one belong to rows not run here.
-  for (std::size_t s = 0; s < stages; ++s) {
-    for (std::size_t row = last[s] + 1; row < std::min(last[s] + 3, rows_); ++row) {
-      clear_row(ring(thread, s), row);
-    }
-  }
+  // What was added to rows after a stage's last one belongs to rows not run here: dropped.
   return probe;
 }
 
