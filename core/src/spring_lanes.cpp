@@ -273,6 +273,22 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
     block_second_.push_back(second_[s]);
     block_law_.push_back({rest_[lead], ks_[lead], kd_[lead]});
   }
+  std::size_t live_slots = 0;
+  for (uint32_t live : block_live_)
+    live_slots += static_cast<std::size_t>(__builtin_popcount(live));
+  packed_rest_ = AlignedBuffer<Real>(live_slots);
+  packed_ks_ = AlignedBuffer<Real>(live_slots);
+  packed_kd_ = AlignedBuffer<Real>(live_slots);
+  std::size_t next = 0;
+  for (std::size_t b = 0; b < block_live_.size(); ++b) {
+    block_packed_.push_back(static_cast<uint32_t>(next));
+    for (std::size_t l = 0; l < kSpringBlock; ++l) {
+      if ((block_live_[b] >> l & 1u) == 0) continue;
+      const std::size_t s = b * kSpringBlock + l;
+      packed_rest_[next] = rest_[s], packed_ks_[next] = ks_[s], packed_kd_[next] = kd_[s];
+      ++next;
+    }
+  }
 }
 
 namespace {
@@ -305,6 +321,7 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
 struct SpringArrays {
   const uint32_t* first;
   const uint32_t* second;
+  // The laws by slot; with expand loads, packed (SpringLanes::packed_rest_ and the others).
   const float* rest;
   const float* ks;
   const float* kd;
@@ -312,24 +329,36 @@ struct SpringArrays {
 
 namespace {
 
+// A block's law values on its lanes (0 in its dead lanes): from slot s, or, with expand loads,
+// its live lanes' from `packed` in the packed arrays, so dead slots cost no memory traffic.
+inline Floats law_floats(const float* values, std::size_t s, std::size_t packed, uint32_t live) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+  (void)s;
+  return expand_floats(lanes_of_bits(live), values + packed);
+#else
+  (void)packed, (void)live;
+  return load_floats(values + s);
+#endif
+}
+
 // How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and
 // kd alone (broadcast, the rest lengths loaded), or the whole law (broadcast).
 enum class LawShare { kNone, kStiffness, kAll };
 
 // The block's law on the lanes, as spring_law gives it per lane: law the lead lane's.
 template <LawShare Share>
-void block_law_lanes(const SpringArrays& arrays, std::size_t s, const float (&law)[3],
-                     Floats (&lanes_law)[3]) {
+void block_law_lanes(const SpringArrays& arrays, std::size_t s, std::size_t packed, uint32_t live,
+                     const float (&law)[3], Floats (&lanes_law)[3]) {
   if constexpr (Share == LawShare::kAll) {
     float one[3];
     spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
     for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
   } else if constexpr (Share == LawShare::kStiffness) {
-    spring_law(load_floats(arrays.rest + s), broadcast(law[1]), broadcast(law[2]),
+    spring_law(law_floats(arrays.rest, s, packed, live), broadcast(law[1]), broadcast(law[2]),
                kLanesInverseSqrtScale, lanes_law);
   } else {
-    spring_law(load_floats(arrays.rest + s), load_floats(arrays.ks + s), load_floats(arrays.kd + s),
-               kLanesInverseSqrtScale, lanes_law);
+    spring_law(law_floats(arrays.rest, s, packed, live), law_floats(arrays.ks, s, packed, live),
+               law_floats(arrays.kd, s, packed, live), kLanesInverseSqrtScale, lanes_law);
   }
 }
 
@@ -338,7 +367,8 @@ void block_law_lanes(const SpringArrays& arrays, std::size_t s, const float (&la
 template <bool Damped, bool InOrder, LawShare Share>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
                         uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
-                        const SpringArrays& arrays, float* force, std::size_t force_stride) {
+                        std::size_t packed, const SpringArrays& arrays, float* force,
+                        std::size_t force_stride) {
   Floats d[3], dv[3] = {};
   if constexpr (InOrder) {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -355,7 +385,7 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
     }
   }
   Floats lanes_law[3];
-  block_law_lanes<Share>(arrays, s, law, lanes_law);
+  block_law_lanes<Share>(arrays, s, packed, live, law, lanes_law);
   const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_law);
   if (live != kAllLive) {
     const LaneMask lanes = lanes_of_bits(live);
@@ -372,8 +402,8 @@ template <bool InOrder, LawShare Share>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
                           std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
-                          uint32_t live, const SpringArrays& arrays, float* product,
-                          std::size_t product_stride) {
+                          uint32_t live, std::size_t packed, const SpringArrays& arrays,
+                          float* product, std::size_t product_stride) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
   if constexpr (InOrder) {
     mass_first = load_floats(inverse_mass + first);
@@ -401,10 +431,11 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   if constexpr (Share == LawShare::kAll) {
     rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
   } else if constexpr (Share == LawShare::kStiffness) {
-    rest = load_floats(arrays.rest + s), ks = broadcast(law[1]), kd = broadcast(law[2]);
+    rest = law_floats(arrays.rest, s, packed, live), ks = broadcast(law[1]);
+    kd = broadcast(law[2]);
   } else {
-    rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
-    kd = load_floats(arrays.kd + s);
+    rest = law_floats(arrays.rest, s, packed, live), ks = law_floats(arrays.ks, s, packed, live);
+    kd = law_floats(arrays.kd, s, packed, live);
   }
   const Floats scale_x = broadcast(c_x);
   Floats across, along;
@@ -458,7 +489,12 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                                packed_kd_.data()};
+#else
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+#endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const std::size_t s = b * kSpringBlock;
@@ -466,13 +502,13 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
       with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
         if (damped)
-          spring_block_lanes<true, ends_in_order(), shared()>(x, v, stride, s, block_first_[b],
-                                                              block_second_[b], law, block_live_[b],
-                                                              arrays, out, force_stride);
+          spring_block_lanes<true, ends_in_order(), shared()>(
+              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
+              block_packed_[b], arrays, out, force_stride);
         else
           spring_block_lanes<false, ends_in_order(), shared()>(
-              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b], arrays, out,
-              force_stride);
+              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
+              block_packed_[b], arrays, out, force_stride);
       });
       continue;
     }
@@ -515,7 +551,12 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                                packed_kd_.data()};
+#else
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+#endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
@@ -523,7 +564,7 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
         definite_block_lanes<ends_in_order(), shared()>(
             x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
-            block_second_[b], law, block_live_[b], arrays, out, product_stride);
+            block_second_[b], law, block_live_[b], block_packed_[b], arrays, out, product_stride);
       });
       continue;
     }

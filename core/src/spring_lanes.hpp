@@ -225,7 +225,11 @@ class SpringLanes {
   std::vector<uint8_t> block_kind_;
   std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
   std::vector<BlockLaw> block_law_;                   // per block: its first live lane's law
-  std::vector<uint32_t> block_live_;                  // per block: bit l set where lane l lives
+  // The live slots' laws, block by block, lane by lane (what a block with dead slots loads on
+  // lanes that expand loads), and per block where its own start.
+  AlignedBuffer<Real> packed_rest_, packed_ks_, packed_kd_;
+  std::vector<uint32_t> block_packed_;
+  std::vector<uint32_t> block_live_;  // per block: bit l set where lane l lives
   uint64_t damped_count_ = 0;
   bool damped_ = false;
 };
