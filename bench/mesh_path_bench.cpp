@@ -1,6 +1,8 @@
 // The cost of a spring on the grid's fast paths against the general (spring-list) paths a mesh
 // takes (issue 34): the bench-300 flag on its grid, the same grid read as a triangle mesh, and
-// an irregular mesh of the same size (irregular_grid_mesh). Springs per second of
+// an irregular mesh of the same size (irregular_grid_mesh), the scene's laws on each, and the
+// irregular mesh under a material (cotton's, configs/materials/cotton.yaml: each spring's ks
+// from its triangles' areas, as the CLI's presets give). Springs per second of
 // one damped force evaluation (springs, damping, gravity, the flag's wind; and without the
 // wind), of one rk4 step (its four evaluations), of one CG product (clothlab.cg-step/1's q = A p,
 // implicit_euler's CG iteration), of xpbd's sweeps and of vbd's iterations. Run by hand, short:
@@ -10,6 +12,7 @@
 #include <clothlab/ext/jacobian.h>
 
 #include <clothlab/core/cloth.hpp>
+#include <clothlab/core/cloth_material.hpp>
 #include <clothlab/core/cloth_model.hpp>
 #include <clothlab/core/triangle_mesh.hpp>
 #include <memory>
@@ -21,7 +24,10 @@
 namespace clothlab::bench {
 namespace {
 
-enum class Path { Grid, GridAsMesh, IrregularMesh };
+enum class Path { Grid, GridAsMesh, IrregularMesh, IrregularCotton };
+
+// configs/materials/cotton.yaml's material.
+constexpr ClothMaterial kCotton{0.15, 6129.0, 44.95, 7.845e-6, 1.0e-5};
 
 std::unique_ptr<Cloth> make_cloth(Path path, int side, int threads, bool velocity_forces,
                                   bool wind = true) {
@@ -33,6 +39,11 @@ std::unique_ptr<Cloth> make_cloth(Path path, int side, int threads, bool velocit
   TriangleMesh mesh = path == Path::GridAsMesh
                           ? testing::grid_mesh(scene, testing::Diagonals::Rising)
                           : irregular_grid_mesh(scene);
+  if (path == Path::IrregularCotton) {
+    apply_material(scene, kCotton, &mesh);  // its mass, spread by area
+    return std::make_unique<Cloth>(scene, build_mesh_model(mesh, scene, &kCotton),
+                                   Precision::Float32, options);
+  }
   mesh.masses.assign(std::size_t{scene.rows} * scene.cols,
                      scene.total_mass / (scene.rows * scene.cols));
   return std::make_unique<Cloth>(scene, build_mesh_model(mesh, scene), Precision::Float32, options);
@@ -154,10 +165,11 @@ void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"side", "threads"})->Unit(benchmark::kMillisecond);
 }
 
-#define CLOTHLAB_MESH_PATH_BENCH(function)                                   \
-  BENCHMARK_CAPTURE(function, grid, Path::Grid)->Apply(sizes);               \
-  BENCHMARK_CAPTURE(function, grid_as_mesh, Path::GridAsMesh)->Apply(sizes); \
-  BENCHMARK_CAPTURE(function, irregular_mesh, Path::IrregularMesh)->Apply(sizes)
+#define CLOTHLAB_MESH_PATH_BENCH(function)                                        \
+  BENCHMARK_CAPTURE(function, grid, Path::Grid)->Apply(sizes);                    \
+  BENCHMARK_CAPTURE(function, grid_as_mesh, Path::GridAsMesh)->Apply(sizes);      \
+  BENCHMARK_CAPTURE(function, irregular_mesh, Path::IrregularMesh)->Apply(sizes); \
+  BENCHMARK_CAPTURE(function, irregular_cotton, Path::IrregularCotton)->Apply(sizes)
 
 CLOTHLAB_MESH_PATH_BENCH(forces);
 CLOTHLAB_MESH_PATH_BENCH(spring_forces);

@@ -51,6 +51,12 @@ inline void store_floats(LaneMask lanes, float* p, Floats value) {
   _mm512_mask_storeu_ps(p, lanes, value);
 }
 inline Floats keep(LaneMask lanes, Floats value) { return _mm512_maskz_mov_ps(lanes, value); }
+// The lanes of the mask from consecutive floats at p, in order (one float read per lane); 0
+// elsewhere.
+#define CLOTHLAB_EXPAND_LOADS 1
+inline Floats expand_floats(LaneMask lanes, const float* p) {
+  return _mm512_maskz_expandloadu_ps(lanes, p);
+}
 inline LaneMask all_lanes() { return LaneMask(0xffff); }
 inline LaneMask both(LaneMask a, LaneMask b) { return LaneMask(a & b); }
 inline bool no_lane(LaneMask lanes) { return lanes == 0; }

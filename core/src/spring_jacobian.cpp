@@ -38,8 +38,10 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
   for (std::size_t i = 0; i < n_; ++i)
     mass_[i] = inverse_mass[i] > Real(0) ? Real(1) / inverse_mass[i] : Real(0);
   if (spring_list) {
-    spring_lanes_.emplace(topology, damping);
+    spring_lanes_.emplace(topology, damping, kParticleChunk / kSpringBlock);
     spring_products_ = AlignedBuffer<Real>(3 * spring_lanes_->slots());
+    spring_rings_ =
+        AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 3 * spring_lanes_->ring_slots());
     spring_inverse_length_ = AlignedBuffer<Real>(spring_lanes_->slots());
   }
   const std::span<const Stencil> grid_stencils =

@@ -132,9 +132,11 @@ class SpringJacobian {
   template <class Block>
   void list_spring_products(const Real* u, Block&& block) const;
   // Pass 2 on particle blocks [begin, end): out_i = inverse mass x the sum of particle i's slots
-  // (each signed by its end); Shifted: out = u + that, and returns the blocks' <u, out>_M.
+  // (each signed by its end; the bands' slots from ring where given, a sweep's); Shifted:
+  // out = u + that, and returns the blocks' <u, out>_M.
   template <bool Shifted>
-  double list_gather_blocks(const Real* u, Real* out, std::size_t begin, std::size_t end) const;
+  double list_gather_blocks(const Real* u, Real* out, const Real* ring, std::size_t begin,
+                            std::size_t end) const;
   // Calls body(i) for every particle, threads over chunks of particles.
   template <class Body>
   void for_particles(Body&& body) const;
@@ -177,6 +179,7 @@ class SpringJacobian {
   // and list_linearise's 1/l, 1 per slot.
   std::optional<SpringLanes<Real>> spring_lanes_;
   mutable AlignedBuffer<Real> spring_products_;
+  mutable AlignedBuffer<Real> spring_rings_;  // per thread (SlotBuffers)
   mutable AlignedBuffer<Real> spring_inverse_length_;
 };
 

@@ -27,8 +27,8 @@ bool consecutive(const uint32_t* values) {
 }  // namespace
 
 LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, std::size_t arity,
-                     uint32_t subtracted)
-    : items_(ends.size() / arity), ends_(arity) {
+                     uint32_t subtracted, std::size_t tile)
+    : items_(ends.size() / arity), tile_(tile), ends_(arity) {
   const auto end_of = [&](std::size_t item, std::size_t e) { return ends[arity * item + e]; };
   // The offsets of an item's other ends from its first: its band's key.
   const auto offsets_of = [&](std::size_t item) {
@@ -69,6 +69,12 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   }
   const std::size_t gathered_base = next;
   gathered_block_ = gathered_base / kSpringBlock;
+  // A ring holds a tile's first ends and the band's reach before them.
+  for (Band& band : bands_) {
+    band.ring_base = ring_slots_;
+    band.ring_blocks = tile_ + (std::size_t{band.reach} + kSpringBlock - 1) / kSpringBlock;
+    ring_slots_ += (band.ring_blocks + 1) * kSpringBlock;
+  }
   dead_blocks_.push_back(0);
   for (std::size_t k = 0; k < gathered.size(); ++k)
     slot_of[gathered[k]] = static_cast<uint32_t>(gathered_base + k);
@@ -125,14 +131,22 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
         // The first ends of this block's particles as end e: within a dead block of the band's.
         const uint32_t offset = e == 0 ? 0 : band_offsets[k][e - 1];
         const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(offset) - low;
-        if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span)
-          push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window),
-                   (subtracted >> e & 1u) != 0 ? kSubtract : 0u);
+        if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span) {
+          const uint32_t flag = (subtracted >> e & 1u) != 0 ? kSubtract : 0u;
+          push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window), flag);
+          const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
+          const std::ptrdiff_t first_end = window + low;
+          row_ring_.push_back(
+              static_cast<uint32_t>(band.ring_base +
+                                    static_cast<std::size_t>((first_end % ring + ring) % ring)) |
+              flag);
+        }
       }
     }
     std::size_t widest = 0;
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
       widest = std::max(widest, incident[i].size());
+    row_ring_.insert(row_ring_.end(), widest, kGatheredRow);
     for (std::size_t k = 0; k < widest; ++k)
       for (std::size_t l = 0; l < kSpringBlock; ++l) {
         const std::size_t i = b * kSpringBlock + l;
@@ -152,14 +166,21 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
 }
 
 template <class Real>
-void LaneBands::sum_incident(const Real* per_slot, std::size_t block,
+void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t block,
                              Real (&sum)[3][kSpringBlock]) const {
   const std::size_t stride = slots();
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     Floats total[3] = {load_floats(sum[0]), load_floats(sum[1]), load_floats(sum[2])};
     for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-      if (row_in_order_[r]) {
+      if (ring != nullptr && row_ring_[r] != kGatheredRow) {
+        const std::size_t slot = row_ring_[r] & ~kSubtract;
+        const bool subtract = (row_ring_[r] & kSubtract) != 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const Floats value = load_floats(ring + k * ring_slots_ + slot);
+          total[k] = subtract ? total[k] - value : total[k] + value;
+        }
+      } else if (row_in_order_[r]) {
         const std::size_t slot = row_first_[r] & ~kSubtract;
         const bool subtract = (row_first_[r] & kSubtract) != 0;
         for (std::size_t k = 0; k < 3; ++k) {
@@ -180,23 +201,28 @@ void LaneBands::sum_incident(const Real* per_slot, std::size_t block,
 #endif
   for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
     const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
+    const bool in_ring = ring != nullptr && row_ring_[r] != kGatheredRow;
+    const Real* values = in_ring ? ring : per_slot;
+    const std::size_t values_stride = in_ring ? ring_slots_ : stride;
     for (std::size_t l = 0; l < kSpringBlock; ++l) {
-      const std::size_t slot = row[l] & ~kSubtract;
-      const bool subtract = (row[l] & kSubtract) != 0;
+      const uint32_t entry = in_ring ? row_ring_[r] + static_cast<uint32_t>(l) : row[l];
+      const std::size_t slot = entry & ~kSubtract;
+      const bool subtract = (entry & kSubtract) != 0;
       for (std::size_t k = 0; k < 3; ++k) {
-        const Real value = per_slot[k * stride + slot];
+        const Real value = values[k * values_stride + slot];
         sum[k][l] = subtract ? sum[k][l] - value : sum[k][l] + value;
       }
     }
   }
 }
 
-template void LaneBands::sum_incident(const float*, std::size_t, float (&)[3][kSpringBlock]) const;
-template void LaneBands::sum_incident(const double*, std::size_t,
+template void LaneBands::sum_incident(const float*, const float*, std::size_t,
+                                      float (&)[3][kSpringBlock]) const;
+template void LaneBands::sum_incident(const double*, const double*, std::size_t,
                                       double (&)[3][kSpringBlock]) const;
 
 template <class Real>
-SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
+SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t tile)
     : layout_(
           model.particle_count,
           [&] {
@@ -207,7 +233,7 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
             }
             return ends;
           }(),
-          2, 2u),  // the second end subtracts
+          2, 2u, tile),  // the second end subtracts
       first_(layout_.ends(0)),
       second_(layout_.ends(1)),
       damped_(damped) {
@@ -247,6 +273,22 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped)
     block_second_.push_back(second_[s]);
     block_law_.push_back({rest_[lead], ks_[lead], kd_[lead]});
   }
+  std::size_t live_slots = 0;
+  for (uint32_t live : block_live_)
+    live_slots += static_cast<std::size_t>(__builtin_popcount(live));
+  packed_rest_ = AlignedBuffer<Real>(live_slots);
+  packed_ks_ = AlignedBuffer<Real>(live_slots);
+  packed_kd_ = AlignedBuffer<Real>(live_slots);
+  std::size_t next = 0;
+  for (std::size_t b = 0; b < block_live_.size(); ++b) {
+    block_packed_.push_back(static_cast<uint32_t>(next));
+    for (std::size_t l = 0; l < kSpringBlock; ++l) {
+      if ((block_live_[b] >> l & 1u) == 0) continue;
+      const std::size_t s = b * kSpringBlock + l;
+      packed_rest_[next] = rest_[s], packed_ks_[next] = ks_[s], packed_kd_[next] = kd_[s];
+      ++next;
+    }
+  }
 }
 
 namespace {
@@ -254,9 +296,9 @@ namespace {
 template <class Real, bool Damped>
 void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std::size_t block,
                            const uint32_t* first, const uint32_t* second, const Real* rest,
-                           const Real* ks, const Real* kd, bool dead_slots, std::size_t slots,
-                           Real* force) {
-  for (std::size_t s = block * kSpringBlock; s < (block + 1) * kSpringBlock; ++s) {
+                           const Real* ks, const Real* kd, bool dead_slots, Real* force,
+                           std::size_t force_stride) {
+  for (std::size_t s = block * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
     const std::size_t i = first[s], j = second[s];
     Real d[3], dv[3] = {0, 0, 0};
     for (std::size_t k = 0; k < 3; ++k) {
@@ -267,7 +309,7 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
     spring_law(rest[s], ks[s], kd[s], kScalarInverseSqrtScale, law);
     const Real scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], law);
     const bool dead = dead_slots && ks[s] + kd[s] == Real(0);
-    for (std::size_t k = 0; k < 3; ++k) force[k * slots + s] = dead ? Real(0) : scale * d[k];
+    for (std::size_t k = 0; k < 3; ++k) force[k * force_stride + l] = dead ? Real(0) : scale * d[k];
   }
 }
 
@@ -279,6 +321,7 @@ void spring_block_portable(const Real* x, const Real* v, std::size_t stride, std
 struct SpringArrays {
   const uint32_t* first;
   const uint32_t* second;
+  // The laws by slot; with expand loads, packed (SpringLanes::packed_rest_ and the others).
   const float* rest;
   const float* ks;
   const float* kd;
@@ -286,24 +329,36 @@ struct SpringArrays {
 
 namespace {
 
+// A block's law values on its lanes (0 in its dead lanes): from slot s, or, with expand loads,
+// its live lanes' from `packed` in the packed arrays, so dead slots cost no memory traffic.
+inline Floats law_floats(const float* values, std::size_t s, std::size_t packed, uint32_t live) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+  (void)s;
+  return expand_floats(lanes_of_bits(live), values + packed);
+#else
+  (void)packed, (void)live;
+  return load_floats(values + s);
+#endif
+}
+
 // How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and
 // kd alone (broadcast, the rest lengths loaded), or the whole law (broadcast).
 enum class LawShare { kNone, kStiffness, kAll };
 
 // The block's law on the lanes, as spring_law gives it per lane: law the lead lane's.
 template <LawShare Share>
-void block_law_lanes(const SpringArrays& arrays, std::size_t s, const float (&law)[3],
-                     Floats (&lanes_law)[3]) {
+void block_law_lanes(const SpringArrays& arrays, std::size_t s, std::size_t packed, uint32_t live,
+                     const float (&law)[3], Floats (&lanes_law)[3]) {
   if constexpr (Share == LawShare::kAll) {
     float one[3];
     spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
     for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
   } else if constexpr (Share == LawShare::kStiffness) {
-    spring_law(load_floats(arrays.rest + s), broadcast(law[1]), broadcast(law[2]),
+    spring_law(law_floats(arrays.rest, s, packed, live), broadcast(law[1]), broadcast(law[2]),
                kLanesInverseSqrtScale, lanes_law);
   } else {
-    spring_law(load_floats(arrays.rest + s), load_floats(arrays.ks + s), load_floats(arrays.kd + s),
-               kLanesInverseSqrtScale, lanes_law);
+    spring_law(law_floats(arrays.rest, s, packed, live), law_floats(arrays.ks, s, packed, live),
+               law_floats(arrays.kd, s, packed, live), kLanesInverseSqrtScale, lanes_law);
   }
 }
 
@@ -312,7 +367,8 @@ void block_law_lanes(const SpringArrays& arrays, std::size_t s, const float (&la
 template <bool Damped, bool InOrder, LawShare Share>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
                         uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
-                        const SpringArrays& arrays, float* force, std::size_t slots) {
+                        std::size_t packed, const SpringArrays& arrays, float* force,
+                        std::size_t force_stride) {
   Floats d[3], dv[3] = {};
   if constexpr (InOrder) {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -329,15 +385,15 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
     }
   }
   Floats lanes_law[3];
-  block_law_lanes<Share>(arrays, s, law, lanes_law);
+  block_law_lanes<Share>(arrays, s, packed, live, law, lanes_law);
   const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_law);
   if (live != kAllLive) {
     const LaneMask lanes = lanes_of_bits(live);
     for (std::size_t k = 0; k < 3; ++k)
-      store_floats(force + k * slots + s, keep(lanes, scale * d[k]));
+      store_floats(force + k * force_stride, keep(lanes, scale * d[k]));
     return;
   }
-  for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * slots + s, scale * d[k]);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * force_stride, scale * d[k]);
 }
 
 // definite_products' block from slot s, its ends in order or gathered, its law shared as Share
@@ -346,8 +402,8 @@ template <bool InOrder, LawShare Share>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
                           std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
-                          uint32_t live, const SpringArrays& arrays, float* product,
-                          std::size_t slots) {
+                          uint32_t live, std::size_t packed, const SpringArrays& arrays,
+                          float* product, std::size_t product_stride) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
   if constexpr (InOrder) {
     mass_first = load_floats(inverse_mass + first);
@@ -375,10 +431,11 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   if constexpr (Share == LawShare::kAll) {
     rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
   } else if constexpr (Share == LawShare::kStiffness) {
-    rest = load_floats(arrays.rest + s), ks = broadcast(law[1]), kd = broadcast(law[2]);
+    rest = law_floats(arrays.rest, s, packed, live), ks = broadcast(law[1]);
+    kd = broadcast(law[2]);
   } else {
-    rest = load_floats(arrays.rest + s), ks = load_floats(arrays.ks + s);
-    kd = load_floats(arrays.kd + s);
+    rest = law_floats(arrays.rest, s, packed, live), ks = law_floats(arrays.ks, s, packed, live);
+    kd = law_floats(arrays.kd, s, packed, live);
   }
   const Floats scale_x = broadcast(c_x);
   Floats across, along;
@@ -391,7 +448,7 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
     const LaneMask lanes = lanes_of_bits(live);
     for (Floats& value : out) value = keep(lanes, value);
   }
-  for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * slots + s, out[k]);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * product_stride, out[k]);
 }
 
 // Calls block(InOrder, Share) with the block's kind as compile-time constants.
@@ -419,19 +476,25 @@ void with_block_kind(bool in_order, bool one_law, bool one_stiffness, const Bloc
 
 template <class Real>
 void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin,
-                               std::size_t end, Real* force) const {
+                               std::size_t end, Real* force, std::size_t force_stride) const {
   const bool damped = v != nullptr && damped_count_ > 0;
   for (std::size_t b = begin; b < end; ++b) {
+    Real* out = force + (b - begin) * kSpringBlock;
     // Dead slots join particles that may not be finite: they write 0 whatever the state.
     if ((block_kind_[b] & kNoSpring) != 0) {
       for (std::size_t k = 0; k < 3; ++k)
-        std::fill_n(force + k * slots() + b * kSpringBlock, kSpringBlock, Real(0));
+        std::fill_n(out + k * force_stride, kSpringBlock, Real(0));
       continue;
     }
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                                packed_kd_.data()};
+#else
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+#endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const std::size_t s = b * kSpringBlock;
@@ -439,23 +502,23 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
       with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
         if (damped)
-          spring_block_lanes<true, ends_in_order(), shared()>(x, v, stride, s, block_first_[b],
-                                                              block_second_[b], law, block_live_[b],
-                                                              arrays, force, slots());
+          spring_block_lanes<true, ends_in_order(), shared()>(
+              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
+              block_packed_[b], arrays, out, force_stride);
         else
           spring_block_lanes<false, ends_in_order(), shared()>(
-              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b], arrays,
-              force, slots());
+              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
+              block_packed_[b], arrays, out, force_stride);
       });
       continue;
     }
 #endif
     if (damped)
       spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                        kd_.data(), dead_slots, slots(), force);
+                                        kd_.data(), dead_slots, out, force_stride);
     else
       spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                         kd_.data(), dead_slots, slots(), force);
+                                         kd_.data(), dead_slots, out, force_stride);
   }
 }
 
@@ -477,17 +540,23 @@ template <class Real>
 void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_length, Real c_x,
                                           Real c_v, const Real* u, const Real* inverse_mass,
                                           std::size_t stride, std::size_t begin, std::size_t end,
-                                          Real* product) const {
+                                          Real* product, std::size_t product_stride) const {
   for (std::size_t b = begin; b < end; ++b) {
+    Real* out = product + (b - begin) * kSpringBlock;
     if ((block_kind_[b] & kNoSpring) != 0) {
       for (std::size_t k = 0; k < 3; ++k)
-        std::fill_n(product + k * slots() + b * kSpringBlock, kSpringBlock, Real(0));
+        std::fill_n(out + k * product_stride, kSpringBlock, Real(0));
       continue;
     }
     const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                                packed_kd_.data()};
+#else
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+#endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
       const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
@@ -495,12 +564,12 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
         definite_block_lanes<ends_in_order(), shared()>(
             x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
-            block_second_[b], law, block_live_[b], arrays, product, slots());
+            block_second_[b], law, block_live_[b], block_packed_[b], arrays, out, product_stride);
       });
       continue;
     }
 #endif
-    for (std::size_t s = b * kSpringBlock; s < (b + 1) * kSpringBlock; ++s) {
+    for (std::size_t s = b * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
       const std::size_t i = first_[s], j = second_[s];
       Real d[3], du[3];
       for (std::size_t k = 0; k < 3; ++k) {
@@ -514,7 +583,7 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
       const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
       for (std::size_t k = 0; k < 3; ++k)
-        product[k * slots() + s] = dead ? Real(0) : across * du[k] + along * d[k];
+        out[k * product_stride + l] = dead ? Real(0) : across * du[k] + along * d[k];
     }
   }
 }

@@ -16,7 +16,8 @@
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 namespace {
 
-constexpr std::size_t kChunk = 1024;  // items per thread work item
+constexpr std::size_t kChunk = 1024;                  // items per thread work item
+constexpr std::size_t kTile = kChunk / kSpringBlock;  // particle blocks per sweep tile
 
 std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk; }
 
@@ -26,7 +27,7 @@ std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk;
 inline void wind_block_lanes(const float* x, std::size_t stride,
                              const uint32_t* const (&corners)[3], std::size_t t,
                              const Floats (&pressure)[3], uint32_t live, float* share,
-                             std::size_t slots) {
+                             std::size_t share_stride) {
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
     const float* component = x + k * stride;
@@ -36,7 +37,7 @@ inline void wind_block_lanes(const float* x, std::size_t stride,
   }
   triangle_wind_share(e1, e2, pressure, out);
   const LaneMask lanes = lanes_of_bits(live);
-  for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * slots + t, keep(lanes, out[k]));
+  for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * share_stride, keep(lanes, out[k]));
 }
 #endif
 
@@ -52,10 +53,12 @@ SpringListForces<Real>::SpringListForces(const ClothModel& model, const Scene& s
       threads_(threads),
       parallel_(parallel),
       velocity_forces_(velocity_forces),
-      springs_(model, velocity_forces),
+      springs_(model, velocity_forces, kTile),
       spring_count_(model.spring_count()),
       triangle_count_(model.triangle_count()) {
   spring_force_ = AlignedBuffer<Real>(3 * springs_.slots());
+  spring_rings_ =
+      AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 3 * springs_.ring_slots());
 
   Real wind_direction[3];
   for (int k = 0; k < 3; ++k) {
@@ -85,9 +88,11 @@ void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
     const std::size_t low = std::min_element(corners, corners + 3) - corners;
     for (std::size_t c = 0; c < 3; ++c) rotated[3 * t + c] = corners[(low + c) % 3];
   }
-  triangles_.emplace(n_, rotated, 3, 0u);
+  triangles_.emplace(n_, rotated, 3, 0u, kTile);
   const std::size_t slots = triangles_->slots();
   triangle_share_ = AlignedBuffer<Real>(3 * slots);
+  triangle_rings_ =
+      AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * 3 * triangles_->ring_slots());
   triangle_live_.assign(triangles_->slot_blocks(), 0);
   for (std::size_t s = 0; s < slots; ++s)
     if (triangles_->item_in(s) != triangle_count_)
@@ -122,23 +127,26 @@ template <class Real>
 Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a, bool triangles,
                                           double& triangle_seconds, const TileEpilogue* after) {
   Real check = 0;
-  const std::size_t tile = kChunk / kSpringBlock;
-  const auto shares = [&](std::size_t begin, std::size_t end) {
-    if (omp_get_thread_num() != 0) return triangle_shares(x, v, begin, end);
+  const auto shares = [&](std::size_t begin, std::size_t end, Real* out, std::size_t out_stride) {
+    if (omp_get_thread_num() != 0) return triangle_shares(x, v, begin, end, out, out_stride);
     const auto start = std::chrono::steady_clock::now();
-    triangle_shares(x, v, begin, end);
+    triangle_shares(x, v, begin, end, out, out_stride);
     triangle_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
+  const SlotBuffers<Real> spring_slots{spring_force_.data(), spring_rings_.data()};
+  const SlotBuffers<Real> triangle_slots{triangle_share_.data(), triangle_rings_.data()};
   springs_.sweep(
-      tile, threads_, parallel_,
-      [&](std::size_t begin, std::size_t end) {
-        springs_.forces(x, v, stride_, begin, end, spring_force_.data());
+      threads_, parallel_, spring_slots,
+      [&](std::size_t begin, std::size_t end, Real* out, std::size_t out_stride) {
+        springs_.forces(x, v, stride_, begin, end, out, out_stride);
       },
-      [&](std::size_t, std::size_t begin, std::size_t end) {
+      [&](std::size_t, std::size_t begin, std::size_t end, const Real* ring,
+          const Real* triangle_ring) {
         Real tile_check = 0;
         for (std::size_t block = begin; block < end; ++block)
-          tile_check += gather_block(block, a, true, triangles);
+          tile_check +=
+              gather_block(block, a, ring, triangles ? triangle_ring : nullptr, true, triangles);
         if (after != nullptr) {
           const std::size_t first = begin * kSpringBlock;
           const std::size_t count = std::min(n_, end * kSpringBlock) - first;
@@ -152,7 +160,7 @@ Real SpringListForces<Real>::spring_sweep(const Real* x, const Real* v, Real* a,
 #pragma omp atomic
         check += tile_check;
       },
-      triangles ? &*triangles_ : nullptr, &shares);
+      triangles ? &*triangles_ : nullptr, &triangle_slots, &shares);
   return check;
 }
 
@@ -164,14 +172,17 @@ void SpringListForces<Real>::triangle_pass(const Real* x, const Real* v) {
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
   for (std::ptrdiff_t chunk = 0; chunk < chunks; ++chunk) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * chunk_blocks;
-    triangle_shares(x, v, begin, std::min(blocks, begin + chunk_blocks));
+    const std::size_t end = std::min(blocks, begin + chunk_blocks);
+    triangle_shares(x, v, begin, end, triangle_share_.data() + begin * kSpringBlock,
+                    triangles_->slots());
   }
 }
 
 template <class Real>
 void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::size_t begin,
-                                             std::size_t end) {
-  const std::size_t s1 = stride_, s2 = 2 * stride_, slots = triangles_->slots();
+                                             std::size_t end, Real* out,
+                                             std::size_t out_stride) const {
+  const std::size_t s1 = stride_, s2 = 2 * stride_;
   const Real third = Real(1) / Real(3);
   const uint32_t* const corners[3] = {triangles_->ends(0), triangles_->ends(1),
                                       triangles_->ends(2)};
@@ -182,22 +193,23 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
     for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_wind_pressure_[k]);
 #endif
   for (std::size_t block = begin; block < end; ++block) {
+    Real* share_out = out + (block - begin) * kSpringBlock;
     if (triangle_live_[block] == 0) {
       // Dead slots join particles that may not be finite: they give 0 whatever the state.
       for (std::size_t k = 0; k < 3; ++k)
-        std::fill_n(&triangle_share_[k * slots + block * kSpringBlock], kSpringBlock, Real(0));
+        std::fill_n(share_out + k * out_stride, kSpringBlock, Real(0));
       continue;
     }
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       if (!air_ && triangles_->ends_in_order(block)) {
         wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure, triangle_live_[block],
-                         triangle_share_.data(), slots);
+                         share_out, out_stride);
         continue;
       }
     }
 #endif
-    for (std::size_t t = block * kSpringBlock; t < (block + 1) * kSpringBlock; ++t) {
+    for (std::size_t t = block * kSpringBlock, l = 0; l < kSpringBlock; ++t, ++l) {
       Real share[3] = {0, 0, 0};
       if ((triangle_live_[block] >> (t % kSpringBlock) & 1u) != 0) {
         const std::size_t a = corner_a[t], b = corner_b[t], c = corner_c[t];
@@ -217,19 +229,20 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
           for (int k = 0; k < 3; ++k) share[k] += air[k];
         }
       }
-      for (std::size_t k = 0; k < 3; ++k) triangle_share_[k * slots + t] = share[k];
+      for (std::size_t k = 0; k < 3; ++k) share_out[k * out_stride + l] = share[k];
     }
   }
 }
 
 template <class Real>
-Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, bool springs,
+Real SpringListForces<Real>::gather_block(std::size_t block, Real* a, const Real* spring_ring,
+                                          const Real* triangle_ring, bool springs,
                                           bool triangles) const {
   alignas(kAlignment) Real force[3][kSpringBlock] = {};
-  if (springs) springs_.sum_incident(spring_force_.data(), block, force);
+  if (springs) springs_.sum_incident(spring_force_.data(), spring_ring, block, force);
   const std::size_t first = block * kSpringBlock;
   const std::size_t count = std::min(kSpringBlock, n_ - first);
-  if (triangles) triangles_->sum_incident(triangle_share_.data(), block, force);
+  if (triangles) triangles_->sum_incident(triangle_share_.data(), triangle_ring, block, force);
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     if (count == kSpringBlock) {
@@ -268,7 +281,7 @@ Real SpringListForces<Real>::gather_external(Real* a, bool triangles) {
     const std::size_t begin = static_cast<std::size_t>(chunk) * (kChunk / kSpringBlock);
     const std::size_t end = std::min(blocks, begin + kChunk / kSpringBlock);
     for (std::size_t block = begin; block < end; ++block)
-      check += gather_block(block, a, false, triangles);
+      check += gather_block(block, a, nullptr, nullptr, false, triangles);
   }
   return check;
 }

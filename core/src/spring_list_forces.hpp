@@ -76,8 +76,10 @@ class SpringListForces {
   // of LaneBands: on a mesh numbered along rows, bands whose corners follow in order.
   void lay_out_triangles(const ClothModel& model);
   void triangle_pass(const Real* x, const Real* v);
-  // The wind and air shares of the triangle slot blocks [begin, end).
-  void triangle_shares(const Real* x, const Real* v, std::size_t begin, std::size_t end);
+  // The wind and air shares of the triangle slot blocks [begin, end), component k of slot
+  // begin * kSpringBlock + i to out[k * out_stride + i].
+  void triangle_shares(const Real* x, const Real* v, std::size_t begin, std::size_t end, Real* out,
+                       std::size_t out_stride) const;
   // The springs' forces (and the triangles' shares) and the particles' sums of them, tile by
   // tile (LaneBands::sweep); returns the sum of 0 * a (NaN when some a is not finite), and adds
   // thread 0's time on the triangles to triangle_seconds.
@@ -85,8 +87,10 @@ class SpringListForces {
                     const TileEpilogue* after);
   // The triangles' shares alone into accelerations; returns as spring_sweep.
   Real gather_external(Real* a, bool triangles);
-  // Particle block b's sum into accelerations; returns its sum of 0 * a.
-  Real gather_block(std::size_t block, Real* a, bool springs, bool triangles) const;
+  // Particle block b's sum into accelerations (the bands' slots from the rings where given, a
+  // sweep's); returns its sum of 0 * a.
+  Real gather_block(std::size_t block, Real* a, const Real* spring_ring, const Real* triangle_ring,
+                    bool springs, bool triangles) const;
 
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
@@ -114,6 +118,7 @@ class SpringListForces {
   AlignedBuffer<Real> spring_force_;  // by slot (SpringLanes): the force on the first particle
   // By triangle slot, laid out as spring_force_: the force on each of the triangle's corners.
   AlignedBuffer<Real> triangle_share_;
+  AlignedBuffer<Real> spring_rings_, triangle_rings_;  // per thread (SlotBuffers)
   AlignedBuffer<Real> formed_x_, formed_v_;
   uint32_t reserved_stages_ = 0;
   std::vector<AlignedBuffer<Real>> stage_a_;  // the stages' accelerations

@@ -61,8 +61,8 @@ void SpringJacobian<Real>::list_spring_products(const Real* u, Block&& block) co
 
 template <class Real>
 template <bool Shifted>
-double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, std::size_t begin,
-                                                std::size_t end) const {
+double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, const Real* ring,
+                                                std::size_t begin, std::size_t end) const {
   const SpringLanes<Real>& lanes = *spring_lanes_;
   double dot = 0.0;
 #if defined(CLOTHLAB_FLOAT_LANES)
@@ -70,7 +70,7 @@ double SpringJacobian<Real>::list_gather_blocks(const Real* u, Real* out, std::s
 #endif
   for (std::size_t block = begin; block < end; ++block) {
     alignas(kAlignment) Real sum[3][kSpringBlock];
-    lanes.sum_incident(spring_products_.data(), block, sum);
+    lanes.sum_incident(spring_products_.data(), ring, block, sum);
     const std::size_t first = block * kSpringBlock;
     const std::size_t count = std::min(kSpringBlock, n_ - first);
 #if defined(CLOTHLAB_FLOAT_LANES)
@@ -123,13 +123,13 @@ void SpringJacobian<Real>::list_apply(const Real* x, const Real* v, const Weight
     const SpringLanes<Real>& lanes = *spring_lanes_;
     const auto c_x = static_cast<Real>(w.c_x), c_v = static_cast<Real>(w.damped ? w.c_v : 0.0);
     lanes.sweep(
-        kChunkBlocks, threads_, parallel_,
-        [&](std::size_t begin, std::size_t end) {
+        threads_, parallel_, SlotBuffers<Real>{spring_products_.data(), spring_rings_.data()},
+        [&](std::size_t begin, std::size_t end, Real* product, std::size_t product_stride) {
           lanes.definite_products(x, spring_inverse_length_.data(), c_x, c_v, u, inverse_mass_,
-                                  stride_, begin, end, spring_products_.data());
+                                  stride_, begin, end, product, product_stride);
         },
-        [&](std::size_t tile, std::size_t begin, std::size_t end) {
-          row_dots_[tile] = list_gather_blocks<true>(u, out, begin, end);
+        [&](std::size_t tile, std::size_t begin, std::size_t end, const Real* ring, const Real*) {
+          row_dots_[tile] = list_gather_blocks<true>(u, out, ring, begin, end);
         });
   } else {
     Weights form = w;
@@ -143,7 +143,7 @@ void SpringJacobian<Real>::list_apply(const Real* x, const Real* v, const Weight
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel_)
     for (std::ptrdiff_t chunk = 0; chunk < chunks_of(n_); ++chunk) {
       const std::size_t begin = static_cast<std::size_t>(chunk) * kChunkBlocks;
-      list_gather_blocks<false>(u, out, begin, std::min(blocks, begin + kChunkBlocks));
+      list_gather_blocks<false>(u, out, nullptr, begin, std::min(blocks, begin + kChunkBlocks));
     }
   }
 }

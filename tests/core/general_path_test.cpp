@@ -88,9 +88,10 @@ Scene airy_scene(uint32_t rows, uint32_t cols) {
 }
 
 TEST(GeneralPath, ForcesAgreeWithTheGridPipeline) {
-  // 6 x 40: rows wide enough for whole blocks of triangles in order (the wind on lanes).
+  // 6 x 40: rows wide enough for whole blocks of triangles in order (the wind on lanes); 40 x 90:
+  // several of the sweep's tiles, so each band's ring of slots wraps (LaneBands::sweep).
   for (const Scene& scene : {testing::busy_scene(9, 11), testing::busy_scene(6, 40),
-                             airy_scene(7, 20), airy_scene(30, 6)}) {
+                             airy_scene(7, 20), airy_scene(30, 6), testing::busy_scene(40, 90)}) {
     for (Precision precision : {Precision::Float64, Precision::Float32}) {
       SCOPED_TRACE(std::to_string(scene.rows) + "x" + std::to_string(scene.cols) + " " +
                    to_string(precision));
