@@ -671,9 +671,10 @@ TEST(Multigrid, CoarsensAsFarAsAsked) {
 
 // A rows x cols Provot net (structural, shear, flexion springs) 5 cm apart in a tilted plane,
 // hanging from its top corners, offered as a grid.
-struct GridNet {
+template <class Real>
+struct GridNetOf {
   static constexpr double kSpacing = 0.05;
-  GridNet(uint32_t rows, uint32_t cols, bool on_grid = true)
+  GridNetOf(uint32_t rows, uint32_t cols, bool on_grid = true)
       : host(rows * cols, {0, cols - 1}, provot_net_springs(rows, cols, kSpacing, 5e3, 50.0, 0.05),
              {0, -9.81, 0}) {
     for (uint32_t r = 0; r < rows; ++r)
@@ -682,8 +683,9 @@ struct GridNet {
                                                   0.6 * kSpacing * r + 0.01 * std::sin(c)});
     if (on_grid) host.set_grid(rows, cols, kSpacing, {});
   }
-  SpringHost<double> host;
+  SpringHost<Real> host;
 };
+using GridNet = GridNetOf<double>;
 
 // The matrix the plugin assembles by probing is M (I + J) for the host's definite J: its
 // product with a vector against M (u + J u) from the host's own product.
@@ -936,6 +938,52 @@ TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetr
   EXPECT_LT(std::abs(r1z2 - r2z1), 1e-10 * std::abs(r1z2));
   EXPECT_GT(mass_dot(r1, z1), 0.0);
   EXPECT_GT(mass_dot(r2, z2), 0.0);
+}
+
+// A float32 system's V-cycle (D^-1 kept in single precision, the fine passes over its float
+// products, the coarse levels in float lanes) gives the float64 system's z = B M r for the same
+// cloth and r to single precision's rounding.
+TEST(Multigrid, TheSinglePrecisionCycleIsTheDoubleOneToRounding) {
+  constexpr uint32_t kRows = 21, kCols = 13;
+  const double h = 1.0 / 60.0;
+  std::vector<double> r_values(3 * kRows * kCols);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  for (double& value : r_values) value = uniform(random);  // exact in both precisions
+  const auto cycle = [&](auto zero) {
+    using Real = decltype(zero);
+    GridNetOf<Real> net(kRows, kCols);
+    MockSystem<Real>& mock = net.host.system();
+    const sdk::System<Real> system(mock.raw());
+    mock.allocation_allowed = true;
+    builtin::MultigridPreconditioner preconditioner(system, 0, 2);
+    Real* r = system.alloc_vector();
+    Real* z = system.alloc_vector();
+    mock.allocation_allowed = false;
+    const auto product = [&](const Real* in, Real* out) {
+      system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+    };
+    preconditioner.linearise(system, product);
+    EXPECT_GT(preconditioner.hierarchy().level_count(), 2u);
+    const std::size_t stride = system.stride();
+    for (std::size_t i = 0; i < kRows * kCols; ++i)
+      for (std::size_t d = 0; d < 3; ++d)
+        r[d * stride + i] = static_cast<Real>(r_values[3 * i + d]);
+    std::fill_n(z, 3 * stride, Real{0});
+    preconditioner.apply(system, r, z, product);
+    std::vector<double> out(3 * kRows * kCols);
+    for (std::size_t i = 0; i < kRows * kCols; ++i)
+      for (std::size_t d = 0; d < 3; ++d) out[3 * i + d] = z[d * stride + i];
+    return out;
+  };
+  const std::vector<double> single = cycle(0.0f), exact = cycle(0.0);
+  double size = 0.0, difference = 0.0;
+  for (std::size_t k = 0; k < exact.size(); ++k) {
+    size = std::max(size, std::abs(exact[k]));
+    difference = std::max(difference, std::abs(single[k] - exact[k]));
+  }
+  ASSERT_GT(size, 1e-3);
+  EXPECT_LT(difference, 1e-5 * size) << "largest |z| " << size;
 }
 
 // The multigrid-preconditioned CG splits the V-cycle's passes (the fine level's vector
