@@ -51,6 +51,13 @@
 
 namespace clothlab::builtin {
 
+// The preconditioner's levels keep every third node of the one above (multigrid_transfer.hpp):
+// level 1 has 1/9 of the fine nodes, where every other node would keep 1/4, and the coarse
+// levels' passes, which stream their stored blocks, cost that much less; on the cotton flag CG
+// takes about 1.4 times the iterations, for a cheaper solve (docs/results.md, "Multigrid").
+// projective_dynamics' V-cycles, a solver of their own, keep every other node.
+constexpr int kPreconditionerCoarsening = 3;
+
 class MultigridPreconditioner {
  public:
   // From `prepare`: one-line sdk::Error where the cloth is no grid, a spring reaches further
@@ -63,11 +70,12 @@ class MultigridPreconditioner {
                           long rebuild_interval = 1,
                           std::optional<clothlab_block_pattern> block_pattern = std::nullopt)
       : rebuild_interval_(rebuild_interval),
-        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
+        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1",
+                                    kPreconditionerCoarsening),
                    fixed_particles(system),
                    block_pattern ? GridLevel::Blocks::none : GridLevel::Blocks::single,
                    std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
-                   Smoothing::chebyshev),
+                   Smoothing::chebyshev, kPreconditionerCoarsening),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         sweeps_(sweeps),

@@ -115,14 +115,16 @@ struct ClothMatrix {
   std::map<std::pair<int, int>, Eigen::Matrix3d> blocks;  // (i, j): S_ij, the nonzero ones
 };
 
-// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes,
-// its single levels smoothed in `lanes`' precision.
+// The hierarchy for the cloth's matrix, coarsened (every `coarsening`-th node) while a level has
+// more than `coarsest` nodes, its single levels smoothed in `lanes`' precision.
 MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest,
                                  builtin::LanePrecision lanes = builtin::LanePrecision::float64,
-                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel) {
-  MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
-                                                    static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, GridLevel::Blocks::single, lanes, smoothing);
+                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel,
+                                 int coarsening = builtin::kMinCoarsening) {
+  MultigridHierarchy hierarchy(
+      builtin::plan_levels(static_cast<uint32_t>(cloth.rows), static_cast<uint32_t>(cloth.cols),
+                           coarsest, coarsening),
+      cloth.fixed, GridLevel::Blocks::single, lanes, smoothing, coarsening);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
@@ -169,21 +171,27 @@ class VCyclePreconditioner {
 };
 
 // The bilinear prolongation written out from its definition (multigrid_transfer.hpp): along an
-// axis of n nodes, coarse node k on fine node min(2k, n - 1); a fine node between two coarse
-// ones takes 1/2 of each; no weight into or out of a fixed node.
-SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t>& fixed) {
-  const auto axis_weights = [](int n, int f) {
+// axis of n nodes, coarse node k on fine node min(m k, n - 1) for every m-th node kept, and
+// its weight at fine node f the hat function that is 1 there and falls linearly to 0 at its
+// neighbours' fine nodes; no weight into or out of a fixed node.
+SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t>& fixed,
+                                   int m = 2) {
+  const auto coarse_count = [m](int n) { return (n - 2) / m + 2; };
+  const auto axis_weights = [&](int n, int f) {
     std::vector<std::pair<int, double>> out;
-    const int coarse = n / 2 + 1;
+    const int coarse = coarse_count(n);
+    const auto at = [&](int k) { return std::min(m * k, n - 1); };
     for (int k = 0; k < coarse; ++k) {
-      const int at = std::min(2 * k, n - 1);
-      if (at == f) return std::vector<std::pair<int, double>>{{k, 1.0}};
-      if (std::abs(at - f) == 1) out.emplace_back(k, 0.5);
+      if (at(k) == f) return std::vector<std::pair<int, double>>{{k, 1.0}};
+      if (k > 0 && at(k - 1) < f && f < at(k))
+        out.emplace_back(k, 1.0 - static_cast<double>(at(k) - f) / (at(k) - at(k - 1)));
+      if (k + 1 < coarse && at(k) < f && f < at(k + 1))
+        out.emplace_back(k, 1.0 - static_cast<double>(f - at(k)) / (at(k + 1) - at(k)));
     }
     return out;
   };
-  const int coarse_cols = cols / 2 + 1;
-  std::vector<uint8_t> coarse_fixed(static_cast<std::size_t>((rows / 2 + 1) * coarse_cols), 0);
+  const int coarse_cols = coarse_count(cols);
+  std::vector<uint8_t> coarse_fixed(static_cast<std::size_t>(coarse_count(rows) * coarse_cols), 0);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const auto wr = axis_weights(rows, r), wc = axis_weights(cols, c);
@@ -202,7 +210,7 @@ SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t
             entries.emplace_back(3 * (r * cols + c) + d, 3 * coarse + d, w1 * w2);
         }
     }
-  SparseMatrix p(3 * rows * cols, 3 * (rows / 2 + 1) * coarse_cols);
+  SparseMatrix p(3 * rows * cols, 3 * coarse_count(rows) * coarse_cols);
   p.setFromTriplets(entries.begin(), entries.end());
   return p;
 }
@@ -229,20 +237,38 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
   return out;
 }
 
-// Even and odd sides both: an even axis ends in a coarse interval of one fine spacing.
+// Even and odd sides both, every other and every third node kept: an axis may end in a
+// shorter coarse interval (one fine spacing, or two).
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
-  // 20 x 7: more coarse rows than one band of the threaded product.
-  for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}}) {
-    ClothMatrix cloth(rows, cols, 30.0);
-    MultigridHierarchy hierarchy = hierarchy_for(cloth, rows * cols - 1);  // two levels
-    ASSERT_EQ(hierarchy.level_count(), 2u);
-    const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed);
-    Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
-    const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
-    const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
-    EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm()) << rows << " x " << cols;
-    EXPECT_GT(expected.norm(), 0.0);
-  }
+  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product.
+  for (const int m : {2, 3})
+    for (const auto& [rows, cols] :
+         {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}, std::pair{26, 7}}) {
+      ClothMatrix cloth(rows, cols, 30.0);
+      MultigridHierarchy hierarchy =
+          hierarchy_for(cloth, rows * cols - 1, builtin::LanePrecision::float64,
+                        builtin::Smoothing::gauss_seidel, m);
+      ASSERT_EQ(hierarchy.level_count(), 2u);  // two levels
+      const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed, m);
+      Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
+      const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
+      const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
+      ASSERT_EQ(coarse.rows(), expected.rows()) << m << ": " << rows << " x " << cols;
+      EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm())
+          << m << ": " << rows << " x " << cols;
+      EXPECT_GT(expected.norm(), 0.0);
+      // The restriction is P's transpose.
+      const Eigen::VectorXd r = cloth.rhs(4);
+      std::vector<double> restricted(3 * hierarchy.level(1).node_count());
+      hierarchy.transfer(0).restrict_to(hierarchy.level(0), r.data(), hierarchy.level(1),
+                                        restricted.data());
+      const Eigen::VectorXd expected_restricted = p.transpose() * r;
+      double worst = 0.0;
+      for (Eigen::Index k = 0; k < expected_restricted.size(); ++k)
+        worst = std::max(
+            worst, std::abs(restricted[static_cast<std::size_t>(k)] - expected_restricted(k)));
+      EXPECT_LT(worst, 1e-12 * expected_restricted.norm()) << m << ": " << rows << " x " << cols;
+    }
 }
 
 // The largest difference between two levels' blocks.
@@ -258,21 +284,24 @@ double level_difference(const GridLevel& a, const GridLevel& b) {
 // summed in the fine rows' order: 1, 2 and 3 threads give the same bits (65 x 65: the fine level
 // splits; its 33 coarse rows make five bands).
 TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
-  ClothMatrix cloth(65, 65, 30.0);
-  MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000);
-  ASSERT_EQ(hierarchy.level(1).rows(), 33);
-  ASSERT_TRUE(hierarchy.level(0).splits(2));
-  hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
-  const GridLevel one_thread = hierarchy.level(1);
-  for (int threads : {2, 3}) {
-    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
-    const GridLevel& coarse = hierarchy.level(1);
-    for (int r = 0; r < coarse.rows(); ++r)
-      for (int c = 0; c < coarse.cols(); ++c)
-        for (int e = 0; e < 9; ++e)
-          ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
-              << threads << " threads, node " << r << " x " << c;
-    EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+  for (const int m : {2, 3}) {  // 33 or 23 coarse rows: five or three bands
+    ClothMatrix cloth(65, 65, 30.0);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000, builtin::LanePrecision::float64,
+                                                 builtin::Smoothing::gauss_seidel, m);
+    ASSERT_EQ(hierarchy.level(1).rows(), m == 2 ? 33 : 23);
+    ASSERT_TRUE(hierarchy.level(0).splits(2));
+    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
+    const GridLevel one_thread = hierarchy.level(1);
+    for (int threads : {2, 3}) {
+      hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      const GridLevel& coarse = hierarchy.level(1);
+      for (int r = 0; r < coarse.rows(); ++r)
+        for (int c = 0; c < coarse.cols(); ++c)
+          for (int e = 0; e < 9; ++e)
+            ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
+                << threads << " threads, node " << r << " x " << c;
+      EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+    }
   }
 }
 
