@@ -1,5 +1,6 @@
 // The multigrid hierarchy on a rows x cols grid: the fine level (its matrix filled by the
-// caller), coarser levels each with every other node along both axes (multigrid_transfer.hpp),
+// caller), coarser levels each with every other or every third node along both axes
+// (multigrid_transfer.hpp),
 // their Galerkin operators R A P, the smoothers (coloured Gauss-Seidel, multigrid_smoother.hpp,
 // or Chebyshev on block-Jacobi, multigrid_chebyshev.hpp) and the coarsest level's Cholesky
 // factor. All storage is sized when the hierarchy is built; `rebuild` after a

@@ -181,7 +181,8 @@ class GridTransfer {
   template <class Owned, class RowBlocks>
   void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, bool once,
                     const Owned& owned, RowBlocks& row_blocks) const {
-    // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
+    // f's A P row lies within 2 coarse rows/cols of f's first parent: each g of the row is at
+    // most one coarse interval from f.
     const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
