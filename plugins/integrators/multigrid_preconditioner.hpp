@@ -51,10 +51,11 @@
 
 namespace clothlab::builtin {
 
-// The preconditioner's levels keep every third node of the one above (multigrid_transfer.hpp):
-// level 1 has 1/9 of the fine nodes, where every other node would keep 1/4, and the coarse
-// levels' passes, which stream their stored blocks, cost that much less; on the cotton flag CG
-// takes about 1.4 times the iterations, for a cheaper solve (docs/results.md, "Multigrid").
+// The preconditioner's default coarsening (implicit_euler's `multigrid_coarsening`): each
+// level keeps every third node of the one above (multigrid_transfer.hpp), so level 1 has 1/9
+// of the fine nodes where every other node would keep 1/4, and the coarse levels' passes,
+// which stream their stored blocks, cost that much less; on the cotton flag CG takes 1.4 to 1.5
+// times the iterations, for a cheaper solve (docs/results.md, "Multigrid").
 // projective_dynamics' V-cycles, a solver of their own, keep every other node.
 constexpr int kPreconditionerCoarsening = 3;
 
@@ -64,18 +65,18 @@ class MultigridPreconditioner {
   // than two spacings, the grid does not coarsen far enough (plan_levels), or block_pattern
   // disagrees with the grid. block_pattern: the host's (clothlab.jacobian/1), where the solves'
   // fine blocks come from `prepare_solve`'s blocks (the host's table of the definite Jacobian);
-  // nothing: from probing the product.
+  // nothing: from probing the product. coarsening: every m-th node kept per level.
   template <class Real>
   MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps,
                           long rebuild_interval = 1,
-                          std::optional<clothlab_block_pattern> block_pattern = std::nullopt)
+                          std::optional<clothlab_block_pattern> block_pattern = std::nullopt,
+                          int coarsening = kPreconditionerCoarsening)
       : rebuild_interval_(rebuild_interval),
-        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1",
-                                    kPreconditionerCoarsening),
+        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1", coarsening),
                    fixed_particles(system),
                    block_pattern ? GridLevel::Blocks::none : GridLevel::Blocks::single,
                    std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
-                   Smoothing::chebyshev, kPreconditionerCoarsening),
+                   Smoothing::chebyshev, coarsening),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         sweeps_(sweeps),

@@ -1147,6 +1147,47 @@ TEST(Multigrid, ImplicitEulerRefusesASmoothingBudgetOutOfRange) {
   }
 }
 
+// multigrid_coarsening reaches the hierarchy: every other node kept (2) takes fewer CG
+// iterations than every third (3) on the same steps, both solved tightly to the same state.
+TEST(Multigrid, ImplicitEulerCoarsensByItsSetting) {
+  std::vector<Vec3> positions[2];
+  uint64_t iterations[2] = {0, 0};
+  for (const int m : {2, 3}) {
+    GridNet net(40, 40);
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid", 1.0)
+        .with("multigrid_coarsening", m)
+        .with("multigrid_coarsest", 16.0)
+        .with("tolerance", 1e-10)
+        .with("max_iterations", 5000);
+    integrator.start(net.host.system());
+    for (int n = 0; n < 3; ++n) {
+      ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
+          << integrator.message();
+      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
+      ASSERT_EQ(stats.converged, 1u) << "step " << n << ", coarsening " << m;
+      iterations[m - 2] += stats.iterations;
+    }
+    for (uint32_t i = 0; i < 40 * 40; ++i)
+      positions[m - 2].push_back(net.host.system().position(i));
+  }
+  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
+  EXPECT_LT(iterations[0], iterations[1]) << iterations[0] << " vs " << iterations[1];
+}
+
+// A coarsening other than 2 or 3 is refused in one line naming the setting and its range.
+TEST(Multigrid, ImplicitEulerRefusesACoarseningOutOfRange) {
+  for (const double coarsening : {1.0, 4.0}) {
+    Integrator integrator("implicit_euler");
+    integrator.with("multigrid_coarsening", coarsening);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
+    const std::string message = integrator.message();
+    EXPECT_NE(message.find("multigrid_coarsening"), std::string::npos) << message;
+    EXPECT_NE(message.find("[2, 3]"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
   {
     GridNet net(6, 6, false);
