@@ -1059,30 +1059,43 @@ TEST(Multigrid, CgIteratesHaveTheSameBitsOnOneTwoAndThreeThreads) {
       ASSERT_EQ(iterates[t][k], iterates[0][k]) << t + 1 << " threads, entry " << k;
 }
 
+// implicit_euler's positions after `steps` steps of 1/60 s on a rows x cols net, solved tightly
+// (`configure` adds settings), and its CG iterations; every step must converge.
+struct TightSteps {
+  std::vector<Vec3> positions;
+  uint64_t iterations = 0;
+};
+template <class Configure>
+TightSteps tight_implicit_euler_steps(uint32_t rows, uint32_t cols, int steps,
+                                      Configure&& configure) {
+  TightSteps out;
+  GridNet net(rows, cols);
+  Integrator integrator("implicit_euler");
+  integrator.with("tolerance", 1e-10).with("max_iterations", 5000);
+  configure(integrator);
+  integrator.start(net.host.system());
+  for (int n = 0; n < steps; ++n) {
+    EXPECT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
+        << integrator.message();
+    const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
+    EXPECT_EQ(stats.converged, 1u) << "step " << n;
+    out.iterations += stats.iterations;
+  }
+  for (uint32_t i = 0; i < rows * cols; ++i) out.positions.push_back(net.host.system().position(i));
+  return out;
+}
+
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
 // tightly) in fewer iterations.
 TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
-  std::vector<Vec3> positions[2];
-  uint64_t iterations[2] = {0, 0};
-  for (bool multigrid : {false, true}) {
-    GridNet net(14, 17);
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid", multigrid ? 1.0 : 0.0)
-        .with("tolerance", 1e-10)
-        .with("max_iterations", 5000);
-    integrator.start(net.host.system());
-    for (int n = 0; n < 5; ++n) {
-      ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
-          << integrator.message();
-      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
-      ASSERT_EQ(stats.converged, 1u) << "step " << n << " multigrid " << multigrid;
-      iterations[multigrid] += stats.iterations;
-    }
-    for (uint32_t i = 0; i < 14 * 17; ++i)
-      positions[multigrid].push_back(net.host.system().position(i));
-  }
-  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
-  EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
+  const auto run = [](double multigrid) {
+    return tight_implicit_euler_steps(14, 17, 5,
+                                      [&](Integrator& i) { i.with("multigrid", multigrid); });
+  };
+  const TightSteps jacobi = run(0.0), multigrid = run(1.0);
+  EXPECT_LT(largest_difference(jacobi.positions, multigrid.positions), 1e-8);
+  EXPECT_LT(2 * multigrid.iterations, jacobi.iterations)
+      << multigrid.iterations << " vs " << jacobi.iterations;
 }
 
 // multigrid_rebuild = 4 builds the hierarchy (one coarsest factorisation each, in the step
@@ -1133,59 +1146,45 @@ TEST(Multigrid, ImplicitEulerRefusesARebuildIntervalOutOfRange) {
   }
 }
 
+// implicit_euler refuses `setting` at each of `values` in one line naming it and its `range`.
+void expect_implicit_euler_refuses(const std::string& setting, std::initializer_list<double> values,
+                                   const std::string& range) {
+  for (const double value : values) {
+    Integrator integrator("implicit_euler");
+    integrator.with(setting, value);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK) << setting << " = " << value;
+    const std::string message = integrator.message();
+    EXPECT_NE(message.find(setting), std::string::npos) << message;
+    EXPECT_NE(message.find(range), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 // The V-cycle's smoothing budget (Chebyshev products on the fine level, sweeps below): 0 or more
 // than 8 is refused in one line naming the setting and its range.
 TEST(Multigrid, ImplicitEulerRefusesASmoothingBudgetOutOfRange) {
-  for (const double sweeps : {0.0, 9.0}) {
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid_sweeps", sweeps);
-    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
-    const std::string message = integrator.message();
-    EXPECT_NE(message.find("multigrid_sweeps"), std::string::npos) << message;
-    EXPECT_NE(message.find("[1, 8]"), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_implicit_euler_refuses("multigrid_sweeps", {0.0, 9.0}, "[1, 8]");
 }
 
 // multigrid_coarsening reaches the hierarchy: every other node kept (2) takes fewer CG
 // iterations than every third (3) on the same steps, both solved tightly to the same state.
 TEST(Multigrid, ImplicitEulerCoarsensByItsSetting) {
-  std::vector<Vec3> positions[2];
-  uint64_t iterations[2] = {0, 0};
-  for (const int m : {2, 3}) {
-    GridNet net(40, 40);
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid", 1.0)
-        .with("multigrid_coarsening", m)
-        .with("multigrid_coarsest", 16.0)
-        .with("tolerance", 1e-10)
-        .with("max_iterations", 5000);
-    integrator.start(net.host.system());
-    for (int n = 0; n < 3; ++n) {
-      ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
-          << integrator.message();
-      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
-      ASSERT_EQ(stats.converged, 1u) << "step " << n << ", coarsening " << m;
-      iterations[m - 2] += stats.iterations;
-    }
-    for (uint32_t i = 0; i < 40 * 40; ++i)
-      positions[m - 2].push_back(net.host.system().position(i));
-  }
-  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
-  EXPECT_LT(iterations[0], iterations[1]) << iterations[0] << " vs " << iterations[1];
+  const auto run = [](double coarsening) {
+    return tight_implicit_euler_steps(40, 40, 3, [&](Integrator& i) {
+      i.with("multigrid", 1.0)
+          .with("multigrid_coarsening", coarsening)
+          .with("multigrid_coarsest", 16.0);
+    });
+  };
+  const TightSteps every_other = run(2.0), every_third = run(3.0);
+  EXPECT_LT(largest_difference(every_other.positions, every_third.positions), 1e-8);
+  EXPECT_LT(every_other.iterations, every_third.iterations)
+      << every_other.iterations << " vs " << every_third.iterations;
 }
 
 // A coarsening other than 2 or 3 is refused in one line naming the setting and its range.
 TEST(Multigrid, ImplicitEulerRefusesACoarseningOutOfRange) {
-  for (const double coarsening : {1.0, 4.0}) {
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid_coarsening", coarsening);
-    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
-    const std::string message = integrator.message();
-    EXPECT_NE(message.find("multigrid_coarsening"), std::string::npos) << message;
-    EXPECT_NE(message.find("[2, 3]"), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_implicit_euler_refuses("multigrid_coarsening", {1.0, 4.0}, "[2, 3]");
 }
 
 TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
