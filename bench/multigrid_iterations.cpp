@@ -225,7 +225,7 @@ int print_iterations(const cli::RunConfig& config, const Options& options) {
         const SolveResult block_jacobi = solve(cloth, h, false, kBlockJacobiCap);
         const std::size_t levels =
             builtin::plan_levels(static_cast<uint32_t>(side), static_cast<uint32_t>(side),
-                                 builtin::kDefaultCoarsestNodes)
+                                 builtin::kDefaultCoarsestNodes, builtin::kPreconditionerCoarsening)
                 .size();
         std::printf("| %d | %d | 1/%.0f | %zu | %s | %s |\n", side, threads, 1.0 / h, levels,
                     describe(multigrid).c_str(), describe(block_jacobi).c_str());

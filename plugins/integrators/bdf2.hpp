@@ -66,7 +66,7 @@ struct MultistepImplicit {
   static constexpr uint32_t order = 2;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 9> params = implicit_step_solver_params(
+  static constexpr std::array<clothlab_param_spec, 10> params = implicit_step_solver_params(
       "Newton steps per time step: 1 = linearised about the extrapolated state, more converge "
       "to BDF2 on the nonlinear springs");
   static constexpr clothlab_integrator_traits traits = implicit_step_solver_traits;

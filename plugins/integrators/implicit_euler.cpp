@@ -27,7 +27,7 @@ struct ImplicitEuler {
   static constexpr uint32_t order = 1;
   static constexpr uint32_t evals_per_step = 1;  // one more per Newton step beyond the first
   static constexpr uint32_t flags = CLOTHLAB_INTEGRATOR_USES_VELOCITY_FORCES;
-  static constexpr std::array<clothlab_param_spec, 9> params = implicit_step_solver_params(
+  static constexpr std::array<clothlab_param_spec, 10> params = implicit_step_solver_params(
       "Newton steps per time step: 1 = Baraff-Witkin, more converge to backward Euler on the "
       "nonlinear springs");
   static constexpr clothlab_integrator_traits traits = implicit_step_solver_traits;

@@ -71,7 +71,7 @@ inline constexpr clothlab_integrator_traits implicit_step_solver_traits{
 
 // The solver's settings, in the schema order of both plugins; `newton_steps_help` says what
 // more Newton steps converge to.
-constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(
+constexpr std::array<clothlab_param_spec, 10> implicit_step_solver_params(
     const char* newton_steps_help) {
   return {
       sdk::real_param("tolerance", 1e-5, 1e-14, 1e-1, "",
@@ -96,6 +96,11 @@ constexpr std::array<clothlab_param_spec, 9> implicit_step_solver_params(
                      "multigrid: smoothing steps before and after each coarse correction "
                      "(Chebyshev steps of one Jacobian product each on the cloth's own grid, "
                      "Chebyshev steps over the stored blocks on the coarser ones)"),
+      sdk::int_param("multigrid_coarsening", kPreconditionerCoarsening, kMinCoarsening,
+                     kMaxCoarsening,
+                     "multigrid: each coarser level keeps every Nth node along both axes; 3: "
+                     "smaller coarse levels, cheaper V-cycles, more CG iterations; 2: the "
+                     "reverse"),
       sdk::int_param("multigrid_rebuild", 1, 1, 1024,
                      "multigrid: build the hierarchy for every Nth linear solve and reuse it in "
                      "between (CG still converges on the current matrix); always after prepare "
@@ -117,6 +122,7 @@ class ImplicitStepSolver {
         multigrid_(values.flag("multigrid")),
         multigrid_coarsest_(values.integer("multigrid_coarsest")),
         multigrid_sweeps_(values.integer("multigrid_sweeps")),
+        multigrid_coarsening_(values.integer("multigrid_coarsening")),
         multigrid_rebuild_(values.integer("multigrid_rebuild")) {}
 
   template <class Real>
@@ -133,7 +139,8 @@ class ImplicitStepSolver {
                                         multigrid_rebuild_,
                                         definite_ && system.definite_jacobian().has_blocks()
                                             ? std::optional(system.jacobian().pattern())
-                                            : std::nullopt);
+                                            : std::nullopt,
+                                        static_cast<int>(multigrid_coarsening_));
     previous_h_ = 0.0;
     last_ = {};
   }
@@ -245,6 +252,7 @@ class ImplicitStepSolver {
   bool multigrid_;
   long multigrid_coarsest_;
   long multigrid_sweeps_;
+  long multigrid_coarsening_;
   long multigrid_rebuild_;
   std::optional<MultigridPreconditioner> multigrid_preconditioner_;  // where multigrid_
   double previous_h_ = 0.0;  // the last solve's h; 0: no dv to start from

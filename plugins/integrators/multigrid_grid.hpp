@@ -38,10 +38,11 @@ sdk::Grid grid_of(const sdk::System<Real>& system, const std::string& setting) {
 // The level sizes (plan_levels) of the system's grid, its errors as sdk::Errors.
 template <class Real>
 std::vector<GridSize> plan_grid_levels(const sdk::System<Real>& system, long coarsest_particles,
-                                       const std::string& setting) {
+                                       const std::string& setting,
+                                       int coarsening = kMinCoarsening) {
   const sdk::Grid grid = grid_of(system, setting);
   try {
-    return plan_levels(grid.rows(), grid.cols(), coarsest_particles);
+    return plan_levels(grid.rows(), grid.cols(), coarsest_particles, coarsening);
   } catch (const std::invalid_argument& error) {
     throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, setting + ": " + error.what());
   }

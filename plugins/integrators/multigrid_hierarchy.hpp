@@ -1,5 +1,6 @@
 // The multigrid hierarchy on a rows x cols grid: the fine level (its matrix filled by the
-// caller), coarser levels each with every other node along both axes (multigrid_transfer.hpp),
+// caller), coarser levels each with every other or every third node along both axes
+// (multigrid_transfer.hpp),
 // their Galerkin operators R A P, the smoothers (coloured Gauss-Seidel, multigrid_smoother.hpp,
 // or Chebyshev on block-Jacobi, multigrid_chebyshev.hpp) and the coarsest level's Cholesky
 // factor. All storage is sized when the hierarchy is built; `rebuild` after a
@@ -25,19 +26,22 @@ struct GridSize {
   uint32_t rows, cols;
 };
 
-// The level sizes, fine first: coarsen while the coarsest grid has more than
+// The level sizes, fine first, each every `coarsening`-th node of the one above
+// (multigrid_transfer.hpp): coarsen while the coarsest grid has more than
 // `coarsest_particles` nodes and both its sides have at least 3 (one more level could not
 // shrink). Throws std::invalid_argument, one line, where that leaves more than
 // kMaxCoarsestNodes nodes for the dense direct solve (a long thin strip of cloth).
 constexpr long kDefaultCoarsestNodes = 256;
 constexpr uint32_t kMaxCoarsestNodes = 1024;
 
-inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coarsest_particles) {
+inline std::vector<GridSize> plan_levels(uint32_t rows, uint32_t cols, long coarsest_particles,
+                                         int coarsening = kMinCoarsening) {
   const auto nodes = [](GridSize s) { return uint64_t{s.rows} * s.cols; };
   std::vector<GridSize> sizes{{rows, cols}};
   while (sizes.back().rows >= 3 && sizes.back().cols >= 3 &&
          nodes(sizes.back()) > static_cast<uint64_t>(coarsest_particles))
-    sizes.push_back({coarse_axis_size(sizes.back().rows), coarse_axis_size(sizes.back().cols)});
+    sizes.push_back({coarse_axis_size(sizes.back().rows, coarsening),
+                     coarse_axis_size(sizes.back().cols, coarsening)});
   const GridSize coarsest = sizes.back();
   if (nodes(coarsest) > kMaxCoarsestNodes)
     throw std::invalid_argument("the " + std::to_string(rows) + " x " + std::to_string(cols) +
@@ -60,17 +64,22 @@ class MultigridHierarchy {
   // residual is the system solved (projective_dynamics), none where the caller holds the fine
   // matrix and forms level 1 (`rebuild_below(1)`). The coarse levels that smooth only
   // serve the V-cycle and are single; the coarsest, solved directly, stays exact. lanes: the
-  // precision the single levels smooth in (multigrid_lanes.hpp).
+  // precision the single levels smooth in (multigrid_lanes.hpp). coarsening: the one `sizes`
+  // were planned with (plan_levels).
   MultigridHierarchy(const std::vector<GridSize>& sizes, std::vector<uint8_t> fixed,
                      GridLevel::Blocks fine_blocks, LanePrecision lanes = LanePrecision::float64,
-                     Smoothing smoothing = Smoothing::gauss_seidel) {
+                     Smoothing smoothing = Smoothing::gauss_seidel,
+                     int coarsening = kMinCoarsening) {
     levels_.reserve(sizes.size());
     // A fine level that is the coarsest is solved from its blocks: it keeps them.
     if (fine_blocks == GridLevel::Blocks::none && sizes.size() == 1)
       fine_blocks = GridLevel::Blocks::single;
     levels_.emplace_back(sizes[0].rows, sizes[0].cols, std::move(fixed), fine_blocks);
     for (std::size_t l = 1; l < sizes.size(); ++l) {
-      transfers_.emplace_back(levels_.back());
+      transfers_.emplace_back(levels_.back(), coarsening);
+      if (sizes[l].rows != coarse_axis_size(sizes[l - 1].rows, coarsening) ||
+          sizes[l].cols != coarse_axis_size(sizes[l - 1].cols, coarsening))
+        throw std::logic_error("multigrid: level sizes not planned with this coarsening");
       std::vector<uint8_t> coarse_fixed = transfers_.back().coarse_fixed(levels_.back());
       levels_.emplace_back(
           sizes[l].rows, sizes[l].cols, std::move(coarse_fixed),

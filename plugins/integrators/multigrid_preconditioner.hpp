@@ -51,27 +51,38 @@
 
 namespace clothlab::builtin {
 
+// The preconditioner's default coarsening (implicit_euler's `multigrid_coarsening`): each
+// level keeps every third node of the one above (multigrid_transfer.hpp), so level 1 has 1/9
+// of the fine nodes where every other node would keep 1/4, and the coarse levels' passes,
+// which stream their stored blocks, cost that much less; on the cotton flag CG takes 1.4 to 1.5
+// times the iterations, for a cheaper solve (docs/results.md, "Multigrid").
+// projective_dynamics' V-cycles, a solver of their own, keep every other node.
+constexpr int kPreconditionerCoarsening = 3;
+
 class MultigridPreconditioner {
  public:
   // From `prepare`: one-line sdk::Error where the cloth is no grid, a spring reaches further
   // than two spacings, the grid does not coarsen far enough (plan_levels), or block_pattern
   // disagrees with the grid. block_pattern: the host's (clothlab.jacobian/1), where the solves'
   // fine blocks come from `prepare_solve`'s blocks (the host's table of the definite Jacobian);
-  // nothing: from probing the product.
+  // nothing: from probing the product. coarsening: every m-th node kept per level.
   template <class Real>
   MultigridPreconditioner(const sdk::System<Real>& system, long coarsest_particles, long sweeps,
                           long rebuild_interval = 1,
-                          std::optional<clothlab_block_pattern> block_pattern = std::nullopt)
+                          std::optional<clothlab_block_pattern> block_pattern = std::nullopt,
+                          int coarsening = kPreconditionerCoarsening)
       : rebuild_interval_(rebuild_interval),
-        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1"),
+        hierarchy_(plan_grid_levels(system, coarsest_particles, "multigrid = 1", coarsening),
                    fixed_particles(system),
                    block_pattern ? GridLevel::Blocks::none : GridLevel::Blocks::single,
                    std::is_same_v<Real, float> ? LanePrecision::float32 : LanePrecision::float64,
-                   Smoothing::chebyshev),
+                   Smoothing::chebyshev, coarsening),
         cycle_(hierarchy_, sweeps, sdk::plugin_threads(system, 0, true)),
         mass_(system.particle_count(), 0.0),
         sweeps_(sweeps),
-        jacobi_(9 * std::size_t{system.particle_count()}, 0.0),
+        jacobi_(std::is_same_v<Real, float> ? 0 : 6 * std::size_t{system.particle_count()}, 0.0),
+        jacobi_single_(std::is_same_v<Real, float> ? 6 * std::size_t{system.particle_count()} : 0,
+                       0.0f),
         fine_residual_(3 * std::size_t{system.particle_count()}, 0.0),
         fine_correction_(3 * std::size_t{system.particle_count()}, 0.0),
         probe_(system.alloc_vector()),
@@ -191,7 +202,7 @@ class MultigridPreconditioner {
       std::fill_n(inverse, 9, std::numeric_limits<double>::quiet_NaN());
       table_block(values, i, diagonal_slots_[i], diagonal);
       invert_positive_definite(diagonal, inverse);
-      for (std::size_t k = 0; k < 9; ++k) jacobi_[9 * i + k] = mass_[i] * inverse[k];
+      set_jacobi(i, inverse);
       const double row = jacobi_row_bound(inverse, [&](auto&& bound_visit) {
         table_row(values, i, [&](int r2, int c2, const double* block) {
           visit(r2, c2, block);
@@ -210,9 +221,9 @@ class MultigridPreconditioner {
   }
 
   // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
-  // Chebyshev steps (see `chebyshev_step`) run one pass over the particles after each product:
-  // the residual, the direction and z, with the residual for the coarse level written in the
-  // cycle's layout in the last pre-smoothing pass.
+  // Chebyshev steps (see `chebyshev_steps`) run one pass over the particles after each product:
+  // the residual, the direction and z; the residual for the coarse level is written in the
+  // cycle's layout after the last pre-smoothing product.
   template <class Real, class Product>
   void apply(const sdk::System<Real>& system, const Real* r, Real* z, Product&& product) {
     if (hierarchy_.level_count() == 1) return solve_directly(system, r, z);
@@ -223,17 +234,18 @@ class MultigridPreconditioner {
     // Pre-smoothing from z = 0, where the residual is r.
     ChebyshevSteps pre(lambda_max_);
     const double first_scale = pre.first_scale();
-    for_each_active(system, [&](uint32_t i) {
-      chebyshev_step<Real>(i, stride, r, nullptr, nullptr, ChebyshevSteps::Step{0.0, first_scale},
-                           residual, direction, z, true);
+    for_each_active(system, [&](uint32_t begin, uint32_t end) {
+      chebyshev_steps<false, true, true, Real>(begin, end, stride, r, nullptr, nullptr,
+                                               ChebyshevSteps::Step{0.0, first_scale}, residual,
+                                               direction, z);
     });
     const Real* last_residual = r;
     for (long step = 1; step < sweeps_; ++step) {
       product(direction, image);
       const ChebyshevSteps::Step next = pre.next();
-      for_each_active(system, [&](uint32_t i) {
-        chebyshev_step(i, stride, last_residual, image, direction, next, residual, direction, z,
-                       false);
+      for_each_active(system, [&](uint32_t begin, uint32_t end) {
+        chebyshev_steps<true, false, false>(begin, end, stride, last_residual, image, direction,
+                                            next, residual, direction, z);
       });
       last_residual = residual;
     }
@@ -241,30 +253,39 @@ class MultigridPreconditioner {
     product(direction, image);
     std::fill(fine_residual_.begin(), fine_residual_.end(), 0.0);
     std::fill(fine_correction_.begin(), fine_correction_.end(), 0.0);
-    for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::size_t at = k * stride + i;
-        const Real value = last_residual[at] - (image[at] + direction[at]);
-        fine_residual_[3 * i + k] = mass_[i] * static_cast<double>(value);
-      }
+    for_each_active(system, [&](uint32_t begin, uint32_t end) {
+      double* out = fine_residual_.data();
+      const double* mass = mass_.data();
+#pragma omp simd
+      for (uint32_t i = begin; i < end; ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride + i;
+          const Real value = last_residual[at] - (image[at] + direction[at]);
+          out[3 * i + k] = mass[i] * static_cast<double>(value);
+        }
     });
     cycle_.correct(fine_residual_.data(), fine_correction_.data());
-    for_each_active(system, [&](uint32_t i) {
-      for (std::size_t k = 0; k < 3; ++k)
-        z[k * stride + i] += static_cast<Real>(fine_correction_[3 * i + k]);
+    for_each_active(system, [&](uint32_t begin, uint32_t end) {
+      const double* correction = fine_correction_.data();
+#pragma omp simd
+      for (uint32_t i = begin; i < end; ++i)
+        for (std::size_t k = 0; k < 3; ++k)
+          z[k * stride + i] += static_cast<Real>(correction[3 * i + k]);
     });
     // Post-smoothing from z: the same polynomial, its first residual r - A z.
     ChebyshevSteps post(lambda_max_);
     product(z, image);
-    for_each_active(system, [&](uint32_t i) {
-      chebyshev_step(i, stride, r, image, z, ChebyshevSteps::Step{0.0, first_scale}, residual,
-                     direction, z, false);
+    for_each_active(system, [&](uint32_t begin, uint32_t end) {
+      chebyshev_steps<true, true, false>(begin, end, stride, r, image, z,
+                                         ChebyshevSteps::Step{0.0, first_scale}, residual,
+                                         direction, z);
     });
     for (long step = 1; step < sweeps_; ++step) {
       product(direction, image);
       const ChebyshevSteps::Step next = post.next();
-      for_each_active(system, [&](uint32_t i) {
-        chebyshev_step(i, stride, residual, image, direction, next, residual, direction, z, false);
+      for_each_active(system, [&](uint32_t begin, uint32_t end) {
+        chebyshev_steps<true, false, false>(begin, end, stride, residual, image, direction, next,
+                                            residual, direction, z);
       });
     }
   }
@@ -346,18 +367,23 @@ class MultigridPreconditioner {
   // Particles of a range worth splitting among the V-cycle's threads.
   static constexpr uint32_t kParticlesWorthATeam = 4096;
 
-  // body(i) for every active particle, a large range's particles split among the V-cycle's
-  // threads (each particle's work is its own: the same bits on any count).
+  // body(begin, end) over the active particles in [begin, end), a large range split among the
+  // V-cycle's threads in contiguous parts (each particle's work is its own: the same bits on
+  // any count).
   template <class Real, class Body>
   void for_each_active(const sdk::System<Real>& system, Body&& body) const {
     const int threads = cycle_.threads();
     for (const clothlab_range& range : system.active()) {
       if (threads > 1 && range.end - range.begin >= kParticlesWorthATeam) {
-        const auto begin = static_cast<int64_t>(range.begin), end = static_cast<int64_t>(range.end);
+        const uint64_t count = range.end - range.begin;
 #pragma omp parallel for schedule(static) num_threads(threads)
-        for (int64_t i = begin; i < end; ++i) body(static_cast<uint32_t>(i));
+        for (int part = 0; part < threads; ++part)
+          body(static_cast<uint32_t>(range.begin + count * static_cast<uint64_t>(part) /
+                                                       static_cast<uint64_t>(threads)),
+               static_cast<uint32_t>(range.begin + count * static_cast<uint64_t>(part + 1) /
+                                                       static_cast<uint64_t>(threads)));
       } else {
-        for (uint32_t i = range.begin; i < range.end; ++i) body(i);
+        body(range.begin, range.end);
       }
     }
   }
@@ -378,30 +404,59 @@ class MultigridPreconditioner {
           z[k * stride + i] = static_cast<Real>(solution[3 * i + k]);
   }
 
-  // One fine Chebyshev step at particle i, each vector `stride` apart per component:
-  // residual = from - (image + u) (image = J u, so that is from - A u; from alone where image
-  // is null), direction = step.keep direction + step.scale D^-1 residual (the old direction
-  // unread where keep is 0), z += direction (z = direction where `start`). residual and from,
-  // direction and u, u and z may be the same vectors.
-  template <class Real>
-  void chebyshev_step(uint32_t i, std::size_t stride, const Real* from, const Real* image,
-                      const Real* u, ChebyshevSteps::Step step, Real* residual, Real* direction,
-                      Real* z, bool start) const {
-    double res[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t at = k * stride + i;
-      const Real value = image == nullptr ? from[at] : from[at] - (image[at] + u[at]);
-      residual[at] = value;
-      res[k] = value;
+  // One fine Chebyshev step at the particles [begin, end), each vector `stride` apart per
+  // component: residual = from - (image + u) (image = J u, so that is from - A u; from alone
+  // without kImage), direction = step.keep direction + step.scale D^-1 residual (the old
+  // direction unread on the kFirst step, whose keep is 0), z += direction (z = direction where
+  // kStart). residual and from, direction and u, u and z may be the same vectors: each
+  // particle reads its own entries before it writes them.
+  template <bool kImage, bool kFirst, bool kStart, class Real>
+  void chebyshev_steps(uint32_t begin, uint32_t end, std::size_t stride, const Real* from,
+                       const Real* image, const Real* u, ChebyshevSteps::Step step, Real* residual,
+                       Real* direction, Real* z) const {
+    const std::size_t n = mass_.size();
+    const Real* d = [&] {
+      if constexpr (std::is_same_v<Real, float>)
+        return jacobi_single_.data();
+      else
+        return jacobi_.data();
+    }();
+#pragma omp simd
+    for (uint32_t i = begin; i < end; ++i) {
+      double res[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride + i;
+        const Real value = kImage ? from[at] - (image[at] + u[at]) : from[at];
+        residual[at] = value;
+        res[k] = value;
+      }
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t at = k * stride + i;
+        const double jacobi = d[kSymmetricEntry[3 * k] * n + i] * res[0] +
+                              d[kSymmetricEntry[3 * k + 1] * n + i] * res[1] +
+                              d[kSymmetricEntry[3 * k + 2] * n + i] * res[2];
+        const double kept = kFirst ? 0.0 : step.keep * direction[at];
+        const auto next = static_cast<Real>(kept + step.scale * jacobi);
+        direction[at] = next;
+        z[at] = kStart ? next : z[at] + next;
+      }
     }
-    const double* d = &jacobi_[9 * std::size_t{i}];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t at = k * stride + i;
-      const double jacobi = d[3 * k] * res[0] + d[3 * k + 1] * res[1] + d[3 * k + 2] * res[2];
-      const double kept = step.keep == 0.0 ? 0.0 : step.keep * direction[at];
-      const auto next = static_cast<Real>(kept + step.scale * jacobi);
-      direction[at] = next;
-      z[at] = start ? next : z[at] + next;
+  }
+
+  // Row-major entry k of a symmetric 3x3 block: its place among the 6 kept.
+  static constexpr std::size_t kSymmetricEntry[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
+
+  // Particle i's D^-1 from S_ii^-1 (9, row-major, symmetric): m_i S_ii^-1, in the system's
+  // precision.
+  void set_jacobi(uint32_t i, const double* inverse) {
+    const std::size_t n = mass_.size();
+    for (std::size_t k = 0; k < 9; ++k) {
+      if (k / 3 > k % 3) continue;  // the lower entries are the upper's
+      const double value = mass_[i] * inverse[k];
+      if (jacobi_single_.empty())
+        jacobi_[kSymmetricEntry[k] * n + i] = value;
+      else
+        jacobi_single_[kSymmetricEntry[k] * n + i] = static_cast<float>(value);
     }
   }
 
@@ -413,8 +468,7 @@ class MultigridPreconditioner {
     const std::vector<double>& inverse = fine.inverse_diagonal();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
-        for (std::size_t k = 0; k < 9; ++k)
-          jacobi_[9 * std::size_t{i} + k] = mass_[i] * inverse[9 * std::size_t{i} + k];
+        set_jacobi(i, &inverse[9 * std::size_t{i}]);
     lambda_max_ = fine.lambda_max();
   }
 
@@ -498,10 +552,13 @@ class MultigridPreconditioner {
   uint64_t rebuild_count_ = 0;
   MultigridHierarchy hierarchy_;
   VCycle cycle_;
-  std::vector<double> mass_;    // per particle, 0 where pinned
-  long sweeps_;                 // Chebyshev steps on the fine level before and after
-  std::vector<double> jacobi_;  // per particle: D^-1, A's inverted diagonal block (row-major)
-  double lambda_max_ = 0.0;     // bounds D^-1 A's eigenvalues from above
+  std::vector<double> mass_;  // per particle, 0 where pinned
+  long sweeps_;               // Chebyshev steps on the fine level before and after
+  // D^-1, A's inverted diagonal blocks, symmetric: their 6 upper entries (kSymmetricEntry),
+  // entry k of particle i at k n + i, in the system's precision (double, or float: single).
+  std::vector<double> jacobi_;
+  std::vector<float> jacobi_single_;
+  double lambda_max_ = 0.0;                              // bounds D^-1 A's eigenvalues from above
   std::vector<double> fine_residual_, fine_correction_;  // the coarse correction's, 3 per node
   // System vectors in its precision: the probe, and J times it for each of its components.
   void* probe_;

@@ -2,14 +2,15 @@
 // interpolation (each weight times the 3x3 identity), restriction R = P^T, and the Galerkin
 // coarse operator R A P.
 //
-// Along an axis of n >= 3 nodes the coarse level keeps every other node, n / 2 + 1 of them:
-// coarse node k sits on fine node 2k, the last one on fine node n - 1 (for even n the last
-// coarse interval is one fine spacing long). A fine node on a coarse node takes it with weight
-// 1; one between two takes each with 1/2. A coarse node on a fixed fine node is fixed, and P
-// has no weight into or out of a fixed node, so the pins are Dirichlet on every level.
+// Along an axis of n >= 3 nodes the coarse level keeps every m-th node (m, the coarsening: 2,
+// or 3 where fewer coarse nodes pay: multigrid_preconditioner.hpp), (n - 2) / m + 2 of them:
+// coarse node k sits on fine node m k, the last one on fine node n - 1 (its interval may be
+// shorter). A fine node on a coarse node takes it with weight 1; one between two takes each by
+// linear interpolation (1/2 and 1/2; 2/3 and 1/3). A coarse node on a fixed fine node is fixed,
+// and P has no weight into or out of a fixed node, so the pins are Dirichlet on every level.
 //
-// Reach: a fine coupling spans at most 2 fine spacings and a node's parents at most 1 coarse
-// spacing, so R A P couples coarse nodes at most 2 coarse spacings apart (GridLevel::reach).
+// Reach: a fine coupling spans at most 2 fine spacings, no more than one coarse interval, so
+// R A P couples coarse nodes at most 2 coarse spacings apart (GridLevel::reach).
 #pragma once
 
 #include <algorithm>
@@ -17,42 +18,73 @@
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "multigrid_level.hpp"
 
 namespace clothlab::builtin {
 
-// Nodes along a coarse axis for a fine one of n nodes (n >= 3).
-inline uint32_t coarse_axis_size(uint32_t n) { return n / 2 + 1; }
+// The coarsenings a transfer takes: every other node, or every third.
+constexpr int kMinCoarsening = 2, kMaxCoarsening = 3;
 
-// The fine nodes' parents along one axis: first[f], and first[f] + 1 too where two[f].
+// Nodes along a coarse axis for a fine one of n nodes (n >= 3), every m-th kept.
+inline uint32_t coarse_axis_size(uint32_t n, int m = kMinCoarsening) {
+  return (n - 2) / static_cast<uint32_t>(m) + 2;
+}
+
+// The fine nodes' parents along one axis, every m-th node kept: first[f], and first[f] + 1 too
+// where two[f], weight(f, k) on parent k.
 struct AxisParents {
-  explicit AxisParents(int n)
-      : first(static_cast<std::size_t>(n)), two(static_cast<std::size_t>(n)) {
+  AxisParents(int n, int m)
+      : first(static_cast<std::size_t>(n)),
+        two(static_cast<std::size_t>(n)),
+        weights(2 * static_cast<std::size_t>(n)) {
+    const int coarse = static_cast<int>(coarse_axis_size(static_cast<uint32_t>(n), m));
+    const auto at = [&](int k) { return std::min(m * k, n - 1); };  // coarse node k's fine node
     for (int f = 0; f < n; ++f) {
-      const bool between = f % 2 == 1 && f != n - 1;
-      first[static_cast<std::size_t>(f)] = f == n - 1 && f % 2 == 1 ? f / 2 + 1 : f / 2;
-      two[static_cast<std::size_t>(f)] = between ? 1 : 0;
+      int k = std::min(f / m, coarse - 1);
+      while (k + 1 < coarse && at(k + 1) <= f) ++k;
+      const auto i = static_cast<std::size_t>(f);
+      first[i] = k;
+      if (at(k) == f) {
+        two[i] = 0, weights[2 * i] = 1.0;
+      } else {
+        const double t = static_cast<double>(f - at(k)) / (at(k + 1) - at(k));
+        two[i] = 1, weights[2 * i] = 1.0 - t, weights[2 * i + 1] = t;
+      }
     }
   }
   int count(int f) const { return two[static_cast<std::size_t>(f)] ? 2 : 1; }
   int parent(int f, int k) const { return first[static_cast<std::size_t>(f)] + k; }
-  double weight(int f) const { return two[static_cast<std::size_t>(f)] ? 0.5 : 1.0; }
+  double weight(int f, int k) const { return weights[2 * static_cast<std::size_t>(f) + k]; }
 
   std::vector<int> first;
   std::vector<uint8_t> two;
+  std::vector<double> weights;  // 2 per fine node
 };
 
 class GridTransfer {
  public:
-  explicit GridTransfer(const GridLevel& fine)
-      : row_parents_(fine.rows()), col_parents_(fine.cols()) {}
+  // coarsening: every m-th node kept (kMinCoarsening to kMaxCoarsening).
+  explicit GridTransfer(const GridLevel& fine, int coarsening = kMinCoarsening)
+      : coarsening_(coarsening),
+        row_parents_(fine.rows(), coarsening),
+        col_parents_(fine.cols(), coarsening) {
+    if (coarsening < kMinCoarsening || coarsening > kMaxCoarsening)
+      throw std::invalid_argument("multigrid: a coarsening of " + std::to_string(coarsening) +
+                                  " (takes 2 to 3)");
+  }
+
+  // Every coarsening-th node is kept.
+  int coarsening() const { return coarsening_; }
 
   // The coarse level's fixed nodes: those on a fixed fine node.
   std::vector<uint8_t> coarse_fixed(const GridLevel& fine) const {
-    const int coarse_cols = static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.cols())));
-    const int coarse_rows = static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.rows())));
+    const int coarse_cols =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.cols()), coarsening_));
+    const int coarse_rows =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.rows()), coarsening_));
     std::vector<uint8_t> fixed(static_cast<std::size_t>(coarse_rows) * coarse_cols, 0);
     for (int r = 0; r < fine.rows(); ++r)
       for (int c = 0; c < fine.cols(); ++c)
@@ -69,7 +101,8 @@ class GridTransfer {
                    double* coarse_b, int threads = 1) const {
     fine.for_each_index(coarse.rows(), threads, [&](int pr) {
       std::fill_n(coarse_b + 3 * coarse.node(pr, 0), 3 * coarse.cols(), 0.0);
-      for (int r = std::max(2 * pr - 1, 0); r <= std::min(2 * pr + 1, fine.rows() - 1); ++r)
+      for (int r = std::max(coarsening_ * (pr - 1), 0);
+           r <= std::min(coarsening_ * (pr + 1), fine.rows() - 1); ++r)
         for (int i = 0; i < row_parents_.count(r); ++i) {
           if (row_parents_.parent(r, i) != pr) continue;
           for (int c = 0; c < fine.cols(); ++c) {
@@ -78,7 +111,7 @@ class GridTransfer {
             for (int j = 0; j < col_parents_.count(c); ++j) {
               const std::size_t parent = coarse.node(pr, col_parents_.parent(c, j));
               if (coarse.fixed(parent)) continue;
-              const double w = row_parents_.weight(r) * col_parents_.weight(c);
+              const double w = row_parents_.weight(r, i) * col_parents_.weight(c, j);
               for (int k = 0; k < 3; ++k) coarse_b[3 * parent + k] += w * fine_r[3 * f + k];
             }
           }
@@ -127,7 +160,8 @@ class GridTransfer {
     fine.for_each_index(bands, threads, [&](int band) {
       const int first = band * kBandRows, last = std::min(first + kBandRows, coarse.rows());
       const auto owned = [&](int pr) { return pr >= first && pr < last; };
-      for (int r = std::max(2 * first - 2, 0); r < std::min(2 * last + 1, fine.rows()); ++r) {
+      for (int r = std::max(coarsening_ * (first - 1), 0);
+           r < std::min(coarsening_ * last + 1, fine.rows()); ++r) {
         if (!owned(row_parents_.parent(r, 0)) &&
             !(row_parents_.count(r) == 2 && owned(row_parents_.parent(r, 1))))
           continue;
@@ -147,8 +181,9 @@ class GridTransfer {
   template <class Owned, class RowBlocks>
   void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, bool once,
                     const Owned& owned, RowBlocks& row_blocks) const {
-    // f's A P row lies within coarse rows/cols [r / 2 - 2, r / 2 + 3).
-    const int row0 = r / 2 - 2, col0 = c / 2 - 2;
+    // f's A P row lies within 2 coarse rows/cols of f's first parent: each g of the row is at
+    // most one coarse interval from f.
+    const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
     row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
@@ -158,7 +193,7 @@ class GridTransfer {
           const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
           if (coarse.fixed(coarse.node(pr, pc))) continue;
           const int local = (pr - row0) * kSpan + (pc - col0);
-          const double weight = row_parents_.weight(r2) * col_parents_.weight(c2);
+          const double weight = row_parents_.weight(r2, i) * col_parents_.weight(c2, j);
           for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
           touched[local] = 1;
         }
@@ -167,7 +202,7 @@ class GridTransfer {
       for (int j = 0; j < col_parents_.count(c); ++j) {
         const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);
         if (!owned(pr) || coarse.fixed(coarse.node(pr, pc))) continue;
-        const double weight = row_parents_.weight(r) * col_parents_.weight(c);
+        const double weight = row_parents_.weight(r, i) * col_parents_.weight(c, j);
         // The touched blocks lie in (pr, pc)'s window.
         const GridLevel::Window w = coarse.window(pr, pc);
         double* const row = coarse.row_blocks(pr, pc);
@@ -186,10 +221,12 @@ class GridTransfer {
       for (int j = 0; j < col_parents_.count(c); ++j) {
         const std::size_t parent =
             coarse.node(row_parents_.parent(r, i), col_parents_.parent(c, j));
-        if (!coarse.fixed(parent)) visit(parent, row_parents_.weight(r) * col_parents_.weight(c));
+        if (!coarse.fixed(parent))
+          visit(parent, row_parents_.weight(r, i) * col_parents_.weight(c, j));
       }
   }
 
+  int coarsening_;
   AxisParents row_parents_, col_parents_;
 };
 

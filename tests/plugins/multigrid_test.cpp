@@ -115,14 +115,16 @@ struct ClothMatrix {
   std::map<std::pair<int, int>, Eigen::Matrix3d> blocks;  // (i, j): S_ij, the nonzero ones
 };
 
-// The hierarchy for the cloth's matrix, coarsened while a level has more than `coarsest` nodes,
-// its single levels smoothed in `lanes`' precision.
+// The hierarchy for the cloth's matrix, coarsened (every `coarsening`-th node) while a level has
+// more than `coarsest` nodes, its single levels smoothed in `lanes`' precision.
 MultigridHierarchy hierarchy_for(ClothMatrix& cloth, long coarsest,
                                  builtin::LanePrecision lanes = builtin::LanePrecision::float64,
-                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel) {
-  MultigridHierarchy hierarchy(builtin::plan_levels(static_cast<uint32_t>(cloth.rows),
-                                                    static_cast<uint32_t>(cloth.cols), coarsest),
-                               cloth.fixed, GridLevel::Blocks::single, lanes, smoothing);
+                                 builtin::Smoothing smoothing = builtin::Smoothing::gauss_seidel,
+                                 int coarsening = builtin::kMinCoarsening) {
+  MultigridHierarchy hierarchy(
+      builtin::plan_levels(static_cast<uint32_t>(cloth.rows), static_cast<uint32_t>(cloth.cols),
+                           coarsest, coarsening),
+      cloth.fixed, GridLevel::Blocks::single, lanes, smoothing, coarsening);
   const GridLevel fine = cloth.level();
   for (int r = 0; r < cloth.rows; ++r)
     for (int c = 0; c < cloth.cols; ++c) {
@@ -169,21 +171,27 @@ class VCyclePreconditioner {
 };
 
 // The bilinear prolongation written out from its definition (multigrid_transfer.hpp): along an
-// axis of n nodes, coarse node k on fine node min(2k, n - 1); a fine node between two coarse
-// ones takes 1/2 of each; no weight into or out of a fixed node.
-SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t>& fixed) {
-  const auto axis_weights = [](int n, int f) {
+// axis of n nodes, coarse node k on fine node min(m k, n - 1) for every m-th node kept, and
+// its weight at fine node f the hat function that is 1 there and falls linearly to 0 at its
+// neighbours' fine nodes; no weight into or out of a fixed node.
+SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t>& fixed,
+                                   int m = 2) {
+  const auto coarse_count = [m](int n) { return (n - 2) / m + 2; };
+  const auto axis_weights = [&](int n, int f) {
     std::vector<std::pair<int, double>> out;
-    const int coarse = n / 2 + 1;
+    const int coarse = coarse_count(n);
+    const auto at = [&](int k) { return std::min(m * k, n - 1); };
     for (int k = 0; k < coarse; ++k) {
-      const int at = std::min(2 * k, n - 1);
-      if (at == f) return std::vector<std::pair<int, double>>{{k, 1.0}};
-      if (std::abs(at - f) == 1) out.emplace_back(k, 0.5);
+      if (at(k) == f) return std::vector<std::pair<int, double>>{{k, 1.0}};
+      if (k > 0 && at(k - 1) < f && f < at(k))
+        out.emplace_back(k, 1.0 - static_cast<double>(at(k) - f) / (at(k) - at(k - 1)));
+      if (k + 1 < coarse && at(k) < f && f < at(k + 1))
+        out.emplace_back(k, 1.0 - static_cast<double>(f - at(k)) / (at(k + 1) - at(k)));
     }
     return out;
   };
-  const int coarse_cols = cols / 2 + 1;
-  std::vector<uint8_t> coarse_fixed(static_cast<std::size_t>((rows / 2 + 1) * coarse_cols), 0);
+  const int coarse_cols = coarse_count(cols);
+  std::vector<uint8_t> coarse_fixed(static_cast<std::size_t>(coarse_count(rows) * coarse_cols), 0);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const auto wr = axis_weights(rows, r), wc = axis_weights(cols, c);
@@ -202,7 +210,7 @@ SparseMatrix bilinear_prolongation(int rows, int cols, const std::vector<uint8_t
             entries.emplace_back(3 * (r * cols + c) + d, 3 * coarse + d, w1 * w2);
         }
     }
-  SparseMatrix p(3 * rows * cols, 3 * (rows / 2 + 1) * coarse_cols);
+  SparseMatrix p(3 * rows * cols, 3 * coarse_count(rows) * coarse_cols);
   p.setFromTriplets(entries.begin(), entries.end());
   return p;
 }
@@ -229,20 +237,38 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
   return out;
 }
 
-// Even and odd sides both: an even axis ends in a coarse interval of one fine spacing.
+// Even and odd sides both, every other and every third node kept: an axis may end in a
+// shorter coarse interval (one fine spacing, or two).
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
-  // 20 x 7: more coarse rows than one band of the threaded product.
-  for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}}) {
-    ClothMatrix cloth(rows, cols, 30.0);
-    MultigridHierarchy hierarchy = hierarchy_for(cloth, rows * cols - 1);  // two levels
-    ASSERT_EQ(hierarchy.level_count(), 2u);
-    const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed);
-    Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
-    const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
-    const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
-    EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm()) << rows << " x " << cols;
-    EXPECT_GT(expected.norm(), 0.0);
-  }
+  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product.
+  for (const int m : {2, 3})
+    for (const auto& [rows, cols] :
+         {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}, std::pair{26, 7}}) {
+      ClothMatrix cloth(rows, cols, 30.0);
+      MultigridHierarchy hierarchy =
+          hierarchy_for(cloth, rows * cols - 1, builtin::LanePrecision::float64,
+                        builtin::Smoothing::gauss_seidel, m);
+      ASSERT_EQ(hierarchy.level_count(), 2u);  // two levels
+      const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed, m);
+      Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
+      const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
+      const Eigen::MatrixXd coarse = dense_of(hierarchy.level(1));
+      ASSERT_EQ(coarse.rows(), expected.rows()) << m << ": " << rows << " x " << cols;
+      EXPECT_LT((coarse - expected).norm(), 1e-12 * expected.norm())
+          << m << ": " << rows << " x " << cols;
+      EXPECT_GT(expected.norm(), 0.0);
+      // The restriction is P's transpose.
+      const Eigen::VectorXd r = cloth.rhs(4);
+      std::vector<double> restricted(3 * hierarchy.level(1).node_count());
+      hierarchy.transfer(0).restrict_to(hierarchy.level(0), r.data(), hierarchy.level(1),
+                                        restricted.data());
+      const Eigen::VectorXd expected_restricted = p.transpose() * r;
+      double worst = 0.0;
+      for (Eigen::Index k = 0; k < expected_restricted.size(); ++k)
+        worst = std::max(
+            worst, std::abs(restricted[static_cast<std::size_t>(k)] - expected_restricted(k)));
+      EXPECT_LT(worst, 1e-12 * expected_restricted.norm()) << m << ": " << rows << " x " << cols;
+    }
 }
 
 // The largest difference between two levels' blocks.
@@ -258,21 +284,24 @@ double level_difference(const GridLevel& a, const GridLevel& b) {
 // summed in the fine rows' order: 1, 2 and 3 threads give the same bits (65 x 65: the fine level
 // splits; its 33 coarse rows make five bands).
 TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
-  ClothMatrix cloth(65, 65, 30.0);
-  MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000);
-  ASSERT_EQ(hierarchy.level(1).rows(), 33);
-  ASSERT_TRUE(hierarchy.level(0).splits(2));
-  hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
-  const GridLevel one_thread = hierarchy.level(1);
-  for (int threads : {2, 3}) {
-    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
-    const GridLevel& coarse = hierarchy.level(1);
-    for (int r = 0; r < coarse.rows(); ++r)
-      for (int c = 0; c < coarse.cols(); ++c)
-        for (int e = 0; e < 9; ++e)
-          ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
-              << threads << " threads, node " << r << " x " << c;
-    EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+  for (const int m : {2, 3}) {  // 33 or 23 coarse rows: five or three bands
+    ClothMatrix cloth(65, 65, 30.0);
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000, builtin::LanePrecision::float64,
+                                                 builtin::Smoothing::gauss_seidel, m);
+    ASSERT_EQ(hierarchy.level(1).rows(), m == 2 ? 33 : 23);
+    ASSERT_TRUE(hierarchy.level(0).splits(2));
+    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
+    const GridLevel one_thread = hierarchy.level(1);
+    for (int threads : {2, 3}) {
+      hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      const GridLevel& coarse = hierarchy.level(1);
+      for (int r = 0; r < coarse.rows(); ++r)
+        for (int c = 0; c < coarse.cols(); ++c)
+          for (int e = 0; e < 9; ++e)
+            ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
+                << threads << " threads, node " << r << " x " << c;
+      EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+    }
   }
 }
 
@@ -671,9 +700,10 @@ TEST(Multigrid, CoarsensAsFarAsAsked) {
 
 // A rows x cols Provot net (structural, shear, flexion springs) 5 cm apart in a tilted plane,
 // hanging from its top corners, offered as a grid.
-struct GridNet {
+template <class Real>
+struct GridNetOf {
   static constexpr double kSpacing = 0.05;
-  GridNet(uint32_t rows, uint32_t cols, bool on_grid = true)
+  GridNetOf(uint32_t rows, uint32_t cols, bool on_grid = true)
       : host(rows * cols, {0, cols - 1}, provot_net_springs(rows, cols, kSpacing, 5e3, 50.0, 0.05),
              {0, -9.81, 0}) {
     for (uint32_t r = 0; r < rows; ++r)
@@ -682,8 +712,9 @@ struct GridNet {
                                                   0.6 * kSpacing * r + 0.01 * std::sin(c)});
     if (on_grid) host.set_grid(rows, cols, kSpacing, {});
   }
-  SpringHost<double> host;
+  SpringHost<Real> host;
 };
+using GridNet = GridNetOf<double>;
 
 // The matrix the plugin assembles by probing is M (I + J) for the host's definite J: its
 // product with a vector against M (u + J u) from the host's own product.
@@ -938,6 +969,52 @@ TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetr
   EXPECT_GT(mass_dot(r2, z2), 0.0);
 }
 
+// A float32 system's V-cycle (D^-1 kept in single precision, the fine passes over its float
+// products, the coarse levels in float lanes) gives the float64 system's z = B M r for the same
+// cloth and r to single precision's rounding.
+TEST(Multigrid, TheSinglePrecisionCycleIsTheDoubleOneToRounding) {
+  constexpr uint32_t kRows = 21, kCols = 13;
+  const double h = 1.0 / 60.0;
+  std::vector<double> r_values(3 * kRows * kCols);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  for (double& value : r_values) value = uniform(random);  // exact in both precisions
+  const auto cycle = [&](auto zero) {
+    using Real = decltype(zero);
+    GridNetOf<Real> net(kRows, kCols);
+    MockSystem<Real>& mock = net.host.system();
+    const sdk::System<Real> system(mock.raw());
+    mock.allocation_allowed = true;
+    builtin::MultigridPreconditioner preconditioner(system, 0, 2);
+    Real* r = system.alloc_vector();
+    Real* z = system.alloc_vector();
+    mock.allocation_allowed = false;
+    const auto product = [&](const Real* in, Real* out) {
+      system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+    };
+    preconditioner.linearise(system, product);
+    EXPECT_GT(preconditioner.hierarchy().level_count(), 2u);
+    const std::size_t stride = system.stride();
+    for (std::size_t i = 0; i < kRows * kCols; ++i)
+      for (std::size_t d = 0; d < 3; ++d)
+        r[d * stride + i] = static_cast<Real>(r_values[3 * i + d]);
+    std::fill_n(z, 3 * stride, Real{0});
+    preconditioner.apply(system, r, z, product);
+    std::vector<double> out(3 * kRows * kCols);
+    for (std::size_t i = 0; i < kRows * kCols; ++i)
+      for (std::size_t d = 0; d < 3; ++d) out[3 * i + d] = z[d * stride + i];
+    return out;
+  };
+  const std::vector<double> single = cycle(0.0f), exact = cycle(0.0);
+  double size = 0.0, difference = 0.0;
+  for (std::size_t k = 0; k < exact.size(); ++k) {
+    size = std::max(size, std::abs(exact[k]));
+    difference = std::max(difference, std::abs(single[k] - exact[k]));
+  }
+  ASSERT_GT(size, 1e-3);
+  EXPECT_LT(difference, 1e-5 * size) << "largest |z| " << size;
+}
+
 // The multigrid-preconditioned CG splits the V-cycle's passes (the fine level's vector
 // passes, the transfers, the coarse levels' Chebyshev steps) among the host's threads; every
 // entry is summed in one order on any count, so CG's iterates have the same bits on 1, 2 and 3
@@ -982,30 +1059,43 @@ TEST(Multigrid, CgIteratesHaveTheSameBitsOnOneTwoAndThreeThreads) {
       ASSERT_EQ(iterates[t][k], iterates[0][k]) << t + 1 << " threads, entry " << k;
 }
 
+// implicit_euler's positions after `steps` steps of 1/60 s on a rows x cols net, solved tightly
+// (`configure` adds settings), and its CG iterations; every step must converge.
+struct TightSteps {
+  std::vector<Vec3> positions;
+  uint64_t iterations = 0;
+};
+template <class Configure>
+TightSteps tight_implicit_euler_steps(uint32_t rows, uint32_t cols, int steps,
+                                      Configure&& configure) {
+  TightSteps out;
+  GridNet net(rows, cols);
+  Integrator integrator("implicit_euler");
+  integrator.with("tolerance", 1e-10).with("max_iterations", 5000);
+  configure(integrator);
+  integrator.start(net.host.system());
+  for (int n = 0; n < steps; ++n) {
+    EXPECT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
+        << integrator.message();
+    const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
+    EXPECT_EQ(stats.converged, 1u) << "step " << n;
+    out.iterations += stats.iterations;
+  }
+  for (uint32_t i = 0; i < rows * cols; ++i) out.positions.push_back(net.host.system().position(i));
+  return out;
+}
+
 // Steps with the multigrid preconditioner reach the state block-Jacobi's reach (both solved
 // tightly) in fewer iterations.
 TEST(Multigrid, ImplicitEulerWithMultigridMatchesBlockJacobi) {
-  std::vector<Vec3> positions[2];
-  uint64_t iterations[2] = {0, 0};
-  for (bool multigrid : {false, true}) {
-    GridNet net(14, 17);
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid", multigrid ? 1.0 : 0.0)
-        .with("tolerance", 1e-10)
-        .with("max_iterations", 5000);
-    integrator.start(net.host.system());
-    for (int n = 0; n < 5; ++n) {
-      ASSERT_EQ(integrator.step(net.host.system(), n / 60.0, 1 / 60.0), CLOTHLAB_OK)
-          << integrator.message();
-      const clothlab_solver_step_statistics stats = solver_statistics_of(integrator);
-      ASSERT_EQ(stats.converged, 1u) << "step " << n << " multigrid " << multigrid;
-      iterations[multigrid] += stats.iterations;
-    }
-    for (uint32_t i = 0; i < 14 * 17; ++i)
-      positions[multigrid].push_back(net.host.system().position(i));
-  }
-  EXPECT_LT(largest_difference(positions[0], positions[1]), 1e-8);
-  EXPECT_LT(2 * iterations[1], iterations[0]) << iterations[1] << " vs " << iterations[0];
+  const auto run = [](double multigrid) {
+    return tight_implicit_euler_steps(14, 17, 5,
+                                      [&](Integrator& i) { i.with("multigrid", multigrid); });
+  };
+  const TightSteps jacobi = run(0.0), multigrid = run(1.0);
+  EXPECT_LT(largest_difference(jacobi.positions, multigrid.positions), 1e-8);
+  EXPECT_LT(2 * multigrid.iterations, jacobi.iterations)
+      << multigrid.iterations << " vs " << jacobi.iterations;
 }
 
 // multigrid_rebuild = 4 builds the hierarchy (one coarsest factorisation each, in the step
@@ -1056,18 +1146,45 @@ TEST(Multigrid, ImplicitEulerRefusesARebuildIntervalOutOfRange) {
   }
 }
 
+// implicit_euler refuses `setting` at each of `values` in one line naming it and its `range`.
+void expect_implicit_euler_refuses(const std::string& setting, std::initializer_list<double> values,
+                                   const std::string& range) {
+  for (const double value : values) {
+    Integrator integrator("implicit_euler");
+    integrator.with(setting, value);
+    EXPECT_NE(integrator.create(), CLOTHLAB_OK) << setting << " = " << value;
+    const std::string message = integrator.message();
+    EXPECT_NE(message.find(setting), std::string::npos) << message;
+    EXPECT_NE(message.find(range), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 // The V-cycle's smoothing budget (Chebyshev products on the fine level, sweeps below): 0 or more
 // than 8 is refused in one line naming the setting and its range.
 TEST(Multigrid, ImplicitEulerRefusesASmoothingBudgetOutOfRange) {
-  for (const double sweeps : {0.0, 9.0}) {
-    Integrator integrator("implicit_euler");
-    integrator.with("multigrid_sweeps", sweeps);
-    EXPECT_NE(integrator.create(), CLOTHLAB_OK);
-    const std::string message = integrator.message();
-    EXPECT_NE(message.find("multigrid_sweeps"), std::string::npos) << message;
-    EXPECT_NE(message.find("[1, 8]"), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_implicit_euler_refuses("multigrid_sweeps", {0.0, 9.0}, "[1, 8]");
+}
+
+// multigrid_coarsening reaches the hierarchy: every other node kept (2) takes fewer CG
+// iterations than every third (3) on the same steps, both solved tightly to the same state.
+TEST(Multigrid, ImplicitEulerCoarsensByItsSetting) {
+  const auto run = [](double coarsening) {
+    return tight_implicit_euler_steps(40, 40, 3, [&](Integrator& i) {
+      i.with("multigrid", 1.0)
+          .with("multigrid_coarsening", coarsening)
+          .with("multigrid_coarsest", 16.0);
+    });
+  };
+  const TightSteps every_other = run(2.0), every_third = run(3.0);
+  EXPECT_LT(largest_difference(every_other.positions, every_third.positions), 1e-8);
+  EXPECT_LT(every_other.iterations, every_third.iterations)
+      << every_other.iterations << " vs " << every_third.iterations;
+}
+
+// A coarsening other than 2 or 3 is refused in one line naming the setting and its range.
+TEST(Multigrid, ImplicitEulerRefusesACoarseningOutOfRange) {
+  expect_implicit_euler_refuses("multigrid_coarsening", {1.0, 4.0}, "[2, 3]");
 }
 
 TEST(Multigrid, ImplicitEulerRefusesANonGridAndAGridThatDoesNotCoarsen) {
