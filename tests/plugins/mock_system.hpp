@@ -87,6 +87,10 @@ class MockSystem {
 
   void set_position(uint32_t i, Vec3 p) { set(x_, i, p); }
   void set_velocity(uint32_t i, Vec3 p) { set(v_, i, p); }
+  // A free particle's mass (pins stay pinned: the active ranges do not change).
+  void set_mass(uint32_t i, double mass) {
+    if (inverse_mass_[i] != 0) inverse_mass_[i] = static_cast<Real>(1.0 / mass);
+  }
   Vec3 position(uint32_t i) const { return get(x_, i); }
   Vec3 velocity(uint32_t i) const { return get(v_, i); }
 
