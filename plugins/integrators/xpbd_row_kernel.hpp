@@ -9,11 +9,13 @@
 // the masked stores of one run never touch a particle another kept lane reads).
 #pragma once
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "float_lanes.hpp"
 #include "inverse_sqrt.hpp"
@@ -89,9 +91,16 @@ using namespace detail;
 
 struct SpringLanes {
   Floats d[3], moved[3];
-  Floats inverse_length, delta;
+  Floats twice_inverse_length, delta;  // 2 / |d| (inverse_sqrt.hpp's scale)
   LaneMask pushed;
 };
+
+// The lanes a block holds: every lane (no mask to apply), or those of a mask.
+struct AllLanes {};
+inline LaneMask within(AllLanes, LaneMask mask) { return mask; }
+inline LaneMask within(LaneMask lanes, LaneMask mask) { return both(lanes, mask); }
+inline AllLanes lanes_of(FullLanes) { return {}; }
+inline LaneMask lanes_of(const TailLanes& block) { return block.mask(); }
 
 // 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
 inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj) {
@@ -106,7 +115,7 @@ inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj)
 // stiffness and damping are halved for the inverse length's scale 2 (inverse_sqrt.hpp).
 struct LawLanes {
   Floats stiffness_rest, half_stiffness, half_damping, compliance_scale;
-  Floats uniform_weight, uniform_inverse_denominator;
+  Floats uniform_weight, half_uniform_weight, uniform_inverse_denominator;
 };
 
 // From ks h^2 and kd h (halving is exact): floats broadcast, or a law per lane.
@@ -121,12 +130,14 @@ inline LawLanes law_lanes(Value rest, Value stiffness, Value damping) {
           law_lanes_of(0.5f * damping),
           law_lanes_of(stiffness + damping),
           zero,
+          zero,
           zero};
 }
 
 inline LawLanes law_lanes(const ColorRow<float>& row) {
   LawLanes law = law_lanes(row.rest, row.stiffness, row.damping);
   law.uniform_weight = broadcast(row.uniform_weight);
+  law.half_uniform_weight = broadcast(0.5f * row.uniform_weight);
   law.uniform_inverse_denominator =
       inverse_denominator(law.compliance_scale, law.uniform_weight, law.uniform_weight);
   return law;
@@ -143,13 +154,26 @@ struct UniformRuns {
   bool covers(std::size_t begin, std::size_t end) const {
     return any && (end <= varied_begin || begin >= varied_end);
   }
+  // The blocks [skip + c, skip + c + width) for c a multiple of width below `whole` that
+  // `covers` leaves out, as the c of [from, to): the row's runs before and after them are
+  // uniform, so the loops over them test nothing per block.
+  std::pair<std::size_t, std::size_t> varied_blocks(std::size_t skip, std::size_t width,
+                                                    std::size_t whole) const {
+    if (!any) return {0, whole};
+    const auto up = [&](std::size_t v) { return std::min(whole, (v + width - 1) / width * width); };
+    // Left out: skip + c + width > varied_begin and skip + c < varied_end.
+    const std::size_t from =
+        up(varied_begin + 1 > skip + width ? varied_begin + 1 - skip - width : 0);
+    return {from, std::max(from, up(varied_end > skip ? varied_end - skip : 0))};
+  }
 };
 
 // The update of the springs in `lanes` from the ends' position differences and both ends'
 // displacements. Always inlined: called out of line, its vectors and masks go through the
 // stack.
+template <class Lanes>
 __attribute__((always_inline)) inline SpringLanes spring_update(
-    const LawLanes& law, LaneMask lanes, const Floats (&x_difference)[3], const Floats (&dxi)[3],
+    const LawLanes& law, Lanes lanes, const Floats (&x_difference)[3], const Floats (&dxi)[3],
     const Floats (&dxj)[3], Floats inverse_denominator, Floats accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
@@ -157,11 +181,11 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
     out.d[k] = x_difference[k] + out.moved[k];
   }
   const Floats squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
-  out.pushed = both(lanes, not_less(squared, broadcast(FLT_MIN)));
+  out.pushed = within(lanes, not_less(squared, broadcast(FLT_MIN)));
   // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
   // the scaled inverse length (2 / |d|, finite where the spring is not pushed).
   const Floats twice_inverse_length = scaled_inverse_sqrt(squared);
-  out.inverse_length = broadcast(0.5f) * twice_inverse_length;
+  out.twice_inverse_length = twice_inverse_length;
   const Floats pull = law.half_stiffness * squared +
                       law.half_damping * (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] +
                                           out.d[2] * out.moved[2]);
@@ -180,13 +204,14 @@ struct PushLanes;
 // the ends need no blend (six per block of lanes: a cost on 8 lanes, where a blend is an
 // instruction of its own, and a masked FMA on 16 is one). A lane not pushed adds 0 d, d finite (its
 // squared length is below FLT_MIN, and lanes outside the block load zeros): its displacement stays,
-// but for a zero's sign.
+// but for a zero's sign. The weight comes halved for the inverse length's scale 2 (the same
+// bits as w (delta / |d|): halving is exact).
 template <>
 struct PushLanes<true> {
   Floats push;
 
-  PushLanes(const SpringLanes& u, Floats w, Floats)
-      : push(keep(u.pushed, w * (u.delta * u.inverse_length))) {}
+  PushLanes(const SpringLanes& u, Floats half_w, Floats)
+      : push(keep(u.pushed, half_w * (u.delta * u.twice_inverse_length))) {}
   Floats first_end(Floats d, Floats dx) const { return fused_multiply_add(push, d, dx); }
   Floats second_end(Floats d, Floats dx) const { return fused_negated_multiply_add(push, d, dx); }
 };
@@ -198,7 +223,7 @@ struct PushLanes<false> {
   LaneMask moves_first, moves_second;
 
   PushLanes(const SpringLanes& u, Floats wi, Floats wj) {
-    const Floats scale = u.delta * u.inverse_length;
+    const Floats scale = u.delta * (broadcast(0.5f) * u.twice_inverse_length);
     const Floats zero = zero_floats();
     first = wi * scale, second = wj * scale;
     moves_first = both(u.pushed, not_equal(wi, zero));
@@ -244,7 +269,7 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
     dxi[k] = block.load(row.dx + i);
     dxj[k] = block.load(row.dx + i + o);
   }
-  Floats wi = law.uniform_weight, wj = law.uniform_weight;
+  Floats wi = law.half_uniform_weight, wj = wi;  // as PushLanes<true> takes it
   Floats inverse = law.uniform_inverse_denominator;
   if constexpr (!Uniform) {
     wi = block.load(row.w + c), wj = block.load(row.w + c + o);
@@ -253,7 +278,7 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   Floats accumulated = zero_floats();
   if constexpr (!Fresh) accumulated = block.load(row.lambda + c);
   const SpringLanes u =
-      spring_update(law, block.mask(), x_difference, dxi, dxj, inverse, accumulated);
+      spring_update(law, lanes_of(block), x_difference, dxi, dxj, inverse, accumulated);
   if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
   const PushLanes<Uniform> push(u, wi, wj);
   for (std::size_t k = 0; k < 3; ++k) {
@@ -268,12 +293,22 @@ inline void project_rows(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
   const RowArrays arrays(row, 0);
-  for_each_lane_block(0, row.count, [&](std::size_t c, auto block) {
-    if (uniform.covers(c, c + kLanes))
-      project_rows_block<true, Fresh, KeepLambda>(arrays, law, c, block);
-    else
-      project_rows_block<false, Fresh, KeepLambda>(arrays, law, c, block);
-  });
+  const std::size_t count = row.count, whole = count / kLanes * kLanes;
+  const auto [varied_from, varied_to] = uniform.varied_blocks(0, kLanes, whole);
+  const auto blocks = [&](std::size_t from, std::size_t to, auto uniform_run) {
+    for (std::size_t c = from; c < to; c += kLanes)
+      project_rows_block<decltype(uniform_run)::value, Fresh, KeepLambda>(arrays, law, c,
+                                                                          FullLanes{});
+  };
+  blocks(0, varied_from, std::true_type{});
+  blocks(varied_from, varied_to, std::false_type{});
+  blocks(varied_to, whole, std::true_type{});
+  if (whole == count) return;
+  const TailLanes tail{lanes_from_to(0, count - whole)};
+  if (uniform.covers(whole, whole + kLanes))
+    project_rows_block<true, Fresh, KeepLambda>(arrays, law, whole, tail);
+  else
+    project_rows_block<false, Fresh, KeepLambda>(arrays, law, whole, tail);
 }
 
 // In-row stencils (step 1 or 2 columns): a run of 2 kLanes particles from a start holds
@@ -346,7 +381,7 @@ inline void project_in_row(const ColorRow<float>& row) {
       x_difference[k] = xi - xj;
       split(dx + c + k * s, dxi[k], dxj[k]);
     }
-    Floats wi = law.uniform_weight, wj = law.uniform_weight;
+    Floats wi = law.half_uniform_weight, wj = wi;  // as PushLanes<true> takes it
     Floats inverse = law.uniform_inverse_denominator;
     if constexpr (!kUniform) {
       split(w + c, wi, wj);
@@ -356,7 +391,12 @@ inline void project_in_row(const ColorRow<float>& row) {
     float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
     Floats accumulated = zero_floats();
     if constexpr (!Fresh) accumulated = load(lambda, lanes);
-    const SpringLanes u = spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
+    const SpringLanes u = [&] {
+      if constexpr (kWhole)
+        return spring_update(law, AllLanes{}, x_difference, dxi, dxj, inverse, accumulated);
+      else
+        return spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
+    }();
     if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
     const PushLanes<kUniform> push(u, wi, wj);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -372,9 +412,14 @@ inline void project_in_row(const ColorRow<float>& row) {
     else
       run(c, std::false_type{}, whole_run);
   };
-  std::size_t c = 0;
-  for (; c + 2 * kLanes <= count; c += 2 * kLanes) run_of(c, std::true_type{});
-  if (c < count) run_of(c, std::false_type{});
+  constexpr std::size_t kRun = 2 * kLanes;
+  const std::size_t whole = count / kRun * kRun;
+  const auto [varied_from, varied_to] = uniform.varied_blocks(skip, kRun, whole);
+  for (std::size_t c = 0; c < varied_from; c += kRun) run(c, std::true_type{}, std::true_type{});
+  for (std::size_t c = varied_from; c < varied_to; c += kRun)
+    run(c, std::false_type{}, std::true_type{});
+  for (std::size_t c = varied_to; c < whole; c += kRun) run(c, std::true_type{}, std::true_type{});
+  if (whole < count) run_of(whole, std::false_type{});
 }
 
 template <bool Fresh, bool KeepLambda>
