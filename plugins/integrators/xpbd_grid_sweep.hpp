@@ -33,6 +33,7 @@
 #include <utility>
 #include <vector>
 
+#include "float_lanes.hpp"
 #include "simd_namespace.hpp"
 #include "xpbd_bands.hpp"
 #include "xpbd_color_row.hpp"
@@ -164,17 +165,79 @@ class GridSweep {
     return non_finite == 0;
   }
 
+  // predict_row and velocity_row on the three components of a run without pins, in blocks of
+  // SIMD lanes for float (one loop and one masked tail where the compiler's vectorised loops
+  // would take three, each with a scalar tail); the same bits.
+  static void predict_free_run(const Substep<Real>& s, std::size_t e, std::size_t count) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      using namespace detail;
+      // Local copies: the stores could otherwise alias the Substep's fields.
+      float* const v = s.v + e;
+      const float* const a = s.external_acceleration + e;
+      const std::size_t stride = s.stride;
+      const Floats h = broadcast(s.h);
+      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride + i;
+          lanes.store(v + at, h * fused_multiply_add(h, lanes.load(a + at), lanes.load(v + at)));
+        }
+      });
+      return;
+    }
+#endif
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t component = k * s.stride + e;
+      predict_row<true>(s.v + component, s.displacement + component,
+                        s.external_acceleration + component, nullptr, count, s.h);
+    }
+  }
+
+  static bool velocity_free_run(const Substep<Real>& s, std::size_t e, std::size_t count) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      using namespace detail;
+      float* const x = s.x + e;
+      float* const v = s.v + e;
+      const std::size_t stride = s.stride;
+      const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
+      Floats probe = zero;  // NaN in a lane exactly where some speed was not finite
+      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride + i;
+          const Floats dx = lanes.load(v + at);
+          const Floats speed = dx * inverse_h;
+          lanes.store(x + at, lanes.load(x + at) + dx);
+          lanes.store(v + at, speed);
+          probe = fused_multiply_add(speed, zero, probe);
+        }
+      });
+      return no_lane(unordered(probe, probe));
+    }
+#endif
+    bool finite = true;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t component = k * s.stride + e;
+      finite &= velocity_row<true>(s.x + component, s.v + component, s.displacement + component,
+                                   nullptr, count, s.inverse_h);
+    }
+    return finite;
+  }
+
   void run_phase(const Phase& phase, uint32_t row, bool& finite) {
     const Substep<Real>& s = s_;
     const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t e = c * s.stride + row_begin + begin;
-            predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
-                                                   s.external_acceleration + e,
-                                                   s.inverse_mass + row_begin + begin, count, s.h);
+          if constexpr (decltype(all_free)::value) {
+            predict_free_run(s, row_begin + begin, count);
+          } else {
+            for (std::size_t c = 0; c < 3; ++c) {
+              const std::size_t e = c * s.stride + row_begin + begin;
+              predict_row<false>(s.v + e, s.displacement + e, s.external_acceleration + e,
+                                 s.inverse_mass + row_begin + begin, count, s.h);
+            }
           }
         });
         return;
@@ -186,11 +249,14 @@ class GridSweep {
       case Phase::Kind::velocity: {
         bool bad = false;
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t e = c * s.stride + row_begin + begin;
-            bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
-                                                            s.inverse_mass + row_begin + begin,
-                                                            count, s.inverse_h);
+          if constexpr (decltype(all_free)::value) {
+            bad |= !velocity_free_run(s, row_begin + begin, count);
+          } else {
+            for (std::size_t c = 0; c < 3; ++c) {
+              const std::size_t e = c * s.stride + row_begin + begin;
+              bad |= !velocity_row<false>(s.x + e, s.v + e, s.displacement + e,
+                                          s.inverse_mass + row_begin + begin, count, s.inverse_h);
+            }
           }
         });
         finite = finite && !bad;
