@@ -91,6 +91,7 @@ using namespace detail;
 
 struct SpringLanes {
   Floats d[3], moved[3];
+  Floats squared, closing;             // |d|^2, d.moved
   Floats twice_inverse_length, delta;  // 2 / |d| (inverse_sqrt.hpp's scale)
   LaneMask pushed;
 };
@@ -113,9 +114,13 @@ inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj)
 // float pointers, which could alias the row's float fields. The uniform weight's
 // denominator comes from the same instructions as a lane's, so it has the same bits. The
 // stiffness and damping are halved for the inverse length's scale 2 (inverse_sqrt.hpp).
+// The uniform weight's push (PushLanes<true>) takes the law times its factor
+// K = w / (2 denominator) (uniform_scale): stiffness_rest, half_stiffness and half_damping
+// times K as uniform_rest, uniform_stiffness and uniform_damping.
 struct LawLanes {
   Floats stiffness_rest, half_stiffness, half_damping, compliance_scale;
-  Floats uniform_weight, half_uniform_weight, uniform_inverse_denominator;
+  Floats uniform_inverse_denominator, uniform_scale;
+  Floats uniform_rest, uniform_stiffness, uniform_damping;
 };
 
 // From ks h^2 and kd h (halving is exact): floats broadcast, or a law per lane.
@@ -131,15 +136,19 @@ inline LawLanes law_lanes(Value rest, Value stiffness, Value damping) {
           law_lanes_of(stiffness + damping),
           zero,
           zero,
+          zero,
+          zero,
           zero};
 }
 
 inline LawLanes law_lanes(const ColorRow<float>& row) {
   LawLanes law = law_lanes(row.rest, row.stiffness, row.damping);
-  law.uniform_weight = broadcast(row.uniform_weight);
-  law.half_uniform_weight = broadcast(0.5f * row.uniform_weight);
-  law.uniform_inverse_denominator =
-      inverse_denominator(law.compliance_scale, law.uniform_weight, law.uniform_weight);
+  const Floats weight = broadcast(row.uniform_weight);
+  law.uniform_inverse_denominator = inverse_denominator(law.compliance_scale, weight, weight);
+  law.uniform_scale = broadcast(0.5f * row.uniform_weight) * law.uniform_inverse_denominator;
+  law.uniform_rest = law.uniform_scale * law.stiffness_rest;
+  law.uniform_stiffness = law.uniform_scale * law.half_stiffness;
+  law.uniform_damping = law.uniform_scale * law.half_damping;
   return law;
 }
 
@@ -185,10 +194,10 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
   // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
   // the scaled inverse length (2 / |d|, finite where the spring is not pushed).
   const Floats twice_inverse_length = scaled_inverse_sqrt(squared);
+  out.squared = squared;
+  out.closing = out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2];
   out.twice_inverse_length = twice_inverse_length;
-  const Floats pull = law.half_stiffness * squared +
-                      law.half_damping * (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] +
-                                          out.d[2] * out.moved[2]);
+  const Floats pull = law.half_stiffness * squared + law.half_damping * out.closing;
   const Floats numerator =
       fused_negated_multiply_add(pull, twice_inverse_length, law.stiffness_rest - accumulated);
   out.delta = numerator * inverse_denominator;
@@ -204,14 +213,20 @@ struct PushLanes;
 // the ends need no blend (six per block of lanes: a cost on 8 lanes, where a blend is an
 // instruction of its own, and a masked FMA on 16 is one). A lane not pushed adds 0 d, d finite (its
 // squared length is below FLT_MIN, and lanes outside the block load zeros): its displacement stays,
-// but for a zero's sign. The weight comes halved for the inverse length's scale 2 (the same
-// bits as w (delta / |d|): halving is exact).
+// but for a zero's sign. With u = 2 / |d| and K = w / (2 denominator) (LawLanes):
+//   w delta / |d| = K (ks h^2 rest - lambda - (ks h^2/2 |d|^2 + kd h/2 d.moved) u) u,
+// the law's constants times K, so that the push takes two operations after u where
+// delta, then its product with u and w, took four.
 template <>
 struct PushLanes<true> {
   Floats push;
 
-  PushLanes(const SpringLanes& u, Floats half_w, Floats)
-      : push(keep(u.pushed, half_w * (u.delta * u.twice_inverse_length))) {}
+  // rest: K (ks h^2 rest - lambda).
+  PushLanes(const SpringLanes& u, const LawLanes& law, Floats rest) {
+    const Floats pull = law.uniform_stiffness * u.squared + law.uniform_damping * u.closing;
+    const Floats scaled = fused_negated_multiply_add(pull, u.twice_inverse_length, rest);
+    push = keep(u.pushed, u.twice_inverse_length * scaled);
+  }
   Floats first_end(Floats d, Floats dx) const { return fused_multiply_add(push, d, dx); }
   Floats second_end(Floats d, Floats dx) const { return fused_negated_multiply_add(push, d, dx); }
 };
@@ -236,6 +251,19 @@ struct PushLanes<false> {
     return masked_fused_negated_multiply_add(moves_second, second, d, dx);
   }
 };
+
+// The push of lanes of the uniform weight or not, lambda the multipliers before the update.
+template <bool Uniform, bool Fresh>
+inline PushLanes<Uniform> push_lanes(const SpringLanes& u, const LawLanes& law, Floats wi,
+                                     Floats wj, Floats lambda) {
+  if constexpr (!Uniform)
+    return PushLanes<false>(u, wi, wj);
+  else if constexpr (Fresh)
+    return PushLanes<true>(u, law, law.uniform_rest);
+  else
+    return PushLanes<true>(u, law,
+                           fused_negated_multiply_add(law.uniform_scale, lambda, law.uniform_rest));
+}
 
 // A row's arrays from its first spring start, and the spacings, copied out of the ColorRow
 // once: the kernel's float stores could alias the row's fields, which the loop would then
@@ -269,7 +297,7 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
     dxi[k] = block.load(row.dx + i);
     dxj[k] = block.load(row.dx + i + o);
   }
-  Floats wi = law.half_uniform_weight, wj = wi;  // as PushLanes<true> takes it
+  Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
   Floats inverse = law.uniform_inverse_denominator;
   if constexpr (!Uniform) {
     wi = block.load(row.w + c), wj = block.load(row.w + c + o);
@@ -280,7 +308,7 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   const SpringLanes u =
       spring_update(law, lanes_of(block), x_difference, dxi, dxj, inverse, accumulated);
   if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
-  const PushLanes<Uniform> push(u, wi, wj);
+  const PushLanes<Uniform> push = push_lanes<Uniform, Fresh>(u, law, wi, wj, accumulated);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
     block.store(row.dx + i, push.first_end(u.d[k], dxi[k]));
@@ -381,7 +409,7 @@ inline void project_in_row(const ColorRow<float>& row) {
       x_difference[k] = xi - xj;
       split(dx + c + k * s, dxi[k], dxj[k]);
     }
-    Floats wi = law.half_uniform_weight, wj = wi;  // as PushLanes<true> takes it
+    Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
     Floats inverse = law.uniform_inverse_denominator;
     if constexpr (!kUniform) {
       split(w + c, wi, wj);
@@ -398,7 +426,7 @@ inline void project_in_row(const ColorRow<float>& row) {
         return spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
     }();
     if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
-    const PushLanes<kUniform> push(u, wi, wj);
+    const PushLanes<kUniform> push = push_lanes<kUniform, Fresh>(u, law, wi, wj, accumulated);
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
       interleave<Step>(push.first_end(u.d[k], dxi[k]), push.second_end(u.d[k], dxj[k]), a, b);
