@@ -103,6 +103,25 @@ inline LaneMask within(LaneMask lanes, LaneMask mask) { return both(lanes, mask)
 inline AllLanes lanes_of(FullLanes) { return {}; }
 inline LaneMask lanes_of(const TailLanes& block) { return block.mask(); }
 
+// A row's last kLanes springs as a whole block, of which those before `lanes` were projected
+// by the block before: whole loads and stores (a masked store is slow), the lanes done
+// before pushed by nothing, so that their ends get back the displacements just stored
+// (but for a zero's sign). Their multipliers are stored masked: a fresh block's are 0.
+struct LastLanes {
+  LaneMask lanes;
+  static Floats load(const float* p) { return load_floats(p); }
+  static void store(float* p, Floats value) { store_floats(p, value); }
+};
+inline LaneMask lanes_of(const LastLanes& block) { return block.lanes; }
+
+template <class Block>
+inline void store_multipliers(const Block& block, float* p, Floats value) {
+  block.store(p, value);
+}
+inline void store_multipliers(const LastLanes& block, float* p, Floats value) {
+  store_floats(block.lanes, p, value);
+}
+
 // 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
 inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj) {
   const Floats denominator = compliance_scale * (wi + wj) + broadcast(1.0f);
@@ -307,7 +326,8 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   if constexpr (!Fresh) accumulated = block.load(row.lambda + c);
   const SpringLanes u =
       spring_update(law, lanes_of(block), x_difference, dxi, dxj, inverse, accumulated);
-  if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
+  if constexpr (KeepLambda)
+    store_multipliers(block, row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
   const PushLanes<Uniform> push = push_lanes<Uniform, Fresh>(u, law, wi, wj, accumulated);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
@@ -332,11 +352,16 @@ inline void project_rows(const ColorRow<float>& row) {
   blocks(varied_from, varied_to, std::false_type{});
   blocks(varied_to, whole, std::true_type{});
   if (whole == count) return;
-  const TailLanes tail{lanes_from_to(0, count - whole)};
-  if (uniform.covers(whole, whole + kLanes))
-    project_rows_block<true, Fresh, KeepLambda>(arrays, law, whole, tail);
+  const auto last = [&](std::size_t c, auto block) {
+    if (uniform.covers(c, c + kLanes))
+      project_rows_block<true, Fresh, KeepLambda>(arrays, law, c, block);
+    else
+      project_rows_block<false, Fresh, KeepLambda>(arrays, law, c, block);
+  };
+  if (whole > 0)
+    last(count - kLanes, LastLanes{lanes_from_to(whole - (count - kLanes), kLanes)});
   else
-    project_rows_block<false, Fresh, KeepLambda>(arrays, law, whole, tail);
+    last(whole, TailLanes{lanes_from_to(0, count - whole)});
 }
 
 // In-row stencils (step 1 or 2 columns): a run of 2 kLanes particles from a start holds
@@ -377,27 +402,37 @@ inline void project_in_row(const ColorRow<float>& row) {
   const std::size_t s = arrays.stride;
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
-  const InRowPositions positions = InRowPositions::of<Step>();
-  const auto run = [&](std::size_t c, auto uniform_run, auto whole_run) {
-    constexpr bool kUniform = decltype(uniform_run)::value, kWhole = decltype(whole_run)::value;
-    // A run cut short: the springs whose start lies in it, and the particles they reach.
+  // A run: whole; the row's last run of 2 kLanes particles, of which the springs that start
+  // before `done` were projected by the run before (whole loads and stores, as LastLanes); or
+  // a run cut short (masked), in a row of fewer particles.
+  enum class Run { whole, last, cut };
+  const auto run = [&](std::size_t c, auto uniform_run, auto kind, std::size_t done = 0) {
+    constexpr bool kUniform = decltype(uniform_run)::value;
+    constexpr Run kKind = decltype(kind)::value;
+    constexpr bool kWhole = kKind == Run::whole, kMasked = kKind == Run::cut;
     LaneMask lanes = all_lanes(), low = all_lanes(), high = all_lanes();
     if constexpr (!kWhole) {
+      const InRowPositions positions = InRowPositions::of<Step>();
       const Floats left = broadcast(static_cast<float>(count - c));
       lanes = greater(left, positions.starts);
-      low = greater(left, positions.owner_low), high = greater(left, positions.owner_high);
+      if constexpr (kMasked) {
+        // The springs whose start lies in the run, and the particles they reach.
+        low = greater(left, positions.owner_low), high = greater(left, positions.owner_high);
+      } else {
+        lanes = both(lanes, not_less(positions.starts, broadcast(static_cast<float>(done - c))));
+      }
     }
     const auto load = [&](const float* p, LaneMask mask) {
-      if constexpr (kWhole)
-        return load_floats(p);
-      else
+      if constexpr (kMasked)
         return load_floats(mask, p);
+      else
+        return load_floats(p);
     };
     const auto store = [&](float* p, LaneMask mask, Floats value) {
-      if constexpr (kWhole)
-        store_floats(p, value);
-      else
+      if constexpr (kMasked)
         store_floats(mask, p, value);
+      else
+        store_floats(p, value);
     };
     const auto split = [&](const float* p, Floats& first, Floats& partner) {
       deinterleave<Step>(load(p, low), load(p + kLanes, high), first, partner);
@@ -425,7 +460,13 @@ inline void project_in_row(const ColorRow<float>& row) {
       else
         return spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
     }();
-    if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
+    if constexpr (KeepLambda) {
+      // The last run's multipliers masked: its lanes done before hold another run's.
+      if constexpr (kWhole)
+        store_floats(lambda, masked_add(u.pushed, accumulated, u.delta));
+      else
+        store_floats(lanes, lambda, masked_add(u.pushed, accumulated, u.delta));
+    }
     const PushLanes<kUniform> push = push_lanes<kUniform, Fresh>(u, law, wi, wj, accumulated);
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
@@ -434,20 +475,33 @@ inline void project_in_row(const ColorRow<float>& row) {
       store(dx + c + k * s + kLanes, high, b);
     }
   };
-  const auto run_of = [&](std::size_t c, auto whole_run) {
+  using Whole = std::integral_constant<Run, Run::whole>;
+  using Last = std::integral_constant<Run, Run::last>;
+  using Cut = std::integral_constant<Run, Run::cut>;
+  const auto run_of = [&](std::size_t c, auto kind, std::size_t done) {
     if (uniform.covers(skip + c, skip + c + 2 * kLanes))
-      run(c, std::true_type{}, whole_run);
+      run(c, std::true_type{}, kind, done);
     else
-      run(c, std::false_type{}, whole_run);
+      run(c, std::false_type{}, kind, done);
   };
   constexpr std::size_t kRun = 2 * kLanes;
   const std::size_t whole = count / kRun * kRun;
   const auto [varied_from, varied_to] = uniform.varied_blocks(skip, kRun, whole);
-  for (std::size_t c = 0; c < varied_from; c += kRun) run(c, std::true_type{}, std::true_type{});
-  for (std::size_t c = varied_from; c < varied_to; c += kRun)
-    run(c, std::false_type{}, std::true_type{});
-  for (std::size_t c = varied_to; c < whole; c += kRun) run(c, std::true_type{}, std::true_type{});
-  if (whole < count) run_of(whole, std::false_type{});
+  for (std::size_t c = 0; c < varied_from; c += kRun) run(c, std::true_type{}, Whole{});
+  for (std::size_t c = varied_from; c < varied_to; c += kRun) run(c, std::false_type{}, Whole{});
+  for (std::size_t c = varied_to; c < whole; c += kRun) run(c, std::true_type{}, Whole{});
+  if (whole == count) return;
+  // The row's particles from the first start: count + Step. The last run starts at a multiple
+  // of 2 Step, as every run does, so that its lanes hold the colour's springs, and must reach
+  // the partner of the colour's last start (the first Step of every 2 Step positions).
+  const std::size_t final_position = count - 1, phase = final_position % (2 * Step);
+  const std::size_t last_start = phase < Step ? final_position : final_position - phase + Step - 1;
+  const std::size_t last_run =
+      count + Step >= kRun ? (count + Step - kRun) / (2 * Step) * (2 * Step) : 0;
+  if (whole > 0 && last_run + kRun > last_start + Step)
+    run_of(last_run, Last{}, whole);
+  else
+    run_of(whole, Cut{}, 0);
 }
 
 template <bool Fresh, bool KeepLambda>
