@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -52,6 +53,7 @@ class GridSweep {
 
   // One substep on `threads` threads; false when a velocity came out non-finite.
   bool run(int threads) {
+    fill_color_rows();
     if (threads == 1) return sweep(0, 1);
     for (int thread = 0; thread < threads; ++thread) plan_.progress[thread].reset();
     for (int side = 0; side < 2; ++side) plan_.seam_progress[side].reset();
@@ -124,6 +126,40 @@ class GridSweep {
                                                   std::memory_order_release);
         wait_for(plan_.seam_progress[1 - side], static_cast<uint32_t>(q));
       }
+    }
+  }
+
+  // What the row jobs of each projection phase share: all but the row's first start (here
+  // the first column) and the span of other weights.
+  void fill_color_rows() {
+    const Substep<Real>& s = s_;
+    for (std::size_t q = 0; q < plan_.phases.size(); ++q) {
+      const Phase& phase = plan_.phases[q];
+      if (phase.kind != Phase::Kind::project) continue;
+      const GridColor& color = plan_.layout.colors[phase.color];
+      Real* lambda = plan_.lambda.empty()
+                         ? nullptr
+                         : plan_.lambda.data() + std::size_t{phase.color} * s.particle_count;
+      plan_.color_rows[q] = ColorRow<Real>{
+          s.x,
+          s.v,
+          s.inverse_mass,
+          lambda,
+          s.stride,
+          color.col_begin,
+          color.col_end - color.col_begin,
+          static_cast<std::size_t>(int64_t{color.row_step} * plan_.layout.cols + color.col_step),
+          color.in_row(),
+          color.col_step == 2 ? 1u : 0u,
+          color.parity,
+          static_cast<Real>(color.rest),
+          static_cast<Real>(color.ks) * s.h_squared,
+          static_cast<Real>(color.kd) * s.h,
+          phase.iteration == 0,
+          phase.iteration + 1 < static_cast<uint32_t>(plan_.iterations),
+          static_cast<Real>(plan_.uniform.value()),
+          0,
+          0};
     }
   }
 
@@ -265,30 +301,10 @@ class GridSweep {
       case Phase::Kind::project: {
         const GridColor& color = plan_.layout.colors[phase.color];
         if (!color.starts_in_row(row)) return;
-        const auto [varied_begin, varied_end] = plan_.uniform.varied_positions(color, row);
-        Real* lambda = plan_.lambda.empty()
-                           ? nullptr
-                           : plan_.lambda.data() + std::size_t{phase.color} * s.particle_count;
-        const ColorRow<Real> job{
-            s.x,
-            s.v,
-            s.inverse_mass,
-            lambda,
-            s.stride,
-            row_begin + color.col_begin,
-            color.col_end - color.col_begin,
-            static_cast<std::size_t>(int64_t{color.row_step} * plan_.layout.cols + color.col_step),
-            color.in_row(),
-            color.col_step == 2 ? 1u : 0u,
-            color.parity,
-            static_cast<Real>(color.rest),
-            static_cast<Real>(color.ks) * s.h_squared,
-            static_cast<Real>(color.kd) * s.h,
-            phase.iteration == 0,
-            phase.iteration + 1 < static_cast<uint32_t>(plan_.iterations),
-            static_cast<Real>(plan_.uniform.value()),
-            varied_begin,
-            varied_end};
+        ColorRow<Real> job =
+            plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
+        job.first += row_begin;
+        std::tie(job.varied_begin, job.varied_end) = plan_.uniform.varied_positions(color, row);
         project_row(job);
         return;
       }
