@@ -260,7 +260,24 @@ class GridSweep {
     return finite;
   }
 
+  // Most of a substep's calls project a colour's row, or find that none of its springs starts
+  // there: those go straight to the row kernel, the passes over a whole row through a call of
+  // their own (whose frame they alone pay for).
   void run_phase(const Phase& phase, uint32_t row, bool& finite) {
+    if (phase.kind != Phase::Kind::project) {
+      run_pass(phase, row, finite);
+      return;
+    }
+    const GridColor& color = plan_.layout.colors[phase.color];
+    if (!color.starts_in_row(row)) return;
+    ColorRow<Real> job = plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
+    job.first += std::size_t{row} * plan_.layout.cols;
+    std::tie(job.varied_begin, job.varied_end) = plan_.uniform.varied_positions(color, row);
+    project_row(job);
+  }
+
+  // The predict, tether and velocity passes over a row.
+  __attribute__((noinline)) void run_pass(const Phase& phase, uint32_t row, bool& finite) {
     const Substep<Real>& s = s_;
     const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
@@ -298,16 +315,8 @@ class GridSweep {
         finite = finite && !bad;
         return;
       }
-      case Phase::Kind::project: {
-        const GridColor& color = plan_.layout.colors[phase.color];
-        if (!color.starts_in_row(row)) return;
-        ColorRow<Real> job =
-            plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
-        job.first += row_begin;
-        std::tie(job.varied_begin, job.varied_end) = plan_.uniform.varied_positions(color, row);
-        project_row(job);
-        return;
-      }
+      case Phase::Kind::project:
+        return;  // run_phase's
     }
   }
 
