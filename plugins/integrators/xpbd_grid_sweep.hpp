@@ -201,22 +201,35 @@ class GridSweep {
     return non_finite == 0;
   }
 
-  // predict_row and velocity_row on the three components of a run without pins, in blocks of
-  // SIMD lanes for float (one loop and one masked tail where the compiler's vectorised loops
-  // would take three, each with a scalar tail); the same bits.
-  static void predict_free_run(const Substep<Real>& s, std::size_t e, std::size_t count) {
+  // predict_row and velocity_row on the three components of a run of particles from e, in
+  // blocks of SIMD lanes for float (one loop and one masked tail where the compiler's
+  // vectorised loops would take three, each with a scalar tail); the same bits. In a run with
+  // pins (not AllFree) the pins' entries of the scratch array are rewritten as they were.
+  template <bool AllFree>
+  static void predict_run(const Substep<Real>& s, std::size_t e, std::size_t count,
+                          const Real* inverse_mass) {
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       using namespace detail;
       // Local copies: the stores could otherwise alias the Substep's fields.
       float* const v = s.v + e;
+      float* const pinned = s.displacement + e;
       const float* const a = s.external_acceleration + e;
       const std::size_t stride = s.stride;
-      const Floats h = broadcast(s.h);
+      const Floats h = broadcast(s.h), zero = zero_floats();
       for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        LaneMask free = all_lanes();
+        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
         for (std::size_t k = 0; k < 3; ++k) {
           const std::size_t at = k * stride + i;
-          lanes.store(v + at, h * fused_multiply_add(h, lanes.load(a + at), lanes.load(v + at)));
+          const Floats velocity = lanes.load(v + at);
+          const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
+          if constexpr (AllFree) {
+            lanes.store(v + at, dx);
+          } else {
+            lanes.store(pinned + at, select(free, lanes.load(pinned + at), velocity));
+            lanes.store(v + at, keep(free, dx));
+          }
         }
       });
       return;
@@ -224,28 +237,40 @@ class GridSweep {
 #endif
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t component = k * s.stride + e;
-      predict_row<true>(s.v + component, s.displacement + component,
-                        s.external_acceleration + component, nullptr, count, s.h);
+      predict_row<AllFree>(s.v + component, s.displacement + component,
+                           s.external_acceleration + component, inverse_mass, count, s.h);
     }
   }
 
-  static bool velocity_free_run(const Substep<Real>& s, std::size_t e, std::size_t count) {
+  template <bool AllFree>
+  static bool velocity_run(const Substep<Real>& s, std::size_t e, std::size_t count,
+                           const Real* inverse_mass) {
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       using namespace detail;
       float* const x = s.x + e;
       float* const v = s.v + e;
+      const float* const pinned = s.displacement + e;
       const std::size_t stride = s.stride;
       const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
-      Floats probe = zero;  // NaN in a lane exactly where some speed was not finite
+      Floats probe = zero;  // NaN in a lane exactly where some free speed was not finite
       for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        LaneMask free = all_lanes();
+        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
         for (std::size_t k = 0; k < 3; ++k) {
           const std::size_t at = k * stride + i;
           const Floats dx = lanes.load(v + at);
           const Floats speed = dx * inverse_h;
-          lanes.store(x + at, lanes.load(x + at) + dx);
-          lanes.store(v + at, speed);
-          probe = fused_multiply_add(speed, zero, probe);
+          if constexpr (AllFree) {
+            lanes.store(x + at, lanes.load(x + at) + dx);
+            lanes.store(v + at, speed);
+            probe = fused_multiply_add(speed, zero, probe);
+          } else {
+            const Floats position = lanes.load(x + at);
+            lanes.store(x + at, select(free, position + dx, position));
+            lanes.store(v + at, select(free, speed, lanes.load(pinned + at)));
+            probe = fused_multiply_add(keep(free, speed), zero, probe);
+          }
         }
       });
       return no_lane(unordered(probe, probe));
@@ -254,8 +279,8 @@ class GridSweep {
     bool finite = true;
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t component = k * s.stride + e;
-      finite &= velocity_row<true>(s.x + component, s.v + component, s.displacement + component,
-                                   nullptr, count, s.inverse_h);
+      finite &= velocity_row<AllFree>(s.x + component, s.v + component, s.displacement + component,
+                                      inverse_mass, count, s.inverse_h);
     }
     return finite;
   }
@@ -283,15 +308,8 @@ class GridSweep {
     switch (phase.kind) {
       case Phase::Kind::predict:
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          if constexpr (decltype(all_free)::value) {
-            predict_free_run(s, row_begin + begin, count);
-          } else {
-            for (std::size_t c = 0; c < 3; ++c) {
-              const std::size_t e = c * s.stride + row_begin + begin;
-              predict_row<false>(s.v + e, s.displacement + e, s.external_acceleration + e,
-                                 s.inverse_mass + row_begin + begin, count, s.h);
-            }
-          }
+          predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                 s.inverse_mass + row_begin + begin);
         });
         return;
       case Phase::Kind::tether:
@@ -302,15 +320,8 @@ class GridSweep {
       case Phase::Kind::velocity: {
         bool bad = false;
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          if constexpr (decltype(all_free)::value) {
-            bad |= !velocity_free_run(s, row_begin + begin, count);
-          } else {
-            for (std::size_t c = 0; c < 3; ++c) {
-              const std::size_t e = c * s.stride + row_begin + begin;
-              bad |= !velocity_row<false>(s.x + e, s.v + e, s.displacement + e,
-                                          s.inverse_mass + row_begin + begin, count, s.inverse_h);
-            }
-          }
+          bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                          s.inverse_mass + row_begin + begin);
         });
         finite = finite && !bad;
         return;
