@@ -304,7 +304,7 @@ struct RowArrays {
 };
 
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs. `block`
-// is FullLanes or TailLanes (float_lanes.hpp).
+// is FullLanes or TailLanes (float_lanes.hpp), or LastLanes (above).
 template <bool Uniform, bool Fresh, bool KeepLambda, class Block>
 inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::size_t c,
                                Block block) {
