@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "xpbd_bands.hpp"
+#include "xpbd_color_row.hpp"
 #include "xpbd_grid.hpp"
 #include "xpbd_uniform_mass.hpp"
 #include "xpbd_wavefront.hpp"
@@ -27,6 +28,7 @@ struct GridPlan {
     // n multipliers per colour, kept only when a substep runs more than one iteration.
     lambda.assign(iterations > 1 ? layout.colors.size() * particle_count : 0, 0);
     phases = wavefront_phases(layout, iterations, tether_slots);
+    color_rows.assign(phases.size(), ColorRow<Real>{});
     // A thread publishes its progress every few rows' worth of ~2000 columns: each handoff
     // can cost a context switch on a loaded machine, one per narrow row would dominate.
     publish_every = std::max<uint32_t>(1, 2048 / layout.cols);
@@ -38,6 +40,8 @@ struct GridPlan {
   int iterations = 1;
   std::vector<Real> lambda;  // per colour n multipliers, from the row's first particle on
   std::vector<Phase> phases;
+  // Per phase, a projection's row job but for the row (the sweep fills it per substep).
+  std::vector<ColorRow<Real>> color_rows;
   UniformInverseMass uniform;
   uint32_t publish_every = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress;  // one per thread

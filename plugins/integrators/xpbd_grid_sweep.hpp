@@ -29,10 +29,12 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "float_lanes.hpp"
 #include "simd_namespace.hpp"
 #include "xpbd_bands.hpp"
 #include "xpbd_color_row.hpp"
@@ -51,6 +53,7 @@ class GridSweep {
 
   // One substep on `threads` threads; false when a velocity came out non-finite.
   bool run(int threads) {
+    fill_color_rows();
     if (threads == 1) return sweep(0, 1);
     for (int thread = 0; thread < threads; ++thread) plan_.progress[thread].reset();
     for (int side = 0; side < 2; ++side) plan_.seam_progress[side].reset();
@@ -126,6 +129,40 @@ class GridSweep {
     }
   }
 
+  // What the row jobs of each projection phase share: all but the row's first start (here
+  // the first column) and the span of other weights.
+  void fill_color_rows() {
+    const Substep<Real>& s = s_;
+    for (std::size_t q = 0; q < plan_.phases.size(); ++q) {
+      const Phase& phase = plan_.phases[q];
+      if (phase.kind != Phase::Kind::project) continue;
+      const GridColor& color = plan_.layout.colors[phase.color];
+      Real* lambda = plan_.lambda.empty()
+                         ? nullptr
+                         : plan_.lambda.data() + std::size_t{phase.color} * s.particle_count;
+      plan_.color_rows[q] = ColorRow<Real>{
+          s.x,
+          s.v,
+          s.inverse_mass,
+          lambda,
+          s.stride,
+          color.col_begin,
+          color.col_end - color.col_begin,
+          static_cast<std::size_t>(int64_t{color.row_step} * plan_.layout.cols + color.col_step),
+          color.in_row(),
+          color.col_step == 2 ? 1u : 0u,
+          color.parity,
+          static_cast<Real>(color.rest),
+          static_cast<Real>(color.ks) * s.h_squared,
+          static_cast<Real>(color.kd) * s.h,
+          phase.iteration == 0,
+          phase.iteration + 1 < static_cast<uint32_t>(plan_.iterations),
+          static_cast<Real>(plan_.uniform.value()),
+          0,
+          0};
+    }
+  }
+
   // One component of one row, in place: v becomes the substep's displacement
   // dx = h (v + h a); a pin's dx is 0 and its velocity waits in `pinned_velocity` (the
   // general path's displacement array, touched only at pins). Nothing reads v between this
@@ -164,18 +201,115 @@ class GridSweep {
     return non_finite == 0;
   }
 
+  // predict_row and velocity_row on the three components of a run of particles from e, in
+  // blocks of SIMD lanes for float (one loop and one masked tail where the compiler's
+  // vectorised loops would take three, each with a scalar tail); the same bits. In a run with
+  // pins (not AllFree) the pins' entries of the scratch array are rewritten as they were.
+  template <bool AllFree>
+  static void predict_run(const Substep<Real>& s, std::size_t e, std::size_t count,
+                          const Real* inverse_mass) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      using namespace detail;
+      // Local copies: the stores could otherwise alias the Substep's fields.
+      float* const v = s.v + e;
+      float* const pinned = s.displacement + e;
+      const float* const a = s.external_acceleration + e;
+      const std::size_t stride = s.stride;
+      const Floats h = broadcast(s.h), zero = zero_floats();
+      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        LaneMask free = all_lanes();
+        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride + i;
+          const Floats velocity = lanes.load(v + at);
+          const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
+          if constexpr (AllFree) {
+            lanes.store(v + at, dx);
+          } else {
+            lanes.store(pinned + at, select(free, lanes.load(pinned + at), velocity));
+            lanes.store(v + at, keep(free, dx));
+          }
+        }
+      });
+      return;
+    }
+#endif
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t component = k * s.stride + e;
+      predict_row<AllFree>(s.v + component, s.displacement + component,
+                           s.external_acceleration + component, inverse_mass, count, s.h);
+    }
+  }
+
+  template <bool AllFree>
+  static bool velocity_run(const Substep<Real>& s, std::size_t e, std::size_t count,
+                           const Real* inverse_mass) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+    if constexpr (std::is_same_v<Real, float>) {
+      using namespace detail;
+      float* const x = s.x + e;
+      float* const v = s.v + e;
+      const float* const pinned = s.displacement + e;
+      const std::size_t stride = s.stride;
+      const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
+      Floats probe = zero;  // NaN in a lane exactly where some free speed was not finite
+      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
+        LaneMask free = all_lanes();
+        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t at = k * stride + i;
+          const Floats dx = lanes.load(v + at);
+          const Floats speed = dx * inverse_h;
+          if constexpr (AllFree) {
+            lanes.store(x + at, lanes.load(x + at) + dx);
+            lanes.store(v + at, speed);
+            probe = fused_multiply_add(speed, zero, probe);
+          } else {
+            const Floats position = lanes.load(x + at);
+            lanes.store(x + at, select(free, position + dx, position));
+            lanes.store(v + at, select(free, speed, lanes.load(pinned + at)));
+            probe = fused_multiply_add(keep(free, speed), zero, probe);
+          }
+        }
+      });
+      return no_lane(unordered(probe, probe));
+    }
+#endif
+    bool finite = true;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t component = k * s.stride + e;
+      finite &= velocity_row<AllFree>(s.x + component, s.v + component, s.displacement + component,
+                                      inverse_mass, count, s.inverse_h);
+    }
+    return finite;
+  }
+
+  // Most of a substep's calls project a colour's row, or find that none of its springs starts
+  // there: those go straight to the row kernel, the passes over a whole row through a call of
+  // their own (whose frame they alone pay for).
   void run_phase(const Phase& phase, uint32_t row, bool& finite) {
+    if (phase.kind != Phase::Kind::project) {
+      run_pass(phase, row, finite);
+      return;
+    }
+    const GridColor& color = plan_.layout.colors[phase.color];
+    if (!color.starts_in_row(row)) return;
+    ColorRow<Real> job = plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
+    job.first += std::size_t{row} * plan_.layout.cols;
+    std::tie(job.varied_begin, job.varied_end) = plan_.uniform.varied_positions(color, row);
+    project_row(job);
+  }
+
+  // The predict, tether and velocity passes over a row.
+  __attribute__((noinline)) void run_pass(const Phase& phase, uint32_t row, bool& finite) {
     const Substep<Real>& s = s_;
     const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t e = c * s.stride + row_begin + begin;
-            predict_row<decltype(all_free)::value>(s.v + e, s.displacement + e,
-                                                   s.external_acceleration + e,
-                                                   s.inverse_mass + row_begin + begin, count, s.h);
-          }
+          predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                 s.inverse_mass + row_begin + begin);
         });
         return;
       case Phase::Kind::tether:
@@ -186,46 +320,14 @@ class GridSweep {
       case Phase::Kind::velocity: {
         bool bad = false;
         plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t e = c * s.stride + row_begin + begin;
-            bad |= !velocity_row<decltype(all_free)::value>(s.x + e, s.v + e, s.displacement + e,
-                                                            s.inverse_mass + row_begin + begin,
-                                                            count, s.inverse_h);
-          }
+          bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                          s.inverse_mass + row_begin + begin);
         });
         finite = finite && !bad;
         return;
       }
-      case Phase::Kind::project: {
-        const GridColor& color = plan_.layout.colors[phase.color];
-        if (!color.starts_in_row(row)) return;
-        const auto [varied_begin, varied_end] = plan_.uniform.varied_positions(color, row);
-        Real* lambda = plan_.lambda.empty()
-                           ? nullptr
-                           : plan_.lambda.data() + std::size_t{phase.color} * s.particle_count;
-        const ColorRow<Real> job{
-            s.x,
-            s.v,
-            s.inverse_mass,
-            lambda,
-            s.stride,
-            row_begin + color.col_begin,
-            color.col_end - color.col_begin,
-            static_cast<std::size_t>(int64_t{color.row_step} * plan_.layout.cols + color.col_step),
-            color.in_row(),
-            color.col_step == 2 ? 1u : 0u,
-            color.parity,
-            static_cast<Real>(color.rest),
-            static_cast<Real>(color.ks) * s.h_squared,
-            static_cast<Real>(color.kd) * s.h,
-            phase.iteration == 0,
-            phase.iteration + 1 < static_cast<uint32_t>(plan_.iterations),
-            static_cast<Real>(plan_.uniform.value()),
-            varied_begin,
-            varied_end};
-        project_row(job);
-        return;
-      }
+      case Phase::Kind::project:
+        return;  // run_phase's
     }
   }
 

@@ -9,11 +9,13 @@
 // the masked stores of one run never touch a particle another kept lane reads).
 #pragma once
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "float_lanes.hpp"
 #include "inverse_sqrt.hpp"
@@ -89,9 +91,36 @@ using namespace detail;
 
 struct SpringLanes {
   Floats d[3], moved[3];
-  Floats inverse_length, delta;
+  Floats squared, closing;             // |d|^2, d.moved
+  Floats twice_inverse_length, delta;  // 2 / |d| (inverse_sqrt.hpp's scale)
   LaneMask pushed;
 };
+
+// The lanes a block holds: every lane (no mask to apply), or those of a mask.
+struct AllLanes {};
+inline LaneMask within(AllLanes, LaneMask mask) { return mask; }
+inline LaneMask within(LaneMask lanes, LaneMask mask) { return both(lanes, mask); }
+inline AllLanes lanes_of(FullLanes) { return {}; }
+inline LaneMask lanes_of(const TailLanes& block) { return block.mask(); }
+
+// A row's last kLanes springs as a whole block, of which those before `lanes` were projected
+// by the block before: whole loads and stores (a masked store is slow), the lanes done
+// before pushed by nothing, so that their ends get back the displacements just stored
+// (but for a zero's sign). Their multipliers are stored masked: a fresh block's are 0.
+struct LastLanes {
+  LaneMask lanes;
+  static Floats load(const float* p) { return load_floats(p); }
+  static void store(float* p, Floats value) { store_floats(p, value); }
+};
+inline LaneMask lanes_of(const LastLanes& block) { return block.lanes; }
+
+template <class Block>
+inline void store_multipliers(const Block& block, float* p, Floats value) {
+  block.store(p, value);
+}
+inline void store_multipliers(const LastLanes& block, float* p, Floats value) {
+  store_floats(block.lanes, p, value);
+}
 
 // 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
 inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj) {
@@ -104,9 +133,13 @@ inline Floats inverse_denominator(Floats compliance_scale, Floats wi, Floats wj)
 // float pointers, which could alias the row's float fields. The uniform weight's
 // denominator comes from the same instructions as a lane's, so it has the same bits. The
 // stiffness and damping are halved for the inverse length's scale 2 (inverse_sqrt.hpp).
+// The uniform weight's push (PushLanes<true>) takes the law times its factor
+// K = w / (2 denominator) (uniform_scale): stiffness_rest, half_stiffness and half_damping
+// times K as uniform_rest, uniform_stiffness and uniform_damping.
 struct LawLanes {
   Floats stiffness_rest, half_stiffness, half_damping, compliance_scale;
-  Floats uniform_weight, uniform_inverse_denominator;
+  Floats uniform_inverse_denominator, uniform_scale;
+  Floats uniform_rest, uniform_stiffness, uniform_damping;
 };
 
 // From ks h^2 and kd h (halving is exact): floats broadcast, or a law per lane.
@@ -121,14 +154,20 @@ inline LawLanes law_lanes(Value rest, Value stiffness, Value damping) {
           law_lanes_of(0.5f * damping),
           law_lanes_of(stiffness + damping),
           zero,
+          zero,
+          zero,
+          zero,
           zero};
 }
 
 inline LawLanes law_lanes(const ColorRow<float>& row) {
   LawLanes law = law_lanes(row.rest, row.stiffness, row.damping);
-  law.uniform_weight = broadcast(row.uniform_weight);
-  law.uniform_inverse_denominator =
-      inverse_denominator(law.compliance_scale, law.uniform_weight, law.uniform_weight);
+  const Floats weight = broadcast(row.uniform_weight);
+  law.uniform_inverse_denominator = inverse_denominator(law.compliance_scale, weight, weight);
+  law.uniform_scale = broadcast(0.5f * row.uniform_weight) * law.uniform_inverse_denominator;
+  law.uniform_rest = law.uniform_scale * law.stiffness_rest;
+  law.uniform_stiffness = law.uniform_scale * law.half_stiffness;
+  law.uniform_damping = law.uniform_scale * law.half_damping;
   return law;
 }
 
@@ -143,13 +182,26 @@ struct UniformRuns {
   bool covers(std::size_t begin, std::size_t end) const {
     return any && (end <= varied_begin || begin >= varied_end);
   }
+  // The blocks [skip + c, skip + c + width) for c a multiple of width below `whole` that
+  // `covers` leaves out, as the c of [from, to): the row's runs before and after them are
+  // uniform, so the loops over them test nothing per block.
+  std::pair<std::size_t, std::size_t> varied_blocks(std::size_t skip, std::size_t width,
+                                                    std::size_t whole) const {
+    if (!any) return {0, whole};
+    const auto up = [&](std::size_t v) { return std::min(whole, (v + width - 1) / width * width); };
+    // Left out: skip + c + width > varied_begin and skip + c < varied_end.
+    const std::size_t from =
+        up(varied_begin + 1 > skip + width ? varied_begin + 1 - skip - width : 0);
+    return {from, std::max(from, up(varied_end > skip ? varied_end - skip : 0))};
+  }
 };
 
 // The update of the springs in `lanes` from the ends' position differences and both ends'
 // displacements. Always inlined: called out of line, its vectors and masks go through the
 // stack.
+template <class Lanes>
 __attribute__((always_inline)) inline SpringLanes spring_update(
-    const LawLanes& law, LaneMask lanes, const Floats (&x_difference)[3], const Floats (&dxi)[3],
+    const LawLanes& law, Lanes lanes, const Floats (&x_difference)[3], const Floats (&dxi)[3],
     const Floats (&dxj)[3], Floats inverse_denominator, Floats accumulated) {
   SpringLanes out;
   for (int k = 0; k < 3; ++k) {
@@ -157,14 +209,14 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
     out.d[k] = x_difference[k] + out.moved[k];
   }
   const Floats squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
-  out.pushed = both(lanes, not_less(squared, broadcast(FLT_MIN)));
+  out.pushed = within(lanes, not_less(squared, broadcast(FLT_MIN)));
   // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
   // the scaled inverse length (2 / |d|, finite where the spring is not pushed).
   const Floats twice_inverse_length = scaled_inverse_sqrt(squared);
-  out.inverse_length = broadcast(0.5f) * twice_inverse_length;
-  const Floats pull = law.half_stiffness * squared +
-                      law.half_damping * (out.d[0] * out.moved[0] + out.d[1] * out.moved[1] +
-                                          out.d[2] * out.moved[2]);
+  out.squared = squared;
+  out.closing = out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2];
+  out.twice_inverse_length = twice_inverse_length;
+  const Floats pull = law.half_stiffness * squared + law.half_damping * out.closing;
   const Floats numerator =
       fused_negated_multiply_add(pull, twice_inverse_length, law.stiffness_rest - accumulated);
   out.delta = numerator * inverse_denominator;
@@ -180,13 +232,20 @@ struct PushLanes;
 // the ends need no blend (six per block of lanes: a cost on 8 lanes, where a blend is an
 // instruction of its own, and a masked FMA on 16 is one). A lane not pushed adds 0 d, d finite (its
 // squared length is below FLT_MIN, and lanes outside the block load zeros): its displacement stays,
-// but for a zero's sign.
+// but for a zero's sign. With u = 2 / |d| and K = w / (2 denominator) (LawLanes):
+//   w delta / |d| = K (ks h^2 rest - lambda - (ks h^2/2 |d|^2 + kd h/2 d.moved) u) u,
+// the law's constants times K, so that the push takes two operations after u where
+// delta, then its product with u and w, took four.
 template <>
 struct PushLanes<true> {
   Floats push;
 
-  PushLanes(const SpringLanes& u, Floats w, Floats)
-      : push(keep(u.pushed, w * (u.delta * u.inverse_length))) {}
+  // rest: K (ks h^2 rest - lambda).
+  PushLanes(const SpringLanes& u, const LawLanes& law, Floats rest) {
+    const Floats pull = law.uniform_stiffness * u.squared + law.uniform_damping * u.closing;
+    const Floats scaled = fused_negated_multiply_add(pull, u.twice_inverse_length, rest);
+    push = keep(u.pushed, u.twice_inverse_length * scaled);
+  }
   Floats first_end(Floats d, Floats dx) const { return fused_multiply_add(push, d, dx); }
   Floats second_end(Floats d, Floats dx) const { return fused_negated_multiply_add(push, d, dx); }
 };
@@ -198,7 +257,7 @@ struct PushLanes<false> {
   LaneMask moves_first, moves_second;
 
   PushLanes(const SpringLanes& u, Floats wi, Floats wj) {
-    const Floats scale = u.delta * u.inverse_length;
+    const Floats scale = u.delta * (broadcast(0.5f) * u.twice_inverse_length);
     const Floats zero = zero_floats();
     first = wi * scale, second = wj * scale;
     moves_first = both(u.pushed, not_equal(wi, zero));
@@ -211,6 +270,19 @@ struct PushLanes<false> {
     return masked_fused_negated_multiply_add(moves_second, second, d, dx);
   }
 };
+
+// The push of lanes of the uniform weight or not, lambda the multipliers before the update.
+template <bool Uniform, bool Fresh>
+inline PushLanes<Uniform> push_lanes(const SpringLanes& u, const LawLanes& law, Floats wi,
+                                     Floats wj, Floats lambda) {
+  if constexpr (!Uniform)
+    return PushLanes<false>(u, wi, wj);
+  else if constexpr (Fresh)
+    return PushLanes<true>(u, law, law.uniform_rest);
+  else
+    return PushLanes<true>(u, law,
+                           fused_negated_multiply_add(law.uniform_scale, lambda, law.uniform_rest));
+}
 
 // A row's arrays from its first spring start, and the spacings, copied out of the ColorRow
 // once: the kernel's float stores could alias the row's fields, which the loop would then
@@ -232,7 +304,7 @@ struct RowArrays {
 };
 
 // Stencils reaching the next rows: every lane a spring, both ends contiguous runs. `block`
-// is FullLanes or TailLanes (float_lanes.hpp).
+// is FullLanes or TailLanes (float_lanes.hpp), or LastLanes (above).
 template <bool Uniform, bool Fresh, bool KeepLambda, class Block>
 inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::size_t c,
                                Block block) {
@@ -244,7 +316,7 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
     dxi[k] = block.load(row.dx + i);
     dxj[k] = block.load(row.dx + i + o);
   }
-  Floats wi = law.uniform_weight, wj = law.uniform_weight;
+  Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
   Floats inverse = law.uniform_inverse_denominator;
   if constexpr (!Uniform) {
     wi = block.load(row.w + c), wj = block.load(row.w + c + o);
@@ -253,9 +325,10 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   Floats accumulated = zero_floats();
   if constexpr (!Fresh) accumulated = block.load(row.lambda + c);
   const SpringLanes u =
-      spring_update(law, block.mask(), x_difference, dxi, dxj, inverse, accumulated);
-  if constexpr (KeepLambda) block.store(row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
-  const PushLanes<Uniform> push(u, wi, wj);
+      spring_update(law, lanes_of(block), x_difference, dxi, dxj, inverse, accumulated);
+  if constexpr (KeepLambda)
+    store_multipliers(block, row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
+  const PushLanes<Uniform> push = push_lanes<Uniform, Fresh>(u, law, wi, wj, accumulated);
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
     block.store(row.dx + i, push.first_end(u.d[k], dxi[k]));
@@ -268,12 +341,27 @@ inline void project_rows(const ColorRow<float>& row) {
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
   const RowArrays arrays(row, 0);
-  for_each_lane_block(0, row.count, [&](std::size_t c, auto block) {
+  const std::size_t count = row.count, whole = count / kLanes * kLanes;
+  const auto [varied_from, varied_to] = uniform.varied_blocks(0, kLanes, whole);
+  const auto blocks = [&](std::size_t from, std::size_t to, auto uniform_run) {
+    for (std::size_t c = from; c < to; c += kLanes)
+      project_rows_block<decltype(uniform_run)::value, Fresh, KeepLambda>(arrays, law, c,
+                                                                          FullLanes{});
+  };
+  blocks(0, varied_from, std::true_type{});
+  blocks(varied_from, varied_to, std::false_type{});
+  blocks(varied_to, whole, std::true_type{});
+  if (whole == count) return;
+  const auto last = [&](std::size_t c, auto block) {
     if (uniform.covers(c, c + kLanes))
       project_rows_block<true, Fresh, KeepLambda>(arrays, law, c, block);
     else
       project_rows_block<false, Fresh, KeepLambda>(arrays, law, c, block);
-  });
+  };
+  if (whole > 0)
+    last(count - kLanes, LastLanes{lanes_from_to(whole - (count - kLanes), kLanes)});
+  else
+    last(whole, TailLanes{lanes_from_to(0, count - whole)});
 }
 
 // In-row stencils (step 1 or 2 columns): a run of 2 kLanes particles from a start holds
@@ -314,27 +402,37 @@ inline void project_in_row(const ColorRow<float>& row) {
   const std::size_t s = arrays.stride;
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
-  const InRowPositions positions = InRowPositions::of<Step>();
-  const auto run = [&](std::size_t c, auto uniform_run, auto whole_run) {
-    constexpr bool kUniform = decltype(uniform_run)::value, kWhole = decltype(whole_run)::value;
-    // A run cut short: the springs whose start lies in it, and the particles they reach.
+  // A run: whole; the row's last run of 2 kLanes particles, of which the springs that start
+  // before `done` were projected by the run before (whole loads and stores, as LastLanes); or
+  // a run cut short (masked), in a row of fewer particles.
+  enum class Run { whole, last, cut };
+  const auto run = [&](std::size_t c, auto uniform_run, auto kind, std::size_t done = 0) {
+    constexpr bool kUniform = decltype(uniform_run)::value;
+    constexpr Run kKind = decltype(kind)::value;
+    constexpr bool kWhole = kKind == Run::whole, kMasked = kKind == Run::cut;
     LaneMask lanes = all_lanes(), low = all_lanes(), high = all_lanes();
     if constexpr (!kWhole) {
+      const InRowPositions positions = InRowPositions::of<Step>();
       const Floats left = broadcast(static_cast<float>(count - c));
       lanes = greater(left, positions.starts);
-      low = greater(left, positions.owner_low), high = greater(left, positions.owner_high);
+      if constexpr (kMasked) {
+        // The springs whose start lies in the run, and the particles they reach.
+        low = greater(left, positions.owner_low), high = greater(left, positions.owner_high);
+      } else {
+        lanes = both(lanes, not_less(positions.starts, broadcast(static_cast<float>(done - c))));
+      }
     }
     const auto load = [&](const float* p, LaneMask mask) {
-      if constexpr (kWhole)
-        return load_floats(p);
-      else
+      if constexpr (kMasked)
         return load_floats(mask, p);
+      else
+        return load_floats(p);
     };
     const auto store = [&](float* p, LaneMask mask, Floats value) {
-      if constexpr (kWhole)
-        store_floats(p, value);
-      else
+      if constexpr (kMasked)
         store_floats(mask, p, value);
+      else
+        store_floats(p, value);
     };
     const auto split = [&](const float* p, Floats& first, Floats& partner) {
       deinterleave<Step>(load(p, low), load(p + kLanes, high), first, partner);
@@ -346,7 +444,7 @@ inline void project_in_row(const ColorRow<float>& row) {
       x_difference[k] = xi - xj;
       split(dx + c + k * s, dxi[k], dxj[k]);
     }
-    Floats wi = law.uniform_weight, wj = law.uniform_weight;
+    Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
     Floats inverse = law.uniform_inverse_denominator;
     if constexpr (!kUniform) {
       split(w + c, wi, wj);
@@ -356,9 +454,20 @@ inline void project_in_row(const ColorRow<float>& row) {
     float* const lambda = lambda_row == nullptr ? nullptr : lambda_row + c / 2;
     Floats accumulated = zero_floats();
     if constexpr (!Fresh) accumulated = load(lambda, lanes);
-    const SpringLanes u = spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
-    if constexpr (KeepLambda) store(lambda, lanes, masked_add(u.pushed, accumulated, u.delta));
-    const PushLanes<kUniform> push(u, wi, wj);
+    const SpringLanes u = [&] {
+      if constexpr (kWhole)
+        return spring_update(law, AllLanes{}, x_difference, dxi, dxj, inverse, accumulated);
+      else
+        return spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
+    }();
+    if constexpr (KeepLambda) {
+      // The last run's multipliers masked: its lanes done before hold another run's.
+      if constexpr (kWhole)
+        store_floats(lambda, masked_add(u.pushed, accumulated, u.delta));
+      else
+        store_floats(lanes, lambda, masked_add(u.pushed, accumulated, u.delta));
+    }
+    const PushLanes<kUniform> push = push_lanes<kUniform, Fresh>(u, law, wi, wj, accumulated);
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
       interleave<Step>(push.first_end(u.d[k], dxi[k]), push.second_end(u.d[k], dxj[k]), a, b);
@@ -366,15 +475,33 @@ inline void project_in_row(const ColorRow<float>& row) {
       store(dx + c + k * s + kLanes, high, b);
     }
   };
-  const auto run_of = [&](std::size_t c, auto whole_run) {
+  using Whole = std::integral_constant<Run, Run::whole>;
+  using Last = std::integral_constant<Run, Run::last>;
+  using Cut = std::integral_constant<Run, Run::cut>;
+  const auto run_of = [&](std::size_t c, auto kind, std::size_t done) {
     if (uniform.covers(skip + c, skip + c + 2 * kLanes))
-      run(c, std::true_type{}, whole_run);
+      run(c, std::true_type{}, kind, done);
     else
-      run(c, std::false_type{}, whole_run);
+      run(c, std::false_type{}, kind, done);
   };
-  std::size_t c = 0;
-  for (; c + 2 * kLanes <= count; c += 2 * kLanes) run_of(c, std::true_type{});
-  if (c < count) run_of(c, std::false_type{});
+  constexpr std::size_t kRun = 2 * kLanes;
+  const std::size_t whole = count / kRun * kRun;
+  const auto [varied_from, varied_to] = uniform.varied_blocks(skip, kRun, whole);
+  for (std::size_t c = 0; c < varied_from; c += kRun) run(c, std::true_type{}, Whole{});
+  for (std::size_t c = varied_from; c < varied_to; c += kRun) run(c, std::false_type{}, Whole{});
+  for (std::size_t c = varied_to; c < whole; c += kRun) run(c, std::true_type{}, Whole{});
+  if (whole == count) return;
+  // The row's particles from the first start: count + Step. The last run starts at a multiple
+  // of 2 Step, as every run does, so that its lanes hold the colour's springs, and must reach
+  // the partner of the colour's last start (the first Step of every 2 Step positions).
+  const std::size_t final_position = count - 1, phase = final_position % (2 * Step);
+  const std::size_t last_start = phase < Step ? final_position : final_position - phase + Step - 1;
+  const std::size_t last_run =
+      count + Step >= kRun ? (count + Step - kRun) / (2 * Step) * (2 * Step) : 0;
+  if (whole > 0 && last_run + kRun > last_start + Step)
+    run_of(last_run, Last{}, whole);
+  else
+    run_of(whole, Cut{}, 0);
 }
 
 template <bool Fresh, bool KeepLambda>

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -181,6 +182,31 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepWithTethers) {
   expect_grid_path_is_the_general_sweep<double>(1, 1e-12, corner_pins, 3);
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6, corner_pins, 3);
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6, scattered_pins(), 3);
+}
+
+// The grid sweep's velocity pass reports a speed that is not finite: one particle of the last
+// row starts at infinite speed, far from the pinned top row (whose pass takes the weights), so
+// only the pin-free runs' pass sees the speeds that came out NaN or infinite in one substep.
+template <class Real>
+clothlab_status step_with_an_infinite_speed() {
+  const ProvotGrid grid(rows, cols);
+  SpringHost<Real> network(rows * cols, corner_pins, grid.springs, {0, -g, 0});
+  network.set_spring_colors(grid.colors);
+  network.set_grid(rows, cols, spacing, grid.stencil_colors);
+  MockSystem<Real>& system = network.system();
+  for (uint32_t r = 0; r < rows; ++r)
+    for (uint32_t c = 0; c < cols; ++c)
+      system.set_position(r * cols + c, {spacing * c, -spacing * r, 0});
+  system.set_velocity((rows - 1) * cols + 20, {0, 0, std::numeric_limits<double>::infinity()});
+  Integrator xpbd("xpbd");
+  xpbd.with("threads", 1);
+  xpbd.start(system);
+  return xpbd.step(system, 0.0, 1e-3);
+}
+
+TEST(XpbdGrid, ReportsANonFiniteSpeedAsNumerical) {
+  EXPECT_EQ(step_with_an_infinite_speed<float>(), CLOTHLAB_ERROR_NUMERICAL);
+  EXPECT_EQ(step_with_an_infinite_speed<double>(), CLOTHLAB_ERROR_NUMERICAL);
 }
 
 // A grid cloth on the host whose topology swaps the parities (state_after): the grid path and
