@@ -65,26 +65,33 @@ inline Real external_row_accelerations_portable(const ExternalRow<Real>& row) {
 inline float external_row_accelerations_lanes(const ExternalRow<float>& row) {
   Floats probe = zero_floats();
   const Floats zero = zero_floats();
-  for (std::size_t k = 0; k < 3; ++k) {
-    const std::size_t component = k * row.share_span;
-    const float* first_above = row.first_above + component;
-    const float* second_above = row.second_above + component;
-    const float* first_own = row.first_own + component;
-    const float* second_own = row.second_own + component;
-    float* out = row.out + k * row.out_span;
-    const Floats g = broadcast(row.gravity[k]);
-    for_each_lane_block(0, row.cols, [&](std::size_t c, auto lanes) {
-      const Floats from_above = lanes.load(first_above + c) + lanes.load(second_above + c) +
-                                lanes.load(second_above + c - 1);
-      const Floats from_row = lanes.load(first_own + c) + lanes.load(first_own + c - 1) +
-                              lanes.load(second_own + c - 1);
+  // One sweep over the columns, the three components in turn: the inverse mass is loaded and
+  // compared once per block, and the pointers stay in registers (stores through out could
+  // alias row, so read through it they would be loaded again each block).
+  const std::size_t share_span = row.share_span, out_span = row.out_span;
+  const float* const first_above = row.first_above;
+  const float* const second_above = row.second_above;
+  const float* const first_own = row.first_own;
+  const float* const second_own = row.second_own;
+  const float* const inverse_mass = row.inverse_mass;
+  float* const out = row.out;
+  const Floats g[3] = {broadcast(row.gravity[0]), broadcast(row.gravity[1]),
+                       broadcast(row.gravity[2])};
+  for_each_lane_block(0, row.cols, [&](std::size_t c, auto lanes) {
+    const Floats weight = lanes.load(inverse_mass + c);
+    const LaneMask moving = greater(weight, zero);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t at = c + k * share_span;
+      const Floats from_above = lanes.load(first_above + at) + lanes.load(second_above + at) +
+                                lanes.load(second_above + at - 1);
+      const Floats from_row = lanes.load(first_own + at) + lanes.load(first_own + at - 1) +
+                              lanes.load(second_own + at - 1);
       const Floats force = from_above + from_row;
-      const Floats weight = lanes.load(row.inverse_mass + c);
-      const Floats value = keep(greater(weight, zero), fused_multiply_add(force, weight, g));
-      lanes.store(out + c, value);
+      const Floats value = keep(moving, fused_multiply_add(force, weight, g[k]));
+      lanes.store(out + c + k * out_span, value);
       probe = fused_multiply_add(value, zero, probe);
-    });
-  }
+    }
+  });
   // NaN in some lane exactly when some value was not finite.
   return no_lane(unordered(probe, probe)) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
 }

@@ -97,21 +97,27 @@ inline void wind_row_forces_lanes(const WindRow<float>& row) {
   const Floats pressure[3] = {broadcast(row_pressure[0]), broadcast(row_pressure[1]),
                               broadcast(row_pressure[2])};
   const std::size_t span = row.span, position_span = row.position_span;
+  // The pointers in locals: stores through row.first could alias row itself, so read through
+  // it, every pointer would be loaded again each block.
+  const float* const x = row.x;
+  const float* const next = row.below;
+  float* const first_out = row.first;
+  float* const second_out = row.second;
   for_each_lane_block(0, row.cells, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, std::size_t k) {
       return lanes.load(p + c + k * position_span);
     };
     Floats a[3], b[3], below[3], d[3], first[3], second[3];
     for (std::size_t k = 0; k < 3; ++k) {
-      a[k] = load(row.x, k);
-      b[k] = load(row.x + 1, k);
-      below[k] = load(row.below, k);
-      d[k] = load(row.below + 1, k);
+      a[k] = load(x, k);
+      b[k] = load(x + 1, k);
+      below[k] = load(next, k);
+      d[k] = load(next + 1, k);
     }
     cell_wind_shares(a, b, below, d, pressure, first, second);
     for (std::size_t k = 0; k < 3; ++k) {
-      lanes.store(row.first + c + k * span, first[k]);
-      lanes.store(row.second + c + k * span, second[k]);
+      lanes.store(first_out + c + k * span, first[k]);
+      lanes.store(second_out + c + k * span, second[k]);
     }
   });
 }
