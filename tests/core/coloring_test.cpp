@@ -85,6 +85,22 @@ TEST(Coloring, GridKeepsItsFixedColours) {
   expect_valid_colorings(*model, "grid 9x7");
 }
 
+// The grid read as a mesh: each colour's springs share one offset (second - first), two colours
+// per offset as the grid's stencil colours, so xpbd's lane blocks load their ends in order
+// (plugins/integrators/xpbd_color_blocks.hpp) rather than gather them.
+TEST(Coloring, GridReadAsAMeshGetsOneOffsetPerColour) {
+  const Scene scene = testing::busy_scene(13, 16);
+  const auto model = build_mesh_model(testing::grid_mesh(scene, testing::Diagonals::Rising), scene);
+  EXPECT_EQ(spring_coloring_fault(*model, model->spring_colors), "");
+  EXPECT_EQ(model->spring_colors.count(), 12u);
+  for (uint32_t c = 0; c < model->spring_colors.count(); ++c) {
+    const std::span<const uint32_t> members = model->spring_colors.color(c);
+    const uint32_t offset = model->second[members[0]] - model->first[members[0]];
+    for (uint32_t s : members)
+      EXPECT_EQ(model->second[s] - model->first[s], offset) << "colour " << c << ", spring " << s;
+  }
+}
+
 TEST(Coloring, IsTheSameOnEveryBuild) {
   const Scene scene = testing::busy_scene(2, 2);
   const auto once = build_mesh_model(testing::irregular_mesh(15, 17), scene);
