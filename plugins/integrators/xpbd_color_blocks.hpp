@@ -37,7 +37,8 @@ class ColorBlocks {
   void build(const std::vector<Constraint<float>>& springs,
              const std::vector<uint32_t>& color_offsets, bool find_runs = true) {
     first_.clear(), second_.clear(), rest_.clear(), ks_.clear(), kd_.clear();
-    first_weight_.clear(), second_weight_.clear(), kind_.clear(), live_.clear();
+    kind_.clear(), live_.clear(), live_bits_.clear(), lead_first_.clear(), lead_second_.clear();
+    shared_law_.clear();
     color_blocks_.assign(1, 0);
     for (std::size_t c = 0; c + 1 < color_offsets.size(); ++c) {
       std::vector<uint32_t> order(color_offsets[c + 1] - color_offsets[c]);
@@ -84,29 +85,35 @@ class ColorBlocks {
     return count;
   }
 
-  // Projects block b's springs at x + dx; lambda by slot, reset where `fresh`.
-  void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
-               float h_squared, float* lambda) const {
+  // What a sweep projects with: the positions x + dx (stride floats per coordinate), the
+  // particles' inverse masses w (the springs' weights), the multipliers by slot; reset where
+  // `fresh`, not stored unless `keep` (the substep's last sweep needs none after it).
+  struct Arrays {
+    const float* x;
+    float* dx;
+    const float* w;
+    float* lambda;
+    std::size_t stride;
+    float h, h_squared;
+    bool fresh, keep;
+  };
+
+  // Projects block b's springs.
+  void project(long b, const Arrays& a) const {
     const std::size_t block = static_cast<std::size_t>(b);
     const bool holes = live_[block] < kLanes;
     switch (kind_[block]) {
       case Kind::kInOrder:
-        return holes
-                   ? project<Kind::kInOrder, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
-                   : project<Kind::kInOrder, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return holes ? project<Kind::kInOrder, true>(b, a) : project<Kind::kInOrder, false>(b, a);
       case Kind::kSplitPairs:
-        return project<Kind::kSplitPairs, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return project<Kind::kSplitPairs, false>(b, a);
       case Kind::kSplitQuads:
-        return project<Kind::kSplitQuads, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return project<Kind::kSplitQuads, false>(b, a);
       case Kind::kEveryOther:
-        return holes
-                   ? project<Kind::kEveryOther, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
-                   : project<Kind::kEveryOther, false>(b, fresh, x, dx, stride, h, h_squared,
-                                                       lambda);
+        return holes ? project<Kind::kEveryOther, true>(b, a)
+                     : project<Kind::kEveryOther, false>(b, a);
       case Kind::kGathered:
-        return holes
-                   ? project<Kind::kGathered, true>(b, fresh, x, dx, stride, h, h_squared, lambda)
-                   : project<Kind::kGathered, false>(b, fresh, x, dx, stride, h, h_squared, lambda);
+        return holes ? project<Kind::kGathered, true>(b, a) : project<Kind::kGathered, false>(b, a);
     }
   }
 
@@ -162,8 +169,8 @@ class ColorBlocks {
   }
 
   // A block of `count` springs (ascending by first), in its lanes' order. A dead lane (no
-  // spring: weights and law 0, never stored) of a run joins its run's particles, of a
-  // gathered block particle 0 to itself.
+  // spring: law 0, outside the block's live lanes, never stored) of a run joins its run's
+  // particles, of a gathered block particle 0 to itself.
   void add_block(const std::vector<Constraint<float>>& springs, const uint32_t* members,
                  std::size_t count, Kind kind) {
     constexpr uint32_t kDead = ~0u;
@@ -184,6 +191,9 @@ class ColorBlocks {
           positions.begin();
       lane_member[static_cast<std::size_t>(lane)] = members[m];
     }
+    uint32_t live_bits = 0;
+    bool shared_law = true;
+    const Constraint<float>& lead = springs[members[0]];
     for (std::size_t l = 0; l < kLanes; ++l) {
       const uint32_t at = kind == Kind::kGathered ? 0u : base + positions[l];
       const Constraint<float> spring =
@@ -192,23 +202,28 @@ class ColorBlocks {
               : Constraint<float>{at, kind == Kind::kGathered ? at : at + offset, 0, 0, 0, 0, 0};
       first_.push_back(spring.first), second_.push_back(spring.second);
       rest_.push_back(spring.rest), ks_.push_back(spring.ks), kd_.push_back(spring.kd);
-      first_weight_.push_back(spring.first_weight);
-      second_weight_.push_back(spring.second_weight);
+      if (lane_member[l] == kDead) continue;
+      live_bits |= 1u << l;
+      shared_law =
+          shared_law && spring.rest == lead.rest && spring.ks == lead.ks && spring.kd == lead.kd;
     }
     kind_.push_back(kind);
     live_.push_back(static_cast<uint8_t>(count));
+    live_bits_.push_back(live_bits);
+    lead_first_.push_back(first_[first_.size() - kLanes]);
+    lead_second_.push_back(second_[second_.size() - kLanes]);
+    shared_law_.push_back(shared_law);
   }
 
   // Holes: some lanes dead (no spring), whose particles a run neither reads nor writes.
   template <Kind kKind, bool kHoles>
-  void project(long b, bool fresh, const float* x, float* dx, std::size_t stride, float h,
-               float h_squared, float* lambda) const {
+  void project(long b, const Arrays& a) const {
     using namespace row_lanes;
-    const std::size_t s = static_cast<std::size_t>(b) * kLanes;
-    const uint32_t first = first_[s], second = second_[s];
-    const Floats wi = load_floats(&first_weight_[s]), wj = load_floats(&second_weight_[s]);
-    // A live lane has a moving end (springs with both ends pinned are left out).
-    const LaneMask live = kHoles ? greater(wi + wj, zero_floats()) : all_lanes();
+    const std::size_t block = static_cast<std::size_t>(b);
+    const std::size_t s = block * kLanes;
+    const uint32_t first = lead_first_[block], second = lead_second_[block];
+    const std::size_t stride = a.stride;
+    const LaneMask live = kHoles ? lanes_of_bits(live_bits_[block]) : all_lanes();
     // An every-other run's particles that live lanes hold, in its two halves.
     LaneMask low_half = all_lanes(), high_half = all_lanes();
     if constexpr (kKind == Kind::kEveryOther) {
@@ -228,10 +243,25 @@ class ColorBlocks {
       else
         store_floats(p, value);
     };
-    Floats x_difference[3], dxi[3], dxj[3];
+    Floats x_difference[3], dxi[3], dxj[3], wi, wj;
+    const auto split = [&](const float* p, Floats& value) {  // an every-other run's lanes
+      Floats odd;
+      deinterleave<1>(load(low_half, p), load(high_half, p + kLanes), value, odd);
+    };
+    if constexpr (kKind == Kind::kInOrder) {
+      wi = load(live, a.w + first), wj = load(live, a.w + second);
+    } else if constexpr (kKind == Kind::kGathered) {
+      wi = gather_floats(a.w, load_indices(&first_[s]));
+      wj = gather_floats(a.w, load_indices(&second_[s]));
+    } else if constexpr (kKind == Kind::kEveryOther) {
+      split(a.w + first, wi), split(a.w + second, wj);
+    } else {
+      constexpr int kStep = kKind == Kind::kSplitPairs ? 1 : 2;
+      deinterleave<kStep>(load_floats(a.w + first), load_floats(a.w + first + kLanes), wi, wj);
+    }
     for (std::size_t k = 0; k < 3; ++k) {
-      const float* xk = x + k * stride;
-      const float* dxk = dx + k * stride;
+      const float* xk = a.x + k * stride;
+      const float* dxk = a.dx + k * stride;
       if constexpr (kKind == Kind::kInOrder) {
         x_difference[k] = load(live, xk + first) - load(live, xk + second);
         dxi[k] = load(live, dxk + first), dxj[k] = load(live, dxk + second);
@@ -240,10 +270,6 @@ class ColorBlocks {
         x_difference[k] = gather_floats(xk, i) - gather_floats(xk, j);
         dxi[k] = gather_floats(dxk, i), dxj[k] = gather_floats(dxk, j);
       } else if constexpr (kKind == Kind::kEveryOther) {
-        const auto split = [&](const float* p, Floats& value) {
-          Floats odd;
-          deinterleave<1>(load(low_half, p), load(high_half, p + kLanes), value, odd);
-        };
         Floats xi, xj;
         split(xk + first, xi), split(xk + second, xj);
         x_difference[k] = xi - xj;
@@ -257,17 +283,21 @@ class ColorBlocks {
                             dxj[k]);
       }
     }
+    // A law the block's springs share is read once: the same values in every lane.
     const LawLanes law =
-        law_lanes(load_floats(&rest_[s]), load_floats(&ks_[s]) * broadcast(h_squared),
-                  load_floats(&kd_[s]) * broadcast(h));
-    const Floats accumulated = fresh ? zero_floats() : load_floats(lambda + s);
+        shared_law_[block]
+            ? law_lanes(broadcast(rest_[s]), broadcast(ks_[s]) * broadcast(a.h_squared),
+                        broadcast(kd_[s]) * broadcast(a.h))
+            : law_lanes(load_floats(&rest_[s]), load_floats(&ks_[s]) * broadcast(a.h_squared),
+                        load_floats(&kd_[s]) * broadcast(a.h));
+    const Floats accumulated = a.fresh ? zero_floats() : load_floats(a.lambda + s);
     const SpringLanes u =
         spring_update(law, live, x_difference, dxi, dxj,
                       inverse_denominator(law.compliance_scale, wi, wj), accumulated);
-    store_floats(lambda + s, masked_add(u.pushed, accumulated, u.delta));
+    if (a.keep) store_floats(a.lambda + s, masked_add(u.pushed, accumulated, u.delta));
     const PushLanes<false> push(u, wi, wj);
     for (std::size_t k = 0; k < 3; ++k) {
-      float* dxk = dx + k * stride;
+      float* dxk = a.dx + k * stride;
       const Floats at_first = push.first_end(u.d[k], dxi[k]);
       const Floats at_second = push.second_end(u.d[k], dxj[k]);
       if constexpr (kKind == Kind::kInOrder) {
@@ -293,12 +323,18 @@ class ColorBlocks {
     }
   }
 
-  // By slot, kLanes per block, in the lanes' order.
+  // By slot, kLanes per block, in the lanes' order: what a gathered block loads, and the laws
+  // of blocks that do not share one (a sweep reads neither of the others, so they cost no
+  // memory traffic).
   std::vector<uint32_t> first_, second_;
-  std::vector<float> rest_, ks_, kd_, first_weight_, second_weight_;
-  std::vector<Kind> kind_;              // per block
-  std::vector<uint8_t> live_;           // per block: its springs (the rest of its lanes are dead)
-  std::vector<uint32_t> color_blocks_;  // colour c's blocks: [c], [c + 1])
+  std::vector<float> rest_, ks_, kd_;
+  // Per block.
+  std::vector<Kind> kind_;
+  std::vector<uint8_t> live_;                       // its springs (the rest of its lanes are dead)
+  std::vector<uint32_t> live_bits_;                 // its live lanes
+  std::vector<uint32_t> lead_first_, lead_second_;  // lane 0's ends (a run's starts)
+  std::vector<uint8_t> shared_law_;                 // whether its springs share one law
+  std::vector<uint32_t> color_blocks_;              // colour c's blocks: [c], [c + 1])
 };
 
 }  // namespace color_lanes

@@ -117,10 +117,13 @@ class GeneralSweep {
 #if defined(CLOTHLAB_FLOAT_LANES)
         if constexpr (std::is_same_v<Real, float>) {
           const long begin = blocks_.blocks_begin(color), end = blocks_.blocks_begin(color + 1);
+          // Chebyshev extrapolates the multipliers too; else the last sweep's are not read.
+          const ColorBlocks::Arrays arrays{
+              s.x,         s.displacement, s.inverse_mass,
+              lambda,      s.stride,       s.h,
+              s.h_squared, iteration == 0, chebyshev_.active() || iteration + 1 < iterations_};
 #pragma omp for schedule(static)
-          for (long b = begin; b < end; ++b)
-            blocks_.project(b, iteration == 0, s.x, s.displacement, s.stride, s.h, s.h_squared,
-                            lambda);
+          for (long b = begin; b < end; ++b) blocks_.project(b, arrays);
           continue;
         }
 #endif

@@ -27,11 +27,13 @@ constexpr std::size_t stride = std::size_t{rows} * cols + 5;  // padded, as a sy
 struct ColoredNet {
   std::vector<Constraint<float>> springs;
   std::vector<uint32_t> color_offsets{0};
+  std::vector<float> inverse_mass;  // the springs' weights by particle
 
   ColoredNet() {
     const auto weight = [](uint32_t i) {
       return i == 40 ? 0.0f : 900.0f + static_cast<float>(i % 7);
     };
+    for (uint32_t i = 0; i < rows * cols; ++i) inverse_mass.push_back(weight(i));
     const auto add = [&](uint32_t i, uint32_t j, float rest, float ks, float kd) {
       springs.push_back({i, j, rest, ks, kd, weight(i), weight(j)});
     };
@@ -75,10 +77,14 @@ Sweep sweep_blocks(const ColoredNet& net, bool find_runs) {
       dx[k * stride + i] = i == 40 ? 0.0f : 1e-3f * std::cos(1.3f * static_cast<float>(i + 5 * k));
   }
   const float h = 1e-2f;
-  for (int iteration = 0; iteration < 2; ++iteration)
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    const builtin::ColorBlocks::Arrays arrays{
+        x.data(), dx.data(), net.inverse_mass.data(), lambda.data(), stride,
+        h,        h * h,     iteration == 0,          true};
     for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c)
       for (long b = blocks.blocks_begin(c); b < blocks.blocks_begin(c + 1); ++b)
-        blocks.project(b, iteration == 0, x.data(), dx.data(), stride, h, h * h, lambda.data());
+        blocks.project(b, arrays);
+  }
   return {dx, lambda};
 }
 #endif
