@@ -23,7 +23,8 @@ constexpr std::size_t stride = std::size_t{rows} * cols + 5;  // padded, as a sy
 // stencil whose first particles have one parity along it (every other row: runs in order;
 // every other column: split pairs; columns 0, 1 of every 4 two apart: split quads) and
 // diagonals from every other column (every other particle, offset cols + 1). Row ends leave
-// runs with holes and springs no run takes (gathered). Particle 40 is pinned.
+// runs with holes and springs no run takes (gathered). Particle 40 is pinned. The vertical
+// springs' rest lengths differ along a row (a law per lane), the others' are the colour's.
 struct ColoredNet {
   std::vector<Constraint<float>> springs;
   std::vector<uint32_t> color_offsets{0};
@@ -40,7 +41,7 @@ struct ColoredNet {
     for (uint32_t parity = 0; parity < 2; ++parity) {
       for (uint32_t r = parity; r + 1 < rows; r += 2)
         for (uint32_t c = 0; c < cols; ++c)
-          add(r * cols + c, (r + 1) * cols + c, spacing, 800, 0.05f);
+          add(r * cols + c, (r + 1) * cols + c, spacing * (1 + 0.02f * (c % 3)), 800, 0.05f);
       color_offsets.push_back(static_cast<uint32_t>(springs.size()));
       for (uint32_t r = 0; r < rows; ++r)
         for (uint32_t c = parity; c + 1 < cols; c += 2)
