@@ -17,7 +17,7 @@ uint32_t smallest_free(std::vector<uint32_t>& seen_at, uint32_t stamp) {
 
 constexpr uint32_t kUncolored = ~0u;
 
-// An offset class (the springs of one second - first) this large takes colours of its own.
+// An offset class (the springs of one second - first) this large takes two colours of its own.
 constexpr std::size_t kOwnColorsFrom = 64;
 
 }  // namespace
@@ -38,38 +38,60 @@ Coloring color_springs(std::span<const uint32_t> first, std::span<const uint32_t
                        std::span<const uint32_t> adjacency_offsets,
                        std::span<const uint32_t> adjacent_springs) {
   const auto count = static_cast<uint32_t>(first.size());
+  const auto particles = static_cast<uint32_t>(adjacency_offsets.size() - 1);
   const auto offset = [&](uint32_t k) { return second[k] - first[k]; };
-  // The large offset classes first, class by class, each by first particle; then the rest in
-  // index order. owner[c]: the class whose colour c is, kUncolored for a shared one.
   std::vector<uint32_t> order(count);
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return offset(a) != offset(b) ? offset(a) < offset(b) : first[a] < first[b];
   });
-  std::vector<uint32_t> class_of(count, kUncolored);  // by spring: its large class's offset
-  std::vector<uint32_t> rest;
+
+  // A large class's springs share a particle only along its chains i, i + o, i + 2 o, ...:
+  // two colours, alternating along each chain. A chain's start takes the parity of its index
+  // neighbour in the class (the spring from i - 1, else the one from i + 1 if that one's chain
+  // started earlier), so that runs of consecutive firsts keep one colour.
+  std::vector<uint32_t> color_of(count, kUncolored);
+  std::vector<uint32_t> class_at(particles, kUncolored);  // class stamp of the spring from i
+  std::vector<uint8_t> parity_at(particles, 0);
+  std::vector<uint32_t> rest;  // the small classes' springs
+  uint32_t colors = 0;
   for (std::size_t p = 0; p < order.size();) {
     std::size_t q = p;
     while (q < order.size() && offset(order[q]) == offset(order[p])) ++q;
-    if (q - p >= kOwnColorsFrom) {
-      for (std::size_t r = p; r < q; ++r) class_of[order[r]] = offset(order[p]);
-    } else {
+    if (q - p < kOwnColorsFrom) {
       rest.insert(rest.end(), order.begin() + static_cast<std::ptrdiff_t>(p),
                   order.begin() + static_cast<std::ptrdiff_t>(q));
+      p = q;
+      continue;
     }
+    const uint32_t o = offset(order[p]), stamp = colors;  // unique per class
+    enum : uint32_t { kMarked = 1u << 31 };               // in the class, parity not yet set
+    for (std::size_t r = p; r < q; ++r) class_at[first[order[r]]] = stamp | kMarked;
+    const auto colored = [&](uint32_t i) { return class_at[i] == stamp; };
+    for (std::size_t r = p; r < q; ++r) {
+      const uint32_t i = first[order[r]];
+      uint8_t parity = 0;
+      if (i >= o && colored(i - o)) {
+        parity = static_cast<uint8_t>(parity_at[i - o] ^ 1);
+      } else if (i > 0 && colored(i - 1)) {
+        parity = parity_at[i - 1];
+      } else if (i + 1 < particles && class_at[i + 1] == (stamp | kMarked) && i + 1 >= o &&
+                 colored(i + 1 - o)) {
+        parity = static_cast<uint8_t>(parity_at[i + 1 - o] ^ 1);  // the next spring's
+      }
+      parity_at[i] = parity;
+      class_at[i] = stamp;
+      color_of[order[r]] = colors + parity;
+    }
+    colors += 2;
     p = q;
   }
-  std::sort(rest.begin(), rest.end());
-  std::size_t large = 0;
-  for (uint32_t k : order) large += class_of[k] != kUncolored;
-  std::stable_partition(order.begin(), order.end(),
-                        [&](uint32_t k) { return class_of[k] != kUncolored; });
-  std::copy(rest.begin(), rest.end(), order.begin() + static_cast<std::ptrdiff_t>(large));
 
-  std::vector<uint32_t> color_of(count, kUncolored);
-  std::vector<uint32_t> seen_at;  // stamps start at 1: colour c taken for spring stamp - 1
-  std::vector<uint32_t> owner;
-  for (uint32_t k : order) {
+  // The rest in index order, each the smallest colour free at both its ends.
+  std::sort(rest.begin(), rest.end());
+  std::vector<uint32_t> seen_at(colors,
+                                0);  // stamps start at 1: colour c taken for spring stamp - 1
+  for (uint32_t k : rest) {
     const uint32_t stamp = k + 1;
     for (uint32_t end : {first[k], second[k]}) {
       for (uint32_t e = adjacency_offsets[end]; e < adjacency_offsets[end + 1]; ++e) {
@@ -77,18 +99,17 @@ Coloring color_springs(std::span<const uint32_t> first, std::span<const uint32_t
         if (other != kUncolored) seen_at[other] = stamp;
       }
     }
-    uint32_t color = 0;
-    if (class_of[k] == kUncolored) {
-      color = smallest_free(seen_at, stamp);
-    } else {  // the smallest of its class's own colours free here, or a new one
-      while (color < seen_at.size() && (owner[color] != class_of[k] || seen_at[color] == stamp))
-        ++color;
-      if (color == seen_at.size()) seen_at.push_back(0);
-    }
-    if (color == owner.size()) owner.push_back(class_of[k]);
-    color_of[k] = color;
+    color_of[k] = smallest_free(seen_at, stamp);
   }
-  return group_by_color(color_of, static_cast<uint32_t>(seen_at.size()));
+
+  // Colours left empty (a class with no two springs on one chain) dropped.
+  std::vector<uint32_t> renamed(seen_at.size(), kUncolored);
+  for (uint32_t c : color_of) renamed[c] = 0;
+  uint32_t used = 0;
+  for (uint32_t& c : renamed)
+    if (c == 0) c = used++;
+  for (uint32_t& c : color_of) c = renamed[c];
+  return group_by_color(color_of, used);
 }
 
 Coloring color_particles(std::span<const uint32_t> first, std::span<const uint32_t> second,
