@@ -24,13 +24,14 @@ struct Coloring {
 // Items grouped by color_of[item] (each < colors), ascending within a colour.
 Coloring group_by_color(std::span<const uint32_t> color_of, uint32_t colors);
 
-// Springs (first[k], second[k]) such that no two of a colour share a particle: each spring takes
-// the smallest colour none of its particles' earlier springs has. The springs of a large offset
-// class (one second - first, as a grid's stencil on a mesh numbered along rows) come first, by
-// first particle, and take colours of their class's own; the rest follow in index order and
-// take any colour. So each of a large class's colours holds runs of consecutive or alternate
-// first particles, which xpbd's lane blocks load in order instead of gathering; on the grid
-// read as a mesh these are the grid's 12 stencil colours.
+// Springs (first[k], second[k]) such that no two of a colour share a particle. The springs of
+// a large offset class (one second - first, as a grid's stencil on a mesh numbered along rows)
+// take two colours of the class's own, alternating along each chain i, i + o, i + 2 o, ... (the
+// only springs of a class that share particles), a chain's start taking the colour of its
+// index neighbour in the class; the rest, in index order, take the smallest colour none of
+// their particles' earlier springs has. So each of a large class's colours holds runs of
+// consecutive or alternate first particles, which xpbd's lane blocks load in order instead of
+// gathering; the grid read as a mesh gets the grid's 12 stencil colours.
 // adjacency_offsets / adjacent_springs: the particle -> spring lists (ClothModel's).
 Coloring color_springs(std::span<const uint32_t> first, std::span<const uint32_t> second,
                        std::span<const uint32_t> adjacency_offsets,
