@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <vector>
 
@@ -87,8 +88,9 @@ class GeneralSweep {
   Real last_change() const { return last_change_; }
 
  private:
-  // The tethers are projected in blocks of particles, a vector loop each.
-  static constexpr long tether_block = 256;
+  // The tethers are projected in blocks of particles, a vector loop each; the prediction and
+  // the velocities likewise, a vector loop per coordinate.
+  static constexpr long tether_block = 256, particle_block = 256;
 
   // This thread's share of "every velocity is finite" and of the first and last sweeps' changes
   // (0 without acceleration).
@@ -103,14 +105,15 @@ class GeneralSweep {
     const Constraint<Real>* springs = springs_.data();
     Real* lambda = lambda_.data();
     Real first_change = 0, last_change = 0;
+    const long particle_blocks = (n + particle_block - 1) / particle_block;
 #pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i)
-      for (std::size_t c = 0; c < 3; ++c) {
-        const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
-        s.displacement[e] = 0;  // pinned too: their dx must be 0
-        if (s.inverse_mass[i] == 0) continue;
-        s.displacement[e] = s.h * (s.v[e] + s.h * s.external_acceleration[e]);
-      }
+    for (long block = 0; block < particle_blocks; ++block)
+      for (std::size_t c = 0; c < 3; ++c)
+        for (long i = block * particle_block; i < std::min(n, (block + 1) * particle_block); ++i) {
+          const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+          const Real predicted = s.h * (s.v[e] + s.h * s.external_acceleration[e]);
+          s.displacement[e] = s.inverse_mass[i] == 0 ? 0 : predicted;  // a pin's dx is 0
+        }
     for (int iteration = 0; iteration < iterations_; ++iteration) {
       if (chebyshev_.active()) chebyshev_.save(iteration, s.displacement, lambda);
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
@@ -146,18 +149,19 @@ class GeneralSweep {
                         static_cast<std::size_t>(std::min(n, (block + 1) * tether_block)), s.x,
                         s.displacement, s.inverse_mass, s.stride);
     }
-    bool finite = true;
+    int nonfinite = 0;
 #pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i) {
-      if (s.inverse_mass[i] == 0) continue;
-      for (std::size_t c = 0; c < 3; ++c) {
-        const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
-        s.x[e] += s.displacement[e];
-        s.v[e] = s.displacement[e] * s.inverse_h;
-        finite = finite && std::isfinite(s.v[e]);
-      }
-    }
-    return {finite, first_change, last_change};
+    for (long block = 0; block < particle_blocks; ++block)
+      for (std::size_t c = 0; c < 3; ++c)
+        for (long i = block * particle_block; i < std::min(n, (block + 1) * particle_block); ++i) {
+          const std::size_t e = c * s.stride + static_cast<std::size_t>(i);
+          const bool moves = s.inverse_mass[i] != 0;
+          const Real dx = s.displacement[e], v = dx * s.inverse_h;
+          s.x[e] = moves ? s.x[e] + dx : s.x[e];
+          s.v[e] = moves ? v : s.v[e];
+          nonfinite |= moves & !(std::abs(v) <= std::numeric_limits<Real>::max());
+        }
+    return {nonfinite == 0, first_change, last_change};
   }
 
   int iterations_ = 1;
