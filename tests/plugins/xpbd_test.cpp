@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -174,6 +175,24 @@ TEST(Xpbd, ZeroStepLeavesTheStateAlone) {
   ASSERT_EQ(xpbd.step(chain.system(), 0.03, 0.0), CLOTHLAB_OK) << xpbd.message();
   EXPECT_EQ(chain.system().position(3), before);
   EXPECT_EQ(chain.system().velocity(3), speed);
+}
+
+// The general sweep's velocity pass reports a speed that is not finite: a chain of 300 (its
+// passes run in blocks of particles, so the particle lies in a later block) with one particle
+// started at infinite speed.
+template <class Real>
+clothlab_status chain_step_with_an_infinite_speed() {
+  HangingChain<Real> chain(300, 0.01, 100.0, 0.1);
+  chain.system().set_velocity(290, {0, 0, std::numeric_limits<double>::infinity()});
+  Integrator xpbd("xpbd");
+  xpbd.with("threads", 1);
+  xpbd.start(chain.system());
+  return xpbd.step(chain.system(), 0.0, 1e-3);
+}
+
+TEST(Xpbd, ReportsANonFiniteSpeedAsNumerical) {
+  EXPECT_EQ(chain_step_with_an_infinite_speed<float>(), CLOTHLAB_ERROR_NUMERICAL);
+  EXPECT_EQ(chain_step_with_an_infinite_speed<double>(), CLOTHLAB_ERROR_NUMERICAL);
 }
 
 TEST(Xpbd, WithoutTheTopologyExtensionPrepareFailsWithOneLine) {
