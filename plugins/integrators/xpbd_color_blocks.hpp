@@ -21,6 +21,7 @@
 #include "float_lanes.hpp"
 #include "simd_namespace.hpp"
 #include "xpbd_constraint.hpp"
+#include "xpbd_lane_blocks.hpp"
 #include "xpbd_row_kernel.hpp"
 
 namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
@@ -30,12 +31,10 @@ namespace color_lanes {
 
 using namespace detail;
 
-class ColorBlocks {
+class ColorBlocks final : public LaneBlocks {
  public:
-  // springs: colour c's in [color_offsets[c], color_offsets[c + 1]). find_runs false: every
-  // block gathered (what a test holds the runs against).
   void build(const std::vector<Constraint<float>>& springs,
-             const std::vector<uint32_t>& color_offsets, bool find_runs = true) {
+             const std::vector<uint32_t>& color_offsets, bool find_runs = true) override {
     first_.clear(), second_.clear(), rest_.clear(), ks_.clear(), kd_.clear();
     kind_.clear(), live_.clear(), live_bits_.clear(), lead_first_.clear(), lead_second_.clear();
     shared_law_.clear();
@@ -64,9 +63,11 @@ class ColorBlocks {
     }
   }
 
-  std::size_t slots() const { return first_.size(); }
-  // Colour c's blocks: [blocks_begin(c), blocks_begin(c + 1)).
-  long blocks_begin(std::size_t color) const { return color_blocks_[color]; }
+  std::size_t slots() const override { return first_.size(); }
+  long blocks_begin(std::size_t color) const override { return color_blocks_[color]; }
+  void project(long begin, long end, const LaneArrays& arrays) const override {
+    for (long b = begin; b < end; ++b) project(b, arrays);
+  }
   // kSplitPairs: offset 1, firsts every other particle of a run of 2 kLanes (deinterleave<1>);
   // kSplitQuads: offset 2, the first two of every four (deinterleave<2>); kEveryOther: any
   // other offset, firsts every other particle, each end's run split and stored under a mask
@@ -85,18 +86,7 @@ class ColorBlocks {
     return count;
   }
 
-  // What a sweep projects with: the positions x + dx (stride floats per coordinate), the
-  // particles' inverse masses w (the springs' weights), the multipliers by slot; reset where
-  // `fresh`, not stored unless `keep` (the substep's last sweep needs none after it).
-  struct Arrays {
-    const float* x;
-    float* dx;
-    const float* w;
-    float* lambda;
-    std::size_t stride;
-    float h, h_squared;
-    bool fresh, keep;
-  };
+  using Arrays = LaneArrays;
 
   // Projects block b's springs.
   void project(long b, const Arrays& a) const {

@@ -3,27 +3,61 @@
 // Predict dx = h (v + h a) on the free particles, then `iterations` Gauss-Seidel sweeps over
 // the springs colour by colour (the topology extension's independent sets), each colour's
 // springs in parallel: no two share a particle, so every thread count gives the same bits.
-// In float32 with lanes a colour's springs run in blocks of lanes (xpbd_color_blocks.hpp).
+// In float32 with lanes a colour's springs run in blocks of lanes (xpbd_color_blocks.hpp), the
+// SIMD target's that runs here, a portable build's wider ones included (xpbd_lane_blocks.hpp).
 // Then the tethers, and v = dx / h, x += dx on the free particles. With Chebyshev
 // acceleration on (xpbd_chebyshev.hpp), each sweep's iterate is extrapolated.
 #pragma once
 
+#include <omp.h>
+
 #include <algorithm>
 #include <clothlab/sdk.hpp>
+#include <clothlab/sdk/error.hpp>
+#include <clothlab/sdk/simd_target.hpp>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "xpbd_chebyshev.hpp"
 #include "xpbd_color_blocks.hpp"
 #include "xpbd_constraint.hpp"
+#include "xpbd_lane_blocks.hpp"
 #include "xpbd_substep.hpp"
 #include "xpbd_tether_projection.hpp"
 
 namespace clothlab::builtin {
+
+#if defined(CLOTHLAB_SIMD_WITH_AVX2)
+std::unique_ptr<LaneBlocks> make_color_blocks_avx2();
+#endif
+#if defined(CLOTHLAB_SIMD_WITH_AVX512)
+std::unique_ptr<LaneBlocks> make_color_blocks_avx512();
+#endif
+
+// The lane blocks of the SIMD target that runs here (xpbd_lane_blocks.hpp); none without float
+// lanes. Throws sdk::Error (invalid argument) with the choice's one-line reason when
+// CLOTHLAB_SIMD names a target that cannot run here.
+inline std::unique_ptr<LaneBlocks> make_lane_blocks() {
+  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
+  if (choice.target.empty()) throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, choice.error);
+#if defined(CLOTHLAB_SIMD_WITH_AVX512)
+  if (choice.target == "avx512") return make_color_blocks_avx512();
+#endif
+#if defined(CLOTHLAB_SIMD_WITH_AVX2)
+  if (choice.target == "avx2") return make_color_blocks_avx2();
+#endif
+#if defined(CLOTHLAB_FLOAT_LANES)
+  return std::make_unique<ColorBlocks>();
+#else
+  return nullptr;
+#endif
+}
 
 template <class Real>
 class GeneralSweep {
@@ -49,13 +83,13 @@ class GeneralSweep {
       color_offsets_.push_back(static_cast<uint32_t>(springs_.size()));
     }
     std::size_t multipliers = springs_.size();
-#if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
-      blocks_.build(springs_, color_offsets_, lane_runs);
-      multipliers = blocks_.slots();
+      blocks_ = make_lane_blocks();
+      if (blocks_ != nullptr) {
+        blocks_->build(springs_, color_offsets_, lane_runs);
+        multipliers = blocks_->slots();
+      }
     }
-#endif
-    (void)lane_runs;
     lambda_.assign(multipliers, 0);
     chebyshev_.build(chebyshev_rho, chebyshev_delay, iterations, system.particle_count(),
                      system.stride(), multipliers);
@@ -92,6 +126,15 @@ class GeneralSweep {
   // the velocities likewise, a vector loop per coordinate.
   static constexpr long tether_block = 256, particle_block = 256;
 
+  // This thread's part of [begin, end), as a static schedule splits it (a colour's blocks are
+  // independent: any split gives the same bits). One call per thread and colour, not per block,
+  // into the target's lane blocks.
+  static std::pair<long, long> share(long begin, long end) {
+    const long threads = omp_get_num_threads(), thread = omp_get_thread_num();
+    return {begin + (end - begin) * thread / threads,
+            begin + (end - begin) * (thread + 1) / threads};
+  }
+
   // This thread's share of "every velocity is finite" and of the first and last sweeps' changes
   // (0 without acceleration).
   struct Share {
@@ -117,19 +160,20 @@ class GeneralSweep {
     for (int iteration = 0; iteration < iterations_; ++iteration) {
       if (chebyshev_.active()) chebyshev_.save(iteration, s.displacement, lambda);
       for (std::size_t color = 0; color + 1 < color_offsets_.size(); ++color) {
-#if defined(CLOTHLAB_FLOAT_LANES)
         if constexpr (std::is_same_v<Real, float>) {
-          const long begin = blocks_.blocks_begin(color), end = blocks_.blocks_begin(color + 1);
-          // Chebyshev extrapolates the multipliers too; else the last sweep's are not read.
-          const ColorBlocks::Arrays arrays{
-              s.x,         s.displacement, s.inverse_mass,
-              lambda,      s.stride,       s.h,
-              s.h_squared, iteration == 0, chebyshev_.active() || iteration + 1 < iterations_};
-#pragma omp for schedule(static)
-          for (long b = begin; b < end; ++b) blocks_.project(b, arrays);
-          continue;
+          if (blocks_ != nullptr) {
+            // Chebyshev extrapolates the multipliers too; else the last sweep's are not read.
+            const LaneArrays arrays{
+                s.x,         s.displacement, s.inverse_mass,
+                lambda,      s.stride,       s.h,
+                s.h_squared, iteration == 0, chebyshev_.active() || iteration + 1 < iterations_};
+            const auto [begin, end] =
+                share(blocks_->blocks_begin(color), blocks_->blocks_begin(color + 1));
+            blocks_->project(begin, end, arrays);
+#pragma omp barrier
+            continue;
+          }
         }
-#endif
         const long begin = color_offsets_[color], end = color_offsets_[color + 1];
 #pragma omp for schedule(static)
         for (long k = begin; k < end; ++k)
@@ -166,10 +210,8 @@ class GeneralSweep {
 
   int iterations_ = 1;
   std::vector<Constraint<Real>> springs_;
-  std::vector<Real> lambda_;  // one per spring (float lanes: per slot)
-#if defined(CLOTHLAB_FLOAT_LANES)
-  ColorBlocks blocks_;  // float32's springs in lane blocks
-#endif
+  std::vector<Real> lambda_;             // one per spring (float lanes: per slot)
+  std::unique_ptr<LaneBlocks> blocks_;   // float32's springs in lane blocks, where lanes run
   std::vector<uint32_t> color_offsets_;  // springs of colour c: [offsets[c], offsets[c + 1])
   XpbdChebyshev<Real> chebyshev_;
   Real first_change_ = 0, last_change_ = 0;  // of the last substep
