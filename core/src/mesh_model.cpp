@@ -1,5 +1,5 @@
 // The triangle mesh builder: springs derived from the triangles (triangle_mesh.hpp states the
-// rules; docs/reference/cloth-model.md says why), masses by area, greedy colourings.
+// rules; docs/reference/cloth-model.md says why), masses by area, the colourings (coloring.hpp).
 #include <algorithm>
 #include <array>
 #include <clothlab/core/cloth_material.hpp>

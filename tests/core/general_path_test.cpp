@@ -298,7 +298,8 @@ enum class Path { Grid, ForcedGeneral, Mesh };
 
 // The grid written as triangles, with the grid's equal masses and, where `grid_colours`, the
 // grid model's colourings carried over to the mesh model's spring numbering (the mesh builder's
-// own greedy colouring orders a Gauss-Seidel sweep differently).
+// own colouring has the grid's spring colours in another order, so it orders a Gauss-Seidel
+// sweep differently).
 std::shared_ptr<const ClothModel> grid_as_mesh(const Scene& scene, bool grid_colours) {
   TriangleMesh mesh = testing::grid_mesh(scene, testing::Diagonals::Rising);
   mesh.masses.assign(scene.rows * scene.cols, scene.total_mass / (scene.rows * scene.cols));
@@ -432,7 +433,7 @@ class BuiltIn : public ::testing::TestWithParam<const char*> {};
 // xpbd projects the springs colour by colour (Gauss-Seidel): another colouring is another
 // order of projections, which moves the result by a splitting error of the substep (tested
 // below), so the grid written as triangles takes the grid's colours for it. The other built-ins
-// keep the mesh's own greedy colouring: vbd's vertex steps and the global solves do not depend
+// keep the mesh's own colouring: vbd's vertex steps and the global solves do not depend
 // on it beyond rounding.
 bool order_depends_on_colours(const std::string& id) { return id.starts_with("xpbd"); }
 
