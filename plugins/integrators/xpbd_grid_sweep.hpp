@@ -46,6 +46,43 @@
 
 namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
 
+#if defined(CLOTHLAB_FLOAT_LANES)
+// A pass over a run of particles from inverse_mass on, in blocks of lanes: per block, for each
+// component k, compute(i, k, lanes, free, first, second) sets two values that
+// store(i, k, lanes, first, second) then stores; free: the lanes whose inverse mass is not 0
+// (all of them in a run AllFree). A run of kLanes or more ends with a whole block overlapping
+// the one before instead of a masked one (masked stores are slow on AVX2): computed first, from
+// the inputs as they were, and stored last, so that its lanes done twice get the same bits.
+template <bool AllFree, class Compute, class Store>
+inline void for_each_run_block(std::size_t count, const float* inverse_mass, Compute&& compute,
+                               Store&& store) {
+  using namespace detail;
+  struct Values {
+    Floats first[3], second[3];
+  };
+  const auto values = [&](std::size_t i, auto lanes) {
+    LaneMask free = all_lanes();
+    if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero_floats());
+    Values out;
+    for (std::size_t k = 0; k < 3; ++k) compute(i, k, lanes, free, out.first[k], out.second[k]);
+    return out;
+  };
+  const auto put = [&](std::size_t i, auto lanes, const Values& out) {
+    for (std::size_t k = 0; k < 3; ++k) store(i, k, lanes, out.first[k], out.second[k]);
+  };
+  if (count < kLanes || count % kLanes == 0) {
+    for_each_lane_block(0, count,
+                        [&](std::size_t i, auto lanes) { put(i, lanes, values(i, lanes)); });
+    return;
+  }
+  const std::size_t last = count - kLanes;
+  const Values tail = values(last, FullLanes{});
+  for (std::size_t i = 0; i + kLanes <= count; i += kLanes)
+    put(i, FullLanes{}, values(i, FullLanes{}));
+  put(last, FullLanes{}, tail);
+}
+#endif
+
 template <class Real>
 class GridSweep {
  public:
@@ -202,7 +239,7 @@ class GridSweep {
   }
 
   // predict_row and velocity_row on the three components of a run of particles from e, in
-  // blocks of SIMD lanes for float (one loop and one masked tail where the compiler's
+  // blocks of SIMD lanes for float (one loop, for_each_run_block, where the compiler's
   // vectorised loops would take three, each with a scalar tail); the same bits. In a run with
   // pins (not AllFree) the pins' entries of the scratch array are rewritten as they were.
   template <bool AllFree>
@@ -216,22 +253,24 @@ class GridSweep {
       float* const pinned = s.displacement + e;
       const float* const a = s.external_acceleration + e;
       const std::size_t stride = s.stride;
-      const Floats h = broadcast(s.h), zero = zero_floats();
-      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
-        LaneMask free = all_lanes();
-        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride + i;
-          const Floats velocity = lanes.load(v + at);
-          const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
-          if constexpr (AllFree) {
+      const Floats h = broadcast(s.h);
+      for_each_run_block<AllFree>(
+          count, inverse_mass,
+          [&](std::size_t i, std::size_t k, auto lanes, LaneMask free, Floats& dx, Floats& kept) {
+            const std::size_t at = k * stride + i;
+            const Floats velocity = lanes.load(v + at);
+            dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
+            kept = velocity;  // stored only in a run with pins
+            if constexpr (!AllFree) {
+              kept = select(free, lanes.load(pinned + at), velocity);
+              dx = keep(free, dx);
+            }
+          },
+          [&](std::size_t i, std::size_t k, auto lanes, Floats dx, Floats kept) {
+            const std::size_t at = k * stride + i;
+            if constexpr (!AllFree) lanes.store(pinned + at, kept);
             lanes.store(v + at, dx);
-          } else {
-            lanes.store(pinned + at, select(free, lanes.load(pinned + at), velocity));
-            lanes.store(v + at, keep(free, dx));
-          }
-        }
-      });
+          });
       return;
     }
 #endif
@@ -254,25 +293,29 @@ class GridSweep {
       const std::size_t stride = s.stride;
       const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
       Floats probe = zero;  // NaN in a lane exactly where some free speed was not finite
-      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
-        LaneMask free = all_lanes();
-        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride + i;
-          const Floats dx = lanes.load(v + at);
-          const Floats speed = dx * inverse_h;
-          if constexpr (AllFree) {
-            lanes.store(x + at, lanes.load(x + at) + dx);
-            lanes.store(v + at, speed);
-            probe = fused_multiply_add(speed, zero, probe);
-          } else {
-            const Floats position = lanes.load(x + at);
-            lanes.store(x + at, select(free, position + dx, position));
-            lanes.store(v + at, select(free, speed, lanes.load(pinned + at)));
-            probe = fused_multiply_add(keep(free, speed), zero, probe);
-          }
-        }
-      });
+      for_each_run_block<AllFree>(
+          count, inverse_mass,
+          [&](std::size_t i, std::size_t k, auto lanes, LaneMask free, Floats& position,
+              Floats& velocity) {
+            const std::size_t at = k * stride + i;
+            const Floats dx = lanes.load(v + at);
+            const Floats speed = dx * inverse_h;
+            position = lanes.load(x + at);
+            if constexpr (AllFree) {
+              position = position + dx;
+              velocity = speed;
+              probe = fused_multiply_add(speed, zero, probe);
+            } else {
+              position = select(free, position + dx, position);
+              velocity = select(free, speed, lanes.load(pinned + at));
+              probe = fused_multiply_add(keep(free, speed), zero, probe);
+            }
+          },
+          [&](std::size_t i, std::size_t k, auto lanes, Floats position, Floats velocity) {
+            const std::size_t at = k * stride + i;
+            lanes.store(x + at, position);
+            lanes.store(v + at, velocity);
+          });
       return no_lane(unordered(probe, probe));
     }
 #endif
@@ -301,16 +344,24 @@ class GridSweep {
     project_row(job);
   }
 
+  // The predict and velocity passes' shortest run: a block of lanes where the lane passes run.
+#if defined(CLOTHLAB_FLOAT_LANES)
+  static constexpr uint32_t kMinRun = std::is_same_v<Real, float> ? detail::kLanes : 1;
+#else
+  static constexpr uint32_t kMinRun = 1;
+#endif
+
   // The predict, tether and velocity passes over a row.
   __attribute__((noinline)) void run_pass(const Phase& phase, uint32_t row, bool& finite) {
     const Substep<Real>& s = s_;
     const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
-        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
-                                                 s.inverse_mass + row_begin + begin);
-        });
+        plan_.uniform.for_free_runs(
+            row, kMinRun, [&](std::size_t begin, std::size_t count, auto all_free) {
+              predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                     s.inverse_mass + row_begin + begin);
+            });
         return;
       case Phase::Kind::tether:
         // On the grid v holds the substep's displacement between predict and velocity.
@@ -319,10 +370,11 @@ class GridSweep {
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
-        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
-                                                          s.inverse_mass + row_begin + begin);
-        });
+        plan_.uniform.for_free_runs(
+            row, kMinRun, [&](std::size_t begin, std::size_t count, auto all_free) {
+              bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                              s.inverse_mass + row_begin + begin);
+            });
         finite = finite && !bad;
         return;
       }
