@@ -47,39 +47,39 @@
 namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
 
 #if defined(CLOTHLAB_FLOAT_LANES)
-// A pass over a run of particles from inverse_mass on, in blocks of lanes: per block, for each
-// component k, compute(i, k, lanes, free, first, second) sets two values that
-// store(i, k, lanes, first, second) then stores; free: the lanes whose inverse mass is not 0
-// (all of them in a run AllFree). A run of kLanes or more ends with a whole block overlapping
-// the one before instead of a masked one (masked stores are slow on AVX2): computed first, from
-// the inputs as they were, and stored last, so that its lanes done twice get the same bits.
-template <bool AllFree, class Compute, class Store>
-inline void for_each_run_block(std::size_t count, const float* inverse_mass, Compute&& compute,
-                               Store&& store) {
+// What a pass over a run of particles computes per block of lanes before storing it: two values
+// of each of the three components.
+struct RunValues {
+  detail::Floats first[3], second[3];
+};
+
+// The lanes of a block whose inverse mass is not 0: all of them in a run AllFree.
+template <bool AllFree, class Lanes>
+inline detail::LaneMask free_lanes(Lanes lanes, const float* inverse_mass) {
   using namespace detail;
-  struct Values {
-    Floats first[3], second[3];
-  };
-  const auto values = [&](std::size_t i, auto lanes) {
-    LaneMask free = all_lanes();
-    if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero_floats());
-    Values out;
-    for (std::size_t k = 0; k < 3; ++k) compute(i, k, lanes, free, out.first[k], out.second[k]);
-    return out;
-  };
-  const auto put = [&](std::size_t i, auto lanes, const Values& out) {
-    for (std::size_t k = 0; k < 3; ++k) store(i, k, lanes, out.first[k], out.second[k]);
-  };
+  if constexpr (AllFree)
+    return all_lanes();
+  else
+    return not_equal(lanes.load(inverse_mass), zero_floats());
+}
+
+// compute(c, lanes), then store(c, lanes, its RunValues), over [0, count) in blocks of lanes. A
+// run of kLanes or more ends with a whole block overlapping the one before instead of a masked
+// one (masked stores are slow on AVX2): computed first, from the inputs as they were, and
+// stored last, so that its lanes done twice are stored with the same bits.
+template <class Compute, class Store>
+inline void for_each_run_block(std::size_t count, Compute&& compute, Store&& store) {
+  using namespace detail;
   if (count < kLanes || count % kLanes == 0) {
     for_each_lane_block(0, count,
-                        [&](std::size_t i, auto lanes) { put(i, lanes, values(i, lanes)); });
+                        [&](std::size_t c, auto lanes) { store(c, lanes, compute(c, lanes)); });
     return;
   }
   const std::size_t last = count - kLanes;
-  const Values tail = values(last, FullLanes{});
-  for (std::size_t i = 0; i + kLanes <= count; i += kLanes)
-    put(i, FullLanes{}, values(i, FullLanes{}));
-  put(last, FullLanes{}, tail);
+  const RunValues tail = compute(last, FullLanes{});
+  for (std::size_t c = 0; c + kLanes <= count; c += kLanes)
+    store(c, FullLanes{}, compute(c, FullLanes{}));
+  store(last, FullLanes{}, tail);
 }
 #endif
 
@@ -254,22 +254,30 @@ class GridSweep {
       const float* const a = s.external_acceleration + e;
       const std::size_t stride = s.stride;
       const Floats h = broadcast(s.h);
-      for_each_run_block<AllFree>(
-          count, inverse_mass,
-          [&](std::size_t i, std::size_t k, auto lanes, LaneMask free, Floats& dx, Floats& kept) {
-            const std::size_t at = k * stride + i;
-            const Floats velocity = lanes.load(v + at);
-            dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
-            kept = velocity;  // stored only in a run with pins
-            if constexpr (!AllFree) {
-              kept = select(free, lanes.load(pinned + at), velocity);
-              dx = keep(free, dx);
+      // first: the displacement, second: the scratch array (a pin's velocity).
+      for_each_run_block(
+          count,
+          [&](std::size_t i, auto lanes) {
+            RunValues out;
+            const LaneMask free = free_lanes<AllFree>(lanes, inverse_mass + i);
+            for (std::size_t k = 0; k < 3; ++k) {
+              const std::size_t at = k * stride + i;
+              const Floats velocity = lanes.load(v + at);
+              const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
+              if constexpr (AllFree) {
+                out.first[k] = dx;
+              } else {
+                out.first[k] = keep(free, dx);
+                out.second[k] = select(free, lanes.load(pinned + at), velocity);
+              }
             }
+            return out;
           },
-          [&](std::size_t i, std::size_t k, auto lanes, Floats dx, Floats kept) {
-            const std::size_t at = k * stride + i;
-            if constexpr (!AllFree) lanes.store(pinned + at, kept);
-            lanes.store(v + at, dx);
+          [&](std::size_t i, auto lanes, const RunValues& out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+              if constexpr (!AllFree) lanes.store(pinned + k * stride + i, out.second[k]);
+              lanes.store(v + k * stride + i, out.first[k]);
+            }
           });
       return;
     }
@@ -293,28 +301,34 @@ class GridSweep {
       const std::size_t stride = s.stride;
       const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
       Floats probe = zero;  // NaN in a lane exactly where some free speed was not finite
-      for_each_run_block<AllFree>(
-          count, inverse_mass,
-          [&](std::size_t i, std::size_t k, auto lanes, LaneMask free, Floats& position,
-              Floats& velocity) {
-            const std::size_t at = k * stride + i;
-            const Floats dx = lanes.load(v + at);
-            const Floats speed = dx * inverse_h;
-            position = lanes.load(x + at);
-            if constexpr (AllFree) {
-              position = position + dx;
-              velocity = speed;
-              probe = fused_multiply_add(speed, zero, probe);
-            } else {
-              position = select(free, position + dx, position);
-              velocity = select(free, speed, lanes.load(pinned + at));
-              probe = fused_multiply_add(keep(free, speed), zero, probe);
+      // first: the position, second: the velocity.
+      for_each_run_block(
+          count,
+          [&](std::size_t i, auto lanes) {
+            RunValues out;
+            const LaneMask free = free_lanes<AllFree>(lanes, inverse_mass + i);
+            for (std::size_t k = 0; k < 3; ++k) {
+              const std::size_t at = k * stride + i;
+              const Floats dx = lanes.load(v + at);
+              const Floats speed = dx * inverse_h;
+              const Floats position = lanes.load(x + at);
+              if constexpr (AllFree) {
+                out.first[k] = position + dx;
+                out.second[k] = speed;
+                probe = fused_multiply_add(speed, zero, probe);
+              } else {
+                out.first[k] = select(free, position + dx, position);
+                out.second[k] = select(free, speed, lanes.load(pinned + at));
+                probe = fused_multiply_add(keep(free, speed), zero, probe);
+              }
             }
+            return out;
           },
-          [&](std::size_t i, std::size_t k, auto lanes, Floats position, Floats velocity) {
-            const std::size_t at = k * stride + i;
-            lanes.store(x + at, position);
-            lanes.store(v + at, velocity);
+          [&](std::size_t i, auto lanes, const RunValues& out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+              lanes.store(x + k * stride + i, out.first[k]);
+              lanes.store(v + k * stride + i, out.second[k]);
+            }
           });
       return no_lane(unordered(probe, probe));
     }
