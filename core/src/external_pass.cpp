@@ -98,12 +98,21 @@ Real ForcePipeline<Real>::finish_external_row(int thread, std::size_t row, Real*
   return probe;
 }
 
-// A row needs the cells of its row and of the row above: the ring keeps the last two.
+// A row needs the cells of its row and of the row above: the ring keeps the last two, going
+// up from `begin` or (backward) down from `end`.
 template <class Real>
 Real ForcePipeline<Real>::external_rows(int thread, std::size_t begin, std::size_t end,
-                                        const Real* x, const Real* v, Real* a) {
+                                        const Real* x, const Real* v, Real* a, bool backward) {
   Real probe = 0;
   if (begin >= end) return probe;
+  if (backward) {
+    compute_cells(thread, x, v, end - 1);
+    for (std::size_t row = end; row-- > begin;) {
+      if (row > 0) compute_cells(thread, x, v, row - 1);
+      probe += finish_external_row(thread, row, a);
+    }
+    return probe;
+  }
   if (begin > 0) compute_cells(thread, x, v, begin - 1);
   for (std::size_t row = begin; row < end; ++row) {
     compute_cells(thread, x, v, row);
@@ -120,7 +129,10 @@ bool ForcePipeline<Real>::evaluate_external(const Real* x, const Real* v, Real* 
     const int thread = omp_get_thread_num();
     const auto team = static_cast<std::size_t>(omp_get_num_threads());
     const Block block = block_of(static_cast<std::size_t>(thread), team);
-    probe += external_rows(thread, block.begin, block.end, x, v, a);
+    // Each block ends at the grid's nearer edge, where a sweep over the rows that reads a
+    // next starts (from row 0, or from both edges): those rows are still in cache.
+    probe +=
+        external_rows(thread, block.begin, block.end, x, v, a, block.begin + block.end <= rows_);
   }
   return probe == Real(0);
 }

@@ -77,7 +77,7 @@ inline float external_row_accelerations_lanes(const ExternalRow<float>& row) {
   float* const out = row.out;
   const Floats g[3] = {broadcast(row.gravity[0]), broadcast(row.gravity[1]),
                        broadcast(row.gravity[2])};
-  for_each_lane_block(0, row.cols, [&](std::size_t c, auto lanes) {
+  const auto block = [&](std::size_t c, auto lanes) {
     const Floats weight = lanes.load(inverse_mass + c);
     const LaneMask moving = greater(weight, zero);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -91,7 +91,18 @@ inline float external_row_accelerations_lanes(const ExternalRow<float>& row) {
       lanes.store(out + c + k * out_span, value);
       probe = fused_multiply_add(value, zero, probe);
     }
-  });
+  };
+  // A row of kLanes columns or more ends with a whole block overlapping the one before, not a
+  // masked one (masked stores are slow on AVX2): out aliases no input, so the columns done
+  // twice get the same bits.
+  const std::size_t cols = row.cols;
+  if (cols < kLanes) {
+    for_each_lane_block(0, cols, block);
+  } else {
+    std::size_t c = 0;
+    for (; c + kLanes <= cols; c += kLanes) block(c, FullLanes{});
+    if (c < cols) block(cols - kLanes, FullLanes{});
+  }
   // NaN in some lane exactly when some value was not finite.
   return no_lane(unordered(probe, probe)) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
 }

@@ -208,7 +208,7 @@ class ForcePipeline {
   void compute_cells(int thread, const Real* x, const Real* v, std::size_t q);
   Real finish_external_row(int thread, std::size_t row, Real* a);
   Real external_rows(int thread, std::size_t begin, std::size_t end, const Real* x, const Real* v,
-                     Real* a);
+                     Real* a, bool backward);
 
   // The fused step (rkn_sweep.cpp): a thread's block of rows through all stages of a step.
   Real rkn_rows(int thread, std::size_t begin, std::size_t end, Real* x, Real* v,

@@ -46,6 +46,43 @@
 
 namespace clothlab::builtin::inline CLOTHLAB_SIMD_NAMESPACE {
 
+#if defined(CLOTHLAB_FLOAT_LANES)
+// What a pass over a run of particles computes per block of lanes before storing it: two values
+// of each of the three components.
+struct RunValues {
+  detail::Floats first[3], second[3];
+};
+
+// The lanes of a block whose inverse mass is not 0: all of them in a run AllFree.
+template <bool AllFree, class Lanes>
+inline detail::LaneMask free_lanes(Lanes lanes, const float* inverse_mass) {
+  using namespace detail;
+  if constexpr (AllFree)
+    return all_lanes();
+  else
+    return not_equal(lanes.load(inverse_mass), zero_floats());
+}
+
+// compute(c, lanes), then store(c, lanes, its RunValues), over [0, count) in blocks of lanes. A
+// run of kLanes or more ends with a whole block overlapping the one before instead of a masked
+// one (masked stores are slow on AVX2): computed first, from the inputs as they were, and
+// stored last, so that its lanes done twice are stored with the same bits.
+template <class Compute, class Store>
+inline void for_each_run_block(std::size_t count, Compute&& compute, Store&& store) {
+  using namespace detail;
+  if (count < kLanes || count % kLanes == 0) {
+    for_each_lane_block(0, count,
+                        [&](std::size_t c, auto lanes) { store(c, lanes, compute(c, lanes)); });
+    return;
+  }
+  const std::size_t last = count - kLanes;
+  const RunValues tail = compute(last, FullLanes{});
+  for (std::size_t c = 0; c + kLanes <= count; c += kLanes)
+    store(c, FullLanes{}, compute(c, FullLanes{}));
+  store(last, FullLanes{}, tail);
+}
+#endif
+
 template <class Real>
 class GridSweep {
  public:
@@ -202,7 +239,7 @@ class GridSweep {
   }
 
   // predict_row and velocity_row on the three components of a run of particles from e, in
-  // blocks of SIMD lanes for float (one loop and one masked tail where the compiler's
+  // blocks of SIMD lanes for float (one loop, for_each_run_block, where the compiler's
   // vectorised loops would take three, each with a scalar tail); the same bits. In a run with
   // pins (not AllFree) the pins' entries of the scratch array are rewritten as they were.
   template <bool AllFree>
@@ -216,22 +253,32 @@ class GridSweep {
       float* const pinned = s.displacement + e;
       const float* const a = s.external_acceleration + e;
       const std::size_t stride = s.stride;
-      const Floats h = broadcast(s.h), zero = zero_floats();
-      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
-        LaneMask free = all_lanes();
-        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride + i;
-          const Floats velocity = lanes.load(v + at);
-          const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
-          if constexpr (AllFree) {
-            lanes.store(v + at, dx);
-          } else {
-            lanes.store(pinned + at, select(free, lanes.load(pinned + at), velocity));
-            lanes.store(v + at, keep(free, dx));
-          }
-        }
-      });
+      const Floats h = broadcast(s.h);
+      // first: the displacement, second: the scratch array (a pin's velocity).
+      for_each_run_block(
+          count,
+          [&](std::size_t i, auto lanes) {
+            RunValues out;
+            const LaneMask free = free_lanes<AllFree>(lanes, inverse_mass + i);
+            for (std::size_t k = 0; k < 3; ++k) {
+              const std::size_t at = k * stride + i;
+              const Floats velocity = lanes.load(v + at);
+              const Floats dx = h * fused_multiply_add(h, lanes.load(a + at), velocity);
+              if constexpr (AllFree) {
+                out.first[k] = dx;
+              } else {
+                out.first[k] = keep(free, dx);
+                out.second[k] = select(free, lanes.load(pinned + at), velocity);
+              }
+            }
+            return out;
+          },
+          [&](std::size_t i, auto lanes, const RunValues& out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+              if constexpr (!AllFree) lanes.store(pinned + k * stride + i, out.second[k]);
+              lanes.store(v + k * stride + i, out.first[k]);
+            }
+          });
       return;
     }
 #endif
@@ -254,25 +301,35 @@ class GridSweep {
       const std::size_t stride = s.stride;
       const Floats inverse_h = broadcast(s.inverse_h), zero = zero_floats();
       Floats probe = zero;  // NaN in a lane exactly where some free speed was not finite
-      for_each_lane_block(0, count, [&](std::size_t i, auto lanes) {
-        LaneMask free = all_lanes();
-        if constexpr (!AllFree) free = not_equal(lanes.load(inverse_mass + i), zero);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride + i;
-          const Floats dx = lanes.load(v + at);
-          const Floats speed = dx * inverse_h;
-          if constexpr (AllFree) {
-            lanes.store(x + at, lanes.load(x + at) + dx);
-            lanes.store(v + at, speed);
-            probe = fused_multiply_add(speed, zero, probe);
-          } else {
-            const Floats position = lanes.load(x + at);
-            lanes.store(x + at, select(free, position + dx, position));
-            lanes.store(v + at, select(free, speed, lanes.load(pinned + at)));
-            probe = fused_multiply_add(keep(free, speed), zero, probe);
-          }
-        }
-      });
+      // first: the position, second: the velocity.
+      for_each_run_block(
+          count,
+          [&](std::size_t i, auto lanes) {
+            RunValues out;
+            const LaneMask free = free_lanes<AllFree>(lanes, inverse_mass + i);
+            for (std::size_t k = 0; k < 3; ++k) {
+              const std::size_t at = k * stride + i;
+              const Floats dx = lanes.load(v + at);
+              const Floats speed = dx * inverse_h;
+              const Floats position = lanes.load(x + at);
+              if constexpr (AllFree) {
+                out.first[k] = position + dx;
+                out.second[k] = speed;
+                probe = fused_multiply_add(speed, zero, probe);
+              } else {
+                out.first[k] = select(free, position + dx, position);
+                out.second[k] = select(free, speed, lanes.load(pinned + at));
+                probe = fused_multiply_add(keep(free, speed), zero, probe);
+              }
+            }
+            return out;
+          },
+          [&](std::size_t i, auto lanes, const RunValues& out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+              lanes.store(x + k * stride + i, out.first[k]);
+              lanes.store(v + k * stride + i, out.second[k]);
+            }
+          });
       return no_lane(unordered(probe, probe));
     }
 #endif
@@ -301,16 +358,24 @@ class GridSweep {
     project_row(job);
   }
 
+  // The predict and velocity passes' shortest run: a block of lanes where the lane passes run.
+#if defined(CLOTHLAB_FLOAT_LANES)
+  static constexpr uint32_t kMinRun = std::is_same_v<Real, float> ? detail::kLanes : 1;
+#else
+  static constexpr uint32_t kMinRun = 1;
+#endif
+
   // The predict, tether and velocity passes over a row.
   __attribute__((noinline)) void run_pass(const Phase& phase, uint32_t row, bool& finite) {
     const Substep<Real>& s = s_;
     const std::size_t row_begin = std::size_t{row} * plan_.layout.cols;
     switch (phase.kind) {
       case Phase::Kind::predict:
-        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
-                                                 s.inverse_mass + row_begin + begin);
-        });
+        plan_.uniform.for_free_runs(
+            row, kMinRun, [&](std::size_t begin, std::size_t count, auto all_free) {
+              predict_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                     s.inverse_mass + row_begin + begin);
+            });
         return;
       case Phase::Kind::tether:
         // On the grid v holds the substep's displacement between predict and velocity.
@@ -319,10 +384,11 @@ class GridSweep {
         return;
       case Phase::Kind::velocity: {
         bool bad = false;
-        plan_.uniform.for_free_runs(row, [&](std::size_t begin, std::size_t count, auto all_free) {
-          bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
-                                                          s.inverse_mass + row_begin + begin);
-        });
+        plan_.uniform.for_free_runs(
+            row, kMinRun, [&](std::size_t begin, std::size_t count, auto all_free) {
+              bad |= !velocity_run<decltype(all_free)::value>(s, row_begin + begin, count,
+                                                              s.inverse_mass + row_begin + begin);
+            });
         finite = finite && !bad;
         return;
       }

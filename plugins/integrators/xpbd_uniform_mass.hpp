@@ -46,10 +46,12 @@ class UniformInverseMass {
   // Calls run(begin, count, all_free) on the columns of `row` in up to three runs: before
   // and after its span of another inverse mass with std::true_type when the uniform one
   // is not 0 (no particle there is pinned), the span itself (or all) with std::false_type.
+  // Every run is at least min_run columns long where the row is: the span widens, and takes
+  // in a shorter run beside it (a run of whole blocks of lanes needs no masked stores).
   template <class Run>
-  void for_free_runs(uint32_t row, Run&& run) const {
+  void for_free_runs(uint32_t row, uint32_t min_run, Run&& run) const {
     const uint32_t cols = cols_;
-    const ColumnSpan span = varied_columns_[row];
+    ColumnSpan span = varied_columns_[row];
     if (value_ == 0) {
       run(0, cols, std::false_type{});
       return;
@@ -58,6 +60,13 @@ class UniformInverseMass {
       run(0, cols, std::true_type{});
       return;
     }
+    const uint32_t width = std::min(min_run, cols);
+    if (span.end - span.begin < width) {
+      span.end = std::min(cols, span.begin + width);
+      span.begin = span.end - width;
+    }
+    if (span.begin < min_run) span.begin = 0;
+    if (cols - span.end < min_run) span.end = cols;
     if (span.begin > 0) run(0, span.begin, std::true_type{});
     run(span.begin, span.end - span.begin, std::false_type{});
     if (span.end < cols) run(span.end, cols - span.end, std::true_type{});
