@@ -103,7 +103,7 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
                            1, table ? std::optional(system.jacobian().pattern()) : std::nullopt);
   std::vector<double> block_values(table ? 9 * std::size_t{system.jacobian().pattern().block_count}
                                          : 0);
-  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, false,
+  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, true,
                                      preconditioner ? &*preconditioner : nullptr);
   system.acceleration(0.0, system.x(), system.v(), rhs);
   system.template lincomb<1>(rhs, zero, {h}, {rhs});
