@@ -236,9 +236,9 @@ class MultigridPreconditioner {
     ChebyshevSteps pre(lambda_max_);
     const double first_scale = pre.first_scale();
     for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      chebyshev_steps<false, true, true, Real>(begin, end, stride, r, nullptr,
-                                               ChebyshevSteps::Step{0.0, first_scale}, residual,
-                                               direction, z);
+      chebyshev_steps<false, true, true, false, Real>(begin, end, stride, r, nullptr,
+                                                      ChebyshevSteps::Step{0.0, first_scale},
+                                                      residual, direction, z);
     });
     const Real* last_residual = r;
     for (long step = 1; step < sweeps_; ++step) {
@@ -283,14 +283,20 @@ class MultigridPreconditioner {
     ChebyshevSteps post(lambda_max_);
     product(z, image);
     for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      chebyshev_steps<true, true, false>(begin, end, stride, r, image,
-                                         ChebyshevSteps::Step{0.0, first_scale}, residual,
-                                         direction, z);
+      const ChebyshevSteps::Step first{0.0, first_scale};
+      if (sweeps_ == 1)
+        return chebyshev_steps<true, true, false, true>(begin, end, stride, r, image, first,
+                                                        residual, direction, z);
+      chebyshev_steps<true, true, false>(begin, end, stride, r, image, first, residual, direction,
+                                         z);
     });
     for (long step = 1; step < sweeps_; ++step) {
       product(direction, image);
       const ChebyshevSteps::Step next = post.next();
       for_each_active(system, [&](uint32_t begin, uint32_t end) {
+        if (step + 1 == sweeps_)
+          return chebyshev_steps<true, false, false, true>(begin, end, stride, residual, image,
+                                                           next, residual, direction, z);
         chebyshev_steps<true, false, false>(begin, end, stride, residual, image, next, residual,
                                             direction, z);
       });
@@ -410,8 +416,9 @@ class MultigridPreconditioner {
   // kImage), direction = step.keep direction + step.scale D^-1 residual (the old direction
   // unread on the kFirst step, whose keep is 0), z += direction (z = direction where kStart).
   // residual and from may be the same vector: each particle reads its own entries before it
-  // writes them.
-  template <bool kImage, bool kFirst, bool kStart, class Real>
+  // writes them. Without kImage the residual is `from` itself and is not written; the cycle's
+  // last step (kLast) writes z alone.
+  template <bool kImage, bool kFirst, bool kStart, bool kLast = false, class Real>
   void chebyshev_steps(uint32_t begin, uint32_t end, std::size_t stride, const Real* from,
                        const Real* image, ChebyshevSteps::Step step, Real* residual,
                        Real* direction, Real* z) const {
@@ -428,7 +435,7 @@ class MultigridPreconditioner {
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t at = k * stride + i;
         const Real value = kImage ? from[at] - image[at] : from[at];
-        residual[at] = value;
+        if constexpr (kImage && !kLast) residual[at] = value;
         res[k] = value;
       }
       for (std::size_t k = 0; k < 3; ++k) {
@@ -438,7 +445,7 @@ class MultigridPreconditioner {
                               d[kSymmetricEntry[3 * k + 2] * n + i] * res[2];
         const double kept = kFirst ? 0.0 : step.keep * direction[at];
         const auto next = static_cast<Real>(kept + step.scale * jacobi);
-        direction[at] = next;
+        if constexpr (!kLast) direction[at] = next;
         z[at] = kStart ? next : z[at] + next;
       }
     }
