@@ -11,8 +11,9 @@
 // With the definite matrix on a host that offers clothlab.cg-step/1, the solve linearises A once
 // and an iteration is two host sweeps: the product with <p, Ap>, carrying the last iteration's
 // solution and direction updates, and the residual and preconditioner updates with <r, r> and
-// <r, z>; otherwise the same iteration in separate host calls. implicit_euler solves with it,
-// and bench/microbench.cpp's cg_iteration times `iterate` itself.
+// <r, z> (with the V-cycle: the product's sweep, then the residual's axpy, the V-cycle and the
+// dot products); otherwise the same iteration in separate host calls. implicit_euler solves with
+// it, and bench/microbench.cpp's cg_iteration times `iterate` itself.
 #pragma once
 
 #include <algorithm>
