@@ -9,8 +9,9 @@
 // alone). Every spring joins particles at most two grid spacings apart (checked,
 // multigrid_grid.hpp), so particles whose rows and columns are equal mod 5 share no neighbour:
 // one product with e_d on all particles of such a class gives column d of every block coupling
-// to them, 75 products in all. Products and tables carry rounding, so S is symmetrised
-// ((S + S^T) / 2) and the V-cycle stays exactly symmetric. From a table the fine level keeps no
+// to them, 75 products in all. Products and tables carry rounding, so S is made symmetric
+// (probed: (S + S^T) / 2; from a table: its upper triangle) and the V-cycle stays exactly
+// symmetric. From a table the fine level keeps no
 // blocks: level 1 (its Galerkin product), D^-1 and the fine smoother's bound are formed from
 // the table's rows as they are read, on the V-cycle's threads; a single-precision system's V-cycle
 // also smooths in single precision (multigrid_lanes.hpp), all its CG resolves. Pinned
@@ -322,9 +323,12 @@ class MultigridPreconditioner {
   }
 
   // S's blocks of the free fine row i from the host's table `values`, formed as they are read:
-  // S_ij = m_i D_ij made symmetric ((S + S^T) / 2, the same bits on both sides of the diagonal:
-  // the V-cycle stays exactly symmetric) and M added on the diagonal. visit(r2, c2, block) for
-  // each free j = r2 * cols + c2 the row couples to.
+  // S_ij = m_i D_ij made exactly symmetric (M D is symmetric up to rounding) by taking the upper
+  // triangle's blocks, S_ji = S_ij^T for j > i and the diagonal block's upper half, so that the
+  // V-cycle stays exactly symmetric, and M added on the diagonal. A lower block's transpose lies
+  // in a row at most two grid rows back, read just before (the caches hold it), where the mean
+  // of both would read the rows ahead too. visit(r2, c2, block) for each free j = r2 * cols + c2
+  // the row couples to.
   template <class Visit>
   void table_row(const double* values, uint32_t i, Visit&& visit) const {
     const GridLevel& fine = hierarchy_.level(0);
@@ -340,13 +344,20 @@ class MultigridPreconditioner {
   // table_row's block of slot k, in row i, into s.
   void table_block(const double* values, uint32_t i, uint32_t k, double* s) const {
     const uint32_t j = pattern_->columns[k];
-    const double* a = values + 9 * std::size_t{k};
-    const double* t = values + 9 * std::size_t{transposed_[k]};
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 3; ++col)
-        s[3 * row + col] = 0.5 * (mass_[i] * a[3 * row + col] + mass_[j] * t[3 * col + row]);
-    if (j == i)
+    if (j > i) {
+      const double* a = values + 9 * std::size_t{k};
+      for (int e = 0; e < 9; ++e) s[e] = mass_[i] * a[e];
+    } else if (j < i) {
+      const double* t = values + 9 * std::size_t{transposed_[k]};
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) s[3 * row + col] = mass_[j] * t[3 * col + row];
+    } else {
+      const double* a = values + 9 * std::size_t{k};
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+          s[3 * row + col] = mass_[i] * a[3 * std::min(row, col) + std::max(row, col)];
       for (int d = 0; d < 3; ++d) s[4 * d] += mass_[i];
+    }
   }
 
   // Per block of `pattern`, the slot of its transpose; one line of sdk::Error where one is
