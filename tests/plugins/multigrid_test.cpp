@@ -855,8 +855,8 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   EXPECT_LT(level_difference(tabled.hierarchy().level(1), expected), 1e-6 * size);
   EXPECT_NEAR(tabled.lambda_max(), probed.lambda_max(), 1e-6 * probed.lambda_max());
   ASSERT_GT(probed.lambda_max(), 1.0);
-  // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (symmetrising leaves 3/4 of
-  // it, a quarter of the block off).
+  // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (the upper triangle's, which
+  // both blocks of the pair are formed from: half of them off).
   std::vector<double> halved = table.values;
   const uint32_t row = 5 * kCols + 6;
   for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
