@@ -7,11 +7,13 @@
 // coarsest level and sweeps.
 //
 //   build/bin/clothlab_multigrid_iterations [config [side...] [--rate N...]
-//       [--threads N...] [--precision float32|float64] [--assembly table|probe] [--split]
-//       [--cpu]]
+//       [--threads N...] [--precision float32|float64] [--assembly table|probe]
+//       [--sweeps N] [--split] [--cpu]]
 //
 // --assembly: where the multigrid's fine blocks come from, the host's block table
 // (clothlab.definite-jacobian/2, the plugin's choice, default) or 75 probing products.
+// --sweeps: the V-cycle's smoothing steps each side on every level (implicit_euler's
+// `multigrid_sweeps`; default its default).
 // --split prints, for the multigrid alone, where a solve's time goes instead: the set-up (the
 // preconditioner's build in CG's start: the fine blocks, then the Galerkin products and
 // factors, whose share is the set-up less the fine blocks' call or products timed on their
@@ -71,6 +73,9 @@ constexpr int kProbingProducts = 75;
 // Whether the multigrid takes the host's block table (--assembly table) or probes.
 bool use_block_table = true;
 
+// The V-cycle's smoothing steps each side (--sweeps).
+long multigrid_sweeps = builtin::kDefaultMultigridSweeps;
+
 // The clock every time is read from: the wall clock, or the process's CPU time (--cpu).
 bool use_cpu_time = false;
 
@@ -99,11 +104,11 @@ SolveResult solve(const Cloth& cloth, double h, bool multigrid, long cap) {
   std::optional<builtin::MultigridPreconditioner> preconditioner;
   const bool table = use_block_table && system.definite_jacobian().has_blocks();
   if (multigrid)
-    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes, builtin::kDefaultMultigridSweeps,
-                           1, table ? std::optional(system.jacobian().pattern()) : std::nullopt);
+    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes, multigrid_sweeps, 1,
+                           table ? std::optional(system.jacobian().pattern()) : std::nullopt);
   std::vector<double> block_values(table ? 9 * std::size_t{system.jacobian().pattern().block_count}
                                          : 0);
-  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, false,
+  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, true,
                                      preconditioner ? &*preconditioner : nullptr);
   system.acceleration(0.0, system.x(), system.v(), rhs);
   system.template lincomb<1>(rhs, zero, {h}, {rhs});
@@ -183,6 +188,7 @@ struct Options {
   bool split = false;
   bool cpu = false;
   bool assembly_table = true;
+  long sweeps = builtin::kDefaultMultigridSweeps;
 };
 
 int print_split(const cli::RunConfig& config, const Options& options) {
@@ -258,6 +264,12 @@ Options parse_options(int argc, char** argv) {
       if (value != "table" && value != "probe")
         throw std::runtime_error("--assembly '" + value + "': table or probe");
       options.assembly_table = value == "table";
+    } else if (arg == "--sweeps") {
+      const std::string value = k + 1 < argc ? argv[++k] : "";
+      const double sweeps = number_of("--sweeps", value.c_str());
+      if (sweeps < 1 || sweeps > 8 || sweeps != static_cast<long>(sweeps))
+        throw std::runtime_error("--sweeps '" + value + "': an integer in [1, 8]");
+      options.sweeps = static_cast<long>(sweeps);
     } else if (arg == "--precision") {
       const std::string value = k + 1 < argc ? argv[++k] : "";
       if (value != "float32" && value != "float64")
@@ -284,16 +296,19 @@ int run(int argc, char** argv) {
   const Options options = parse_options(argc, argv);
   use_cpu_time = options.cpu;
   use_block_table = options.assembly_table;
+  multigrid_sweeps = options.sweeps;
   const cli::RunConfig config = cli::resolve_run_config(config::read_config_file(config_path));
   if (!config.material) {
     std::fprintf(stderr, "%s: no material.* (the table is for a material's cloth)\n",
                  config_path.c_str());
     return 2;
   }
-  std::printf("%s, %s scenario, %s, CG from 0 to a relative residual of %g, %s, fine blocks %s\n\n",
-              config.material->name.c_str(), config.scenario.c_str(), to_string(options.precision),
-              kTolerance, options.cpu ? "CPU time of the process" : "wall-clock time",
-              options.assembly_table ? "from the host's block table" : "by probing");
+  std::printf(
+      "%s, %s scenario, %s, CG from 0 to a relative residual of %g, %s, fine blocks %s, %ld "
+      "smoothing steps each side\n\n",
+      config.material->name.c_str(), config.scenario.c_str(), to_string(options.precision),
+      kTolerance, options.cpu ? "CPU time of the process" : "wall-clock time",
+      options.assembly_table ? "from the host's block table" : "by probing", options.sweeps);
   return options.split ? print_split(config, options) : print_iterations(config, options);
 }
 

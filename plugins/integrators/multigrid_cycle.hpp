@@ -58,12 +58,30 @@ class VCycle {
   // R r, B_1 the cycle from level 1 down, for the fine residual r; both 3 doubles per node.
   // Needs a hierarchy of at least two levels.
   void correct(const double* residual, double* x) {
+    const GridLevel& fine = hierarchy_.level(0);
+    correct(
+        [&](int r, int c0, int c1, double weight, GridTransfer::ChunkRow& sum) {
+          for (int c = c0; c < c1; ++c)
+            if (!fine.fixed(fine.node(r, c)))
+              for (int k = 0; k < 3; ++k)
+                sum[k][c - c0] += weight * residual[3 * fine.node(r, c) + k];
+        },
+        [&](int r, int c0, int c1, const GridTransfer::ChunkRow& value) {
+          for (int c = c0; c < c1; ++c)
+            if (!fine.fixed(fine.node(r, c)))
+              for (int k = 0; k < 3; ++k) x[3 * fine.node(r, c) + k] += value[k][c - c0];
+        });
+  }
+  // As correct, on the caller's layout: r read by add_residual_row (GridTransfer::restrict_from's
+  // add_row), P B_1 R r handed to add_correction_row (prolong_to's add_row).
+  template <class AddResidualRow, class AddCorrectionRow>
+  void correct(AddResidualRow&& add_residual_row, AddCorrectionRow&& add_correction_row) {
     const GridTransfer& transfer = hierarchy_.transfer(0);
-    transfer.restrict_to(hierarchy_.level(0), residual, hierarchy_.level(1), rhs_[1].data(),
-                         threads_);
+    transfer.restrict_from(hierarchy_.level(0), hierarchy_.level(1), rhs_[1].data(), threads_,
+                           add_residual_row);
     cycle(1);
-    transfer.prolong_add(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), x,
-                         threads_);
+    transfer.prolong_to(hierarchy_.level(0), hierarchy_.level(1), solution_[1].data(), threads_,
+                        add_correction_row);
   }
 
  private:

@@ -5,12 +5,13 @@
 //
 // S's blocks come from the host's block table of the definite Jacobian where it offers one
 // (clothlab.definite-jacobian/2, in clothlab.jacobian/1's pattern: one call, S_ij = m_i D_ij),
-// else from J's products (probing: the exact Jacobian, `definite` = 0, and hosts with /1
+// else from A's products (probing: the exact Jacobian, `definite` = 0, and hosts with /1
 // alone). Every spring joins particles at most two grid spacings apart (checked,
 // multigrid_grid.hpp), so particles whose rows and columns are equal mod 5 share no neighbour:
 // one product with e_d on all particles of such a class gives column d of every block coupling
-// to them, 75 products in all. Products and tables carry rounding, so S is symmetrised
-// ((S + S^T) / 2) and the V-cycle stays exactly symmetric. From a table the fine level keeps no
+// to them, 75 products in all. Products and tables carry rounding, so S is made symmetric
+// (probed: (S + S^T) / 2; from a table: its upper triangle) and the V-cycle stays exactly
+// symmetric. From a table the fine level keeps no
 // blocks: level 1 (its Galerkin product), D^-1 and the fine smoother's bound are formed from
 // the table's rows as they are read, on the V-cycle's threads; a single-precision system's V-cycle
 // also smooths in single precision (multigrid_lanes.hpp), all its CG resolves. Pinned
@@ -19,11 +20,12 @@
 // The fine level smooths matrix-free: Chebyshev iteration on block-Jacobi (D^-1 A, D the
 // diagonal blocks of A), `sweeps` host products before the coarse correction and as many
 // after, in the system's precision and layout, with the polynomial and the spectral bound of
-// multigrid_chebyshev.hpp. A product costs about an explicit step, where a Gauss-Seidel sweep
-// over the stored fine blocks costs several. The coarser levels smooth with the same
-// polynomial over their stored blocks in lanes (Smoothing::chebyshev), `sweeps` steps each
-// side. On the cotton flag 2 + 2 such steps take about as many CG iterations as 2 + 2
-// Gauss-Seidel sweeps.
+// multigrid_chebyshev.hpp. A product costs about an explicit step (less where the host
+// offers clothlab.cg-step/1: its product of A linearised once per solve, CG's own product
+// too), where a Gauss-Seidel sweep over the stored fine blocks costs several. The coarser levels
+// smooth with the same polynomial over their stored blocks in lanes (Smoothing::chebyshev),
+// `sweeps` steps each side. On the cotton flag 2 + 2 such steps take about as many CG iterations as
+// 2 + 2 Gauss-Seidel sweeps.
 //
 // Reuse: the set-up (the fine blocks, Galerkin products, factors) costs several CG iterations, so
 // `prepare_solve` can keep the last hierarchy for up to `rebuild_interval` solves. CG's products
@@ -83,8 +85,6 @@ class MultigridPreconditioner {
         jacobi_(std::is_same_v<Real, float> ? 0 : 6 * std::size_t{system.particle_count()}, 0.0),
         jacobi_single_(std::is_same_v<Real, float> ? 6 * std::size_t{system.particle_count()} : 0,
                        0.0f),
-        fine_residual_(3 * std::size_t{system.particle_count()}, 0.0),
-        fine_correction_(3 * std::size_t{system.particle_count()}, 0.0),
         probe_(system.alloc_vector()),
         probe_products_{system.alloc_vector(), system.alloc_vector(), system.alloc_vector()},
         row_bounds_(static_cast<std::size_t>(hierarchy_.level(0).rows()), 0.0) {
@@ -118,7 +118,7 @@ class MultigridPreconditioner {
 
   // Readies the V-cycle for a solve whose matrix has J's position weight c_x = -h^2: assembles
   // (`assemble` from blocks(values), which fills the host's block table, where built with a
-  // block pattern, else `linearise` by product(u, out): out = J u) where there is no valid
+  // block pattern, else `linearise` by product(u, out): out = A u) where there is no valid
   // hierarchy, c_x changed since the last build (the old matrix may then be far from the new
   // one), or `rebuild_interval` solves used the last.
   template <class Real, class Product, class Blocks>
@@ -137,7 +137,7 @@ class MultigridPreconditioner {
     ++solves_since_rebuild_;
   }
 
-  // Assembles S = M (I + J), J applied by product(u, out): out = J u, and rebuilds the levels.
+  // Assembles S = M A, A = I + J applied by product(u, out): out = A u, and rebuilds the levels.
   // A class's three products (one per component) come first, so that each block is written
   // whole, once: the fine level's blocks far exceed the caches.
   template <class Real, class Product>
@@ -220,10 +220,12 @@ class MultigridPreconditioner {
                      hierarchy_.rebuild_below(1, threads));
   }
 
-  // z = B M r on the active particles, J applied by product(u, out): out = J u. The fine
+  // z = B M r on the active particles, A applied by product(u, out): out = A u = u + J u (the
+  // host's linearised product, clothlab.cg-step/1, where it offers one). The fine
   // Chebyshev steps (see `chebyshev_steps`) run one pass over the particles after each product:
-  // the residual, the direction and z; the residual for the coarse level is written in the
-  // cycle's layout after the last pre-smoothing product.
+  // the residual, the direction and z; the residual for the coarse level is restricted straight
+  // from the system's vectors after the last pre-smoothing product, and the correction
+  // prolonged straight into z.
   template <class Real, class Product>
   void apply(const sdk::System<Real>& system, const Real* r, Real* z, Product&& product) {
     if (hierarchy_.level_count() == 1) return solve_directly(system, r, z);
@@ -235,72 +237,78 @@ class MultigridPreconditioner {
     ChebyshevSteps pre(lambda_max_);
     const double first_scale = pre.first_scale();
     for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      chebyshev_steps<false, true, true, Real>(begin, end, stride, r, nullptr, nullptr,
-                                               ChebyshevSteps::Step{0.0, first_scale}, residual,
-                                               direction, z);
+      chebyshev_steps<false, true, true, false, Real>(begin, end, stride, r, nullptr,
+                                                      ChebyshevSteps::Step{0.0, first_scale},
+                                                      residual, direction, z);
     });
     const Real* last_residual = r;
     for (long step = 1; step < sweeps_; ++step) {
       product(direction, image);
       const ChebyshevSteps::Step next = pre.next();
       for_each_active(system, [&](uint32_t begin, uint32_t end) {
-        chebyshev_steps<true, false, false>(begin, end, stride, last_residual, image, direction,
-                                            next, residual, direction, z);
+        chebyshev_steps<true, false, false>(begin, end, stride, last_residual, image, next,
+                                            residual, direction, z);
       });
       last_residual = residual;
     }
     // The coarse correction of the residual r - A z = last residual - A direction.
     product(direction, image);
-    std::fill(fine_residual_.begin(), fine_residual_.end(), 0.0);
-    std::fill(fine_correction_.begin(), fine_correction_.end(), 0.0);
-    for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      double* out = fine_residual_.data();
-      const double* mass = mass_.data();
+    const auto cols = static_cast<std::size_t>(hierarchy_.level(0).cols());
+    const double* mass = mass_.data();  // 0 on pinned particles
+    cycle_.correct(
+        [&](int row, int c0, int c1, double weight, GridTransfer::ChunkRow& sum) {
+          const std::size_t base = static_cast<std::size_t>(row) * cols;
+          for (std::size_t k = 0; k < 3; ++k) {
+            const Real* from = last_residual + k * stride + base;
+            const Real* to = image + k * stride + base;
+            double* out = sum[k] - c0;
 #pragma omp simd
-      for (uint32_t i = begin; i < end; ++i)
-        for (std::size_t k = 0; k < 3; ++k) {
-          const std::size_t at = k * stride + i;
-          const Real value = last_residual[at] - (image[at] + direction[at]);
-          out[3 * i + k] = mass[i] * static_cast<double>(value);
-        }
-    });
-    cycle_.correct(fine_residual_.data(), fine_correction_.data());
-    for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      const double* correction = fine_correction_.data();
+            for (int c = c0; c < c1; ++c) {
+              const double m = mass[base + static_cast<std::size_t>(c)];
+              out[c] += m > 0.0 ? weight * (m * static_cast<double>(Real(from[c] - to[c]))) : 0.0;
+            }
+          }
+        },
+        [&](int row, int c0, int c1, const GridTransfer::ChunkRow& correction) {
+          const std::size_t base = static_cast<std::size_t>(row) * cols;
+          for (std::size_t k = 0; k < 3; ++k) {
+            Real* out = z + k * stride + base;
+            const double* in = correction[k] - c0;
 #pragma omp simd
-      for (uint32_t i = begin; i < end; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          z[k * stride + i] += static_cast<Real>(correction[3 * i + k]);
-    });
+            for (int c = c0; c < c1; ++c)
+              if (mass[base + static_cast<std::size_t>(c)] > 0.0)
+                out[c] += static_cast<Real>(in[c]);
+          }
+        });
     // Post-smoothing from z: the same polynomial, its first residual r - A z.
     ChebyshevSteps post(lambda_max_);
     product(z, image);
     for_each_active(system, [&](uint32_t begin, uint32_t end) {
-      chebyshev_steps<true, true, false>(begin, end, stride, r, image, z,
-                                         ChebyshevSteps::Step{0.0, first_scale}, residual,
-                                         direction, z);
+      const ChebyshevSteps::Step first{0.0, first_scale};
+      if (sweeps_ == 1)
+        return chebyshev_steps<true, true, false, true>(begin, end, stride, r, image, first,
+                                                        residual, direction, z);
+      chebyshev_steps<true, true, false>(begin, end, stride, r, image, first, residual, direction,
+                                         z);
     });
     for (long step = 1; step < sweeps_; ++step) {
       product(direction, image);
       const ChebyshevSteps::Step next = post.next();
       for_each_active(system, [&](uint32_t begin, uint32_t end) {
-        chebyshev_steps<true, false, false>(begin, end, stride, residual, image, direction, next,
-                                            residual, direction, z);
+        if (step + 1 == sweeps_)
+          return chebyshev_steps<true, false, false, true>(begin, end, stride, residual, image,
+                                                           next, residual, direction, z);
+        chebyshev_steps<true, false, false>(begin, end, stride, residual, image, next, residual,
+                                            direction, z);
       });
     }
   }
 
  private:
-  // S's fine blocks written (J's part, M J): adds M, symmetrises and rebuilds the levels.
+  // S's fine blocks written (M A): symmetrises them and rebuilds the levels.
   template <class Real>
   void finish_fine_level(const sdk::System<Real>& system) {
     GridLevel& fine = hierarchy_.level(0);
-    for (int r = 0; r < fine.rows(); ++r)
-      for (int c = 0; c < fine.cols(); ++c) {
-        if (fine.fixed(fine.node(r, c))) continue;
-        double* diagonal = fine.block(r, c, r, c);
-        for (int k = 0; k < 3; ++k) diagonal[4 * k] += mass_[fine.node(r, c)];
-      }
     symmetrise(fine);
     ++rebuild_count_;
     require_definite(hierarchy_.rebuild(cycle_.threads()));
@@ -315,9 +323,12 @@ class MultigridPreconditioner {
   }
 
   // S's blocks of the free fine row i from the host's table `values`, formed as they are read:
-  // S_ij = m_i D_ij made symmetric ((S + S^T) / 2, the same bits on both sides of the diagonal:
-  // the V-cycle stays exactly symmetric) and M added on the diagonal. visit(r2, c2, block) for
-  // each free j = r2 * cols + c2 the row couples to.
+  // S_ij = m_i D_ij made exactly symmetric (M D is symmetric up to rounding) by taking the upper
+  // triangle's blocks, S_ji = S_ij^T for j > i and the diagonal block's upper half, so that the
+  // V-cycle stays exactly symmetric, and M added on the diagonal. A lower block's transpose lies
+  // in a row at most two grid rows back, read just before (the caches hold it), where the mean
+  // of both would read the rows ahead too. visit(r2, c2, block) for each free j = r2 * cols + c2
+  // the row couples to.
   template <class Visit>
   void table_row(const double* values, uint32_t i, Visit&& visit) const {
     const GridLevel& fine = hierarchy_.level(0);
@@ -333,13 +344,20 @@ class MultigridPreconditioner {
   // table_row's block of slot k, in row i, into s.
   void table_block(const double* values, uint32_t i, uint32_t k, double* s) const {
     const uint32_t j = pattern_->columns[k];
-    const double* a = values + 9 * std::size_t{k};
-    const double* t = values + 9 * std::size_t{transposed_[k]};
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 3; ++col)
-        s[3 * row + col] = 0.5 * (mass_[i] * a[3 * row + col] + mass_[j] * t[3 * col + row]);
-    if (j == i)
+    if (j > i) {
+      const double* a = values + 9 * std::size_t{k};
+      for (int e = 0; e < 9; ++e) s[e] = mass_[i] * a[e];
+    } else if (j < i) {
+      const double* t = values + 9 * std::size_t{transposed_[k]};
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) s[3 * row + col] = mass_[j] * t[3 * col + row];
+    } else {
+      const double* a = values + 9 * std::size_t{k};
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+          s[3 * row + col] = mass_[i] * a[3 * std::min(row, col) + std::max(row, col)];
       for (int d = 0; d < 3; ++d) s[4 * d] += mass_[i];
+    }
   }
 
   // Per block of `pattern`, the slot of its transpose; one line of sdk::Error where one is
@@ -405,14 +423,15 @@ class MultigridPreconditioner {
   }
 
   // One fine Chebyshev step at the particles [begin, end), each vector `stride` apart per
-  // component: residual = from - (image + u) (image = J u, so that is from - A u; from alone
-  // without kImage), direction = step.keep direction + step.scale D^-1 residual (the old
-  // direction unread on the kFirst step, whose keep is 0), z += direction (z = direction where
-  // kStart). residual and from, direction and u, u and z may be the same vectors: each
-  // particle reads its own entries before it writes them.
-  template <bool kImage, bool kFirst, bool kStart, class Real>
+  // component: residual = from - image (image = A u for the step's u; from alone without
+  // kImage), direction = step.keep direction + step.scale D^-1 residual (the old direction
+  // unread on the kFirst step, whose keep is 0), z += direction (z = direction where kStart).
+  // residual and from may be the same vector: each particle reads its own entries before it
+  // writes them. Without kImage the residual is `from` itself and is not written; the cycle's
+  // last step (kLast) writes z alone.
+  template <bool kImage, bool kFirst, bool kStart, bool kLast = false, class Real>
   void chebyshev_steps(uint32_t begin, uint32_t end, std::size_t stride, const Real* from,
-                       const Real* image, const Real* u, ChebyshevSteps::Step step, Real* residual,
+                       const Real* image, ChebyshevSteps::Step step, Real* residual,
                        Real* direction, Real* z) const {
     const std::size_t n = mass_.size();
     const Real* d = [&] {
@@ -426,8 +445,8 @@ class MultigridPreconditioner {
       double res[3];
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t at = k * stride + i;
-        const Real value = kImage ? from[at] - (image[at] + u[at]) : from[at];
-        residual[at] = value;
+        const Real value = kImage ? from[at] - image[at] : from[at];
+        if constexpr (kImage && !kLast) residual[at] = value;
         res[k] = value;
       }
       for (std::size_t k = 0; k < 3; ++k) {
@@ -437,7 +456,7 @@ class MultigridPreconditioner {
                               d[kSymmetricEntry[3 * k + 2] * n + i] * res[2];
         const double kept = kFirst ? 0.0 : step.keep * direction[at];
         const auto next = static_cast<Real>(kept + step.scale * jacobi);
-        direction[at] = next;
+        if constexpr (!kLast) direction[at] = next;
         z[at] = kStart ? next : z[at] + next;
       }
     }
@@ -558,9 +577,8 @@ class MultigridPreconditioner {
   // entry k of particle i at k n + i, in the system's precision (double, or float: single).
   std::vector<double> jacobi_;
   std::vector<float> jacobi_single_;
-  double lambda_max_ = 0.0;                              // bounds D^-1 A's eigenvalues from above
-  std::vector<double> fine_residual_, fine_correction_;  // the coarse correction's, 3 per node
-  // System vectors in its precision: the probe, and J times it for each of its components.
+  double lambda_max_ = 0.0;  // bounds D^-1 A's eigenvalues from above
+  // System vectors in its precision: the probe, and A times it for each of its components.
   void* probe_;
   std::array<void*, 3> probe_products_;
   // With block_table: the host's pattern and its table's values (9 per block).

@@ -94,41 +94,95 @@ class GridTransfer {
     return fixed;
   }
 
-  // coarse_b = R fine_r, a coarse row at a time from the fine rows under it (each coarse node
-  // sums its fine nodes in their order, so any split of the rows among `threads` gives the
-  // same bits).
+  // Fine columns a transfer handles at once (a chunk's rows summed on the stack).
+  static constexpr int kChunk = 64;
+  // A chunk of one fine row, component-major: value[k][c - c0] for the chunk's columns from c0.
+  using ChunkRow = double[3][kChunk];
+
+  // coarse_b = R fine_r, a coarse row at a time from the fine rows under it; both 3 doubles per
+  // node.
   void restrict_to(const GridLevel& fine, const double* fine_r, const GridLevel& coarse,
                    double* coarse_b, int threads = 1) const {
+    restrict_from(fine, coarse, coarse_b, threads,
+                  [&](int r, int c0, int c1, double weight, ChunkRow& sum) {
+                    for (int c = c0; c < c1; ++c) {
+                      const std::size_t f = fine.node(r, c);
+                      if (fine.fixed(f)) continue;
+                      for (int k = 0; k < 3; ++k) sum[k][c - c0] += weight * fine_r[3 * f + k];
+                    }
+                  });
+  }
+  // As restrict_to, the fine vector read by add_row(r, c0, c1, weight, sum): sum[k][c - c0] +=
+  // weight r_(r, c) component k for the columns [c0, c1), 0 on fixed nodes (for a caller whose
+  // fine vectors have another layout, the system's, read without a copy). Separable: a coarse
+  // row sums its fine rows' weighted chunks, then each coarse node its chunk columns in order,
+  // so any split of the coarse rows among `threads` gives the same bits.
+  template <class AddRow>
+  void restrict_from(const GridLevel& fine, const GridLevel& coarse, double* coarse_b, int threads,
+                     AddRow&& add_row) const {
     fine.for_each_index(coarse.rows(), threads, [&](int pr) {
-      std::fill_n(coarse_b + 3 * coarse.node(pr, 0), 3 * coarse.cols(), 0.0);
-      for (int r = std::max(coarsening_ * (pr - 1), 0);
-           r <= std::min(coarsening_ * (pr + 1), fine.rows() - 1); ++r)
-        for (int i = 0; i < row_parents_.count(r); ++i) {
-          if (row_parents_.parent(r, i) != pr) continue;
-          for (int c = 0; c < fine.cols(); ++c) {
-            const std::size_t f = fine.node(r, c);
-            if (fine.fixed(f)) continue;
-            for (int j = 0; j < col_parents_.count(c); ++j) {
-              const std::size_t parent = coarse.node(pr, col_parents_.parent(c, j));
-              if (coarse.fixed(parent)) continue;
-              const double w = row_parents_.weight(r, i) * col_parents_.weight(c, j);
-              for (int k = 0; k < 3; ++k) coarse_b[3 * parent + k] += w * fine_r[3 * f + k];
-            }
+      double* const out = coarse_b + 3 * coarse.node(pr, 0);
+      std::fill_n(out, 3 * coarse.cols(), 0.0);
+      for (int c0 = 0; c0 < fine.cols(); c0 += kChunk) {
+        const int c1 = std::min(c0 + kChunk, fine.cols());
+        ChunkRow sum{};
+        for (int r = std::max(coarsening_ * (pr - 1), 0);
+             r <= std::min(coarsening_ * (pr + 1), fine.rows() - 1); ++r)
+          for (int i = 0; i < row_parents_.count(r); ++i)
+            if (row_parents_.parent(r, i) == pr) add_row(r, c0, c1, row_parents_.weight(r, i), sum);
+        for (int c = c0; c < c1; ++c)
+          for (int j = 0; j < col_parents_.count(c); ++j) {
+            const double w = col_parents_.weight(c, j);
+            double* const parent = out + 3 * col_parents_.parent(c, j);
+            for (int k = 0; k < 3; ++k) parent[k] += w * sum[k][c - c0];
           }
-        }
+      }
+      for (int pc = 0; pc < coarse.cols(); ++pc)  // the pins are Dirichlet: nothing reaches them
+        if (coarse.fixed(coarse.node(pr, pc))) std::fill_n(out + 3 * pc, 3, 0.0);
     });
   }
 
   // fine_x += P coarse_x, fine rows split among `threads`.
   void prolong_add(const GridLevel& fine, const GridLevel& coarse, const double* coarse_x,
                    double* fine_x, int threads = 1) const {
-    fine.for_each_index(fine.rows(), threads, [&](int r) {
-      for (int c = 0; c < fine.cols(); ++c) {
+    prolong_to(fine, coarse, coarse_x, threads, [&](int r, int c0, int c1, const ChunkRow& value) {
+      for (int c = c0; c < c1; ++c) {
         const std::size_t f = fine.node(r, c);
         if (fine.fixed(f)) continue;
-        for_parents(coarse, r, c, [&](std::size_t parent, double w) {
-          for (int k = 0; k < 3; ++k) fine_x[3 * f + k] += w * coarse_x[3 * parent + k];
-        });
+        for (int k = 0; k < 3; ++k) fine_x[3 * f + k] += value[k][c - c0];
+      }
+    });
+  }
+  // (P coarse_x) on fine row r's columns [c0, c1) handed to add_row(r, c0, c1, value), value as
+  // restrict_from's sum (the caller skips fixed fine nodes). Separable: the coarse rows
+  // interpolated along the column first, then along the row; fine rows split among `threads`.
+  template <class AddRow>
+  void prolong_to(const GridLevel& fine, const GridLevel& coarse, const double* coarse_x,
+                  int threads, AddRow&& add_row) const {
+    fine.for_each_index(fine.rows(), threads, [&](int r) {
+      for (int c0 = 0; c0 < fine.cols(); c0 += kChunk) {
+        const int c1 = std::min(c0 + kChunk, fine.cols());
+        // The chunk's parent columns, interpolated between the row's parent rows.
+        const int first = col_parents_.parent(c0, 0);
+        const int last = col_parents_.parent(c1 - 1, col_parents_.count(c1 - 1) - 1);
+        double along[3][kChunk / kMinCoarsening + 2]{};
+        for (int i = 0; i < row_parents_.count(r); ++i) {
+          const int pr = row_parents_.parent(r, i);
+          const double w = row_parents_.weight(r, i);
+          for (int pc = first; pc <= last; ++pc) {
+            const std::size_t parent = coarse.node(pr, pc);
+            if (coarse.fixed(parent)) continue;
+            for (int k = 0; k < 3; ++k) along[k][pc - first] += w * coarse_x[3 * parent + k];
+          }
+        }
+        ChunkRow value{};
+        for (int c = c0; c < c1; ++c)
+          for (int j = 0; j < col_parents_.count(c); ++j) {
+            const double w = col_parents_.weight(c, j);
+            const int at = col_parents_.parent(c, j) - first;
+            for (int k = 0; k < 3; ++k) value[k][c - c0] += w * along[k][at];
+          }
+        add_row(r, c0, c1, static_cast<const ChunkRow&>(value));
       }
     });
   }
@@ -212,17 +266,6 @@ class GridTransfer {
               row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan);
           for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
         }
-      }
-  }
-
-  template <class Visit>
-  void for_parents(const GridLevel& coarse, int r, int c, Visit&& visit) const {
-    for (int i = 0; i < row_parents_.count(r); ++i)
-      for (int j = 0; j < col_parents_.count(c); ++j) {
-        const std::size_t parent =
-            coarse.node(row_parents_.parent(r, i), col_parents_.parent(c, j));
-        if (!coarse.fixed(parent))
-          visit(parent, row_parents_.weight(r, i) * col_parents_.weight(c, j));
       }
   }
 

@@ -2,16 +2,18 @@
 // clothlab.jacobian/1, or its definite form clothlab.definite-jacobian/1) at a state (x, v), in
 // the mass inner product: M A is symmetric, so CG runs in <a, b> = a^T M b and the tolerance is
 // on |r|_M / |b|_M. The preconditioner is the inverted 3x3 diagonal blocks of A (block-Jacobi),
-// or, where a MultigridPreconditioner is given, its V-cycle (then always the separate calls:
-// the host's fused sweep applies block-Jacobi only).
+// or, where a MultigridPreconditioner is given, its V-cycle (the host's update sweep applies
+// block-Jacobi only: with the V-cycle, CG and the V-cycle's fine smoother take the host's
+// linearised product, and the rest runs in separate calls).
 // Pinned particles drop out: every host vector operation and product acts on the active
 // particles only, so the solution's pinned entries stay as they were.
 //
 // With the definite matrix on a host that offers clothlab.cg-step/1, the solve linearises A once
 // and an iteration is two host sweeps: the product with <p, Ap>, carrying the last iteration's
 // solution and direction updates, and the residual and preconditioner updates with <r, r> and
-// <r, z>; otherwise the same iteration in separate host calls. implicit_euler solves with it,
-// and bench/microbench.cpp's cg_iteration times `iterate` itself.
+// <r, z> (with the V-cycle: the product's sweep, then the residual's axpy, the V-cycle and the
+// dot products); otherwise the same iteration in separate host calls. implicit_euler solves with
+// it, and bench/microbench.cpp's cg_iteration times `iterate` itself.
 #pragma once
 
 #include <algorithm>
@@ -42,7 +44,7 @@ class PreconditionedCg {
       : system_(system),
         jacobian_(system.jacobian()),
         definite_(definite ? std::optional{system.definite_jacobian()} : std::nullopt),
-        cg_step_(definite && use_cg_step && multigrid == nullptr &&
+        cg_step_(definite && use_cg_step &&
                          system.template extension<clothlab_cg_step_extension>(
                              CLOTHLAB_EXT_CG_STEP) != nullptr
                      ? std::optional{system.cg_step()}
@@ -57,7 +59,8 @@ class PreconditionedCg {
         inverse_blocks_(inverse_blocks),
         multigrid_(multigrid) {}
 
-  bool fused() const { return cg_step_.has_value(); }
+  // Whether an iteration is the host's two sweeps (block-Jacobi only).
+  bool fused() const { return cg_step_.has_value() && multigrid_ == nullptr; }
 
   // Readies a solve of A solution = rhs at (x, v), with A = I + J for J's weights c_x = -h^2,
   // c_v = -h: the preconditioner and the residual of `solution` (guess) or of 0 (solution
@@ -69,7 +72,7 @@ class PreconditionedCg {
     if (cg_step_) cg_step_->linearise(t, x, v, c_x_, c_v_);
     if (multigrid_ != nullptr) {
       multigrid_->prepare_solve(
-          system_, c_x_, [this](const Real* u, Real* out) { apply(u, out); },
+          system_, c_x_, [this](const Real* u, Real* out) { apply_shifted(u, out); },
           [this](double* values) { definite_->blocks(t_, x_, v_, c_x_, c_v_, values); });
     } else {
       invert_diagonal_blocks();
@@ -109,14 +112,23 @@ class PreconditionedCg {
     const double alpha = rz_ / pq;
     double rz_next = 0.0;
     if (cg_step_) {
-      const auto residual =
-          cg_step_->update(alpha, q_, block_diagonal_, block_off_diagonal_, r_, z_);
-      residual_norm_ = std::sqrt(residual.r_dot_r);
+      if (fused()) {
+        const auto residual =
+            cg_step_->update(alpha, q_, block_diagonal_, block_off_diagonal_, r_, z_);
+        residual_norm_ = std::sqrt(residual.r_dot_r);
+        rz_next = residual.r_dot_z;
+      } else {
+        system_.axpy(r_, -alpha, q_);
+        residual_norm_ = std::sqrt(reductions_.mass_dot(r_, r_));
+      }
       if (converged()) {
         system_.axpy(solution_, alpha, p_);
         return Outcome::kConverged;
       }
-      rz_next = residual.r_dot_z;
+      if (!fused()) {
+        precondition(r_, z_);
+        rz_next = reductions_.mass_dot(r_, z_);
+      }
       alpha_ = alpha, beta_ = rz_next / rz_, pending_ = true;
     } else {
       system_.axpy(solution_, alpha, p_);
@@ -146,6 +158,14 @@ class PreconditionedCg {
   void apply(const Real* u, Real* q) const {
     if (definite_) return definite_->apply(t_, x_, v_, c_x_, c_v_, u, q);
     jacobian_.apply(t_, x_, v_, c_x_, c_v_, u, q);
+  }
+
+  // q = A u = u + J u on the active particles: the host's linearised product where it offers
+  // one (linearised in `start`), else J's product and an axpy.
+  void apply_shifted(const Real* u, Real* q) const {
+    if (cg_step_) return void(cg_step_->product(u, q));
+    apply(u, q);
+    system_.axpy(q, 1.0, u);
   }
 
   // inverse_blocks_ = inverses of the 3x3 diagonal blocks of A; a block too close to singular
@@ -192,7 +212,8 @@ class PreconditionedCg {
   // z = blockdiag(A)^-1 r, or the multigrid's z, on the active particles.
   void precondition(const Real* r, Real* z) const {
     if (multigrid_ != nullptr)
-      return multigrid_->apply(system_, r, z, [this](const Real* u, Real* out) { apply(u, out); });
+      return multigrid_->apply(system_, r, z,
+                               [this](const Real* u, Real* out) { apply_shifted(u, out); });
     const std::size_t stride = system_.stride();
     for (const clothlab_range& range : system_.active())
       for (uint32_t i = range.begin; i < range.end; ++i) {

@@ -9,6 +9,7 @@
 #include <array>
 #include <clothlab/sdk.hpp>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "extension_support.hpp"
@@ -195,7 +196,9 @@ TEST(CgStep, BadCallsAreRefused) {
 
 // implicit_euler's solve of one stiff step (h = 1/60 s on a 40 x 37 sheet off rest) to a tight
 // tolerance, fused and through separate calls: the same solution within rounding, a similar
-// iteration count; the fused solve has the same bits on 1 and 2 threads.
+// iteration count; the fused solve has the same bits on 1 and 2 threads. With the multigrid
+// preconditioner (multigrid = 1), `fused` makes CG and the V-cycle's fine smoother take the
+// host's linearised product instead of the definite Jacobian's product and an axpy.
 template <class Real>
 struct Solve {
   std::vector<double> solution;
@@ -204,7 +207,8 @@ struct Solve {
 };
 
 template <class Real>
-Solve<Real> solve(bool fused, int threads, double tolerance) {
+Solve<Real> solve(bool fused, int threads, double tolerance, bool multigrid = false,
+                  long cap = 2000) {
   PipelineOptions options;
   options.threads = threads;
   Cloth cloth(testing::busy_scene(40, 37),
@@ -218,14 +222,19 @@ Solve<Real> solve(bool fused, int threads, double tolerance) {
   Real* const rhs = system.alloc_vector();
   Real* const solution = system.alloc_vector();
   std::vector<double> inverse_blocks(9 * std::size_t{system.particle_count()});
-  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, fused);
-  EXPECT_EQ(cg.fused(), fused);
+  std::optional<builtin::MultigridPreconditioner> preconditioner;
+  if (multigrid)
+    preconditioner.emplace(system, builtin::kDefaultCoarsestNodes, builtin::kDefaultMultigridSweeps,
+                           1, system.jacobian().pattern());
+  builtin::PreconditionedCg<Real> cg(system, vectors, inverse_blocks, true, fused,
+                                     preconditioner ? &*preconditioner : nullptr);
+  EXPECT_EQ(cg.fused(), fused && !multigrid);
   const double h = 1.0 / 60.0;
   system.acceleration(0.0, system.x(), system.v(), rhs);
   cg.start(0.0, h, system.x(), system.v(), rhs, solution, false, tolerance);
   Solve<Real> out;
   auto outcome = builtin::PreconditionedCg<Real>::Outcome::kRunning;
-  while (outcome == builtin::PreconditionedCg<Real>::Outcome::kRunning && out.iterations < 2000) {
+  while (outcome == builtin::PreconditionedCg<Real>::Outcome::kRunning && out.iterations < cap) {
     outcome = cg.iterate();
     ++out.iterations;
   }
@@ -236,12 +245,12 @@ Solve<Real> solve(bool fused, int threads, double tolerance) {
 }
 
 template <class Real>
-void expect_fused_solve_as_separate(double tolerance, double agreement) {
-  const Solve<Real> separate = solve<Real>(false, 1, tolerance);
-  const Solve<Real> fused = solve<Real>(true, 1, tolerance);
+void expect_fused_solve_as_separate(double tolerance, double agreement, bool multigrid = false) {
+  const Solve<Real> separate = solve<Real>(false, 1, tolerance, multigrid);
+  const Solve<Real> fused = solve<Real>(true, 1, tolerance, multigrid);
   ASSERT_TRUE(separate.converged);
   ASSERT_TRUE(fused.converged);
-  EXPECT_GT(separate.iterations, 20);  // a real solve, not one step
+  EXPECT_GT(separate.iterations, multigrid ? 5 : 20);  // a real solve, not one step
   EXPECT_NEAR(double(fused.iterations), double(separate.iterations),
               0.1 * double(separate.iterations) + 2);
   const double largest = max_abs(separate.solution);
@@ -249,7 +258,7 @@ void expect_fused_solve_as_separate(double tolerance, double agreement) {
   ASSERT_EQ(fused.solution.size(), separate.solution.size());
   for (std::size_t e = 0; e < fused.solution.size(); ++e)
     ASSERT_NEAR(fused.solution[e], separate.solution[e], agreement * largest) << e;
-  EXPECT_EQ(solve<Real>(true, 2, tolerance).solution, fused.solution);
+  EXPECT_EQ(solve<Real>(true, 2, tolerance, multigrid).solution, fused.solution);
 }
 
 TEST(CgStep, ImplicitEulersFusedSolveIsTheSeparateCallsFloat64) {
@@ -257,6 +266,29 @@ TEST(CgStep, ImplicitEulersFusedSolveIsTheSeparateCallsFloat64) {
 }
 TEST(CgStep, ImplicitEulersFusedSolveIsTheSeparateCallsFloat32) {
   expect_fused_solve_as_separate<float>(1e-4, 2e-3);
+}
+// With the multigrid, also the iterate after a few iterations (far from converged, so each
+// V-cycle's z shapes it): the same within rounding.
+template <class Real>
+void expect_multigrid_iterates_as_separate(double tolerance, double agreement,
+                                           double iterate_agreement) {
+  expect_fused_solve_as_separate<Real>(tolerance, agreement, true);
+  constexpr long kIterations = 3;
+  const Solve<Real> separate = solve<Real>(false, 1, 1e-30, true, kIterations);
+  const Solve<Real> fused = solve<Real>(true, 1, 1e-30, true, kIterations);
+  const double largest = max_abs(separate.solution);
+  ASSERT_GT(largest, 0.0);
+  double worst = 0.0;
+  for (std::size_t e = 0; e < fused.solution.size(); ++e)
+    worst = std::max(worst, std::abs(fused.solution[e] - separate.solution[e]));
+  EXPECT_LT(worst, iterate_agreement * largest);
+}
+
+TEST(CgStep, TheMultigridSolveOnTheLinearisedProductIsTheSeparateCallsFloat64) {
+  expect_multigrid_iterates_as_separate<double>(1e-10, 1e-8, 1e-10);
+}
+TEST(CgStep, TheMultigridSolveOnTheLinearisedProductIsTheSeparateCallsFloat32) {
+  expect_multigrid_iterates_as_separate<float>(1e-4, 2e-3, 1e-4);
 }
 
 }  // namespace

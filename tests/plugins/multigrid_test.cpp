@@ -716,8 +716,18 @@ struct GridNetOf {
 };
 using GridNet = GridNetOf<double>;
 
+// The preconditioner's product on a system: out = A u = u + J u, J the host's definite Jacobian
+// at the system's state for backward Euler's step h.
+template <class Real>
+auto shifted_definite_product(const sdk::System<Real>& system, double h) {
+  return [&system, h](const Real* in, Real* out) {
+    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
+    system.axpy(out, 1.0, in);
+  };
+}
+
 // The matrix the plugin assembles by probing is M (I + J) for the host's definite J: its
-// product with a vector against M (u + J u) from the host's own product.
+// product with a vector against M (u + J u) from the host's own product and an axpy.
 TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   GridNet net(11, 13);
   MockSystem<double>& mock = net.host.system();
@@ -725,12 +735,10 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   mock.allocation_allowed = true;
   builtin::MultigridPreconditioner preconditioner(system, 0, 1);
   double* u = system.alloc_vector();
-  double* ju = system.alloc_vector();
+  double* au = system.alloc_vector();
   mock.allocation_allowed = false;
   const double h = 1.0 / 60.0;
-  const auto product = [&](const double* in, double* out) {
-    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
-  };
+  const auto product = shifted_definite_product(system, h);
   preconditioner.linearise(system, product);
   const std::size_t stride = system.stride(), n = system.particle_count();
   std::mt19937 random(7);
@@ -738,7 +746,7 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   for (std::size_t k = 0; k < 3 * stride; ++k) u[k] = uniform(random);
   // The ABI's products ignore u's pinned entries; this mock host does not.
   for (std::size_t d = 0; d < 3; ++d) u[d * stride] = u[d * stride + 12] = 0.0;
-  product(u, ju);
+  product(u, au);
   const GridLevel& fine = preconditioner.hierarchy().level(0);
   std::vector<double> packed(3 * n, 0.0), su(3 * n, 0.0), zero(3 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
@@ -748,7 +756,7 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   for (std::size_t i = 0; i < n; ++i) {
     if (fine.fixed(i)) continue;
     for (std::size_t d = 0; d < 3; ++d) {
-      const double expected = 1.0 * (u[d * stride + i] + ju[d * stride + i]);  // masses 1 kg
+      const double expected = 1.0 * au[d * stride + i];  // masses 1 kg
       worst = std::max(worst, std::abs(-su[3 * i + d] - expected));
       scale = std::max(scale, std::abs(expected));
     }
@@ -817,9 +825,7 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   double* z_probed = system.alloc_vector();
   double* z_tabled = system.alloc_vector();
   mock.allocation_allowed = false;
-  const auto product = [&](const double* in, double* out) {
-    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
-  };
+  const auto product = shifted_definite_product(system, h);
   probed.linearise(system, product);
   tabled.assemble(table.values.data());
   const std::size_t vector_size = 3 * std::size_t{system.stride()};
@@ -849,8 +855,8 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   EXPECT_LT(level_difference(tabled.hierarchy().level(1), expected), 1e-6 * size);
   EXPECT_NEAR(tabled.lambda_max(), probed.lambda_max(), 1e-6 * probed.lambda_max());
   ASSERT_GT(probed.lambda_max(), 1.0);
-  // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (symmetrising leaves 3/4 of
-  // it, a quarter of the block off).
+  // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (the upper triangle's, which
+  // both blocks of the pair are formed from: half of them off).
   std::vector<double> halved = table.values;
   const uint32_t row = 5 * kCols + 6;
   for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
@@ -921,9 +927,7 @@ TEST(Multigrid, TheFineChebyshevSmootherBoundsTheSpectrumAndKeepsTheCycleSymmetr
   double* z2 = system.alloc_vector();
   mock.allocation_allowed = false;
   const double h = 1.0 / 60.0;
-  const auto product = [&](const double* in, double* out) {
-    system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
-  };
+  const auto product = shifted_definite_product(system, h);
   preconditioner.linearise(system, product);
   ASSERT_GT(preconditioner.hierarchy().level_count(), 1u);
 
@@ -991,9 +995,7 @@ TEST(Multigrid, TheSinglePrecisionCycleIsTheDoubleOneToRounding) {
     Real* r = system.alloc_vector();
     Real* z = system.alloc_vector();
     mock.allocation_allowed = false;
-    const auto product = [&](const Real* in, Real* out) {
-      system.definite_jacobian().apply(0.0, system.x(), system.v(), -h * h, -h, in, out);
-    };
+    const auto product = shifted_definite_product(system, h);
     preconditioner.linearise(system, product);
     EXPECT_GT(preconditioner.hierarchy().level_count(), 2u);
     const std::size_t stride = system.stride();
