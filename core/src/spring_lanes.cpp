@@ -43,14 +43,17 @@ uint32_t span_of(uint32_t low, uint32_t high) {
   return (high / block + 1) * block - low / block * block;
 }
 
-// Takes chosen bands' items out of runs (springs: two ends each, the smallest first, at ends[2k]
-// and ends[2k + 1]; each run's items share an offset, ordered by first end). Each band is the
-// quad (0, u, w, u + w) that two candidate runs' offsets a < b span as its diagonals (w - u = a,
-// w + u = b), with every candidate run whose offset is one of its sides or diagonals; each item
-// takes the lowest free anchor that puts both its ends on corners. The band that takes the most
-// items goes first, where it fills enough of its slots.
-std::vector<ChosenLayout> choose_bands(std::size_t particles, const std::vector<uint32_t>& ends,
+// Takes chosen bands' items out of runs (items of `arity` ends, the smallest first, end e of item
+// k at ends[arity * k + e]; each run's items share their other ends' offsets from the first and
+// are ordered by first end). A band is a quad (0, u, w, u + w), u < w: for springs, one whose
+// diagonals are two candidate runs' offsets (w - u and w + u); for triangles, one that holds a
+// candidate run's three corners. It takes the items of every candidate run that fit on its
+// corners, each item the lowest free anchor that puts all its ends on corners. The band that
+// takes the most items goes first, where it fills enough of its slots.
+std::vector<ChosenLayout> choose_bands(std::size_t particles, std::size_t arity,
+                                       const std::vector<uint32_t>& ends,
                                        std::vector<std::vector<uint32_t>>& runs) {
+  const auto end_of = [&](uint32_t item, std::size_t e) { return ends[arity * item + e]; };
   std::vector<ChosenLayout> chosen;
   std::vector<uint8_t> occupied(particles, 0);
   std::vector<uint32_t> touched;
@@ -59,71 +62,86 @@ std::vector<ChosenLayout> choose_bands(std::size_t particles, const std::vector<
     for (std::size_t r = 0; r < runs.size(); ++r) {
       const std::vector<uint32_t>& run = runs[r];
       if (run.size() < kChosenMinimum) continue;
-      const uint32_t span = span_of(ends[2 * run.front()], ends[2 * run.back()]);
+      const uint32_t span = span_of(end_of(run.front(), 0), end_of(run.back(), 0));
       if (static_cast<double>(run.size()) < kChosenFill * span) candidates.push_back(r);
     }
     std::stable_sort(candidates.begin(), candidates.end(),
                      [&](std::size_t a, std::size_t b) { return runs[a].size() > runs[b].size(); });
     candidates.resize(std::min(candidates.size(), kChosenCandidates));
-    const auto offset_of = [&](std::size_t run) {
-      return ends[2 * runs[run][0] + 1] - ends[2 * runs[run][0]];
+    std::vector<std::array<uint32_t, 2>> quads;  // (u, w)
+    const auto add_quad = [&](uint32_t u, uint32_t w) {
+      if (u > w) std::swap(u, w);
+      const std::array<uint32_t, 2> quad{u, w};
+      if (u != 0 && u != w && std::find(quads.begin(), quads.end(), quad) == quads.end())
+        quads.push_back(quad);
     };
+    for (std::size_t p : candidates) {
+      const uint32_t first = end_of(runs[p][0], 0);
+      if (arity == 2) {
+        for (std::size_t q : candidates) {
+          const uint32_t a = end_of(runs[p][0], 1) - first,
+                         b = end_of(runs[q][0], 1) - end_of(runs[q][0], 0);
+          if (a < b && (a + b) % 2 == 0) add_quad((b - a) / 2, (a + b) / 2);
+        }
+      } else {
+        const uint32_t s1 = std::min(end_of(runs[p][0], 1), end_of(runs[p][0], 2)) - first;
+        const uint32_t s2 = std::max(end_of(runs[p][0], 1), end_of(runs[p][0], 2)) - first;
+        add_quad(s1, s2), add_quad(s1, s2 - s1), add_quad(s2 - s1, s2);
+      }
+    }
     ChosenLayout best{};
     std::vector<std::size_t> best_members;
-    for (std::size_t p = 0; p < candidates.size(); ++p)
-      for (std::size_t q = 0; q < candidates.size(); ++q) {
-        const uint32_t a = offset_of(candidates[p]), b = offset_of(candidates[q]);
-        if (a >= b || (a + b) % 2 != 0) continue;
-        const uint32_t u = (b - a) / 2, w = (a + b) / 2;
-        const std::array<uint32_t, 4> corner{0, u, w, u + w};
-        std::vector<std::size_t> members;
-        std::vector<uint32_t> items;
-        for (std::size_t c : candidates) {
-          const uint32_t offset = offset_of(c);
-          if (offset == u || offset == w || offset == a || offset == b) {
-            members.push_back(c);
-            items.insert(items.end(), runs[c].begin(), runs[c].end());
-          }
-        }
-        // Whether an item of this offset may have its first end at corner f.
-        const auto fits = [&](uint32_t offset, std::size_t f) {
-          return std::find(corner.begin() + static_cast<std::ptrdiff_t>(f) + 1, corner.end(),
-                           corner[f] + offset) != corner.end();
-        };
-        const auto choices = [&](uint32_t item) {
-          const uint32_t offset = ends[2 * item + 1] - ends[2 * item];
-          return int{fits(offset, 0)} + int{fits(offset, 1)} + int{fits(offset, 2)};
-        };
-        // By first end; of one first end, those with fewer anchors to take first.
-        std::stable_sort(items.begin(), items.end(), [&](uint32_t x, uint32_t y) {
-          return ends[2 * x] != ends[2 * y] ? ends[2 * x] < ends[2 * y] : choices(x) < choices(y);
-        });
-        ChosenLayout layout{corner, {}};
-        for (uint32_t item : items) {
-          const uint32_t i = ends[2 * item], offset = ends[2 * item + 1] - i;
-          // The corners the first end may take, from the highest (the lowest anchor).
-          for (std::size_t f = 3; f-- > 0;) {
-            if (!fits(offset, f) || corner[f] > i || occupied[i - corner[f]] != 0) continue;
-            occupied[i - corner[f]] = 1;
-            touched.push_back(i - corner[f]);
-            layout.slots.emplace_back(i - corner[f], item);
-            break;
-          }
-        }
-        for (uint32_t anchor : touched) occupied[anchor] = 0;
-        touched.clear();
-        if (layout.slots.size() <= best.slots.size()) continue;
-        std::sort(layout.slots.begin(), layout.slots.end());
-        const uint32_t span = span_of(layout.slots.front().first, layout.slots.back().first);
-        if (static_cast<double>(layout.slots.size()) < kChosenFill * span) continue;
-        best = std::move(layout);
-        best_members = std::move(members);
+    for (const auto& [u, w] : quads) {
+      const std::array<uint32_t, 4> corner{0, u, w, u + w};
+      // Whether the item's ends lie on corners with its first at corner f.
+      const auto fits = [&](uint32_t item, std::size_t f) {
+        for (std::size_t e = 1; e < arity; ++e)
+          if (std::find(corner.begin(), corner.end(),
+                        corner[f] + end_of(item, e) - end_of(item, 0)) == corner.end())
+            return false;
+        return true;
+      };
+      const auto choices = [&](uint32_t item) {
+        return int{fits(item, 0)} + int{fits(item, 1)} + int{fits(item, 2)};
+      };
+      std::vector<std::size_t> members;
+      std::vector<uint32_t> items;
+      for (std::size_t c : candidates) {
+        if (choices(runs[c][0]) == 0) continue;
+        members.push_back(c);
+        items.insert(items.end(), runs[c].begin(), runs[c].end());
       }
+      if (items.size() <= best.slots.size()) continue;
+      // By first end; of one first end, those with fewer anchors to take first.
+      std::stable_sort(items.begin(), items.end(), [&](uint32_t x, uint32_t y) {
+        return end_of(x, 0) != end_of(y, 0) ? end_of(x, 0) < end_of(y, 0) : choices(x) < choices(y);
+      });
+      ChosenLayout layout{corner, {}};
+      for (uint32_t item : items) {
+        const uint32_t i = end_of(item, 0);
+        // The corners the first end may take, from the highest (the lowest anchor).
+        for (std::size_t f = 3; f-- > 0;) {
+          if (corner[f] > i || occupied[i - corner[f]] != 0 || !fits(item, f)) continue;
+          occupied[i - corner[f]] = 1;
+          touched.push_back(i - corner[f]);
+          layout.slots.emplace_back(i - corner[f], item);
+          break;
+        }
+      }
+      for (uint32_t anchor : touched) occupied[anchor] = 0;
+      touched.clear();
+      if (layout.slots.size() <= best.slots.size()) continue;
+      std::sort(layout.slots.begin(), layout.slots.end());
+      const uint32_t span = span_of(layout.slots.front().first, layout.slots.back().first);
+      if (static_cast<double>(layout.slots.size()) < kChosenFill * span) continue;
+      best = std::move(layout);
+      best_members = std::move(members);
+    }
     if (best.slots.empty()) break;
-    std::vector<uint8_t> taken_here(ends.size() / 2, 0);
-    for (const auto& slot : best.slots) taken_here[slot.second] = 1;
+    std::vector<uint8_t> taken(ends.size() / arity, 0);
+    for (const auto& slot : best.slots) taken[slot.second] = 1;
     for (std::size_t c : best_members)
-      std::erase_if(runs[c], [&](uint32_t item) { return taken_here[item] != 0; });
+      std::erase_if(runs[c], [&](uint32_t item) { return taken[item] != 0; });
     chosen.push_back(std::move(best));
   }
   return chosen;
@@ -156,8 +174,7 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     runs.emplace_back(order.begin() + static_cast<std::ptrdiff_t>(begin),
                       order.begin() + static_cast<std::ptrdiff_t>(end));
   }
-  const std::vector<ChosenLayout> chosen =
-      arity == 2 ? choose_bands(particles, ends, runs) : std::vector<ChosenLayout>{};
+  const std::vector<ChosenLayout> chosen = choose_bands(particles, arity, ends, runs);
 
   std::vector<uint32_t> slot_of(items_);
   std::vector<uint32_t> gathered;   // the items in no band, in order
@@ -240,7 +257,7 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
       const uint32_t item = item_in_[s];
       if (item == items_) continue;
       const uint32_t anchor = band.low + static_cast<uint32_t>(s - band.base);
-      for (std::size_t e = 0; e < 2; ++e) {
+      for (std::size_t e = 0; e < arity; ++e) {
         const auto at = std::find(band.corner.begin(), band.corner.end(), end_of(item, e) - anchor);
         corner_of_[s] |= static_cast<uint8_t>((at - band.corner.begin()) << (2 * e));
       }
@@ -279,8 +296,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
       const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
       if (band.chosen) {
-        // One row per corner: each lane adds its slot where it is the spring's first end there,
-        // subtracts it where the second, else takes nothing.
+        // One row per corner: each lane adds (or subtracts) its slot where one of its item's
+        // ends is there, else takes nothing.
         for (std::size_t c = 0; c < 4; ++c) {
           const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(band.corner[c]) - low;
           if (window <= -static_cast<std::ptrdiff_t>(kSpringBlock) || window >= span) continue;
@@ -291,12 +308,11 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
           for (std::size_t l = 0; l < kSpringBlock; ++l) {
             const std::size_t slot = first_slot + l;
             if (item_in_[slot] == items_) continue;
-            if (corner_of(slot, 0) == c) {
-              adds |= 1u << l;
-              row[l] = static_cast<uint32_t>(slot);
-            } else if (corner_of(slot, 1) == c) {
-              subtracts |= 1u << l;
-              row[l] = static_cast<uint32_t>(slot) | kSubtract;
+            for (std::size_t e = 0; e < arity; ++e) {
+              if ((corner_of_[slot] >> (2 * e) & 3u) != c) continue;
+              const bool subtract = (subtracted >> e & 1u) != 0;
+              (subtract ? subtracts : adds) |= 1u << l;
+              row[l] = static_cast<uint32_t>(slot) | (subtract ? kSubtract : 0u);
             }
           }
           if ((adds | subtracts) == 0) continue;
@@ -351,11 +367,22 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   row_choice_ = std::move(choice);
 }
 
-const uint32_t* LaneBands::chosen_corners(std::size_t block, uint32_t& anchor) const {
-  if (chosen_of_[block] == 0) return nullptr;
+bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
+  if (chosen_of_[block] == 0) return false;
   const Band& band = bands_[chosen_of_[block] - 1u];
-  anchor = band.low + static_cast<uint32_t>(block * kSpringBlock - band.base);
-  return band.corner.data();
+  const uint32_t anchor = band.low + static_cast<uint32_t>(block * kSpringBlock - band.base);
+  ends = ChosenEnds{};
+  for (std::size_t c = 0; c < 4; ++c) ends.at[c] = anchor + band.corner[c];
+  for (std::size_t l = 0; l < kSpringBlock; ++l) {
+    const std::size_t slot = block * kSpringBlock + l;
+    if (item_in_[slot] == items_) continue;
+    for (std::size_t e = 0; e < ends_.size(); ++e) {
+      const uint32_t corner = corner_of_[slot] >> (2 * e) & 3u;
+      ends.low[e] |= (corner & 1u) << l;
+      ends.high[e] |= (corner >> 1) << l;
+    }
+  }
+  return true;
 }
 
 template <class Real>
@@ -470,25 +497,10 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
       one_rest = one_rest && rest_[s + l] == rest_[lead];
     }
     const bool one_law = one_stiffness && one_rest;
-    uint32_t anchor = 0;
-    const uint32_t* corners = layout_.chosen_corners(b, anchor);
-    const bool chosen = !layout_.ends_in_order(b) && corners != nullptr && live != 0;
+    ChosenEnds ends;
+    const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_ends(b, ends);
     block_chosen_.push_back(static_cast<uint32_t>(chosen_.size()));
-    if (chosen) {
-      ChosenEnds ends{
-          {anchor + corners[0], anchor + corners[1], anchor + corners[2], anchor + corners[3]},
-          {0, 0},
-          {0, 0}};
-      for (std::size_t l = 0; l < kSpringBlock; ++l) {
-        if ((live >> l & 1u) == 0) continue;
-        const uint32_t first = layout_.corner_of(s + l, 0), second = layout_.corner_of(s + l, 1);
-        for (uint32_t c = 1; c <= 2; ++c) {
-          ends.first_is[c - 1] |= (first == c ? 1u : 0u) << l;
-          ends.second_is[c - 1] |= (second == c ? 1u : 0u) << l;
-        }
-      }
-      chosen_.push_back(ends);
-    }
+    if (chosen) chosen_.push_back(ends);
     block_kind_.push_back(static_cast<uint8_t>(
         (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (chosen ? kChosen : 0) |
         (one_law ? kOneLaw : 0) | (one_stiffness && !one_law ? kOneStiffness : 0) |
@@ -580,10 +592,8 @@ class EndLanes {
       i_ = load_indices(arrays.first + s), j_ = load_indices(arrays.second + s);
     } else if constexpr (At == EndsAt::kChosen) {
       at_ = chosen->at;
-      first_is_[0] = lanes_of_bits(chosen->first_is[0]);
-      first_is_[1] = lanes_of_bits(chosen->first_is[1]);
-      second_is_[0] = lanes_of_bits(chosen->second_is[0]);
-      second_is_[1] = lanes_of_bits(chosen->second_is[1]);
+      for (std::size_t e = 0; e < 2; ++e)
+        low_[e] = lanes_of_bits(chosen->low[e]), high_[e] = lanes_of_bits(chosen->high[e]);
     }
   }
   // values (one per particle) at each lane's first and second end.
@@ -595,8 +605,9 @@ class EndLanes {
     } else {
       Floats corner[4];
       for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(values + at_[c]);
-      at_first = select(first_is_[1], corner[2], select(first_is_[0], corner[1], corner[0]));
-      at_second = select(second_is_[0], corner[1], select(second_is_[1], corner[2], corner[3]));
+      // A spring's first end is never the last corner, its second never the first.
+      at_first = select(high_[0], corner[2], select(low_[0], corner[1], corner[0]));
+      at_second = select(high_[1], select(low_[1], corner[3], corner[2]), corner[1]);
     }
   }
 
@@ -604,8 +615,8 @@ class EndLanes {
   uint32_t first_, second_;
   Indices i_{}, j_{};
   std::array<uint32_t, 4> at_{};
-  LaneMask first_is_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
-  LaneMask second_is_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
+  LaneMask low_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
+  LaneMask high_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
 };
 
 // How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and

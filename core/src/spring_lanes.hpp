@@ -56,6 +56,21 @@ struct SlotBuffers {
   Real* rings;
 };
 
+// A chosen block's ends (LaneBands::chosen_ends): the particles of lane 0's four corners, the
+// corners ascending, and per end e and lane l the corner (0 to 3) that is lane l's end e: bit l
+// of low[e] its low bit, of high[e] its high bit.
+struct ChosenEnds {
+  std::array<uint32_t, 4> at{};
+  uint32_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+};
+
+#if defined(CLOTHLAB_FLOAT_LANES)
+// values at end e of a chosen block's lanes, from the values at its corners.
+inline Floats chosen_end(const Floats (&corner)[4], LaneMask low, LaneMask high) {
+  return select(high, select(low, corner[3], corner[2]), select(low, corner[1], corner[0]));
+}
+#endif
+
 // The slots and sums of items with two or three ends (springs, triangles), in the layout the
 // head of this file describes: an item's ends are given smallest first, and the items whose other
 // ends lie at the same offsets from it form a band.
@@ -76,14 +91,9 @@ class LaneBands {
   const uint32_t* ends(std::size_t e) const { return ends_[e].data(); }
   // Every end of the block's slots follows lane 0's in order.
   bool ends_in_order(std::size_t block) const { return in_order_[block] != 0; }
-  // Where the block lies in a chosen band (two ends, head of this file) and all its corners are
-  // particles: lane l's slot joins two of the particles anchor + l + corners[k] (k < 4, the
-  // corners ascending), anchor lane 0's; else nullptr.
-  const uint32_t* chosen_corners(std::size_t block, uint32_t& anchor) const;
-  // In a chosen band, the corner (0 to 3) of slot s's end e.
-  uint32_t corner_of(std::size_t slot, std::size_t e) const {
-    return corner_of_[slot] >> (2 * e) & 3u;
-  }
+  // Whether the block lies in a chosen band (head of this file) whose corners are all particles;
+  // if so, its ends: lane l's item has its ends among the particles ends.at[k] + l.
+  bool chosen_ends(std::size_t block, ChosenEnds& ends) const;
 
   // A thread's ring, per component (SlotBuffers).
   std::size_t ring_slots() const { return ring_slots_; }
@@ -166,14 +176,6 @@ class LaneBands {
   // kSpringBlock + l where it subtracts it (the other lanes take nothing); its slots then run
   // from row_first_ (and row_ring_) in order.
   std::vector<uint32_t> row_choice_;
-};
-
-// A chosen block's ends (LaneBands::chosen_corners): the particles of lane 0's four corners, and
-// per lane (bit l) which corner each end is: the first corner 0, or 1 where first_is[0], 2 where
-// first_is[1]; the second corner 3, or 1 where second_is[0], 2 where second_is[1].
-struct ChosenEnds {
-  std::array<uint32_t, 4> at;
-  uint32_t first_is[2], second_is[2];
 };
 
 template <class Real>
