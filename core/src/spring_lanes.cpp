@@ -17,7 +17,6 @@ namespace {
 constexpr std::size_t kBandShare = 5;
 
 constexpr uint32_t kAllLive = (1u << kSpringBlock) - 1;  // a block's live bits, none dead
-constexpr uint32_t kAllLanes = kAllLive;
 
 bool consecutive(const uint32_t* values) {
   for (std::size_t l = 1; l < kSpringBlock; ++l)
@@ -29,7 +28,7 @@ bool consecutive(const uint32_t* values) {
 // fills under kChosenFill of its slots; a chosen band is formed where it fills at least that.
 constexpr std::size_t kChosenMinimum = 4 * kSpringBlock;  // items of a candidate run
 constexpr double kChosenFill = 0.75;
-constexpr std::size_t kChosenCandidates = 12;  // the largest candidate runs tried in pairs
+constexpr std::size_t kChosenCandidates = 12;  // the largest candidate runs, whose quads are tried
 constexpr std::size_t kMostChosenBands = 4;
 
 // A chosen band: its corners (ascending, the first 0) and its items by anchor, ascending.
@@ -397,7 +396,7 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
         const bool in_ring = ring != nullptr;
         const Real* values = in_ring ? ring + row_ring_[r] : per_slot + row_first_[r];
         const std::size_t values_stride = in_ring ? ring_slots_ : stride;
-        const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLanes);
+        const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
         const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
         for (std::size_t k = 0; k < 3; ++k) {
           const Floats value = load_floats(values + k * values_stride);
