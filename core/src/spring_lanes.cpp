@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <iterator>
 #include <numeric>
 #include <type_traits>
 
@@ -103,18 +104,25 @@ std::vector<ChosenLayout> choose_bands(std::size_t particles, std::size_t arity,
       const auto choices = [&](uint32_t item) {
         return int{fits(item, 0)} + int{fits(item, 1)} + int{fits(item, 2)};
       };
+      // A run's items share their choices.
       std::vector<std::size_t> members;
-      std::vector<uint32_t> items;
-      for (std::size_t c : candidates) {
-        if (choices(runs[c][0]) == 0) continue;
-        members.push_back(c);
-        items.insert(items.end(), runs[c].begin(), runs[c].end());
-      }
-      if (items.size() <= best.slots.size()) continue;
-      // By first end; of one first end, those with fewer anchors to take first.
-      std::stable_sort(items.begin(), items.end(), [&](uint32_t x, uint32_t y) {
-        return end_of(x, 0) != end_of(y, 0) ? end_of(x, 0) < end_of(y, 0) : choices(x) < choices(y);
+      std::size_t total = 0;
+      for (std::size_t c : candidates)
+        if (choices(runs[c][0]) != 0) members.push_back(c), total += runs[c].size();
+      if (total <= best.slots.size()) continue;
+      // By first end; of one first end, those with fewer anchors to take first (the runs merged
+      // in that order, each ordered by first end).
+      std::stable_sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+        return choices(runs[a][0]) < choices(runs[b][0]);
       });
+      std::vector<uint32_t> items, merged;
+      const auto by_first_end = [&](uint32_t x, uint32_t y) { return end_of(x, 0) < end_of(y, 0); };
+      for (std::size_t c : members) {
+        merged.clear();
+        std::merge(items.begin(), items.end(), runs[c].begin(), runs[c].end(),
+                   std::back_inserter(merged), by_first_end);
+        items.swap(merged);
+      }
       ChosenLayout layout{corner, {}};
       for (uint32_t item : items) {
         const uint32_t i = end_of(item, 0);
