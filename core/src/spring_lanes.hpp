@@ -19,6 +19,8 @@
 // quarter or half each, a chosen band gives each quad's anchor p one slot: its spring joins two of
 // the four corners, chosen per lane, so a block loads the four corners in order and picks each
 // lane's two ends by mask, and each particle block sums the band with one masked load per corner.
+// An irregular mesh's cells, split along one diagonal or the other, give their triangles two
+// chosen bands the same way (each triangle three of its cell's four corners).
 //
 // sweep() runs the two passes tile by tile. After its barrier each thread computes its bands'
 // slots into a ring of its own, a tile and a band's reach long per band, and its sums read them
@@ -161,7 +163,7 @@ class LaneBands {
   std::vector<AlignedBuffer<uint32_t>> ends_;
   std::vector<uint32_t> item_in_;
   std::vector<uint8_t> in_order_;    // per slot block
-  std::vector<uint8_t> corner_of_;   // per slot of a chosen band: end 0's corner | end 1's << 2
+  std::vector<uint8_t> corner_of_;   // per slot of a chosen band: end e's corner << 2 e
   std::vector<uint16_t> chosen_of_;  // per slot block: 1 + its chosen band where loadable, else 0
 
   // Per particle block, rows [row_begin_[b], row_begin_[b + 1]) of kSpringBlock entries: lane
