@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <iterator>
 #include <numeric>
 #include <type_traits>
 
@@ -24,6 +25,135 @@ bool consecutive(const uint32_t* values) {
   return true;
 }
 
+// Chosen bands (head of spring_lanes.hpp): a run of items is a candidate where it is large but
+// fills under kChosenFill of its slots; a chosen band is formed where it fills at least that.
+constexpr std::size_t kChosenMinimum = 4 * kSpringBlock;  // items of a candidate run
+constexpr double kChosenFill = 0.75;
+constexpr std::size_t kChosenCandidates = 12;  // the largest candidate runs, whose quads are tried
+constexpr std::size_t kMostChosenBands = 4;
+
+// A chosen band: its corners (ascending, the first 0) and its items by anchor, ascending.
+struct ChosenLayout {
+  std::array<uint32_t, 4> corner;
+  std::vector<std::pair<uint32_t, uint32_t>> slots;  // (anchor, item)
+};
+
+uint32_t span_of(uint32_t low, uint32_t high) {
+  const auto block = static_cast<uint32_t>(kSpringBlock);
+  return (high / block + 1) * block - low / block * block;
+}
+
+// Takes chosen bands' items out of runs (items of `arity` ends, the smallest first, end e of item
+// k at ends[arity * k + e]; each run's items share their other ends' offsets from the first and
+// are ordered by first end). A band is a quad (0, u, w, u + w), u < w: for springs, one whose
+// diagonals are two candidate runs' offsets (w - u and w + u); for triangles, one that holds a
+// candidate run's three corners. It takes the items of every candidate run that fit on its
+// corners, each item the lowest free anchor that puts all its ends on corners. The band that
+// takes the most items goes first, where it fills enough of its slots.
+std::vector<ChosenLayout> choose_bands(std::size_t particles, std::size_t arity,
+                                       const std::vector<uint32_t>& ends,
+                                       std::vector<std::vector<uint32_t>>& runs) {
+  const auto end_of = [&](uint32_t item, std::size_t e) { return ends[arity * item + e]; };
+  std::vector<ChosenLayout> chosen;
+  std::vector<uint8_t> occupied(particles, 0);
+  std::vector<uint32_t> touched;
+  while (chosen.size() < kMostChosenBands) {
+    std::vector<std::size_t> candidates;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const std::vector<uint32_t>& run = runs[r];
+      if (run.size() < kChosenMinimum) continue;
+      const uint32_t span = span_of(end_of(run.front(), 0), end_of(run.back(), 0));
+      if (static_cast<double>(run.size()) < kChosenFill * span) candidates.push_back(r);
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [&](std::size_t a, std::size_t b) { return runs[a].size() > runs[b].size(); });
+    candidates.resize(std::min(candidates.size(), kChosenCandidates));
+    std::vector<std::array<uint32_t, 2>> quads;  // (u, w)
+    const auto add_quad = [&](uint32_t u, uint32_t w) {
+      if (u > w) std::swap(u, w);
+      const std::array<uint32_t, 2> quad{u, w};
+      if (u != 0 && u != w && std::find(quads.begin(), quads.end(), quad) == quads.end())
+        quads.push_back(quad);
+    };
+    for (std::size_t p : candidates) {
+      const uint32_t first = end_of(runs[p][0], 0);
+      if (arity == 2) {
+        for (std::size_t q : candidates) {
+          const uint32_t a = end_of(runs[p][0], 1) - first,
+                         b = end_of(runs[q][0], 1) - end_of(runs[q][0], 0);
+          if (a < b && (a + b) % 2 == 0) add_quad((b - a) / 2, (a + b) / 2);
+        }
+      } else {
+        const uint32_t s1 = std::min(end_of(runs[p][0], 1), end_of(runs[p][0], 2)) - first;
+        const uint32_t s2 = std::max(end_of(runs[p][0], 1), end_of(runs[p][0], 2)) - first;
+        add_quad(s1, s2), add_quad(s1, s2 - s1), add_quad(s2 - s1, s2);
+      }
+    }
+    ChosenLayout best{};
+    std::vector<std::size_t> best_members;
+    for (const auto& [u, w] : quads) {
+      const std::array<uint32_t, 4> corner{0, u, w, u + w};
+      // Whether the item's ends lie on corners with its first at corner f.
+      const auto fits = [&](uint32_t item, std::size_t f) {
+        for (std::size_t e = 1; e < arity; ++e)
+          if (std::find(corner.begin(), corner.end(),
+                        corner[f] + end_of(item, e) - end_of(item, 0)) == corner.end())
+            return false;
+        return true;
+      };
+      const auto choices = [&](uint32_t item) {
+        return int{fits(item, 0)} + int{fits(item, 1)} + int{fits(item, 2)};
+      };
+      // A run's items share their choices.
+      std::vector<std::size_t> members;
+      std::size_t total = 0;
+      for (std::size_t c : candidates)
+        if (choices(runs[c][0]) != 0) members.push_back(c), total += runs[c].size();
+      if (total <= best.slots.size()) continue;
+      // By first end; of one first end, those with fewer anchors to take first (the runs merged
+      // in that order, each ordered by first end).
+      std::stable_sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+        return choices(runs[a][0]) < choices(runs[b][0]);
+      });
+      std::vector<uint32_t> items, merged;
+      const auto by_first_end = [&](uint32_t x, uint32_t y) { return end_of(x, 0) < end_of(y, 0); };
+      for (std::size_t c : members) {
+        merged.clear();
+        std::merge(items.begin(), items.end(), runs[c].begin(), runs[c].end(),
+                   std::back_inserter(merged), by_first_end);
+        items.swap(merged);
+      }
+      ChosenLayout layout{corner, {}};
+      for (uint32_t item : items) {
+        const uint32_t i = end_of(item, 0);
+        // The corners the first end may take, from the highest (the lowest anchor).
+        for (std::size_t f = 3; f-- > 0;) {
+          if (corner[f] > i || occupied[i - corner[f]] != 0 || !fits(item, f)) continue;
+          occupied[i - corner[f]] = 1;
+          touched.push_back(i - corner[f]);
+          layout.slots.emplace_back(i - corner[f], item);
+          break;
+        }
+      }
+      for (uint32_t anchor : touched) occupied[anchor] = 0;
+      touched.clear();
+      if (layout.slots.size() <= best.slots.size()) continue;
+      std::sort(layout.slots.begin(), layout.slots.end());
+      const uint32_t span = span_of(layout.slots.front().first, layout.slots.back().first);
+      if (static_cast<double>(layout.slots.size()) < kChosenFill * span) continue;
+      best = std::move(layout);
+      best_members = std::move(members);
+    }
+    if (best.slots.empty()) break;
+    std::vector<uint8_t> taken(ends.size() / arity, 0);
+    for (const auto& slot : best.slots) taken[slot.second] = 1;
+    for (std::size_t c : best_members)
+      std::erase_if(runs[c], [&](uint32_t item) { return taken[item] != 0; });
+    chosen.push_back(std::move(best));
+  }
+  return chosen;
+}
+
 }  // namespace
 
 LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, std::size_t arity,
@@ -43,29 +173,51 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
                                           : end_of(a, 0) < end_of(b, 0);
   });
 
+  // The runs of items of one set of offsets; the chosen bands take some of their items first.
+  std::vector<std::vector<uint32_t>> runs;
+  for (std::size_t begin = 0, end = 0; begin < items_; begin = end) {
+    for (end = begin + 1; end < items_ && offsets_of(order[end]) == offsets_of(order[begin]); ++end)
+      ;
+    runs.emplace_back(order.begin() + static_cast<std::ptrdiff_t>(begin),
+                      order.begin() + static_cast<std::ptrdiff_t>(end));
+  }
+  const std::vector<ChosenLayout> chosen = choose_bands(particles, arity, ends, runs);
+
   std::vector<uint32_t> slot_of(items_);
   std::vector<uint32_t> gathered;   // the items in no band, in order
   std::size_t next = kSpringBlock;  // after the leading dead block
   std::vector<std::array<uint32_t, 2>> band_offsets;
-  for (std::size_t begin = 0, end = 0; begin < items_; begin = end) {
-    const std::array<uint32_t, 2> offsets = offsets_of(order[begin]);
+  const auto block = static_cast<uint32_t>(kSpringBlock);
+  for (const std::vector<uint32_t>& run : runs) {
+    if (run.empty()) continue;
+    const std::array<uint32_t, 2> offsets = offsets_of(run[0]);
     bool distinct = true;
-    for (end = begin + 1; end < items_ && offsets_of(order[end]) == offsets; ++end)
-      distinct = distinct && end_of(order[end], 0) != end_of(order[end - 1], 0);
-    const auto block = static_cast<uint32_t>(kSpringBlock);
-    const uint32_t low = end_of(order[begin], 0) / block * block;
-    const uint32_t high = (end_of(order[end - 1], 0) / block + 1) * block;
-    if (!distinct || kBandShare * (end - begin) < high - low) {
-      gathered.insert(gathered.end(), order.begin() + static_cast<std::ptrdiff_t>(begin),
-                      order.begin() + static_cast<std::ptrdiff_t>(end));
+    for (std::size_t k = 1; k < run.size(); ++k)
+      distinct = distinct && end_of(run[k], 0) != end_of(run[k - 1], 0);
+    const uint32_t low = end_of(run.front(), 0) / block * block;
+    const uint32_t high = (end_of(run.back(), 0) / block + 1) * block;
+    if (!distinct || kBandShare * run.size() < high - low) {
+      gathered.insert(gathered.end(), run.begin(), run.end());
       continue;
     }
     bands_.push_back({std::max(offsets[0], offsets[1]), low, high, next});
     band_offsets.push_back(offsets);
     dead_blocks_.push_back(static_cast<uint32_t>((next + high - low) / kSpringBlock));
-    for (std::size_t k = begin; k < end; ++k)
-      slot_of[order[k]] = static_cast<uint32_t>(next + end_of(order[k], 0) - low);
+    for (uint32_t item : run) slot_of[item] = static_cast<uint32_t>(next + end_of(item, 0) - low);
     next += high - low + kSpringBlock;  // and a dead block after it
+  }
+  for (const ChosenLayout& layout : chosen) {
+    const uint32_t low = layout.slots.front().first / block * block;
+    const uint32_t high = (layout.slots.back().first / block + 1) * block;
+    Band band{layout.corner[3], low, high, next};
+    band.chosen = true;
+    band.corner = layout.corner;
+    bands_.push_back(band);
+    band_offsets.push_back({});
+    dead_blocks_.push_back(static_cast<uint32_t>((next + high - low) / kSpringBlock));
+    for (const auto& [anchor, item] : layout.slots)
+      slot_of[item] = static_cast<uint32_t>(next + anchor - low);
+    next += high - low + kSpringBlock;
   }
   const std::size_t gathered_base = next;
   gathered_block_ = gathered_base / kSpringBlock;
@@ -86,6 +238,7 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   // A band's dead slots join its own particles where they exist, so its blocks stay in order.
   for (std::size_t k = 0; k < bands_.size(); ++k) {
     const Band& band = bands_[k];
+    if (band.chosen) continue;
     for (uint32_t i = band.low; i < band.high && std::size_t{i} + band.reach < particles; ++i) {
       ends_[0][band.base + i - band.low] = i;
       for (std::size_t e = 1; e < arity; ++e)
@@ -102,6 +255,26 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     for (const auto& end : ends_) in_order = in_order && consecutive(&end[b * kSpringBlock]);
     in_order_.push_back(in_order);
   }
+  corner_of_.assign(slots, 0);
+  chosen_of_.assign(slots / kSpringBlock, 0);
+  for (std::size_t k = 0; k < bands_.size(); ++k) {
+    const Band& band = bands_[k];
+    if (!band.chosen) continue;
+    for (std::size_t s = band.base; s < band.base + band.high - band.low; ++s) {
+      const uint32_t item = item_in_[s];
+      if (item == items_) continue;
+      const uint32_t anchor = band.low + static_cast<uint32_t>(s - band.base);
+      for (std::size_t e = 0; e < arity; ++e) {
+        const auto at = std::find(band.corner.begin(), band.corner.end(), end_of(item, e) - anchor);
+        corner_of_[s] |= static_cast<uint8_t>((at - band.corner.begin()) << (2 * e));
+      }
+    }
+    // A block loads its corners in order where the last lane's last corner is a particle.
+    for (std::size_t b = band.base / kSpringBlock;
+         b < (band.base + band.high - band.low) / kSpringBlock; ++b)
+      if (band.low + (b * kSpringBlock - band.base) + kSpringBlock - 1 + band.corner[3] < particles)
+        chosen_of_[b] = static_cast<uint16_t>(k + 1);
+  }
 
   // Each particle's gathered entries, ascending by slot.
   const std::size_t blocks = (particles + kSpringBlock - 1) / kSpringBlock;
@@ -116,6 +289,7 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   // Per particle block: each band's rows (the block's particles as each of the band's ends,
   // where the band reaches them), then its gathered rows.
   std::vector<uint32_t> rows;
+  std::vector<uint32_t> choice, chosen_first;  // per row: row_choice_, a chosen row's first slot
   row_begin_.assign(1, 0);
   for (std::size_t b = 0; b < blocks; ++b) {
     const auto start = static_cast<std::ptrdiff_t>(b * kSpringBlock);
@@ -127,6 +301,37 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
       const Band& band = bands_[k];
       const auto low = static_cast<std::ptrdiff_t>(band.low);
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
+      const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
+      if (band.chosen) {
+        // One row per corner: each lane adds (or subtracts) its slot where one of its item's
+        // ends is there, else takes nothing.
+        for (std::size_t c = 0; c < 4; ++c) {
+          const std::ptrdiff_t window = start - static_cast<std::ptrdiff_t>(band.corner[c]) - low;
+          if (window <= -static_cast<std::ptrdiff_t>(kSpringBlock) || window >= span) continue;
+          const auto first_slot =
+              static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window);
+          uint32_t adds = 0, subtracts = 0;
+          std::array<uint32_t, kSpringBlock> row{};
+          for (std::size_t l = 0; l < kSpringBlock; ++l) {
+            const std::size_t slot = first_slot + l;
+            if (item_in_[slot] == items_) continue;
+            for (std::size_t e = 0; e < arity; ++e) {
+              if ((corner_of_[slot] >> (2 * e) & 3u) != c) continue;
+              const bool subtract = (subtracted >> e & 1u) != 0;
+              (subtract ? subtracts : adds) |= 1u << l;
+              row[l] = static_cast<uint32_t>(slot) | (subtract ? kSubtract : 0u);
+            }
+          }
+          if ((adds | subtracts) == 0) continue;
+          rows.insert(rows.end(), row.begin(), row.end());
+          const std::ptrdiff_t anchor = window + low;
+          row_ring_.push_back(static_cast<uint32_t>(
+              band.ring_base + static_cast<std::size_t>((anchor % ring + ring) % ring)));
+          choice.push_back(adds | subtracts << kSpringBlock);
+          chosen_first.push_back(static_cast<uint32_t>(first_slot));
+        }
+        continue;
+      }
       for (std::size_t e = 0; e < arity; ++e) {
         // The first ends of this block's particles as end e: within a dead block of the band's.
         const uint32_t offset = e == 0 ? 0 : band_offsets[k][e - 1];
@@ -134,12 +339,13 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
         if (window > -static_cast<std::ptrdiff_t>(kSpringBlock) && window < span) {
           const uint32_t flag = (subtracted >> e & 1u) != 0 ? kSubtract : 0u;
           push_run(static_cast<std::size_t>(static_cast<std::ptrdiff_t>(band.base) + window), flag);
-          const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
           const std::ptrdiff_t first_end = window + low;
           row_ring_.push_back(
               static_cast<uint32_t>(band.ring_base +
                                     static_cast<std::size_t>((first_end % ring + ring) % ring)) |
               flag);
+          choice.push_back(0);
+          chosen_first.push_back(0);
         }
       }
     }
@@ -147,6 +353,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
       widest = std::max(widest, incident[i].size());
     row_ring_.insert(row_ring_.end(), widest, kGatheredRow);
+    choice.insert(choice.end(), widest, 0u);
+    chosen_first.insert(chosen_first.end(), widest, 0u);
     for (std::size_t k = 0; k < widest; ++k)
       for (std::size_t l = 0; l < kSpringBlock; ++l) {
         const std::size_t i = b * kSpringBlock + l;
@@ -160,9 +368,28 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   row_first_.resize(row_begin_[blocks]);
   for (uint32_t r = 0; r < row_begin_[blocks]; ++r) {
     const uint32_t* row = &entries_[std::size_t{r} * kSpringBlock];
-    row_in_order_[r] = consecutive(row);
-    row_first_[r] = row[0];
+    row_in_order_[r] = choice[r] == 0 && consecutive(row);
+    row_first_[r] = choice[r] == 0 ? row[0] : chosen_first[r];
   }
+  row_choice_ = std::move(choice);
+}
+
+bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
+  if (chosen_of_[block] == 0) return false;
+  const Band& band = bands_[chosen_of_[block] - 1u];
+  const uint32_t anchor = band.low + static_cast<uint32_t>(block * kSpringBlock - band.base);
+  ends = ChosenEnds{};
+  for (std::size_t c = 0; c < 4; ++c) ends.at[c] = anchor + band.corner[c];
+  for (std::size_t l = 0; l < kSpringBlock; ++l) {
+    const std::size_t slot = block * kSpringBlock + l;
+    if (item_in_[slot] == items_) continue;
+    for (std::size_t e = 0; e < ends_.size(); ++e) {
+      const uint32_t corner = corner_of_[slot] >> (2 * e) & 3u;
+      ends.low[e] |= (corner & 1u) << l;
+      ends.high[e] |= (corner >> 1) << l;
+    }
+  }
+  return true;
 }
 
 template <class Real>
@@ -173,7 +400,17 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
   if constexpr (std::is_same_v<Real, float>) {
     Floats total[3] = {load_floats(sum[0]), load_floats(sum[1]), load_floats(sum[2])};
     for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-      if (ring != nullptr && row_ring_[r] != kGatheredRow) {
+      if (row_choice_[r] != 0) {
+        const bool in_ring = ring != nullptr;
+        const Real* values = in_ring ? ring + row_ring_[r] : per_slot + row_first_[r];
+        const std::size_t values_stride = in_ring ? ring_slots_ : stride;
+        const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
+        const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
+        for (std::size_t k = 0; k < 3; ++k) {
+          const Floats value = load_floats(values + k * values_stride);
+          total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
+        }
+      } else if (ring != nullptr && row_ring_[r] != kGatheredRow) {
         const std::size_t slot = row_ring_[r] & ~kSubtract;
         const bool subtract = (row_ring_[r] & kSubtract) != 0;
         for (std::size_t k = 0; k < 3; ++k) {
@@ -205,7 +442,10 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
     const Real* values = in_ring ? ring : per_slot;
     const std::size_t values_stride = in_ring ? ring_slots_ : stride;
     for (std::size_t l = 0; l < kSpringBlock; ++l) {
-      const uint32_t entry = in_ring ? row_ring_[r] + static_cast<uint32_t>(l) : row[l];
+      // A chosen row's lanes take their slots from the ring in order, where they take one.
+      if (in_ring && row_choice_[r] != 0 && row[l] == 0) continue;
+      const uint32_t entry =
+          in_ring ? (row_ring_[r] + static_cast<uint32_t>(l)) | (row[l] & kSubtract) : row[l];
       const std::size_t slot = entry & ~kSubtract;
       const bool subtract = (entry & kSubtract) != 0;
       for (std::size_t k = 0; k < 3; ++k) {
@@ -264,10 +504,14 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
       one_rest = one_rest && rest_[s + l] == rest_[lead];
     }
     const bool one_law = one_stiffness && one_rest;
+    ChosenEnds ends;
+    const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_ends(b, ends);
+    block_chosen_.push_back(static_cast<uint32_t>(chosen_.size()));
+    if (chosen) chosen_.push_back(ends);
     block_kind_.push_back(static_cast<uint8_t>(
-        (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (one_law ? kOneLaw : 0) |
-        (one_stiffness && !one_law ? kOneStiffness : 0) | (live == kAllLive ? 0 : kDeadSlots) |
-        (live != 0 ? 0 : kNoSpring)));
+        (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (chosen ? kChosen : 0) |
+        (one_law ? kOneLaw : 0) | (one_stiffness && !one_law ? kOneStiffness : 0) |
+        (live == kAllLive ? 0 : kDeadSlots) | (live != 0 ? 0 : kNoSpring)));
     block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
@@ -341,6 +585,47 @@ inline Floats law_floats(const float* values, std::size_t s, std::size_t packed,
 #endif
 }
 
+// Where a block's lanes read their two ends: lane 0's in order, the lanes' by index, or a chosen
+// band's four corners in order, picked per lane.
+enum class EndsAt { kGathered, kInOrder, kChosen };
+
+template <EndsAt At>
+class EndLanes {
+ public:
+  EndLanes(const SpringArrays& arrays, std::size_t s, uint32_t first, uint32_t second,
+           const ChosenEnds* chosen)
+      : first_(first), second_(second) {
+    if constexpr (At == EndsAt::kGathered) {
+      i_ = load_indices(arrays.first + s), j_ = load_indices(arrays.second + s);
+    } else if constexpr (At == EndsAt::kChosen) {
+      at_ = chosen->at;
+      for (std::size_t e = 0; e < 2; ++e)
+        low_[e] = lanes_of_bits(chosen->low[e]), high_[e] = lanes_of_bits(chosen->high[e]);
+    }
+  }
+  // values (one per particle) at each lane's first and second end.
+  void operator()(const float* values, Floats& at_first, Floats& at_second) const {
+    if constexpr (At == EndsAt::kInOrder) {
+      at_first = load_floats(values + first_), at_second = load_floats(values + second_);
+    } else if constexpr (At == EndsAt::kGathered) {
+      at_first = gather_floats(values, i_), at_second = gather_floats(values, j_);
+    } else {
+      Floats corner[4];
+      for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(values + at_[c]);
+      // A spring's first end is never the last corner, its second never the first.
+      at_first = select(high_[0], corner[2], select(low_[0], corner[1], corner[0]));
+      at_second = select(high_[1], select(low_[1], corner[3], corner[2]), corner[1]);
+    }
+  }
+
+ private:
+  uint32_t first_, second_;
+  Indices i_{}, j_{};
+  std::array<uint32_t, 4> at_{};
+  LaneMask low_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
+  LaneMask high_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
+};
+
 // How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and
 // kd alone (broadcast, the rest lengths loaded), or the whole law (broadcast).
 enum class LawShare { kNone, kStiffness, kAll };
@@ -362,26 +647,21 @@ void block_law_lanes(const SpringArrays& arrays, std::size_t s, std::size_t pack
   }
 }
 
-// The block of springs from slot s: ends in order (runs from particles first and second) or
-// gathered by the lanes' indices; its law shared as Share says.
-template <bool Damped, bool InOrder, LawShare Share>
+// The block of springs from slot s, its ends read as At says (EndLanes); its law shared as Share
+// says.
+template <bool Damped, EndsAt At, LawShare Share>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
-                        uint32_t first, uint32_t second, const float (&law)[3], uint32_t live,
+                        const EndLanes<At>& ends, const float (&law)[3], uint32_t live,
                         std::size_t packed, const SpringArrays& arrays, float* force,
                         std::size_t force_stride) {
   Floats d[3], dv[3] = {};
-  if constexpr (InOrder) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = load_floats(x + k * stride + second) - load_floats(x + k * stride + first);
-      if constexpr (Damped)
-        dv[k] = load_floats(v + k * stride + second) - load_floats(v + k * stride + first);
-    }
-  } else {
-    const Indices i = load_indices(arrays.first + s), j = load_indices(arrays.second + s);
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = gather_floats(x + k * stride, j) - gather_floats(x + k * stride, i);
-      if constexpr (Damped)
-        dv[k] = gather_floats(v + k * stride, j) - gather_floats(v + k * stride, i);
+  for (std::size_t k = 0; k < 3; ++k) {
+    Floats at_first, at_second;
+    ends(x + k * stride, at_first, at_second);
+    d[k] = at_second - at_first;
+    if constexpr (Damped) {
+      ends(v + k * stride, at_first, at_second);
+      dv[k] = at_second - at_first;
     }
   }
   Floats lanes_law[3];
@@ -396,31 +676,20 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
   for (std::size_t k = 0; k < 3; ++k) store_floats(force + k * force_stride, scale * d[k]);
 }
 
-// definite_products' block from slot s, its ends in order or gathered, its law shared as Share
-// says.
-template <bool InOrder, LawShare Share>
+// definite_products' block from slot s, its ends read as At says, its law shared as Share says.
+template <EndsAt At, LawShare Share>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
-                          std::size_t s, uint32_t first, uint32_t second, const float (&law)[3],
+                          std::size_t s, const EndLanes<At>& ends, const float (&law)[3],
                           uint32_t live, std::size_t packed, const SpringArrays& arrays,
                           float* product, std::size_t product_stride) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
-  if constexpr (InOrder) {
-    mass_first = load_floats(inverse_mass + first);
-    mass_second = load_floats(inverse_mass + second);
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = load_floats(x + k * stride + second) - load_floats(x + k * stride + first);
-      u_first[k] = load_floats(u + k * stride + first);
-      u_second[k] = load_floats(u + k * stride + second);
-    }
-  } else {
-    const Indices i = load_indices(arrays.first + s), j = load_indices(arrays.second + s);
-    mass_first = gather_floats(inverse_mass, i), mass_second = gather_floats(inverse_mass, j);
-    for (std::size_t k = 0; k < 3; ++k) {
-      d[k] = gather_floats(x + k * stride, j) - gather_floats(x + k * stride, i);
-      u_first[k] = gather_floats(u + k * stride, i);
-      u_second[k] = gather_floats(u + k * stride, j);
-    }
+  ends(inverse_mass, mass_first, mass_second);
+  for (std::size_t k = 0; k < 3; ++k) {
+    Floats at_first, at_second;
+    ends(x + k * stride, at_first, at_second);
+    d[k] = at_second - at_first;
+    ends(u + k * stride, u_first[k], u_second[k]);
   }
   const LaneMask first_active = greater(mass_first, zero_floats());
   const LaneMask second_active = greater(mass_second, zero_floats());
@@ -451,9 +720,9 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   for (std::size_t k = 0; k < 3; ++k) store_floats(product + k * product_stride, out[k]);
 }
 
-// Calls block(InOrder, Share) with the block's kind as compile-time constants.
+// Calls block(At, Share) with the block's kind as compile-time constants.
 template <class Block>
-void with_block_kind(bool in_order, bool one_law, bool one_stiffness, const Block& block) {
+void with_block_kind(EndsAt at, bool one_law, bool one_stiffness, const Block& block) {
   const auto with_share = [&](auto ends_in_order) {
     using All = std::integral_constant<LawShare, LawShare::kAll>;
     using Stiffness = std::integral_constant<LawShare, LawShare::kStiffness>;
@@ -465,10 +734,18 @@ void with_block_kind(bool in_order, bool one_law, bool one_stiffness, const Bloc
     else
       block(ends_in_order, None{});
   };
-  if (in_order)
-    with_share(std::true_type{});
+  if (at == EndsAt::kInOrder)
+    with_share(std::integral_constant<EndsAt, EndsAt::kInOrder>{});
+  else if (at == EndsAt::kChosen)
+    with_share(std::integral_constant<EndsAt, EndsAt::kChosen>{});
   else
-    with_share(std::false_type{});
+    with_share(std::integral_constant<EndsAt, EndsAt::kGathered>{});
+}
+
+// Where the block's kind says its ends are read.
+inline EndsAt ends_at(uint8_t kind, uint8_t in_order, uint8_t chosen) {
+  return (kind & in_order) != 0 ? EndsAt::kInOrder
+                                : ((kind & chosen) != 0 ? EndsAt::kChosen : EndsAt::kGathered);
 }
 #endif
 
@@ -496,19 +773,19 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
 #endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
-      const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const std::size_t s = b * kSpringBlock;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
       const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
-      with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
+      const EndsAt at = ends_at(block_kind_[b], kEndsInOrder, kChosen);
+      with_block_kind(at, one_law, one_stiffness, [&](auto where, auto shared) {
+        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+                                     chosen_.data() + block_chosen_[b]);
         if (damped)
-          spring_block_lanes<true, ends_in_order(), shared()>(
-              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
-              block_packed_[b], arrays, out, force_stride);
+          spring_block_lanes<true, where(), shared()>(x, v, stride, s, ends, law, block_live_[b],
+                                                      block_packed_[b], arrays, out, force_stride);
         else
-          spring_block_lanes<false, ends_in_order(), shared()>(
-              x, v, stride, s, block_first_[b], block_second_[b], law, block_live_[b],
-              block_packed_[b], arrays, out, force_stride);
+          spring_block_lanes<false, where(), shared()>(x, v, stride, s, ends, law, block_live_[b],
+                                                       block_packed_[b], arrays, out, force_stride);
       });
       continue;
     }
@@ -558,13 +835,16 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
       const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
 #endif
       const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
-      const bool in_order = (block_kind_[b] & kEndsInOrder) != 0;
       const bool one_law = (block_kind_[b] & kOneLaw) != 0;
       const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
-      with_block_kind(in_order, one_law, one_stiffness, [&](auto ends_in_order, auto shared) {
-        definite_block_lanes<ends_in_order(), shared()>(
-            x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, block_first_[b],
-            block_second_[b], law, block_live_[b], block_packed_[b], arrays, out, product_stride);
+      const EndsAt at = ends_at(block_kind_[b], kEndsInOrder, kChosen);
+      with_block_kind(at, one_law, one_stiffness, [&](auto where, auto shared) {
+        const std::size_t s = b * kSpringBlock;
+        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+                                     chosen_.data() + block_chosen_[b]);
+        definite_block_lanes<where(), shared()>(x, inverse_length, c_x, c_v, u, inverse_mass,
+                                                stride, s, ends, law, block_live_[b],
+                                                block_packed_[b], arrays, out, product_stride);
       });
       continue;
     }

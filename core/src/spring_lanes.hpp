@@ -13,6 +13,15 @@
 // fixed order (the bands', then its gathered slots ascending; minus where it is the second end), so
 // any split of the blocks among threads gives the same bits, with no atomics.
 //
+// Two triangles that share an edge form a quad; on a mesh numbered along rows its corners lie at
+// p, p + u, p + w and p + u + w. Where an irregular mesh's springs across such quads (the flexion
+// across an edge, whose corners vary from quad to quad) would fill several offsets' bands a
+// quarter or half each, a chosen band gives each quad's anchor p one slot: its spring joins two of
+// the four corners, chosen per lane, so a block loads the four corners in order and picks each
+// lane's two ends by mask, and each particle block sums the band with one masked load per corner.
+// An irregular mesh's cells, split along one diagonal or the other, give their triangles two
+// chosen bands the same way (each triangle three of its cell's four corners).
+//
 // sweep() runs the two passes tile by tile. After its barrier each thread computes its bands'
 // slots into a ring of its own, a tile and a band's reach long per band, and its sums read them
 // there: they stay in cache and are never written to the whole-cloth buffer. The slots other
@@ -23,6 +32,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
@@ -48,6 +58,21 @@ struct SlotBuffers {
   Real* rings;
 };
 
+// A chosen block's ends (LaneBands::chosen_ends): the particles of lane 0's four corners, the
+// corners ascending, and per end e and lane l the corner (0 to 3) that is lane l's end e: bit l
+// of low[e] its low bit, of high[e] its high bit.
+struct ChosenEnds {
+  std::array<uint32_t, 4> at{};
+  uint32_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+};
+
+#if defined(CLOTHLAB_FLOAT_LANES)
+// values at end e of a chosen block's lanes, from the values at its corners.
+inline Floats chosen_end(const Floats (&corner)[4], LaneMask low, LaneMask high) {
+  return select(high, select(low, corner[3], corner[2]), select(low, corner[1], corner[0]));
+}
+#endif
+
 // The slots and sums of items with two or three ends (springs, triangles), in the layout the
 // head of this file describes: an item's ends are given smallest first, and the items whose other
 // ends lie at the same offsets from it form a band.
@@ -68,6 +93,9 @@ class LaneBands {
   const uint32_t* ends(std::size_t e) const { return ends_[e].data(); }
   // Every end of the block's slots follows lane 0's in order.
   bool ends_in_order(std::size_t block) const { return in_order_[block] != 0; }
+  // Whether the block lies in a chosen band (head of this file) whose corners are all particles;
+  // if so, its ends: lane l's item has its ends among the particles ends.at[k] + l.
+  bool chosen_ends(std::size_t block, ChosenEnds& ends) const;
 
   // A thread's ring, per component (SlotBuffers).
   std::size_t ring_slots() const { return ring_slots_; }
@@ -106,10 +134,13 @@ class LaneBands {
   // blocks) in the slots from base (a whole block); in a ring, the slots of first ends p at
   // ring_base + p mod (ring_blocks * kSpringBlock), its first block repeated after them, so a
   // row of consecutive slots never wraps.
+  // A chosen band's slot for first end p (its anchor) joins two of p + corner[k].
   struct Band {
     uint32_t reach, low, high;
     std::size_t base;
     std::size_t ring_base = 0, ring_blocks = 0;
+    bool chosen = false;
+    std::array<uint32_t, 4> corner{};
   };
   // The band's slot blocks whose first ends lie in particle blocks [begin, end).
   template <class Compute>
@@ -131,7 +162,9 @@ class LaneBands {
   std::size_t gathered_block_ = 0;     // the first gathered slot block
   std::vector<AlignedBuffer<uint32_t>> ends_;
   std::vector<uint32_t> item_in_;
-  std::vector<uint8_t> in_order_;  // per slot block
+  std::vector<uint8_t> in_order_;    // per slot block
+  std::vector<uint8_t> corner_of_;   // per slot of a chosen band: end e's corner << 2 e
+  std::vector<uint16_t> chosen_of_;  // per slot block: 1 + its chosen band where loadable, else 0
 
   // Per particle block, rows [row_begin_[b], row_begin_[b + 1]) of kSpringBlock entries: lane
   // l of row r is the slot (| kSubtract) that particle l adds r-th (a band's row: the slots of
@@ -141,6 +174,10 @@ class LaneBands {
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
   std::vector<uint32_t> row_ring_;     // per row: its lane 0's ring slot (| kSubtract)
+  // Per row: 0, or for a chosen band's row, bit l set where lane l adds its slot and bit
+  // kSpringBlock + l where it subtracts it (the other lanes take nothing); its slots then run
+  // from row_first_ (and row_ring_) in order.
+  std::vector<uint32_t> row_choice_;
 };
 
 template <class Real>
@@ -202,16 +239,18 @@ class SpringLanes {
   }
 
  private:
-  // What a spring block reads: its lane 0's ends (the others follow in order) or every lane's
-  // by index; one law for all its live lanes, one ks and kd with a rest length per lane (an
-  // irregular mesh's springs of one family), or a law per lane. Only what a block needs is
-  // read. A block with dead slots writes 0 there; a block with no spring writes only 0.
+  // What a spring block reads: its lane 0's ends (the others follow in order), a chosen band's
+  // four corners in order (each lane's two ends picked by mask), or every lane's by index; one law
+  // for all its live lanes, one ks and kd with a rest length per lane (an irregular mesh's springs
+  // of one family), or a law per lane. Only what a block needs is read. A block with dead slots
+  // writes 0 there; a block with no spring writes only 0.
   enum BlockKind : uint8_t {
     kEndsInOrder = 1,
     kOneLaw = 2,
     kDeadSlots = 4,
     kNoSpring = 8,
-    kOneStiffness = 16
+    kOneStiffness = 16,
+    kChosen = 32
   };
   struct BlockLaw {
     Real rest, ks, kd;
@@ -224,7 +263,9 @@ class SpringLanes {
   AlignedBuffer<Real> rest_, ks_, kd_;
   std::vector<uint8_t> block_kind_;
   std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
-  std::vector<BlockLaw> block_law_;                   // per block: its first live lane's law
+  std::vector<uint32_t> block_chosen_;                // per block: where kChosen, its chosen_
+  std::vector<ChosenEnds> chosen_;
+  std::vector<BlockLaw> block_law_;  // per block: its first live lane's law
   // The live slots' laws, block by block, lane by lane (what a block with dead slots loads on
   // lanes that expand loads), and per block where its own start.
   AlignedBuffer<Real> packed_rest_, packed_ks_, packed_kd_;

@@ -39,6 +39,27 @@ inline void wind_block_lanes(const float* x, std::size_t stride,
   const LaneMask lanes = lanes_of_bits(live);
   for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * share_stride, keep(lanes, out[k]));
 }
+
+// wind_block_lanes for a block of a chosen band (LaneBands): its four corners loaded in order,
+// each lane's three corners picked from them.
+inline void wind_block_chosen(const float* x, std::size_t stride, const ChosenEnds& ends,
+                              const Floats (&pressure)[3], uint32_t live, float* share,
+                              std::size_t share_stride) {
+  LaneMask low[3], high[3];
+  for (std::size_t e = 0; e < 3; ++e)
+    low[e] = lanes_of_bits(ends.low[e]), high[e] = lanes_of_bits(ends.high[e]);
+  Floats e1[3], e2[3], out[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    Floats corner[4];
+    for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(x + k * stride + ends.at[c]);
+    const Floats first = chosen_end(corner, low[0], high[0]);
+    e1[k] = chosen_end(corner, low[1], high[1]) - first;
+    e2[k] = chosen_end(corner, low[2], high[2]) - first;
+  }
+  triangle_wind_share(e1, e2, pressure, out);
+  const LaneMask lanes = lanes_of_bits(live);
+  for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * share_stride, keep(lanes, out[k]));
+}
 #endif
 
 }  // namespace
@@ -97,6 +118,13 @@ void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
   for (std::size_t s = 0; s < slots; ++s)
     if (triangles_->item_in(s) != triangle_count_)
       triangle_live_[s / kSpringBlock] |= 1u << (s % kSpringBlock);
+  for (std::size_t b = 0; b < triangles_->slot_blocks(); ++b) {
+    ChosenEnds ends;
+    const bool chosen =
+        !triangles_->ends_in_order(b) && triangle_live_[b] != 0 && triangles_->chosen_ends(b, ends);
+    triangle_chosen_.push_back(chosen ? static_cast<uint32_t>(triangle_ends_.size()) : kNotChosen);
+    if (chosen) triangle_ends_.push_back(ends);
+  }
 }
 
 template <class Real>
@@ -205,6 +233,11 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
       if (!air_ && triangles_->ends_in_order(block)) {
         wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure, triangle_live_[block],
                          share_out, out_stride);
+        continue;
+      }
+      if (!air_ && triangle_chosen_[block] != kNotChosen) {
+        wind_block_chosen(x, stride_, triangle_ends_[triangle_chosen_[block]], pressure,
+                          triangle_live_[block], share_out, out_stride);
         continue;
       }
     }

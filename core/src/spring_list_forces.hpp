@@ -104,6 +104,11 @@ class SpringListForces {
   std::size_t triangle_count_ = 0;
   std::optional<LaneBands> triangles_;   // with the wind or the air
   std::vector<uint32_t> triangle_live_;  // per triangle slot block: bit l set where lane l lives
+  // Per triangle slot block: its ends in triangle_ends_ where it lies in a chosen band and its
+  // corners do not follow in order, else kNotChosen.
+  static constexpr uint32_t kNotChosen = 0xffffffffu;
+  std::vector<uint32_t> triangle_chosen_;
+  std::vector<ChosenEnds> triangle_ends_;
 
   Real gravity_[3] = {0, 0, 0};
   // The wind as triangle_wind_share reads it (wind_kernel.hpp), at the scalar kernel's scale and

@@ -218,40 +218,44 @@ TEST(GeneralPath, PinnedParticlesStayPutUnderRk4WithAVelocity) {
 }
 
 // Numbered along rows, nearly every spring and triangle of a mesh lies in a band of LaneBands
-// (read in order: the wind alone runs on lanes, dead slots masked); numbered at random, nearly
-// none does (gathered). Both give each particle its forces.
+// (read in order: the wind alone runs on lanes, dead slots masked; the springs across edges in
+// chosen bands); numbered at random, nearly none does (gathered). Both give each particle its
+// forces. The 40 x 90 mesh spans several of the sweep's tiles, so each band's ring wraps.
 TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
-  const TriangleMesh mesh = testing::irregular_mesh(20, 40);
-  const uint32_t n = 20 * 40, step = 97;  // coprime to n
-  for (const Scene& scene : {airy_scene(20, 40), testing::busy_scene(20, 40)}) {
-    Scene renumbered_scene = scene;
-    for (uint32_t& pin : renumbered_scene.pinned) pin = testing::renumbered_index(pin, step, n);
-    const auto in_rows = build_mesh_model(mesh, scene);
-    const auto at_random = build_mesh_model(testing::renumbered(mesh, step), renumbered_scene);
-    for (Precision precision : {Precision::Float64, Precision::Float32}) {
-      SCOPED_TRACE(std::string(to_string(precision)) + (scene.has_air() ? " air" : " wind"));
-      Cloth rows_cloth(scene, in_rows, precision, general_options());
-      Cloth random_cloth(renumbered_scene, at_random, precision, general_options());
-      perturb(rows_cloth);
-      std::vector<double> x, v, x_renumbered(3 * n), v_renumbered(3 * n);
-      rows_cloth.positions(x);
-      rows_cloth.velocities(v);
-      for (uint32_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < 3; ++k) {
-          x_renumbered[3 * testing::renumbered_index(i, step, n) + k] = x[3 * i + k];
-          v_renumbered[3 * testing::renumbered_index(i, step, n) + k] = v[3 * i + k];
-        }
-      random_cloth.set_state(x_renumbered, v_renumbered);
-      const std::vector<double> expected = accelerations(rows_cloth);
-      const std::vector<double> renumbered_a = accelerations(random_cloth);
-      std::vector<double> got(3 * n);
-      for (uint32_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          got[3 * i + k] = renumbered_a[3 * testing::renumbered_index(i, step, n) + k];
-      const double tolerance = (precision == Precision::Float64 ? 1e-12 : 2e-5) * max_abs(expected);
-      EXPECT_LE(max_difference(got, expected), tolerance);
+  for (const auto& [rows, cols] : {std::pair{20u, 40u}, std::pair{40u, 90u}})
+    for (const Scene& scene : {airy_scene(rows, cols), testing::busy_scene(rows, cols)}) {
+      const TriangleMesh mesh = testing::irregular_mesh(rows, cols);
+      const uint32_t n = rows * cols, step = 97;  // coprime to n
+      Scene renumbered_scene = scene;
+      for (uint32_t& pin : renumbered_scene.pinned) pin = testing::renumbered_index(pin, step, n);
+      const auto in_rows = build_mesh_model(mesh, scene);
+      const auto at_random = build_mesh_model(testing::renumbered(mesh, step), renumbered_scene);
+      for (Precision precision : {Precision::Float64, Precision::Float32}) {
+        SCOPED_TRACE(std::string(to_string(precision)) + (scene.has_air() ? " air " : " wind ") +
+                     std::to_string(rows) + " x " + std::to_string(cols));
+        Cloth rows_cloth(scene, in_rows, precision, general_options());
+        Cloth random_cloth(renumbered_scene, at_random, precision, general_options());
+        perturb(rows_cloth);
+        std::vector<double> x, v, x_renumbered(3 * n), v_renumbered(3 * n);
+        rows_cloth.positions(x);
+        rows_cloth.velocities(v);
+        for (uint32_t i = 0; i < n; ++i)
+          for (std::size_t k = 0; k < 3; ++k) {
+            x_renumbered[3 * testing::renumbered_index(i, step, n) + k] = x[3 * i + k];
+            v_renumbered[3 * testing::renumbered_index(i, step, n) + k] = v[3 * i + k];
+          }
+        random_cloth.set_state(x_renumbered, v_renumbered);
+        const std::vector<double> expected = accelerations(rows_cloth);
+        const std::vector<double> renumbered_a = accelerations(random_cloth);
+        std::vector<double> got(3 * n);
+        for (uint32_t i = 0; i < n; ++i)
+          for (std::size_t k = 0; k < 3; ++k)
+            got[3 * i + k] = renumbered_a[3 * testing::renumbered_index(i, step, n) + k];
+        const double tolerance =
+            (precision == Precision::Float64 ? 1e-12 : 2e-5) * max_abs(expected);
+        EXPECT_LE(max_difference(got, expected), tolerance);
+      }
     }
-  }
 }
 
 TEST(GeneralPath, OffersEveryExtensionButTheGrid) {
