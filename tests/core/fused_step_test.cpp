@@ -409,9 +409,11 @@ TEST(FusedStepAdaptiveTeam, StepsOnOneThreadGiveBitwiseTheSameState) {
     Cloth cloth(scene_for(c), Precision::Float32, {c.velocity_forces, 2, adaptive});
     const State end = run<float, float>(cloth.system(), c.cols, rk4(), &cloth).end;
     const State fixed = run_engine<float>(c, rk4(), 2).end;
-    // The probe of 3 steps after a sleeping step and its hold of 4; more where tries lost.
+    // At least one probe of 3 steps: the sleeping step 2 starts it, or else the 16th team
+    // step, whatever the timings. Its hold of 4 follows only where the probe beat the team,
+    // which a loaded machine can decide either way.
     if (adaptive) {
-      EXPECT_GE(cloth.counters().steps_on_one_thread, 7u);
+      EXPECT_GE(cloth.counters().steps_on_one_thread, 3u);
     } else {
       EXPECT_EQ(cloth.counters().steps_on_one_thread, 0u);
     }

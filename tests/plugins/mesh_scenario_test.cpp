@@ -2,6 +2,7 @@
 // pin rules, the shipped meshes, and a one-line error for every kind of bad input.
 #include <clothlab/ext/mesh.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -35,8 +36,9 @@ struct Read {
 class MeshScenario : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id keeps two test runs at once (two builds, two SIMD targets) apart.
     folder_ = fs::temp_directory_path() /
-              ("clothlab-mesh-" +
+              ("clothlab-mesh-" + std::to_string(getpid()) + "-" +
                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(folder_);
     fs::create_directories(folder_);
