@@ -33,8 +33,7 @@ TEST(AllocVector, AlignedZeroedAndSizedByStride) {
 // free raises it): the cloth's vectors still start at different offsets within a page
 // (aligned_buffer.hpp), so one loop's arrays do not share their low address bits.
 TEST(AllocVector, LargeVectorsStartAtDifferentPageOffsets) {
-  // AddressSanitizer's allocator ignores this (it returns 0); the check still holds there.
-  mallopt(M_MMAP_THRESHOLD, 64 * 1024);
+  ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 64 * 1024), 1);
   Cloth cloth(testing::bare_scene(100, 100), Precision::Float32, {});
   const clothlab_system& system = cloth.system();
   ASSERT_GE(3 * system.stride * sizeof(float), std::size_t{64 * 1024});
