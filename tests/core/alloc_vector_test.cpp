@@ -1,8 +1,6 @@
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <cstdint>
-#include <set>
 
 #include "cloth_test_support.hpp"
 
@@ -27,24 +25,6 @@ TEST(AllocVector, AlignedZeroedAndSizedByStride) {
       for (std::size_t b = 0; b < 3 * system.stride * element; ++b) ASSERT_EQ(bytes[b], 0);
     }
   }
-}
-
-// Every large array a fresh mapping (a fixed mmap threshold, as glibc's is until a first large
-// free raises it): the cloth's vectors still start at different offsets within a page
-// (aligned_buffer.hpp), so one loop's arrays do not share their low address bits.
-TEST(AllocVector, LargeVectorsStartAtDifferentPageOffsets) {
-  ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 64 * 1024), 1);
-  Cloth cloth(testing::bare_scene(100, 100), Precision::Float32, {});
-  const clothlab_system& system = cloth.system();
-  ASSERT_GE(3 * system.stride * sizeof(float), std::size_t{64 * 1024});
-  std::set<uintptr_t> offsets;
-  for (int vector = 0; vector < 4; ++vector) {
-    void* allocated = system.alloc_vector(system.context);
-    ASSERT_NE(allocated, nullptr);
-    EXPECT_EQ(reinterpret_cast<uintptr_t>(allocated) % 64, 0u);
-    offsets.insert(reinterpret_cast<uintptr_t>(allocated) % 4096);
-  }
-  EXPECT_EQ(offsets.size(), 4u);
 }
 
 TEST(AllocVector, SystemDescribesTheCloth) {
