@@ -1,7 +1,6 @@
 // Colourings: items (springs or particles) grouped into independent sets, so that the members of
 // one colour can be updated in parallel (xpbd's constraint sweeps, vbd's vertex steps, the
-// smoothers). Greedy: deterministic, and on cloth meshes within a few colours of the degree
-// bound.
+// smoothers). Deterministic: springs by offset class (below), particles greedy in index order.
 #pragma once
 
 #include <cstdint>
