@@ -89,8 +89,8 @@ Coloring color_springs(std::span<const uint32_t> first, std::span<const uint32_t
 
   // The rest in index order, each the smallest colour free at both its ends.
   std::sort(rest.begin(), rest.end());
-  std::vector<uint32_t> seen_at(colors,
-                                0);  // stamps start at 1: colour c taken for spring stamp - 1
+  // Stamps start at 1: colour c is taken for spring k where seen_at[c] == k + 1.
+  std::vector<uint32_t> seen_at(colors, 0);
   for (uint32_t k : rest) {
     const uint32_t stamp = k + 1;
     for (uint32_t end : {first[k], second[k]}) {
