@@ -727,10 +727,12 @@ auto shifted_definite_product(const sdk::System<Real>& system, double h) {
 }
 
 // The matrix the plugin assembles by probing is M (I + J) for the host's definite J: its
-// product with a vector against M (u + J u) from the host's own product and an axpy.
+// product with a vector against M (u + J u) from the host's own product and an axpy, with
+// unequal masses.
 TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   GridNet net(11, 13);
   MockSystem<double>& mock = net.host.system();
+  for (uint32_t i = 0; i < 11 * 13; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
   const sdk::System<double> system(mock.raw());
   mock.allocation_allowed = true;
   builtin::MultigridPreconditioner preconditioner(system, 0, 1);
@@ -756,7 +758,7 @@ TEST(Multigrid, TheProbedMatrixIsTheHostsOperator) {
   for (std::size_t i = 0; i < n; ++i) {
     if (fine.fixed(i)) continue;
     for (std::size_t d = 0; d < 3; ++d) {
-      const double expected = 1.0 * au[d * stride + i];  // masses 1 kg
+      const double expected = au[d * stride + i] / system.inverse_mass()[i];
       worst = std::max(worst, std::abs(-su[3 * i + d] - expected));
       scale = std::max(scale, std::abs(expected));
     }
@@ -810,11 +812,14 @@ struct ProbedTable {
 // D^-1 and the fine smoother's bound come straight from the table in one pass, and are the
 // probed ones (to the single-precision rounding of the probed fine level's off-diagonal
 // blocks), as is the V-cycle they make; a table with one off-diagonal block halved is caught.
-// 21 rows: 11 coarse rows, two bands of the Galerkin product, a fine row read by both.
+// 21 rows: 11 coarse rows, two bands of the Galerkin product, a fine row read by both. The
+// masses differ from particle to particle, so a table block weighted by the wrong particle's
+// mass shows.
 TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   constexpr int kRows = 21, kCols = 13;
   GridNet net(kRows, kCols);
   MockSystem<double>& mock = net.host.system();
+  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
   const sdk::System<double> system(mock.raw());
   const double h = 1.0 / 60.0;
   mock.allocation_allowed = true;

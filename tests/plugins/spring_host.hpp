@@ -1,8 +1,10 @@
 // A small spring network as a MockSystem that offers the host extensions implicit and
 // projective integrators need: topology, jacobian and its definite form (matrix-free
 // products and diagonal blocks), reductions and external forces, written here from the same force
-// law as its eval_acceleration (Hooke + damping along each spring, gravity; every mass 1 kg), so
-// the plugins can be tested against analytic solutions without the core.
+// law as its eval_acceleration (Hooke + damping along each spring, gravity), so the plugins can
+// be tested against analytic solutions without the core. A free particle's acceleration is its
+// spring force over its mass (1 kg unless the test calls MockSystem::set_mass) plus gravity, so
+// M J is symmetric with any masses, as the host contract asks.
 #pragma once
 
 #include <clothlab/ext/attachment_targets.h>
@@ -153,7 +155,8 @@ class SpringHost {
     }
     for (size_t j = 0; j < sum.size(); ++j) out[j] = 0;
     for_active([&](uint32_t i) {
-      for (int k = 0; k < 3; ++k) out[k * stride + i] = static_cast<Real>(sum[k * stride + i]);
+      for (int k = 0; k < 3; ++k)
+        out[k * stride + i] = static_cast<Real>(mass_inverse(i) * sum[k * stride + i]);
     });
   }
 
@@ -180,7 +183,7 @@ class SpringHost {
 
   Vec3 acceleration_of(uint32_t i, const Real* x, const Real* v, uint32_t stride) const {
     (void)stride;
-    Vec3 a = gravity_;
+    Vec3 f{};
     for (const TestSpring& s : springs_) {
       if (s.first != i && s.second != i) continue;
       const uint32_t other = s.first == i ? s.second : s.first;
@@ -192,12 +195,15 @@ class SpringHost {
       const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       const double along = (d[0] * w[0] + d[1] * w[1] + d[2] * w[2]) / length;
       for (int k = 0; k < 3; ++k)
-        a[k] += -s.ks * (length - s.rest_length) * d[k] / length - s.kd * along * d[k] / length;
+        f[k] += -s.ks * (length - s.rest_length) * d[k] / length - s.kd * along * d[k] / length;
     }
+    Vec3 a = gravity_;
+    for (int k = 0; k < 3; ++k) a[k] += mass_inverse(i) * f[k];
     return a;
   }
 
-  // d f_first / d x_first (times c_x) + d f_first / d v_first (times c_v): Hooke
+  // d f_first / d x_first (times c_x) + d f_first / d v_first (times c_v), the force's (the
+  // callers divide by the mass): Hooke
   // -ks ((1 - l0/l) I + (l0/l) n n^T), damping -kd n n^T in v and, in x, the turning of n:
   // -kd (n w^T + (n.w) I) (I - n n^T) / l, w = v_first - v_second. Definite: Hooke
   // -ks (max(0, 1 - l0/l) (I - n n^T) + n n^T) and no turning term.
@@ -309,7 +315,7 @@ class SpringHost {
                                      static_cast<const Real*>(v), c_x, c_v, Definite);
       for (uint32_t end : {spring.first, spring.second})
         if (s.active(end))
-          for (int k = 0; k < 9; ++k) out[9 * size_t{end} + k] += b[k];
+          for (int k = 0; k < 9; ++k) out[9 * size_t{end} + k] += s.mass_inverse(end) * b[k];
     }
     return CLOTHLAB_OK;
   }
