@@ -25,15 +25,14 @@ std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk;
 // The wind's shares of the block of triangle slots from t, whose corners follow in order (plain
 // loads, as the grid's cells), its dead lanes (live's clear bits) 0; laid out as the slots.
 inline void wind_block_lanes(const float* x, std::size_t stride,
-                             const uint32_t* const (&corners)[3], std::size_t t,
-                             const Floats (&pressure)[3], uint32_t live, float* share,
-                             std::size_t share_stride) {
+                             const std::array<uint32_t, 3>& corners, const Floats (&pressure)[3],
+                             uint32_t live, float* share, std::size_t share_stride) {
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
     const float* component = x + k * stride;
-    const Floats corner = load_floats(component + corners[0][t]);
-    e1[k] = load_floats(component + corners[1][t]) - corner;
-    e2[k] = load_floats(component + corners[2][t]) - corner;
+    const Floats corner = load_floats(component + corners[0]);
+    e1[k] = load_floats(component + corners[1]) - corner;
+    e2[k] = load_floats(component + corners[2]) - corner;
   }
   triangle_wind_share(e1, e2, pressure, out);
   const LaneMask lanes = lanes_of_bits(live);
@@ -114,16 +113,19 @@ void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
   triangle_share_ = AlignedBuffer<Real>(3 * slots);
   triangle_rings_ =
       AlignedBuffer<Real>(static_cast<std::size_t>(threads_) * 3 * triangles_->ring_slots());
-  triangle_live_.assign(triangles_->slot_blocks(), 0);
+  triangle_blocks_.assign(triangles_->slot_blocks(), TriangleBlock{});
   for (std::size_t s = 0; s < slots; ++s)
     if (triangles_->item_in(s) != triangle_count_)
-      triangle_live_[s / kSpringBlock] |= 1u << (s % kSpringBlock);
+      triangle_blocks_[s / kSpringBlock].live |= 1u << (s % kSpringBlock);
   for (std::size_t b = 0; b < triangles_->slot_blocks(); ++b) {
+    TriangleBlock& block = triangle_blocks_[b];
+    block.in_order = triangles_->ends_in_order(b);
+    for (std::size_t c = 0; c < 3; ++c) block.first[c] = triangles_->ends(c)[b * kSpringBlock];
     ChosenEnds ends;
-    const bool chosen =
-        !triangles_->ends_in_order(b) && triangle_live_[b] != 0 && triangles_->chosen_ends(b, ends);
-    triangle_chosen_.push_back(chosen ? static_cast<uint32_t>(triangle_ends_.size()) : kNotChosen);
-    if (chosen) triangle_ends_.push_back(ends);
+    if (!block.in_order && block.live != 0 && triangles_->chosen_ends(b, ends)) {
+      block.chosen = static_cast<uint32_t>(triangle_ends_.size());
+      triangle_ends_.push_back(ends);
+    }
   }
 }
 
@@ -212,9 +214,8 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
                                              std::size_t out_stride) const {
   const std::size_t s1 = stride_, s2 = 2 * stride_;
   const Real third = Real(1) / Real(3);
-  const uint32_t* const corners[3] = {triangles_->ends(0), triangles_->ends(1),
-                                      triangles_->ends(2)};
-  const uint32_t *corner_a = corners[0], *corner_b = corners[1], *corner_c = corners[2];
+  const uint32_t *corner_a = triangles_->ends(0), *corner_b = triangles_->ends(1),
+                 *corner_c = triangles_->ends(2);
 #if defined(CLOTHLAB_FLOAT_LANES)
   Floats pressure[3] = {zero_floats(), zero_floats(), zero_floats()};
   if constexpr (std::is_same_v<Real, float>)
@@ -222,7 +223,8 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
 #endif
   for (std::size_t block = begin; block < end; ++block) {
     Real* share_out = out + (block - begin) * kSpringBlock;
-    if (triangle_live_[block] == 0) {
+    const TriangleBlock& lanes = triangle_blocks_[block];
+    if (lanes.live == 0) {
       // Dead slots join particles that may not be finite: they give 0 whatever the state.
       for (std::size_t k = 0; k < 3; ++k)
         std::fill_n(share_out + k * out_stride, kSpringBlock, Real(0));
@@ -230,21 +232,20 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
     }
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
-      if (!air_ && triangles_->ends_in_order(block)) {
-        wind_block_lanes(x, stride_, corners, block * kSpringBlock, pressure, triangle_live_[block],
-                         share_out, out_stride);
+      if (!air_ && lanes.in_order) {
+        wind_block_lanes(x, stride_, lanes.first, pressure, lanes.live, share_out, out_stride);
         continue;
       }
-      if (!air_ && triangle_chosen_[block] != kNotChosen) {
-        wind_block_chosen(x, stride_, triangle_ends_[triangle_chosen_[block]], pressure,
-                          triangle_live_[block], share_out, out_stride);
+      if (!air_ && lanes.chosen != kNotChosen) {
+        wind_block_chosen(x, stride_, triangle_ends_[lanes.chosen], pressure, lanes.live, share_out,
+                          out_stride);
         continue;
       }
     }
 #endif
     for (std::size_t t = block * kSpringBlock, l = 0; l < kSpringBlock; ++t, ++l) {
       Real share[3] = {0, 0, 0};
-      if ((triangle_live_[block] >> (t % kSpringBlock) & 1u) != 0) {
+      if ((lanes.live >> l & 1u) != 0) {
         const std::size_t a = corner_a[t], b = corner_b[t], c = corner_c[t];
         const Real e1[3] = {x[b] - x[a], x[b + s1] - x[a + s1], x[b + s2] - x[a + s2]};
         const Real e2[3] = {x[c] - x[a], x[c + s1] - x[a + s1], x[c + s2] - x[a + s2]};

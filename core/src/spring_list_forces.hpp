@@ -11,6 +11,7 @@
 // stages' in reserve_stages): a step allocates nothing.
 #pragma once
 
+#include <array>
 #include <clothlab/core/cloth.hpp>
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
@@ -102,12 +103,20 @@ class SpringListForces {
   SpringLanes<Real> springs_;
   std::size_t spring_count_ = 0;
   std::size_t triangle_count_ = 0;
-  std::optional<LaneBands> triangles_;   // with the wind or the air
-  std::vector<uint32_t> triangle_live_;  // per triangle slot block: bit l set where lane l lives
-  // Per triangle slot block: its ends in triangle_ends_ where it lies in a chosen band and its
-  // corners do not follow in order, else kNotChosen.
+  std::optional<LaneBands> triangles_;  // with the wind or the air
+  // What a triangle slot block reads, in one place (the ends' arrays, one cache line per corner
+  // and block, are read only by the blocks gathered one triangle at a time): live, bit l set where
+  // lane l lives; chosen, its ends in triangle_ends_ where it lies in a chosen band and its corners
+  // do not follow in order, else kNotChosen; first, where its corners follow in order (in_order),
+  // lane 0's.
   static constexpr uint32_t kNotChosen = 0xffffffffu;
-  std::vector<uint32_t> triangle_chosen_;
+  struct TriangleBlock {
+    uint32_t live = 0;
+    uint32_t chosen = kNotChosen;
+    std::array<uint32_t, 3> first{};
+    bool in_order = false;
+  };
+  std::vector<TriangleBlock> triangle_blocks_;
   std::vector<ChosenEnds> triangle_ends_;
 
   Real gravity_[3] = {0, 0, 0};
