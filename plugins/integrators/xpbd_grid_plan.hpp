@@ -35,7 +35,7 @@ template <class Real>
 struct GridPlan {
   // Grid rows per call of the external accelerations ahead of the predict: each call also
   // recomputes the cells of the row above its first.
-  static constexpr uint32_t kExternalRows = 8;
+  static constexpr uint32_t kExternalRows = 16;
 
   // Allocates all a substep needs on up to `threads` threads.
   void prepare(GridLayout grid, int iteration_count, uint32_t tether_slots,
