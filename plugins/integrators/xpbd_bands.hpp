@@ -107,10 +107,20 @@ struct alignas(64) SeamUnits {
   }
   // Whether the caller took unit `side` (and must run it, then call done).
   bool claim(int side) {
+    if (state[side].load(std::memory_order_relaxed) != kOpen) return false;
     uint32_t open = kOpen;
     return state[side].compare_exchange_strong(open, kClaimed, std::memory_order_acquire);
   }
   void done(int side) { state[side].store(kDone, std::memory_order_release); }
+  // Spins a little while unit `side` is open.
+  void settle(int side) const {
+    for (int spins = 0; spins < 256 && state[side].load(std::memory_order_relaxed) == kOpen;
+         ++spins) {
+#if defined(__x86_64__)
+      __builtin_ia32_pause();
+#endif
+    }
+  }
   void wait(int side) const {
     spin_until([&] { return state[side].load(std::memory_order_acquire) == kDone; });
   }

@@ -191,6 +191,9 @@ class GridSweep {
       if (phase.lag == 0) continue;  // no rows left on either side
       SeamUnits& units = plan_.seam_units[q];
       for (const int side : {own, 1 - own}) {
+        // The partner's unit after a short spin: its rows are in the partner's cache, and a
+        // partner that is running takes it in that time.
+        if (side != own) units.settle(side);
         if (!units.claim(side)) continue;
         const uint32_t first = side == 1 ? boundary : boundary - std::min(boundary, phase.lag);
         const uint32_t last = side == 1 ? boundary + phase.upward_offset : boundary;  // one past
