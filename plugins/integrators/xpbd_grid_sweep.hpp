@@ -11,6 +11,10 @@
 // only for its predecessor to finish the same wavefront time. Every spring sees the same
 // values in any split: the bits do not depend on the thread count.
 //
+// Where the host offers clothlab.external-forces/2, the thread that runs a band's predict pass
+// computes the wind's accelerations a few rows ahead of it (external_ahead), so no pass of
+// their own precedes the sweep.
+//
 // The substep's displacement dx lives in v's memory (the pins' velocities wait in the
 // scratch array), and runs of springs whose ends all have the grid's common inverse mass
 // skip the weights (xpbd_uniform_mass.hpp).
