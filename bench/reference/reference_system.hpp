@@ -7,6 +7,7 @@
 #include <clothlab/ext/attachment_targets.h>
 #include <clothlab/ext/contacts.h>
 #include <clothlab/ext/definite_jacobian.h>
+#include <clothlab/ext/external_forces.h>
 #include <clothlab/ext/grid.h>
 #include <clothlab/ext/jacobian.h>
 #include <clothlab/ext/threads.h>
@@ -34,9 +35,9 @@ class ReferenceSystem {
   // The host extensions it does not offer (clothlab/core/extension_registry.hpp): its loops
   // are serial, its scenes have neither colliders nor attachments, and its implicit
   // integrators assemble no multigrid from a block table (they probe the product).
-  static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_THREADS, CLOTHLAB_EXT_CONTACTS,
-                                                        CLOTHLAB_EXT_ATTACHMENT_TARGETS,
-                                                        CLOTHLAB_EXT_DEFINITE_JACOBIAN_2};
+  static constexpr const char* kDeclinedExtensions[] = {
+      CLOTHLAB_EXT_THREADS, CLOTHLAB_EXT_CONTACTS, CLOTHLAB_EXT_ATTACHMENT_TARGETS,
+      CLOTHLAB_EXT_DEFINITE_JACOBIAN_2, CLOTHLAB_EXT_EXTERNAL_FORCES_2};
   uint64_t force_evals() const { return force_evals_; }
   double force_seconds() const { return force_seconds_; }  // wall time in eval_acceleration
   // Positions, particle-major: out[3 * i + k].

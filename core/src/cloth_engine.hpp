@@ -105,6 +105,13 @@ class ClothEngine final : public EngineState<Real> {
   static double max_abs_callback(void* context, const void* a);
   static clothlab_status external_callback(void* context, double t, const void* x, void* a);
   static int32_t depends_on_position_callback(void* context);
+  // clothlab.external-forces/2: offered on the grid path where the pipeline's rows are the
+  // grid's (not turned), so that a range of rows costs its rows alone.
+  bool offers_external_rows() const { return forces_ && forces_->rows_are_grid_rows(); }
+  static clothlab_status external_rows_callback(void* context, double t, const void* x, void* a,
+                                                uint32_t row_begin, uint32_t row_end,
+                                                uint32_t slot);
+  static int32_t depends_on_velocity_callback(void* context);
   static uint32_t threads_callback(void* context);
   // clothlab.contacts/1 and clothlab.attachment-targets/1 (EngineState's).
   static clothlab_status contacts_resolve_callback(void* context, double t, void* x, void* v);

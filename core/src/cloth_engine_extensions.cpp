@@ -90,6 +90,9 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
                                                                   &max_abs_callback};
   static constexpr clothlab_external_forces_extension external_table{&external_callback,
                                                                      &depends_on_position_callback};
+  static constexpr clothlab_external_forces_2_extension external_2_table{
+      &external_callback, &depends_on_position_callback, &external_rows_callback,
+      &depends_on_velocity_callback};
   static constexpr clothlab_threads_extension threads_table{&threads_callback};
   static constexpr clothlab_contacts_extension contacts_table{&contacts_resolve_callback};
   static constexpr clothlab_attachment_targets_extension attachments_table{
@@ -106,6 +109,9 @@ const void* ClothEngine<Real>::get_extension_callback(void* context, const char*
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step_table;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0)
+    return static_cast<const ClothEngine*>(context)->offers_external_rows() ? &external_2_table
+                                                                            : nullptr;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads_table;
   if (std::strcmp(id, CLOTHLAB_EXT_CONTACTS) == 0) return &contacts_table;
   if (std::strcmp(id, CLOTHLAB_EXT_ATTACHMENT_TARGETS) == 0) return &attachments_table;
@@ -416,6 +422,27 @@ clothlab_status ClothEngine<Real>::external_callback(void* context, double, cons
                      : self->forces_->evaluate_external(static_cast<const Real*>(x),
                                                         self->v_.data(), static_cast<Real*>(a));
   return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
+}
+
+template <class Real>
+clothlab_status ClothEngine<Real>::external_rows_callback(void* context, double, const void* x,
+                                                          void* a, uint32_t row_begin,
+                                                          uint32_t row_end, uint32_t slot) {
+  auto* self = static_cast<ClothEngine*>(context);
+  if (x == nullptr || a == nullptr || x == a || !self->offers_external_rows() ||
+      row_begin > row_end || row_end > self->scene_.rows ||
+      slot >= static_cast<uint32_t>(self->forces_->thread_slots()))
+    return CLOTHLAB_ERROR_INVALID_ARGUMENT;
+  const bool finite = self->forces_->evaluate_external_rows(static_cast<int>(slot), row_begin,
+                                                            row_end, static_cast<const Real*>(x),
+                                                            self->v_.data(), static_cast<Real*>(a));
+  return finite ? CLOTHLAB_OK : CLOTHLAB_ERROR_NUMERICAL;
+}
+
+template <class Real>
+int32_t ClothEngine<Real>::depends_on_velocity_callback(void* context) {
+  const auto* self = static_cast<const ClothEngine*>(context);
+  return (self->forces_ ? self->forces_->has_air() : self->general_->has_cell_forces()) ? 1 : 0;
 }
 
 template <class Real>

@@ -137,6 +137,16 @@ bool ForcePipeline<Real>::evaluate_external(const Real* x, const Real* v, Real* 
   return probe == Real(0);
 }
 
+template <class Real>
+bool ForcePipeline<Real>::evaluate_external_rows(int slot, std::size_t begin, std::size_t end,
+                                                 const Real* x, const Real* v, Real* a) {
+  return external_rows(slot, begin, end, x, v, a, false) == Real(0);
+}
+
+template bool ForcePipeline<float>::evaluate_external_rows(int, std::size_t, std::size_t,
+                                                           const float*, const float*, float*);
+template bool ForcePipeline<double>::evaluate_external_rows(int, std::size_t, std::size_t,
+                                                            const double*, const double*, double*);
 template bool ForcePipeline<float>::evaluate_external(const float*, const float*, float*);
 template bool ForcePipeline<double>::evaluate_external(const double*, const double*, double*);
 

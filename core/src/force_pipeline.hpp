@@ -66,8 +66,17 @@ class ForcePipeline {
   // Returns false when some value is not finite. One pass per thread over its block: a row's
   // cells, then its accelerations (below).
   bool evaluate_external(const Real* x, const Real* v, Real* a);
+  // The same on pipeline rows [begin, end) alone, on the calling thread with `slot`'s scratch
+  // (slot < thread_slots(); calls with different slots may run at once): the bits
+  // evaluate_external writes there, as each row's cells are computed as there.
+  bool evaluate_external_rows(int slot, std::size_t begin, std::size_t end, const Real* x,
+                              const Real* v, Real* a);
   // Whether the external forces depend on the state: wind on x, air on x and v.
   bool has_cell_forces() const { return cell_forces_; }
+  bool has_air() const { return air_; }
+  // Whether pipeline rows are the grid's rows (col_pitch 1), not its columns.
+  bool rows_are_grid_rows() const { return col_pitch_ == 1; }
+  int thread_slots() const { return threads_; }
 
   // Scratch for step_rkn with up to `stages` stages. Allocates: not during a step.
   void reserve_stages(uint32_t stages);

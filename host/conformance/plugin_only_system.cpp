@@ -33,6 +33,10 @@ const void* PluginOnlySystem::host_table<clothlab_external_forces_extension>() c
   return host_external_forces_;
 }
 template <>
+const void* PluginOnlySystem::host_table<clothlab_external_forces_2_extension>() const {
+  return host_external_forces_2_;
+}
+template <>
 const void* PluginOnlySystem::host_table<clothlab_threads_extension>() const {
   return host_threads_;
 }
@@ -147,6 +151,7 @@ PluginOnlySystem::PluginOnlySystem(const clothlab_system& host) : host_(host), s
     host_cg_step_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CG_STEP);
     host_reductions_ = clothlab_system_extension(&host, CLOTHLAB_EXT_REDUCTIONS);
     host_external_forces_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES);
+    host_external_forces_2_ = clothlab_system_extension(&host, CLOTHLAB_EXT_EXTERNAL_FORCES_2);
     host_threads_ = clothlab_system_extension(&host, CLOTHLAB_EXT_THREADS);
     host_grid_ = clothlab_system_extension(&host, CLOTHLAB_EXT_GRID);
     host_contacts_ = clothlab_system_extension(&host, CLOTHLAB_EXT_CONTACTS);
@@ -163,6 +168,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   using C = clothlab_cg_step_extension;
   using R = clothlab_reductions_extension;
   using E = clothlab_external_forces_extension;
+  using E2 = clothlab_external_forces_2_extension;
   using H = clothlab_threads_extension;
   using G = clothlab_grid_extension;
   using K = clothlab_contacts_extension;
@@ -184,6 +190,9 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
                                 &Forward<R, &R::max_abs>::call};
   static constexpr E external_forces{&Forward<E, &E::acceleration>::call,
                                      &Forward<E, &E::depends_on_position>::call};
+  static constexpr E2 external_forces_2{
+      &Forward<E2, &E2::acceleration>::call, &Forward<E2, &E2::depends_on_position>::call,
+      &Forward<E2, &E2::acceleration_rows>::call, &Forward<E2, &E2::depends_on_velocity>::call};
   static constexpr H threads{&Forward<H, &H::count>::call};
   static constexpr G grid{&Forward<G, &G::get>::call};
   static constexpr K contacts{&Forward<K, &K::resolve>::call};
@@ -199,6 +208,7 @@ const void* PluginOnlySystem::get_extension(void* self, const char* id) {
   if (std::strcmp(id, CLOTHLAB_EXT_CG_STEP) == 0) return &cg_step;
   if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions;
   if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_forces;
+  if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0) return &external_forces_2;
   if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return &threads;
   if (std::strcmp(id, CLOTHLAB_EXT_GRID) == 0) return &grid;
   if (std::strcmp(id, CLOTHLAB_EXT_CONTACTS) == 0) return &contacts;

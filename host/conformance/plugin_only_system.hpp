@@ -98,6 +98,7 @@ class PluginOnlySystem {
   const void* host_cg_step_ = nullptr;
   const void* host_reductions_ = nullptr;
   const void* host_external_forces_ = nullptr;
+  const void* host_external_forces_2_ = nullptr;
   const void* host_threads_ = nullptr;
   const void* host_grid_ = nullptr;
   const void* host_contacts_ = nullptr;

@@ -184,6 +184,13 @@ struct Xpbd {
     Solver<Real>& solver = solver_for<Real>();
     if (!wind) external.acceleration(t, system.x(), external_acceleration);
     const bool attachments = system.has_attachments();
+    // The grid sweep computes the wind's accelerations itself, a few rows ahead of its predict
+    // pass, where they read nothing it changes before (no air, which reads v; no attachments,
+    // which move x before the sweep) and the host has a scratch slot per sweep thread.
+    const bool ahead = wind && solver.on_grid && external.has_rows() &&
+                       !external.depends_on_velocity() && !attachments &&
+                       solver.grid.computes_external_ahead() &&
+                       static_cast<uint32_t>(threads_) <= system.threads().value_or(0);
     if (solver.tethers.active()) solver.tethers.refresh_anchors(system.x(), system.stride());
     const Substep<Real> arrays{system.inverse_mass(),
                                external_acceleration,
@@ -197,7 +204,7 @@ struct Xpbd {
                                static_cast<Real>(h * h),
                                static_cast<Real>(1.0 / h)};
     for (int substep = 0; substep < substeps_; ++substep) {
-      if (wind) external.acceleration(t + substep * h, system.x(), external_acceleration);
+      if (wind && !ahead) external.acceleration(t + substep * h, system.x(), external_acceleration);
       // The substep's constraints hold the attachments (and the tethers' anchors on them) at
       // the substep's end.
       if (attachments) {
@@ -205,7 +212,12 @@ struct Xpbd {
         if (solver.tethers.active()) solver.tethers.refresh_anchors(system.x(), system.stride());
       }
       const bool finite =
-          solver.on_grid ? solver.grid.run(arrays, threads_) : solver.general.run(arrays, threads_);
+          solver.on_grid
+              ? solver.grid.run(
+                    arrays, threads_,
+                    ahead ? ExternalAhead<Real>{&external, external_acceleration, t + substep * h}
+                          : ExternalAhead<Real>{})
+              : solver.general.run(arrays, threads_);
       if (!solver.on_grid && solver.general.diverged())
         throw_divergence(t + substep * h, solver.general.first_change(),
                          solver.general.last_change());

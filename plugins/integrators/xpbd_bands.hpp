@@ -39,14 +39,11 @@ struct alignas(64) Progress {
   }
 };
 
-// Waits until `predecessor` has completed wavefront time `time`; false when its band ended
-// before that time.
-inline bool wait_for(const Progress& predecessor, uint32_t time) {
-  for (int spins = 0;; ++spins) {
-    if (predecessor.completed.load(std::memory_order_acquire) > time) return true;
-    // `completed` holds the final count before `ended_at` does.
-    if (predecessor.ended_at.load(std::memory_order_acquire) <= time) return false;
-    // The machine may be shared: after a short spin, give the core to the thread waited on.
+// Spins until `done()`. The machine may be shared: after a short spin it gives the core to the
+// thread waited on.
+template <class Done>
+inline void spin_until(Done&& done) {
+  for (int spins = 0; !done(); ++spins) {
     if (spins < 64) {
 #if defined(__x86_64__)
       __builtin_ia32_pause();
@@ -55,6 +52,18 @@ inline bool wait_for(const Progress& predecessor, uint32_t time) {
       std::this_thread::yield();
     }
   }
+}
+
+// Waits until `predecessor` has completed wavefront time `time`; false when its band ended
+// before that time.
+inline bool wait_for(const Progress& predecessor, uint32_t time) {
+  bool completed = false;
+  spin_until([&] {
+    completed = predecessor.completed.load(std::memory_order_acquire) > time;
+    // `completed` holds the final count before `ended_at` does.
+    return completed || predecessor.ended_at.load(std::memory_order_acquire) <= time;
+  });
+  return completed;
 }
 
 // The rows neither band holds yet; each band's first thread claims from them.
@@ -82,6 +91,39 @@ class RowClaims {
  private:
   alignas(64) std::atomic<uint32_t> claimed_{0};
   uint32_t rows_ = 0;
+};
+
+// The seam's two units of one phase, the rows below the boundary and those above: each is
+// claimed by whichever of the two bands' first threads comes to it first, so that a thread
+// whose partner is descheduled does its partner's unit instead of waiting for it. Only a
+// unit claimed and still running is waited for. The rows of a phase are the same whoever
+// runs them: the bits do not change.
+struct alignas(64) SeamUnits {
+  enum : uint32_t { kOpen = 0, kClaimed = 1, kDone = 2 };
+  std::atomic<uint32_t> state[2] = {kOpen, kOpen};
+
+  void reset() {
+    for (auto& unit : state) unit.store(kOpen, std::memory_order_relaxed);
+  }
+  // Whether the caller took unit `side` (and must run it, then call done).
+  bool claim(int side) {
+    if (state[side].load(std::memory_order_relaxed) != kOpen) return false;
+    uint32_t open = kOpen;
+    return state[side].compare_exchange_strong(open, kClaimed, std::memory_order_acquire);
+  }
+  void done(int side) { state[side].store(kDone, std::memory_order_release); }
+  // Spins a little while unit `side` is open.
+  void settle(int side) const {
+    for (int spins = 0; spins < 256 && state[side].load(std::memory_order_relaxed) == kOpen;
+         ++spins) {
+#if defined(__x86_64__)
+      __builtin_ia32_pause();
+#endif
+    }
+  }
+  void wait(int side) const {
+    spin_until([&] { return state[side].load(std::memory_order_acquire) == kDone; });
+  }
 };
 
 // The teams of the grid sweep: two bands, the one going down run by threads

@@ -57,12 +57,23 @@ class GridPath {
     if constexpr (std::is_same_v<Real, float>) float_sweep_ = choose_float_grid_sweep();
   }
 
-  // One substep on `threads` threads; false when a velocity came out non-finite.
-  bool run(const Substep<Real>& s, int threads) {
+  // Whether run may compute the external accelerations itself (see GridPlan).
+  bool computes_external_ahead() const { return plan_.computes_external_ahead(); }
+
+  // One substep on `threads` threads, computing the external accelerations as it goes where
+  // `external.forces` is set; false when a velocity came out non-finite. Throws sdk::Error when
+  // an external acceleration call failed.
+  bool run(const Substep<Real>& s, int threads, const ExternalAhead<Real>& external = {}) {
+    plan_.external = external;
+    plan_.external_status.store(CLOTHLAB_OK, std::memory_order_relaxed);
+    bool finite;
     if constexpr (std::is_same_v<Real, float>)
-      return float_sweep_(plan_, s, threads);
+      finite = float_sweep_(plan_, s, threads);
     else
-      return sweep_grid(plan_, s, threads);
+      finite = sweep_grid(plan_, s, threads);
+    sdk::check(static_cast<clothlab_status>(plan_.external_status.load()),
+               "external acceleration failed");
+    return finite;
   }
 
  private:

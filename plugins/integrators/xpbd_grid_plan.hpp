@@ -3,7 +3,11 @@
 // progress. One type for every SIMD target's copy of the sweep.
 #pragma once
 
+#include <clothlab/plugin.h>
+
 #include <algorithm>
+#include <atomic>
+#include <clothlab/sdk/extensions.hpp>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -18,8 +22,21 @@
 
 namespace clothlab::builtin {
 
+// The substep's external accelerations where the sweep computes them itself, a few rows ahead
+// of its predict pass (clothlab.external-forces/2), instead of a pass of their own before it.
+template <class Real>
+struct ExternalAhead {
+  const sdk::ExternalForces<Real>* forces = nullptr;  // nullptr: `a` is filled before the sweep
+  Real* a = nullptr;                                  // the substep's external acceleration
+  double t = 0;                                       // the substep's start
+};
+
 template <class Real>
 struct GridPlan {
+  // Grid rows per call of the external accelerations ahead of the predict: each call also
+  // recomputes the cells of the row above its first.
+  static constexpr uint32_t kExternalRows = 16;
+
   // Allocates all a substep needs on up to `threads` threads.
   void prepare(GridLayout grid, int iteration_count, uint32_t tether_slots,
                const Real* inverse_mass, uint32_t particle_count, int threads) {
@@ -34,7 +51,12 @@ struct GridPlan {
     publish_every = std::max<uint32_t>(1, 2048 / layout.cols);
     uniform.find(inverse_mass, layout.rows, layout.cols);
     progress = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
+    seam_units = std::make_unique<SeamUnits[]>(phases.size());
   }
+
+  // Whether the sweep may compute the external accelerations ahead of its predict: a row's
+  // reads x on the rows beside it, which the velocity pass changes at its lag (0: at once).
+  bool computes_external_ahead() const { return phases.back().lag > 0; }
 
   GridLayout layout;
   int iterations = 1;
@@ -46,8 +68,11 @@ struct GridPlan {
   uint32_t publish_every = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress;  // one per thread
   std::unique_ptr<RowClaims> claims = std::make_unique<RowClaims>();  // the two bands' rows
-  // The seam's phases done by each band's first thread, the lower band's first.
-  std::unique_ptr<Progress[]> seam_progress = std::make_unique<Progress[]>(2);
+  // Per phase, the seam's two units (the rows below and above the boundary).
+  std::unique_ptr<SeamUnits[]> seam_units;
+  ExternalAhead<Real> external;  // set per substep
+  // The first failed status of the external accelerations' calls in the substep.
+  std::atomic<int32_t> external_status{CLOTHLAB_OK};
 };
 
 }  // namespace clothlab::builtin

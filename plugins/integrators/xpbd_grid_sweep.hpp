@@ -11,6 +11,10 @@
 // only for its predecessor to finish the same wavefront time. Every spring sees the same
 // values in any split: the bits do not depend on the thread count.
 //
+// Where the host offers clothlab.external-forces/2, the thread that runs a band's predict pass
+// computes the wind's accelerations a few rows ahead of it (external_ahead), so no pass of
+// their own precedes the sweep.
+//
 // The substep's displacement dx lives in v's memory (the pins' velocities wait in the
 // scratch array), and runs of springs whose ends all have the grid's common inverse mass
 // skip the weights (xpbd_uniform_mass.hpp).
@@ -93,7 +97,7 @@ class GridSweep {
     fill_color_rows();
     if (threads == 1) return sweep(0, 1);
     for (int thread = 0; thread < threads; ++thread) plan_.progress[thread].reset();
-    for (int side = 0; side < 2; ++side) plan_.seam_progress[side].reset();
+    for (std::size_t q = 0; q < plan_.phases.size(); ++q) plan_.seam_units[q].reset();
     plan_.claims->reset(plan_.layout.rows, band_reserve(plan_.phases));
     bool finite = true;
 #pragma omp parallel num_threads(threads) reduction(&& : finite)
@@ -117,6 +121,9 @@ class GridSweep {
     Progress* progress = plan_.progress.get();
     bool finite = true;
     uint32_t held = bands.two ? reserve : rows;  // the band's rows, for its first thread
+    // The thread that runs the predict pass computes the external accelerations ahead of it.
+    const bool external = plan_.external.forces != nullptr && begin == 0 && begin < end;
+    uint32_t external_done = upper ? rows : 0;  // the rows done: below it, or (upper) from it
     uint32_t time = 0;
     for (;; ++time) {
       if (member > 0) {
@@ -125,6 +132,7 @@ class GridSweep {
         if (bands.two) held += plan_.claims->claim();
         if (time == held) break;
       }
+      if (external) external_ahead(upper, time, held, external_done, thread);
       for (std::size_t q = begin; q < end; ++q) {
         const Phase& phase = phases[q];
         if (time < phase.lag) break;  // lags ascend: the later phases start later still
@@ -143,25 +151,62 @@ class GridSweep {
     return finite;
   }
 
-  // The rows next to the boundary that neither wavefront reached, phase by phase. Two bands:
-  // each band's first thread takes the rows on its side, and the two meet after each phase
-  // (a phase's rows are independent; the next phase reads rows either may have written).
-  // One band: thread 0 takes the last rows.
+  // The external accelerations of the rows the predict pass reaches at wavefront time `time`,
+  // computed kExternalRows at a time within the band's rows held so far (`done`: see sweep).
+  // A row's reads x on the rows beside it, which only the velocity pass changes, at its lag
+  // (GridPlan::computes_external_ahead): the bits are those of one call before the sweep.
+  void external_ahead(bool upper, uint32_t time, uint32_t held, uint32_t& done, int slot) {
+    const uint32_t rows = plan_.layout.rows, chunk = GridPlan<Real>::kExternalRows;
+    uint32_t first = done, last = done;
+    if (!upper && time >= done) {
+      last = std::min(done + chunk, held);
+      done = last;
+    } else if (upper && rows - 1 - time < done) {
+      first = std::max(done - std::min(done, chunk), rows - held);
+      done = first;
+    } else {
+      return;
+    }
+    const ExternalAhead<Real>& external = plan_.external;
+    const clothlab_status status = external.forces->acceleration_rows(
+        external.t, s_.x, external.a, first, last, static_cast<uint32_t>(slot));
+    int32_t ok = CLOTHLAB_OK;
+    if (status != CLOTHLAB_OK)
+      plan_.external_status.compare_exchange_strong(ok, status, std::memory_order_relaxed);
+  }
+
+  // The rows next to the boundary that neither wavefront reached, phase by phase. One band:
+  // thread 0 takes the last rows. Two bands: per phase, the rows below the boundary and those
+  // above are two units (SeamUnits) that either band's first thread may claim, its own side
+  // first; both must be done before the next phase (a phase's rows are independent, the next
+  // phase reads rows either may have written).
   void run_seam(bool two_bands, bool upper, uint32_t boundary, bool& finite) {
     const std::vector<Phase>& phases = plan_.phases;
-    const int side = upper ? 1 : 0;
+    if (!two_bands) {
+      for (const Phase& phase : phases)
+        for (uint32_t row = boundary - std::min(boundary, phase.lag); row < plan_.layout.rows;
+             ++row)
+          run_phase(phase, row, finite);
+      return;
+    }
+    const int own = upper ? 1 : 0;
     for (std::size_t q = 0; q < phases.size(); ++q) {
       const Phase& phase = phases[q];
-      const uint32_t first = upper ? boundary : boundary - std::min(boundary, phase.lag);
-      const uint32_t last = !two_bands ? plan_.layout.rows
-                            : upper    ? boundary + phase.upward_offset
-                                       : boundary;  // one past
-      for (uint32_t row = first; row < last; ++row) run_phase(phase, row, finite);
-      // A phase with no lag left no rows on either side: nothing to wait for.
-      if (two_bands && q + 1 < phases.size() && phase.lag > 0) {
-        plan_.seam_progress[side].completed.store(static_cast<uint32_t>(q + 1),
-                                                  std::memory_order_release);
-        wait_for(plan_.seam_progress[1 - side], static_cast<uint32_t>(q));
+      if (phase.lag == 0) continue;  // no rows left on either side
+      SeamUnits& units = plan_.seam_units[q];
+      for (const int side : {own, 1 - own}) {
+        // The partner's unit after a short spin: its rows are in the partner's cache, and a
+        // partner that is running takes it in that time.
+        if (side != own) units.settle(side);
+        if (!units.claim(side)) continue;
+        const uint32_t first = side == 1 ? boundary : boundary - std::min(boundary, phase.lag);
+        const uint32_t last = side == 1 ? boundary + phase.upward_offset : boundary;  // one past
+        for (uint32_t row = first; row < last; ++row) run_phase(phase, row, finite);
+        units.done(side);
+      }
+      if (q + 1 < phases.size()) {
+        units.wait(0);
+        units.wait(1);
       }
     }
   }

@@ -1,12 +1,16 @@
 // The external-forces extension: plus the springs (a plain loop over the topology) it is
 // eval_acceleration, with wind; without wind it is gravity, constant in x; the wind part
 // follows the triangle formula over the topology's triangles, turned grid or not, and gives
-// the same bits on any thread count.
+// the same bits on any thread count. Its revision 2's rows call writes, on its rows alone,
+// the bits of the whole-cloth call, in any split into ranges and slots.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "extension_support.hpp"
 
@@ -158,6 +162,79 @@ TEST(ExternalForces, SameBitsOnAnyThreadCount) {
   }
   EXPECT_EQ(results[0], results[1]);
   EXPECT_EQ(results[0], results[2]);
+}
+
+// The rows call over ranges of 1 to 9 rows (the first at row 0, the last at the last row),
+// two slots at a time on two threads, into a vector holding a marker elsewhere: each call
+// writes its rows' bits of the whole-cloth call and nothing else.
+template <class Real>
+void expect_rows_calls_are_the_whole_call(Precision precision, bool air) {
+  // 37 columns: the lane kernels' tails; enough particles for a thread per slot.
+  Scene scene = testing::busy_scene(113, 37);
+  if (air) {
+    scene.air.density = 1.2;
+    scene.air.drag_coefficient = 1.1;
+    scene.air.lift_coefficient = 0.4;
+  }
+  Cloth cloth(scene, precision, {true, 2});
+  std::vector<double> x, v;
+  testing::move_off_rest(cloth, 7, 0.05, x, v);
+  const clothlab_system& system = cloth.system();
+  const auto& external =
+      host_extension<clothlab_external_forces_2_extension>(system, CLOTHLAB_EXT_EXTERNAL_FORCES_2);
+  EXPECT_EQ(external.depends_on_velocity(system.context), air ? 1 : 0);
+  void* whole = system.alloc_vector(system.context);
+  ASSERT_EQ(external.acceleration(system.context, 0.0, system.x, whole), CLOTHLAB_OK);
+  const std::vector<double> expected = values_of<Real>(system, whole);
+  constexpr double kMarker = 12345.0;
+  void* rows = testing::vector_from<Real>(system, std::vector<double>(expected.size(), kMarker));
+  std::vector<std::pair<uint32_t, uint32_t>> ranges;
+  for (uint32_t begin = 0, size = 1; begin < scene.rows; begin += size, size = size % 9 + 2)
+    ranges.emplace_back(begin, std::min(begin + size, scene.rows));
+  const std::size_t row_values = 3 * std::size_t{scene.cols};
+  for (std::size_t r = 0; r + 1 < ranges.size(); r += 2) {
+    // Before: the two ranges' rows hold the marker, the rows below them their results.
+    const std::vector<double> before = values_of<Real>(system, rows);
+    for (std::size_t e = 0; e < before.size(); ++e)
+      ASSERT_EQ(before[e], e < ranges[r].first * row_values ? expected[e] : kMarker) << e;
+    clothlab_status status[2] = {CLOTHLAB_OK, CLOTHLAB_OK};
+    std::thread second([&] {
+      status[1] = external.acceleration_rows(system.context, 0.0, system.x, rows,
+                                             ranges[r + 1].first, ranges[r + 1].second, 1);
+    });
+    status[0] = external.acceleration_rows(system.context, 0.0, system.x, rows, ranges[r].first,
+                                           ranges[r].second, 0);
+    second.join();
+    ASSERT_EQ(status[0], CLOTHLAB_OK);
+    ASSERT_EQ(status[1], CLOTHLAB_OK);
+  }
+  if (ranges.size() % 2 == 1) {
+    ASSERT_EQ(external.acceleration_rows(system.context, 0.0, system.x, rows, ranges.back().first,
+                                         ranges.back().second, 0),
+              CLOTHLAB_OK);
+  }
+  EXPECT_EQ(values_of<Real>(system, rows), expected);
+  // A range past the last row, a slot past the host's threads.
+  EXPECT_EQ(external.acceleration_rows(system.context, 0.0, system.x, rows, 20, scene.rows + 1, 0),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(external.acceleration_rows(system.context, 0.0, system.x, rows, 0, 1, 2),
+            CLOTHLAB_ERROR_INVALID_ARGUMENT);
+}
+
+TEST(ExternalForces, RowsCallsAreTheWholeCallFloat32) {
+  expect_rows_calls_are_the_whole_call<float>(Precision::Float32, false);
+}
+
+TEST(ExternalForces, RowsCallsAreTheWholeCallFloat64WithAir) {
+  expect_rows_calls_are_the_whole_call<double>(Precision::Float64, true);
+}
+
+// A grid the pipeline sweeps turned has no cheap range of grid rows: no revision 2 there.
+TEST(ExternalForces, RowsCallIsNotOfferedOnATurnedGrid) {
+  Cloth cloth(testing::busy_scene(20, 3), Precision::Float32, {});
+  const clothlab_system& system = cloth.system();
+  EXPECT_NE(system.get_extension(system.context, CLOTHLAB_EXT_EXTERNAL_FORCES), nullptr);
+  EXPECT_EQ(system.get_extension(system.context, CLOTHLAB_EXT_EXTERNAL_FORCES_2), nullptr);
 }
 
 }  // namespace

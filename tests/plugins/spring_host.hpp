@@ -81,6 +81,8 @@ class SpringHost {
       if (std::strcmp(id, CLOTHLAB_EXT_DEFINITE_JACOBIAN) == 0) return &definite_jacobian_table;
       if (std::strcmp(id, CLOTHLAB_EXT_REDUCTIONS) == 0) return &reductions_table;
       if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES) == 0) return &external_table;
+      if (std::strcmp(id, CLOTHLAB_EXT_EXTERNAL_FORCES_2) == 0)
+        return grid_.struct_size && rows_call_ ? &external_2_table : nullptr;
       if (std::strcmp(id, CLOTHLAB_EXT_THREADS) == 0) return threads_ ? &threads_table : nullptr;
       return nullptr;
     };
@@ -92,8 +94,8 @@ class SpringHost {
   MockSystem<Real>& system() { return system_; }
   // The host extensions it never offers (clothlab/core/extension_registry.hpp): the tests it
   // serves need no fused CG sweeps, colliders or attachments, and no block table (its multigrid
-  // tests probe the product). The grid and the thread count are offered once set_grid and
-  // set_threads have been called.
+  // tests probe the product). The grid, the external forces' rows call and the thread count
+  // are offered once set_grid and set_threads have been called.
   static constexpr const char* kDeclinedExtensions[] = {CLOTHLAB_EXT_CG_STEP, CLOTHLAB_EXT_CONTACTS,
                                                         CLOTHLAB_EXT_ATTACHMENT_TARGETS,
                                                         CLOTHLAB_EXT_DEFINITE_JACOBIAN_2};
@@ -138,6 +140,14 @@ class SpringHost {
   // Offers clothlab.threads/1: the host lets the system's work use `count` threads.
   void set_threads(uint32_t count) { threads_ = count; }
 
+  // Adds an external field that depends on x, `strength` (x_above + x_below - 2 x_i) from the
+  // particles one grid row apart (the particle itself past an edge); `rows_call` false hides
+  // clothlab.external-forces/2 (offered with the grid), so that /1's call alone gives it.
+  void set_position_field(double strength, bool rows_call) {
+    field_ = strength;
+    rows_call_ = rows_call;
+  }
+
   // J u with J = c_x da/dx + c_v da/dv at (x, v), on all particles (pinned rows 0);
   // definite: clothlab.definite-jacobian/1's form.
   void jacobian_product(const Real* x, const Real* v, double c_x, double c_v, const Real* u,
@@ -181,6 +191,17 @@ class SpringHost {
         body(i);
   }
 
+  // The external acceleration of an active particle: gravity and the field.
+  Vec3 external_of(uint32_t i, const Real* x) const {
+    Vec3 a = gravity_;
+    if (field_ == 0.0) return a;
+    const uint32_t cols = grid_.cols, n = system_.raw().particle_count;
+    const uint32_t above = i >= cols ? i - cols : i, below = i + cols < n ? i + cols : i;
+    for (int k = 0; k < 3; ++k)
+      a[k] += field_ * (value(x, above, k) + value(x, below, k) - 2 * value(x, i, k));
+    return a;
+  }
+
   Vec3 acceleration_of(uint32_t i, const Real* x, const Real* v, uint32_t stride) const {
     (void)stride;
     Vec3 f{};
@@ -197,7 +218,7 @@ class SpringHost {
       for (int k = 0; k < 3; ++k)
         f[k] += -s.ks * (length - s.rest_length) * d[k] / length - s.kd * along * d[k] / length;
     }
-    Vec3 a = gravity_;
+    Vec3 a = external_of(i, x);
     for (int k = 0; k < 3; ++k) a[k] += mass_inverse(i) * f[k];
     return a;
   }
@@ -353,17 +374,32 @@ class SpringHost {
     return largest;
   }
 
-  static clothlab_status external_acceleration(void* context, double, const void*, void* a) {
+  static clothlab_status external_acceleration(void* context, double, const void* x, void* a) {
     const SpringHost& s = self(context);
+    return external_rows(context, 0.0, x, a, 0, s.grid_.struct_size ? s.grid_.rows : 1, 0);
+  }
+  // Rows [begin, end) of the grid (or, without one, all particles as row 0).
+  static clothlab_status external_rows(void* context, double, const void* x, void* a,
+                                       uint32_t begin, uint32_t end, uint32_t slot) {
+    const SpringHost& s = self(context);
+    const uint32_t n = s.system_.raw().particle_count;
+    const uint32_t cols = s.grid_.struct_size ? s.grid_.cols : n;
+    if (end * cols > n || begin > end || (s.threads_ != 0 && slot >= s.threads_))
+      return CLOTHLAB_ERROR_INVALID_ARGUMENT;
     Real* out = static_cast<Real*>(a);
     const uint32_t stride = s.system_.stride();
-    std::fill(out, out + 3 * size_t{stride}, Real(0));
+    for (int k = 0; k < 3; ++k)
+      std::fill(out + k * size_t{stride} + begin * cols, out + k * size_t{stride} + end * cols,
+                Real(0));
     s.for_active([&](uint32_t i) {
-      for (int k = 0; k < 3; ++k) out[k * stride + i] = static_cast<Real>(s.gravity_[k]);
+      if (i < begin * cols || i >= end * cols) return;
+      const Vec3 value = s.external_of(i, static_cast<const Real*>(x));
+      for (int k = 0; k < 3; ++k) out[k * stride + i] = static_cast<Real>(value[k]);
     });
     return CLOTHLAB_OK;
   }
-  static int32_t constant_external(void*) { return 0; }
+  static int32_t depends_on_position(void* context) { return self(context).field_ != 0.0; }
+  static int32_t no_air(void*) { return 0; }
 
   static constexpr clothlab_topology_extension topology_table{&get_topology};
   static constexpr clothlab_grid_extension grid_table{&get_grid};
@@ -375,7 +411,9 @@ class SpringHost {
       &apply<true>, &diagonal_blocks<true>};
   static constexpr clothlab_reductions_extension reductions_table{&dot, &mass_dot, &max_abs};
   static constexpr clothlab_external_forces_extension external_table{&external_acceleration,
-                                                                     &constant_external};
+                                                                     &depends_on_position};
+  static constexpr clothlab_external_forces_2_extension external_2_table{
+      &external_acceleration, &depends_on_position, &external_rows, &no_air};
 
   std::vector<TestSpring> springs_;
   Vec3 gravity_;
@@ -386,6 +424,8 @@ class SpringHost {
   std::vector<uint8_t> family_;
   clothlab_grid grid_{};  // struct_size 0: no grid offered
   uint32_t threads_ = 0;  // 0: clothlab.threads/1 not offered
+  double field_ = 0.0;    // set_position_field
+  bool rows_call_ = true;
   std::vector<clothlab_grid_color> grid_colors_;
   MockSystem<Real> system_;
 };

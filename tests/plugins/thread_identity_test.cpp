@@ -4,7 +4,9 @@
 // rows x cols grid of unit masses with structural springs, offered with the particle colours
 // vbd sweeps (a checkerboard), the spring colours xpbd sweeps (direction x parity) and the grid
 // (xpbd's grid path), the two top corners pinned, under gravity, started with a sideways kick
-// so every spring works.
+// so every spring works. xpbd's grid sweep computes a position-dependent external field
+// itself, a few rows ahead, through clothlab.external-forces/2: the bits of /1's call before
+// each substep, on any thread count.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,8 +39,16 @@ struct ThreadChoice {
   uint32_t host;  // 0: the host offers no count
 };
 
+// The spring host's external field (SpringHost::set_position_field): its strength (0: gravity
+// alone) and whether the host offers it through clothlab.external-forces/2's rows call.
+struct ExternalField {
+  double strength = 0;
+  bool rows_call = true;
+};
+
 template <class Real>
-std::vector<double> grid_state_after(const ThreadedCase& c, ThreadChoice threads) {
+std::vector<double> grid_state_after(const ThreadedCase& c, ThreadChoice threads,
+                                     ExternalField field = {}) {
   const uint32_t rows = c.side, cols = c.side, n = rows * cols;
   std::vector<TestSpring> springs;
   std::vector<std::vector<uint32_t>> spring_colors(4), particle_colors(2);
@@ -61,6 +71,7 @@ std::vector<double> grid_state_after(const ThreadedCase& c, ThreadChoice threads
                     {1, 0, 0, rows - 1, 0, cols},
                     {1, 0, 1, rows - 1, 0, cols}});
   network.set_threads(threads.host);
+  network.set_position_field(field.strength, field.rows_call);
   MockSystem<Real>& system = network.system();
   for (uint32_t i = 0; i < n; ++i) {
     system.set_position(i, {0.01 * (i % cols), -0.01 * (i / cols), 0});
@@ -78,8 +89,32 @@ std::vector<double> grid_state_after(const ThreadedCase& c, ThreadChoice threads
   return state;
 }
 
-std::vector<double> state_after(const ThreadedCase& c, ThreadChoice threads) {
-  return c.float32 ? grid_state_after<float>(c, threads) : grid_state_after<double>(c, threads);
+std::vector<double> state_after(const ThreadedCase& c, ThreadChoice threads,
+                                ExternalField field = {}) {
+  return c.float32 ? grid_state_after<float>(c, threads, field)
+                   : grid_state_after<double>(c, threads, field);
+}
+
+// Values of two states that differ in their bits.
+size_t differing_values(const std::vector<double>& a, const std::vector<double>& b) {
+  size_t differing = 0;
+  for (size_t k = 0; k < a.size(); ++k) differing += std::memcmp(&a[k], &b[k], 8) != 0;
+  return differing;
+}
+
+// The field's rows computed inside the sweep, ahead of its predict pass, on one thread, two
+// bands and a band of two threads: /1's call before each substep, bit for bit. The host offers
+// 3 threads, a scratch slot for each sweep thread.
+TEST(XpbdExternalRows, AheadOfThePredictAreTheBitsOfTheWholeCall) {
+  for (const bool float32 : {true, false}) {
+    const ThreadedCase c{"", "xpbd", float32, 190, 3, {{"inner_substeps", 3}, {"iterations", 2}}};
+    const ExternalField field{400.0, true}, whole{400.0, false};
+    const std::vector<double> expected = state_after(c, {1, 3}, whole);
+    ASSERT_GT(differing_values(expected, state_after(c, {1, 3})), 0u) << "the field does nothing";
+    for (const int threads : {1, 2, 3})
+      EXPECT_EQ(differing_values(state_after(c, {threads, 3}, field), expected), 0u)
+          << threads << " threads, float32 " << float32;
+  }
 }
 
 class BitwiseIdenticalAcrossThreadCounts : public ::testing::TestWithParam<ThreadedCase> {};

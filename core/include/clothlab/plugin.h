@@ -21,8 +21,8 @@
  *    host side (tools/reference.py checks these lists against clothlab/ext/):
  *      clothlab.attachment-targets/1, clothlab.cg-step/1, clothlab.contacts/1,
  *      clothlab.definite-jacobian/1, clothlab.definite-jacobian/2, clothlab.external-forces/1,
- *      clothlab.grid/1, clothlab.jacobian/1, clothlab.reductions/1, clothlab.threads/1,
- *      clothlab.topology/1;
+ *      clothlab.external-forces/2, clothlab.grid/1, clothlab.jacobian/1, clothlab.reductions/1,
+ *      clothlab.threads/1, clothlab.topology/1;
  *    integrator side:
  *      clothlab.explicit-scheme/1, clothlab.integrator-traits/1, clothlab.solver-statistics/1;
  *    scenario side:

@@ -308,7 +308,8 @@ class System {
   }
   ExternalForces<Real> external_forces() const {
     return {required<clothlab_external_forces_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES),
-            raw_->context};
+            raw_->context,
+            extension<clothlab_external_forces_2_extension>(CLOTHLAB_EXT_EXTERNAL_FORCES_2)};
   }
   Contacts<Real> contacts() const {
     return {required<clothlab_contacts_extension>(CLOTHLAB_EXT_CONTACTS), raw_->context};

@@ -54,6 +54,7 @@ inline constexpr PublishedExtension kPublishedExtensions[] = {
     {CLOTHLAB_EXT_CG_STEP, ExtensionSide::Host},
     {CLOTHLAB_EXT_REDUCTIONS, ExtensionSide::Host},
     {CLOTHLAB_EXT_EXTERNAL_FORCES, ExtensionSide::Host},
+    {CLOTHLAB_EXT_EXTERNAL_FORCES_2, ExtensionSide::Host},
     {CLOTHLAB_EXT_THREADS, ExtensionSide::Host},
     {CLOTHLAB_EXT_CONTACTS, ExtensionSide::Host},
     {CLOTHLAB_EXT_ATTACHMENT_TARGETS, ExtensionSide::Host},

@@ -222,18 +222,34 @@ class Reductions {
 template <class Real>
 class ExternalForces {
  public:
-  ExternalForces(const clothlab_external_forces_extension& table, void* context)
-      : table_(&table), context_(context) {}
+  // rows_table: the host's clothlab.external-forces/2, nullptr where it has /1 alone.
+  ExternalForces(const clothlab_external_forces_extension& table, void* context,
+                 const clothlab_external_forces_2_extension* rows_table = nullptr)
+      : table_(&table), context_(context), rows_table_(rows_table) {}
 
   void acceleration(double t, const Real* x, Real* a) const {
     check(table_->acceleration(context_, t, x, a), "external acceleration failed");
   }
   // False when the external acceleration is constant (no wind): one evaluation per step.
   bool depends_on_position() const { return table_->depends_on_position(context_) != 0; }
+  // Whether the host computes a range of grid rows (acceleration_rows).
+  bool has_rows() const { return rows_table_ != nullptr; }
+  // Whether the accelerations read the system's velocities too (air); true without /2.
+  bool depends_on_velocity() const {
+    return rows_table_ == nullptr || rows_table_->depends_on_velocity(context_) != 0;
+  }
+  // a on grid rows [begin, end), the bits `acceleration` writes there; has_rows only. Returns
+  // the status instead of throwing: it runs on a plugin's worker threads (see the header for
+  // `slot`).
+  clothlab_status acceleration_rows(double t, const Real* x, Real* a, uint32_t begin, uint32_t end,
+                                    uint32_t slot) const noexcept {
+    return rows_table_->acceleration_rows(context_, t, x, a, begin, end, slot);
+  }
 
  private:
   const clothlab_external_forces_extension* table_;
   void* context_;
+  const clothlab_external_forces_2_extension* rows_table_;
 };
 
 // Keeps the cloth out of the scene's colliders (clothlab/ext/contacts.h): call after each step
