@@ -176,11 +176,14 @@ class ForcePipeline {
   void gather_component(const Real* from, Real* to) const;
   void scatter_row(const Real* from, Real* state, std::size_t row) const;
 
-  // The spring stage (spring_stage.cpp): the springs starting in `row`.
-  void add_springs(Real* ring, std::size_t row, const Pass& pass);
+  // The spring stage (spring_stage.cpp): the springs starting in `row`. With `next` (x and v of
+  // the state at row + 3, v null where not staged; an interior row only), the interior kernel
+  // also stages row + 3, a plain copy, into row's slot.
+  void add_springs(Real* ring, std::size_t row, const Pass& pass,
+                   const Real* const* next = nullptr);
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
   bool interior_row(std::size_t row) const { return interior_kernel_ && row + 2 < rows_; }
-  void add_interior_springs(Real* ring, std::size_t row, const Pass& pass);
+  void add_interior_springs(Real* ring, std::size_t row, const Pass& pass, const Real* const* next);
   // The wind stage (wind_stage.cpp): the wind and the air on the cells starting in `row`.
   void add_wind(Real* ring, std::size_t row, Pass& pass);
   // The air's shares (air_kernel.hpp) of cell row `row` from its corners' rows, added to
