@@ -12,7 +12,8 @@
 // The state is copied row by row into a ring of three staged rows (r, r+1, r+2: all a
 // spring or cell starting in row r reaches) that stays in cache; for a stage of a
 // multi-stage method each row is formed there as a combination, so a stage state is
-// never stored. In every scratch row the three components lie one row span apart, which
+// never stored. Where a row is a plain copy (no combination, col_pitch 1), row r's far sweep
+// stages row r + 3 into row r's slot as it goes (interior_row_kernel.hpp). In every scratch row the three components lie one row span apart, which
 // keeps the kernels to a few base pointers. (Reading the state in place instead was slower:
 // the kernels then stream 18 rows from outside L1; lab/performance.md.)
 //
