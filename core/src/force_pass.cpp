@@ -22,11 +22,22 @@ Real ForcePipeline<Real>::run_rows(int thread, std::size_t begin, std::size_t en
   // rows belong to another thread and are dropped.
   const std::size_t first = begin >= 2 ? begin - 2 : 0;
   std::size_t staged = first;
+  // Where row r + 3 is a plain copy of the state, row r's interior sweeps stage it.
+  const bool copies =
+      col_pitch_ == 1 && state[0]->count == 0 && (state[1] == nullptr || state[1]->count == 0);
   clear_accumulators(own);
   for (std::size_t row = first; row < end; ++row) {
     // Rows r .. r + 2 staged before row r is run; row r + 3 reuses row r's slot.
     for (; staged < std::min(row + 3, rows_); ++staged) stage_row(thread, own, state, staged);
-    add_springs(own, row, pass);
+    if (copies && interior_row(row) && staged == row + 3 && staged < rows_ && row + 1 < end) {
+      const std::size_t from = row_start(staged);
+      const Real* const next[2] = {state[0]->base + from,
+                                   pass.damped ? state[1]->base + from : nullptr};
+      add_springs(own, row, pass, next);
+      ++staged;
+    } else {
+      add_springs(own, row, pass);
+    }
     add_wind(own, row, pass);
     if (row >= begin && col_pitch_ == 1) {
       probe += finish_row(own, row, a + row * cols_, stride_);

@@ -12,7 +12,8 @@
 // The state is copied row by row into a ring of three staged rows (r, r+1, r+2: all a
 // spring or cell starting in row r reaches) that stays in cache; for a stage of a
 // multi-stage method each row is formed there as a combination, so a stage state is
-// never stored. In every scratch row the three components lie one row span apart, which
+// never stored. Where a row is a plain copy (no combination, col_pitch 1), row r's far sweep
+// stages row r + 3 into row r's slot as it goes (interior_row_kernel.hpp). In every scratch row the three components lie one row span apart, which
 // keeps the kernels to a few base pointers. (Reading the state in place instead was slower:
 // the kernels then stream 18 rows from outside L1; lab/performance.md.)
 //
@@ -185,11 +186,14 @@ class ForcePipeline {
   void gather_component(const Real* from, Real* to) const;
   void scatter_row(const Real* from, Real* state, std::size_t row) const;
 
-  // The spring stage (spring_stage.cpp): the springs starting in `row`.
-  void add_springs(Real* ring, std::size_t row, const Pass& pass);
+  // The spring stage (spring_stage.cpp): the springs starting in `row`. With `next` (x and v of
+  // the state at row + 3, v null where not staged; an interior row only), the interior kernel
+  // also stages row + 3, a plain copy, into row's slot.
+  void add_springs(Real* ring, std::size_t row, const Pass& pass,
+                   const Real* const* next = nullptr);
   // Rows whose springs, and cells, the interior kernel computes in one sweep.
   bool interior_row(std::size_t row) const { return interior_kernel_ && row + 2 < rows_; }
-  void add_interior_springs(Real* ring, std::size_t row, const Pass& pass);
+  void add_interior_springs(Real* ring, std::size_t row, const Pass& pass, const Real* const* next);
   // The wind stage (wind_stage.cpp): the wind and the air on the cells starting in `row`.
   void add_wind(Real* ring, std::size_t row, Pass& pass);
   // The air's shares (air_kernel.hpp) of cell row `row` from its corners' rows, added to

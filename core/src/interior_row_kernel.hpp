@@ -12,6 +12,10 @@
 // would stall store forwarding). finish_row sums the shifted accumulators. The sweeps of row r are
 // the first to write three of them (rows r+1's shifted ones, row r+2's aligned one): they store
 // there without reading, so they need no clearing in between (recycle_row, force_pipeline.hpp).
+//
+// Row r + 3 reuses row r's staged slot. Where it is a plain copy of the state, the far sweep
+// stages it there block by block once it has read the block's columns of row r: the copy's
+// loads then overlap the sweep's arithmetic instead of running as a pass of their own.
 #pragma once
 
 #include <cstddef>
@@ -27,8 +31,8 @@ namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 // Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
 struct InteriorRow {
-  const float* x[3];  // positions of rows r, r+1, r+2
-  const float* v[3];  // velocities likewise; read only when damped
+  float* x[3];        // positions of rows r, r+1, r+2; row r's slot takes row r+3's (next_x)
+  float* v[3];        // velocities likewise; read only when damped
   float* aligned[3];  // accumulators of rows r, r+1, r+2 for ends at the same column
   float* plus1[2];    // rows r, r+1: ends one column to the right
   float* minus1;      // row r+1: ends one column to the left
@@ -37,6 +41,11 @@ struct InteriorRow {
   std::size_t cols;
   LoopConstant law[6][3];   // spring_law's; read as memory operands (float_lanes.hpp)
   Floats wind_pressure[3];  // wind_pressure's; used only with wind
+  // Row r+3 of the state (components next_stride apart) for the far sweep to stage into x[0]
+  // and v[0]; next_x null: staged elsewhere; next_v null: no velocities.
+  const float* next_x;
+  const float* next_v;
+  std::size_t next_stride;
 };
 
 // The springs of one sweep: the cell's (stencils 0-2, and the wind when Wind) or the others (3-5).
@@ -45,7 +54,7 @@ enum class InteriorSweep { kCell, kFar };
 // Edge blocks (the first, and those reaching the last two columns) mask each spring and
 // cell to its columns; their loads and stores may reach into the zero margins around a
 // row, where masked lanes add exactly 0.
-template <InteriorSweep Sweep, bool Damped, bool Wind, bool Edge>
+template <InteriorSweep Sweep, bool Damped, bool Wind, bool Staged, bool Edge>
 [[gnu::always_inline]] inline void interior_row_block(const InteriorRow& row, std::size_t c) {
   using Vec3 = Floats[3];
   const std::size_t span = row.span;
@@ -123,29 +132,45 @@ template <InteriorSweep Sweep, bool Damped, bool Wind, bool Edge>
     spring(5, far, 2, 0, columns_in(c, 0, cols), row.aligned[2], nullptr, true);
   }
   for (std::size_t k = 0; k < 3; ++k) store_floats(row.aligned[0] + c + k * span, own[k]);
+  if constexpr (Staged) {  // the sweep is done with these columns of row r
+    const auto stage = [&](const float* from, float* to) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const float* p = from + c + k * row.next_stride;
+        // Masked loads stay within the state; the margin past the last column gets zeros.
+        store_floats(to + c + k * span,
+                     Edge ? load_floats(columns_in(c, 0, cols), p) : load_floats(p));
+      }
+    };
+    stage(row.next_x, row.x[0]);
+    if (row.next_v != nullptr) stage(row.next_v, row.v[0]);
+  }
 }
 
-template <InteriorSweep Sweep, bool Damped, bool Wind>
+template <InteriorSweep Sweep, bool Damped, bool Wind, bool Staged>
 inline void interior_row_sweep(const InteriorRow& job) {
   // A copy of its own: the kernel's float stores could alias the caller's, whose pointers the
   // loop would then load again after every store.
   const InteriorRow row = job;
   const std::size_t cols = row.cols;
   std::size_t c = 0;
-  interior_row_block<Sweep, Damped, Wind, true>(row, c);
+  interior_row_block<Sweep, Damped, Wind, Staged, true>(row, c);
   // Blocks clear of both edges: every lane of every stencil is a spring.
   for (c = kLanes; c + kLanes + 2 <= cols; c += kLanes)
-    interior_row_block<Sweep, Damped, Wind, false>(row, c);
+    interior_row_block<Sweep, Damped, Wind, Staged, false>(row, c);
   // The (1,-1) springs store their partners' ends a column to the left, so that sweep runs
   // until it has stored column cols - 1 too (a block of masked lanes where cols fills its last).
   const std::size_t end = Sweep == InteriorSweep::kFar ? cols + 1 : cols;
-  for (; c < end; c += kLanes) interior_row_block<Sweep, Damped, Wind, true>(row, c);
+  for (; c < end; c += kLanes) interior_row_block<Sweep, Damped, Wind, Staged, true>(row, c);
 }
 
 template <bool Damped, bool Wind>
 inline void interior_row_forces(const InteriorRow& row) {
-  interior_row_sweep<InteriorSweep::kCell, Damped, Wind>(row);
-  interior_row_sweep<InteriorSweep::kFar, Damped, false>(row);
+  interior_row_sweep<InteriorSweep::kCell, Damped, Wind, false>(row);
+  if (row.next_x != nullptr) {
+    interior_row_sweep<InteriorSweep::kFar, Damped, false, true>(row);
+  } else {
+    interior_row_sweep<InteriorSweep::kFar, Damped, false, false>(row);
+  }
 }
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -14,9 +14,10 @@
 namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE {
 
 template <class Real>
-void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass) {
+void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& pass,
+                                      const Real* const* next) {
   if (interior_row(row)) {
-    add_interior_springs(ring, row, pass);
+    add_interior_springs(ring, row, pass, next);
     return;
   }
   for (const SpringStage& stage : stages_) {
@@ -65,7 +66,8 @@ void ForcePipeline<Real>::add_springs(Real* ring, std::size_t row, const Pass& p
 }
 
 template <class Real>
-void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, const Pass& pass) {
+void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, const Pass& pass,
+                                               const Real* const* next) {
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     InteriorRow job{};
@@ -81,6 +83,11 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
     job.plus2 = accumulator(ring, row, 0, kFurtherColumn);
     job.span = row_span_;
     job.cols = cols_;
+    if (next != nullptr) {
+      job.next_x = next[0];
+      job.next_v = next[1];
+      job.next_stride = stride_;
+    }
     for (std::size_t s = 0; s < 6; ++s) {
       const SpringStage& stage = stages_[s];
       const bool stage_damped = stage.damped && pass.damped;
@@ -107,10 +114,13 @@ void ForcePipeline<Real>::add_interior_springs(Real* ring, std::size_t row, cons
     return;
   }
 #endif
-  (void)ring, (void)row, (void)pass;  // only float with SIMD lanes has the interior kernel
+  (void)ring, (void)row, (void)pass,
+      (void)next;  // only float with SIMD lanes has the interior kernel
 }
 
-template void ForcePipeline<float>::add_springs(float*, std::size_t, const Pass&);
-template void ForcePipeline<double>::add_springs(double*, std::size_t, const Pass&);
+template void ForcePipeline<float>::add_springs(float*, std::size_t, const Pass&,
+                                                const float* const*);
+template void ForcePipeline<double>::add_springs(double*, std::size_t, const Pass&,
+                                                 const double* const*);
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE
