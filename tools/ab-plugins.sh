@@ -5,10 +5,10 @@
 # Alternating rounds (A then B, then B then A) cancel most of a shared machine's drift, which
 # two runs minutes apart do not. A side that is a build folder (with bin/clothlab_microbench)
 # runs that build's microbenchmarks with its own plugins: two commits of the core compared in
-# one run. After each turn the FMA probe (clothlab_fma_peak, two threads) reads each thread's
-# rate while on a CPU; a turn whose probe reads under 3/4 of the run's best shared its physical
-# cores with other work on the host (invisible to the guest), and the medians are printed over
-# all rounds and over the rounds whose two probes read full rate.
+# one run. After each turn the FMA probe (clothlab_fma_peak, two threads) reads the threads'
+# mean FMA rate; a round with a probe under 3/4 of the run's best ran on physical cores that
+# the host shared with other busy hardware threads (a guest sees no steal for it), and the
+# medians are printed over all rounds and over the rounds whose two probes read full rate.
 # Usage: tools/ab-plugins.sh ROUNDS FOLDER_A FOLDER_B FILTER [MIN_TIME]
 #   e.g. tools/ab-plugins.sh 6 /tmp/before build/lib/clothlab/plugins 'xpbd_substep/300/'
 #        tools/ab-plugins.sh 5 /tmp/old/build build 'fast_step/verlet/300/'
@@ -76,8 +76,9 @@ for b in json.load(open(sys.argv[1]))["benchmarks"]:
 ' "$run" "$round" "$side" >>"$results"
     if [[ -n $fma_peak ]]; then
       probe=$("$fma_peak" --benchmark_filter=threads:2 --benchmark_min_time=0.1 2>/dev/null |
-        grep -o 'gflops_per_thread=[0-9.]*' | cut -d= -f2)
-      echo "probe $round $side ${probe:-0}" >>"$results"
+        grep -o 'gflops_per_thread=[0-9.]*' | cut -d= -f2) ||
+        { echo "ab-plugins: the FMA probe $fma_peak failed" >&2; exit 1; }
+      echo "probe $round $side $probe" >>"$results"
     fi
   done
 done
