@@ -13,9 +13,10 @@
 // spring or cell starting in row r reaches) that stays in cache; for a stage of a
 // multi-stage method each row is formed there as a combination, so a stage state is
 // never stored. Where a row is a plain copy (no combination, col_pitch 1), row r's far sweep
-// stages row r + 3 into row r's slot as it goes (interior_row_kernel.hpp). In every scratch row the three components lie one row span apart, which
-// keeps the kernels to a few base pointers. (Reading the state in place instead was slower:
-// the kernels then stream 18 rows from outside L1; lab/performance.md.)
+// stages row r + 3 into row r's slot as it goes (interior_row_kernel.hpp). In every scratch row the
+// three components lie one row span apart, which keeps the kernels to a few base pointers. (Reading
+// the state in place instead was slower: the kernels then stream 18 rows from outside L1;
+// lab/performance.md.)
 //
 // A pipeline row is a row of the state (col_pitch 1) or, for a grid the engine hands over
 // turned a quarter (narrow and tall: few long rows instead of many short ones), a column of
