@@ -329,10 +329,14 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   if constexpr (KeepLambda)
     store_multipliers(block, row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
   const PushLanes<Uniform> push = push_lanes<Uniform, Fresh>(u, law, wi, wj, accumulated);
+  // The partners' displacements read again (an operand of the update's FMA) rather than kept
+  // in registers, which the loop lacks: the starts and the partners of a block are distinct
+  // particles (no two springs of a colour share one), so the store before it leaves them as
+  // they were loaded.
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
     block.store(row.dx + i, push.first_end(u.d[k], dxi[k]));
-    block.store(row.dx + i + o, push.second_end(u.d[k], dxj[k]));
+    block.store(row.dx + i + o, push.second_end(u.d[k], block.load(row.dx + i + o)));
   }
 }
 
