@@ -404,6 +404,9 @@ inline void project_in_row(const ColorRow<float>& row) {
   const float* w = arrays.w;
   float* const lambda_row = arrays.lambda;
   const std::size_t s = arrays.stride;
+  // The components' rows, so that the runs' loops step one index over all of them.
+  const float* const xk[3] = {x, x + s, x + 2 * s};
+  float* const dxk[3] = {dx, dx + s, dx + 2 * s};
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
   // A run: whole; the row's last run of 2 kLanes particles, of which the springs that start
@@ -444,9 +447,9 @@ inline void project_in_row(const ColorRow<float>& row) {
     Floats x_difference[3], dxi[3], dxj[3];
     for (std::size_t k = 0; k < 3; ++k) {
       Floats xi, xj;
-      split(x + c + k * s, xi, xj);
+      split(xk[k] + c, xi, xj);
       x_difference[k] = xi - xj;
-      split(dx + c + k * s, dxi[k], dxj[k]);
+      split(dxk[k] + c, dxi[k], dxj[k]);
     }
     Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
     Floats inverse = law.uniform_inverse_denominator;
@@ -475,8 +478,8 @@ inline void project_in_row(const ColorRow<float>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
       interleave<Step>(push.first_end(u.d[k], dxi[k]), push.second_end(u.d[k], dxj[k]), a, b);
-      store(dx + c + k * s, low, a);
-      store(dx + c + k * s + kLanes, high, b);
+      store(dxk[k] + c, low, a);
+      store(dxk[k] + c + kLanes, high, b);
     }
   };
   using Whole = std::integral_constant<Run, Run::whole>;
