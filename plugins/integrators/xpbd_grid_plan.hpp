@@ -31,6 +31,14 @@ struct ExternalAhead {
   double t = 0;                                       // the substep's start
 };
 
+// A colour's springs that start in one grid row, as the sweep's row jobs take them: whether
+// any do, and the positions of those with an end of another inverse mass
+// (UniformInverseMass::varied_positions).
+struct RowSprings {
+  bool starts = false;
+  uint32_t varied_begin = 0, varied_end = 0;
+};
+
 template <class Real>
 struct GridPlan {
   // Grid rows per call of the external accelerations ahead of the predict: each call also
@@ -50,6 +58,14 @@ struct GridPlan {
     // can cost a context switch on a loaded machine, one per narrow row would dominate.
     publish_every = std::max<uint32_t>(1, 2048 / layout.cols);
     uniform.find(inverse_mass, layout.rows, layout.cols);
+    row_springs.assign(layout.colors.size() * layout.rows, RowSprings{});
+    for (std::size_t color = 0; color < layout.colors.size(); ++color)
+      for (uint32_t row = 0; row < layout.rows; ++row) {
+        if (!layout.colors[color].starts_in_row(row)) continue;
+        const auto [begin, end] = uniform.varied_positions(layout.colors[color], row);
+        row_springs[color * layout.rows + row] = {true, static_cast<uint32_t>(begin),
+                                                  static_cast<uint32_t>(end)};
+      }
     progress = std::make_unique<Progress[]>(static_cast<std::size_t>(threads));
     seam_units = std::make_unique<SeamUnits[]>(phases.size());
   }
@@ -65,6 +81,9 @@ struct GridPlan {
   // Per phase, a projection's row job but for the row (the sweep fills it per substep).
   std::vector<ColorRow<Real>> color_rows;
   UniformInverseMass uniform;
+  // Per colour and grid row, found once: the row jobs' lookup instead of a division and the
+  // two rows' spans per call.
+  std::vector<RowSprings> row_springs;
   uint32_t publish_every = 1;            // wavefront times between a thread's progress stores
   std::unique_ptr<Progress[]> progress;  // one per thread
   std::unique_ptr<RowClaims> claims = std::make_unique<RowClaims>();  // the two bands' rows

@@ -33,7 +33,6 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -395,11 +394,12 @@ class GridSweep {
       run_pass(phase, row, finite);
       return;
     }
-    const GridColor& color = plan_.layout.colors[phase.color];
-    if (!color.starts_in_row(row)) return;
+    const RowSprings springs =
+        plan_.row_springs[std::size_t{phase.color} * plan_.layout.rows + row];
+    if (!springs.starts) return;
     ColorRow<Real> job = plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
     job.first += std::size_t{row} * plan_.layout.cols;
-    std::tie(job.varied_begin, job.varied_end) = plan_.uniform.varied_positions(color, row);
+    job.varied_begin = springs.varied_begin, job.varied_end = springs.varied_end;
     project_row(job);
   }
 

@@ -329,10 +329,14 @@ inline void project_rows_block(const RowArrays& row, const LawLanes& law, std::s
   if constexpr (KeepLambda)
     store_multipliers(block, row.lambda + c, masked_add(u.pushed, accumulated, u.delta));
   const PushLanes<Uniform> push = push_lanes<Uniform, Fresh>(u, law, wi, wj, accumulated);
+  // The partners' displacements read again (an operand of the update's FMA) rather than kept
+  // in registers, which the loop lacks: the starts and the partners of a block are distinct
+  // particles (no two springs of a colour share one), so the store before it leaves them as
+  // they were loaded.
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t i = c + k * s;
     block.store(row.dx + i, push.first_end(u.d[k], dxi[k]));
-    block.store(row.dx + i + o, push.second_end(u.d[k], dxj[k]));
+    block.store(row.dx + i + o, push.second_end(u.d[k], block.load(row.dx + i + o)));
   }
 }
 
@@ -400,6 +404,9 @@ inline void project_in_row(const ColorRow<float>& row) {
   const float* w = arrays.w;
   float* const lambda_row = arrays.lambda;
   const std::size_t s = arrays.stride;
+  // The components' rows, so that the runs' loops step one index over all of them.
+  const float* const xk[3] = {x, x + s, x + 2 * s};
+  float* const dxk[3] = {dx, dx + s, dx + 2 * s};
   const LawLanes law = law_lanes(row);
   const UniformRuns uniform(row);
   // A run: whole; the row's last run of 2 kLanes particles, of which the springs that start
@@ -440,9 +447,9 @@ inline void project_in_row(const ColorRow<float>& row) {
     Floats x_difference[3], dxi[3], dxj[3];
     for (std::size_t k = 0; k < 3; ++k) {
       Floats xi, xj;
-      split(x + c + k * s, xi, xj);
+      split(xk[k] + c, xi, xj);
       x_difference[k] = xi - xj;
-      split(dx + c + k * s, dxi[k], dxj[k]);
+      split(dxk[k] + c, dxi[k], dxj[k]);
     }
     Floats wi = zero_floats(), wj = wi;  // PushLanes<true> takes the uniform weight from the law
     Floats inverse = law.uniform_inverse_denominator;
@@ -471,8 +478,8 @@ inline void project_in_row(const ColorRow<float>& row) {
     for (std::size_t k = 0; k < 3; ++k) {
       Floats a, b;
       interleave<Step>(push.first_end(u.d[k], dxi[k]), push.second_end(u.d[k], dxj[k]), a, b);
-      store(dx + c + k * s, low, a);
-      store(dx + c + k * s + kLanes, high, b);
+      store(dxk[k] + c, low, a);
+      store(dxk[k] + c + kLanes, high, b);
     }
   };
   using Whole = std::integral_constant<Run, Run::whole>;
