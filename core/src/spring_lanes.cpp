@@ -830,14 +830,16 @@ void block_runs(const uint8_t* kind, std::size_t begin, std::size_t end, const K
 }  // namespace
 
 template <class Real>
-void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin,
-                               std::size_t end, Real* force, std::size_t force_stride) const {
-  const bool damped = v != nullptr && damped_count_ > 0;
+template <class Lanes, class Portable>
+void SpringLanes<Real>::each_block(std::size_t begin, std::size_t end, Real* out,
+                                   std::size_t out_stride, const Lanes& lanes,
+                                   const Portable& portable) const {
   // Dead slots join particles that may not be finite: a block with no spring writes 0 whatever
   // the state.
   const auto zero = [&](std::size_t b) {
-    Real* out = force + (b - begin) * kSpringBlock;
-    for (std::size_t k = 0; k < 3; ++k) std::fill_n(out + k * force_stride, kSpringBlock, Real(0));
+    Real* block_out = out + (b - begin) * kSpringBlock;
+    for (std::size_t k = 0; k < 3; ++k)
+      std::fill_n(block_out + k * out_stride, kSpringBlock, Real(0));
   };
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
@@ -848,23 +850,15 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
     const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
 #endif
     const auto run = [&](auto where, auto shared, std::size_t from, std::size_t to) {
-      const auto blocks = [&](auto with_damping) {
-        for (std::size_t b = from; b < to; ++b) {
-          const std::size_t s = b * kSpringBlock;
-          const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
-                                       chosen_.data() + block_extra_[b]);
-          const BlockLaws laws = block_laws<shared()>(
-              block_law_[b],
-              [&]() -> const SecondStiffness& { return second_stiffness_[block_extra_[b]]; });
-          spring_block_lanes<with_damping(), where(), shared()>(
-              x, v, stride, s, ends, laws, block_live_[b], block_packed_[b], arrays,
-              force + (b - begin) * kSpringBlock, force_stride);
-        }
-      };
-      if (damped)
-        blocks(std::true_type{});
-      else
-        blocks(std::false_type{});
+      for (std::size_t b = from; b < to; ++b) {
+        const std::size_t s = b * kSpringBlock;
+        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+                                     chosen_.data() + block_extra_[b]);
+        const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
+          return second_stiffness_[block_extra_[b]];
+        });
+        lanes(where, shared, arrays, ends, laws, b, out + (b - begin) * kSpringBlock);
+      }
     };
     const KindBits bits{kEndsInOrder, kChosen, kOneLaw, kOneStiffness, kTwoStiffnesses, kNoSpring};
     block_runs(block_kind_.data(), begin, end, bits, run, zero);
@@ -872,19 +866,37 @@ void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride,
   }
 #endif
   for (std::size_t b = begin; b < end; ++b) {
-    if ((block_kind_[b] & kNoSpring) != 0) {
+    if ((block_kind_[b] & kNoSpring) != 0)
       zero(b);
-      continue;
-    }
-    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
-    Real* out = force + (b - begin) * kSpringBlock;
-    if (damped)
-      spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                        kd_.data(), dead_slots, out, force_stride);
     else
-      spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                         kd_.data(), dead_slots, out, force_stride);
+      portable(b, (block_kind_[b] & kDeadSlots) != 0, out + (b - begin) * kSpringBlock);
   }
+}
+
+template <class Real>
+void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin,
+                               std::size_t end, Real* force, std::size_t force_stride) const {
+  const bool damped = v != nullptr && damped_count_ > 0;
+  each_block(
+      begin, end, force, force_stride,
+      [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
+          std::size_t b, float* out) {
+        const std::size_t s = b * kSpringBlock;
+        if (damped)
+          spring_block_lanes<true, where(), shared()>(x, v, stride, s, ends, laws, block_live_[b],
+                                                      block_packed_[b], arrays, out, force_stride);
+        else
+          spring_block_lanes<false, where(), shared()>(x, v, stride, s, ends, laws, block_live_[b],
+                                                       block_packed_[b], arrays, out, force_stride);
+      },
+      [&](std::size_t b, bool dead_slots, Real* out) {
+        if (damped)
+          spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(),
+                                            ks_.data(), kd_.data(), dead_slots, out, force_stride);
+        else
+          spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(),
+                                             ks_.data(), kd_.data(), dead_slots, out, force_stride);
+      });
 }
 
 template <class Real>
@@ -906,61 +918,32 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
                                           Real c_v, const Real* u, const Real* inverse_mass,
                                           std::size_t stride, std::size_t begin, std::size_t end,
                                           Real* product, std::size_t product_stride) const {
-  const auto zero = [&](std::size_t b) {
-    Real* out = product + (b - begin) * kSpringBlock;
-    for (std::size_t k = 0; k < 3; ++k)
-      std::fill_n(out + k * product_stride, kSpringBlock, Real(0));
-  };
-#if defined(CLOTHLAB_FLOAT_LANES)
-  if constexpr (std::is_same_v<Real, float>) {
-#if defined(CLOTHLAB_EXPAND_LOADS)
-    const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
-                              packed_kd_.data()};
-#else
-    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
-#endif
-    const auto run = [&](auto where, auto shared, std::size_t from, std::size_t to) {
-      for (std::size_t b = from; b < to; ++b) {
-        const std::size_t s = b * kSpringBlock;
-        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
-                                     chosen_.data() + block_extra_[b]);
-        const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
-          return second_stiffness_[block_extra_[b]];
-        });
+  each_block(
+      begin, end, product, product_stride,
+      [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
+          std::size_t b, float* out) {
         definite_block_lanes<where(), shared()>(
-            x, inverse_length, c_x, c_v, u, inverse_mass, stride, s, ends, laws, block_live_[b],
-            block_packed_[b], arrays, product + (b - begin) * kSpringBlock, product_stride);
-      }
-    };
-    const KindBits bits{kEndsInOrder, kChosen, kOneLaw, kOneStiffness, kTwoStiffnesses, kNoSpring};
-    block_runs(block_kind_.data(), begin, end, bits, run, zero);
-    return;
-  }
-#endif
-  for (std::size_t b = begin; b < end; ++b) {
-    if ((block_kind_[b] & kNoSpring) != 0) {
-      zero(b);
-      continue;
-    }
-    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
-    Real* out = product + (b - begin) * kSpringBlock;
-    for (std::size_t s = b * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
-      const std::size_t i = first_[s], j = second_[s];
-      Real d[3], du[3];
-      for (std::size_t k = 0; k < 3; ++k) {
-        d[k] = x[k * stride + j] - x[k * stride + i];
-        du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
-                (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
-      }
-      Real across, along;
-      definite_coefficients(inverse_length[s], ks_[s], ks_[s] * rest_[s],
-                            c_x * ks_[s] + c_v * kd_[s], c_x, Real(0), across, along);
-      along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
-      const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
-      for (std::size_t k = 0; k < 3; ++k)
-        out[k * product_stride + l] = dead ? Real(0) : across * du[k] + along * d[k];
-    }
-  }
+            x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, ends, laws,
+            block_live_[b], block_packed_[b], arrays, out, product_stride);
+      },
+      [&](std::size_t b, bool dead_slots, Real* out) {
+        for (std::size_t s = b * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
+          const std::size_t i = first_[s], j = second_[s];
+          Real d[3], du[3];
+          for (std::size_t k = 0; k < 3; ++k) {
+            d[k] = x[k * stride + j] - x[k * stride + i];
+            du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
+                    (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
+          }
+          Real across, along;
+          definite_coefficients(inverse_length[s], ks_[s], ks_[s] * rest_[s],
+                                c_x * ks_[s] + c_v * kd_[s], c_x, Real(0), across, along);
+          along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
+          const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
+          for (std::size_t k = 0; k < 3; ++k)
+            out[k * product_stride + l] = dead ? Real(0) : across * du[k] + along * d[k];
+        }
+      });
 }
 
 template class SpringLanes<float>;

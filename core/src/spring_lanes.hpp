@@ -258,6 +258,13 @@ class SpringLanes {
   struct BlockLaw {
     Real rest, ks, kd;
   };
+  // For each block b of [begin, end) with a spring, its output at out + (b - begin) *
+  // kSpringBlock (components out_stride apart): on the float lanes lanes(At, Share, arrays, ends,
+  // laws, b, out), the block's kind dispatched once per run of blocks of one kind
+  // (spring_lanes.cpp); else portable(b, dead_slots, out). A block with no spring gets 0.
+  template <class Lanes, class Portable>
+  void each_block(std::size_t begin, std::size_t end, Real* out, std::size_t out_stride,
+                  const Lanes& lanes, const Portable& portable) const;
   // A kTwoStiffnesses block's second ks and kd, and bit l set where lane l takes them.
   struct SecondStiffness {
     Real ks = 0, kd = 0;
