@@ -832,7 +832,7 @@ void block_runs(const uint8_t* kind, std::size_t begin, std::size_t end, const K
 template <class Real>
 template <class Lanes, class Portable>
 void SpringLanes<Real>::each_block(std::size_t begin, std::size_t end, Real* out,
-                                   std::size_t out_stride, const Lanes& lanes,
+                                   std::size_t out_stride, [[maybe_unused]] const Lanes& lanes,
                                    const Portable& portable) const {
   // Dead slots join particles that may not be finite: a block with no spring writes 0 whatever
   // the state.
