@@ -879,27 +879,25 @@ template <class Lanes, class Portable>
 template <class Real>
 void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin,
                                std::size_t end, Real* force, std::size_t force_stride) const {
-  const bool damped = v != nullptr && damped_count_ > 0;
-  each_block(
-      begin, end, force, force_stride,
-      [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
-          std::size_t b, float* out) {
-        const std::size_t s = b * kSpringBlock;
-        if (damped)
-          spring_block_lanes<true, where(), shared()>(x, v, stride, s, ends, laws, block_live_[b],
-                                                      block_packed_[b], arrays, out, force_stride);
-        else
-          spring_block_lanes<false, where(), shared()>(x, v, stride, s, ends, laws, block_live_[b],
-                                                       block_packed_[b], arrays, out, force_stride);
-      },
-      [&](std::size_t b, bool dead_slots, Real* out) {
-        if (damped)
-          spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(),
-                                            ks_.data(), kd_.data(), dead_slots, out, force_stride);
-        else
-          spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(),
-                                             ks_.data(), kd_.data(), dead_slots, out, force_stride);
-      });
+  const auto with_damping = [&](auto damped) {
+    each_block(
+        begin, end, force, force_stride,
+        [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
+            std::size_t b, float* out) {
+          spring_block_lanes<damped(), where(), shared()>(x, v, stride, b * kSpringBlock, ends,
+                                                          laws, block_live_[b], block_packed_[b],
+                                                          arrays, out, force_stride);
+        },
+        [&](std::size_t b, bool dead_slots, Real* out) {
+          spring_block_portable<Real, damped()>(x, v, stride, b, first_, second_, rest_.data(),
+                                                ks_.data(), kd_.data(), dead_slots, out,
+                                                force_stride);
+        });
+  };
+  if (v != nullptr && damped_count_ > 0)
+    with_damping(std::true_type{});
+  else
+    with_damping(std::false_type{});
 }
 
 template <class Real>
