@@ -497,21 +497,29 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
       if (layout_.item_in(s + l) != layout_.items()) live |= 1u << l;
     // One law: every live lane's is the first live lane's (the dead lanes are masked).
     const std::size_t lead = live == 0 ? s : s + static_cast<std::size_t>(__builtin_ctz(live));
-    bool one_stiffness = true, one_rest = true;
+    bool one_stiffness = true, one_rest = true, two_stiffnesses = true;
+    SecondStiffness second;
     for (std::size_t l = 0; l < kSpringBlock; ++l) {
       if ((live >> l & 1u) == 0) continue;
-      one_stiffness = one_stiffness && ks_[s + l] == ks_[lead] && kd_[s + l] == kd_[lead];
+      const bool first_stiffness = ks_[s + l] == ks_[lead] && kd_[s + l] == kd_[lead];
+      one_stiffness = one_stiffness && first_stiffness;
       one_rest = one_rest && rest_[s + l] == rest_[lead];
+      if (first_stiffness) continue;
+      if (second.lanes == 0) second.ks = ks_[s + l], second.kd = kd_[s + l];
+      two_stiffnesses = two_stiffnesses && ks_[s + l] == second.ks && kd_[s + l] == second.kd;
+      second.lanes |= 1u << l;
     }
     const bool one_law = one_stiffness && one_rest;
+    two_stiffnesses = two_stiffnesses && !one_stiffness;
     ChosenEnds ends;
     const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_ends(b, ends);
-    block_chosen_.push_back(static_cast<uint32_t>(chosen_.size()));
-    if (chosen) chosen_.push_back(ends);
+    block_extra_.push_back(static_cast<uint32_t>(chosen_.size()));
+    if (chosen || two_stiffnesses) chosen_.push_back(ends), second_stiffness_.push_back(second);
     block_kind_.push_back(static_cast<uint8_t>(
         (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (chosen ? kChosen : 0) |
         (one_law ? kOneLaw : 0) | (one_stiffness && !one_law ? kOneStiffness : 0) |
-        (live == kAllLive ? 0 : kDeadSlots) | (live != 0 ? 0 : kNoSpring)));
+        (two_stiffnesses ? kTwoStiffnesses : 0) | (live == kAllLive ? 0 : kDeadSlots) |
+        (live != 0 ? 0 : kNoSpring)));
     block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
@@ -571,6 +579,20 @@ struct SpringArrays {
   const float* kd;
 };
 
+// A block's laws (outside the anonymous namespace, as SpringArrays) as its kind gives them: law its
+// lead lane's; second, where it has two ks and kd, the other and its lanes.
+struct BlockLaws {
+  float law[3];
+  float second_ks, second_kd;
+  uint32_t second_lanes;
+};
+
+// The BlockKind bits block_runs reads (SpringLanes' enum is private; outside the
+// anonymous namespace, as SpringArrays).
+struct KindBits {
+  uint8_t in_order, chosen, one_law, one_stiffness, two_stiffnesses, no_spring;
+};
+
 namespace {
 
 // A block's law values on its lanes (0 in its dead lanes): from slot s, or, with expand loads,
@@ -626,24 +648,45 @@ class EndLanes {
   LaneMask high_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
 };
 
-// How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), ks and
-// kd alone (broadcast, the rest lengths loaded), or the whole law (broadcast).
-enum class LawShare { kNone, kStiffness, kAll };
+// How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), two
+// ks and kd (each broadcast, picked per lane; the rest lengths loaded), ks and kd alone
+// (broadcast, the rest lengths loaded), or the whole law (broadcast).
+enum class LawShare { kNone, kTwoStiffnesses, kStiffness, kAll };
 
-// The block's law on the lanes, as spring_law gives it per lane: law the lead lane's.
+// The block's rest, ks and kd on the lanes.
+template <LawShare Share>
+void block_law_values(const SpringArrays& arrays, std::size_t s, std::size_t packed, uint32_t live,
+                      const BlockLaws& laws, Floats& rest, Floats& ks, Floats& kd) {
+  if constexpr (Share == LawShare::kNone) {
+    rest = law_floats(arrays.rest, s, packed, live), ks = law_floats(arrays.ks, s, packed, live);
+    kd = law_floats(arrays.kd, s, packed, live);
+    return;
+  }
+  ks = broadcast(laws.law[1]), kd = broadcast(laws.law[2]);
+  if constexpr (Share == LawShare::kAll) {
+    rest = broadcast(laws.law[0]);
+    return;
+  }
+  rest = law_floats(arrays.rest, s, packed, live);
+  if constexpr (Share == LawShare::kTwoStiffnesses) {
+    const LaneMask second = lanes_of_bits(laws.second_lanes);
+    ks = select(second, broadcast(laws.second_ks), ks);
+    kd = select(second, broadcast(laws.second_kd), kd);
+  }
+}
+
+// The block's law on the lanes, as spring_law gives it per lane.
 template <LawShare Share>
 void block_law_lanes(const SpringArrays& arrays, std::size_t s, std::size_t packed, uint32_t live,
-                     const float (&law)[3], Floats (&lanes_law)[3]) {
+                     const BlockLaws& laws, Floats (&lanes_law)[3]) {
   if constexpr (Share == LawShare::kAll) {
     float one[3];
-    spring_law(law[0], law[1], law[2], kLanesInverseSqrtScale, one);
+    spring_law(laws.law[0], laws.law[1], laws.law[2], kLanesInverseSqrtScale, one);
     for (int t = 0; t < 3; ++t) lanes_law[t] = broadcast(one[t]);
-  } else if constexpr (Share == LawShare::kStiffness) {
-    spring_law(law_floats(arrays.rest, s, packed, live), broadcast(law[1]), broadcast(law[2]),
-               kLanesInverseSqrtScale, lanes_law);
   } else {
-    spring_law(law_floats(arrays.rest, s, packed, live), law_floats(arrays.ks, s, packed, live),
-               law_floats(arrays.kd, s, packed, live), kLanesInverseSqrtScale, lanes_law);
+    Floats rest, ks, kd;
+    block_law_values<Share>(arrays, s, packed, live, laws, rest, ks, kd);
+    spring_law(rest, ks, kd, kLanesInverseSqrtScale, lanes_law);
   }
 }
 
@@ -651,7 +694,7 @@ void block_law_lanes(const SpringArrays& arrays, std::size_t s, std::size_t pack
 // says.
 template <bool Damped, EndsAt At, LawShare Share>
 void spring_block_lanes(const float* x, const float* v, std::size_t stride, std::size_t s,
-                        const EndLanes<At>& ends, const float (&law)[3], uint32_t live,
+                        const EndLanes<At>& ends, const BlockLaws& laws, uint32_t live,
                         std::size_t packed, const SpringArrays& arrays, float* force,
                         std::size_t force_stride) {
   Floats d[3], dv[3] = {};
@@ -665,7 +708,7 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
     }
   }
   Floats lanes_law[3];
-  block_law_lanes<Share>(arrays, s, packed, live, law, lanes_law);
+  block_law_lanes<Share>(arrays, s, packed, live, laws, lanes_law);
   const Floats scale = spring_force_scale<Damped>(d[0], d[1], d[2], dv[0], dv[1], dv[2], lanes_law);
   if (live != kAllLive) {
     const LaneMask lanes = lanes_of_bits(live);
@@ -680,7 +723,7 @@ void spring_block_lanes(const float* x, const float* v, std::size_t stride, std:
 template <EndsAt At, LawShare Share>
 void definite_block_lanes(const float* x, const float* inverse_length, float c_x, float c_v,
                           const float* u, const float* inverse_mass, std::size_t stride,
-                          std::size_t s, const EndLanes<At>& ends, const float (&law)[3],
+                          std::size_t s, const EndLanes<At>& ends, const BlockLaws& laws,
                           uint32_t live, std::size_t packed, const SpringArrays& arrays,
                           float* product, std::size_t product_stride) {
   Floats d[3], u_first[3], u_second[3], mass_first, mass_second;
@@ -697,15 +740,7 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
   for (std::size_t k = 0; k < 3; ++k)
     du[k] = keep(second_active, u_second[k]) - keep(first_active, u_first[k]);
   Floats rest, ks, kd;
-  if constexpr (Share == LawShare::kAll) {
-    rest = broadcast(law[0]), ks = broadcast(law[1]), kd = broadcast(law[2]);
-  } else if constexpr (Share == LawShare::kStiffness) {
-    rest = law_floats(arrays.rest, s, packed, live), ks = broadcast(law[1]);
-    kd = broadcast(law[2]);
-  } else {
-    rest = law_floats(arrays.rest, s, packed, live), ks = law_floats(arrays.ks, s, packed, live);
-    kd = law_floats(arrays.kd, s, packed, live);
-  }
+  block_law_values<Share>(arrays, s, packed, live, laws, rest, ks, kd);
   const Floats scale_x = broadcast(c_x);
   Floats across, along;
   definite_coefficients(load_floats(inverse_length + s), ks, ks * rest,
@@ -722,15 +757,18 @@ void definite_block_lanes(const float* x, const float* inverse_length, float c_x
 
 // Calls block(At, Share) with the block's kind as compile-time constants.
 template <class Block>
-void with_block_kind(EndsAt at, bool one_law, bool one_stiffness, const Block& block) {
+void with_block_kind(EndsAt at, LawShare share, const Block& block) {
   const auto with_share = [&](auto ends_in_order) {
     using All = std::integral_constant<LawShare, LawShare::kAll>;
     using Stiffness = std::integral_constant<LawShare, LawShare::kStiffness>;
+    using Two = std::integral_constant<LawShare, LawShare::kTwoStiffnesses>;
     using None = std::integral_constant<LawShare, LawShare::kNone>;
-    if (one_law)
+    if (share == LawShare::kAll)
       block(ends_in_order, All{});
-    else if (one_stiffness)
+    else if (share == LawShare::kStiffness)
       block(ends_in_order, Stiffness{});
+    else if (share == LawShare::kTwoStiffnesses)
+      block(ends_in_order, Two{});
     else
       block(ends_in_order, None{});
   };
@@ -747,56 +785,119 @@ inline EndsAt ends_at(uint8_t kind, uint8_t in_order, uint8_t chosen) {
   return (kind & in_order) != 0 ? EndsAt::kInOrder
                                 : ((kind & chosen) != 0 ? EndsAt::kChosen : EndsAt::kGathered);
 }
+
+// How the block's kind says its lanes share their law.
+inline LawShare law_share(uint8_t kind, uint8_t one_law, uint8_t one_stiffness,
+                          uint8_t two_stiffnesses) {
+  if ((kind & one_law) != 0) return LawShare::kAll;
+  if ((kind & one_stiffness) != 0) return LawShare::kStiffness;
+  return (kind & two_stiffnesses) != 0 ? LawShare::kTwoStiffnesses : LawShare::kNone;
+}
+
+// A block's laws as Share reads them: law its lead lane's (SpringLanes::BlockLaw), second()
+// its SpringLanes::SecondStiffness, read only where it has two.
+template <LawShare Share, class Law, class Second>
+BlockLaws block_laws(const Law& law, const Second& second) {
+  BlockLaws laws{{law.rest, law.ks, law.kd}, 0.0f, 0.0f, 0u};
+  if constexpr (Share == LawShare::kTwoStiffnesses) {
+    const auto& other = second();
+    laws.second_ks = other.ks, laws.second_kd = other.kd, laws.second_lanes = other.lanes;
+  }
+  return laws;
+}
+
+// Calls run(At, Share, begin, end) on the runs of blocks [begin, end) of one kind (a band's
+// blocks mostly share theirs), so a block's kind is dispatched once per run, and zero(b) on each
+// block with no spring. Inlined by force, as each_block: GCC 12 leaves it out of line, under a
+// name (of generic lambdas) that objdump cannot demangle, so check_simd_isolation.py cannot place
+// it in its target.
+template <class Run, class Zero>
+[[gnu::always_inline]] inline void block_runs(const uint8_t* kind, std::size_t begin,
+                                              std::size_t end, const KindBits& bits, const Run& run,
+                                              const Zero& zero) {
+  for (std::size_t b = begin; b < end;) {
+    std::size_t run_end = b + 1;
+    while (run_end < end && kind[run_end] == kind[b]) ++run_end;
+    if ((kind[b] & bits.no_spring) != 0) {
+      for (; b < run_end; ++b) zero(b);
+      continue;
+    }
+    with_block_kind(ends_at(kind[b], bits.in_order, bits.chosen),
+                    law_share(kind[b], bits.one_law, bits.one_stiffness, bits.two_stiffnesses),
+                    [&](auto where, auto shared) { run(where, shared, b, run_end); });
+    b = run_end;
+  }
+}
 #endif
 
 }  // namespace
 
 template <class Real>
+template <class Lanes, class Portable>
+[[gnu::always_inline]] inline void SpringLanes<Real>::each_block(
+    std::size_t begin, std::size_t end, Real* out, std::size_t out_stride,
+    [[maybe_unused]] const Lanes& lanes, const Portable& portable) const {
+  // Dead slots join particles that may not be finite: a block with no spring writes 0 whatever
+  // the state.
+  const auto zero = [&](std::size_t b) {
+    Real* block_out = out + (b - begin) * kSpringBlock;
+    for (std::size_t k = 0; k < 3; ++k)
+      std::fill_n(block_out + k * out_stride, kSpringBlock, Real(0));
+  };
+#if defined(CLOTHLAB_FLOAT_LANES)
+  if constexpr (std::is_same_v<Real, float>) {
+#if defined(CLOTHLAB_EXPAND_LOADS)
+    const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                              packed_kd_.data()};
+#else
+    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+#endif
+    const auto run = [&](auto where, auto shared, std::size_t from, std::size_t to) {
+      for (std::size_t b = from; b < to; ++b) {
+        const std::size_t s = b * kSpringBlock;
+        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+                                     chosen_.data() + block_extra_[b]);
+        const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
+          return second_stiffness_[block_extra_[b]];
+        });
+        lanes(where, shared, arrays, ends, laws, b, out + (b - begin) * kSpringBlock);
+      }
+    };
+    const KindBits bits{kEndsInOrder, kChosen, kOneLaw, kOneStiffness, kTwoStiffnesses, kNoSpring};
+    block_runs(block_kind_.data(), begin, end, bits, run, zero);
+    return;
+  }
+#endif
+  for (std::size_t b = begin; b < end; ++b) {
+    if ((block_kind_[b] & kNoSpring) != 0)
+      zero(b);
+    else
+      portable(b, (block_kind_[b] & kDeadSlots) != 0, out + (b - begin) * kSpringBlock);
+  }
+}
+
+template <class Real>
 void SpringLanes<Real>::forces(const Real* x, const Real* v, std::size_t stride, std::size_t begin,
                                std::size_t end, Real* force, std::size_t force_stride) const {
-  const bool damped = v != nullptr && damped_count_ > 0;
-  for (std::size_t b = begin; b < end; ++b) {
-    Real* out = force + (b - begin) * kSpringBlock;
-    // Dead slots join particles that may not be finite: they write 0 whatever the state.
-    if ((block_kind_[b] & kNoSpring) != 0) {
-      for (std::size_t k = 0; k < 3; ++k)
-        std::fill_n(out + k * force_stride, kSpringBlock, Real(0));
-      continue;
-    }
-    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
-#if defined(CLOTHLAB_FLOAT_LANES)
-    if constexpr (std::is_same_v<Real, float>) {
-#if defined(CLOTHLAB_EXPAND_LOADS)
-      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
-                                packed_kd_.data()};
-#else
-      const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
-#endif
-      const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
-      const std::size_t s = b * kSpringBlock;
-      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
-      const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
-      const EndsAt at = ends_at(block_kind_[b], kEndsInOrder, kChosen);
-      with_block_kind(at, one_law, one_stiffness, [&](auto where, auto shared) {
-        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
-                                     chosen_.data() + block_chosen_[b]);
-        if (damped)
-          spring_block_lanes<true, where(), shared()>(x, v, stride, s, ends, law, block_live_[b],
-                                                      block_packed_[b], arrays, out, force_stride);
-        else
-          spring_block_lanes<false, where(), shared()>(x, v, stride, s, ends, law, block_live_[b],
-                                                       block_packed_[b], arrays, out, force_stride);
-      });
-      continue;
-    }
-#endif
-    if (damped)
-      spring_block_portable<Real, true>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                        kd_.data(), dead_slots, out, force_stride);
-    else
-      spring_block_portable<Real, false>(x, v, stride, b, first_, second_, rest_.data(), ks_.data(),
-                                         kd_.data(), dead_slots, out, force_stride);
-  }
+  const auto with_damping = [&](auto damped) {
+    each_block(
+        begin, end, force, force_stride,
+        [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
+            std::size_t b, float* out) {
+          spring_block_lanes<damped(), where(), shared()>(x, v, stride, b * kSpringBlock, ends,
+                                                          laws, block_live_[b], block_packed_[b],
+                                                          arrays, out, force_stride);
+        },
+        [&](std::size_t b, bool dead_slots, Real* out) {
+          spring_block_portable<Real, damped()>(x, v, stride, b, first_, second_, rest_.data(),
+                                                ks_.data(), kd_.data(), dead_slots, out,
+                                                force_stride);
+        });
+  };
+  if (v != nullptr && damped_count_ > 0)
+    with_damping(std::true_type{});
+  else
+    with_damping(std::false_type{});
 }
 
 template <class Real>
@@ -818,54 +919,32 @@ void SpringLanes<Real>::definite_products(const Real* x, const Real* inverse_len
                                           Real c_v, const Real* u, const Real* inverse_mass,
                                           std::size_t stride, std::size_t begin, std::size_t end,
                                           Real* product, std::size_t product_stride) const {
-  for (std::size_t b = begin; b < end; ++b) {
-    Real* out = product + (b - begin) * kSpringBlock;
-    if ((block_kind_[b] & kNoSpring) != 0) {
-      for (std::size_t k = 0; k < 3; ++k)
-        std::fill_n(out + k * product_stride, kSpringBlock, Real(0));
-      continue;
-    }
-    const bool dead_slots = (block_kind_[b] & kDeadSlots) != 0;
-#if defined(CLOTHLAB_FLOAT_LANES)
-    if constexpr (std::is_same_v<Real, float>) {
-#if defined(CLOTHLAB_EXPAND_LOADS)
-      const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
-                                packed_kd_.data()};
-#else
-      const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
-#endif
-      const float law[3] = {block_law_[b].rest, block_law_[b].ks, block_law_[b].kd};
-      const bool one_law = (block_kind_[b] & kOneLaw) != 0;
-      const bool one_stiffness = (block_kind_[b] & kOneStiffness) != 0;
-      const EndsAt at = ends_at(block_kind_[b], kEndsInOrder, kChosen);
-      with_block_kind(at, one_law, one_stiffness, [&](auto where, auto shared) {
-        const std::size_t s = b * kSpringBlock;
-        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
-                                     chosen_.data() + block_chosen_[b]);
-        definite_block_lanes<where(), shared()>(x, inverse_length, c_x, c_v, u, inverse_mass,
-                                                stride, s, ends, law, block_live_[b],
-                                                block_packed_[b], arrays, out, product_stride);
+  each_block(
+      begin, end, product, product_stride,
+      [&](auto where, auto shared, const auto& arrays, const auto& ends, const auto& laws,
+          std::size_t b, float* out) {
+        definite_block_lanes<where(), shared()>(
+            x, inverse_length, c_x, c_v, u, inverse_mass, stride, b * kSpringBlock, ends, laws,
+            block_live_[b], block_packed_[b], arrays, out, product_stride);
+      },
+      [&](std::size_t b, bool dead_slots, Real* out) {
+        for (std::size_t s = b * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
+          const std::size_t i = first_[s], j = second_[s];
+          Real d[3], du[3];
+          for (std::size_t k = 0; k < 3; ++k) {
+            d[k] = x[k * stride + j] - x[k * stride + i];
+            du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
+                    (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
+          }
+          Real across, along;
+          definite_coefficients(inverse_length[s], ks_[s], ks_[s] * rest_[s],
+                                c_x * ks_[s] + c_v * kd_[s], c_x, Real(0), across, along);
+          along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
+          const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
+          for (std::size_t k = 0; k < 3; ++k)
+            out[k * product_stride + l] = dead ? Real(0) : across * du[k] + along * d[k];
+        }
       });
-      continue;
-    }
-#endif
-    for (std::size_t s = b * kSpringBlock, l = 0; l < kSpringBlock; ++s, ++l) {
-      const std::size_t i = first_[s], j = second_[s];
-      Real d[3], du[3];
-      for (std::size_t k = 0; k < 3; ++k) {
-        d[k] = x[k * stride + j] - x[k * stride + i];
-        du[k] = (inverse_mass[j] > Real(0) ? u[k * stride + j] : Real(0)) -
-                (inverse_mass[i] > Real(0) ? u[k * stride + i] : Real(0));
-      }
-      Real across, along;
-      definite_coefficients(inverse_length[s], ks_[s], ks_[s] * rest_[s],
-                            c_x * ks_[s] + c_v * kd_[s], c_x, Real(0), across, along);
-      along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
-      const bool dead = dead_slots && ks_[s] + kd_[s] == Real(0);
-      for (std::size_t k = 0; k < 3; ++k)
-        out[k * product_stride + l] = dead ? Real(0) : across * du[k] + along * d[k];
-    }
-  }
 }
 
 template class SpringLanes<float>;

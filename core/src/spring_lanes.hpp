@@ -242,18 +242,33 @@ class SpringLanes {
   // What a spring block reads: its lane 0's ends (the others follow in order), a chosen band's
   // four corners in order (each lane's two ends picked by mask), or every lane's by index; one law
   // for all its live lanes, one ks and kd with a rest length per lane (an irregular mesh's springs
-  // of one family), or a law per lane. Only what a block needs is read. A block with dead slots
-  // writes 0 there; a block with no spring writes only 0.
+  // of one family), two ks and kd picked per lane by mask with a rest length per lane (a band that
+  // mixes two families, as an irregular mesh's diagonals: shear and flexion), or a law per lane.
+  // Only what a block needs is read. A block with dead slots writes 0 there; a block with no
+  // spring writes only 0.
   enum BlockKind : uint8_t {
     kEndsInOrder = 1,
     kOneLaw = 2,
     kDeadSlots = 4,
     kNoSpring = 8,
     kOneStiffness = 16,
-    kChosen = 32
+    kChosen = 32,
+    kTwoStiffnesses = 64
   };
   struct BlockLaw {
     Real rest, ks, kd;
+  };
+  // For each block b of [begin, end) with a spring, its output at out + (b - begin) *
+  // kSpringBlock (components out_stride apart): on the float lanes lanes(At, Share, arrays, ends,
+  // laws, b, out), the block's kind dispatched once per run of blocks of one kind
+  // (spring_lanes.cpp); else portable(b, dead_slots, out). A block with no spring gets 0.
+  template <class Lanes, class Portable>
+  void each_block(std::size_t begin, std::size_t end, Real* out, std::size_t out_stride,
+                  const Lanes& lanes, const Portable& portable) const;
+  // A kTwoStiffnesses block's second ks and kd, and bit l set where lane l takes them.
+  struct SecondStiffness {
+    Real ks = 0, kd = 0;
+    uint32_t lanes = 0;
   };
 
   LaneBands layout_;
@@ -263,8 +278,11 @@ class SpringLanes {
   AlignedBuffer<Real> rest_, ks_, kd_;
   std::vector<uint8_t> block_kind_;
   std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
-  std::vector<uint32_t> block_chosen_;                // per block: where kChosen, its chosen_
+  // Per block: where kChosen, its chosen_; where kTwoStiffnesses, its second_stiffness_ (one
+  // index into both, so a block reads one more array, not two).
+  std::vector<uint32_t> block_extra_;
   std::vector<ChosenEnds> chosen_;
+  std::vector<SecondStiffness> second_stiffness_;
   std::vector<BlockLaw> block_law_;  // per block: its first live lane's law
   // The live slots' laws, block by block, lane by lane (what a block with dead slots loads on
   // lanes that expand loads), and per block where its own start.

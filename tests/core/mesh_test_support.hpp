@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 namespace clothlab::testing {
 
@@ -95,14 +97,38 @@ inline uint32_t renumbered_index(uint32_t i, uint32_t step, uint32_t n) {
   return static_cast<uint32_t>(uint64_t{i} * step % n);
 }
 
-inline TriangleMesh renumbered(const TriangleMesh& mesh, uint32_t step) {
+// Vertex i of n renumbered as to[i] (a permutation).
+inline TriangleMesh renumbered(const TriangleMesh& mesh, const std::vector<uint32_t>& to) {
   const auto n = static_cast<uint32_t>(mesh.positions.size() / 3);
   TriangleMesh out = mesh;
   for (uint32_t i = 0; i < n; ++i)
-    for (std::size_t k = 0; k < 3; ++k)
-      out.positions[3 * renumbered_index(i, step, n) + k] = mesh.positions[3 * i + k];
-  for (uint32_t& corner : out.triangles) corner = renumbered_index(corner, step, n);
+    for (std::size_t k = 0; k < 3; ++k) out.positions[3 * to[i] + k] = mesh.positions[3 * i + k];
+  for (uint32_t& corner : out.triangles) corner = to[corner];
   return out;
+}
+
+inline std::vector<uint32_t> step_numbering(uint32_t n, uint32_t step) {
+  std::vector<uint32_t> to(n);
+  for (uint32_t i = 0; i < n; ++i) to[i] = renumbered_index(i, step, n);
+  return to;
+}
+
+// A numbering at random (a fixed seed): unlike renumbered_index's, which maps each offset between
+// two vertices to one offset and so keeps a mesh's bands (spring_lanes.hpp) bands, it leaves the
+// general path's layout nothing in order.
+inline std::vector<uint32_t> shuffled_numbering(uint32_t n, uint32_t seed) {
+  std::vector<uint32_t> to(n);
+  for (uint32_t i = 0; i < n; ++i) to[i] = i;
+  uint32_t state = seed;
+  for (uint32_t i = n; i > 1; --i) {  // Fisher-Yates, a 32-bit LCG
+    state = state * 1664525u + 1013904223u;
+    std::swap(to[i - 1], to[state % i]);
+  }
+  return to;
+}
+
+inline TriangleMesh renumbered(const TriangleMesh& mesh, uint32_t step) {
+  return renumbered(mesh, step_numbering(static_cast<uint32_t>(mesh.positions.size() / 3), step));
 }
 
 // The classic RK4 as a Runge-Kutta-Nystrom scheme (clothlab_rkn_scheme): what tests and
