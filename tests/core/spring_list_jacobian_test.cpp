@@ -193,56 +193,60 @@ TEST(SpringListJacobian, MatchesCentralDifferencesOfTheSpringListForcesOnAMesh) 
 }
 
 // cg-step's q = A p on a mesh numbered along rows (its springs in SpringLanes' bands, read in
-// order, those across edges in chosen bands) and on the same mesh numbered at random
-// (gathered): the same q, particle for particle. The 60 x 90 mesh spans several of the sweep's
-// tiles, so each band's ring wraps.
+// order, those across edges in chosen bands) and on the same mesh numbered otherwise: by a step
+// (which keeps bands bands, with other offsets) and at random (gathered): the same q, particle
+// for particle. The 60 x 90 mesh spans several of the sweep's tiles, so each band's ring wraps.
 TEST(SpringListJacobian, CgProductDoesNotDependOnHowTheParticlesAreNumbered) {
   for (const auto& [rows, cols] : {std::pair{20u, 24u}, std::pair{60u, 90u}}) {
-    SCOPED_TRACE(std::to_string(rows) + " x " + std::to_string(cols));
     Scene scene = testing::busy_scene(rows, cols);
     scene.wind_strength = 0.0;
-    const uint32_t n = rows * cols, step = 97;  // coprime to n
-    Scene renumbered_scene = scene;
-    for (uint32_t& pin : renumbered_scene.pinned) pin = testing::renumbered_index(pin, step, n);
+    const uint32_t n = rows * cols;
     const TriangleMesh mesh = testing::irregular_mesh(rows, cols);
-    const auto renumber = [&](const std::vector<double>& values) {
-      std::vector<double> out(values.size());
-      for (uint32_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < 3; ++k)
-          out[3 * testing::renumbered_index(i, step, n) + k] = values[3 * i + k];
-      return out;
-    };
-    for (Precision precision : {Precision::Float64, Precision::Float32}) {
-      SCOPED_TRACE(to_string(precision));
-      std::vector<double> q[2], x, v;
-      for (bool at_random : {false, true}) {
-        Cloth cloth(at_random ? renumbered_scene : scene,
-                    at_random ? build_mesh_model(testing::renumbered(mesh, step), renumbered_scene)
-                              : build_mesh_model(mesh, scene),
-                    precision, options_with(true));
-        if (at_random)
-          cloth.set_state(renumber(x), renumber(v));
-        else
-          testing::move_off_rest(cloth, 5, 0.02, x, v);
-        const clothlab_system& system = cloth.system();
-        const auto& jacobian =
-            host_extension<clothlab_jacobian_extension>(system, CLOTHLAB_EXT_JACOBIAN);
-        const auto& cg = host_extension<clothlab_cg_step_extension>(system, CLOTHLAB_EXT_CG_STEP);
-        ASSERT_EQ(jacobian.reserve(system.context), CLOTHLAB_OK);
-        const std::vector<double> p = wave(3 * std::size_t{n}, 0.37, 0.1);
-        const bool real = precision == Precision::Float64;
-        void* p_vector = real ? vector_from<double>(system, at_random ? renumber(p) : p)
-                              : vector_from<float>(system, at_random ? renumber(p) : p);
-        void* out = system.alloc_vector(system.context);
-        double dot = 0;
-        ASSERT_EQ(cg.linearise(system.context, 0, system.x, system.v, -0.7, -0.3), CLOTHLAB_OK);
-        ASSERT_EQ(cg.product(system.context, 0, 0, nullptr, p_vector, nullptr, out, &dot),
-                  CLOTHLAB_OK);
-        q[at_random] = real ? values_of<double>(system, out) : values_of<float>(system, out);
+    using Numbering = std::pair<const char*, std::vector<uint32_t>>;
+    for (const auto& [numbering, to] :
+         {Numbering{" by step", testing::step_numbering(n, 97)},  // 97 coprime to n
+          Numbering{" shuffled", testing::shuffled_numbering(n, 7)}}) {
+      SCOPED_TRACE(std::to_string(rows) + " x " + std::to_string(cols) + numbering);
+      Scene renumbered_scene = scene;
+      for (uint32_t& pin : renumbered_scene.pinned) pin = to[pin];
+      const auto renumber = [&](const std::vector<double>& values) {
+        std::vector<double> out(values.size());
+        for (uint32_t i = 0; i < n; ++i)
+          for (std::size_t k = 0; k < 3; ++k) out[3 * to[i] + k] = values[3 * i + k];
+        return out;
+      };
+      for (Precision precision : {Precision::Float64, Precision::Float32}) {
+        SCOPED_TRACE(to_string(precision));
+        std::vector<double> q[2], x, v;
+        for (bool renumbered : {false, true}) {
+          Cloth cloth(renumbered ? renumbered_scene : scene,
+                      renumbered ? build_mesh_model(testing::renumbered(mesh, to), renumbered_scene)
+                                 : build_mesh_model(mesh, scene),
+                      precision, options_with(true));
+          if (renumbered)
+            cloth.set_state(renumber(x), renumber(v));
+          else
+            testing::move_off_rest(cloth, 5, 0.02, x, v);
+          const clothlab_system& system = cloth.system();
+          const auto& jacobian =
+              host_extension<clothlab_jacobian_extension>(system, CLOTHLAB_EXT_JACOBIAN);
+          const auto& cg = host_extension<clothlab_cg_step_extension>(system, CLOTHLAB_EXT_CG_STEP);
+          ASSERT_EQ(jacobian.reserve(system.context), CLOTHLAB_OK);
+          const std::vector<double> p = wave(3 * std::size_t{n}, 0.37, 0.1);
+          const bool real = precision == Precision::Float64;
+          void* p_vector = real ? vector_from<double>(system, renumbered ? renumber(p) : p)
+                                : vector_from<float>(system, renumbered ? renumber(p) : p);
+          void* out = system.alloc_vector(system.context);
+          double dot = 0;
+          ASSERT_EQ(cg.linearise(system.context, 0, system.x, system.v, -0.7, -0.3), CLOTHLAB_OK);
+          ASSERT_EQ(cg.product(system.context, 0, 0, nullptr, p_vector, nullptr, out, &dot),
+                    CLOTHLAB_OK);
+          q[renumbered] = real ? values_of<double>(system, out) : values_of<float>(system, out);
+        }
+        const std::vector<double> expected = renumber(q[0]);
+        const double tolerance = precision == Precision::Float64 ? 1e-12 : 2e-5;
+        EXPECT_LE(max_difference(q[1], expected), tolerance * max_abs(expected));
       }
-      const std::vector<double> expected = renumber(q[0]);
-      const double tolerance = precision == Precision::Float64 ? 1e-12 : 2e-5;
-      EXPECT_LE(max_difference(q[1], expected), tolerance * max_abs(expected));
     }
   }
 }
