@@ -399,7 +399,8 @@ class GridSweep {
     if (!springs.starts) return;
     ColorRow<Real> job = plan_.color_rows[static_cast<std::size_t>(&phase - plan_.phases.data())];
     job.first += std::size_t{row} * plan_.layout.cols;
-    job.varied_begin = springs.varied_begin, job.varied_end = springs.varied_end;
+    job.varied_begin = springs.varied_begin;
+    job.varied_end = springs.varied_end;
     project_row(job);
   }
 

@@ -234,12 +234,13 @@ TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
             Numbering{" shuffled", testing::shuffled_numbering(n, 7)}}) {
         Scene renumbered_scene = scene;
         for (uint32_t& pin : renumbered_scene.pinned) pin = to[pin];
-        const auto at_random = build_mesh_model(testing::renumbered(mesh, to), renumbered_scene);
+        const auto renumbered_model =
+            build_mesh_model(testing::renumbered(mesh, to), renumbered_scene);
         for (Precision precision : {Precision::Float64, Precision::Float32}) {
           SCOPED_TRACE(std::string(to_string(precision)) + (scene.has_air() ? " air " : " wind ") +
                        std::to_string(rows) + " x " + std::to_string(cols) + numbering);
           Cloth rows_cloth(scene, in_rows, precision, general_options());
-          Cloth random_cloth(renumbered_scene, at_random, precision, general_options());
+          Cloth renumbered_cloth(renumbered_scene, renumbered_model, precision, general_options());
           perturb(rows_cloth);
           std::vector<double> x, v, x_renumbered(3 * n), v_renumbered(3 * n);
           rows_cloth.positions(x);
@@ -249,9 +250,9 @@ TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
               x_renumbered[3 * to[i] + k] = x[3 * i + k];
               v_renumbered[3 * to[i] + k] = v[3 * i + k];
             }
-          random_cloth.set_state(x_renumbered, v_renumbered);
+          renumbered_cloth.set_state(x_renumbered, v_renumbered);
           const std::vector<double> expected = accelerations(rows_cloth);
-          const std::vector<double> renumbered_a = accelerations(random_cloth);
+          const std::vector<double> renumbered_a = accelerations(renumbered_cloth);
           std::vector<double> got(3 * n);
           for (uint32_t i = 0; i < n; ++i)
             for (std::size_t k = 0; k < 3; ++k) got[3 * i + k] = renumbered_a[3 * to[i] + k];

@@ -127,10 +127,6 @@ inline std::vector<uint32_t> shuffled_numbering(uint32_t n, uint32_t seed) {
   return to;
 }
 
-inline TriangleMesh renumbered(const TriangleMesh& mesh, uint32_t step) {
-  return renumbered(mesh, step_numbering(static_cast<uint32_t>(mesh.positions.size() / 3), step));
-}
-
 // The classic RK4 as a Runge-Kutta-Nystrom scheme (clothlab_rkn_scheme): what tests and
 // benchmarks step a cloth's own step_rkn with.
 inline const clothlab_rkn_scheme& rk4_scheme() {

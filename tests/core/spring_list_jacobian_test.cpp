@@ -218,12 +218,13 @@ TEST(SpringListJacobian, CgProductDoesNotDependOnHowTheParticlesAreNumbered) {
       for (Precision precision : {Precision::Float64, Precision::Float32}) {
         SCOPED_TRACE(to_string(precision));
         std::vector<double> q[2], x, v;
-        for (bool renumbered : {false, true}) {
-          Cloth cloth(renumbered ? renumbered_scene : scene,
-                      renumbered ? build_mesh_model(testing::renumbered(mesh, to), renumbered_scene)
-                                 : build_mesh_model(mesh, scene),
+        for (bool numbered_otherwise : {false, true}) {
+          Cloth cloth(numbered_otherwise ? renumbered_scene : scene,
+                      numbered_otherwise
+                          ? build_mesh_model(testing::renumbered(mesh, to), renumbered_scene)
+                          : build_mesh_model(mesh, scene),
                       precision, options_with(true));
-          if (renumbered)
+          if (numbered_otherwise)
             cloth.set_state(renumber(x), renumber(v));
           else
             testing::move_off_rest(cloth, 5, 0.02, x, v);
@@ -234,14 +235,15 @@ TEST(SpringListJacobian, CgProductDoesNotDependOnHowTheParticlesAreNumbered) {
           ASSERT_EQ(jacobian.reserve(system.context), CLOTHLAB_OK);
           const std::vector<double> p = wave(3 * std::size_t{n}, 0.37, 0.1);
           const bool real = precision == Precision::Float64;
-          void* p_vector = real ? vector_from<double>(system, renumbered ? renumber(p) : p)
-                                : vector_from<float>(system, renumbered ? renumber(p) : p);
+          void* p_vector = real ? vector_from<double>(system, numbered_otherwise ? renumber(p) : p)
+                                : vector_from<float>(system, numbered_otherwise ? renumber(p) : p);
           void* out = system.alloc_vector(system.context);
           double dot = 0;
           ASSERT_EQ(cg.linearise(system.context, 0, system.x, system.v, -0.7, -0.3), CLOTHLAB_OK);
           ASSERT_EQ(cg.product(system.context, 0, 0, nullptr, p_vector, nullptr, out, &dot),
                     CLOTHLAB_OK);
-          q[renumbered] = real ? values_of<double>(system, out) : values_of<float>(system, out);
+          q[numbered_otherwise] =
+              real ? values_of<double>(system, out) : values_of<float>(system, out);
         }
         const std::vector<double> expected = renumber(q[0]);
         const double tolerance = precision == Precision::Float64 ? 1e-12 : 2e-5;
