@@ -257,9 +257,12 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   }
   corner_of_.assign(slots, 0);
   chosen_of_.assign(slots / kSpringBlock, 0);
+  chosen_corners_.assign(bands_.size(), {});
   for (std::size_t k = 0; k < bands_.size(); ++k) {
     const Band& band = bands_[k];
     if (!band.chosen) continue;
+    for (std::size_t c = 0; c < 4; ++c)
+      chosen_corners_[k][c] = band.low - static_cast<uint32_t>(band.base) + band.corner[c];
     for (std::size_t s = band.base; s < band.base + band.high - band.low; ++s) {
       const uint32_t item = item_in_[s];
       if (item == items_) continue;
@@ -374,21 +377,33 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   row_choice_ = std::move(choice);
 }
 
-bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
+template <std::size_t Ends>
+bool LaneBands::chosen_lanes(std::size_t block, ChosenLanes<Ends>& lanes) const {
   if (chosen_of_[block] == 0) return false;
-  const Band& band = bands_[chosen_of_[block] - 1u];
-  const uint32_t anchor = band.low + static_cast<uint32_t>(block * kSpringBlock - band.base);
-  ends = ChosenEnds{};
-  for (std::size_t c = 0; c < 4; ++c) ends.at[c] = anchor + band.corner[c];
+  lanes = ChosenLanes<Ends>{};
+  lanes.band = static_cast<uint16_t>(chosen_of_[block] - 1u);
+  using Bits = typename ChosenLanes<Ends>::Bits;
   for (std::size_t l = 0; l < kSpringBlock; ++l) {
     const std::size_t slot = block * kSpringBlock + l;
     if (item_in_[slot] == items_) continue;
-    for (std::size_t e = 0; e < ends_.size(); ++e) {
+    for (std::size_t e = 0; e < std::min(Ends, ends_.size()); ++e) {
       const uint32_t corner = corner_of_[slot] >> (2 * e) & 3u;
-      ends.low[e] |= (corner & 1u) << l;
-      ends.high[e] |= (corner >> 1) << l;
+      lanes.low[e] = static_cast<Bits>(lanes.low[e] | (corner & 1u) << l);
+      lanes.high[e] = static_cast<Bits>(lanes.high[e] | (corner >> 1) << l);
     }
   }
+  return true;
+}
+
+template bool LaneBands::chosen_lanes(std::size_t, ChosenLanes<2>&) const;
+
+bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
+  ChosenLanes<3> lanes;
+  if (!chosen_lanes(block, lanes)) return false;
+  ends = ChosenEnds{};
+  for (std::size_t c = 0; c < 4; ++c)
+    ends.at[c] = static_cast<uint32_t>(block * kSpringBlock) + chosen_corners_[lanes.band][c];
+  for (std::size_t e = 0; e < 3; ++e) ends.low[e] = lanes.low[e], ends.high[e] = lanes.high[e];
   return true;
 }
 
@@ -511,8 +526,8 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
     }
     const bool one_law = one_stiffness && one_rest;
     two_stiffnesses = two_stiffnesses && !one_stiffness;
-    ChosenEnds ends;
-    const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_ends(b, ends);
+    ChosenLanes<2> ends;
+    const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_lanes(b, ends);
     block_extra_.push_back(static_cast<uint32_t>(chosen_.size()));
     if (chosen || two_stiffnesses) chosen_.push_back(ends), second_stiffness_.push_back(second);
     block_kind_.push_back(static_cast<uint8_t>(
@@ -577,6 +592,7 @@ struct SpringArrays {
   const float* rest;
   const float* ks;
   const float* kd;
+  const std::array<uint32_t, 4>* chosen_corners;  // LaneBands::chosen_corners
 };
 
 // A block's laws (outside the anonymous namespace, as SpringArrays) as its kind gives them: law its
@@ -615,12 +631,13 @@ template <EndsAt At>
 class EndLanes {
  public:
   EndLanes(const SpringArrays& arrays, std::size_t s, uint32_t first, uint32_t second,
-           const ChosenEnds* chosen)
+           const ChosenLanes<2>* chosen)
       : first_(first), second_(second) {
     if constexpr (At == EndsAt::kGathered) {
       i_ = load_indices(arrays.first + s), j_ = load_indices(arrays.second + s);
     } else if constexpr (At == EndsAt::kChosen) {
-      at_ = chosen->at;
+      const std::array<uint32_t, 4>& corners = arrays.chosen_corners[chosen->band];
+      for (std::size_t c = 0; c < 4; ++c) at_[c] = static_cast<uint32_t>(s) + corners[c];
       for (std::size_t e = 0; e < 2; ++e)
         low_[e] = lanes_of_bits(chosen->low[e]), high_[e] = lanes_of_bits(chosen->high[e]);
     }
@@ -846,11 +863,12 @@ template <class Lanes, class Portable>
   };
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
+    const std::array<uint32_t, 4>* corners = layout_.chosen_corners();
 #if defined(CLOTHLAB_EXPAND_LOADS)
-    const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
-                              packed_kd_.data()};
+    const SpringArrays arrays{
+        first_, second_, packed_rest_.data(), packed_ks_.data(), packed_kd_.data(), corners};
 #else
-    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
+    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data(), corners};
 #endif
     const auto run = [&](auto where, auto shared, std::size_t from, std::size_t to) {
       for (std::size_t b = from; b < to; ++b) {

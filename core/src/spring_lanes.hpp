@@ -36,6 +36,7 @@
 #include <clothlab/core/cloth_model.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "aligned_buffer.hpp"
@@ -64,6 +65,16 @@ struct SlotBuffers {
 struct ChosenEnds {
   std::array<uint32_t, 4> at{};
   uint32_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+};
+
+// A chosen block's ends in the few bytes a block reads (LaneBands::chosen_lanes): per end e
+// its corner masks, as ChosenEnds', and its band, whose corners lie at chosen_corners()[band]
+// from the block's first slot.
+template <std::size_t Ends>
+struct ChosenLanes {
+  using Bits = std::conditional_t<(kSpringBlock <= 8), uint8_t, uint16_t>;
+  Bits low[Ends] = {}, high[Ends] = {};
+  uint16_t band = 0;
 };
 
 #if defined(CLOTHLAB_FLOAT_LANES)
@@ -96,6 +107,11 @@ class LaneBands {
   // Whether the block lies in a chosen band (head of this file) whose corners are all particles;
   // if so, its ends: lane l's item has its ends among the particles ends.at[k] + l.
   bool chosen_ends(std::size_t block, ChosenEnds& ends) const;
+  // The same, compact (Ends at least the items' ends): lane 0's corner c is particle
+  // block * kSpringBlock + chosen_corners()[lanes.band][c], modulo 2^32.
+  template <std::size_t Ends>
+  bool chosen_lanes(std::size_t block, ChosenLanes<Ends>& lanes) const;
+  const std::array<uint32_t, 4>* chosen_corners() const { return chosen_corners_.data(); }
 
   // A thread's ring, per component (SlotBuffers).
   std::size_t ring_slots() const { return ring_slots_; }
@@ -165,6 +181,9 @@ class LaneBands {
   std::vector<uint8_t> in_order_;    // per slot block
   std::vector<uint8_t> corner_of_;   // per slot of a chosen band: end e's corner << 2 e
   std::vector<uint16_t> chosen_of_;  // per slot block: 1 + its chosen band where loadable, else 0
+  // Per band: a chosen band's corners less its first slot, band.low - band.base + corner[c]
+  // modulo 2^32 (chosen_lanes).
+  std::vector<std::array<uint32_t, 4>> chosen_corners_;
 
   // Per particle block, rows [row_begin_[b], row_begin_[b + 1]) of kSpringBlock entries: lane
   // l of row r is the slot (| kSubtract) that particle l adds r-th (a band's row: the slots of
@@ -281,7 +300,7 @@ class SpringLanes {
   // Per block: where kChosen, its chosen_; where kTwoStiffnesses, its second_stiffness_ (one
   // index into both, so a block reads one more array, not two).
   std::vector<uint32_t> block_extra_;
-  std::vector<ChosenEnds> chosen_;
+  std::vector<ChosenLanes<2>> chosen_;
   std::vector<SecondStiffness> second_stiffness_;
   std::vector<BlockLaw> block_law_;  // per block: its first live lane's law
   // The live slots' laws, block by block, lane by lane (what a block with dead slots loads on
