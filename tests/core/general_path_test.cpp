@@ -242,15 +242,11 @@ TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
           Cloth rows_cloth(scene, in_rows, precision, general_options());
           Cloth renumbered_cloth(renumbered_scene, renumbered_model, precision, general_options());
           perturb(rows_cloth);
-          std::vector<double> x, v, x_renumbered(3 * n), v_renumbered(3 * n);
+          std::vector<double> x, v;
           rows_cloth.positions(x);
           rows_cloth.velocities(v);
-          for (uint32_t i = 0; i < n; ++i)
-            for (std::size_t k = 0; k < 3; ++k) {
-              x_renumbered[3 * to[i] + k] = x[3 * i + k];
-              v_renumbered[3 * to[i] + k] = v[3 * i + k];
-            }
-          renumbered_cloth.set_state(x_renumbered, v_renumbered);
+          renumbered_cloth.set_state(testing::renumbered_values(x, to),
+                                     testing::renumbered_values(v, to));
           const std::vector<double> expected = accelerations(rows_cloth);
           const std::vector<double> renumbered_a = accelerations(renumbered_cloth);
           std::vector<double> got(3 * n);

@@ -97,12 +97,19 @@ inline uint32_t renumbered_index(uint32_t i, uint32_t step, uint32_t n) {
   return static_cast<uint32_t>(uint64_t{i} * step % n);
 }
 
-// Vertex i of n renumbered as to[i] (a permutation).
+// Three values per vertex, vertex i's moved to vertex to[i] (a permutation).
+inline std::vector<double> renumbered_values(const std::vector<double>& values,
+                                             const std::vector<uint32_t>& to) {
+  std::vector<double> out(values.size());
+  for (std::size_t i = 0; i < to.size(); ++i)
+    for (std::size_t k = 0; k < 3; ++k) out[3 * to[i] + k] = values[3 * i + k];
+  return out;
+}
+
+// Vertex i renumbered as to[i] (a permutation).
 inline TriangleMesh renumbered(const TriangleMesh& mesh, const std::vector<uint32_t>& to) {
-  const auto n = static_cast<uint32_t>(mesh.positions.size() / 3);
   TriangleMesh out = mesh;
-  for (uint32_t i = 0; i < n; ++i)
-    for (std::size_t k = 0; k < 3; ++k) out.positions[3 * to[i] + k] = mesh.positions[3 * i + k];
+  out.positions = renumbered_values(mesh.positions, to);
   for (uint32_t& corner : out.triangles) corner = to[corner];
   return out;
 }

@@ -210,10 +210,7 @@ TEST(SpringListJacobian, CgProductDoesNotDependOnHowTheParticlesAreNumbered) {
       Scene renumbered_scene = scene;
       for (uint32_t& pin : renumbered_scene.pinned) pin = to[pin];
       const auto renumber = [&](const std::vector<double>& values) {
-        std::vector<double> out(values.size());
-        for (uint32_t i = 0; i < n; ++i)
-          for (std::size_t k = 0; k < 3; ++k) out[3 * to[i] + k] = values[3 * i + k];
-        return out;
+        return testing::renumbered_values(values, to);
       };
       for (Precision precision : {Precision::Float64, Precision::Float32}) {
         SCOPED_TRACE(to_string(precision));
