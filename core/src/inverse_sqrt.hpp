@@ -52,6 +52,14 @@ inline Floats scaled_inverse_sqrt(Floats s) {
   const Floats y = lane_min(broadcast(0x1p63f), inverse_sqrt_estimate(s));
   return twice_refined_inverse_sqrt(s, y);
 }
+
+// For kernels that mask the lanes below the smallest normal float out of everything computed
+// from the result (xpbd_row_kernel.hpp): scaled_inverse_sqrt without the clamp, so infinite
+// or NaN in those lanes, and with scaled_inverse_sqrt's bits wherever its clamp does not act
+// (s above FLT_MIN by more than the estimate's error).
+inline Floats masked_scaled_inverse_sqrt(Floats s) {
+  return twice_refined_inverse_sqrt(s, inverse_sqrt_estimate(s));
+}
 #endif
 
 }  // namespace clothlab::detail::inline CLOTHLAB_SIMD_NAMESPACE

@@ -211,8 +211,9 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
   const Floats squared = out.d[0] * out.d[0] + out.d[1] * out.d[1] + out.d[2] * out.d[2];
   out.pushed = within(lanes, not_less(squared, broadcast(FLT_MIN)));
   // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
-  // the scaled inverse length (2 / |d|, finite where the spring is not pushed).
-  const Floats twice_inverse_length = scaled_inverse_sqrt(squared);
+  // the scaled inverse length (2 / |d|). Where the spring is not pushed it may be infinite
+  // and what follows from it NaN: every use below keeps only the pushed lanes.
+  const Floats twice_inverse_length = masked_scaled_inverse_sqrt(squared);
   out.squared = squared;
   out.closing = out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2];
   out.twice_inverse_length = twice_inverse_length;

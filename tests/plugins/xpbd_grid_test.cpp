@@ -81,7 +81,8 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
                                 const std::vector<uint32_t>& color_order, int iterations,
                                 const std::vector<uint32_t>& pins,
                                 const ChebyshevSetting* chebyshev = nullptr,
-                                bool parities_swapped = false, int tethers = 0) {
+                                bool parities_swapped = false, int tethers = 0,
+                                uint32_t coincident = std::numeric_limits<uint32_t>::max()) {
   const ProvotGrid grid(rows, cols);
   SpringHost<Real> network(rows * cols, pins, grid.springs, {0, -g, 0});
   std::vector<std::vector<uint32_t>> colors;
@@ -99,6 +100,11 @@ std::vector<double> state_after(uint32_t rows, uint32_t cols, bool on_grid,
       system.set_position(r * cols + c, {spacing * c, -spacing * r, 0});
       system.set_velocity(r * cols + c, {0, 0, 2.0 * std::sin(0.3 * (r * cols + c))});
     }
+  // Particle `coincident` moved onto its right-hand neighbour, with its velocity.
+  if (coincident < rows * cols) {
+    system.set_position(coincident, system.position(coincident + 1));
+    system.set_velocity(coincident, system.velocity(coincident + 1));
+  }
   Integrator xpbd("xpbd");
   xpbd.with("inner_substeps", 4)
       .with("iterations", iterations)
@@ -165,6 +171,22 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepFloat32) {
   // The lane kernel's 1 / length and 1 / denominator are within a few ulp, not exact.
   expect_grid_path_is_the_general_sweep<float>(1, 1e-6);
   expect_grid_path_is_the_general_sweep<float>(3, 1e-6);
+}
+
+// Two particles on one spot, moving together, start a structural spring of the first colour:
+// at its projection it has no direction, and the lane kernels push its ends by nothing (their
+// inverse length is not finite there, so only the kernels' masks keep it out). The float32
+// lanes end where the float64 path does, to its rounding.
+TEST(XpbdGrid, CoincidentEndsArePushedByNothing) {
+  std::vector<uint32_t> order(12);
+  for (uint32_t c = 0; c < 12; ++c) order[c] = c;
+  const uint32_t coincident = 5 * cols + 10;  // column 10: the (0, 1) stencil's parity 0
+  const std::vector<double> lanes =
+      state_after<float>(rows, cols, true, order, 1, corner_pins, nullptr, false, 0, coincident);
+  const std::vector<double> reference =
+      state_after<double>(rows, cols, true, order, 1, corner_pins, nullptr, false, 0, coincident);
+  for (double value : lanes) ASSERT_TRUE(std::isfinite(value));
+  EXPECT_LT(largest_position_difference(lanes, reference), 1e-5);
 }
 
 TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
