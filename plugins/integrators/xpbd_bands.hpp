@@ -39,18 +39,22 @@ struct alignas(64) Progress {
   }
 };
 
+// One turn of a spin: tells the core the thread is waiting, where the instruction exists.
+inline void spin_pause() {
+#if defined(__x86_64__)
+  __builtin_ia32_pause();
+#endif
+}
+
 // Spins until `done()`. The machine may be shared: after a short spin it gives the core to the
 // thread waited on.
 template <class Done>
 inline void spin_until(Done&& done) {
   for (int spins = 0; !done(); ++spins) {
-    if (spins < 64) {
-#if defined(__x86_64__)
-      __builtin_ia32_pause();
-#endif
-    } else {
+    if (spins < 64)
+      spin_pause();
+    else
       std::this_thread::yield();
-    }
   }
 }
 
@@ -115,11 +119,8 @@ struct alignas(64) SeamUnits {
   // Spins a little while unit `side` is open.
   void settle(int side) const {
     for (int spins = 0; spins < 256 && state[side].load(std::memory_order_relaxed) == kOpen;
-         ++spins) {
-#if defined(__x86_64__)
-      __builtin_ia32_pause();
-#endif
-    }
+         ++spins)
+      spin_pause();
   }
   void wait(int side) const {
     spin_until([&] { return state[side].load(std::memory_order_acquire) == kDone; });
