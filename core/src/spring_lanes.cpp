@@ -396,16 +396,7 @@ bool LaneBands::chosen_lanes(std::size_t block, ChosenLanes<Ends>& lanes) const 
 }
 
 template bool LaneBands::chosen_lanes(std::size_t, ChosenLanes<2>&) const;
-
-bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
-  ChosenLanes<3> lanes;
-  if (!chosen_lanes(block, lanes)) return false;
-  ends = ChosenEnds{};
-  for (std::size_t c = 0; c < 4; ++c)
-    ends.at[c] = static_cast<uint32_t>(block * kSpringBlock) + chosen_corners_[lanes.band][c];
-  for (std::size_t e = 0; e < 3; ++e) ends.low[e] = lanes.low[e], ends.high[e] = lanes.high[e];
-  return true;
-}
+template bool LaneBands::chosen_lanes(std::size_t, ChosenLanes<3>&) const;
 
 template <class Real>
 void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t block,
