@@ -66,6 +66,8 @@ inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
 }
 // The lanes l whose bit l of `bits` is set.
 inline LaneMask lanes_of_bits(uint32_t bits) { return LaneMask(bits); }
+// The same from a compact record's mask in memory (read straight into a mask register).
+inline LaneMask lanes_of_bits(const uint16_t* bits) { return LaneMask(*bits); }
 inline LaneMask greater(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
 inline LaneMask not_less(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_NLT_UQ); }
 inline LaneMask unordered(Floats a, Floats b) { return _mm512_cmp_ps_mask(a, b, _CMP_UNORD_Q); }
@@ -210,6 +212,12 @@ inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
 inline LaneMask lanes_of_bits(uint32_t bits) {
   const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
   const __m256i set = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(bits)), lane_bit);
+  return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit))};
+}
+// The same from a compact record's byte in memory: broadcast as it is read, not widened first.
+inline LaneMask lanes_of_bits(const uint8_t* bits) {
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i set = _mm256_and_si256(_mm256_set1_epi8(static_cast<char>(*bits)), lane_bit);
   return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit))};
 }
 inline LaneMask greater(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_GT_OQ)}; }

@@ -396,16 +396,7 @@ bool LaneBands::chosen_lanes(std::size_t block, ChosenLanes<Ends>& lanes) const 
 }
 
 template bool LaneBands::chosen_lanes(std::size_t, ChosenLanes<2>&) const;
-
-bool LaneBands::chosen_ends(std::size_t block, ChosenEnds& ends) const {
-  ChosenLanes<3> lanes;
-  if (!chosen_lanes(block, lanes)) return false;
-  ends = ChosenEnds{};
-  for (std::size_t c = 0; c < 4; ++c)
-    ends.at[c] = static_cast<uint32_t>(block * kSpringBlock) + chosen_corners_[lanes.band][c];
-  for (std::size_t e = 0; e < 3; ++e) ends.low[e] = lanes.low[e], ends.high[e] = lanes.high[e];
-  return true;
-}
+template bool LaneBands::chosen_lanes(std::size_t, ChosenLanes<3>&) const;
 
 template <class Real>
 void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t block,
@@ -592,7 +583,6 @@ struct SpringArrays {
   const float* rest;
   const float* ks;
   const float* kd;
-  const std::array<uint32_t, 4>* chosen_corners;  // LaneBands::chosen_corners
 };
 
 // A block's laws (outside the anonymous namespace, as SpringArrays) as its kind gives them: law its
@@ -630,16 +620,16 @@ enum class EndsAt { kGathered, kInOrder, kChosen };
 template <EndsAt At>
 class EndLanes {
  public:
+  // chosen and corners (its band's LaneBands::chosen_corners) are read only where At is kChosen.
   EndLanes(const SpringArrays& arrays, std::size_t s, uint32_t first, uint32_t second,
-           const ChosenLanes<2>* chosen)
+           const ChosenLanes<2>* chosen, const std::array<uint32_t, 4>* corners)
       : first_(first), second_(second) {
     if constexpr (At == EndsAt::kGathered) {
       i_ = load_indices(arrays.first + s), j_ = load_indices(arrays.second + s);
     } else if constexpr (At == EndsAt::kChosen) {
-      const std::array<uint32_t, 4>& corners = arrays.chosen_corners[chosen->band];
-      for (std::size_t c = 0; c < 4; ++c) at_[c] = static_cast<uint32_t>(s) + corners[c];
+      for (std::size_t c = 0; c < 4; ++c) at_[c] = static_cast<uint32_t>(s) + (*corners)[c];
       for (std::size_t e = 0; e < 2; ++e)
-        low_[e] = lanes_of_bits(chosen->low[e]), high_[e] = lanes_of_bits(chosen->high[e]);
+        low_[e] = lanes_of_bits(&chosen->low[e]), high_[e] = lanes_of_bits(&chosen->high[e]);
     }
   }
   // values (one per particle) at each lane's first and second end.
@@ -661,8 +651,8 @@ class EndLanes {
   uint32_t first_, second_;
   Indices i_{}, j_{};
   std::array<uint32_t, 4> at_{};
-  LaneMask low_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
-  LaneMask high_[2] = {lanes_of_bits(0), lanes_of_bits(0)};
+  LaneMask low_[2] = {lanes_of_bits(0u), lanes_of_bits(0u)};
+  LaneMask high_[2] = {lanes_of_bits(0u), lanes_of_bits(0u)};
 };
 
 // How a block's live lanes share their law (rest, ks, kd): not at all (each lane's loaded), two
@@ -863,18 +853,22 @@ template <class Lanes, class Portable>
   };
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
-    const std::array<uint32_t, 4>* corners = layout_.chosen_corners();
 #if defined(CLOTHLAB_EXPAND_LOADS)
-    const SpringArrays arrays{
-        first_, second_, packed_rest_.data(), packed_ks_.data(), packed_kd_.data(), corners};
+    const SpringArrays arrays{first_, second_, packed_rest_.data(), packed_ks_.data(),
+                              packed_kd_.data()};
 #else
-    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data(), corners};
+    const SpringArrays arrays{first_, second_, rest_.data(), ks_.data(), kd_.data()};
 #endif
     const auto run = [&](auto where, auto shared, std::size_t from, std::size_t to) {
+      // A run of chosen blocks lies in one band (a dead block follows each band): its corners
+      // are looked up once.
+      const std::array<uint32_t, 4>* corners = nullptr;
+      if constexpr (where() == EndsAt::kChosen)
+        corners = layout_.chosen_corners() + chosen_[block_extra_[from]].band;
       for (std::size_t b = from; b < to; ++b) {
         const std::size_t s = b * kSpringBlock;
         const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
-                                     chosen_.data() + block_extra_[b]);
+                                     chosen_.data() + block_extra_[b], corners);
         const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
           return second_stiffness_[block_extra_[b]];
         });

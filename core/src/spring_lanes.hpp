@@ -59,17 +59,10 @@ struct SlotBuffers {
   Real* rings;
 };
 
-// A chosen block's ends (LaneBands::chosen_ends): the particles of lane 0's four corners, the
-// corners ascending, and per end e and lane l the corner (0 to 3) that is lane l's end e: bit l
-// of low[e] its low bit, of high[e] its high bit.
-struct ChosenEnds {
-  std::array<uint32_t, 4> at{};
-  uint32_t low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
-};
-
-// A chosen block's ends in the few bytes a block reads (LaneBands::chosen_lanes): per end e
-// its corner masks, as ChosenEnds', and its band, whose corners lie at chosen_corners()[band]
-// from the block's first slot.
+// A chosen block's ends in the few bytes a block reads (LaneBands::chosen_lanes): per end e and
+// lane l the corner (0 to 3, ascending) that is lane l's end e, bit l of low[e] its low bit and of
+// high[e] its high bit (lanes_of_bits reads them from memory), and its band, whose corners lie at
+// chosen_corners()[band] from the block's first slot.
 template <std::size_t Ends>
 struct ChosenLanes {
   using Bits = std::conditional_t<(kSpringBlock <= 8), uint8_t, uint16_t>;
@@ -105,10 +98,9 @@ class LaneBands {
   // Every end of the block's slots follows lane 0's in order.
   bool ends_in_order(std::size_t block) const { return in_order_[block] != 0; }
   // Whether the block lies in a chosen band (head of this file) whose corners are all particles;
-  // if so, its ends: lane l's item has its ends among the particles ends.at[k] + l.
-  bool chosen_ends(std::size_t block, ChosenEnds& ends) const;
-  // The same, compact (Ends at least the items' ends): lane 0's corner c is particle
-  // block * kSpringBlock + chosen_corners()[lanes.band][c], modulo 2^32.
+  // if so, its ends (Ends at least the items' ends): lane l's item has its ends among lane 0's
+  // corners + l, lane 0's corner c particle block * kSpringBlock + chosen_corners()[lanes.band][c],
+  // modulo 2^32.
   template <std::size_t Ends>
   bool chosen_lanes(std::size_t block, ChosenLanes<Ends>& lanes) const;
   const std::array<uint32_t, 4>* chosen_corners() const { return chosen_corners_.data(); }

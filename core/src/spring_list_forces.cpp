@@ -39,18 +39,22 @@ inline void wind_block_lanes(const float* x, std::size_t stride,
   for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * share_stride, keep(lanes, out[k]));
 }
 
-// wind_block_lanes for a block of a chosen band (LaneBands): its four corners loaded in order,
-// each lane's three corners picked from them.
-inline void wind_block_chosen(const float* x, std::size_t stride, const ChosenEnds& ends,
+// wind_block_lanes for the block of a chosen band (LaneBands) from slot t: its four corners, t +
+// corners[c] (its band's LaneBands::chosen_corners), loaded in order, each lane's three corners
+// picked from them by the block's masks.
+inline void wind_block_chosen(const float* x, std::size_t stride, std::size_t t,
+                              const std::array<uint32_t, 4>& corners, const ChosenLanes<3>& ends,
                               const Floats (&pressure)[3], uint32_t live, float* share,
                               std::size_t share_stride) {
   LaneMask low[3], high[3];
   for (std::size_t e = 0; e < 3; ++e)
-    low[e] = lanes_of_bits(ends.low[e]), high[e] = lanes_of_bits(ends.high[e]);
+    low[e] = lanes_of_bits(&ends.low[e]), high[e] = lanes_of_bits(&ends.high[e]);
+  uint32_t at[4];
+  for (std::size_t c = 0; c < 4; ++c) at[c] = static_cast<uint32_t>(t) + corners[c];
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
     Floats corner[4];
-    for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(x + k * stride + ends.at[c]);
+    for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(x + k * stride + at[c]);
     const Floats first = chosen_end(corner, low[0], high[0]);
     e1[k] = chosen_end(corner, low[1], high[1]) - first;
     e2[k] = chosen_end(corner, low[2], high[2]) - first;
@@ -121,10 +125,10 @@ void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
     TriangleBlock& block = triangle_blocks_[b];
     block.in_order = triangles_->ends_in_order(b);
     for (std::size_t c = 0; c < 3; ++c) block.first[c] = triangles_->ends(c)[b * kSpringBlock];
-    ChosenEnds ends;
-    if (!block.in_order && block.live != 0 && triangles_->chosen_ends(b, ends)) {
-      block.chosen = static_cast<uint32_t>(triangle_ends_.size());
-      triangle_ends_.push_back(ends);
+    ChosenLanes<3> ends;
+    if (!block.in_order && block.live != 0 && triangles_->chosen_lanes(b, ends)) {
+      block.chosen = static_cast<uint32_t>(triangle_lanes_.size());
+      triangle_lanes_.push_back(ends);
     }
   }
 }
@@ -220,6 +224,7 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
   Floats pressure[3] = {zero_floats(), zero_floats(), zero_floats()};
   if constexpr (std::is_same_v<Real, float>)
     for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_wind_pressure_[k]);
+  const std::array<uint32_t, 4>* chosen_corners = triangles_->chosen_corners();
 #endif
   for (std::size_t block = begin; block < end; ++block) {
     Real* share_out = out + (block - begin) * kSpringBlock;
@@ -237,8 +242,9 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
         continue;
       }
       if (!air_ && lanes.chosen != kNotChosen) {
-        wind_block_chosen(x, stride_, triangle_ends_[lanes.chosen], pressure, lanes.live, share_out,
-                          out_stride);
+        const ChosenLanes<3>& ends = triangle_lanes_[lanes.chosen];
+        wind_block_chosen(x, stride_, block * kSpringBlock, chosen_corners[ends.band], ends,
+                          pressure, lanes.live, share_out, out_stride);
         continue;
       }
     }

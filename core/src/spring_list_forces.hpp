@@ -106,9 +106,9 @@ class SpringListForces {
   std::optional<LaneBands> triangles_;  // with the wind or the air
   // What a triangle slot block reads, in one place (the ends' arrays, one cache line per corner
   // and block, are read only by the blocks gathered one triangle at a time): live, bit l set where
-  // lane l lives; chosen, its ends in triangle_ends_ where it lies in a chosen band and its corners
-  // do not follow in order, else kNotChosen; first, where its corners follow in order (in_order),
-  // lane 0's.
+  // lane l lives; chosen, its compact record in triangle_lanes_ where it lies in a chosen band and
+  // its corners do not follow in order, else kNotChosen; first, where its corners follow in order
+  // (in_order), lane 0's.
   static constexpr uint32_t kNotChosen = 0xffffffffu;
   struct TriangleBlock {
     uint32_t live = 0;
@@ -117,7 +117,7 @@ class SpringListForces {
     bool in_order = false;
   };
   std::vector<TriangleBlock> triangle_blocks_;
-  std::vector<ChosenEnds> triangle_ends_;
+  std::vector<ChosenLanes<3>> triangle_lanes_;
 
   Real gravity_[3] = {0, 0, 0};
   // The wind as triangle_wind_share reads it (wind_kernel.hpp), at the scalar kernel's scale and
