@@ -1,7 +1,8 @@
 // 1/sqrt(s), the one transcendental of the spring and wind kernels, per lane type:
 // inverse_sqrt_or_zero is 0 where s is 0 (a spring of zero length, or a degenerate triangle,
 // has no direction); scaled_inverse_sqrt, for kernels whose result is a multiple of the vector
-// whose squared length is s, is finite there, so that multiple is 0.
+// whose squared length is s, is finite there, so that multiple is 0;
+// unclamped_scaled_inverse_sqrt, for kernels that mask those lanes themselves, is not.
 #pragma once
 
 #include <cmath>
@@ -55,9 +56,10 @@ inline Floats scaled_inverse_sqrt(Floats s) {
 
 // For kernels that mask the lanes below the smallest normal float out of everything computed
 // from the result (xpbd_row_kernel.hpp): scaled_inverse_sqrt without the clamp, so infinite
-// or NaN in those lanes, and with scaled_inverse_sqrt's bits wherever its clamp does not act
-// (s above FLT_MIN by more than the estimate's error).
-inline Floats masked_scaled_inverse_sqrt(Floats s) {
+// or NaN in those lanes (0 times infinity raises the invalid flag there; nothing traps it),
+// and with scaled_inverse_sqrt's bits wherever its clamp does not act (s above FLT_MIN by more
+// than the estimate's error).
+inline Floats unclamped_scaled_inverse_sqrt(Floats s) {
   return twice_refined_inverse_sqrt(s, inverse_sqrt_estimate(s));
 }
 #endif

@@ -213,7 +213,7 @@ __attribute__((always_inline)) inline SpringLanes spring_update(
   // ks h^2 C + kd h n.(dx_i - dx_j) = (ks h^2 |d|^2 + kd h d.moved) / |d| - ks h^2 rest, by
   // the scaled inverse length (2 / |d|). Where the spring is not pushed it may be infinite
   // and what follows from it NaN: every use below keeps only the pushed lanes.
-  const Floats twice_inverse_length = masked_scaled_inverse_sqrt(squared);
+  const Floats twice_inverse_length = unclamped_scaled_inverse_sqrt(squared);
   out.squared = squared;
   out.closing = out.d[0] * out.moved[0] + out.d[1] * out.moved[1] + out.d[2] * out.moved[2];
   out.twice_inverse_length = twice_inverse_length;

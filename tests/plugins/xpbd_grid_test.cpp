@@ -175,18 +175,28 @@ TEST(XpbdGrid, FastPathIsTheGeneralSweepFloat32) {
 
 // Two particles on one spot, moving together, start a structural spring of the first colour:
 // at its projection it has no direction, and the lane kernels push its ends by nothing (their
-// inverse length is not finite there, so only the kernels' masks keep it out). The float32
-// lanes end where the float64 path does, to its rounding.
+// inverse length is not finite there, so only the kernels' masks keep it out: the uniform
+// push, the pushes of runs with pins, the multipliers kept between iterations, on the grid
+// path and the general one). The float32 lanes end where the float64 path does, to its rounding.
 TEST(XpbdGrid, CoincidentEndsArePushedByNothing) {
   std::vector<uint32_t> order(12);
   for (uint32_t c = 0; c < 12; ++c) order[c] = c;
   const uint32_t coincident = 5 * cols + 10;  // column 10: the (0, 1) stencil's parity 0
-  const std::vector<double> lanes =
-      state_after<float>(rows, cols, true, order, 1, corner_pins, nullptr, false, 0, coincident);
-  const std::vector<double> reference =
-      state_after<double>(rows, cols, true, order, 1, corner_pins, nullptr, false, 0, coincident);
-  for (double value : lanes) ASSERT_TRUE(std::isfinite(value));
-  EXPECT_LT(largest_position_difference(lanes, reference), 1e-5);
+  // A pin in the coincident spring's row: its run of springs is not of the uniform weight.
+  const std::vector<uint32_t> pinned_row = {0, cols - 1, 5 * cols + 14};
+  for (const bool on_grid : {true, false})
+    for (const int iterations : {1, 3})
+      for (const std::vector<uint32_t>* pins : {&corner_pins, &pinned_row}) {
+        const auto state = [&](auto real) {
+          return state_after<decltype(real)>(rows, cols, on_grid, order, iterations, *pins, nullptr,
+                                             false, 0, coincident);
+        };
+        const std::vector<double> lanes = state(float{}), reference = state(double{});
+        SCOPED_TRACE(testing::Message() << "on_grid " << on_grid << ", iterations " << iterations
+                                        << ", pins " << pins->size());
+        for (double value : lanes) ASSERT_TRUE(std::isfinite(value));
+        EXPECT_LT(largest_position_difference(lanes, reference), 1e-5);
+      }
 }
 
 TEST(XpbdGrid, FastPathIsTheGeneralSweepWithPinsInsideRows) {
