@@ -10,8 +10,7 @@
 //
 // KIND 0: springs to the next rows (partner offset cols + DELTA: 0 (1,0), 1 (1,1), -1 (1,-1),
 // cols (2,0)); KIND 1 or 2: in-row springs of step KIND, parity DELTA. Prints the fastest of seven
-// trials in nanoseconds per block of eight lanes (the rows kernel: eight springs; the in-row
-// kernel: eight particles).
+// trials in nanoseconds per 8 columns of a row (the rows kernel: a block of eight springs).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
