@@ -209,16 +209,18 @@ inline LaneMask lanes_from_to(std::size_t low, std::size_t high) {
   const __m256i below_low = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(low)), lane);
   return {_mm256_castsi256_ps(_mm256_andnot_si256(below_low, below_high))};
 }
-inline LaneMask lanes_of_bits(uint32_t bits) {
+// The lanes l whose bit l is set in `broadcast`'s every lane (its low byte is enough).
+inline LaneMask lanes_of_broadcast_bits(__m256i broadcast) {
   const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  const __m256i set = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(bits)), lane_bit);
+  const __m256i set = _mm256_and_si256(broadcast, lane_bit);
   return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit))};
+}
+inline LaneMask lanes_of_bits(uint32_t bits) {
+  return lanes_of_broadcast_bits(_mm256_set1_epi32(static_cast<int>(bits)));
 }
 // The same from a compact record's byte in memory: broadcast as it is read, not widened first.
 inline LaneMask lanes_of_bits(const uint8_t* bits) {
-  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  const __m256i set = _mm256_and_si256(_mm256_set1_epi8(static_cast<char>(*bits)), lane_bit);
-  return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lane_bit))};
+  return lanes_of_broadcast_bits(_mm256_set1_epi8(static_cast<char>(*bits)));
 }
 inline LaneMask greater(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_GT_OQ)}; }
 inline LaneMask not_less(Floats a, Floats b) { return {_mm256_cmp_ps(a, b, _CMP_NLT_UQ)}; }
