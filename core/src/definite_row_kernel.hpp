@@ -40,26 +40,42 @@ struct DefiniteDirection {
 
 // The update at the block of columns from c within `lanes`; fresh: the new p where active, else 0
 // (as the sweep reads p). The one arithmetic of the update, whether the sweep does it (the row two
-// below) or a row pass before it (definite_direction_row): the same bits either way.
+// below) or a row pass before it (definite_direction_row): the same bits either way. A pinned
+// lane keeps its values by a select, not a masked store (slow on some AVX2 CPUs), so only an
+// edge block, whose lanes reach past the row, stores under a mask.
+template <bool Edge>
 inline void definite_direction_block(const DefiniteDirection& row, std::size_t c, LaneMask lanes,
                                      Floats (&fresh)[3]) {
-  const LaneMask active =
-      both(lanes, greater(load_floats(lanes, row.inverse_mass + c), zero_floats()));
+  const auto load = [&](const float* p) {
+    if constexpr (Edge) return load_floats(lanes, p);
+    return load_floats(p);
+  };
+  const auto store = [&](float* p, Floats value) {
+    if constexpr (Edge) {
+      store_floats(lanes, p, value);
+    } else {
+      store_floats(p, value);
+    }
+  };
+  const LaneMask active = both(lanes, greater(load(row.inverse_mass + c), zero_floats()));
   for (std::size_t k = 0; k < 3; ++k) {
     const std::size_t e = c + k * row.stride;
-    const Floats p = load_floats(lanes, row.p + e);
-    store_floats(active, row.solution + e,
-                 fused_multiply_add(broadcast(row.alpha), p, load_floats(lanes, row.solution + e)));
-    const Floats next = fused_multiply_add(broadcast(row.beta), p, load_floats(lanes, row.z + e));
-    store_floats(active, row.p + e, next);
+    const Floats p = load(row.p + e);
+    const Floats solution = load(row.solution + e);
+    store(row.solution + e,
+          select(active, fused_multiply_add(broadcast(row.alpha), p, solution), solution));
+    const Floats next = fused_multiply_add(broadcast(row.beta), p, load(row.z + e));
+    store(row.p + e, select(active, next, p));
     fresh[k] = keep(active, next);
   }
 }
 
 inline void definite_direction_row(const DefiniteDirection& row, std::size_t cols) {
   Floats fresh[3];
-  for (std::size_t c = 0; c < cols; c += kLanes)
-    definite_direction_block(row, c, columns_in(c, 0, cols), fresh);
+  std::size_t c = 0;
+  for (; c + kLanes <= cols; c += kLanes)
+    definite_direction_block<false>(row, c, all_lanes(), fresh);
+  if (c < cols) definite_direction_block<true>(row, c, columns_in(c, 0, cols), fresh);
 }
 
 // Stencils in kProvotStencils order: (0,1), (1,0), (1,1), (1,-1), (0,2), (2,0).
@@ -101,8 +117,12 @@ inline void definite_inverse_length_row(const DefiniteInverseLengthRow& row) {
       const Floats d = load_floats(valid, row.x_partner + e) - load_floats(valid, row.x + e);
       squared = squared + d * d;
     }
-    const LaneMask in_row = columns_in(c, 0, row.cols);
-    store_floats(in_row, row.inverse_length + c, keep(valid, inverse_sqrt_or_zero(squared)));
+    const Floats inverse_length = keep(valid, inverse_sqrt_or_zero(squared));
+    if (c + kLanes <= row.cols) {
+      store_floats(row.inverse_length + c, inverse_length);
+    } else {
+      store_floats(columns_in(c, 0, row.cols), row.inverse_length + c, inverse_length);
+    }
   }
 }
 
@@ -202,7 +222,7 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   if (row.rows_below[1]) {
     if (row.direction_below != nullptr) {
       Vec3 fresh;
-      definite_direction_block(*row.direction_below, c, all, fresh);
+      definite_direction_block<Edge>(*row.direction_below, c, all, fresh);
       spring(5, 2, 0, all, product, &fresh);
     } else {
       spring(5, 2, 0, all, product);
@@ -256,11 +276,10 @@ inline void definite_row_shifted_ends(const DefiniteRow& row) {
     float* out = row.out[1] + k * stride;
     const float* below_right = row.ends_below[0] + k * span - 1;
     const float* below_left = row.ends_below[1] + k * span + 1;
-    for (std::size_t c = 0; c < cols; c += kLanes) {
-      const LaneMask lanes = columns_in(c, 0, cols);
-      const Floats ends = load_floats(lanes, below_right + c) + load_floats(lanes, below_left + c);
-      store_floats(lanes, out + c, load_floats(lanes, out + c) - ends);
-    }
+    for_each_lane_block(0, cols, [&](std::size_t c, auto lanes) {
+      const Floats ends = lanes.load(below_right + c) + lanes.load(below_left + c);
+      lanes.store(out + c, lanes.load(out + c) - ends);
+    });
   }
 }
 

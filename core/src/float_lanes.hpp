@@ -196,8 +196,14 @@ inline void store_floats(float* p, Floats value) { _mm256_storeu_ps(p, value); }
 inline Floats load_floats(LaneMask lanes, const float* p) {
   return _mm256_maskload_ps(p, _mm256_castps_si256(lanes.bits));
 }
+// A masked store costs several plain ones on some AVX2 CPUs (it is microcoded there): a mask
+// of every lane stores plainly, which writes the same memory.
 inline void store_floats(LaneMask lanes, float* p, Floats value) {
-  _mm256_maskstore_ps(p, _mm256_castps_si256(lanes.bits), value);
+  if (_mm256_movemask_ps(lanes.bits) == 0xff) {
+    _mm256_storeu_ps(p, value);
+  } else {
+    _mm256_maskstore_ps(p, _mm256_castps_si256(lanes.bits), value);
+  }
 }
 inline Floats keep(LaneMask lanes, Floats value) { return _mm256_and_ps(lanes.bits, value); }
 inline LaneMask all_lanes() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }

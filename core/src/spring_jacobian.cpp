@@ -55,10 +55,9 @@ SpringJacobian<Real>::SpringJacobian(const Scene& scene, const ClothModel& topol
                          static_cast<Real>(law.ks), static_cast<Real>(law.kd)});
   }
 #if defined(CLOTHLAB_FLOAT_LANES)
-  // Only with 16 lanes: on 8 (AVX2) the fused sweep's live vectors outgrow the 16 registers
-  // and spill, and the separate products measured faster (lab/performance.md).
-  definite_kernel_ =
-      kLanes == 16 && std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
+  // On 8 lanes too: the fused sweep stores nothing under a mask but at a row's edges (a masked
+  // store is microcoded on some AVX2 CPUs, which made it slower than the separate products).
+  definite_kernel_ = std::is_same_v<Real, float> && stencils_.size() == kProvotStencils.size();
   if (definite_kernel_) {
     ends_rows_ = AlignedBuffer<Real>(static_cast<std::size_t>(threads) * 6 * span_);
     plane_ = (n_ + 15) / 16 * 16;
