@@ -140,21 +140,27 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
     if constexpr (Edge) return columns_in(c, begin, end);
     return all_lanes();
   };
+  // Loads under a mask at the edges only (the compiler keeps a masked load of every lane): the
+  // mask must be one of columns, all lanes away from the edges; a pin mask is applied by keep.
+  const auto load_lanes = [&](LaneMask valid, const float* p) {
+    if constexpr (Edge) return load_floats(valid, p);
+    return load_floats(p);
+  };
   const auto load = [&](const float* p, std::ptrdiff_t shift, LaneMask valid, Vec3& out) {
-    for (std::size_t k = 0; k < 3; ++k) out[k] = load_floats(valid, p + c + k * stride + shift);
+    for (std::size_t k = 0; k < 3; ++k) out[k] = load_lanes(valid, p + c + k * stride + shift);
   };
   // u at (row, shift) where that particle is active and the lane a spring.
   const auto direction = [&](int dr, std::ptrdiff_t shift, LaneMask valid, Vec3& out) {
-    const LaneMask active =
-        both(valid, greater(load_floats(valid, row.inverse_mass[dr] + c + shift), zero));
-    load(row.u[dr], shift, active, out);
+    const LaneMask active = greater(load_lanes(valid, row.inverse_mass[dr] + c + shift), zero);
+    load(row.u[dr], shift, valid, out);
+    for (std::size_t k = 0; k < 3; ++k) out[k] = keep(active, out[k]);
   };
   const LaneMask all = lanes(0, cols);
   // Into a row of the product; an edge block stores only the row's own columns.
   const auto put = [&](float* p, bool first, const Vec3& value) {
     for (std::size_t k = 0; k < 3; ++k) {
       float* q = p + c + k * stride;
-      const Floats sum = first ? value[k] : load_floats(all, q) + value[k];
+      const Floats sum = first ? value[k] : load_lanes(all, q) + value[k];
       if constexpr (Edge) {
         store_floats(all, q, sum);
       } else {
@@ -183,7 +189,7 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
     }
     // 1/l is 0 in the lanes without a spring (and for a zero-length one): no force there.
     Floats across, along;
-    definite_coefficients(load_floats(valid, row.inverse_length[s] + c), broadcast(row.ks[s]),
+    definite_coefficients(load_lanes(valid, row.inverse_length[s] + c), broadcast(row.ks[s]),
                           broadcast(row.ks_rest[s]), broadcast(row.along_scale[s]),
                           broadcast(row.c_x), zero, across, along);
     along = along * (d[0] * du[0] + d[1] * du[1] + d[2] * du[2]);
@@ -235,11 +241,11 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
   if (!row.write[0]) return;
   // Row r is complete now (the rows above added theirs before): out = q = u + M^-1 (sum), u
   // being 0 and M^-1 0 on pinned particles, and the block's m u.q into the row's dot.
-  const Floats inverse_mass = load_floats(all, row.inverse_mass[0] + c);
+  const Floats inverse_mass = load_lanes(all, row.inverse_mass[0] + c);
   Floats u_dot_q = zero;
   for (std::size_t k = 0; k < 3; ++k) {
     float* q = row.out[0] + c + k * stride;
-    const Floats sum = row.first[0] ? own[k] : own[k] + load_floats(all, q);
+    const Floats sum = row.first[0] ? own[k] : own[k] + load_lanes(all, q);
     const Floats value = u[k] + inverse_mass * sum;
     u_dot_q = u_dot_q + u[k] * value;
     if constexpr (Edge) {
@@ -248,7 +254,7 @@ __attribute__((always_inline)) inline void definite_row_block(const DefiniteRow&
       store_floats(q, value);
     }
   }
-  add_widened(load_floats(all, row.mass + c) * u_dot_q, dot);
+  add_widened(load_lanes(all, row.mass + c) * u_dot_q, dot);
 }
 
 // One row's sweep (the edge blocks mask lanes outside the grid or a stencil's columns); with

@@ -92,17 +92,8 @@ inline float external_row_accelerations_lanes(const ExternalRow<float>& row) {
       probe = fused_multiply_add(value, zero, probe);
     }
   };
-  // A row of kLanes columns or more ends with a whole block overlapping the one before, not a
-  // masked one (masked stores are slow on AVX2): out aliases no input, so the columns done
-  // twice get the same bits.
-  const std::size_t cols = row.cols;
-  if (cols < kLanes) {
-    for_each_lane_block(0, cols, block);
-  } else {
-    std::size_t c = 0;
-    for (; c + kLanes <= cols; c += kLanes) block(c, FullLanes{});
-    if (c < cols) block(cols - kLanes, FullLanes{});
-  }
+  // out aliases no input.
+  for_each_whole_lane_block(0, row.cols, block);
   // NaN in some lane exactly when some value was not finite.
   return no_lane(unordered(probe, probe)) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
 }

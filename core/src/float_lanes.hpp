@@ -330,6 +330,23 @@ inline void for_each_lane_block(std::size_t begin, std::size_t end, Body&& body)
   if (c < end) body(c, TailLanes{lanes_from_to(0, end - c)});
 }
 
+// Runs body(c, FullLanes{}) over [begin, end) in whole blocks, the last one overlapping the one
+// before rather than masked (a masked store is microcoded on some AVX2 CPUs); a range shorter
+// than a block runs masked. Only for a body whose outputs alias none of its inputs and whose
+// lanes are independent (no shift across lanes, nothing carried from block to block): the
+// columns done twice then get the same bits. A row updated in place needs its last block
+// computed first (xpbd_grid_sweep.hpp's for_each_run_block).
+template <class Body>
+inline void for_each_whole_lane_block(std::size_t begin, std::size_t end, Body&& body) {
+  if (end - begin < kLanes) {
+    for_each_lane_block(begin, end, body);
+    return;
+  }
+  std::size_t c = begin;
+  for (; c + kLanes <= end; c += kLanes) body(c, FullLanes{});
+  if (c < end) body(end - kLanes, FullLanes{});
+}
+
 // Lanes of the block at column c whose column lies in [begin, end).
 inline LaneMask columns_in(std::size_t c, std::size_t begin, std::size_t end) {
   const std::size_t low = begin > c ? (begin - c < kLanes ? begin - c : kLanes) : 0;

@@ -103,7 +103,8 @@ inline void wind_row_forces_lanes(const WindRow<float>& row) {
   const float* const next = row.below;
   float* const first_out = row.first;
   float* const second_out = row.second;
-  for_each_lane_block(0, row.cells, [&](std::size_t c, auto lanes) {
+  // The shares alias no position.
+  for_each_whole_lane_block(0, row.cells, [&](std::size_t c, auto lanes) {
     const auto load = [&](const float* p, std::size_t k) {
       return lanes.load(p + c + k * position_span);
     };

@@ -106,7 +106,8 @@ inline LaneMask lanes_of(const TailLanes& block) { return block.mask(); }
 // A row's last kLanes springs as a whole block, of which those before `lanes` were projected
 // by the block before: whole loads and stores (a masked store is slow), the lanes done
 // before pushed by nothing, so that their ends get back the displacements just stored
-// (but for a zero's sign). Their multipliers are stored masked: a fresh block's are 0.
+// (but for a zero's sign). Their multipliers keep what the block before stored (a fresh
+// block's are 0), by a select.
 struct LastLanes {
   LaneMask lanes;
   static Floats load(const float* p) { return load_floats(p); }
@@ -119,7 +120,7 @@ inline void store_multipliers(const Block& block, float* p, Floats value) {
   block.store(p, value);
 }
 inline void store_multipliers(const LastLanes& block, float* p, Floats value) {
-  store_floats(block.lanes, p, value);
+  store_floats(p, select(block.lanes, value, load_floats(p)));
 }
 
 // 1 / ((ks h^2 + kd h)(w_i + w_j) + 1).
@@ -469,11 +470,15 @@ inline void project_in_row(const ColorRow<float>& row) {
         return spring_update(law, lanes, x_difference, dxi, dxj, inverse, accumulated);
     }();
     if constexpr (KeepLambda) {
-      // The last run's multipliers masked: its lanes done before hold another run's.
+      // The last run's lanes done before keep another run's multipliers (by a select: a
+      // masked store is slow); a cut run stores only its own.
+      const Floats kept = masked_add(u.pushed, accumulated, u.delta);
       if constexpr (kWhole)
-        store_floats(lambda, masked_add(u.pushed, accumulated, u.delta));
+        store_floats(lambda, kept);
+      else if constexpr (kMasked)
+        store_floats(lanes, lambda, kept);
       else
-        store_floats(lanes, lambda, masked_add(u.pushed, accumulated, u.delta));
+        store_floats(lambda, select(lanes, kept, load_floats(lambda)));
     }
     const PushLanes<kUniform> push = push_lanes<kUniform, Fresh>(u, law, wi, wj, accumulated);
     for (std::size_t k = 0; k < 3; ++k) {
