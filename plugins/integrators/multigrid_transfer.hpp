@@ -64,6 +64,13 @@ struct AxisParents {
   std::vector<double> weights;  // 2 per fine node
 };
 
+// sum += weight a over a 3x3 block: one fused multiply-add per entry on any path, in lanes
+// (sum and a do not overlap).
+inline void add_scaled_block(double* __restrict sum, double weight, const double* __restrict a) {
+#pragma omp simd
+  for (int k = 0; k < 9; ++k) sum[k] += weight * a[k];
+}
+
 class GridTransfer {
  public:
   // coarsening: every m-th node kept (kMinCoarsening to kMaxCoarsening).
@@ -74,10 +81,19 @@ class GridTransfer {
     if (coarsening < kMinCoarsening || coarsening > kMaxCoarsening)
       throw std::invalid_argument("multigrid: a coarsening of " + std::to_string(coarsening) +
                                   " (takes 2 to 3)");
+    plan_classes(fine);
   }
 
   // Every coarsening-th node is kept.
   int coarsening() const { return coarsening_; }
+
+  // Fine nodes whose rows of the Galerkin product follow their class's plan (the rest take the
+  // general path).
+  std::size_t planned_nodes() const {
+    return static_cast<std::size_t>(std::count(planned_.begin(), planned_.end(), uint8_t{1}));
+  }
+  // The general path on every row from now on (for comparing the two).
+  void drop_plan() { std::fill(planned_.begin(), planned_.end(), uint8_t{0}); }
 
   // The coarse level's fixed nodes: those on a fixed fine node.
   std::vector<uint8_t> coarse_fixed(const GridLevel& fine) const {
@@ -242,6 +258,31 @@ class GridTransfer {
     const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
+    if (planned_[fine.node(r, c)]) {
+      // The class's terms, in the order the general path below takes them, so the same bits.
+      const ClassPlan& plan =
+          plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
+      row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
+        const auto offset = static_cast<std::size_t>((r2 - r + 2) * kSpan + (c2 - c + 2));
+        for (uint16_t t = plan.begin[offset]; t < plan.begin[offset + 1]; ++t) {
+          const ClassTerm term = plan.terms[t];
+          add_scaled_block(&product[9 * std::size_t{term.local}], term.weight, a);
+          touched[term.local] = 1;
+        }
+      });
+      // The coarse parents' windows are whole: a local block's slot is fixed by the parent.
+      for (const ClassParent& parent : plan.parents) {
+        const int pr = row0 + 2 + parent.row, pc = col0 + 2 + parent.col;
+        if (!owned(pr)) continue;
+        double* const row = coarse.row_blocks(pr, pc);
+        for (int local = 0; local < kSpan * kSpan; ++local) {
+          if (!touched[static_cast<std::size_t>(local)]) continue;
+          add_scaled_block(row + 9 * (local - kSpan * parent.row - parent.col), parent.weight,
+                           &product[9 * static_cast<std::size_t>(local)]);
+        }
+      }
+      return;
+    }
     row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
       if (fine.fixed(fine.node(r2, c2))) return;
       for (int i = 0; i < row_parents_.count(r2); ++i)
@@ -249,8 +290,8 @@ class GridTransfer {
           const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
           if (coarse.fixed(coarse.node(pr, pc))) continue;
           const int local = (pr - row0) * kSpan + (pc - col0);
-          const double weight = row_parents_.weight(r2, i) * col_parents_.weight(c2, j);
-          for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
+          add_scaled_block(&product[9 * static_cast<std::size_t>(local)],
+                           row_parents_.weight(r2, i) * col_parents_.weight(c2, j), a);
           touched[local] = 1;
         }
     });
@@ -264,15 +305,95 @@ class GridTransfer {
         double* const row = coarse.row_blocks(pr, pc);
         for (int local = 0; local < kSpan * kSpan; ++local) {
           if (!touched[local]) continue;
-          double* target =
-              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan);
-          for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
+          add_scaled_block(
+              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan),
+              weight, &product[9 * static_cast<std::size_t>(local)]);
         }
+      }
+  }
+
+  // The plan of a class of interior fine rows. Every m-th node kept, a fine node f whose
+  // window's nodes all lie at the regular spacing (none on the last, nearer coarse node) has
+  // parents and weights that depend only on (r mod m, c mod m), and so does each term of its
+  // row of A P: the coarse block it adds to (as a place in the 5 x 5 span from f's first
+  // parent less 2) and its weight, per window offset of the fine block. A planned row's window
+  // holds no fixed fine node, and the span no fixed coarse node, so no term is skipped.
+  struct ClassTerm {
+    uint8_t local;  // the A P block: row local / 5, column local % 5 of the span
+    double weight;
+  };
+  struct ClassParent {
+    int row, col;  // from f's first parent
+    double weight;
+  };
+  struct ClassPlan {
+    std::array<uint16_t, kSpan * kSpan + 1> begin{};  // per window offset, its terms' start
+    std::vector<ClassTerm> terms;
+    std::vector<ClassParent> parents;  // f's own, in the general path's order
+  };
+
+  // Along an axis, whether f's parents are those of the regular spacing: f / m, and the next
+  // where f is between two.
+  static bool regular(const AxisParents& parents, int m, int n, int f) {
+    const int k = parents.first[static_cast<std::size_t>(f)];
+    if (k != f / m) return false;
+    return f % m == 0 ? parents.count(f) == 1 : parents.count(f) == 2 && m * (k + 1) <= n - 1;
+  }
+
+  // Marks the fine nodes whose rows follow a plan, and forms each class's plan from its first
+  // such node, by the general path's rules (the same order of terms).
+  void plan_classes(const GridLevel& fine) {
+    const int m = coarsening_;
+    plans_.assign(static_cast<std::size_t>(m * m), {});
+    planned_.assign(fine.node_count(), 0);
+    if (fine.rows() < 3 || fine.cols() < 3) return;
+    const std::vector<uint8_t> coarse_fixed_nodes = coarse_fixed(fine);
+    const int coarse_rows =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.rows()), m));
+    const int coarse_cols =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.cols()), m));
+    std::vector<uint8_t> planned_class(plans_.size(), 0);
+    for (int r = kSpan / 2; r + kSpan / 2 < fine.rows(); ++r)
+      for (int c = kSpan / 2; c + kSpan / 2 < fine.cols(); ++c) {
+        const int pr = row_parents_.parent(r, 0), pc = col_parents_.parent(c, 0);
+        if (pr < 2 || pr + 3 >= coarse_rows || pc < 2 || pc + 3 >= coarse_cols) continue;
+        bool plain = true;
+        for (int d = -2; d <= 2 && plain; ++d)
+          plain = regular(row_parents_, m, fine.rows(), r + d) &&
+                  regular(col_parents_, m, fine.cols(), c + d);
+        for (int r2 = r - 2; r2 <= r + 2 && plain; ++r2)
+          for (int c2 = c - 2; c2 <= c + 2 && plain; ++c2) plain = !fine.fixed(fine.node(r2, c2));
+        for (int r2 = pr - 2; r2 <= pr + 2 && plain; ++r2)
+          for (int c2 = pc - 2; c2 <= pc + 2 && plain; ++c2)
+            plain = !coarse_fixed_nodes[static_cast<std::size_t>(r2) * coarse_cols + c2];
+        if (!plain) continue;
+        planned_[fine.node(r, c)] = 1;
+        const auto at = static_cast<std::size_t>((r % m) * m + c % m);
+        if (planned_class[at]) continue;
+        planned_class[at] = 1;
+        ClassPlan& plan = plans_[at];
+        const int row0 = pr - 2, col0 = pc - 2;
+        for (int offset = 0; offset < kSpan * kSpan; ++offset) {
+          plan.begin[static_cast<std::size_t>(offset)] = static_cast<uint16_t>(plan.terms.size());
+          const int r2 = r + offset / kSpan - 2, c2 = c + offset % kSpan - 2;
+          for (int i = 0; i < row_parents_.count(r2); ++i)
+            for (int j = 0; j < col_parents_.count(c2); ++j)
+              plan.terms.push_back(
+                  {static_cast<uint8_t>((row_parents_.parent(r2, i) - row0) * kSpan +
+                                        (col_parents_.parent(c2, j) - col0)),
+                   row_parents_.weight(r2, i) * col_parents_.weight(c2, j)});
+        }
+        plan.begin.back() = static_cast<uint16_t>(plan.terms.size());
+        for (int i = 0; i < row_parents_.count(r); ++i)
+          for (int j = 0; j < col_parents_.count(c); ++j)
+            plan.parents.push_back({i, j, row_parents_.weight(r, i) * col_parents_.weight(c, j)});
       }
   }
 
   int coarsening_;
   AxisParents row_parents_, col_parents_;
+  std::vector<ClassPlan> plans_;  // per class (r mod m) m + c mod m
+  std::vector<uint8_t> planned_;  // per fine node: its row follows its class's plan
 };
 
 }  // namespace clothlab::builtin

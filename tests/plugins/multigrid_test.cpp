@@ -240,15 +240,19 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
 // Even and odd sides both, every other and every third node kept: an axis may end in a
 // shorter coarse interval (one fine spacing, or two).
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
-  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product.
+  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product. 20 x 22: rows
+  // far enough from the edges and pins to follow their class's plan.
   for (const int m : {2, 3})
-    for (const auto& [rows, cols] :
-         {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}, std::pair{26, 7}}) {
+    for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7},
+                                     std::pair{26, 7}, std::pair{20, 22}}) {
       ClothMatrix cloth(rows, cols, 30.0);
       MultigridHierarchy hierarchy =
           hierarchy_for(cloth, rows * cols - 1, builtin::LanePrecision::float64,
                         builtin::Smoothing::gauss_seidel, m);
       ASSERT_EQ(hierarchy.level_count(), 2u);  // two levels
+      if (cols == 22) {
+        EXPECT_GT(hierarchy.transfer(0).planned_nodes(), 0u) << m;
+      }
       const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed, m);
       Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
       const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
@@ -301,6 +305,36 @@ TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
             ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
                 << threads << " threads, node " << r << " x " << c;
       EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+    }
+  }
+}
+
+// The fine rows away from the edges and pins follow their class's plan (multigrid_transfer.hpp):
+// the same terms in the same order as the general path, so the same bits, with pins inside the
+// grid (a row whose window or span holds one takes the general path) and on 1 and 2 threads.
+TEST(Multigrid, TheGalerkinProductsClassPlanGivesTheGeneralPathsBits) {
+  for (const int m : {2, 3}) {
+    ClothMatrix cloth(65, 62, 30.0);
+    cloth.fixed[static_cast<std::size_t>(30 * 62 + 31)] = 1;  // a pin inside
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000, builtin::LanePrecision::float64,
+                                                 builtin::Smoothing::gauss_seidel, m);
+    const builtin::GridTransfer& planned = hierarchy.transfer(0);
+    const std::size_t fine_nodes = hierarchy.level(0).node_count();
+    EXPECT_GT(planned.planned_nodes(), fine_nodes / 2) << m;
+    EXPECT_LT(planned.planned_nodes(), fine_nodes - 4 * 62) << m;
+    builtin::GridTransfer general = planned;
+    general.drop_plan();
+    ASSERT_EQ(general.planned_nodes(), 0u);
+    general.galerkin(hierarchy.level(0), hierarchy.level(1), 1);
+    const GridLevel expected = hierarchy.level(1);
+    for (int threads : {1, 2}) {
+      planned.galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      const GridLevel& coarse = hierarchy.level(1);
+      std::size_t differing = 0;
+      for_each_block_entry(coarse, [&](int r, int c, int r2, int c2, int k) {
+        differing += coarse.block(r, c, r2, c2)[k] != expected.block(r, c, r2, c2)[k];
+      });
+      EXPECT_EQ(differing, 0u) << m << ", " << threads << " threads";
     }
   }
 }
@@ -812,11 +846,11 @@ struct ProbedTable {
 // D^-1 and the fine smoother's bound come straight from the table in one pass, and are the
 // probed ones (to the single-precision rounding of the probed fine level's off-diagonal
 // blocks), as is the V-cycle they make; a table with one off-diagonal block halved is caught.
-// 21 rows: 11 coarse rows, two bands of the Galerkin product, a fine row read by both. The
-// masses differ from particle to particle, so a table block weighted by the wrong particle's
-// mass shows.
+// 24 rows: 9 coarse rows (every third fine one kept), two bands of the Galerkin product, a
+// fine row read by both; 19 columns: the middle rows follow their class's plan. The masses differ
+// from particle to particle, so a table block weighted by the wrong particle's mass shows.
 TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
-  constexpr int kRows = 21, kCols = 13;
+  constexpr int kRows = 24, kCols = 19;
   GridNet net(kRows, kCols);
   MockSystem<double>& mock = net.host.system();
   for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
@@ -833,6 +867,7 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   const auto product = shifted_definite_product(system, h);
   probed.linearise(system, product);
   tabled.assemble(table.values.data());
+  ASSERT_GT(tabled.hierarchy().transfer(0).planned_nodes(), 0u);
   const std::size_t vector_size = 3 * std::size_t{system.stride()};
   std::mt19937 random(3);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
