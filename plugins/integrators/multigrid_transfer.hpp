@@ -256,33 +256,10 @@ class GridTransfer {
     // f's A P row lies within 2 coarse rows/cols of f's first parent: each g of the row is at
     // most one coarse interval from f.
     const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
+    if (planned_[fine.node(r, c)])
+      return galerkin_planned_row(coarse, r, c, row0 + 2, col0 + 2, once, owned, row_blocks);
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
-    if (planned_[fine.node(r, c)]) {
-      // The class's terms, in the order the general path below takes them, so the same bits.
-      const ClassPlan& plan =
-          plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
-      row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
-        const auto offset = static_cast<std::size_t>((r2 - r + 2) * kSpan + (c2 - c + 2));
-        for (uint16_t t = plan.begin[offset]; t < plan.begin[offset + 1]; ++t) {
-          const ClassTerm term = plan.terms[t];
-          add_scaled_block(&product[9 * std::size_t{term.local}], term.weight, a);
-          touched[term.local] = 1;
-        }
-      });
-      // The coarse parents' windows are whole: a local block's slot is fixed by the parent.
-      for (const ClassParent& parent : plan.parents) {
-        const int pr = row0 + 2 + parent.row, pc = col0 + 2 + parent.col;
-        if (!owned(pr)) continue;
-        double* const row = coarse.row_blocks(pr, pc);
-        for (int local = 0; local < kSpan * kSpan; ++local) {
-          if (!touched[static_cast<std::size_t>(local)]) continue;
-          add_scaled_block(row + 9 * (local - kSpan * parent.row - parent.col), parent.weight,
-                           &product[9 * static_cast<std::size_t>(local)]);
-        }
-      }
-      return;
-    }
     row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
       if (fine.fixed(fine.node(r2, c2))) return;
       for (int i = 0; i < row_parents_.count(r2); ++i)
@@ -312,22 +289,68 @@ class GridTransfer {
       }
   }
 
+  // galerkin_row for a row that follows its class's plan, (pr, pc) its first parent: each block
+  // of A P summed whole, its terms (the fine blocks read, by window place) in the order the
+  // general path adds them, so the same bits, then added to each owned parent's row, whose
+  // window is whole (the block's slot fixed by the parent).
+  template <class Owned, class RowBlocks>
+  void galerkin_planned_row(GridLevel& coarse, int r, int c, int pr, int pc, bool once,
+                            const Owned& owned, RowBlocks& row_blocks) const {
+    const ClassPlan& plan =
+        plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
+    alignas(64) double blocks[kSpan * kSpan][9];
+    uint32_t read = 0;  // a bit per window place read
+    row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
+      const int place = (r2 - r + 2) * kSpan + (c2 - c + 2);
+      std::copy_n(a, 9, blocks[place]);
+      read |= uint32_t{1} << place;
+    });
+    std::array<double*, 4> targets{};
+    std::array<double, 4> weights{};
+    std::array<int, 4> shifts{};
+    std::size_t parents = 0;
+    for (const ClassParent& parent : plan.parents)
+      if (owned(pr + parent.row)) {
+        targets[parents] = coarse.row_blocks(pr + parent.row, pc + parent.col);
+        weights[parents] = parent.weight;
+        shifts[parents++] = kSpan * parent.row + parent.col;
+      }
+    if (parents == 0) return;
+    for (const ClassBlock& block : plan.blocks) {
+      alignas(64) double sum[9] = {};
+      bool any = false;
+      for (uint16_t t = block.begin; t < block.end; ++t) {
+        const ClassTerm term = plan.terms[t];
+        if (!(read >> term.place & 1)) continue;
+        add_scaled_block(sum, term.weight, blocks[term.place]);
+        any = true;
+      }
+      if (!any) continue;
+      for (std::size_t p = 0; p < parents; ++p)
+        add_scaled_block(targets[p] + 9 * (block.local - shifts[p]), weights[p], sum);
+    }
+  }
+
   // The plan of a class of interior fine rows. Every m-th node kept, a fine node f whose
   // window's nodes all lie at the regular spacing (none on the last, nearer coarse node) has
   // parents and weights that depend only on (r mod m, c mod m), and so does each term of its
-  // row of A P: the coarse block it adds to (as a place in the 5 x 5 span from f's first
-  // parent less 2) and its weight, per window offset of the fine block. A planned row's window
-  // holds no fixed fine node, and the span no fixed coarse node, so no term is skipped.
+  // row of A P: the fine block's window place, the A P block it adds to (a place in the 5 x 5
+  // span from f's first parent less 2) and its weight. A planned row's window holds no fixed
+  // fine node, and the span no fixed coarse node, so no term is skipped.
   struct ClassTerm {
-    uint8_t local;  // the A P block: row local / 5, column local % 5 of the span
+    uint8_t place;  // the fine block's: row place / 5, column place % 5 of f's window
     double weight;
+  };
+  struct ClassBlock {
+    int local;            // the A P block: row local / 5, column local % 5 of the span
+    uint16_t begin, end;  // its terms, in the fine blocks' order
   };
   struct ClassParent {
     int row, col;  // from f's first parent
     double weight;
   };
   struct ClassPlan {
-    std::array<uint16_t, kSpan * kSpan + 1> begin{};  // per window offset, its terms' start
+    std::vector<ClassBlock> blocks;
     std::vector<ClassTerm> terms;
     std::vector<ClassParent> parents;  // f's own, in the general path's order
   };
@@ -373,17 +396,23 @@ class GridTransfer {
         planned_class[at] = 1;
         ClassPlan& plan = plans_[at];
         const int row0 = pr - 2, col0 = pc - 2;
-        for (int offset = 0; offset < kSpan * kSpan; ++offset) {
-          plan.begin[static_cast<std::size_t>(offset)] = static_cast<uint16_t>(plan.terms.size());
-          const int r2 = r + offset / kSpan - 2, c2 = c + offset % kSpan - 2;
+        std::array<std::vector<ClassTerm>, kSpan * kSpan> by_block;
+        for (int place = 0; place < kSpan * kSpan; ++place) {
+          const int r2 = r + place / kSpan - 2, c2 = c + place % kSpan - 2;
           for (int i = 0; i < row_parents_.count(r2); ++i)
             for (int j = 0; j < col_parents_.count(c2); ++j)
-              plan.terms.push_back(
-                  {static_cast<uint8_t>((row_parents_.parent(r2, i) - row0) * kSpan +
-                                        (col_parents_.parent(c2, j) - col0)),
-                   row_parents_.weight(r2, i) * col_parents_.weight(c2, j)});
+              by_block[static_cast<std::size_t>((row_parents_.parent(r2, i) - row0) * kSpan +
+                                                (col_parents_.parent(c2, j) - col0))]
+                  .push_back({static_cast<uint8_t>(place),
+                              row_parents_.weight(r2, i) * col_parents_.weight(c2, j)});
         }
-        plan.begin.back() = static_cast<uint16_t>(plan.terms.size());
+        for (int local = 0; local < kSpan * kSpan; ++local) {
+          const std::vector<ClassTerm>& terms = by_block[static_cast<std::size_t>(local)];
+          if (terms.empty()) continue;
+          const auto begin = static_cast<uint16_t>(plan.terms.size());
+          plan.terms.insert(plan.terms.end(), terms.begin(), terms.end());
+          plan.blocks.push_back({local, begin, static_cast<uint16_t>(plan.terms.size())});
+        }
         for (int i = 0; i < row_parents_.count(r); ++i)
           for (int j = 0; j < col_parents_.count(c); ++j)
             plan.parents.push_back({i, j, row_parents_.weight(r, i) * col_parents_.weight(c, j)});
