@@ -355,14 +355,6 @@ class GridTransfer {
     std::vector<ClassParent> parents;  // f's own, in the general path's order
   };
 
-  // Along an axis, whether f's parents are those of the regular spacing: f / m, and the next
-  // where f is between two.
-  static bool regular(const AxisParents& parents, int m, int n, int f) {
-    const int k = parents.first[static_cast<std::size_t>(f)];
-    if (k != f / m) return false;
-    return f % m == 0 ? parents.count(f) == 1 : parents.count(f) == 2 && m * (k + 1) <= n - 1;
-  }
-
   // Marks the fine nodes whose rows follow a plan, and forms each class's plan from its first
   // such node, by the general path's rules (the same order of terms).
   void plan_classes(const GridLevel& fine) {
@@ -379,11 +371,11 @@ class GridTransfer {
     for (int r = kSpan / 2; r + kSpan / 2 < fine.rows(); ++r)
       for (int c = kSpan / 2; c + kSpan / 2 < fine.cols(); ++c) {
         const int pr = row_parents_.parent(r, 0), pc = col_parents_.parent(c, 0);
+        // The span (and f's second parent's window) inside the coarse grid, short of its last
+        // node: only that node's interval may be shorter, so every parent of the window's nodes
+        // is at the regular spacing.
         if (pr < 2 || pr + 3 >= coarse_rows || pc < 2 || pc + 3 >= coarse_cols) continue;
         bool plain = true;
-        for (int d = -2; d <= 2 && plain; ++d)
-          plain = regular(row_parents_, m, fine.rows(), r + d) &&
-                  regular(col_parents_, m, fine.cols(), c + d);
         for (int r2 = r - 2; r2 <= r + 2 && plain; ++r2)
           for (int c2 = c - 2; c2 <= c + 2 && plain; ++c2) plain = !fine.fixed(fine.node(r2, c2));
         for (int r2 = pr - 2; r2 <= pr + 2 && plain; ++r2)

@@ -906,6 +906,52 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   EXPECT_GT(level_difference(tabled.hierarchy().level(1), expected), 1e-3 * size);
 }
 
+// A lower block of S = M (I + J) is read as the transpose of its upper one, so S is exactly
+// symmetric. A host's blocks need not be symmetric themselves (a spring's are): with the upper
+// blocks skewed, level 1 is P^T S P for S formed from the table's upper triangle (dense, in
+// double), to the single-precision rounding of level 1's off-diagonal blocks.
+TEST(Multigrid, LevelOneFromATableOfAsymmetricBlocksIsRapOfItsUpperTriangle) {
+  constexpr int kRows = 24, kCols = 19;
+  GridNet net(kRows, kCols);
+  MockSystem<double>& mock = net.host.system();
+  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
+  const sdk::System<double> system(mock.raw());
+  mock.allocation_allowed = true;
+  ProbedTable table(system, kRows, kCols, 1.0 / 60.0);
+  builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  mock.allocation_allowed = false;
+  const GridLevel& fine = tabled.hierarchy().level(0);
+  const std::size_t n = fine.node_count();
+  Eigen::MatrixXd s =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * n), static_cast<Eigen::Index>(3 * n));
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t k = table.offsets[i]; k < table.offsets[i + 1]; ++k) {
+      const uint32_t j = table.columns[k];
+      double* d = &table.values[9 * std::size_t{k}];
+      if (j < i || fine.fixed(i) || fine.fixed(j)) continue;
+      if (j > i) d[1] += 0.1 * std::abs(d[0]) + 0.05 * std::abs(d[4]);  // skewed
+      const double m = 1.0 / system.inverse_mass()[i];
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) {
+          const double entry =
+              j == i ? m * d[3 * std::min(row, col) + std::max(row, col)] + (row == col ? m : 0.0)
+                     : m * d[3 * row + col];
+          s(3 * i + row, 3 * j + col) = s(3 * j + col, 3 * i + row) = entry;
+        }
+    }
+  tabled.assemble(table.values.data());
+  ASSERT_GT(tabled.hierarchy().transfer(0).planned_nodes(), 0u);
+  std::vector<uint8_t> fixed(n);
+  for (std::size_t i = 0; i < n; ++i) fixed[i] = fine.fixed(i) ? 1 : 0;
+  const SparseMatrix p =
+      bilinear_prolongation(kRows, kCols, fixed, builtin::kPreconditionerCoarsening);
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * s * Eigen::MatrixXd(p);
+  const Eigen::MatrixXd coarse = dense_of(tabled.hierarchy().level(1));
+  ASSERT_EQ(coarse.rows(), expected.rows());
+  ASSERT_GT(expected.norm(), 0.0);
+  EXPECT_LT((coarse - expected).norm(), 1e-6 * expected.norm());
+}
+
 // A block table whose pattern disagrees with the grid: one line naming the table and the
 // disagreement, at construction.
 TEST(Multigrid, RefusesABlockTableThatDisagreesWithTheGrid) {
