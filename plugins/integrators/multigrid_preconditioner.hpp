@@ -124,6 +124,13 @@ class MultigridPreconditioner {
   // where the fine level is the coarsest).
   double lambda_max() const { return lambda_max_; }
 
+  // Every level's Galerkin product in bands of `rows` coarse rows from the next build (for
+  // comparing band plans: GridTransfer::set_band_rows).
+  void set_band_rows(int rows) {
+    for (std::size_t l = 0; l + 1 < hierarchy_.level_count(); ++l)
+      hierarchy_.transfer(l).set_band_rows(rows);
+  }
+
   // Hierarchies built so far (each ends in a factorisation of the coarsest level).
   uint64_t rebuild_count() const { return rebuild_count_; }
 

@@ -94,6 +94,8 @@ class GridTransfer {
   }
   // The general path on every row from now on (for comparing the two).
   void drop_plan() { std::fill(planned_.begin(), planned_.end(), uint8_t{0}); }
+  // The Galerkin product's coarse rows per band (kBandRows unless set; for comparing band plans).
+  void set_band_rows(int rows) { band_rows_ = std::max(rows, 1); }
 
   // The coarse level's fixed nodes: those on a fixed fine node.
   std::vector<uint8_t> coarse_fixed(const GridLevel& fine) const {
@@ -228,9 +230,9 @@ class GridTransfer {
   void galerkin(const GridLevel& fine, GridLevel& coarse, int threads,
                 RowBlocks&& row_blocks) const {
     coarse.clear();
-    const int bands = (coarse.rows() + kBandRows - 1) / kBandRows;
+    const int bands = (coarse.rows() + band_rows_ - 1) / band_rows_;
     fine.for_each_index(bands, threads, [&](int band) {
-      const int first = band * kBandRows, last = std::min(first + kBandRows, coarse.rows());
+      const int first = band * band_rows_, last = std::min(first + band_rows_, coarse.rows());
       const auto owned = [&](int pr) { return pr >= first && pr < last; };
       for (int r = std::max(coarsening_ * (first - 1), 0);
            r < std::min(coarsening_ * last + 1, fine.rows()); ++r) {
@@ -412,6 +414,7 @@ class GridTransfer {
   }
 
   int coarsening_;
+  int band_rows_ = kBandRows;
   AxisParents row_parents_, col_parents_;
   std::vector<ClassPlan> plans_;  // per class (r mod m) m + c mod m
   std::vector<uint8_t> planned_;  // per fine node: its row follows its class's plan

@@ -906,6 +906,53 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   EXPECT_GT(level_difference(tabled.hierarchy().level(1), expected), 1e-3 * size);
 }
 
+// The Galerkin product's bands are fixed by the level, never by the thread count, and any band
+// plan gives the same bits, from the host's table too, where a fine row under two bands is read
+// by both (its D^-1 and bound formed on one of the reads): the V-cycle, level 1 and the fine
+// bound with one band, the default two (9 coarse rows) and one coarse row per band.
+TEST(Multigrid, TheTablesGalerkinProductHasTheSameBitsInOneBandAndSeveral) {
+  constexpr int kRows = 24, kCols = 19;
+  GridNet net(kRows, kCols);
+  MockSystem<double>& mock = net.host.system();
+  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
+  const sdk::System<double> system(mock.raw());
+  const double h = 1.0 / 60.0;
+  mock.allocation_allowed = true;
+  const ProbedTable table(system, kRows, kCols, h);
+  builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  double* r = system.alloc_vector();
+  double* z = system.alloc_vector();
+  mock.allocation_allowed = false;
+  ASSERT_EQ(tabled.hierarchy().level(1).rows(), 9);
+  const auto product = shifted_definite_product(system, h);
+  const std::size_t size = 3 * std::size_t{system.stride()};
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < size; ++k) r[k] = uniform(random);
+  std::vector<std::vector<double>> cycles;
+  std::vector<GridLevel> levels;
+  std::vector<double> bounds;
+  for (const int band_rows : {9, 8, 1}) {
+    tabled.set_band_rows(band_rows);
+    tabled.assemble(table.values.data());
+    std::fill_n(z, size, 0.0);
+    tabled.apply(system, r, z, product);
+    cycles.emplace_back(z, z + size);
+    levels.push_back(tabled.hierarchy().level(1));
+    bounds.push_back(tabled.lambda_max());
+  }
+  double z_size = 0.0;
+  for (const double value : cycles[0]) z_size = std::max(z_size, std::abs(value));
+  ASSERT_GT(z_size, 1e-3);
+  for (std::size_t t = 1; t < cycles.size(); ++t) {
+    EXPECT_EQ(level_difference(levels[t], levels[0]), 0.0) << t;
+    EXPECT_EQ(bounds[t], bounds[0]) << t;
+    std::size_t differing = 0;
+    for (std::size_t k = 0; k < size; ++k) differing += cycles[t][k] != cycles[0][k];
+    EXPECT_EQ(differing, 0u) << t;
+  }
+}
+
 // A lower block of S = M (I + J) is read as the transpose of its upper one, so S is exactly
 // symmetric. A host's blocks need not be symmetric themselves (a spring's are): with the upper
 // blocks skewed, level 1 is P^T S P for S formed from the table's upper triangle (dense, in
