@@ -842,28 +842,40 @@ struct ProbedTable {
   std::vector<double> values;
 };
 
+// The net the table tests share: 24 x 19 (9 coarse rows, every third fine one kept: two bands
+// of the Galerkin product, a fine row read by both; the middle rows follow their class's plan),
+// masses that differ from particle to particle (a table block weighted by the wrong particle's
+// mass shows), and the host's table of its definite J for a step of 1/60 s. The mock allows
+// allocations until the test has made its own.
+struct TabledNet {
+  static constexpr int kRows = 24, kCols = 19;
+  static constexpr double kStep = 1.0 / 60.0;
+  static MockSystem<double>& with_uneven_masses(MockSystem<double>& mock) {
+    for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
+    mock.allocation_allowed = true;
+    return mock;
+  }
+  GridNet net{kRows, kCols};
+  MockSystem<double>& mock = with_uneven_masses(net.host.system());
+  const sdk::System<double> system{mock.raw()};
+  ProbedTable table{system, kRows, kCols, kStep};
+};
+
 // From a host's block table the fine level keeps no blocks: level 1 (its Galerkin product),
 // D^-1 and the fine smoother's bound come straight from the table in one pass, and are the
 // probed ones (to the single-precision rounding of the probed fine level's off-diagonal
 // blocks), as is the V-cycle they make; a table with one off-diagonal block halved is caught.
-// 24 rows: 9 coarse rows (every third fine one kept), two bands of the Galerkin product, a
-// fine row read by both; 19 columns: the middle rows follow their class's plan. The masses differ
-// from particle to particle, so a table block weighted by the wrong particle's mass shows.
 TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
-  constexpr int kRows = 24, kCols = 19;
-  GridNet net(kRows, kCols);
-  MockSystem<double>& mock = net.host.system();
-  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
-  const sdk::System<double> system(mock.raw());
-  const double h = 1.0 / 60.0;
-  mock.allocation_allowed = true;
-  const ProbedTable table(system, kRows, kCols, h);
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  const ProbedTable& table = tabled_net.table;
+  const double h = TabledNet::kStep;
   builtin::MultigridPreconditioner probed(system, 0, 1);
   builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
   double* r = system.alloc_vector();
   double* z_probed = system.alloc_vector();
   double* z_tabled = system.alloc_vector();
-  mock.allocation_allowed = false;
+  tabled_net.mock.allocation_allowed = false;
   const auto product = shifted_definite_product(system, h);
   probed.linearise(system, product);
   tabled.assemble(table.values.data());
@@ -898,7 +910,7 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (the upper triangle's, which
   // both blocks of the pair are formed from: half of them off).
   std::vector<double> halved = table.values;
-  const uint32_t row = 5 * kCols + 6;
+  const uint32_t row = 5 * TabledNet::kCols + 6;
   for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
     if (table.columns[k] == row + 1)
       for (std::size_t e = 0; e < 9; ++e) halved[9 * k + e] *= 0.5;
@@ -911,18 +923,14 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
 // by both (its D^-1 and bound formed on one of the reads): the V-cycle, level 1 and the fine
 // bound with one band, the default two (9 coarse rows) and one coarse row per band.
 TEST(Multigrid, TheTablesGalerkinProductHasTheSameBitsInOneBandAndSeveral) {
-  constexpr int kRows = 24, kCols = 19;
-  GridNet net(kRows, kCols);
-  MockSystem<double>& mock = net.host.system();
-  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
-  const sdk::System<double> system(mock.raw());
-  const double h = 1.0 / 60.0;
-  mock.allocation_allowed = true;
-  const ProbedTable table(system, kRows, kCols, h);
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  const ProbedTable& table = tabled_net.table;
+  const double h = TabledNet::kStep;
   builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
   double* r = system.alloc_vector();
   double* z = system.alloc_vector();
-  mock.allocation_allowed = false;
+  tabled_net.mock.allocation_allowed = false;
   ASSERT_EQ(tabled.hierarchy().level(1).rows(), 9);
   const auto product = shifted_definite_product(system, h);
   const std::size_t size = 3 * std::size_t{system.stride()};
@@ -958,15 +966,11 @@ TEST(Multigrid, TheTablesGalerkinProductHasTheSameBitsInOneBandAndSeveral) {
 // blocks skewed, level 1 is P^T S P for S formed from the table's upper triangle (dense, in
 // double), to the single-precision rounding of level 1's off-diagonal blocks.
 TEST(Multigrid, LevelOneFromATableOfAsymmetricBlocksIsRapOfItsUpperTriangle) {
-  constexpr int kRows = 24, kCols = 19;
-  GridNet net(kRows, kCols);
-  MockSystem<double>& mock = net.host.system();
-  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
-  const sdk::System<double> system(mock.raw());
-  mock.allocation_allowed = true;
-  ProbedTable table(system, kRows, kCols, 1.0 / 60.0);
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  ProbedTable& table = tabled_net.table;
   builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
-  mock.allocation_allowed = false;
+  tabled_net.mock.allocation_allowed = false;
   const GridLevel& fine = tabled.hierarchy().level(0);
   const std::size_t n = fine.node_count();
   Eigen::MatrixXd s =
@@ -990,8 +994,8 @@ TEST(Multigrid, LevelOneFromATableOfAsymmetricBlocksIsRapOfItsUpperTriangle) {
   ASSERT_GT(tabled.hierarchy().transfer(0).planned_nodes(), 0u);
   std::vector<uint8_t> fixed(n);
   for (std::size_t i = 0; i < n; ++i) fixed[i] = fine.fixed(i) ? 1 : 0;
-  const SparseMatrix p =
-      bilinear_prolongation(kRows, kCols, fixed, builtin::kPreconditionerCoarsening);
+  const SparseMatrix p = bilinear_prolongation(TabledNet::kRows, TabledNet::kCols, fixed,
+                                               builtin::kPreconditionerCoarsening);
   const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * s * Eigen::MatrixXd(p);
   const Eigen::MatrixXd coarse = dense_of(tabled.hierarchy().level(1));
   ASSERT_EQ(coarse.rows(), expected.rows());
