@@ -212,9 +212,10 @@ class GridTransfer {
   // one of a row's reads (a fine row under two bands is read by both), on the thread that
   // reads the fine row of nodes r in order, so per-row work done there has one writer. The
   // coarse rows split among `threads` in bands, each band from the fine rows under it: a
-  // coarse block sums its terms in the fine rows' order. The bands are fixed by the level, not
-  // by `threads`: with one band per thread instead, the table path's float64 bits differed
-  // between one and two threads (cause not found), so keep the band plan independent of it.
+  // coarse block sums its terms in the fine rows' order. The bands are fixed by the level
+  // (set_band_rows), not by `threads`: a band plan changes no bits (tested from the host's table
+  // with one, two and nine bands), but a plan of one band per thread once gave other float64
+  // bits on one and two threads, cause not found.
   void galerkin(const GridLevel& fine, GridLevel& coarse, int threads = 1) const {
     galerkin(fine, coarse, threads, [&](int r, int c, bool, auto&& visit) {
       const GridLevel::Window w = fine.window(r, c);
