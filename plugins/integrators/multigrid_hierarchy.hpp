@@ -100,6 +100,7 @@ class MultigridHierarchy {
   GridLevel& level(std::size_t l) { return levels_[l]; }
   const GridLevel& level(std::size_t l) const { return levels_[l]; }
   const GridTransfer& transfer(std::size_t l) const { return transfers_[l]; }  // l to l + 1
+  GridTransfer& transfer(std::size_t l) { return transfers_[l]; }
   // Level l's smoother, l below the coarsest level, of a gauss_seidel or a chebyshev hierarchy.
   const BlockGaussSeidel& smoother(std::size_t l) const { return smoothers_[l]; }
   const BlockChebyshev& chebyshev(std::size_t l) const { return chebyshev_[l]; }

@@ -41,6 +41,7 @@
 #include <clothlab/sdk/threads.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <string>
@@ -98,6 +99,16 @@ class MultigridPreconditioner {
       pattern_ = block_pattern;
       transposed_ = transposed_slots(*block_pattern);
       for (uint32_t i = 0; i < block_pattern->row_count; ++i)
+        for (uint32_t k = block_pattern->row_offsets[i]; k < block_pattern->row_offsets[i + 1];
+             ++k) {
+          const auto cols = static_cast<uint32_t>(hierarchy_.level(0).cols());
+          const uint32_t j = block_pattern->columns[k];
+          window_places_.push_back(static_cast<uint8_t>(
+              (static_cast<int>(j / cols) - static_cast<int>(i / cols) + GridLevel::reach) *
+                  kWindowWidth +
+              static_cast<int>(j % cols) - static_cast<int>(i % cols) + GridLevel::reach));
+        }
+      for (uint32_t i = 0; i < block_pattern->row_count; ++i)
         diagonal_slots_.push_back(static_cast<uint32_t>(
             std::lower_bound(block_pattern->columns + block_pattern->row_offsets[i],
                              block_pattern->columns + block_pattern->row_offsets[i + 1], i) -
@@ -112,6 +123,13 @@ class MultigridPreconditioner {
   // The fine smoother's upper bound on D^-1 A's eigenvalues, from the last build (0 before, and
   // where the fine level is the coarsest).
   double lambda_max() const { return lambda_max_; }
+
+  // Every level's Galerkin product in bands of `rows` coarse rows from the next build (for
+  // comparing band plans: GridTransfer::set_band_rows).
+  void set_band_rows(int rows) {
+    for (std::size_t l = 0; l + 1 < hierarchy_.level_count(); ++l)
+      hierarchy_.transfer(l).set_band_rows(rows);
+  }
 
   // Hierarchies built so far (each ends in a factorisation of the coarsest level).
   uint64_t rebuild_count() const { return rebuild_count_; }
@@ -333,24 +351,32 @@ class MultigridPreconditioner {
   void table_row(const double* values, uint32_t i, Visit&& visit) const {
     const GridLevel& fine = hierarchy_.level(0);
     const auto cols = static_cast<uint32_t>(fine.cols());
+    const auto r = static_cast<int>(i / cols) - GridLevel::reach;
+    const auto c = static_cast<int>(i % cols) - GridLevel::reach;
     for (uint32_t k = pattern_->row_offsets[i]; k < pattern_->row_offsets[i + 1]; ++k) {
-      const uint32_t j = pattern_->columns[k];
-      if (fine.fixed(j)) continue;
+      if (fine.fixed(pattern_->columns[k])) continue;
       double s[9];
       table_block(values, i, k, s);
-      visit(static_cast<int>(j / cols), static_cast<int>(j % cols), static_cast<const double*>(s));
+      const int place = window_places_[k];
+      visit(r + place / kWindowWidth, c + place % kWindowWidth, static_cast<const double*>(s));
     }
   }
-  // table_row's block of slot k, in row i, into s.
+  // table_row's block of slot k, in row i, into s. An off-diagonal block's first 8 entries are
+  // formed and stored in lanes, so that a caller's wide read of s forwards from the store.
   void table_block(const double* values, uint32_t i, uint32_t k, double* s) const {
+    using Lanes = double __attribute__((vector_size(64)));
+    using Order = int64_t __attribute__((vector_size(64)));
     const uint32_t j = pattern_->columns[k];
-    if (j > i) {
-      const double* a = values + 9 * std::size_t{k};
-      for (int e = 0; e < 9; ++e) s[e] = mass_[i] * a[e];
-    } else if (j < i) {
-      const double* t = values + 9 * std::size_t{transposed_[k]};
-      for (int row = 0; row < 3; ++row)
-        for (int col = 0; col < 3; ++col) s[3 * row + col] = mass_[j] * t[3 * col + row];
+    if (j != i) {
+      const bool upper = j > i;
+      const double* a = values + 9 * std::size_t{upper ? k : transposed_[k]};
+      const double m = mass_[upper ? i : j];
+      Lanes block;
+      std::memcpy(&block, a, sizeof block);
+      // s_(row, col) = m a_(row, col), or m t_(col, row) of the transpose t (entry 8 in place)
+      block = m * (upper ? block : __builtin_shuffle(block, Order{0, 3, 6, 1, 4, 7, 2, 5}));
+      std::memcpy(s, &block, sizeof block);
+      s[8] = m * a[8];
     } else {
       const double* a = values + 9 * std::size_t{k};
       for (int row = 0; row < 3; ++row)
@@ -381,7 +407,8 @@ class MultigridPreconditioner {
     return slots;
   }
 
-  static constexpr int kProbePeriod = 2 * GridLevel::reach + 1;
+  static constexpr int kWindowWidth = 2 * GridLevel::reach + 1;
+  static constexpr int kProbePeriod = kWindowWidth;
   // Particles of a range worth splitting among the V-cycle's threads.
   static constexpr uint32_t kParticlesWorthATeam = 4096;
 
@@ -584,7 +611,9 @@ class MultigridPreconditioner {
   // With block_table: the host's pattern and its table's values (9 per block).
   std::optional<clothlab_block_pattern> pattern_;
   std::vector<double> block_values_;
-  std::vector<uint32_t> transposed_;      // per block of the pattern, its transpose's slot
+  std::vector<uint32_t> transposed_;  // per block of the pattern, its transpose's slot
+  // Per block of the pattern, its place in its row's window: (r2 - r + 2) 5 + c2 - c + 2.
+  std::vector<uint8_t> window_places_;
   std::vector<uint32_t> diagonal_slots_;  // per row of the pattern, its diagonal block's slot
   std::vector<double> row_bounds_;        // per fine row of nodes, its part of lambda_max
 };

@@ -64,6 +64,13 @@ struct AxisParents {
   std::vector<double> weights;  // 2 per fine node
 };
 
+// sum += weight a over a 3x3 block: one fused multiply-add per entry on any path, in lanes
+// (sum and a do not overlap).
+inline void add_scaled_block(double* __restrict sum, double weight, const double* __restrict a) {
+#pragma omp simd
+  for (int k = 0; k < 9; ++k) sum[k] += weight * a[k];
+}
+
 class GridTransfer {
  public:
   // coarsening: every m-th node kept (kMinCoarsening to kMaxCoarsening).
@@ -74,10 +81,21 @@ class GridTransfer {
     if (coarsening < kMinCoarsening || coarsening > kMaxCoarsening)
       throw std::invalid_argument("multigrid: a coarsening of " + std::to_string(coarsening) +
                                   " (takes 2 to 3)");
+    plan_classes(fine);
   }
 
   // Every coarsening-th node is kept.
   int coarsening() const { return coarsening_; }
+
+  // Fine nodes whose rows of the Galerkin product follow their class's plan (the rest take the
+  // general path).
+  std::size_t planned_nodes() const {
+    return static_cast<std::size_t>(std::count(planned_.begin(), planned_.end(), uint8_t{1}));
+  }
+  // The general path on every row from now on (for comparing the two).
+  void drop_plan() { std::fill(planned_.begin(), planned_.end(), uint8_t{0}); }
+  // The Galerkin product's coarse rows per band (kBandRows unless set; for comparing band plans).
+  void set_band_rows(int rows) { band_rows_ = std::max(rows, 1); }
 
   // The coarse level's fixed nodes: those on a fixed fine node.
   std::vector<uint8_t> coarse_fixed(const GridLevel& fine) const {
@@ -194,9 +212,10 @@ class GridTransfer {
   // one of a row's reads (a fine row under two bands is read by both), on the thread that
   // reads the fine row of nodes r in order, so per-row work done there has one writer. The
   // coarse rows split among `threads` in bands, each band from the fine rows under it: a
-  // coarse block sums its terms in the fine rows' order. The bands are fixed by the level, not
-  // by `threads`: with one band per thread instead, the table path's float64 bits differed
-  // between one and two threads (cause not found), so keep the band plan independent of it.
+  // coarse block sums its terms in the fine rows' order. The bands are fixed by the level
+  // (set_band_rows), not by `threads`: a band plan changes no bits (tested from the host's table
+  // with one, two and nine bands), but a plan of one band per thread once gave other float64
+  // bits on one and two threads, cause not found.
   void galerkin(const GridLevel& fine, GridLevel& coarse, int threads = 1) const {
     galerkin(fine, coarse, threads, [&](int r, int c, bool, auto&& visit) {
       const GridLevel::Window w = fine.window(r, c);
@@ -212,9 +231,9 @@ class GridTransfer {
   void galerkin(const GridLevel& fine, GridLevel& coarse, int threads,
                 RowBlocks&& row_blocks) const {
     coarse.clear();
-    const int bands = (coarse.rows() + kBandRows - 1) / kBandRows;
+    const int bands = (coarse.rows() + band_rows_ - 1) / band_rows_;
     fine.for_each_index(bands, threads, [&](int band) {
-      const int first = band * kBandRows, last = std::min(first + kBandRows, coarse.rows());
+      const int first = band * band_rows_, last = std::min(first + band_rows_, coarse.rows());
       const auto owned = [&](int pr) { return pr >= first && pr < last; };
       for (int r = std::max(coarsening_ * (first - 1), 0);
            r < std::min(coarsening_ * last + 1, fine.rows()); ++r) {
@@ -240,6 +259,8 @@ class GridTransfer {
     // f's A P row lies within 2 coarse rows/cols of f's first parent: each g of the row is at
     // most one coarse interval from f.
     const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
+    if (planned_[fine.node(r, c)])
+      return galerkin_planned_row(coarse, r, c, row0 + 2, col0 + 2, once, owned, row_blocks);
     std::array<double, 9 * kSpan * kSpan> product{};
     std::array<uint8_t, kSpan * kSpan> touched{};
     row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
@@ -249,8 +270,8 @@ class GridTransfer {
           const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
           if (coarse.fixed(coarse.node(pr, pc))) continue;
           const int local = (pr - row0) * kSpan + (pc - col0);
-          const double weight = row_parents_.weight(r2, i) * col_parents_.weight(c2, j);
-          for (int k = 0; k < 9; ++k) product[9 * local + k] += weight * a[k];
+          add_scaled_block(&product[9 * static_cast<std::size_t>(local)],
+                           row_parents_.weight(r2, i) * col_parents_.weight(c2, j), a);
           touched[local] = 1;
         }
     });
@@ -264,15 +285,140 @@ class GridTransfer {
         double* const row = coarse.row_blocks(pr, pc);
         for (int local = 0; local < kSpan * kSpan; ++local) {
           if (!touched[local]) continue;
-          double* target =
-              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan);
-          for (int k = 0; k < 9; ++k) target[k] += weight * product[9 * local + k];
+          add_scaled_block(
+              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan),
+              weight, &product[9 * static_cast<std::size_t>(local)]);
         }
       }
   }
 
+  // galerkin_row for a row that follows its class's plan, (pr, pc) its first parent: each block
+  // of A P summed whole, its terms (the fine blocks read, by window place) in the order the
+  // general path adds them, so the same bits, then added to each owned parent's row, whose
+  // window is whole (the block's slot fixed by the parent).
+  template <class Owned, class RowBlocks>
+  void galerkin_planned_row(GridLevel& coarse, int r, int c, int pr, int pc, bool once,
+                            const Owned& owned, RowBlocks& row_blocks) const {
+    const ClassPlan& plan =
+        plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
+    alignas(64) double blocks[kSpan * kSpan][9];
+    uint32_t read = 0;  // a bit per window place read
+    row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
+      const int place = (r2 - r + 2) * kSpan + (c2 - c + 2);
+      std::copy_n(a, 9, blocks[place]);
+      read |= uint32_t{1} << place;
+    });
+    std::array<double*, 4> targets{};
+    std::array<double, 4> weights{};
+    std::array<int, 4> shifts{};
+    std::size_t parents = 0;
+    for (const ClassParent& parent : plan.parents)
+      if (owned(pr + parent.row)) {
+        targets[parents] = coarse.row_blocks(pr + parent.row, pc + parent.col);
+        weights[parents] = parent.weight;
+        shifts[parents++] = kSpan * parent.row + parent.col;
+      }
+    if (parents == 0) return;
+    for (const ClassBlock& block : plan.blocks) {
+      alignas(64) double sum[9] = {};
+      bool any = false;
+      for (uint16_t t = block.begin; t < block.end; ++t) {
+        const ClassTerm term = plan.terms[t];
+        if (!(read >> term.place & 1)) continue;
+        add_scaled_block(sum, term.weight, blocks[term.place]);
+        any = true;
+      }
+      if (!any) continue;
+      for (std::size_t p = 0; p < parents; ++p)
+        add_scaled_block(targets[p] + 9 * (block.local - shifts[p]), weights[p], sum);
+    }
+  }
+
+  // The plan of a class of interior fine rows. Every m-th node kept, a fine node f whose
+  // window's nodes all lie at the regular spacing (none on the last, nearer coarse node) has
+  // parents and weights that depend only on (r mod m, c mod m), and so does each term of its
+  // row of A P: the fine block's window place, the A P block it adds to (a place in the 5 x 5
+  // span from f's first parent less 2) and its weight. A planned row's window holds no fixed
+  // fine node, and the span no fixed coarse node, so no term is skipped.
+  struct ClassTerm {
+    uint8_t place;  // the fine block's: row place / 5, column place % 5 of f's window
+    double weight;
+  };
+  struct ClassBlock {
+    int local;            // the A P block: row local / 5, column local % 5 of the span
+    uint16_t begin, end;  // its terms, in the fine blocks' order
+  };
+  struct ClassParent {
+    int row, col;  // from f's first parent
+    double weight;
+  };
+  struct ClassPlan {
+    std::vector<ClassBlock> blocks;
+    std::vector<ClassTerm> terms;
+    std::vector<ClassParent> parents;  // f's own, in the general path's order
+  };
+
+  // Marks the fine nodes whose rows follow a plan, and forms each class's plan from its first
+  // such node, by the general path's rules (the same order of terms).
+  void plan_classes(const GridLevel& fine) {
+    const int m = coarsening_;
+    plans_.assign(static_cast<std::size_t>(m * m), {});
+    planned_.assign(fine.node_count(), 0);
+    if (fine.rows() < 3 || fine.cols() < 3) return;
+    const std::vector<uint8_t> coarse_fixed_nodes = coarse_fixed(fine);
+    const int coarse_rows =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.rows()), m));
+    const int coarse_cols =
+        static_cast<int>(coarse_axis_size(static_cast<uint32_t>(fine.cols()), m));
+    std::vector<uint8_t> planned_class(plans_.size(), 0);
+    for (int r = kSpan / 2; r + kSpan / 2 < fine.rows(); ++r)
+      for (int c = kSpan / 2; c + kSpan / 2 < fine.cols(); ++c) {
+        const int pr = row_parents_.parent(r, 0), pc = col_parents_.parent(c, 0);
+        // The span (and f's second parent's window) inside the coarse grid, short of its last
+        // node: only that node's interval may be shorter, so every parent of the window's nodes
+        // is at the regular spacing.
+        if (pr < 2 || pr + 3 >= coarse_rows || pc < 2 || pc + 3 >= coarse_cols) continue;
+        bool plain = true;
+        for (int r2 = r - 2; r2 <= r + 2 && plain; ++r2)
+          for (int c2 = c - 2; c2 <= c + 2 && plain; ++c2) plain = !fine.fixed(fine.node(r2, c2));
+        for (int r2 = pr - 2; r2 <= pr + 2 && plain; ++r2)
+          for (int c2 = pc - 2; c2 <= pc + 2 && plain; ++c2)
+            plain = !coarse_fixed_nodes[static_cast<std::size_t>(r2) * coarse_cols + c2];
+        if (!plain) continue;
+        planned_[fine.node(r, c)] = 1;
+        const auto at = static_cast<std::size_t>((r % m) * m + c % m);
+        if (planned_class[at]) continue;
+        planned_class[at] = 1;
+        ClassPlan& plan = plans_[at];
+        const int row0 = pr - 2, col0 = pc - 2;
+        std::array<std::vector<ClassTerm>, kSpan * kSpan> by_block;
+        for (int place = 0; place < kSpan * kSpan; ++place) {
+          const int r2 = r + place / kSpan - 2, c2 = c + place % kSpan - 2;
+          for (int i = 0; i < row_parents_.count(r2); ++i)
+            for (int j = 0; j < col_parents_.count(c2); ++j)
+              by_block[static_cast<std::size_t>((row_parents_.parent(r2, i) - row0) * kSpan +
+                                                (col_parents_.parent(c2, j) - col0))]
+                  .push_back({static_cast<uint8_t>(place),
+                              row_parents_.weight(r2, i) * col_parents_.weight(c2, j)});
+        }
+        for (int local = 0; local < kSpan * kSpan; ++local) {
+          const std::vector<ClassTerm>& terms = by_block[static_cast<std::size_t>(local)];
+          if (terms.empty()) continue;
+          const auto begin = static_cast<uint16_t>(plan.terms.size());
+          plan.terms.insert(plan.terms.end(), terms.begin(), terms.end());
+          plan.blocks.push_back({local, begin, static_cast<uint16_t>(plan.terms.size())});
+        }
+        for (int i = 0; i < row_parents_.count(r); ++i)
+          for (int j = 0; j < col_parents_.count(c); ++j)
+            plan.parents.push_back({i, j, row_parents_.weight(r, i) * col_parents_.weight(c, j)});
+      }
+  }
+
   int coarsening_;
+  int band_rows_ = kBandRows;
   AxisParents row_parents_, col_parents_;
+  std::vector<ClassPlan> plans_;  // per class (r mod m) m + c mod m
+  std::vector<uint8_t> planned_;  // per fine node: its row follows its class's plan
 };
 
 }  // namespace clothlab::builtin

@@ -240,15 +240,19 @@ Eigen::MatrixXd dense_of(const GridLevel& level) {
 // Even and odd sides both, every other and every third node kept: an axis may end in a
 // shorter coarse interval (one fine spacing, or two).
 TEST(Multigrid, TheGalerkinOperatorIsRapFromTheBilinearRule) {
-  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product.
+  // 20 x 7 and 26 x 7: more coarse rows than one band of the threaded product. 20 x 22: rows
+  // far enough from the edges and pins to follow their class's plan.
   for (const int m : {2, 3})
-    for (const auto& [rows, cols] :
-         {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7}, std::pair{26, 7}}) {
+    for (const auto& [rows, cols] : {std::pair{10, 9}, std::pair{9, 12}, std::pair{20, 7},
+                                     std::pair{26, 7}, std::pair{20, 22}}) {
       ClothMatrix cloth(rows, cols, 30.0);
       MultigridHierarchy hierarchy =
           hierarchy_for(cloth, rows * cols - 1, builtin::LanePrecision::float64,
                         builtin::Smoothing::gauss_seidel, m);
       ASSERT_EQ(hierarchy.level_count(), 2u);  // two levels
+      if (cols == 22) {
+        EXPECT_GT(hierarchy.transfer(0).planned_nodes(), 0u) << m;
+      }
       const SparseMatrix p = bilinear_prolongation(rows, cols, cloth.fixed, m);
       Eigen::MatrixXd fine = dense_of(hierarchy.level(0));
       const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * fine * Eigen::MatrixXd(p);
@@ -301,6 +305,36 @@ TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
             ASSERT_EQ(coarse.block(r, c, r, c)[e], one_thread.block(r, c, r, c)[e])
                 << threads << " threads, node " << r << " x " << c;
       EXPECT_EQ(level_difference(coarse, one_thread), 0.0) << threads << " threads";
+    }
+  }
+}
+
+// The fine rows away from the edges and pins follow their class's plan (multigrid_transfer.hpp):
+// the same terms in the same order as the general path, so the same bits, with pins inside the
+// grid (a row whose window or span holds one takes the general path) and on 1 and 2 threads.
+TEST(Multigrid, TheGalerkinProductsClassPlanGivesTheGeneralPathsBits) {
+  for (const int m : {2, 3}) {
+    ClothMatrix cloth(65, 62, 30.0);
+    cloth.fixed[static_cast<std::size_t>(30 * 62 + 31)] = 1;  // a pin inside
+    MultigridHierarchy hierarchy = hierarchy_for(cloth, 1000, builtin::LanePrecision::float64,
+                                                 builtin::Smoothing::gauss_seidel, m);
+    const builtin::GridTransfer& planned = hierarchy.transfer(0);
+    const std::size_t fine_nodes = hierarchy.level(0).node_count();
+    EXPECT_GT(planned.planned_nodes(), fine_nodes / 2) << m;
+    EXPECT_LT(planned.planned_nodes(), fine_nodes - 4 * 62) << m;
+    builtin::GridTransfer general = planned;
+    general.drop_plan();
+    ASSERT_EQ(general.planned_nodes(), 0u);
+    general.galerkin(hierarchy.level(0), hierarchy.level(1), 1);
+    const GridLevel expected = hierarchy.level(1);
+    for (int threads : {1, 2}) {
+      planned.galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      const GridLevel& coarse = hierarchy.level(1);
+      std::size_t differing = 0;
+      for_each_block_entry(coarse, [&](int r, int c, int r2, int c2, int k) {
+        differing += coarse.block(r, c, r2, c2)[k] != expected.block(r, c, r2, c2)[k];
+      });
+      EXPECT_EQ(differing, 0u) << m << ", " << threads << " threads";
     }
   }
 }
@@ -808,31 +842,44 @@ struct ProbedTable {
   std::vector<double> values;
 };
 
+// The net the table tests share: 24 x 19 (9 coarse rows, every third fine one kept: two bands
+// of the Galerkin product, a fine row read by both; the middle rows follow their class's plan),
+// masses that differ from particle to particle (a table block weighted by the wrong particle's
+// mass shows), and the host's table of its definite J for a step of 1/60 s. The mock allows
+// allocations until the test has made its own.
+struct TabledNet {
+  static constexpr int kRows = 24, kCols = 19;
+  static constexpr double kStep = 1.0 / 60.0;
+  static MockSystem<double>& with_uneven_masses(MockSystem<double>& mock) {
+    for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
+    mock.allocation_allowed = true;
+    return mock;
+  }
+  GridNet net{kRows, kCols};
+  MockSystem<double>& mock = with_uneven_masses(net.host.system());
+  const sdk::System<double> system{mock.raw()};
+  ProbedTable table{system, kRows, kCols, kStep};
+};
+
 // From a host's block table the fine level keeps no blocks: level 1 (its Galerkin product),
 // D^-1 and the fine smoother's bound come straight from the table in one pass, and are the
 // probed ones (to the single-precision rounding of the probed fine level's off-diagonal
 // blocks), as is the V-cycle they make; a table with one off-diagonal block halved is caught.
-// 21 rows: 11 coarse rows, two bands of the Galerkin product, a fine row read by both. The
-// masses differ from particle to particle, so a table block weighted by the wrong particle's
-// mass shows.
 TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
-  constexpr int kRows = 21, kCols = 13;
-  GridNet net(kRows, kCols);
-  MockSystem<double>& mock = net.host.system();
-  for (uint32_t i = 0; i < kRows * kCols; ++i) mock.set_mass(i, 0.5 + 0.125 * (i % 9));
-  const sdk::System<double> system(mock.raw());
-  const double h = 1.0 / 60.0;
-  mock.allocation_allowed = true;
-  const ProbedTable table(system, kRows, kCols, h);
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  const ProbedTable& table = tabled_net.table;
+  const double h = TabledNet::kStep;
   builtin::MultigridPreconditioner probed(system, 0, 1);
   builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
   double* r = system.alloc_vector();
   double* z_probed = system.alloc_vector();
   double* z_tabled = system.alloc_vector();
-  mock.allocation_allowed = false;
+  tabled_net.mock.allocation_allowed = false;
   const auto product = shifted_definite_product(system, h);
   probed.linearise(system, product);
   tabled.assemble(table.values.data());
+  ASSERT_GT(tabled.hierarchy().transfer(0).planned_nodes(), 0u);
   const std::size_t vector_size = 3 * std::size_t{system.stride()};
   std::mt19937 random(3);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -863,12 +910,97 @@ TEST(Multigrid, LevelOneFromTheHostsBlockTableIsTheProbedOne) {
   // The mutant: particle 5 x 6's block coupling it to 5 x 7 halved (the upper triangle's, which
   // both blocks of the pair are formed from: half of them off).
   std::vector<double> halved = table.values;
-  const uint32_t row = 5 * kCols + 6;
+  const uint32_t row = 5 * TabledNet::kCols + 6;
   for (uint32_t k = table.offsets[row]; k < table.offsets[row + 1]; ++k)
     if (table.columns[k] == row + 1)
       for (std::size_t e = 0; e < 9; ++e) halved[9 * k + e] *= 0.5;
   tabled.assemble(halved.data());
   EXPECT_GT(level_difference(tabled.hierarchy().level(1), expected), 1e-3 * size);
+}
+
+// The Galerkin product's bands are fixed by the level, never by the thread count, and any band
+// plan gives the same bits, from the host's table too, where a fine row under two bands is read
+// by both (its D^-1 and bound formed on one of the reads): the V-cycle, level 1 and the fine
+// bound with one band, the default two (9 coarse rows) and one coarse row per band.
+TEST(Multigrid, TheTablesGalerkinProductHasTheSameBitsInOneBandAndSeveral) {
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  const ProbedTable& table = tabled_net.table;
+  const double h = TabledNet::kStep;
+  builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  double* r = system.alloc_vector();
+  double* z = system.alloc_vector();
+  tabled_net.mock.allocation_allowed = false;
+  ASSERT_EQ(tabled.hierarchy().level(1).rows(), 9);
+  const auto product = shifted_definite_product(system, h);
+  const std::size_t size = 3 * std::size_t{system.stride()};
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (std::size_t k = 0; k < size; ++k) r[k] = uniform(random);
+  std::vector<std::vector<double>> cycles;
+  std::vector<GridLevel> levels;
+  std::vector<double> bounds;
+  for (const int band_rows : {9, 8, 1}) {
+    tabled.set_band_rows(band_rows);
+    tabled.assemble(table.values.data());
+    std::fill_n(z, size, 0.0);
+    tabled.apply(system, r, z, product);
+    cycles.emplace_back(z, z + size);
+    levels.push_back(tabled.hierarchy().level(1));
+    bounds.push_back(tabled.lambda_max());
+  }
+  double z_size = 0.0;
+  for (const double value : cycles[0]) z_size = std::max(z_size, std::abs(value));
+  ASSERT_GT(z_size, 1e-3);
+  for (std::size_t t = 1; t < cycles.size(); ++t) {
+    EXPECT_EQ(level_difference(levels[t], levels[0]), 0.0) << t;
+    EXPECT_EQ(bounds[t], bounds[0]) << t;
+    std::size_t differing = 0;
+    for (std::size_t k = 0; k < size; ++k) differing += cycles[t][k] != cycles[0][k];
+    EXPECT_EQ(differing, 0u) << t;
+  }
+}
+
+// A lower block of S = M (I + J) is read as the transpose of its upper one, so S is exactly
+// symmetric. A host's blocks need not be symmetric themselves (a spring's are): with the upper
+// blocks skewed, level 1 is P^T S P for S formed from the table's upper triangle (dense, in
+// double), to the single-precision rounding of level 1's off-diagonal blocks.
+TEST(Multigrid, LevelOneFromATableOfAsymmetricBlocksIsRapOfItsUpperTriangle) {
+  TabledNet tabled_net;
+  const sdk::System<double>& system = tabled_net.system;
+  ProbedTable& table = tabled_net.table;
+  builtin::MultigridPreconditioner tabled(system, 0, 1, 1, table.pattern());
+  tabled_net.mock.allocation_allowed = false;
+  const GridLevel& fine = tabled.hierarchy().level(0);
+  const std::size_t n = fine.node_count();
+  Eigen::MatrixXd s =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * n), static_cast<Eigen::Index>(3 * n));
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t k = table.offsets[i]; k < table.offsets[i + 1]; ++k) {
+      const uint32_t j = table.columns[k];
+      double* d = &table.values[9 * std::size_t{k}];
+      if (j < i || fine.fixed(i) || fine.fixed(j)) continue;
+      if (j > i) d[1] += 0.1 * std::abs(d[0]) + 0.05 * std::abs(d[4]);  // skewed
+      const double m = 1.0 / system.inverse_mass()[i];
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) {
+          const double entry =
+              j == i ? m * d[3 * std::min(row, col) + std::max(row, col)] + (row == col ? m : 0.0)
+                     : m * d[3 * row + col];
+          s(3 * i + row, 3 * j + col) = s(3 * j + col, 3 * i + row) = entry;
+        }
+    }
+  tabled.assemble(table.values.data());
+  ASSERT_GT(tabled.hierarchy().transfer(0).planned_nodes(), 0u);
+  std::vector<uint8_t> fixed(n);
+  for (std::size_t i = 0; i < n; ++i) fixed[i] = fine.fixed(i) ? 1 : 0;
+  const SparseMatrix p = bilinear_prolongation(TabledNet::kRows, TabledNet::kCols, fixed,
+                                               builtin::kPreconditionerCoarsening);
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(p.transpose()) * s * Eigen::MatrixXd(p);
+  const Eigen::MatrixXd coarse = dense_of(tabled.hierarchy().level(1));
+  ASSERT_EQ(coarse.rows(), expected.rows());
+  ASSERT_GT(expected.norm(), 0.0);
+  EXPECT_LT((coarse - expected).norm(), 1e-6 * expected.norm());
 }
 
 // A block table whose pattern disagrees with the grid: one line naming the table and the
