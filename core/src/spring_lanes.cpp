@@ -294,6 +294,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   std::vector<uint32_t> rows;
   std::vector<uint32_t> choice, chosen_first;  // per row: row_choice_, a chosen row's first slot
   row_begin_.assign(1, 0);
+  row_chosen_.clear();
+  row_gathered_.clear();
   for (std::size_t b = 0; b < blocks; ++b) {
     const auto start = static_cast<std::ptrdiff_t>(b * kSpringBlock);
     const auto push_run = [&](std::size_t slot, uint32_t flag) {
@@ -302,6 +304,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     };
     for (std::size_t k = 0; k < bands_.size(); ++k) {
       const Band& band = bands_[k];
+      if (band.chosen && row_chosen_.size() == b)
+        row_chosen_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
       const auto low = static_cast<std::ptrdiff_t>(band.low);
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
       const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
@@ -352,6 +356,9 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
         }
       }
     }
+    if (row_chosen_.size() == b)
+      row_chosen_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
+    row_gathered_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
     std::size_t widest = 0;
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
       widest = std::max(widest, incident[i].size());
@@ -405,31 +412,39 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     Floats total[3] = {load_floats(sum[0]), load_floats(sum[1]), load_floats(sum[2])};
-    for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
+    // Row r's slots in order from `values` (components `values_stride` apart), added or
+    // subtracted as `at`'s top bit says, or per lane as its choice says.
+    const auto add_in_order = [&](const float* values, std::size_t values_stride, uint32_t at) {
+      values += at & ~kSubtract;
+      if ((at & kSubtract) != 0) {
+        for (std::size_t k = 0; k < 3; ++k)
+          total[k] = total[k] - load_floats(values + k * values_stride);
+      } else {
+        for (std::size_t k = 0; k < 3; ++k)
+          total[k] = total[k] + load_floats(values + k * values_stride);
+      }
+    };
+    const auto add_chosen = [&](const float* values, std::size_t values_stride, uint32_t r) {
+      const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
+      const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Floats value = load_floats(values + k * values_stride);
+        total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
+      }
+    };
+    uint32_t r = row_begin_[block];
+    if (ring != nullptr) {  // the bands' rows from the ring, each kind in a loop of its own
+      const std::size_t ring_stride = ring_slots_;
+      for (const uint32_t chosen = row_chosen_[block]; r < chosen; ++r)
+        add_in_order(ring, ring_stride, row_ring_[r]);
+      for (const uint32_t gathered = row_gathered_[block]; r < gathered; ++r)
+        add_chosen(ring + row_ring_[r], ring_stride, r);
+    }
+    for (; r < row_begin_[block + 1]; ++r) {
       if (row_choice_[r] != 0) {
-        const bool in_ring = ring != nullptr;
-        const Real* values = in_ring ? ring + row_ring_[r] : per_slot + row_first_[r];
-        const std::size_t values_stride = in_ring ? ring_slots_ : stride;
-        const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
-        const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(values + k * values_stride);
-          total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
-        }
-      } else if (ring != nullptr && row_ring_[r] != kGatheredRow) {
-        const std::size_t slot = row_ring_[r] & ~kSubtract;
-        const bool subtract = (row_ring_[r] & kSubtract) != 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(ring + k * ring_slots_ + slot);
-          total[k] = subtract ? total[k] - value : total[k] + value;
-        }
+        add_chosen(per_slot + row_first_[r], stride, r);
       } else if (row_in_order_[r]) {
-        const std::size_t slot = row_first_[r] & ~kSubtract;
-        const bool subtract = (row_first_[r] & kSubtract) != 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(per_slot + k * stride + slot);
-          total[k] = subtract ? total[k] - value : total[k] + value;
-        }
+        add_in_order(per_slot, stride, row_first_[r]);
       } else {
         const Indices entry = load_indices(&entries_[std::size_t{r} * kSpringBlock]);
         const Indices slot = without_top_bit(entry);

@@ -181,6 +181,9 @@ class LaneBands {
   // l of row r is the slot (| kSubtract) that particle l adds r-th (a band's row: the slots of
   // consecutive particles as one of the band's ends), slot 0 past its gathered items.
   std::vector<uint32_t> row_begin_;
+  // Per particle block: its first chosen band's row and its first gathered row (its plain bands'
+  // rows come first, then the chosen bands', then the gathered: bands_ holds the chosen last).
+  std::vector<uint32_t> row_chosen_, row_gathered_;
   AlignedBuffer<uint32_t> entries_;
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
