@@ -536,11 +536,21 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
     const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_lanes(b, ends);
     block_extra_.push_back(static_cast<uint32_t>(chosen_.size()));
     if (chosen || two_stiffnesses) chosen_.push_back(ends), second_stiffness_.push_back(second);
-    block_kind_.push_back(static_cast<uint8_t>(
+    const auto kind = static_cast<uint8_t>(
         (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (chosen ? kChosen : 0) |
         (one_law ? kOneLaw : 0) | (one_stiffness && !one_law ? kOneStiffness : 0) |
         (two_stiffnesses ? kTwoStiffnesses : 0) | (live == kAllLive ? 0 : kDeadSlots) |
-        (live != 0 ? 0 : kNoSpring)));
+        (live != 0 ? 0 : kNoSpring));
+    // Whether the block continues its predecessor's run (BlockKind).
+    bool follows = b > 0 && (block_kind_[b - 1] & ~kRunParity) == kind;
+    if (follows && (kind & kEndsInOrder) != 0)
+      follows = first_[s] == block_first_[b - 1] + kSpringBlock &&
+                second_[s] == block_second_[b - 1] + kSpringBlock;
+    if (follows && (kind & kChosen) == 0 && (kind & (kOneLaw | kOneStiffness)) != 0)
+      follows = ks_[lead] == block_law_[b - 1].ks && kd_[lead] == block_law_[b - 1].kd &&
+                ((kind & kOneLaw) == 0 || rest_[lead] == block_law_[b - 1].rest);
+    const bool parity = b > 0 && ((block_kind_[b - 1] & kRunParity) != 0) == follows;
+    block_kind_.push_back(static_cast<uint8_t>(kind | (parity ? kRunParity : 0)));
     block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
@@ -880,13 +890,22 @@ template <class Lanes, class Portable>
       const std::array<uint32_t, 4>* corners = nullptr;
       if constexpr (where() == EndsAt::kChosen)
         corners = layout_.chosen_corners() + chosen_[block_extra_[from]].band;
+      // The run's ends in order and, but for chosen blocks (whose registers are full), its one
+      // law or stiffness are its first block's (BlockKind).
+      constexpr bool in_order = where() == EndsAt::kInOrder;
+      constexpr bool law_per_block =
+          where() == EndsAt::kChosen || shared() == LawShare::kTwoStiffnesses;
+      const uint32_t first = in_order ? block_first_[from] : 0u;
+      const uint32_t second = in_order ? block_second_[from] : 0u;
+      const BlockLaw& run_law = block_law_[from];
       for (std::size_t b = from; b < to; ++b) {
         const std::size_t s = b * kSpringBlock;
-        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+        const auto step = in_order ? static_cast<uint32_t>(s - from * kSpringBlock) : 0u;
+        const EndLanes<where()> ends(arrays, s, first + step, second + step,
                                      chosen_.data() + block_extra_[b], corners);
-        const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
-          return second_stiffness_[block_extra_[b]];
-        });
+        const BlockLaw& law = law_per_block ? block_law_[b] : run_law;
+        const BlockLaws laws = block_laws<shared()>(
+            law, [&]() -> const SecondStiffness& { return second_stiffness_[block_extra_[b]]; });
         lanes(where, shared, arrays, ends, laws, b, out + (b - begin) * kSpringBlock);
       }
     };

@@ -259,7 +259,9 @@ class SpringLanes {
   // of one family), two ks and kd picked per lane by mask with a rest length per lane (a band that
   // mixes two families, as an irregular mesh's diagonals: shear and flexion), or a law per lane.
   // Only what a block needs is read. A block with dead slots writes 0 there; a block with no
-  // spring writes only 0.
+  // spring writes only 0. A run of blocks of one kind reads its first block's ends in order (the
+  // others follow, kSpringBlock apart) and, unless chosen, its one law or one stiffness: a block
+  // whose own do not follow its predecessor's flips kRunParity, so it starts a run.
   enum BlockKind : uint8_t {
     kEndsInOrder = 1,
     kOneLaw = 2,
@@ -267,7 +269,8 @@ class SpringLanes {
     kNoSpring = 8,
     kOneStiffness = 16,
     kChosen = 32,
-    kTwoStiffnesses = 64
+    kTwoStiffnesses = 64,
+    kRunParity = 128
   };
   struct BlockLaw {
     Real rest, ks, kd;
@@ -291,7 +294,7 @@ class SpringLanes {
   // kd 0 where the spring is not damped; a dead slot's law is 0 (ks + kd = 0 says it is dead).
   AlignedBuffer<Real> rest_, ks_, kd_;
   std::vector<uint8_t> block_kind_;
-  std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
+  std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends (kRunParity)
   // Per block: where kChosen, its chosen_; where kTwoStiffnesses, its second_stiffness_ (one
   // index into both, so a block reads one more array, not two).
   std::vector<uint32_t> block_extra_;
