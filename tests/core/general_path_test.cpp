@@ -279,6 +279,62 @@ TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
   }
 }
 
+// A run of blocks reads its first block's law while the blocks' laws stay the same
+// (SpringLanes' kRunParity): on the grid read as a mesh, whose bands' blocks each take one law,
+// the springs from stripes of 32 particles take other laws, so a band's blocks change law along
+// it; the float32 lanes agree with the float64 path, which reads each slot's own.
+TEST(GeneralPath, LanesReadEachBlocksLawWhereItChangesAlongABand) {
+  const Scene scene = testing::busy_scene(20, 40);
+  auto model = std::make_shared<ClothModel>(
+      *build_mesh_model(testing::grid_mesh(scene, testing::Diagonals::Rising), scene));
+  for (std::size_t k = 0; k < model->spring_count(); ++k)
+    if (model->first[k] / 32 % 2 == 1)
+      model->ks[k] *= 1.5, model->kd[k] *= 0.5, model->rest_length[k] *= 0.9;
+  Cloth lanes(scene, model, Precision::Float32, general_options());
+  Cloth reference(scene, model, Precision::Float64, general_options());
+  perturb(lanes);
+  std::vector<double> x, v;
+  lanes.positions(x);
+  lanes.velocities(v);
+  reference.set_state(x, v);  // the float32 state, exactly
+  for (bool damped : {true, false}) {
+    const std::vector<double> expected = accelerations(reference, damped);
+    EXPECT_LE(max_difference(accelerations(lanes, damped), expected), 2e-5 * max_abs(expected));
+  }
+}
+
+// A run of blocks reads its first block's ends in order, the others following (kRunParity):
+// where the grid read as a mesh keeps its springs along rows only from windows of 16 first ends
+// 128 apart, they are too few for a band and are gathered, in blocks whose ends are in order but
+// do not follow each other's; the float32 lanes agree with the float64 path.
+TEST(GeneralPath, LanesReadEachBlocksEndsWhereTheyDoNotFollow) {
+  const Scene scene = testing::busy_scene(20, 40);
+  auto model = std::make_shared<ClothModel>(
+      *build_mesh_model(testing::grid_mesh(scene, testing::Diagonals::Rising), scene));
+  ClothModel& sparse = *model;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < sparse.spring_count(); ++k) {
+    if (sparse.second[k] - sparse.first[k] == 1 && sparse.first[k] % 128 >= 16) continue;
+    sparse.first[kept] = sparse.first[k], sparse.second[kept] = sparse.second[k];
+    sparse.rest_length[kept] = sparse.rest_length[k], sparse.ks[kept] = sparse.ks[k];
+    sparse.kd[kept] = sparse.kd[k], sparse.family[kept] = sparse.family[k];
+    ++kept;
+  }
+  for (auto* values : {&sparse.first, &sparse.second}) values->resize(kept);
+  for (auto* values : {&sparse.rest_length, &sparse.ks, &sparse.kd}) values->resize(kept);
+  sparse.family.resize(kept);
+  detail::build_adjacency(sparse);
+  Cloth lanes(scene, model, Precision::Float32, general_options());
+  Cloth reference(scene, model, Precision::Float64, general_options());
+  perturb(lanes);
+  std::vector<double> x, v;
+  lanes.positions(x);
+  lanes.velocities(v);
+  reference.set_state(x, v);  // the float32 state, exactly
+  const std::vector<double> expected = accelerations(reference);
+  EXPECT_LE(max_difference(accelerations(lanes), expected), 2e-5 * max_abs(expected));
+}
+
 TEST(GeneralPath, OffersEveryExtensionButTheGrid) {
   const Scene scene = testing::busy_scene(6, 5);
   Cloth grid(scene, Precision::Float64, grid_options());
