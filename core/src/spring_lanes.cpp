@@ -381,7 +381,11 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     row_in_order_[r] = choice[r] == 0 && consecutive(row);
     row_first_[r] = choice[r] == 0 ? row[0] : chosen_first[r];
   }
-  row_choice_ = std::move(choice);
+  row_choice_.resize(choice.size());
+  using Bits = ChosenLanes<1>::Bits;
+  for (std::size_t r = 0; r < choice.size(); ++r)
+    row_choice_[r] = {static_cast<Bits>(choice[r] & kAllLive),
+                      static_cast<Bits>(choice[r] >> kSpringBlock)};
 }
 
 template <std::size_t Ends>
@@ -425,8 +429,8 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
       }
     };
     const auto add_chosen = [&](const float* values, std::size_t values_stride, uint32_t r) {
-      const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
-      const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
+      const LaneMask adds = lanes_of_bits(&row_choice_[r].adds);
+      const LaneMask subtracts = lanes_of_bits(&row_choice_[r].subtracts);
       for (std::size_t k = 0; k < 3; ++k) {
         const Floats value = load_floats(values + k * values_stride);
         total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
@@ -441,7 +445,7 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
         add_chosen(ring + row_ring_[r], ring_stride, r);
     }
     for (; r < row_begin_[block + 1]; ++r) {
-      if (row_choice_[r] != 0) {
+      if (row_choice_[r].any()) {
         add_chosen(per_slot + row_first_[r], stride, r);
       } else if (row_in_order_[r]) {
         add_in_order(per_slot, stride, row_first_[r]);
@@ -464,7 +468,7 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
     const std::size_t values_stride = in_ring ? ring_slots_ : stride;
     for (std::size_t l = 0; l < kSpringBlock; ++l) {
       // A chosen row's lanes take their slots from the ring in order, where they take one.
-      if (in_ring && row_choice_[r] != 0 && row[l] == 0) continue;
+      if (in_ring && row_choice_[r].any() && row[l] == 0) continue;
       const uint32_t entry =
           in_ring ? (row_ring_[r] + static_cast<uint32_t>(l)) | (row[l] & kSubtract) : row[l];
       const std::size_t slot = entry & ~kSubtract;

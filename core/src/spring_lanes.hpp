@@ -188,10 +188,14 @@ class LaneBands {
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
   std::vector<uint32_t> row_ring_;     // per row: its lane 0's ring slot (| kSubtract)
-  // Per row: 0, or for a chosen band's row, bit l set where lane l adds its slot and bit
-  // kSpringBlock + l where it subtracts it (the other lanes take nothing); its slots then run
-  // from row_first_ (and row_ring_) in order.
-  std::vector<uint32_t> row_choice_;
+  // Per row: none, or for a chosen band's row, bit l of adds set where lane l adds its slot and
+  // of subtracts where it subtracts it (the other lanes take nothing; lanes_of_bits reads them
+  // from memory); its slots then run from row_first_ (and row_ring_) in order.
+  struct RowChoice {
+    ChosenLanes<1>::Bits adds = 0, subtracts = 0;
+    bool any() const { return (adds | subtracts) != 0; }
+  };
+  std::vector<RowChoice> row_choice_;
 };
 
 template <class Real>
