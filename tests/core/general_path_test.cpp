@@ -260,12 +260,10 @@ TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
     }
 }
 
-// The float32 lanes read a block's law as its kind says (one law, one ks and kd, two ks and kd
-// picked per lane, or a law per lane); the float64 path reads each slot's own. On an irregular
-// mesh, where a band of diagonals mixes shear and flexion springs, the two agree.
-TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
-  const Scene scene = testing::busy_scene(20, 40);
-  const auto model = build_mesh_model(testing::irregular_mesh(20, 40), scene);
+// The float32 lanes' accelerations on the model against the float64 path's (which reads each
+// slot's own ends and law, one slot at a time) at the same float32 state, damped and undamped.
+void expect_lanes_agree_with_float64(const Scene& scene,
+                                     const std::shared_ptr<const ClothModel>& model) {
   Cloth lanes(scene, model, Precision::Float32, general_options());
   Cloth reference(scene, model, Precision::Float64, general_options());
   perturb(lanes);
@@ -279,6 +277,15 @@ TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
   }
 }
 
+// The float32 lanes read a block's law as its kind says (one law, one ks and kd, two ks and kd
+// picked per lane, or a law per lane); the float64 path reads each slot's own. On an irregular
+// mesh, where a band of diagonals mixes shear and flexion springs, the two agree.
+TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
+  const Scene scene = testing::busy_scene(20, 40);
+  const auto model = build_mesh_model(testing::irregular_mesh(20, 40), scene);
+  expect_lanes_agree_with_float64(scene, model);
+}
+
 // A run of blocks reads its first block's law while the blocks' laws stay the same
 // (SpringLanes' kRunParity): on the grid read as a mesh, whose bands' blocks each take one law,
 // the springs from stripes of 32 particles take other laws, so a band's blocks change law along
@@ -290,17 +297,7 @@ TEST(GeneralPath, LanesReadEachBlocksLawWhereItChangesAlongABand) {
   for (std::size_t k = 0; k < model->spring_count(); ++k)
     if (model->first[k] / 32 % 2 == 1)
       model->ks[k] *= 1.5, model->kd[k] *= 0.5, model->rest_length[k] *= 0.9;
-  Cloth lanes(scene, model, Precision::Float32, general_options());
-  Cloth reference(scene, model, Precision::Float64, general_options());
-  perturb(lanes);
-  std::vector<double> x, v;
-  lanes.positions(x);
-  lanes.velocities(v);
-  reference.set_state(x, v);  // the float32 state, exactly
-  for (bool damped : {true, false}) {
-    const std::vector<double> expected = accelerations(reference, damped);
-    EXPECT_LE(max_difference(accelerations(lanes, damped), expected), 2e-5 * max_abs(expected));
-  }
+  expect_lanes_agree_with_float64(scene, model);
 }
 
 // A run of blocks reads its first block's ends in order, the others following (kRunParity):
@@ -324,15 +321,7 @@ TEST(GeneralPath, LanesReadEachBlocksEndsWhereTheyDoNotFollow) {
   for (auto* values : {&sparse.rest_length, &sparse.ks, &sparse.kd}) values->resize(kept);
   sparse.family.resize(kept);
   detail::build_adjacency(sparse);
-  Cloth lanes(scene, model, Precision::Float32, general_options());
-  Cloth reference(scene, model, Precision::Float64, general_options());
-  perturb(lanes);
-  std::vector<double> x, v;
-  lanes.positions(x);
-  lanes.velocities(v);
-  reference.set_state(x, v);  // the float32 state, exactly
-  const std::vector<double> expected = accelerations(reference);
-  EXPECT_LE(max_difference(accelerations(lanes), expected), 2e-5 * max_abs(expected));
+  expect_lanes_agree_with_float64(scene, model);
 }
 
 TEST(GeneralPath, OffersEveryExtensionButTheGrid) {
