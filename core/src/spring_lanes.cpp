@@ -294,6 +294,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   std::vector<uint32_t> rows;
   std::vector<uint32_t> choice, chosen_first;  // per row: row_choice_, a chosen row's first slot
   row_begin_.assign(1, 0);
+  row_chosen_.clear();
+  row_gathered_.clear();
   for (std::size_t b = 0; b < blocks; ++b) {
     const auto start = static_cast<std::ptrdiff_t>(b * kSpringBlock);
     const auto push_run = [&](std::size_t slot, uint32_t flag) {
@@ -302,6 +304,8 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     };
     for (std::size_t k = 0; k < bands_.size(); ++k) {
       const Band& band = bands_[k];
+      if (band.chosen && row_chosen_.size() == b)
+        row_chosen_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
       const auto low = static_cast<std::ptrdiff_t>(band.low);
       const auto span = static_cast<std::ptrdiff_t>(band.high - band.low);
       const auto ring = static_cast<std::ptrdiff_t>(band.ring_blocks * kSpringBlock);
@@ -352,6 +356,9 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
         }
       }
     }
+    if (row_chosen_.size() == b)
+      row_chosen_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
+    row_gathered_.push_back(static_cast<uint32_t>(rows.size() / kSpringBlock));
     std::size_t widest = 0;
     for (std::size_t i = b * kSpringBlock; i < std::min(particles, (b + 1) * kSpringBlock); ++i)
       widest = std::max(widest, incident[i].size());
@@ -374,7 +381,11 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
     row_in_order_[r] = choice[r] == 0 && consecutive(row);
     row_first_[r] = choice[r] == 0 ? row[0] : chosen_first[r];
   }
-  row_choice_ = std::move(choice);
+  row_choice_.resize(choice.size());
+  using Bits = ChosenLanes<1>::Bits;
+  for (std::size_t r = 0; r < choice.size(); ++r)
+    row_choice_[r] = {static_cast<Bits>(choice[r] & kAllLive),
+                      static_cast<Bits>(choice[r] >> kSpringBlock)};
 }
 
 template <std::size_t Ends>
@@ -405,31 +416,39 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
 #if defined(CLOTHLAB_FLOAT_LANES)
   if constexpr (std::is_same_v<Real, float>) {
     Floats total[3] = {load_floats(sum[0]), load_floats(sum[1]), load_floats(sum[2])};
-    for (uint32_t r = row_begin_[block]; r < row_begin_[block + 1]; ++r) {
-      if (row_choice_[r] != 0) {
-        const bool in_ring = ring != nullptr;
-        const Real* values = in_ring ? ring + row_ring_[r] : per_slot + row_first_[r];
-        const std::size_t values_stride = in_ring ? ring_slots_ : stride;
-        const LaneMask adds = lanes_of_bits(row_choice_[r] & kAllLive);
-        const LaneMask subtracts = lanes_of_bits(row_choice_[r] >> kSpringBlock);
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(values + k * values_stride);
-          total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
-        }
-      } else if (ring != nullptr && row_ring_[r] != kGatheredRow) {
-        const std::size_t slot = row_ring_[r] & ~kSubtract;
-        const bool subtract = (row_ring_[r] & kSubtract) != 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(ring + k * ring_slots_ + slot);
-          total[k] = subtract ? total[k] - value : total[k] + value;
-        }
+    // Row r's slots in order from `values` (components `values_stride` apart), added or
+    // subtracted as `at`'s top bit says, or per lane as its choice says.
+    const auto add_in_order = [&](const float* values, std::size_t values_stride, uint32_t at) {
+      values += at & ~kSubtract;
+      if ((at & kSubtract) != 0) {
+        for (std::size_t k = 0; k < 3; ++k)
+          total[k] = total[k] - load_floats(values + k * values_stride);
+      } else {
+        for (std::size_t k = 0; k < 3; ++k)
+          total[k] = total[k] + load_floats(values + k * values_stride);
+      }
+    };
+    const auto add_chosen = [&](const float* values, std::size_t values_stride, uint32_t r) {
+      const LaneMask adds = lanes_of_bits(&row_choice_[r].adds);
+      const LaneMask subtracts = lanes_of_bits(&row_choice_[r].subtracts);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Floats value = load_floats(values + k * values_stride);
+        total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
+      }
+    };
+    uint32_t r = row_begin_[block];
+    if (ring != nullptr) {  // the bands' rows from the ring, each kind in a loop of its own
+      const std::size_t ring_stride = ring_slots_;
+      for (const uint32_t chosen = row_chosen_[block]; r < chosen; ++r)
+        add_in_order(ring, ring_stride, row_ring_[r]);
+      for (const uint32_t gathered = row_gathered_[block]; r < gathered; ++r)
+        add_chosen(ring + row_ring_[r], ring_stride, r);
+    }
+    for (; r < row_begin_[block + 1]; ++r) {
+      if (row_choice_[r].any()) {
+        add_chosen(per_slot + row_first_[r], stride, r);
       } else if (row_in_order_[r]) {
-        const std::size_t slot = row_first_[r] & ~kSubtract;
-        const bool subtract = (row_first_[r] & kSubtract) != 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          const Floats value = load_floats(per_slot + k * stride + slot);
-          total[k] = subtract ? total[k] - value : total[k] + value;
-        }
+        add_in_order(per_slot, stride, row_first_[r]);
       } else {
         const Indices entry = load_indices(&entries_[std::size_t{r} * kSpringBlock]);
         const Indices slot = without_top_bit(entry);
@@ -449,7 +468,7 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
     const std::size_t values_stride = in_ring ? ring_slots_ : stride;
     for (std::size_t l = 0; l < kSpringBlock; ++l) {
       // A chosen row's lanes take their slots from the ring in order, where they take one.
-      if (in_ring && row_choice_[r] != 0 && row[l] == 0) continue;
+      if (in_ring && row_choice_[r].any() && row[l] == 0) continue;
       const uint32_t entry =
           in_ring ? (row_ring_[r] + static_cast<uint32_t>(l)) | (row[l] & kSubtract) : row[l];
       const std::size_t slot = entry & ~kSubtract;
@@ -521,11 +540,21 @@ SpringLanes<Real>::SpringLanes(const ClothModel& model, bool damped, std::size_t
     const bool chosen = !layout_.ends_in_order(b) && live != 0 && layout_.chosen_lanes(b, ends);
     block_extra_.push_back(static_cast<uint32_t>(chosen_.size()));
     if (chosen || two_stiffnesses) chosen_.push_back(ends), second_stiffness_.push_back(second);
-    block_kind_.push_back(static_cast<uint8_t>(
+    const auto kind = static_cast<uint8_t>(
         (layout_.ends_in_order(b) ? kEndsInOrder : 0) | (chosen ? kChosen : 0) |
         (one_law ? kOneLaw : 0) | (one_stiffness && !one_law ? kOneStiffness : 0) |
         (two_stiffnesses ? kTwoStiffnesses : 0) | (live == kAllLive ? 0 : kDeadSlots) |
-        (live != 0 ? 0 : kNoSpring)));
+        (live != 0 ? 0 : kNoSpring));
+    // Whether the block continues its predecessor's run (BlockKind).
+    bool follows = b > 0 && (block_kind_[b - 1] & ~kRunParity) == kind;
+    if (follows && (kind & kEndsInOrder) != 0)
+      follows = first_[s] == block_first_[b - 1] + kSpringBlock &&
+                second_[s] == block_second_[b - 1] + kSpringBlock;
+    if (follows && (kind & kChosen) == 0 && (kind & (kOneLaw | kOneStiffness)) != 0)
+      follows = ks_[lead] == block_law_[b - 1].ks && kd_[lead] == block_law_[b - 1].kd &&
+                ((kind & kOneLaw) == 0 || rest_[lead] == block_law_[b - 1].rest);
+    const bool parity = b > 0 && ((block_kind_[b - 1] & kRunParity) != 0) == follows;
+    block_kind_.push_back(static_cast<uint8_t>(kind | (parity ? kRunParity : 0)));
     block_live_.push_back(live);
     block_first_.push_back(first_[s]);
     block_second_.push_back(second_[s]);
@@ -865,13 +894,22 @@ template <class Lanes, class Portable>
       const std::array<uint32_t, 4>* corners = nullptr;
       if constexpr (where() == EndsAt::kChosen)
         corners = layout_.chosen_corners() + chosen_[block_extra_[from]].band;
+      // The run's ends in order and, but for chosen blocks (whose registers are full), its one
+      // law or stiffness are its first block's (BlockKind).
+      constexpr bool in_order = where() == EndsAt::kInOrder;
+      constexpr bool law_per_block =
+          where() == EndsAt::kChosen || shared() == LawShare::kTwoStiffnesses;
+      const uint32_t first = in_order ? block_first_[from] : 0u;
+      const uint32_t second = in_order ? block_second_[from] : 0u;
+      const BlockLaw& run_law = block_law_[from];
       for (std::size_t b = from; b < to; ++b) {
         const std::size_t s = b * kSpringBlock;
-        const EndLanes<where()> ends(arrays, s, block_first_[b], block_second_[b],
+        const auto step = in_order ? static_cast<uint32_t>(s - from * kSpringBlock) : 0u;
+        const EndLanes<where()> ends(arrays, s, first + step, second + step,
                                      chosen_.data() + block_extra_[b], corners);
-        const BlockLaws laws = block_laws<shared()>(block_law_[b], [&]() -> const SecondStiffness& {
-          return second_stiffness_[block_extra_[b]];
-        });
+        const BlockLaw& law = law_per_block ? block_law_[b] : run_law;
+        const BlockLaws laws = block_laws<shared()>(
+            law, [&]() -> const SecondStiffness& { return second_stiffness_[block_extra_[b]]; });
         lanes(where, shared, arrays, ends, laws, b, out + (b - begin) * kSpringBlock);
       }
     };

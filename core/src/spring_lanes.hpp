@@ -181,14 +181,21 @@ class LaneBands {
   // l of row r is the slot (| kSubtract) that particle l adds r-th (a band's row: the slots of
   // consecutive particles as one of the band's ends), slot 0 past its gathered items.
   std::vector<uint32_t> row_begin_;
+  // Per particle block: its first chosen band's row and its first gathered row (its plain bands'
+  // rows come first, then the chosen bands', then the gathered: bands_ holds the chosen last).
+  std::vector<uint32_t> row_chosen_, row_gathered_;
   AlignedBuffer<uint32_t> entries_;
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
   std::vector<uint32_t> row_ring_;     // per row: its lane 0's ring slot (| kSubtract)
-  // Per row: 0, or for a chosen band's row, bit l set where lane l adds its slot and bit
-  // kSpringBlock + l where it subtracts it (the other lanes take nothing); its slots then run
-  // from row_first_ (and row_ring_) in order.
-  std::vector<uint32_t> row_choice_;
+  // Per row: none, or for a chosen band's row, bit l of adds set where lane l adds its slot and
+  // of subtracts where it subtracts it (the other lanes take nothing; lanes_of_bits reads them
+  // from memory); its slots then run from row_first_ (and row_ring_) in order.
+  struct RowChoice {
+    ChosenLanes<1>::Bits adds = 0, subtracts = 0;
+    bool any() const { return (adds | subtracts) != 0; }
+  };
+  std::vector<RowChoice> row_choice_;
 };
 
 template <class Real>
@@ -256,7 +263,9 @@ class SpringLanes {
   // of one family), two ks and kd picked per lane by mask with a rest length per lane (a band that
   // mixes two families, as an irregular mesh's diagonals: shear and flexion), or a law per lane.
   // Only what a block needs is read. A block with dead slots writes 0 there; a block with no
-  // spring writes only 0.
+  // spring writes only 0. A run of blocks of one kind reads its first block's ends in order (the
+  // others follow, kSpringBlock apart) and, unless chosen, its one law or one stiffness: a block
+  // whose own do not follow its predecessor's flips kRunParity, so it starts a run.
   enum BlockKind : uint8_t {
     kEndsInOrder = 1,
     kOneLaw = 2,
@@ -264,7 +273,8 @@ class SpringLanes {
     kNoSpring = 8,
     kOneStiffness = 16,
     kChosen = 32,
-    kTwoStiffnesses = 64
+    kTwoStiffnesses = 64,
+    kRunParity = 128
   };
   struct BlockLaw {
     Real rest, ks, kd;
@@ -288,7 +298,7 @@ class SpringLanes {
   // kd 0 where the spring is not damped; a dead slot's law is 0 (ks + kd = 0 says it is dead).
   AlignedBuffer<Real> rest_, ks_, kd_;
   std::vector<uint8_t> block_kind_;
-  std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends
+  std::vector<uint32_t> block_first_, block_second_;  // per block: its lane 0's ends (kRunParity)
   // Per block: where kChosen, its chosen_; where kTwoStiffnesses, its second_stiffness_ (one
   // index into both, so a block reads one more array, not two).
   std::vector<uint32_t> block_extra_;

@@ -25,7 +25,7 @@ std::size_t chunks_of(std::size_t items) { return (items + kChunk - 1) / kChunk;
 // The wind's shares of the block of triangle slots from t, whose corners follow in order (plain
 // loads, as the grid's cells), its dead lanes (live's clear bits) 0; laid out as the slots.
 inline void wind_block_lanes(const float* x, std::size_t stride,
-                             const std::array<uint32_t, 3>& corners, const Floats (&pressure)[3],
+                             const std::array<uint32_t, 4>& corners, const Floats (&pressure)[3],
                              uint32_t live, float* share, std::size_t share_stride) {
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
@@ -39,22 +39,19 @@ inline void wind_block_lanes(const float* x, std::size_t stride,
   for (std::size_t k = 0; k < 3; ++k) store_floats(share + k * share_stride, keep(lanes, out[k]));
 }
 
-// wind_block_lanes for the block of a chosen band (LaneBands) from slot t: its four corners, t +
-// corners[c] (its band's LaneBands::chosen_corners), loaded in order, each lane's three corners
-// picked from them by the block's masks.
-inline void wind_block_chosen(const float* x, std::size_t stride, std::size_t t,
+// wind_block_lanes for the block of a chosen band (LaneBands): its four corners (lane 0's at
+// corners[c]) loaded in order, each lane's three corners picked from them by the block's masks.
+inline void wind_block_chosen(const float* x, std::size_t stride,
                               const std::array<uint32_t, 4>& corners, const ChosenLanes<3>& ends,
                               const Floats (&pressure)[3], uint32_t live, float* share,
                               std::size_t share_stride) {
   LaneMask low[3], high[3];
   for (std::size_t e = 0; e < 3; ++e)
     low[e] = lanes_of_bits(&ends.low[e]), high[e] = lanes_of_bits(&ends.high[e]);
-  uint32_t at[4];
-  for (std::size_t c = 0; c < 4; ++c) at[c] = static_cast<uint32_t>(t) + corners[c];
   Floats e1[3], e2[3], out[3];
   for (std::size_t k = 0; k < 3; ++k) {
     Floats corner[4];
-    for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(x + k * stride + at[c]);
+    for (std::size_t c = 0; c < 4; ++c) corner[c] = load_floats(x + k * stride + corners[c]);
     const Floats first = chosen_end(corner, low[0], high[0]);
     e1[k] = chosen_end(corner, low[1], high[1]) - first;
     e2[k] = chosen_end(corner, low[2], high[2]) - first;
@@ -120,15 +117,18 @@ void SpringListForces<Real>::lay_out_triangles(const ClothModel& model) {
   triangle_blocks_.assign(triangles_->slot_blocks(), TriangleBlock{});
   for (std::size_t s = 0; s < slots; ++s)
     if (triangles_->item_in(s) != triangle_count_)
-      triangle_blocks_[s / kSpringBlock].live |= 1u << (s % kSpringBlock);
+      triangle_blocks_[s / kSpringBlock].live |= static_cast<uint16_t>(1u << (s % kSpringBlock));
   for (std::size_t b = 0; b < triangles_->slot_blocks(); ++b) {
     TriangleBlock& block = triangle_blocks_[b];
     block.in_order = triangles_->ends_in_order(b);
-    for (std::size_t c = 0; c < 3; ++c) block.first[c] = triangles_->ends(c)[b * kSpringBlock];
+    for (std::size_t c = 0; c < 3; ++c) block.corner[c] = triangles_->ends(c)[b * kSpringBlock];
     ChosenLanes<3> ends;
     if (!block.in_order && block.live != 0 && triangles_->chosen_lanes(b, ends)) {
       block.chosen = static_cast<uint32_t>(triangle_lanes_.size());
       triangle_lanes_.push_back(ends);
+      for (std::size_t c = 0; c < 4; ++c)  // modulo 2^32, as chosen_lanes says
+        block.corner[c] =
+            static_cast<uint32_t>(b * kSpringBlock) + triangles_->chosen_corners()[ends.band][c];
     }
   }
 }
@@ -224,7 +224,6 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
   Floats pressure[3] = {zero_floats(), zero_floats(), zero_floats()};
   if constexpr (std::is_same_v<Real, float>)
     for (std::size_t k = 0; k < 3; ++k) pressure[k] = broadcast(lane_wind_pressure_[k]);
-  const std::array<uint32_t, 4>* chosen_corners = triangles_->chosen_corners();
 #endif
   for (std::size_t block = begin; block < end; ++block) {
     Real* share_out = out + (block - begin) * kSpringBlock;
@@ -238,13 +237,12 @@ void SpringListForces<Real>::triangle_shares(const Real* x, const Real* v, std::
 #if defined(CLOTHLAB_FLOAT_LANES)
     if constexpr (std::is_same_v<Real, float>) {
       if (!air_ && lanes.in_order) {
-        wind_block_lanes(x, stride_, lanes.first, pressure, lanes.live, share_out, out_stride);
+        wind_block_lanes(x, stride_, lanes.corner, pressure, lanes.live, share_out, out_stride);
         continue;
       }
       if (!air_ && lanes.chosen != kNotChosen) {
-        const ChosenLanes<3>& ends = triangle_lanes_[lanes.chosen];
-        wind_block_chosen(x, stride_, block * kSpringBlock, chosen_corners[ends.band], ends,
-                          pressure, lanes.live, share_out, out_stride);
+        wind_block_chosen(x, stride_, lanes.corner, triangle_lanes_[lanes.chosen], pressure,
+                          lanes.live, share_out, out_stride);
         continue;
       }
     }

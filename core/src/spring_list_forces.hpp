@@ -106,16 +106,18 @@ class SpringListForces {
   std::optional<LaneBands> triangles_;  // with the wind or the air
   // What a triangle slot block reads, in one place (the ends' arrays, one cache line per corner
   // and block, are read only by the blocks gathered one triangle at a time): live, bit l set where
-  // lane l lives; chosen, its compact record in triangle_lanes_ where it lies in a chosen band and
-  // its corners do not follow in order, else kNotChosen; first, where its corners follow in order
-  // (in_order), lane 0's.
+  // lane l lives; chosen, its masks in triangle_lanes_ where it lies in a chosen band and its
+  // corners do not follow in order, else kNotChosen; corner, where its corners follow in order
+  // (in_order), lane 0's three, and where chosen, lane 0's four corners of its band (in order:
+  // lane l's lie at corner[c] + l).
   static constexpr uint32_t kNotChosen = 0xffffffffu;
   struct TriangleBlock {
-    uint32_t live = 0;
+    std::array<uint32_t, 4> corner{};
     uint32_t chosen = kNotChosen;
-    std::array<uint32_t, 3> first{};
+    uint16_t live = 0;
     bool in_order = false;
   };
+  static_assert(kSpringBlock <= 16, "TriangleBlock::live holds a bit per lane");
   std::vector<TriangleBlock> triangle_blocks_;
   std::vector<ChosenLanes<3>> triangle_lanes_;
 

@@ -260,12 +260,10 @@ TEST(GeneralPath, ForcesDoNotDependOnHowTheParticlesAreNumbered) {
     }
 }
 
-// The float32 lanes read a block's law as its kind says (one law, one ks and kd, two ks and kd
-// picked per lane, or a law per lane); the float64 path reads each slot's own. On an irregular
-// mesh, where a band of diagonals mixes shear and flexion springs, the two agree.
-TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
-  const Scene scene = testing::busy_scene(20, 40);
-  const auto model = build_mesh_model(testing::irregular_mesh(20, 40), scene);
+// The float32 lanes' accelerations on the model against the float64 path's (which reads each
+// slot's own ends and law, one slot at a time) at the same float32 state, damped and undamped.
+void expect_lanes_agree_with_float64(const Scene& scene,
+                                     const std::shared_ptr<const ClothModel>& model) {
   Cloth lanes(scene, model, Precision::Float32, general_options());
   Cloth reference(scene, model, Precision::Float64, general_options());
   perturb(lanes);
@@ -277,6 +275,53 @@ TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
     const std::vector<double> expected = accelerations(reference, damped);
     EXPECT_LE(max_difference(accelerations(lanes, damped), expected), 2e-5 * max_abs(expected));
   }
+}
+
+// The float32 lanes read a block's law as its kind says (one law, one ks and kd, two ks and kd
+// picked per lane, or a law per lane); the float64 path reads each slot's own. On an irregular
+// mesh, where a band of diagonals mixes shear and flexion springs, the two agree.
+TEST(GeneralPath, LanesReadEachSpringsLawOnAnIrregularMesh) {
+  const Scene scene = testing::busy_scene(20, 40);
+  const auto model = build_mesh_model(testing::irregular_mesh(20, 40), scene);
+  expect_lanes_agree_with_float64(scene, model);
+}
+
+// A run of blocks reads its first block's law while the blocks' laws stay the same
+// (SpringLanes' kRunParity): on the grid read as a mesh, whose bands' blocks each take one law,
+// the springs from stripes of 32 particles take other laws, so a band's blocks change law along
+// it; the float32 lanes agree with the float64 path, which reads each slot's own.
+TEST(GeneralPath, LanesReadEachBlocksLawWhereItChangesAlongABand) {
+  const Scene scene = testing::busy_scene(20, 40);
+  auto model = std::make_shared<ClothModel>(
+      *build_mesh_model(testing::grid_mesh(scene, testing::Diagonals::Rising), scene));
+  for (std::size_t k = 0; k < model->spring_count(); ++k)
+    if (model->first[k] / 32 % 2 == 1)
+      model->ks[k] *= 1.5, model->kd[k] *= 0.5, model->rest_length[k] *= 0.9;
+  expect_lanes_agree_with_float64(scene, model);
+}
+
+// A run of blocks reads its first block's ends in order, the others following (kRunParity):
+// where the grid read as a mesh keeps its springs along rows only from windows of 16 first ends
+// 128 apart, they are too few for a band and are gathered, in blocks whose ends are in order but
+// do not follow each other's; the float32 lanes agree with the float64 path.
+TEST(GeneralPath, LanesReadEachBlocksEndsWhereTheyDoNotFollow) {
+  const Scene scene = testing::busy_scene(20, 40);
+  auto model = std::make_shared<ClothModel>(
+      *build_mesh_model(testing::grid_mesh(scene, testing::Diagonals::Rising), scene));
+  ClothModel& sparse = *model;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < sparse.spring_count(); ++k) {
+    if (sparse.second[k] - sparse.first[k] == 1 && sparse.first[k] % 128 >= 16) continue;
+    sparse.first[kept] = sparse.first[k], sparse.second[kept] = sparse.second[k];
+    sparse.rest_length[kept] = sparse.rest_length[k], sparse.ks[kept] = sparse.ks[k];
+    sparse.kd[kept] = sparse.kd[k], sparse.family[kept] = sparse.family[k];
+    ++kept;
+  }
+  for (auto* values : {&sparse.first, &sparse.second}) values->resize(kept);
+  for (auto* values : {&sparse.rest_length, &sparse.ks, &sparse.kd}) values->resize(kept);
+  sparse.family.resize(kept);
+  detail::build_adjacency(sparse);
+  expect_lanes_agree_with_float64(scene, model);
 }
 
 TEST(GeneralPath, OffersEveryExtensionButTheGrid) {
