@@ -2,7 +2,8 @@
 // reason the kernels store under a mask only where a lane must be left alone
 // (docs/reference/simd-dispatch.md "Masked stores on AVX2"): 8 KiB of floats, in L1, stored a
 // block of 8 lanes at a time, plainly, under a mask of every lane and under a mask of every
-// other lane. Run by hand: build/bin/clothlab_lane_stores --benchmark_min_time=0.2
+// other lane. Run by hand: build-portable/bin/clothlab_lane_stores --benchmark_min_time=0.2
+// (the same code in either build)
 #include <benchmark/benchmark.h>
 #include <immintrin.h>
 

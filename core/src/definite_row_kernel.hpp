@@ -117,12 +117,8 @@ inline void definite_inverse_length_row(const DefiniteInverseLengthRow& row) {
       const Floats d = load_floats(valid, row.x_partner + e) - load_floats(valid, row.x + e);
       squared = squared + d * d;
     }
-    const Floats inverse_length = keep(valid, inverse_sqrt_or_zero(squared));
-    if (c + kLanes <= row.cols) {
-      store_floats(row.inverse_length + c, inverse_length);
-    } else {
-      store_floats(columns_in(c, 0, row.cols), row.inverse_length + c, inverse_length);
-    }
+    const LaneMask in_row = columns_in(c, 0, row.cols);
+    store_floats(in_row, row.inverse_length + c, keep(valid, inverse_sqrt_or_zero(squared)));
   }
 }
 
