@@ -131,6 +131,8 @@ TEST(ParamSetText, ResolvesRelativePathsAgainstTheConfigFolderOrTheWorkingDirect
   EXPECT_EQ(params.text("file"), "/home/u/assets/cape.obj");
   params.set("file", "cape.obj", "--set");
   EXPECT_EQ(params.text("file"), (std::filesystem::current_path() / "cape.obj").string());
+  params.set("file", "meshes/cape.obj", "run.yaml:4:9");  // a config in the working directory
+  EXPECT_EQ(params.text("file"), (std::filesystem::current_path() / "meshes/cape.obj").string());
   params.set("file", "/data/cape.obj", "/home/u/configs/run.yaml:4:9");
   EXPECT_EQ(params.text("file"), "/data/cape.obj");
   params.set("label", "a/b", "/home/u/configs/run.yaml:5:9");

@@ -17,7 +17,7 @@ std::filesystem::path base_folder(std::string_view source) {
   static const std::regex file_location(R"((.+):[0-9]+:[0-9]+)");
   std::match_results<std::string_view::const_iterator> match;
   if (std::regex_match(source.begin(), source.end(), match, file_location))
-    return std::filesystem::absolute(std::filesystem::path(match[1].str()).parent_path());
+    return std::filesystem::absolute(std::filesystem::path(match[1].str())).parent_path();
   return std::filesystem::current_path();
 }
 
