@@ -170,7 +170,7 @@ struct Xpbd {
                           system.inverse_mass(), system.particle_count(), threads_);
     else
       solver.general.build(system, topology, iterations_, accelerated ? chebyshev_rho_ : 0.0,
-                           chebyshev_delay_);
+                           chebyshev_delay_, threads_);
     sdk::start_thread_team(threads_);
   }
 
@@ -217,7 +217,7 @@ struct Xpbd {
                     arrays, threads_,
                     ahead ? ExternalAhead<Real>{&external, external_acceleration, t + substep * h}
                           : ExternalAhead<Real>{})
-              : solver.general.run(arrays, threads_);
+              : solver.general.run(arrays);
       if (!solver.on_grid && solver.general.diverged())
         throw_divergence(t + substep * h, solver.general.first_change(),
                          solver.general.last_change());

@@ -10,6 +10,13 @@
 // by index. A colour's springs share no particle, so the order within it does not change
 // the sweep, and each lane computes the same instructions whatever block it is in: the bits
 // do not depend on how the springs were cut, nor on the thread count.
+//
+// A run with dead lanes (holes, or every other particle) would load and store its windows of
+// particles under a mask, and a masked store is slow on AVX2. Where no particle of its windows
+// belongs to a block that another thread projects at the same time (thread_share), nor lies
+// past the last particle, the run loads its windows whole and stores each as it is in memory
+// but for its live lanes (a select, then a plain store): what a masked store leaves, since
+// nothing else writes those particles meanwhile.
 #pragma once
 
 #include <algorithm>
@@ -34,11 +41,14 @@ using namespace detail;
 class ColorBlocks final : public LaneBlocks {
  public:
   void build(const std::vector<Constraint<float>>& springs,
-             const std::vector<uint32_t>& color_offsets, bool find_runs = true) override {
+             const std::vector<uint32_t>& color_offsets, uint32_t particle_count, int threads,
+             bool find_runs = true) override {
     first_.clear(), second_.clear(), rest_.clear(), ks_.clear(), kd_.clear();
     kind_.clear(), live_.clear(), live_bits_.clear(), lead_first_.clear(), lead_second_.clear();
-    shared_law_.clear();
+    shared_law_.clear(), whole_windows_.clear();
     color_blocks_.assign(1, 0);
+    threads_ = threads;
+    std::vector<uint32_t> share(particle_count, kNoShare);  // find_whole_windows'
     for (std::size_t c = 0; c + 1 < color_offsets.size(); ++c) {
       std::vector<uint32_t> order(color_offsets[c + 1] - color_offsets[c]);
       std::iota(order.begin(), order.end(), color_offsets[c]);
@@ -59,6 +69,7 @@ class ColorBlocks final : public LaneBlocks {
       }
       for (std::size_t g = 0; g < gathered.size(); g += kLanes)
         add_block(springs, &gathered[g], std::min(kLanes, gathered.size() - g), Kind::kGathered);
+      find_whole_windows(color_blocks_.back(), static_cast<uint32_t>(kind_.size()), share);
       color_blocks_.push_back(static_cast<uint32_t>(kind_.size()));
     }
   }
@@ -66,7 +77,8 @@ class ColorBlocks final : public LaneBlocks {
   std::size_t slots() const override { return first_.size(); }
   long blocks_begin(std::size_t color) const override { return color_blocks_[color]; }
   void project(long begin, long end, const LaneArrays& arrays) const override {
-    for (long b = begin; b < end; ++b) project(b, arrays);
+    const bool whole = arrays.threads == threads_;  // the split the windows were found for
+    for (long b = begin; b < end; ++b) project(b, arrays, whole);
   }
   // kSplitPairs: offset 1, firsts every other particle of a run of 2 kLanes (deinterleave<1>);
   // kSplitQuads: offset 2, the first two of every four (deinterleave<2>); kEveryOther: any
@@ -85,25 +97,49 @@ class ColorBlocks final : public LaneBlocks {
       count += kind_[b] != Kind::kGathered && live_[b] < kLanes;
     return count;
   }
+  // Whether block b loads and stores its windows whole (see the top).
+  bool whole_windows(std::size_t b) const { return whole_windows_[b] != 0; }
+  // The particles block b's springs join, of its live lanes.
+  std::vector<uint32_t> live_particles(std::size_t b) const {
+    std::vector<uint32_t> particles;
+    for (std::size_t l = 0; l < kLanes; ++l)
+      if (live_bits_[b] >> l & 1u)
+        particles.push_back(first_[b * kLanes + l]), particles.push_back(second_[b * kLanes + l]);
+    return particles;
+  }
+  // The particles a run loads from (each window's first, and its width); none gathered.
+  std::vector<std::pair<uint32_t, uint32_t>> windows(std::size_t b) const {
+    if (kind_[b] == Kind::kGathered) return {};
+    const uint32_t width = window_width(kind_[b]);
+    return {{lead_first_[b], width}, {lead_second_[b], width}};
+  }
 
   using Arrays = LaneArrays;
 
-  // Projects block b's springs.
-  void project(long b, const Arrays& a) const {
+  // Projects block b's springs; `whole`: on the thread split the blocks were built for, so
+  // those whose windows may be loaded and stored whole are.
+  void project(long b, const Arrays& a, bool whole = false) const {
     const std::size_t block = static_cast<std::size_t>(b);
     const bool holes = live_[block] < kLanes;
+    whole = whole && whole_windows_[block] != 0;
     switch (kind_[block]) {
       case Kind::kInOrder:
-        return holes ? project<Kind::kInOrder, true>(b, a) : project<Kind::kInOrder, false>(b, a);
+        if (!holes) return project<Kind::kInOrder, false, false>(b, a);
+        return whole ? project<Kind::kInOrder, true, true>(b, a)
+                     : project<Kind::kInOrder, true, false>(b, a);
       case Kind::kSplitPairs:
-        return project<Kind::kSplitPairs, false>(b, a);
+        return project<Kind::kSplitPairs, false, false>(b, a);
       case Kind::kSplitQuads:
-        return project<Kind::kSplitQuads, false>(b, a);
+        return project<Kind::kSplitQuads, false, false>(b, a);
       case Kind::kEveryOther:
-        return holes ? project<Kind::kEveryOther, true>(b, a)
-                     : project<Kind::kEveryOther, false>(b, a);
+        if (whole)
+          return holes ? project<Kind::kEveryOther, true, true>(b, a)
+                       : project<Kind::kEveryOther, false, true>(b, a);
+        return holes ? project<Kind::kEveryOther, true, false>(b, a)
+                     : project<Kind::kEveryOther, false, false>(b, a);
       case Kind::kGathered:
-        return holes ? project<Kind::kGathered, true>(b, a) : project<Kind::kGathered, false>(b, a);
+        return holes ? project<Kind::kGathered, true, false>(b, a)
+                     : project<Kind::kGathered, false, false>(b, a);
     }
   }
 
@@ -118,6 +154,45 @@ class ColorBlocks final : public LaneBlocks {
     float lanes[kLanes];
     store_floats(lanes, starts);
     return {lanes, lanes + kLanes};
+  }
+
+  static constexpr uint32_t kNoShare = ~0u;
+
+  // The particles a run's window holds: its lanes, or every other particle of twice as many.
+  static uint32_t window_width(Kind kind) {
+    return static_cast<uint32_t>(kind == Kind::kInOrder ? kLanes : 2 * kLanes);
+  }
+
+  // Which of a colour's blocks [begin, end) may load and store their windows whole: the runs
+  // with dead lanes whose windows lie within the particles and hold none that a block of
+  // another thread's share (thread_share over threads_) joins. `share`: per particle, the
+  // share whose blocks join it, kNoShare throughout, and so again on return.
+  void find_whole_windows(uint32_t begin, uint32_t end, std::vector<uint32_t>& share) {
+    const auto mark = [&](uint32_t b, uint32_t value) {
+      for (std::size_t l = 0; l < kLanes; ++l)
+        if (live_bits_[b] >> l & 1u)
+          share[first_[b * kLanes + l]] = value, share[second_[b * kLanes + l]] = value;
+    };
+    std::vector<uint32_t> share_of_block(end - begin);
+    for (long t = 0; t < threads_; ++t) {
+      const auto [first, last] = thread_share(begin, end, t, threads_);
+      for (long b = first; b < last; ++b) {
+        share_of_block[static_cast<std::size_t>(b - begin)] = static_cast<uint32_t>(t);
+        mark(static_cast<uint32_t>(b), static_cast<uint32_t>(t));
+      }
+    }
+    for (uint32_t b = begin; b < end; ++b) {
+      const uint32_t own = share_of_block[b - begin];
+      bool whole =
+          kind_[b] == Kind::kEveryOther || (kind_[b] == Kind::kInOrder && live_[b] < kLanes);
+      const uint32_t width = window_width(kind_[b]);
+      for (const uint32_t start : {lead_first_[b], lead_second_[b]})
+        for (uint32_t particle = start; whole && particle < start + width; ++particle)
+          whole =
+              particle < share.size() && (share[particle] == kNoShare || share[particle] == own);
+      whole_windows_.push_back(whole);
+    }
+    for (uint32_t b = begin; b < end; ++b) mark(b, kNoShare);
   }
 
   // A block from order[p]: its kind and how many springs it takes.
@@ -205,8 +280,9 @@ class ColorBlocks final : public LaneBlocks {
     shared_law_.push_back(shared_law);
   }
 
-  // Holes: some lanes dead (no spring), whose particles a run neither reads nor writes.
-  template <Kind kKind, bool kHoles>
+  // Holes: some lanes dead (no spring), whose particles a run neither changes nor, unless
+  // kWhole (its windows loaded and stored whole), reads.
+  template <Kind kKind, bool kHoles, bool kWhole>
   void project(long b, const Arrays& a) const {
     using namespace row_lanes;
     const std::size_t block = static_cast<std::size_t>(b);
@@ -221,15 +297,19 @@ class ColorBlocks final : public LaneBlocks {
       interleave<1>(keep(live, broadcast(1.0f)), zero_floats(), low, high);
       low_half = greater(low, zero_floats()), high_half = greater(high, zero_floats());
     }
+    constexpr bool kMasked = !kWhole && (kHoles || kKind == Kind::kEveryOther);
     const auto load = [&](LaneMask lanes, const float* p) {
-      if constexpr (kHoles || kKind == Kind::kEveryOther)
+      if constexpr (kMasked)
         return load_floats(lanes, p);
       else
         return load_floats(p);
     };
+    // Whole: read again before the store, as the block's other window may have changed it.
     const auto store = [&](LaneMask lanes, float* p, Floats value) {
-      if constexpr (kHoles || kKind == Kind::kEveryOther)
+      if constexpr (kMasked)
         store_floats(lanes, p, value);
+      else if constexpr (kWhole)
+        store_floats(p, select(lanes, value, load_floats(p)));
       else
         store_floats(p, value);
     };
@@ -324,7 +404,9 @@ class ColorBlocks final : public LaneBlocks {
   std::vector<uint32_t> live_bits_;                 // its live lanes
   std::vector<uint32_t> lead_first_, lead_second_;  // lane 0's ends (a run's starts)
   std::vector<uint8_t> shared_law_;                 // whether its springs share one law
+  std::vector<uint8_t> whole_windows_;              // whether it loads and stores them whole
   std::vector<uint32_t> color_blocks_;              // colour c's blocks: [c], [c + 1])
+  int threads_ = 1;                                 // the threads whole windows were found for
 };
 
 }  // namespace color_lanes

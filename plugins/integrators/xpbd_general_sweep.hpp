@@ -64,10 +64,12 @@ class GeneralSweep {
  public:
   // Copies the springs colour by colour; springs with both ends pinned never move and are
   // left out (their colour ranges shrink accordingly). rho = 0: no acceleration.
-  // lane_runs false: every lane block gathered (the runs' test).
+  // Each substep runs on `threads` threads. lane_runs false: every lane block gathered (the
+  // runs' test).
   void build(const sdk::System<Real>& system, const sdk::Topology& topology, int iterations,
-             double chebyshev_rho, long chebyshev_delay, bool lane_runs = true) {
+             double chebyshev_rho, long chebyshev_delay, int threads, bool lane_runs = true) {
     iterations_ = iterations;
+    threads_ = threads;
     const Real* inverse_mass = system.inverse_mass();
     springs_.clear();
     springs_.reserve(topology.spring_count());
@@ -86,7 +88,7 @@ class GeneralSweep {
     if constexpr (std::is_same_v<Real, float>) {
       blocks_ = make_lane_blocks();
       if (blocks_ != nullptr) {
-        blocks_->build(springs_, color_offsets_, lane_runs);
+        blocks_->build(springs_, color_offsets_, system.particle_count(), threads, lane_runs);
         multipliers = blocks_->slots();
       }
     }
@@ -98,15 +100,15 @@ class GeneralSweep {
   // One substep; false when a velocity came out non-finite. The worksharing loops run on the
   // team of a parallel region, or, on one thread, orphaned (no team, no barrier cost, no
   // allocation).
-  bool run(const Substep<Real>& s, int threads) {
-    if (threads == 1) {
+  bool run(const Substep<Real>& s) {
+    if (threads_ == 1) {
       const Share share = sweep(s);
       first_change_ = share.first_change, last_change_ = share.last_change;
       return share.finite;
     }
     bool finite = true;
     Real first = 0, last = 0;
-#pragma omp parallel num_threads(threads) reduction(&& : finite) reduction(max : first, last)
+#pragma omp parallel num_threads(threads_) reduction(&& : finite) reduction(max : first, last)
     {
       const Share share = sweep(s);
       finite = share.finite, first = share.first_change, last = share.last_change;
@@ -126,13 +128,10 @@ class GeneralSweep {
   // the velocities likewise, a vector loop per coordinate.
   static constexpr long tether_block = 256, particle_block = 256;
 
-  // This thread's part of [begin, end), as a static schedule splits it (a colour's blocks are
-  // independent: any split gives the same bits). One call per thread and colour, not per block,
-  // into the target's lane blocks.
+  // This thread's part of a colour's blocks [begin, end). One call per thread and colour, not
+  // per block, into the target's lane blocks.
   static std::pair<long, long> share(long begin, long end) {
-    const long threads = omp_get_num_threads(), thread = omp_get_thread_num();
-    return {begin + (end - begin) * thread / threads,
-            begin + (end - begin) * (thread + 1) / threads};
+    return thread_share(begin, end, omp_get_thread_num(), omp_get_num_threads());
   }
 
   // This thread's share of "every velocity is finite" and of the first and last sweeps' changes
@@ -163,10 +162,16 @@ class GeneralSweep {
         if constexpr (std::is_same_v<Real, float>) {
           if (blocks_ != nullptr) {
             // Chebyshev extrapolates the multipliers too; else the last sweep's are not read.
-            const LaneArrays arrays{
-                s.x,         s.displacement, s.inverse_mass,
-                lambda,      s.stride,       s.h,
-                s.h_squared, iteration == 0, chebyshev_.active() || iteration + 1 < iterations_};
+            const LaneArrays arrays{s.x,
+                                    s.displacement,
+                                    s.inverse_mass,
+                                    lambda,
+                                    s.stride,
+                                    s.h,
+                                    s.h_squared,
+                                    iteration == 0,
+                                    chebyshev_.active() || iteration + 1 < iterations_,
+                                    omp_get_num_threads()};
             const auto [begin, end] =
                 share(blocks_->blocks_begin(color), blocks_->blocks_begin(color + 1));
             blocks_->project(begin, end, arrays);
@@ -209,6 +214,7 @@ class GeneralSweep {
   }
 
   int iterations_ = 1;
+  int threads_ = 1;  // each substep's
   std::vector<Constraint<Real>> springs_;
   std::vector<Real> lambda_;             // one per spring (float lanes: per slot)
   std::unique_ptr<LaneBlocks> blocks_;   // float32's springs in lane blocks, where lanes run

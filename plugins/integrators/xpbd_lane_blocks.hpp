@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "xpbd_constraint.hpp"
@@ -16,7 +17,8 @@ namespace clothlab::builtin {
 
 // What a sweep projects with: the positions x + dx (stride floats per coordinate), the
 // particles' inverse masses w (the springs' weights), the multipliers by slot; reset where
-// `fresh`, not stored unless `keep` (the substep's last sweep needs none after it).
+// `fresh`, not stored unless `keep` (the substep's last sweep needs none after it); the number
+// of threads sharing each colour's blocks (thread_share).
 struct LaneArrays {
   const float* x;
   float* dx;
@@ -25,15 +27,25 @@ struct LaneArrays {
   std::size_t stride;
   float h, h_squared;
   bool fresh, keep;
+  int threads;
 };
+
+// Thread `thread`'s part of a colour's blocks [begin, end) when `threads` threads share them,
+// as a static schedule splits it (a colour's blocks are independent: any split gives the same
+// bits).
+inline std::pair<long, long> thread_share(long begin, long end, long thread, long threads) {
+  return {begin + (end - begin) * thread / threads, begin + (end - begin) * (thread + 1) / threads};
+}
 
 class LaneBlocks {
  public:
   virtual ~LaneBlocks() = default;
-  // springs: colour c's in [color_offsets[c], color_offsets[c + 1]). find_runs false: every
-  // block gathered (what a test holds the runs against).
+  // springs: colour c's in [color_offsets[c], color_offsets[c + 1]), over particles
+  // [0, particle_count), each colour's blocks shared by `threads` threads (thread_share).
+  // find_runs false: every block gathered (what a test holds the runs against).
   virtual void build(const std::vector<Constraint<float>>& springs,
-                     const std::vector<uint32_t>& color_offsets, bool find_runs) = 0;
+                     const std::vector<uint32_t>& color_offsets, uint32_t particle_count,
+                     int threads, bool find_runs) = 0;
   // The multipliers' slots.
   virtual std::size_t slots() const = 0;
   // Colour c's blocks: [blocks_begin(c), blocks_begin(c + 1)).

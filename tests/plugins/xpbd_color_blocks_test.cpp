@@ -1,6 +1,8 @@
 // XPBD's general sweep on lanes (plugins/integrators/xpbd_color_blocks.hpp): the blocks that
-// load their ends in order or as split runs give the bits of the same springs gathered, and
-// the lanes give the one-spring law (xpbd_constraint.hpp) to within the lane kernel's rounding.
+// load their ends in order or as split runs give the bits of the same springs gathered, with
+// their windows loaded and stored whole or under masks; a window loaded whole holds no
+// particle that another thread's blocks join; and the lanes give the one-spring law
+// (xpbd_constraint.hpp) to within the lane kernel's rounding.
 #include "xpbd_color_blocks.hpp"
 
 #include <gtest/gtest.h>
@@ -65,10 +67,11 @@ struct Sweep {
 };
 
 #if defined(CLOTHLAB_FLOAT_LANES)
-// Two Gauss-Seidel iterations (the second reads the multipliers) from a perturbed net.
-Sweep sweep_blocks(const ColoredNet& net, bool find_runs) {
+// Two Gauss-Seidel iterations (the second reads the multipliers) from a perturbed net, on one
+// thread; `whole` false: every run with dead lanes loads and stores under masks.
+Sweep sweep_blocks(const ColoredNet& net, bool find_runs, bool whole = true) {
   builtin::ColorBlocks blocks;
-  blocks.build(net.springs, net.color_offsets, find_runs);
+  blocks.build(net.springs, net.color_offsets, rows * cols, 1, find_runs);
   std::vector<float> x(3 * stride, 0.0f), dx(3 * stride, 0.0f), lambda(blocks.slots(), 0.0f);
   for (uint32_t i = 0; i < rows * cols; ++i) {
     x[i] = spacing * static_cast<float>(i % cols);
@@ -80,11 +83,12 @@ Sweep sweep_blocks(const ColoredNet& net, bool find_runs) {
   const float h = 1e-2f;
   for (int iteration = 0; iteration < 2; ++iteration) {
     const builtin::ColorBlocks::Arrays arrays{
-        x.data(), dx.data(), net.inverse_mass.data(), lambda.data(), stride,
-        h,        h * h,     iteration == 0,          true};
+        x.data(),      dx.data(),      net.inverse_mass.data(),
+        lambda.data(), stride,         h,
+        h * h,         iteration == 0, true,
+        whole ? 1 : 0};  // 0: not the thread count built for, so every window masked
     for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c)
-      for (long b = blocks.blocks_begin(c); b < blocks.blocks_begin(c + 1); ++b)
-        blocks.project(b, arrays);
+      blocks.project(blocks.blocks_begin(c), blocks.blocks_begin(c + 1), arrays);
   }
   return {dx, lambda};
 }
@@ -94,14 +98,64 @@ TEST(XpbdColorBlocks, RunsGiveTheBitsOfTheSameSpringsGathered) {
 #if defined(CLOTHLAB_FLOAT_LANES)
   const ColoredNet net;
   builtin::ColorBlocks blocks;
-  blocks.build(net.springs, net.color_offsets);
+  blocks.build(net.springs, net.color_offsets, rows * cols, 1);
   using Kind = builtin::ColorBlocks::Kind;
   for (Kind kind :
        {Kind::kInOrder, Kind::kSplitPairs, Kind::kSplitQuads, Kind::kEveryOther, Kind::kGathered})
     EXPECT_GT(blocks.blocks_of(kind), 0u) << "no block of kind " << static_cast<int>(kind);
   EXPECT_GT(blocks.runs_with_holes(), 0u);
+  std::size_t whole = 0;
+  for (long b = 0; b < blocks.blocks_begin(net.color_offsets.size() - 1); ++b)
+    whole += blocks.whole_windows(static_cast<std::size_t>(b));
+  EXPECT_GT(whole, 0u);
   const Sweep runs = sweep_blocks(net, true), gathered = sweep_blocks(net, false);
   EXPECT_EQ(runs.displacement, gathered.displacement);
+  EXPECT_EQ(runs.displacement, sweep_blocks(net, true, false).displacement);
+#else
+  GTEST_SKIP() << "a build without float lanes sweeps one spring at a time";
+#endif
+}
+
+TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
+#if defined(CLOTHLAB_FLOAT_LANES)
+  const ColoredNet net;
+  for (int threads : {2, 3}) {
+    builtin::ColorBlocks blocks;
+    blocks.build(net.springs, net.color_offsets, rows * cols, threads);
+    std::size_t whole = 0, kept_masked = 0;
+    for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c) {
+      const long begin = blocks.blocks_begin(c), end = blocks.blocks_begin(c + 1);
+      std::vector<int> share_of_particle(rows * cols, -1);  // the share whose blocks join it
+      for (int t = 0; t < threads; ++t) {
+        const auto [first, last] = builtin::thread_share(begin, end, t, threads);
+        for (long b = first; b < last; ++b)
+          for (uint32_t particle : blocks.live_particles(static_cast<std::size_t>(b)))
+            share_of_particle[particle] = t;
+      }
+      for (int t = 0; t < threads; ++t) {
+        const auto [first, last] = builtin::thread_share(begin, end, t, threads);
+        for (long b = first; b < last; ++b) {
+          const auto block = static_cast<std::size_t>(b);
+          if (blocks.windows(block).empty()) continue;  // gathered
+          bool private_windows = true;
+          for (const auto& [start, width] : blocks.windows(block))
+            for (uint32_t particle = start; particle < start + width; ++particle)
+              private_windows =
+                  private_windows && particle < rows * cols &&
+                  (share_of_particle[particle] == -1 || share_of_particle[particle] == t);
+          if (blocks.whole_windows(block)) {
+            ++whole;
+            EXPECT_TRUE(private_windows)
+                << "block " << b << " of colour " << c << ", " << threads << " threads";
+          } else if (!private_windows) {
+            ++kept_masked;
+          }
+        }
+      }
+    }
+    EXPECT_GT(whole, 0u) << threads << " threads";
+    EXPECT_GT(kept_masked, 0u) << threads << " threads";  // the net has windows to keep masked
+  }
 #else
   GTEST_SKIP() << "a build without float lanes sweeps one spring at a time";
 #endif
