@@ -1,5 +1,5 @@
 #!/bin/bash
-# The scaling table of lab/real-cloth.md ("Scaling on the cotton flag at 60 Hz"): clothlab
+# The scaling table of docs/results.md ("Choose": the cotton flag at 60 Hz, 50² to 300²): clothlab
 # --choose on the cotton flag at 60 Hz for each side given (default 50 100 200 300), one after
 # the other, each with its preset configs/choose-cotton-flag-<side>.yaml and implicit_euler's
 # multigrid preconditioner. Each run's table goes to results/choose-cotton-flag-<side>.txt, with
