@@ -97,18 +97,15 @@ class ColorBlocks final : public LaneBlocks {
       count += kind_[b] != Kind::kGathered && live_[b] < kLanes;
     return count;
   }
-  // Whether block b loads and stores its windows whole (see the top).
-  bool whole_windows(std::size_t b) const { return whole_windows_[b] != 0; }
-  // The particles block b's springs join, of its live lanes.
-  std::vector<uint32_t> live_particles(std::size_t b) const {
+  bool whole_windows(std::size_t b) const override { return whole_windows_[b] != 0; }
+  std::vector<uint32_t> live_particles(std::size_t b) const override {
     std::vector<uint32_t> particles;
     for (std::size_t l = 0; l < kLanes; ++l)
       if (live_bits_[b] >> l & 1u)
         particles.push_back(first_[b * kLanes + l]), particles.push_back(second_[b * kLanes + l]);
     return particles;
   }
-  // The particles a run loads from (each window's first, and its width); none gathered.
-  std::vector<std::pair<uint32_t, uint32_t>> windows(std::size_t b) const {
+  std::vector<std::pair<uint32_t, uint32_t>> windows(std::size_t b) const override {
     if (kind_[b] == Kind::kGathered) return {};
     const uint32_t width = window_width(kind_[b]);
     return {{lead_first_[b], width}, {lead_second_[b], width}};

@@ -52,6 +52,13 @@ class LaneBlocks {
   virtual long blocks_begin(std::size_t color) const = 0;
   // Projects blocks [begin, end).
   virtual void project(long begin, long end, const LaneArrays& arrays) const = 0;
+
+  // What the tests check of block b: whether it loads and stores its windows of particles whole
+  // (xpbd_color_blocks.hpp), those windows ([start, start + width) each; none where its ends
+  // are gathered), and the particles its springs join.
+  virtual bool whole_windows(std::size_t b) const = 0;
+  virtual std::vector<std::pair<uint32_t, uint32_t>> windows(std::size_t b) const = 0;
+  virtual std::vector<uint32_t> live_particles(std::size_t b) const = 0;
 };
 
 }  // namespace clothlab::builtin

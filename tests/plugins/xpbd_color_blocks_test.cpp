@@ -1,8 +1,10 @@
-// XPBD's general sweep on lanes (plugins/integrators/xpbd_color_blocks.hpp): the blocks that
+// XPBD's general sweep on lanes (plugins/integrators/xpbd_color_blocks.hpp), on the SIMD target
+// that runs here (make_lane_blocks: each target of a portable build in turn): the blocks that
 // load their ends in order or as split runs give the bits of the same springs gathered, with
 // their windows loaded and stored whole or under masks; a window loaded whole holds no
 // particle that another thread's blocks join; and the lanes give the one-spring law
-// (xpbd_constraint.hpp) to within the lane kernel's rounding.
+// (xpbd_constraint.hpp) to within the lane kernel's rounding. The net holds every kind of
+// block (checked on the build's own lanes).
 #include "xpbd_color_blocks.hpp"
 
 #include <gtest/gtest.h>
@@ -10,7 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include "xpbd_general_sweep.hpp"
 
 namespace clothlab::test {
 namespace {
@@ -66,13 +71,20 @@ struct Sweep {
   std::vector<float> displacement, lambda;
 };
 
-#if defined(CLOTHLAB_FLOAT_LANES)
+// The lane blocks of the target that runs here, built for `threads`; none without lanes.
+std::unique_ptr<builtin::LaneBlocks> lane_blocks(const ColoredNet& net, int threads,
+                                                 bool find_runs = true) {
+  std::unique_ptr<builtin::LaneBlocks> blocks = builtin::make_lane_blocks();
+  if (blocks != nullptr)
+    blocks->build(net.springs, net.color_offsets, rows * cols, threads, find_runs);
+  return blocks;
+}
+
 // Two Gauss-Seidel iterations (the second reads the multipliers) from a perturbed net, on one
 // thread; `whole` false: every run with dead lanes loads and stores under masks.
 Sweep sweep_blocks(const ColoredNet& net, bool find_runs, bool whole = true) {
-  builtin::ColorBlocks blocks;
-  blocks.build(net.springs, net.color_offsets, rows * cols, 1, find_runs);
-  std::vector<float> x(3 * stride, 0.0f), dx(3 * stride, 0.0f), lambda(blocks.slots(), 0.0f);
+  const std::unique_ptr<builtin::LaneBlocks> blocks = lane_blocks(net, 1, find_runs);
+  std::vector<float> x(3 * stride, 0.0f), dx(3 * stride, 0.0f), lambda(blocks->slots(), 0.0f);
   for (uint32_t i = 0; i < rows * cols; ++i) {
     x[i] = spacing * static_cast<float>(i % cols);
     x[stride + i] = -spacing * static_cast<float>(i / cols);
@@ -82,19 +94,18 @@ Sweep sweep_blocks(const ColoredNet& net, bool find_runs, bool whole = true) {
   }
   const float h = 1e-2f;
   for (int iteration = 0; iteration < 2; ++iteration) {
-    const builtin::ColorBlocks::Arrays arrays{
+    const builtin::LaneArrays arrays{
         x.data(),      dx.data(),      net.inverse_mass.data(),
         lambda.data(), stride,         h,
         h * h,         iteration == 0, true,
         whole ? 1 : 0};  // 0: not the thread count built for, so every window masked
     for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c)
-      blocks.project(blocks.blocks_begin(c), blocks.blocks_begin(c + 1), arrays);
+      blocks->project(blocks->blocks_begin(c), blocks->blocks_begin(c + 1), arrays);
   }
   return {dx, lambda};
 }
-#endif
 
-TEST(XpbdColorBlocks, RunsGiveTheBitsOfTheSameSpringsGathered) {
+TEST(XpbdColorBlocks, TheNetHoldsEveryKindOfBlock) {
 #if defined(CLOTHLAB_FLOAT_LANES)
   const ColoredNet net;
   builtin::ColorBlocks blocks;
@@ -104,24 +115,31 @@ TEST(XpbdColorBlocks, RunsGiveTheBitsOfTheSameSpringsGathered) {
        {Kind::kInOrder, Kind::kSplitPairs, Kind::kSplitQuads, Kind::kEveryOther, Kind::kGathered})
     EXPECT_GT(blocks.blocks_of(kind), 0u) << "no block of kind " << static_cast<int>(kind);
   EXPECT_GT(blocks.runs_with_holes(), 0u);
-  std::size_t whole = 0;
-  for (long b = 0; b < blocks.blocks_begin(net.color_offsets.size() - 1); ++b)
-    whole += blocks.whole_windows(static_cast<std::size_t>(b));
-  EXPECT_GT(whole, 0u);
-  const Sweep runs = sweep_blocks(net, true), gathered = sweep_blocks(net, false);
-  EXPECT_EQ(runs.displacement, gathered.displacement);
-  EXPECT_EQ(runs.displacement, sweep_blocks(net, true, false).displacement);
 #else
   GTEST_SKIP() << "a build without float lanes sweeps one spring at a time";
 #endif
 }
 
-TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
-#if defined(CLOTHLAB_FLOAT_LANES)
+TEST(XpbdColorBlocks, RunsGiveTheBitsOfTheSameSpringsGathered) {
   const ColoredNet net;
+  const std::unique_ptr<builtin::LaneBlocks> blocks = lane_blocks(net, 1);
+  if (blocks == nullptr) GTEST_SKIP() << "no float lanes here: one spring at a time";
+  std::size_t whole = 0;
+  for (long b = 0; b < blocks->blocks_begin(net.color_offsets.size() - 1); ++b)
+    whole += blocks->whole_windows(static_cast<std::size_t>(b));
+  EXPECT_GT(whole, 0u);
+  const Sweep runs = sweep_blocks(net, true), gathered = sweep_blocks(net, false);
+  EXPECT_EQ(runs.displacement, gathered.displacement);
+  EXPECT_EQ(runs.displacement, sweep_blocks(net, true, false).displacement);
+}
+
+TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
+  const ColoredNet net;
+  if (builtin::make_lane_blocks() == nullptr)
+    GTEST_SKIP() << "no float lanes here: one spring at a time";
   for (int threads : {2, 3}) {
-    builtin::ColorBlocks blocks;
-    blocks.build(net.springs, net.color_offsets, rows * cols, threads);
+    const std::unique_ptr<builtin::LaneBlocks> built = lane_blocks(net, threads);
+    const builtin::LaneBlocks& blocks = *built;
     std::size_t whole = 0, kept_masked = 0;
     for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c) {
       const long begin = blocks.blocks_begin(c), end = blocks.blocks_begin(c + 1);
@@ -156,14 +174,12 @@ TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
     EXPECT_GT(whole, 0u) << threads << " threads";
     EXPECT_GT(kept_masked, 0u) << threads << " threads";  // the net has windows to keep masked
   }
-#else
-  GTEST_SKIP() << "a build without float lanes sweeps one spring at a time";
-#endif
 }
 
 TEST(XpbdColorBlocks, LanesGiveTheOneSpringLaw) {
-#if defined(CLOTHLAB_FLOAT_LANES)
   const ColoredNet net;
+  if (builtin::make_lane_blocks() == nullptr)
+    GTEST_SKIP() << "no float lanes here: one spring at a time";
   const Sweep lanes = sweep_blocks(net, true);
   // The same sweep one spring at a time, in double.
   std::vector<double> x(3 * stride, 0.0), dx(3 * stride, 0.0), lambda(net.springs.size(), 0.0);
@@ -193,9 +209,6 @@ TEST(XpbdColorBlocks, LanesGiveTheOneSpringLaw) {
   }
   EXPECT_GT(moved, 1e-4);  // the projections moved the particles
   EXPECT_LT(largest, 2e-8);
-#else
-  GTEST_SKIP() << "a build without float lanes sweeps one spring at a time";
-#endif
 }
 
 }  // namespace
