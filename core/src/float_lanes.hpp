@@ -171,6 +171,12 @@ inline Floats negated_where_top_bit(Floats value, Indices indices) {
   const __m512i sign = _mm512_and_si512(indices, _mm512_set1_epi32(int32_t(0x80000000u)));
   return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(value), sign));
 }
+// value negated (its sign bit flipped) in the lanes set.
+inline Floats negated_where(LaneMask lanes, Floats value) {
+  const __m512i bits = _mm512_castps_si512(value);
+  return _mm512_castsi512_ps(
+      _mm512_mask_xor_epi32(bits, lanes, bits, _mm512_set1_epi32(int32_t(0x80000000u))));
+}
 
 #else  // AVX2 and FMA
 
@@ -304,6 +310,9 @@ inline Indices without_top_bit(Indices indices) {
 inline Floats negated_where_top_bit(Floats value, Indices indices) {
   const __m256i sign = _mm256_and_si256(indices, _mm256_set1_epi32(int32_t(0x80000000u)));
   return _mm256_castsi256_ps(_mm256_xor_si256(_mm256_castps_si256(value), sign));
+}
+inline Floats negated_where(LaneMask lanes, Floats value) {
+  return _mm256_xor_ps(value, _mm256_and_ps(lanes.bits, _mm256_set1_ps(-0.0f)));
 }
 
 #endif

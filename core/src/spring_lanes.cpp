@@ -158,7 +158,7 @@ std::vector<ChosenLayout> choose_bands(std::size_t particles, std::size_t arity,
 
 LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, std::size_t arity,
                      uint32_t subtracted, std::size_t tile)
-    : items_(ends.size() / arity), tile_(tile), ends_(arity) {
+    : items_(ends.size() / arity), tile_(tile), subtracted_(subtracted), ends_(arity) {
   const auto end_of = [&](std::size_t item, std::size_t e) { return ends[arity * item + e]; };
   // The offsets of an item's other ends from its first: its band's key.
   const auto offsets_of = [&](std::size_t item) {
@@ -384,7 +384,7 @@ LaneBands::LaneBands(std::size_t particles, const std::vector<uint32_t>& ends, s
   row_choice_.resize(choice.size());
   using Bits = ChosenLanes<1>::Bits;
   for (std::size_t r = 0; r < choice.size(); ++r)
-    row_choice_[r] = {static_cast<Bits>(choice[r] & kAllLive),
+    row_choice_[r] = {static_cast<Bits>((choice[r] | choice[r] >> kSpringBlock) & kAllLive),
                       static_cast<Bits>(choice[r] >> kSpringBlock)};
 }
 
@@ -428,12 +428,16 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
           total[k] = total[k] + load_floats(values + k * values_stride);
       }
     };
-    const auto add_chosen = [&](const float* values, std::size_t values_stride, uint32_t r) {
-      const LaneMask adds = lanes_of_bits(&row_choice_[r].adds);
-      const LaneMask subtracts = lanes_of_bits(&row_choice_[r].subtracts);
+    // A chosen row adds each live lane's value, negated where it subtracts: the same bits as
+    // adding and subtracting each masked, as a sum that starts at +0 is never -0 (x + +0 = x).
+    const auto add_chosen = [&](const float* values, std::size_t values_stride, uint32_t r,
+                                auto any_subtracted) {
+      const LaneMask live = lanes_of_bits(&row_choice_[r].live);
+      [[maybe_unused]] const LaneMask subtracts = lanes_of_bits(&row_choice_[r].subtracts);
       for (std::size_t k = 0; k < 3; ++k) {
-        const Floats value = load_floats(values + k * values_stride);
-        total[k] = total[k] + keep(adds, value) - keep(subtracts, value);
+        Floats value = load_floats(values + k * values_stride);
+        if constexpr (any_subtracted()) value = negated_where(subtracts, value);
+        total[k] = total[k] + keep(live, value);
       }
     };
     uint32_t r = row_begin_[block];
@@ -441,12 +445,18 @@ void LaneBands::sum_incident(const Real* per_slot, const Real* ring, std::size_t
       const std::size_t ring_stride = ring_slots_;
       for (const uint32_t chosen = row_chosen_[block]; r < chosen; ++r)
         add_in_order(ring, ring_stride, row_ring_[r]);
-      for (const uint32_t gathered = row_gathered_[block]; r < gathered; ++r)
-        add_chosen(ring + row_ring_[r], ring_stride, r);
+      const auto chosen_rows = [&](auto any_subtracted) {
+        for (const uint32_t gathered = row_gathered_[block]; r < gathered; ++r)
+          add_chosen(ring + row_ring_[r], ring_stride, r, any_subtracted);
+      };
+      if (subtracted_ != 0)
+        chosen_rows(std::true_type{});
+      else
+        chosen_rows(std::false_type{});
     }
     for (; r < row_begin_[block + 1]; ++r) {
       if (row_choice_[r].any()) {
-        add_chosen(per_slot + row_first_[r], stride, r);
+        add_chosen(per_slot + row_first_[r], stride, r, std::true_type{});
       } else if (row_in_order_[r]) {
         add_in_order(per_slot, stride, row_first_[r]);
       } else {

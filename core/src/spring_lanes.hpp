@@ -164,6 +164,7 @@ class LaneBands {
 
   std::size_t items_ = 0;
   std::size_t tile_ = 1;
+  uint32_t subtracted_ = 0;  // bit e set where end e subtracts (the constructor's)
   std::size_t ring_slots_ = 0;
   std::vector<Band> bands_;
   std::vector<uint32_t> dead_blocks_;  // the leading block and the one after each band
@@ -188,12 +189,12 @@ class LaneBands {
   std::vector<uint8_t> row_in_order_;  // per row: its lanes are consecutive entries
   std::vector<uint32_t> row_first_;    // per row: its lane 0's entry
   std::vector<uint32_t> row_ring_;     // per row: its lane 0's ring slot (| kSubtract)
-  // Per row: none, or for a chosen band's row, bit l of adds set where lane l adds its slot and
+  // Per row: none, or for a chosen band's row, bit l of live set where lane l takes its slot and
   // of subtracts where it subtracts it (the other lanes take nothing; lanes_of_bits reads them
   // from memory); its slots then run from row_first_ (and row_ring_) in order.
   struct RowChoice {
-    ChosenLanes<1>::Bits adds = 0, subtracts = 0;
-    bool any() const { return (adds | subtracts) != 0; }
+    ChosenLanes<1>::Bits live = 0, subtracts = 0;
+    bool any() const { return live != 0; }
   };
   std::vector<RowChoice> row_choice_;
 };
