@@ -3,7 +3,7 @@
 // (multigrid_preconditioner.hpp), D^-1's store, and the copies' entry points.
 #pragma once
 
-#include <clothlab/plugin.h>
+#include <clothlab/ext/jacobian.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -182,7 +182,8 @@ inline void galerkin(const GridTransfer& transfer, const GridLevel& fine, GridLe
 // couples to.
 inline void table_block(const BlockTable& table, uint32_t i, uint32_t k, double* s);
 template <class Visit>
-void table_row(const BlockTable& table, const GridLevel& fine, uint32_t i, Visit&& visit) {
+[[gnu::always_inline]] inline void table_row(const BlockTable& table, const GridLevel& fine,
+                                             uint32_t i, Visit&& visit) {
   constexpr int kWindowWidth = 2 * GridLevel::reach + 1;
   const auto cols = static_cast<uint32_t>(fine.cols());
   const auto r = static_cast<int>(i / cols) - GridLevel::reach;
