@@ -17,7 +17,9 @@ import sys
 
 FUNCTION = re.compile(r"^[0-9a-f]+ <(.*)>:$")
 WIDE_REGISTER = re.compile(r"%[yz]mm[0-9]")
-TARGET = re.compile(r"::(avx2|avx512)::|_(avx2|avx512)\(")
+# Demangled, or still mangled where objdump cannot demangle the name (some lambdas' closures):
+# a function of, or local to a function of, a target's namespace.
+TARGET = re.compile(r"::(avx2|avx512)::|_(avx2|avx512)\(|^_ZZ?N8clothlab(7builtin|6detail)(4avx2|6avx512)")
 
 
 def leaks(path):

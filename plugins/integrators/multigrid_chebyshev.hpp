@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "multigrid_galerkin.hpp"
 #include "multigrid_lanes.hpp"
 #include "multigrid_level.hpp"
 
@@ -61,20 +62,6 @@ class ChebyshevSteps {
  private:
   double theta_, delta_, sigma_, rho_;
 };
-
-// Row i's part of the bound below: the largest row sum of |D_i^-1 A_ij| over the blocks that
-// row_blocks(visit) visits (visit(a) for each block a of the row); d = D_i^-1, row-major.
-template <class RowBlocks>
-double jacobi_row_bound(const double* d, RowBlocks&& row_blocks) {
-  std::array<double, 3> row_sums{};
-  row_blocks([&](const double* a) {
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j)
-        row_sums[static_cast<std::size_t>(k)] +=
-            std::abs(d[3 * k] * a[j] + d[3 * k + 1] * a[3 + j] + d[3 * k + 2] * a[6 + j]);
-  });
-  return std::max({row_sums[0], row_sums[1], row_sums[2]});
-}
 
 // An upper bound on D^-1 A's eigenvalues for a level's free rows: the largest row sum of
 // |D_i^-1 A_ij| over a row's blocks; `inverse_diagonal` 9 per node, row-major. Rows of nodes

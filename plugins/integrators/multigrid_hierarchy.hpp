@@ -16,6 +16,7 @@
 
 #include "multigrid_chebyshev.hpp"
 #include "multigrid_coarse_solve.hpp"
+#include "multigrid_galerkin_path.hpp"
 #include "multigrid_level.hpp"
 #include "multigrid_smoother.hpp"
 #include "multigrid_transfer.hpp"
@@ -101,6 +102,8 @@ class MultigridHierarchy {
   const GridLevel& level(std::size_t l) const { return levels_[l]; }
   const GridTransfer& transfer(std::size_t l) const { return transfers_[l]; }  // l to l + 1
   GridTransfer& transfer(std::size_t l) { return transfers_[l]; }
+  // The Galerkin products of the SIMD target that runs here, chosen at construction.
+  const GalerkinProducts& galerkin_products() const { return galerkin_products_; }
   // Level l's smoother, l below the coarsest level, of a gauss_seidel or a chebyshev hierarchy.
   const BlockGaussSeidel& smoother(std::size_t l) const { return smoothers_[l]; }
   const BlockChebyshev& chebyshev(std::size_t l) const { return chebyshev_[l]; }
@@ -139,7 +142,7 @@ class MultigridHierarchy {
   bool rebuild_below(std::size_t first, int threads = 1) {
     for (std::size_t l = first; l + 1 < levels_.size(); ++l) {
       levels_[l].pack();
-      transfers_[l].galerkin(levels_[l], levels_[l + 1], threads);
+      galerkin_products_.levels(transfers_[l], levels_[l], levels_[l + 1], threads);
       if (!(chebyshev_.empty() ? smoothers_[l].factor(levels_[l])
                                : chebyshev_[l].factor(levels_[l], threads)))
         return false;
@@ -153,6 +156,7 @@ class MultigridHierarchy {
   std::vector<BlockGaussSeidel> smoothers_;  // gauss_seidel's, else empty
   std::vector<BlockChebyshev> chebyshev_;    // chebyshev's, else empty
   std::optional<CoarseCholesky> coarsest_solve_;
+  GalerkinProducts galerkin_products_ = choose_galerkin_products();
 };
 
 }  // namespace clothlab::builtin

@@ -203,34 +203,17 @@ class MultigridPreconditioner {
         for (int c = 0; c < fine.cols(); ++c) {
           const auto i = static_cast<uint32_t>(fine.node(r, c));
           if (!fine.fixed(i))
-            table_row(values, i, [&](int r2, int c2, const double* block) {
+            table_row(block_table(values), fine, i, [&](int r2, int c2, const double* block) {
               std::copy_n(block, 9, fine.block(r, c, r2, c2));
             });
         }
       return require_definite(hierarchy_.rebuild(threads));
     }
-    // Row i's read for the Galerkin product also gives, once per row, D^-1 and the bound on
-    // D^-1 A's eigenvalues (those of D_S^-1 S, D_S = M D): row_bounds_[r] is the largest over
-    // the free nodes of fine row r, NaN once a diagonal block is not positive definite.
+    // Row i's read for the Galerkin product also gives D^-1 and the fine smoother's bound
+    // (galerkin_from_table).
     std::fill(row_bounds_.begin(), row_bounds_.end(), 0.0);
-    const auto table_rows = [&](int r, int c, bool once, auto&& visit) {
-      const auto i = static_cast<uint32_t>(fine.node(r, c));
-      if (!once) return table_row(values, i, visit);
-      double diagonal[9], inverse[9];  // NaN unless the diagonal block is positive definite
-      std::fill_n(inverse, 9, std::numeric_limits<double>::quiet_NaN());
-      table_block(values, i, diagonal_slots_[i], diagonal);
-      invert_positive_definite(diagonal, inverse);
-      set_jacobi(i, inverse);
-      const double row = jacobi_row_bound(inverse, [&](auto&& bound_visit) {
-        table_row(values, i, [&](int r2, int c2, const double* block) {
-          visit(r2, c2, block);
-          bound_visit(block);
-        });
-      });
-      double& bound = row_bounds_[static_cast<std::size_t>(r)];
-      if (!std::isnan(bound)) bound = std::isnan(row) ? row : std::max(bound, row);
-    };
-    hierarchy_.transfer(0).galerkin(fine, hierarchy_.level(1), threads, table_rows);
+    hierarchy_.galerkin_products().table(block_table(values), hierarchy_.transfer(0), fine,
+                                         hierarchy_.level(1), threads);
     lambda_max_ = 0.0;
     for (const double bound : row_bounds_)
       lambda_max_ = std::isnan(bound) ? bound : std::max(lambda_max_, bound);
@@ -340,52 +323,6 @@ class MultigridPreconditioner {
                        "with compressed springs?)");
   }
 
-  // S's blocks of the free fine row i from the host's table `values`, formed as they are read:
-  // S_ij = m_i D_ij made exactly symmetric (M D is symmetric up to rounding) by taking the upper
-  // triangle's blocks, S_ji = S_ij^T for j > i and the diagonal block's upper half, so that the
-  // V-cycle stays exactly symmetric, and M added on the diagonal. A lower block's transpose lies
-  // in a row at most two grid rows back, read just before (the caches hold it), where the mean
-  // of both would read the rows ahead too. visit(r2, c2, block) for each free j = r2 * cols + c2
-  // the row couples to.
-  template <class Visit>
-  void table_row(const double* values, uint32_t i, Visit&& visit) const {
-    const GridLevel& fine = hierarchy_.level(0);
-    const auto cols = static_cast<uint32_t>(fine.cols());
-    const auto r = static_cast<int>(i / cols) - GridLevel::reach;
-    const auto c = static_cast<int>(i % cols) - GridLevel::reach;
-    for (uint32_t k = pattern_->row_offsets[i]; k < pattern_->row_offsets[i + 1]; ++k) {
-      if (fine.fixed(pattern_->columns[k])) continue;
-      double s[9];
-      table_block(values, i, k, s);
-      const int place = window_places_[k];
-      visit(r + place / kWindowWidth, c + place % kWindowWidth, static_cast<const double*>(s));
-    }
-  }
-  // table_row's block of slot k, in row i, into s. An off-diagonal block's first 8 entries are
-  // formed and stored in lanes, so that a caller's wide read of s forwards from the store.
-  void table_block(const double* values, uint32_t i, uint32_t k, double* s) const {
-    using Lanes = double __attribute__((vector_size(64)));
-    using Order = int64_t __attribute__((vector_size(64)));
-    const uint32_t j = pattern_->columns[k];
-    if (j != i) {
-      const bool upper = j > i;
-      const double* a = values + 9 * std::size_t{upper ? k : transposed_[k]};
-      const double m = mass_[upper ? i : j];
-      Lanes block;
-      std::memcpy(&block, a, sizeof block);
-      // s_(row, col) = m a_(row, col), or m t_(col, row) of the transpose t (entry 8 in place)
-      block = m * (upper ? block : __builtin_shuffle(block, Order{0, 3, 6, 1, 4, 7, 2, 5}));
-      std::memcpy(s, &block, sizeof block);
-      s[8] = m * a[8];
-    } else {
-      const double* a = values + 9 * std::size_t{k};
-      for (int row = 0; row < 3; ++row)
-        for (int col = 0; col < 3; ++col)
-          s[3 * row + col] = mass_[i] * a[3 * std::min(row, col) + std::max(row, col)];
-      for (int d = 0; d < 3; ++d) s[4 * d] += mass_[i];
-    }
-  }
-
   // Per block of `pattern`, the slot of its transpose; one line of sdk::Error where one is
   // missing (the table must be structurally symmetric).
   static std::vector<uint32_t> transposed_slots(const clothlab_block_pattern& pattern) {
@@ -489,21 +426,19 @@ class MultigridPreconditioner {
     }
   }
 
-  // Row-major entry k of a symmetric 3x3 block: its place among the 6 kept.
-  static constexpr std::size_t kSymmetricEntry[9] = {0, 1, 2, 1, 3, 4, 2, 4, 5};
-
-  // Particle i's D^-1 from S_ii^-1 (9, row-major, symmetric): m_i S_ii^-1, in the system's
-  // precision.
-  void set_jacobi(uint32_t i, const double* inverse) {
-    const std::size_t n = mass_.size();
-    for (std::size_t k = 0; k < 9; ++k) {
-      if (k / 3 > k % 3) continue;  // the lower entries are the upper's
-      const double value = mass_[i] * inverse[k];
-      if (jacobi_single_.empty())
-        jacobi_[kSymmetricEntry[k] * n + i] = value;
-      else
-        jacobi_single_[kSymmetricEntry[k] * n + i] = static_cast<float>(value);
-    }
+  // The host's table `values` with what the preconditioner keeps of its pattern, D^-1 (in the
+  // system's precision) and the fine rows' bounds.
+  BlockTable block_table(const double* values) {
+    return {values,
+            &*pattern_,
+            transposed_.data(),
+            window_places_.data(),
+            diagonal_slots_.data(),
+            mass_.data(),
+            mass_.size(),
+            jacobi_.data(),
+            jacobi_single_.empty() ? nullptr : jacobi_single_.data(),
+            row_bounds_.data()};
   }
 
   // D^-1 from the fine level's exact diagonal blocks (D = S_ii / m_i), and the fine smoother's
@@ -514,7 +449,8 @@ class MultigridPreconditioner {
     const std::vector<double>& inverse = fine.inverse_diagonal();
     for (const clothlab_range& range : system.active())
       for (uint32_t i = range.begin; i < range.end; ++i)
-        set_jacobi(i, &inverse[9 * std::size_t{i}]);
+        store_jacobi(i, mass_[i], &inverse[9 * std::size_t{i}], mass_.size(), jacobi_.data(),
+                     jacobi_single_.empty() ? nullptr : jacobi_single_.data());
     lambda_max_ = fine.lambda_max();
   }
 

@@ -64,13 +64,6 @@ struct AxisParents {
   std::vector<double> weights;  // 2 per fine node
 };
 
-// sum += weight a over a 3x3 block: one fused multiply-add per entry on any path, in lanes
-// (sum and a do not overlap).
-inline void add_scaled_block(double* __restrict sum, double weight, const double* __restrict a) {
-#pragma omp simd
-  for (int k = 0; k < 9; ++k) sum[k] += weight * a[k];
-}
-
 class GridTransfer {
  public:
   // coarsening: every m-th node kept (kMinCoarsening to kMaxCoarsening).
@@ -205,134 +198,11 @@ class GridTransfer {
     });
   }
 
-  // coarse = R fine P, a row of A P at a time: (A P)_fJ = sum_g A_fg P_gJ, then
-  // (R A P)_IJ += P_fI (A P)_fJ for f's parents I. The fine blocks come from the level's own
-  // (the offsets `pack` found coupled), or from row_blocks(r, c, once, visit), which calls
-  // visit(r2, c2, a) for each block a of the free fine row (r, c); `once` is true on exactly
-  // one of a row's reads (a fine row under two bands is read by both), on the thread that
-  // reads the fine row of nodes r in order, so per-row work done there has one writer. The
-  // coarse rows split among `threads` in bands, each band from the fine rows under it: a
-  // coarse block sums its terms in the fine rows' order. The bands are fixed by the level
-  // (set_band_rows), not by `threads`: a band plan changes no bits (tested from the host's table
-  // with one, two and nine bands), but a plan of one band per thread once gave other float64
-  // bits on one and two threads, cause not found.
-  void galerkin(const GridLevel& fine, GridLevel& coarse, int threads = 1) const {
-    galerkin(fine, coarse, threads, [&](int r, int c, bool, auto&& visit) {
-      const GridLevel::Window w = fine.window(r, c);
-      const double* row = fine.row_blocks(r, c);
-      for (const GridLevel::Offset& offset : fine.couplings()) {
-        const int r2 = r + offset.rows, c2 = c + offset.cols;
-        if (r2 >= w.row_begin && r2 < w.row_end && c2 >= w.col_begin && c2 < w.col_end)
-          visit(r2, c2, row + 9 * GridLevel::window_slot(w, r2, c2));
-      }
-    });
-  }
-  template <class RowBlocks>
-  void galerkin(const GridLevel& fine, GridLevel& coarse, int threads,
-                RowBlocks&& row_blocks) const {
-    coarse.clear();
-    const int bands = (coarse.rows() + band_rows_ - 1) / band_rows_;
-    fine.for_each_index(bands, threads, [&](int band) {
-      const int first = band * band_rows_, last = std::min(first + band_rows_, coarse.rows());
-      const auto owned = [&](int pr) { return pr >= first && pr < last; };
-      for (int r = std::max(coarsening_ * (first - 1), 0);
-           r < std::min(coarsening_ * last + 1, fine.rows()); ++r) {
-        if (!owned(row_parents_.parent(r, 0)) &&
-            !(row_parents_.count(r) == 2 && owned(row_parents_.parent(r, 1))))
-          continue;
-        const bool once = owned(row_parents_.parent(r, 0));
-        for (int c = 0; c < fine.cols(); ++c)
-          if (!fine.fixed(fine.node(r, c)))
-            galerkin_row(fine, coarse, r, c, once, owned, row_blocks);
-      }
-    });
-  }
-
- private:
-  static constexpr int kSpan = 5;
-  static constexpr int kBandRows = 8;  // coarse rows per band of the Galerkin product
-
-  // Fine row (r, c)'s terms of R A P in the coarse rows `owned` accepts.
-  template <class Owned, class RowBlocks>
-  void galerkin_row(const GridLevel& fine, GridLevel& coarse, int r, int c, bool once,
-                    const Owned& owned, RowBlocks& row_blocks) const {
-    // f's A P row lies within 2 coarse rows/cols of f's first parent: each g of the row is at
-    // most one coarse interval from f.
-    const int row0 = row_parents_.parent(r, 0) - 2, col0 = col_parents_.parent(c, 0) - 2;
-    if (planned_[fine.node(r, c)])
-      return galerkin_planned_row(coarse, r, c, row0 + 2, col0 + 2, once, owned, row_blocks);
-    std::array<double, 9 * kSpan * kSpan> product{};
-    std::array<uint8_t, kSpan * kSpan> touched{};
-    row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
-      if (fine.fixed(fine.node(r2, c2))) return;
-      for (int i = 0; i < row_parents_.count(r2); ++i)
-        for (int j = 0; j < col_parents_.count(c2); ++j) {
-          const int pr = row_parents_.parent(r2, i), pc = col_parents_.parent(c2, j);
-          if (coarse.fixed(coarse.node(pr, pc))) continue;
-          const int local = (pr - row0) * kSpan + (pc - col0);
-          add_scaled_block(&product[9 * static_cast<std::size_t>(local)],
-                           row_parents_.weight(r2, i) * col_parents_.weight(c2, j), a);
-          touched[local] = 1;
-        }
-    });
-    for (int i = 0; i < row_parents_.count(r); ++i)
-      for (int j = 0; j < col_parents_.count(c); ++j) {
-        const int pr = row_parents_.parent(r, i), pc = col_parents_.parent(c, j);
-        if (!owned(pr) || coarse.fixed(coarse.node(pr, pc))) continue;
-        const double weight = row_parents_.weight(r, i) * col_parents_.weight(c, j);
-        // The touched blocks lie in (pr, pc)'s window.
-        const GridLevel::Window w = coarse.window(pr, pc);
-        double* const row = coarse.row_blocks(pr, pc);
-        for (int local = 0; local < kSpan * kSpan; ++local) {
-          if (!touched[local]) continue;
-          add_scaled_block(
-              row + 9 * GridLevel::window_slot(w, row0 + local / kSpan, col0 + local % kSpan),
-              weight, &product[9 * static_cast<std::size_t>(local)]);
-        }
-      }
-  }
-
-  // galerkin_row for a row that follows its class's plan, (pr, pc) its first parent: each block
-  // of A P summed whole, its terms (the fine blocks read, by window place) in the order the
-  // general path adds them, so the same bits, then added to each owned parent's row, whose
-  // window is whole (the block's slot fixed by the parent).
-  template <class Owned, class RowBlocks>
-  void galerkin_planned_row(GridLevel& coarse, int r, int c, int pr, int pc, bool once,
-                            const Owned& owned, RowBlocks& row_blocks) const {
-    const ClassPlan& plan =
-        plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
-    alignas(64) double blocks[kSpan * kSpan][9];
-    uint32_t read = 0;  // a bit per window place read
-    row_blocks(r, c, once, [&](int r2, int c2, const double* a) {
-      const int place = (r2 - r + 2) * kSpan + (c2 - c + 2);
-      std::copy_n(a, 9, blocks[place]);
-      read |= uint32_t{1} << place;
-    });
-    std::array<double*, 4> targets{};
-    std::array<double, 4> weights{};
-    std::array<int, 4> shifts{};
-    std::size_t parents = 0;
-    for (const ClassParent& parent : plan.parents)
-      if (owned(pr + parent.row)) {
-        targets[parents] = coarse.row_blocks(pr + parent.row, pc + parent.col);
-        weights[parents] = parent.weight;
-        shifts[parents++] = kSpan * parent.row + parent.col;
-      }
-    if (parents == 0) return;
-    for (const ClassBlock& block : plan.blocks) {
-      alignas(64) double sum[9] = {};
-      bool any = false;
-      for (uint16_t t = block.begin; t < block.end; ++t) {
-        const ClassTerm term = plan.terms[t];
-        if (!(read >> term.place & 1)) continue;
-        add_scaled_block(sum, term.weight, blocks[term.place]);
-        any = true;
-      }
-      if (!any) continue;
-      for (std::size_t p = 0; p < parents; ++p)
-        add_scaled_block(targets[p] + 9 * (block.local - shifts[p]), weights[p], sum);
-    }
-  }
+  // What the Galerkin product (multigrid_galerkin.hpp, compiled per SIMD target) reads.
+  static constexpr int kSpan = 5;  // a fine row's A P: 5 x 5 coarse blocks
+  int band_rows() const { return band_rows_; }
+  const AxisParents& row_parents() const { return row_parents_; }
+  const AxisParents& col_parents() const { return col_parents_; }
 
   // The plan of a class of interior fine rows. Every m-th node kept, a fine node f whose
   // window's nodes all lie at the regular spacing (none on the last, nearer coarse node) has
@@ -357,6 +227,15 @@ class GridTransfer {
     std::vector<ClassTerm> terms;
     std::vector<ClassParent> parents;  // f's own, in the general path's order
   };
+
+  // Whether fine node (r, c)'s row follows its class's plan, and that plan.
+  bool planned(const GridLevel& fine, int r, int c) const { return planned_[fine.node(r, c)]; }
+  const ClassPlan& plan(int r, int c) const {
+    return plans_[static_cast<std::size_t>((r % coarsening_) * coarsening_ + c % coarsening_)];
+  }
+
+ private:
+  static constexpr int kBandRows = 8;  // coarse rows per band of the Galerkin product
 
   // Marks the fine nodes whose rows follow a plan, and forms each class's plan from its first
   // such node, by the general path's rules (the same order of terms).

@@ -294,10 +294,12 @@ TEST(Multigrid, TheGalerkinProductHasTheSameBitsOnOneTwoAndThreeThreads) {
                                                  builtin::Smoothing::gauss_seidel, m);
     ASSERT_EQ(hierarchy.level(1).rows(), m == 2 ? 33 : 23);
     ASSERT_TRUE(hierarchy.level(0).splits(2));
-    hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), 1);  // not yet rounded
+    hierarchy.galerkin_products().levels(hierarchy.transfer(0), hierarchy.level(0),
+                                         hierarchy.level(1), 1);  // not yet rounded
     const GridLevel one_thread = hierarchy.level(1);
     for (int threads : {2, 3}) {
-      hierarchy.transfer(0).galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      hierarchy.galerkin_products().levels(hierarchy.transfer(0), hierarchy.level(0),
+                                           hierarchy.level(1), threads);
       const GridLevel& coarse = hierarchy.level(1);
       for (int r = 0; r < coarse.rows(); ++r)
         for (int c = 0; c < coarse.cols(); ++c)
@@ -325,10 +327,11 @@ TEST(Multigrid, TheGalerkinProductsClassPlanGivesTheGeneralPathsBits) {
     builtin::GridTransfer general = planned;
     general.drop_plan();
     ASSERT_EQ(general.planned_nodes(), 0u);
-    general.galerkin(hierarchy.level(0), hierarchy.level(1), 1);
+    hierarchy.galerkin_products().levels(general, hierarchy.level(0), hierarchy.level(1), 1);
     const GridLevel expected = hierarchy.level(1);
     for (int threads : {1, 2}) {
-      planned.galerkin(hierarchy.level(0), hierarchy.level(1), threads);
+      hierarchy.galerkin_products().levels(planned, hierarchy.level(0), hierarchy.level(1),
+                                           threads);
       const GridLevel& coarse = hierarchy.level(1);
       std::size_t differing = 0;
       for_each_block_entry(coarse, [&](int r, int c, int r2, int c2, int k) {
