@@ -13,8 +13,6 @@
 
 #include <algorithm>
 #include <clothlab/sdk.hpp>
-#include <clothlab/sdk/error.hpp>
-#include <clothlab/sdk/simd_target.hpp>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "simd_entry.hpp"
 #include "xpbd_chebyshev.hpp"
 #include "xpbd_color_blocks.hpp"
 #include "xpbd_constraint.hpp"
@@ -40,23 +39,20 @@ std::unique_ptr<LaneBlocks> make_color_blocks_avx2();
 std::unique_ptr<LaneBlocks> make_color_blocks_avx512();
 #endif
 
-// The lane blocks of the SIMD target that runs here (xpbd_lane_blocks.hpp); none without float
-// lanes. Throws sdk::Error (invalid argument) with the choice's one-line reason when
-// CLOTHLAB_SIMD names a target that cannot run here.
-inline std::unique_ptr<LaneBlocks> make_lane_blocks() {
-  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
-  if (choice.target.empty()) throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, choice.error);
-#if defined(CLOTHLAB_SIMD_WITH_AVX512)
-  if (choice.target == "avx512") return make_color_blocks_avx512();
-#endif
-#if defined(CLOTHLAB_SIMD_WITH_AVX2)
-  if (choice.target == "avx2") return make_color_blocks_avx2();
-#endif
+// The plugin's own lane blocks; none without float lanes.
+inline std::unique_ptr<LaneBlocks> make_own_color_blocks() {
 #if defined(CLOTHLAB_FLOAT_LANES)
   return std::make_unique<ColorBlocks>();
 #else
   return nullptr;
 #endif
+}
+
+// The lane blocks of the SIMD target that runs here (xpbd_lane_blocks.hpp, simd_entry.hpp).
+inline std::unique_ptr<LaneBlocks> make_lane_blocks() {
+  using Make = std::unique_ptr<LaneBlocks> (*)();
+  return simd_entry<Make>(make_own_color_blocks, CLOTHLAB_AVX2_ENTRY(make_color_blocks_avx2),
+                          CLOTHLAB_AVX512_ENTRY(make_color_blocks_avx512))();
 }
 
 template <class Real>

@@ -1,21 +1,18 @@
 // xpbd's path on the grid: the plan built at prepare (xpbd_grid_plan.hpp) and the grid sweep
-// (xpbd_grid_sweep.hpp) of the SIMD target that runs here: the plugin's own copy (its build's
-// flags) or, in a portable build, a wider target's (xpbd_grid_sweep_target.cpp), chosen as the
-// core chooses its engine's (clothlab/sdk/simd_target.hpp): the widest the CPU runs, or the one
-// CLOTHLAB_SIMD names. float64 runs the plugin's own copy: the wider targets' copies are
-// float32 only, as the lane kernels are.
+// (xpbd_grid_sweep.hpp) of the SIMD target that runs here (simd_entry.hpp; the wider targets'
+// copies in xpbd_grid_sweep_target.cpp). float64 runs the plugin's own copy: the wider targets'
+// copies are float32 only, as the lane kernels are.
 #pragma once
 
 #include <clothlab/plugin.h>
 
 #include <clothlab/sdk.hpp>
-#include <clothlab/sdk/error.hpp>
-#include <clothlab/sdk/simd_target.hpp>
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
 #include <utility>
 
+#include "simd_entry.hpp"
 #include "xpbd_grid.hpp"
 #include "xpbd_grid_plan.hpp"
 #include "xpbd_grid_sweep.hpp"
@@ -32,18 +29,9 @@ bool sweep_float_grid_avx2(GridPlan<float>& plan, const Substep<float>& s, int t
 bool sweep_float_grid_avx512(GridPlan<float>& plan, const Substep<float>& s, int threads);
 #endif
 
-// Throws sdk::Error (invalid argument) with the choice's one-line reason when CLOTHLAB_SIMD
-// names a target that cannot run here.
 inline FloatGridSweep choose_float_grid_sweep() {
-  const sdk::SimdChoice choice = sdk::choose_simd_target(sdk::kBuiltSimdTargets);
-  if (choice.target.empty()) throw sdk::Error(CLOTHLAB_ERROR_INVALID_ARGUMENT, choice.error);
-#if defined(CLOTHLAB_SIMD_WITH_AVX512)
-  if (choice.target == "avx512") return sweep_float_grid_avx512;
-#endif
-#if defined(CLOTHLAB_SIMD_WITH_AVX2)
-  if (choice.target == "avx2") return sweep_float_grid_avx2;
-#endif
-  return sweep_grid<float>;
+  return simd_entry<FloatGridSweep>(sweep_grid<float>, CLOTHLAB_AVX2_ENTRY(sweep_float_grid_avx2),
+                                    CLOTHLAB_AVX512_ENTRY(sweep_float_grid_avx512));
 }
 
 template <class Real>
