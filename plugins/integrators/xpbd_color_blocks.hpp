@@ -162,15 +162,15 @@ class ColorBlocks final : public LaneBlocks {
 
   // Which of a colour's blocks [begin, end) may load and store their windows whole: the runs
   // with dead lanes whose windows lie within the particles and hold none that a block of
-  // another thread's share (thread_share over threads_) joins. `share`: per particle, the
-  // share whose blocks join it, kNoShare throughout, and so again on return.
+  // another thread's share (thread_share over threads_) joins or stores whole. `share`: per
+  // particle, the share whose blocks join it, kNoShare throughout, and so again on return.
   void find_whole_windows(uint32_t begin, uint32_t end, std::vector<uint32_t>& share) {
     const auto mark = [&](uint32_t b, uint32_t value) {
       for (std::size_t l = 0; l < kLanes; ++l)
         if (live_bits_[b] >> l & 1u)
           share[first_[b * kLanes + l]] = value, share[second_[b * kLanes + l]] = value;
     };
-    std::vector<uint32_t> share_of_block(end - begin);
+    std::vector<uint32_t> share_of_block(end - begin), claimed;
     for (long t = 0; t < threads_; ++t) {
       const auto [first, last] = thread_share(begin, end, t, threads_);
       for (long b = first; b < last; ++b) {
@@ -188,8 +188,15 @@ class ColorBlocks final : public LaneBlocks {
           whole =
               particle < share.size() && (share[particle] == kNoShare || share[particle] == own);
       whole_windows_.push_back(whole);
+      // A particle no block joins is claimed by the first share that stores it whole, so that
+      // no two threads store it, even its unchanged value.
+      if (whole)
+        for (const uint32_t start : {lead_first_[b], lead_second_[b]})
+          for (uint32_t particle = start; particle < start + width; ++particle)
+            if (share[particle] == kNoShare) share[particle] = own, claimed.push_back(particle);
     }
     for (uint32_t b = begin; b < end; ++b) mark(b, kNoShare);
+    for (const uint32_t particle : claimed) share[particle] = kNoShare;
   }
 
   // A block from order[p]: its kind and how many springs it takes.

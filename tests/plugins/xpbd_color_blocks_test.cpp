@@ -144,6 +144,7 @@ TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
     for (std::size_t c = 0; c + 1 < net.color_offsets.size(); ++c) {
       const long begin = blocks.blocks_begin(c), end = blocks.blocks_begin(c + 1);
       std::vector<int> share_of_particle(rows * cols, -1);  // the share whose blocks join it
+      std::vector<int> stored_whole_by(rows * cols, -1);    // the share that stores it whole
       for (int t = 0; t < threads; ++t) {
         const auto [first, last] = builtin::thread_share(begin, end, t, threads);
         for (long b = first; b < last; ++b)
@@ -165,6 +166,13 @@ TEST(XpbdColorBlocks, AWindowLoadedWholeHoldsNoParticleOfAnotherThreadsBlocks) {
             ++whole;
             EXPECT_TRUE(private_windows)
                 << "block " << b << " of colour " << c << ", " << threads << " threads";
+            for (const auto& [start, width] : blocks.windows(block))
+              for (uint32_t particle = start; particle < start + width && particle < rows * cols;
+                   ++particle) {
+                EXPECT_TRUE(stored_whole_by[particle] == -1 || stored_whole_by[particle] == t)
+                    << "particle " << particle << " stored whole by two threads, colour " << c;
+                stored_whole_by[particle] = t;
+              }
           } else if (!private_windows) {
             ++kept_masked;
           }
